@@ -1,0 +1,154 @@
+/* Follower forces on the particles of an elasto-active chain, as a MuJoCo passive callback.
+
+   Every site with a non-zero first user value s->user[0] = F carries a force of magnitude F
+   along minus its own x axis (the pendulum's direction, pointing back toward the anchor):
+       f = -F (1 + eta) x_site .
+   eta is optional multiplicative white noise, read from the custom numeric
+   "elastoactive_noise" = (amplitude a, seed); it is the same counter-based draw as
+   elastoactive/noise.py, so both engines see the same noise.
+
+   The forces are turned into generalised forces in one pass from the leaves to the root:
+   each body collects the total force F_b and moment M_b (about the world origin) of the
+   sites in its subtree; a hinge joint with anchor a and axis e then receives
+   e . (M_b - a x F_b), a slide joint e . F_b. This is J^T f, computed in O(nbody).
+   Other joint types receive nothing (the scenes use hinges only).
+
+   The function touches only mjModel/mjData fields, so it needs MuJoCo's headers and not its
+   library; it must be compiled against the same MuJoCo version it runs with (checked on load). */
+
+#define PY_SSIZE_T_CLEAN
+#include <Python.h>
+#include <math.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <mujoco/mujoco.h>
+
+static uint64_t splitmix64(uint64_t x) {
+  uint64_t z = x + 0x9E3779B97F4A7C15ULL;
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
+  return z ^ (z >> 31);
+}
+
+static double standard_normal(uint64_t seed, uint64_t step, uint64_t particle) {
+  uint64_t key = splitmix64(splitmix64(seed) ^ step);
+  double u1 = (double)(splitmix64(key + 2 * particle) >> 11) * 0x1.0p-53;
+  double u2 = (double)(splitmix64(key + 2 * particle + 1) >> 11) * 0x1.0p-53;
+  return sqrt(-2.0 * log1p(-u1)) * cos(2.0 * M_PI * u2);
+}
+
+static void cross3(mjtNum r[3], const mjtNum a[3], const mjtNum b[3]) {
+  r[0] = a[1] * b[2] - a[2] * b[1];
+  r[1] = a[2] * b[0] - a[0] * b[2];
+  r[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+static mjtNum dot3(const mjtNum a[3], const mjtNum b[3]) {
+  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+/* per-thread scratch: 6 numbers per body */
+static _Thread_local mjtNum* scratch = NULL;
+static _Thread_local int scratch_bodies = 0;
+
+static const mjtNum* find_numeric(const mjModel* m, const char* name, int size) {
+  for (int i = 0; i < m->nnumeric; i++) {
+    if (m->numeric_size[i] >= size && strcmp(m->names + m->name_numericadr[i], name) == 0) {
+      return m->numeric_data + m->numeric_adr[i];
+    }
+  }
+  return NULL;
+}
+
+static void follower_passive(const mjModel* m, mjData* d) {
+  if (m->nuser_site < 1) return;
+  int nbody = m->nbody;
+  if (scratch_bodies < nbody) {
+    mjtNum* grown = (mjtNum*)realloc(scratch, sizeof(mjtNum) * 6 * nbody);
+    if (!grown) return;
+    scratch = grown;
+    scratch_bodies = nbody;
+  }
+  mjtNum* force = scratch;             /* 3 per body */
+  mjtNum* moment = scratch + 3 * nbody; /* 3 per body */
+  memset(scratch, 0, sizeof(mjtNum) * 6 * nbody);
+
+  double amplitude = 0;
+  uint64_t seed = 0, step = 0;
+  const mjtNum* noise = find_numeric(m, "elastoactive_noise", 2);
+  if (noise && noise[0] > 0) {
+    amplitude = noise[0] / sqrt(m->opt.timestep);
+    seed = (uint64_t)noise[1];
+    step = (uint64_t)llround(d->time / m->opt.timestep);
+  }
+
+  int particle = 0, any = 0;
+  for (int s = 0; s < m->nsite; s++) {
+    mjtNum magnitude = m->site_user[s * m->nuser_site];
+    if (magnitude == 0) continue;
+    if (amplitude > 0) magnitude *= 1.0 + amplitude * standard_normal(seed, step, (uint64_t)particle);
+    particle++;
+    any = 1;
+    const mjtNum* R = d->site_xmat + 9 * s;
+    mjtNum f[3] = {-magnitude * R[0], -magnitude * R[3], -magnitude * R[6]};
+    mjtNum mo[3];
+    cross3(mo, d->site_xpos + 3 * s, f);
+    int b = m->site_bodyid[s];
+    for (int k = 0; k < 3; k++) {
+      force[3 * b + k] += f[k];
+      moment[3 * b + k] += mo[k];
+    }
+  }
+  if (!any) return;
+
+  /* bodies are stored parents first: sweep from the leaves to the root */
+  for (int b = nbody - 1; b > 0; b--) {
+    const mjtNum* fb = force + 3 * b;
+    const mjtNum* mb = moment + 3 * b;
+    for (int k = 0; k < m->body_jntnum[b]; k++) {
+      int j = m->body_jntadr[b] + k;
+      const mjtNum* axis = d->xaxis + 3 * j;
+      if (m->jnt_type[j] == mjJNT_HINGE) {
+        mjtNum axf[3];
+        cross3(axf, d->xanchor + 3 * j, fb);
+        d->qfrc_passive[m->jnt_dofadr[j]] += dot3(axis, mb) - dot3(axis, axf);
+      } else if (m->jnt_type[j] == mjJNT_SLIDE) {
+        d->qfrc_passive[m->jnt_dofadr[j]] += dot3(axis, fb);
+      }
+    }
+    int parent = m->body_parentid[b];
+    for (int k = 0; k < 3; k++) {
+      force[3 * parent + k] += fb[k];
+      moment[3 * parent + k] += mb[k];
+    }
+  }
+}
+
+/* ---- Python module: hands out the callback's address ---- */
+
+static PyObject* passive_address(PyObject* self, PyObject* args) {
+  return PyLong_FromVoidPtr((void*)&follower_passive);
+}
+
+static PyObject* header_version(PyObject* self, PyObject* args) {
+  return PyLong_FromLong(mjVERSION_HEADER);
+}
+
+static PyObject* py_standard_normal(PyObject* self, PyObject* args) {
+  unsigned long long seed, step, particle;
+  if (!PyArg_ParseTuple(args, "KKK", &seed, &step, &particle)) return NULL;
+  return PyFloat_FromDouble(standard_normal(seed, step, particle));
+}
+
+static PyMethodDef methods[] = {
+    {"passive_address", passive_address, METH_NOARGS, "Address of the C passive callback."},
+    {"header_version", header_version, METH_NOARGS, "mjVERSION_HEADER this module was built with."},
+    {"standard_normal", py_standard_normal, METH_VARARGS, "The callback's noise draw (seed, step, particle)."},
+    {NULL, NULL, 0, NULL}};
+
+static struct PyModuleDef module = {PyModuleDef_HEAD_INIT, "_follower",
+                                    "Compiled follower-force callback.", -1, methods};
+
+PyMODINIT_FUNC PyInit__follower(void) { return PyModule_Create(&module); }

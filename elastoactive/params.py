@@ -1,0 +1,155 @@
+"""Dimensionless parameters of the paper and the numerical settings of a run.
+
+Units: pendulum length l = 1, joint stiffness C (C1 for the pair) = 1 and transverse drag
+gamma = 1, so the time unit is tau = gamma l^2 / C = 1 and the active force is F_a = sigma.
+Every other module takes its physics from here; `elastoactive.model` is the one place
+that turns these numbers into MJCF attributes.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass, field
+
+SCENES = ("one-pinned", "two-pinned", "rotating-pin", "coupled-pair")
+INTEGRATORS = ("implicitfast", "implicit", "discrete", "Euler", "RK4")
+
+
+class ParameterError(ValueError):
+    """An invalid physical or numerical parameter; the message names the parameter."""
+
+
+def _finite(name: str, value: float) -> float:
+    try:
+        value = float(value)
+    except (TypeError, ValueError):
+        raise ParameterError(f"{name} must be a number, got {value!r}") from None
+    if not math.isfinite(value):
+        raise ParameterError(f"{name} must be finite, got {value}")
+    return value
+
+
+@dataclass(frozen=True)
+class Physics:
+    """The model in the paper's dimensionless numbers.
+
+    scene       one of SCENES
+    n           particles per chain (N >= 1; N >= 2 when both ends are pinned)
+    sigma       elasto-active number F_a l / C1
+    delta       compression of the two-pinned chain, end held at (N l (1 - delta), 0)
+    kappa       coupling stiffness K l^2 / C1 of the pair's first pendula
+    rho         stiffness ratio C2 / C1 of the pair (second chain has sigma / rho)
+    drag_ratio  gamma_L / gamma_T, longitudinal over transverse drag (1 = isotropic)
+    noise       amplitude a of multiplicative white noise: F_a (1 + eta), <eta eta'> = a^2 delta(t-t')
+    """
+
+    scene: str = "one-pinned"
+    n: int = 7
+    sigma: float = 0.8
+    delta: float = 0.1
+    kappa: float = 1.0
+    rho: float = 4.0 / 3.0
+    drag_ratio: float = 1.0
+    noise: float = 0.0
+
+    def __post_init__(self) -> None:
+        if self.scene not in SCENES:
+            raise ParameterError(f"scene must be one of {', '.join(SCENES)}; got {self.scene!r}")
+        if isinstance(self.n, bool) or not isinstance(self.n, int) and not (
+            isinstance(self.n, float) and self.n.is_integer()
+        ):
+            raise ParameterError(f"n (number of particles N) must be an integer, got {self.n!r}")
+        object.__setattr__(self, "n", int(self.n))
+        min_n = 2 if self.scene == "two-pinned" else 1
+        if self.n < min_n:
+            raise ParameterError(f"n (number of particles N) must be >= {min_n} for {self.scene}, got {self.n}")
+        if self.n > 1000:
+            raise ParameterError(f"n (number of particles N) must be <= 1000, got {self.n}")
+        for name in ("sigma", "delta", "kappa", "rho", "drag_ratio", "noise"):
+            object.__setattr__(self, name, _finite(name, getattr(self, name)))
+        if self.sigma < 0:
+            raise ParameterError(f"sigma (elasto-active number) must be >= 0, got {self.sigma}")
+        if not 0 <= self.delta < 1:
+            raise ParameterError(f"delta (compression) must lie in [0, 1), got {self.delta}")
+        if self.kappa < 0:
+            raise ParameterError(f"kappa (coupling stiffness) must be >= 0, got {self.kappa}")
+        if self.rho <= 0:
+            raise ParameterError(f"rho (stiffness ratio C2/C1) must be > 0, got {self.rho}")
+        if self.drag_ratio <= 0:
+            raise ParameterError(f"drag_ratio (gamma_L/gamma_T) must be > 0, got {self.drag_ratio}")
+        if self.noise < 0:
+            raise ParameterError(f"noise (amplitude a) must be >= 0, got {self.noise}")
+
+    @property
+    def n_chains(self) -> int:
+        return 2 if self.scene == "coupled-pair" else 1
+
+    @property
+    def n_angles(self) -> int:
+        return self.n * self.n_chains
+
+    @property
+    def stiffness(self) -> tuple[float, ...]:
+        """Joint stiffness C of each chain in units of C1."""
+        return (1.0, self.rho) if self.scene == "coupled-pair" else (1.0,)
+
+    @property
+    def clamped(self) -> bool:
+        """Whether the first pendulum has a spring against the clamp."""
+        return self.scene != "rotating-pin"
+
+    def relevant(self) -> dict:
+        """The parameters this scene uses (the others are ignored and not reported)."""
+        keys = ["scene", "n", "sigma", "drag_ratio", "noise"]
+        if self.scene == "two-pinned":
+            keys.append("delta")
+        if self.scene == "coupled-pair":
+            keys += ["kappa", "rho"]
+        return {k: getattr(self, k) for k in keys}
+
+
+@dataclass(frozen=True)
+class Numerics:
+    """Numerical settings of a MuJoCo run (times in units of tau).
+
+    dt           timestep
+    mass_ratio   particle mass m / (gamma tau): the inertial time in units of tau
+    integrator   MuJoCo integrator
+    perturbation amplitude (rad) of the seeded random initial angles about the base state
+    sample_dt    spacing of the recorded trajectory
+    """
+
+    dt: float = 0.01
+    mass_ratio: float = 1e-3
+    integrator: str = "implicitfast"
+    perturbation: float = 1e-2
+    sample_dt: float = 0.05
+    seed: int = 0
+
+    def __post_init__(self) -> None:
+        for name in ("dt", "mass_ratio", "perturbation", "sample_dt"):
+            object.__setattr__(self, name, _finite(name, getattr(self, name)))
+        if not 0 < self.dt <= 0.1:
+            raise ParameterError(f"dt (timestep, in tau) must lie in (0, 0.1], got {self.dt}")
+        if not 1e-7 <= self.mass_ratio <= 0.1:
+            raise ParameterError(
+                f"mass_ratio (m / gamma tau) must lie in [1e-7, 0.1] (overdamped limit), got {self.mass_ratio}"
+            )
+        if self.integrator not in INTEGRATORS:
+            raise ParameterError(f"integrator must be one of {', '.join(INTEGRATORS)}, got {self.integrator!r}")
+        if self.perturbation < 0:
+            raise ParameterError(f"perturbation must be >= 0, got {self.perturbation}")
+        if self.sample_dt < self.dt:
+            raise ParameterError(f"sample_dt ({self.sample_dt}) must be >= dt ({self.dt})")
+        if isinstance(self.seed, bool) or not isinstance(self.seed, int) or self.seed < 0:
+            raise ParameterError(f"seed must be a non-negative integer, got {self.seed!r}")
+
+    @property
+    def steps_per_sample(self) -> int:
+        return max(1, int(round(self.sample_dt / self.dt)))
+
+
+def replace(obj, **changes):
+    """dataclasses.replace that re-validates."""
+    return dataclasses.replace(obj, **changes)

@@ -1,0 +1,26 @@
+"""A simulated trajectory: sample times and absolute angles, the same for both engines."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .params import Physics
+
+
+@dataclass
+class Trajectory:
+    """t: (T,) times in tau; theta: (T, n_angles) absolute angles (chain 1 then chain 2)."""
+
+    t: np.ndarray
+    theta: np.ndarray
+    physics: Physics
+    engine: str
+    wall_time_s: float = 0.0
+    info: dict = field(default_factory=dict)
+
+    def chain(self, k: int) -> np.ndarray:
+        """Angles of chain k (0 or 1), shape (T, N)."""
+        n = self.physics.n
+        return self.theta[:, k * n : (k + 1) * n]

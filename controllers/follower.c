@@ -3,9 +3,10 @@
    Every site with a non-zero first user value s->user[0] = F carries a force of magnitude F
    along minus its own x axis (the pendulum's direction, pointing back toward the anchor):
        f = -F (1 + eta) x_site .
-   eta is optional multiplicative white noise, read from the custom numeric
-   "elastoactive_noise" = (amplitude a, seed); it is the same counter-based draw as
-   elastoactive/noise.py, so both engines see the same noise.
+   eta is optional multiplicative white noise. The callback acts only on models that carry
+   the custom numeric "elastoactive_follower" = (noise amplitude a, seed), so other models in
+   the process are left alone; the draw is the counter-based one of elastoactive/noise.py, so
+   both engines see the same noise.
 
    The forces are turned into generalised forces in one pass from the leaves to the root:
    each body collects the total force F_b and moment M_b (about the world origin) of the
@@ -64,6 +65,8 @@ static const mjtNum* find_numeric(const mjModel* m, const char* name, int size) 
 
 static void follower_passive(const mjModel* m, mjData* d) {
   if (m->nuser_site < 1) return;
+  const mjtNum* params = find_numeric(m, "elastoactive_follower", 2);
+  if (!params) return;
   int nbody = m->nbody;
   if (scratch_bodies < nbody) {
     mjtNum* grown = (mjtNum*)realloc(scratch, sizeof(mjtNum) * 6 * nbody);
@@ -77,10 +80,9 @@ static void follower_passive(const mjModel* m, mjData* d) {
 
   double amplitude = 0;
   uint64_t seed = 0, step = 0;
-  const mjtNum* noise = find_numeric(m, "elastoactive_noise", 2);
-  if (noise && noise[0] > 0) {
-    amplitude = noise[0] / sqrt(m->opt.timestep);
-    seed = (uint64_t)noise[1];
+  if (params[0] > 0) {
+    amplitude = params[0] / sqrt(m->opt.timestep);
+    seed = (uint64_t)params[1];
     step = (uint64_t)llround(d->time / m->opt.timestep);
   }
 

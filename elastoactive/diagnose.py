@@ -1,0 +1,177 @@
+"""Numerical stability of a MuJoCo scene: limits, pre-flight checks, and divergence causes.
+
+Linearised about a state, the model is M q'' + D q' = f(q), with D the lab-frame drag
+(sum over particles of J^T diag(gamma_L, gamma_T) J) and f the springs, coupling and follower
+forces. Two time scales bound the timestep:
+
+* overdamped rates lambda = eig(D^-1 df/dq): integrators that treat springs and follower forces
+  explicitly (implicitfast, implicit, Euler, RK4) need |1 + dt lambda| < 1 for every decaying
+  mode, i.e. dt < min(-2 Re(lambda) / |lambda|^2) ("spring limit").
+* inertial rates eig(M^-1 D) ~ gamma / m: Euler and RK4 also treat the drag explicitly and need
+  dt < 2 / max rate (RK4: 2.78 / max rate) ("drag limit", set by the particle mass).
+
+implicitfast and implicit take the drag implicitly; discrete takes drag and springs implicitly,
+but the follower forces stay explicit in every integrator (they come from the callback).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import mujoco
+import numpy as np
+
+from .params import Numerics, ParameterError, Physics
+
+
+class SimulationDiverged(RuntimeError):
+    """A MuJoCo run whose state became NaN or huge; the message names the likely cause."""
+
+
+RK4_STABILITY = 2.785  # real-axis stability interval of classical RK4
+EXPLICIT_SPRINGS = {"implicitfast", "implicit", "Euler", "RK4"}
+EXPLICIT_DRAG = {"Euler": 2.0, "RK4": RK4_STABILITY}
+
+
+@dataclass(frozen=True)
+class StabilityLimits:
+    spring_dt: float  # largest stable dt when springs/follower forces are explicit
+    drag_dt: float  # largest stable dt when the drag is explicit (Euler); RK4: x 1.39
+    follower_dt: float  # largest stable dt with only the follower forces explicit (discrete)
+    fastest_rate: float  # largest |lambda| of the overdamped dynamics, 1/tau
+
+    def limit(self, integrator: str) -> float:
+        """Largest stable dt for an integrator (linear estimate)."""
+        if integrator == "discrete":
+            return self.follower_dt
+        dt = self.spring_dt
+        if integrator in EXPLICIT_DRAG:
+            dt = min(dt, self.drag_dt * EXPLICIT_DRAG[integrator] / 2.0)
+        return dt
+
+
+def _explicit_limit(eigenvalues: np.ndarray) -> float:
+    decaying = eigenvalues[eigenvalues.real < -1e-12]
+    if decaying.size == 0:
+        return np.inf
+    return float(np.min(-2.0 * decaying.real / np.abs(decaying) ** 2))
+
+
+def linear_operators(model: mujoco.MjModel, data: mujoco.MjData, eps: float = 1e-6):
+    """(M, D, F) at data's state: mass matrix, drag matrix and d(force)/dq.
+
+    Forces are read from qfrc_passive (springs, coupling and, with the callback installed, the
+    follower forces); the caller installs the callback.
+    """
+    nv = model.nv
+    work = mujoco.MjData(model)
+    work.qpos[:] = data.qpos
+    work.time = data.time
+    mujoco.mj_forward(model, work)
+    M = np.zeros((nv, nv))
+    mujoco.mj_fullM(model, work, M)
+    D = np.zeros((nv, nv))
+    jac = np.zeros((3, nv))
+    for a in range(model.nu):
+        site = model.actuator_trnid[a, 0]
+        mujoco.mj_jacSite(model, work, jac, None, site)
+        axis = work.site_xmat[site].reshape(3, 3) @ model.actuator_gear[a, :3]
+        row = axis @ jac
+        D += -model.actuator_biasprm[a, 2] * np.outer(row, row)
+
+    def forces(q):
+        work.qpos[:] = q
+        mujoco.mj_forward(model, work)
+        return work.qfrc_passive.copy()
+
+    F = np.zeros((nv, nv))
+    q0 = data.qpos.copy()
+    for j in range(nv):
+        plus, minus = q0.copy(), q0.copy()
+        plus[j] += eps
+        minus[j] -= eps
+        F[:, j] = (forces(plus) - forces(minus)) / (2 * eps)
+    return M, D, F
+
+
+def stability_limits(physics: Physics, numerics: Numerics, qpos: np.ndarray | None = None) -> StabilityLimits:
+    """Linear stability limits of the timestep at a state (default: the base state)."""
+    from .controllers import follower_forces
+    from .model import build_model
+
+    model = build_model(physics, numerics)
+    data = mujoco.MjData(model)
+    if qpos is not None:
+        data.qpos[:] = qpos
+    elif model.nkey:
+        data.qpos[:] = model.key_qpos[0]
+    with follower_forces():
+        M, D, F = linear_operators(model, data)
+    if model.neq:
+        # motion tangent to the pin: project onto the null space of the pin's Jacobian
+        mujoco.mj_forward(model, data)
+        jac = np.zeros((3, model.nv))
+        mujoco.mj_jacSite(model, data, jac, None, model.eq_obj1id[0])
+        _, s, vt = np.linalg.svd(jac[:2])
+        basis = vt[np.sum(s > 1e-9):].T
+        M, D, F = (basis.T @ X @ basis for X in (M, D, F))
+    overdamped = np.linalg.eigvals(np.linalg.solve(D, F))
+    inertial = np.linalg.eigvals(np.linalg.solve(M, D)).real
+    # follower-only part: remove the symmetric (conservative) part of F
+    follower = np.linalg.eigvals(np.linalg.solve(D, 0.5 * (F - F.T)))
+    return StabilityLimits(
+        spring_dt=_explicit_limit(overdamped),
+        drag_dt=2.0 / float(np.max(inertial)),
+        follower_dt=_explicit_limit(-np.abs(follower.imag) + 0j) if np.any(follower.imag) else np.inf,
+        fastest_rate=float(np.max(np.abs(overdamped))),
+    )
+
+
+def check_timestep(physics: Physics, numerics: Numerics, safety: float = 1.0) -> StabilityLimits:
+    """Refuse a timestep beyond the linear stability limit of the chosen integrator."""
+    limits = stability_limits(physics, numerics)
+    dt_max = limits.limit(numerics.integrator)
+    if numerics.dt > safety * dt_max:
+        cause = (
+            f"the particle mass: {numerics.integrator} treats the drag explicitly and needs dt < {limits.drag_dt * EXPLICIT_DRAG.get(numerics.integrator, 2.0) / 2:.3g} "
+            f"at mass_ratio = {numerics.mass_ratio:g}; raise mass_ratio or use integrator implicitfast"
+            if numerics.integrator in EXPLICIT_DRAG and dt_max < limits.spring_dt
+            else f"the stiffest overdamped mode (rate {limits.fastest_rate:.3g}/tau) is integrated explicitly by "
+            f"{numerics.integrator}; use dt <= {dt_max:.3g}"
+            + ("" if numerics.integrator == "discrete" else " or integrator discrete")
+        )
+        raise ParameterError(
+            f"dt = {numerics.dt:g} is above the stability limit {dt_max:.3g} of integrator {numerics.integrator} "
+            f"for {_describe(physics)}: {cause}"
+        )
+    return limits
+
+
+def _describe(physics: Physics) -> str:
+    return ", ".join(f"{k} = {v:g}" if isinstance(v, float) else f"{k} = {v}" for k, v in physics.relevant().items())
+
+
+def divergence_cause(physics: Physics, numerics: Numerics, time: float, model=None, data=None) -> str:
+    """Message for a run that blew up: what happened and the likely cause."""
+    what = "NaN or |value| > 1e10 in the state"
+    if data is not None:
+        names = {mujoco.mjtWarning.mjWARN_BADQACC: "qacc", mujoco.mjtWarning.mjWARN_BADQVEL: "qvel",
+                 mujoco.mjtWarning.mjWARN_BADQPOS: "qpos"}
+        bad = [n for w, n in names.items() if data.warning[w].number]
+        if bad:
+            what = f"NaN or |value| > 1e10 in {', '.join(bad)}"
+    head = f"MuJoCo run diverged at t = {time:.4g} tau ({what}) for {_describe(physics)}, dt = {numerics.dt:g}, " \
+           f"mass_ratio = {numerics.mass_ratio:g}, integrator {numerics.integrator}. "
+    try:
+        limits = stability_limits(physics, numerics)
+    except Exception:  # the diagnosis must not hide the divergence itself
+        return head + "Likely cause: dt too large or mass_ratio too small; reduce dt."
+    dt_max = limits.limit(numerics.integrator)
+    if numerics.integrator in EXPLICIT_DRAG and limits.drag_dt < limits.spring_dt and numerics.dt > 0.5 * dt_max:
+        return head + (f"Likely cause: mass_ratio too small for dt: {numerics.integrator} treats the drag explicitly "
+                       f"(stable only for dt < {dt_max:.3g}); use integrator implicitfast or raise mass_ratio.")
+    if numerics.dt > 0.5 * dt_max:
+        return head + (f"Likely cause: dt too large: the linear stability limit here is {dt_max:.3g} "
+                       f"(fastest overdamped rate {limits.fastest_rate:.3g}/tau); reduce dt.")
+    return head + ("Likely cause: a nonlinear instability or mass_ratio too small (accelerations ~ force / mass "
+                   "exceed 1e10); reduce dt, raise mass_ratio, or reduce sigma.")

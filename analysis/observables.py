@@ -33,6 +33,7 @@ __all__ = [
     "snap_amplitude",
     "rotation_rate",
     "is_oscillating",
+    "settling_time",
 ]
 
 
@@ -394,3 +395,20 @@ def is_oscillating(
         if a2 < (1.0 - max_decay) * a1:
             return False
     return True
+
+
+def settling_time(t, x, level: float = 0.9, transient: float | None = None) -> float:
+    """Time (tau, from t[0]) at which |x - x_0| first reaches `level` of its steady-state size.
+
+    The steady-state size is max |x - x_0| over the steady part (after `transient`); x_0 = x[0].
+    For a self-oscillation growing from a small kick this is the end of the growth phase; for a
+    chain settling into steady rotation, the time its bend takes to form.
+    """
+    tt, xx = _as_series(t, x)
+    if not 0 < level <= 1:
+        raise ValueError(f"level must lie in (0, 1], got {level}")
+    mask = _steady_mask(tt, transient, 0.5)
+    excursion = np.abs(xx - xx[0])
+    target = level * excursion[mask].max()
+    reached = np.flatnonzero(np.maximum.accumulate(excursion) >= target)
+    return float(tt[reached[0]] - tt[0]) if reached.size else float(tt[-1] - tt[0])

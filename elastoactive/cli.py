@@ -78,6 +78,15 @@ def cmd_run(args) -> int:
 def cmd_validate(args) -> int:
     from .validate import PAPER_CASES, compare, format_table
 
+    if args.convergence:
+        from .validate import convergence, format_convergence
+
+        for physics, duration in PAPER_CASES:
+            if args.scene in (None, physics.scene) and physics.kappa != 0.5:
+                print(f"\n{physics.scene}: error against the reduced model as dt shrinks (mass ratio 1e-5), "
+                      "then as the mass ratio shrinks (dt = 0.00125)\n")
+                print(format_convergence(convergence(physics, duration)))
+        return 0
     numerics = numerics_from(args)
     cases = [(p, d) for p, d in PAPER_CASES if args.scene in (None, p.scene)]
     rows = []
@@ -121,6 +130,7 @@ def build_parser() -> argparse.ArgumentParser:
     val.add_argument("scene", nargs="?", choices=SCENES, metavar="SCENE", help="only this scene (default: all)")
     _numerics_args(val)
     val.add_argument("--tolerance", type=float, default=0.01, help="largest acceptable relative error (default 0.01)")
+    val.add_argument("--convergence", action="store_true", help="instead: tabulate the error as dt and the mass ratio shrink")
     val.add_argument("--quiet", action="store_true")
     val.set_defaults(func=cmd_validate)
     return parser

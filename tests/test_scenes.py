@@ -73,7 +73,7 @@ def test_each_scene_holds_only_what_it_needs(scene, n):
 
 def test_physical_parameters_reach_the_model():
     p = Physics(scene="coupled-pair", n=3, sigma=0.6, kappa=2.5, rho=1.5, drag_ratio=3.0)
-    m = build_model(p, Numerics(dt=0.004, mass_ratio=1e-4, integrator="discrete"))
+    m = build_model(p, Numerics(dt=0.004, sample_dt=0.04, mass_ratio=1e-4, integrator="discrete"))
     np.testing.assert_allclose(m.jnt_stiffness, [1, 1, 1, 1.5, 1.5, 1.5])
     np.testing.assert_allclose(m.tendon_stiffness, [2.5])
     assert m.opt.timestep == 0.004 and m.opt.integrator == mujoco.mjtIntegrator.mjINT_DISCRETE

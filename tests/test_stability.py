@@ -1,0 +1,63 @@
+"""Linear stability of the straight chain."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from elastoactive.analysis import reduced as R
+from elastoactive.analysis import stability as S
+from elastoactive.params import Physics
+
+
+def test_n2_critical_sigma_is_three_with_unit_frequency():
+    sigma_c, omega_c = S.critical_sigma(2)
+    assert abs(sigma_c - 3.0) < 1e-8
+    assert abs(omega_c - 1.0) < 1e-8
+
+
+@pytest.mark.parametrize("sigma", [0.0, 2.5, 2.9, 3.0, 3.3, 3.9])
+def test_n2_eigenvalues_closed_form(sigma):
+    mu = sigma - 3.0
+    root = np.sqrt(complex(mu**2 - 1))  # i sqrt(1 - mu^2) in the oscillatory range |mu| < 1
+    np.testing.assert_allclose(S.eigenvalues(2, sigma), [mu + root, mu - root], atol=1e-12)
+
+
+def test_n7_critical_sigma_matches_paper():
+    sigma_c, omega_c = S.critical_sigma(7)
+    assert 0.14 <= sigma_c <= 0.16
+    assert omega_c > 0
+    assert S.growth_rate(7, sigma_c - 1e-3) < 0 < S.growth_rate(7, sigma_c + 1e-3)
+
+
+def test_critical_sigmas_vectorised_and_scaling():
+    ns = np.arange(2, 11)
+    sig, om = S.critical_sigmas(ns)
+    for n, s, w in zip(ns, sig, om):
+        assert (s, w) == S.critical_sigma(int(n))
+    assert np.all(np.diff(sig) < 0)
+    scaled = ns**3 * sig
+    assert np.all(np.diff(scaled) > 0)  # N^3 sigma_c rises towards the continuum value
+    s40, _ = S.critical_sigma(40)
+    assert 65 < 40**3 * s40 < 80
+
+
+def test_single_pendulum_never_unstable():
+    assert S.critical_sigma(1) == (np.inf, pytest.approx(np.nan, nan_ok=True))
+
+
+@pytest.mark.parametrize("drag_ratio", [1.0, 3.0])
+def test_linear_operator_equals_reduced_jacobian_at_rest(drag_ratio):
+    for n, sigma in [(2, 3.2), (7, 0.8)]:
+        J = R.jacobian(Physics(n=n, sigma=sigma, drag_ratio=drag_ratio))(0.0, np.zeros(n))
+        np.testing.assert_allclose(J, S.linear_operator(n, sigma), atol=1e-12)
+
+
+def test_pair_linearisation():
+    n, sigma, kappa, rho = 4, 0.8, 1.7, 1.4
+    J = R.jacobian(Physics(scene="coupled-pair", n=n, sigma=sigma, kappa=kappa, rho=rho))(0.0, np.zeros(2 * n))
+    np.testing.assert_allclose(J, S.pair_linear_operator(n, sigma, kappa, rho), atol=1e-12)
+    # uncoupled: union of chain 1 (sigma) and chain 2 (rho * A(sigma / rho))
+    lam = np.sort_complex(S.pair_eigenvalues(n, sigma, 0.0, rho))
+    expected = np.sort_complex(np.concatenate([S.eigenvalues(n, sigma), rho * S.eigenvalues(n, sigma / rho)]))
+    np.testing.assert_allclose(lam, expected, atol=1e-10)

@@ -102,6 +102,11 @@ def cmd_validate(args) -> int:
     return 0 if verdict == "PASS" else 1
 
 
+# Subcommands defined in their own modules: each module has register(subparsers), which adds
+# its parser cheaply (heavy imports go inside the command's function).
+COMMAND_MODULES = ()
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="elastoactive",
@@ -133,6 +138,11 @@ def build_parser() -> argparse.ArgumentParser:
     val.add_argument("--convergence", action="store_true", help="instead: tabulate the error as dt and the mass ratio shrink")
     val.add_argument("--quiet", action="store_true")
     val.set_defaults(func=cmd_validate)
+
+    import importlib
+
+    for name in COMMAND_MODULES:
+        importlib.import_module(name).register(sub)
     return parser
 
 

@@ -36,7 +36,7 @@ INTEGRATOR = {
 # The pin is a soft constraint; its time constant is MuJoCo's floor 2 dt (set explicitly, since
 # MuJoCo would raise a smaller one silently) and its impedance is close to 1 (nearly hard). With
 # the particles' tiny mass the default solimp lets the pin drift by ~1e-2 l (MUJOCO_NOTES.md).
-PIN_SOLIMP = (0.999, 0.99999, 0.001, 0.5, 2.0)
+PIN_SOLIMP = (0.9999, 0.999999, 0.001, 0.5, 2.0)
 
 
 def chain_prefixes(physics: Physics) -> tuple[str, ...]:

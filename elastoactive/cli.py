@@ -72,6 +72,10 @@ def cmd_run(args) -> int:
     print(json.dumps({"wall_time_s": round(s["wall_time_s"], 3), **s["results"]}, indent=2, default=float))
     if args.out:
         print(f"wrote {Path(args.out) / 'summary.json'} and {Path(args.out) / 'trajectory.npz'}")
+    if args.video:  # rendered from the recorded trajectory, after the simulation
+        from .render_cli import video_after_run
+
+        return video_after_run(args, traj, numerics)
     return 0
 
 
@@ -104,7 +108,7 @@ def cmd_validate(args) -> int:
 
 # Subcommands defined in their own modules: each module has register(subparsers), which adds
 # its parser cheaply (heavy imports go inside the command's function).
-COMMAND_MODULES = ()
+COMMAND_MODULES = ("elastoactive.render_cli",)
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -128,6 +132,10 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--engine", choices=("mujoco", "reduced"), default="mujoco", help="MuJoCo scene or the reduced ODE (default %(default)s)")
     run.add_argument("--out", type=Path, help="folder for summary.json and trajectory.npz")
     run.add_argument("--quiet", action="store_true", help="no progress bar")
+    run.add_argument("--video", type=Path, help="also render the run to this MP4 (see `elastoactive render -h`)")
+    from .render_cli import add_video_args
+
+    add_video_args(run)
     run.set_defaults(func=cmd_run)
 
     val = sub.add_parser("validate", help="run MuJoCo and the reduced model on the paper's cases and tabulate the error",

@@ -1,0 +1,518 @@
+"""Off-screen video and stills of a trajectory (MuJoCo's Renderer, mediapy + imageio-ffmpeg).
+
+Rendering never touches the physics: a recorded trajectory (absolute angles theta(t)) is turned
+into hinge angles, written into a separate MjData of a separately built model and passed through
+mj_forward; only then is the scene drawn. The simulating MjData is never used.
+
+What a frame shows (top-down camera that frames the whole motion):
+  - the chain(s): link capsules and particles (beads) of the model, the clamp(s) and the pin
+  - an arrow on every particle for its follower force: along -x of the particle site (back
+    toward the anchor), length ARROW_PER_SIGMA * sigma (units of l; nominal sigma, without
+    noise; capped at ARROW_MAX)
+  - fading trails of the particle paths over the last `trail` seconds of video
+  - for the coupled pair, the coupling spring as a zigzag between the two first particles
+  - a caption: scene, N, sigma (delta, kappa, rho where they apply) and the time in tau
+
+Time: frame k shows t = t_start + k * rate / fps, with `rate` in tau per second of video.
+The default rate makes one beat of Theta last about a second (rate = 1 / (f tau)); a steadily
+rotating chain makes one turn per second; DEFAULT_RATE otherwise.
+
+GL back end: MUJOCO_GL is honoured when set; otherwise egl then osmesa are probed, each in a
+subprocess (a failing back end cannot poison this process), and the first that renders is used.
+"""
+
+from __future__ import annotations
+
+import importlib
+import math
+import os
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+from .model import build_model, chain_offset, chain_prefixes, relative_angles
+from .params import Numerics, ParameterError, Physics
+from .trajectory import Trajectory
+
+GL_BACKENDS = ("egl", "osmesa")
+INSTALL_HINT = (
+    "Off-screen rendering needs an OpenGL back end. On Debian/Ubuntu install EGL "
+    "(apt-get install libegl1 libegl-mesa0 libgl1-mesa-dri libopengl0 libgl1) or OSMesa "
+    "(apt-get install libosmesa6); `bash scripts/setup.sh` installs them when run as root. "
+    "Then leave MUJOCO_GL unset (elastoactive tries egl, then osmesa) or set MUJOCO_GL=egl or osmesa."
+)
+
+DEFAULT_RATE = 10.0  # tau per second of video when there is no oscillation to time it by
+ARROW_PER_SIGMA = 0.6  # follower-force arrow length per unit sigma (units of l)
+ARROW_MAX = 0.9  # ... capped so that a strong force does not hide the chain
+TRAIL_POINTS = 40  # samples per trail
+MAX_TRAILS = 12  # trails drawn per chain at most (evenly spread, always including the tip)
+SPRING_TEETH = 12
+
+ARROW_RGBA = (0.95, 0.25, 0.3, 1.0)
+SPRING_RGBA = (0.35, 0.85, 0.55, 1.0)
+
+
+class RenderError(RuntimeError):
+    """Rendering is impossible here (no working OpenGL back end); the message says what to install."""
+
+
+# --------------------------------------------------------------------------- GL back end
+
+_PROBE = """
+import mujoco
+m = mujoco.MjModel.from_xml_string('<mujoco><worldbody><geom size="1"/></worldbody></mujoco>')
+d = mujoco.MjData(m)
+mujoco.mj_forward(m, d)
+r = mujoco.Renderer(m, 16, 16)
+r.update_scene(d)
+px = r.render()
+r.close()
+assert px.shape == (16, 16, 3), px.shape
+print("ok")
+"""
+
+_backend: str | None = None
+
+
+def probe_backend(name: str, timeout: float = 60.0) -> str | None:
+    """Try back end `name` in a subprocess: None when it renders, else the reason it failed."""
+    env = {**os.environ, "MUJOCO_GL": name}
+    try:
+        out = subprocess.run([sys.executable, "-c", _PROBE], env=env, capture_output=True, text=True, timeout=timeout)
+    except subprocess.TimeoutExpired:
+        return f"timed out after {timeout:g} s"
+    if out.returncode == 0 and out.stdout.strip().endswith("ok"):
+        return None
+    lines = [line for line in (out.stderr or out.stdout).strip().splitlines() if line.strip()]
+    return lines[-1] if lines else f"exit status {out.returncode}"
+
+
+def _activate(name: str) -> None:
+    """Make mujoco.Renderer use back end `name` in this process (MUJOCO_GL is read at import)."""
+    os.environ["MUJOCO_GL"] = name
+    try:
+        from mujoco.rendering.classic import gl_context
+    except ImportError:  # a mujoco without the classic renderer: it reads MUJOCO_GL itself
+        return
+    if getattr(gl_context, "_MUJOCO_GL", name) != name:
+        try:
+            importlib.reload(gl_context)
+        except Exception as err:  # e.g. PyOpenGL already loaded for another platform
+            raise RenderError(f"could not switch MuJoCo to MUJOCO_GL={name}: {err}\n{INSTALL_HINT}") from err
+        import mujoco
+
+        mujoco.GLContext = getattr(gl_context, "GLContext", None)
+
+
+def gl_backend() -> str:
+    """The GL back end rendering uses (chosen once per process); RenderError when none works.
+
+    A MUJOCO_GL set by the user is used as is (an error shows when the renderer is created);
+    otherwise egl then osmesa are probed in a subprocess and the first that works is kept, and
+    MUJOCO_GL is set so that child processes use it too.
+    """
+    global _backend
+    if _backend is not None:
+        return _backend
+    user = os.environ.get("MUJOCO_GL", "").strip().lower()
+    if user:
+        _activate(user)
+        _backend = user
+        return user
+    failures = []
+    for name in GL_BACKENDS:
+        reason = probe_backend(name)
+        if reason is None:
+            _activate(name)
+            _backend = name
+            return name
+        failures.append(f"  MUJOCO_GL={name}: {reason}")
+    raise RenderError("no OpenGL back end works on this machine:\n" + "\n".join(failures) + "\n" + INSTALL_HINT)
+
+
+def _renderer(model, height: int, width: int, max_geom: int):
+    import mujoco
+
+    backend = gl_backend()
+    try:
+        return mujoco.Renderer(model, height, width, max_geom=max_geom)
+    except Exception as err:
+        raise RenderError(f"could not render with MUJOCO_GL={backend}: {err}\n{INSTALL_HINT}") from err
+
+
+# --------------------------------------------------------------------------- kinematics and timing
+
+
+def particle_positions(physics: Physics, theta: np.ndarray) -> np.ndarray:
+    """Particle positions (..., n_chains, N, 2) in units of l from absolute angles (..., n_angles)."""
+    theta = np.asarray(theta, dtype=float)
+    a = theta.reshape(theta.shape[:-1] + (physics.n_chains, physics.n))
+    xy = np.stack([np.cumsum(np.cos(a), axis=-1), np.cumsum(np.sin(a), axis=-1)], axis=-1)
+    for k in range(physics.n_chains):
+        xy[..., k, :, 1] += chain_offset(physics, k)
+    return xy
+
+
+def interpolate(traj: Trajectory, times: np.ndarray) -> np.ndarray:
+    """Angles at `times` (linear interpolation between samples, clipped to the record)."""
+    t = traj.t
+    times = np.clip(np.asarray(times, dtype=float), t[0], t[-1])
+    if t.size == 1:
+        return np.broadcast_to(traj.theta[0], times.shape + traj.theta.shape[1:]).copy()
+    i = np.clip(np.searchsorted(t, times, side="right") - 1, 0, t.size - 2)
+    w = ((times - t[i]) / (t[i + 1] - t[i]))[..., None]
+    return (1.0 - w) * traj.theta[i] + w * traj.theta[i + 1]
+
+
+def default_rate(traj: Trajectory) -> float:
+    """tau per second of video so that one beat (or one turn) lasts about a second on screen."""
+    from .analysis import observables as obs
+
+    t = traj.t
+    if t.size < 8 or t[-1] - t[0] <= 0:
+        return DEFAULT_RATE
+    freqs = []
+    try:
+        for k in range(traj.physics.n_chains):
+            x = obs.curvature(traj.chain(k))
+            if obs.amplitude(t, x) > 1e-3:
+                f = obs.frequency(t, x)
+                if f > 0:
+                    freqs.append(f)
+        if freqs:
+            return float(np.clip(1.0 / min(freqs), 0.5, 200.0))
+        if traj.physics.scene == "rotating-pin":
+            omega = abs(obs.rotation_rate(t, traj.theta))
+            if omega > 1e-3:
+                return float(np.clip(2.0 * math.pi / omega, 0.5, 200.0))
+    except ValueError:
+        pass
+    return DEFAULT_RATE
+
+
+def frame_times(t_start: float, t_end: float, fps: float, rate: float) -> np.ndarray:
+    """Times (tau) of the frames: t_start + k * rate / fps up to t_end."""
+    step = rate / fps
+    count = int(math.floor((t_end - t_start) / step + 1e-9)) + 1
+    return t_start + step * np.arange(max(count, 1))
+
+
+# --------------------------------------------------------------------------- the picture
+
+
+def _caption_left(physics: Physics) -> str:
+    parts = [physics.scene, f"N = {physics.n}", f"σ = {physics.sigma:.3g}"]
+    if physics.scene == "two-pinned":
+        parts.append(f"δ = {physics.delta:.3g}")
+    if physics.scene == "coupled-pair":
+        parts += [f"κ = {physics.kappa:.3g}", f"ρ = {physics.rho:.3g}"]
+    if physics.drag_ratio != 1.0:
+        parts.append(f"γL/γT = {physics.drag_ratio:.3g}")
+    if physics.noise > 0:
+        parts.append(f"noise {physics.noise:.3g}")
+    return "   ".join(parts)
+
+
+class _Caption:
+    """Text burnt into the top band of a frame with matplotlib's Agg renderer (no window needed)."""
+
+    def __init__(self, width: int, height: int, left: str):
+        from matplotlib.backends.backend_agg import FigureCanvasAgg
+        from matplotlib.figure import Figure
+
+        self.h = max(14, int(round(0.07 * height)))
+        dpi = 100
+        fontsize = 0.5 * self.h * 72 / dpi
+        self.fig = Figure(figsize=(width / dpi, self.h / dpi), dpi=dpi)
+        self.fig.patch.set_alpha(0.0)
+        self.canvas = FigureCanvasAgg(self.fig)
+        kw = dict(color="white", va="center", fontsize=fontsize)
+        self.fig.text(0.012, 0.5, left, ha="left", **kw)
+        self.right = self.fig.text(0.988, 0.5, "", ha="right", **kw)
+
+    def draw(self, frame: np.ndarray, right: str) -> np.ndarray:
+        self.right.set_text(right)
+        self.canvas.draw()
+        rgba = np.asarray(self.canvas.buffer_rgba())
+        a = rgba[..., 3:4].astype(np.float32) / 255.0
+        band = frame[: self.h].astype(np.float32) * 0.35
+        frame[: self.h] = (band * (1.0 - a) + rgba[..., :3].astype(np.float32) * a).astype(np.uint8)
+        return frame
+
+
+def _camera(physics: Physics, xy: np.ndarray, width: int, height: int, caption_px: int, fovy_deg: float):
+    """Top-down free camera (x to the right, y up) whose view holds every point of xy (..., 2)."""
+    import mujoco
+
+    pts = [xy.reshape(-1, 2), np.array([[-0.3, chain_offset(physics, k)] for k in range(physics.n_chains)])]
+    if physics.scene == "two-pinned":
+        pts.append(np.array([[physics.n * (1.0 - physics.delta), 0.0]]))
+    pts = np.concatenate(pts)
+    lo, hi = pts.min(axis=0), pts.max(axis=0)
+    pad = max(0.45 + 0.5 * min(ARROW_MAX, ARROW_PER_SIGMA * physics.sigma), 0.04 * (hi - lo).max())
+    lo, hi = lo - pad, hi + pad
+    size = hi - lo
+    floor = max(2.0, 0.25 * size.max())  # a still, straight chain still gets some room around it
+    grow = np.maximum(floor - size, 0.0) / 2
+    lo, hi = lo - grow, hi + grow
+    size = hi - lo
+    free = 1.0 - caption_px / height  # fraction of the height below the caption
+    aspect = width / height
+    half_h = max(size[1] / free, size[0] / aspect) / 2  # half the world height seen
+    cam = mujoco.MjvCamera()
+    cam.type = mujoco.mjtCamera.mjCAMERA_FREE
+    centre = (lo + hi) / 2
+    cam.lookat[:] = [centre[0], centre[1] + half_h * (1.0 - free), 0.0]
+    cam.distance = half_h / math.tan(math.radians(fovy_deg) / 2)
+    cam.elevation = -90.0
+    cam.azimuth = 90.0
+    return cam
+
+
+def _add_geom(scene, gtype, rgba, a, b, width: float) -> None:
+    import mujoco
+
+    if scene.ngeom >= scene.maxgeom:
+        return
+    g = scene.geoms[scene.ngeom]
+    mujoco.mjv_initGeom(g, gtype, np.zeros(3), np.zeros(3), np.eye(3).ravel(), np.asarray(rgba, np.float32))
+    mujoco.mjv_connector(g, gtype, width, np.asarray(a, float), np.asarray(b, float))
+    g.emission, g.specular = 0.3, 0.1
+    scene.ngeom += 1
+
+
+def _trail_colours(n: int) -> np.ndarray:
+    from matplotlib import colormaps
+
+    return colormaps["plasma"](np.linspace(0.15, 0.85, n))
+
+
+class _Painter:
+    """Builds the render model and draws frames (one per time) of one trajectory."""
+
+    def __init__(self, traj: Trajectory, *, width: int, height: int, rate: float, trail: float,
+                 numerics: Numerics | None, bounds_times: np.ndarray):
+        import mujoco
+
+        if width < 16 or height < 16 or width % 2 or height % 2:
+            raise ParameterError(f"width and height must be even numbers >= 16 (H.264), got {width}x{height}")
+        if trail < 0:
+            raise ParameterError(f"trail (seconds of video) must be >= 0, got {trail}")
+        physics = traj.physics
+        self.traj, self.physics = traj, physics
+        self.model = build_model(physics, numerics or Numerics())
+        vis = self.model.vis
+        vis.global_.offwidth = max(vis.global_.offwidth, width)
+        vis.global_.offheight = max(vis.global_.offheight, height)
+        vis.headlight.ambient[:] = 0.35
+        vis.headlight.diffuse[:] = 0.45
+        vis.headlight.specular[:] = 0.0
+        self.data = mujoco.MjData(self.model)  # the render's own state: never the simulating one
+        self.sites = [[self.model.site(f"{p}particle_{i}").id for i in range(physics.n)] for p in chain_prefixes(physics)]
+        self.trail_tau = trail * rate
+        self.line_px = max(1.5, height / 160)  # trails are GL lines (width in pixels): capsules cost 5x more
+        stride = max(1, math.ceil(physics.n / MAX_TRAILS))
+        self.trailed = sorted({*range(physics.n - 1, -1, -stride)})
+        self.colours = _trail_colours(physics.n)
+        self.arrow = min(ARROW_MAX, ARROW_PER_SIGMA * physics.sigma)
+        n_extra = physics.n_angles * (1 + TRAIL_POINTS) + 2 * SPRING_TEETH + 8
+        self.caption = _Caption(width, height, _caption_left(physics))
+        # frame the whole motion: every particle at every time shown, trails included
+        t0 = bounds_times[0] - self.trail_tau
+        span = np.concatenate([bounds_times, traj.t[(traj.t >= t0) & (traj.t <= bounds_times[-1])]])
+        xy = particle_positions(physics, interpolate(traj, span))
+        self.camera = _camera(physics, xy, width, height, self.caption.h, float(self.model.vis.global_.fovy))
+        self.renderer = _renderer(self.model, height, width, self.model.ngeom + n_extra + 100)
+
+    def close(self) -> None:
+        self.renderer.close()
+
+    def frame(self, t: float) -> np.ndarray:
+        import mujoco
+
+        physics, data = self.physics, self.data
+        data.qpos[:] = relative_angles(physics, interpolate(self.traj, np.array([t]))[0])
+        data.time = t
+        mujoco.mj_forward(self.model, data)
+        self.renderer.update_scene(data, self.camera)
+        scene = self.renderer.scene
+        if self.trail_tau > 0:
+            self._trails(scene, t)
+        if physics.scene == "coupled-pair":
+            self._spring(scene)
+        if self.arrow > 0:
+            for sites in self.sites:
+                for s in sites:
+                    p = data.site_xpos[s].copy()
+                    tip = p - self.arrow * data.site_xmat[s].reshape(3, 3)[:, 0]
+                    p[2] = tip[2] = 0.2
+                    # MuJoCo 4.0's renderer draws an mjGEOM_ARROW over half the connector's
+                    # length (measured; tested in tests/test_render.py), hence the 2
+                    _add_geom(scene, mujoco.mjtGeom.mjGEOM_ARROW, ARROW_RGBA, p, p + 2.0 * (tip - p), 0.04)
+        pixels = self.renderer.render()
+        return self.caption.draw(pixels, f"t = {t:.1f} τ")
+
+    def _trails(self, scene, t: float) -> None:
+        import mujoco
+
+        t0 = max(self.traj.t[0], t - self.trail_tau)
+        if t - t0 <= 0:
+            return
+        times = np.linspace(t0, t, TRAIL_POINTS + 1)
+        xy = particle_positions(self.physics, interpolate(self.traj, times))  # (P, C, N, 2)
+        z = np.full(times.shape + (1,), -0.1)
+        for c in range(self.physics.n_chains):
+            for i in self.trailed:
+                pts = np.concatenate([xy[:, c, i], z], axis=1)
+                rgb = self.colours[i][:3]
+                for j in range(TRAIL_POINTS):
+                    w = (j + 1) / TRAIL_POINTS
+                    _add_geom(scene, mujoco.mjtGeom.mjGEOM_LINE, (*rgb, 0.9 * w), pts[j], pts[j + 1], self.line_px)
+
+    def _spring(self, scene) -> None:
+        import mujoco
+
+        a = self.data.site_xpos[self.sites[0][0]].copy()
+        b = self.data.site_xpos[self.sites[1][0]].copy()
+        a[2] = b[2] = -0.05
+        axis = b - a
+        length = np.linalg.norm(axis)
+        if length < 1e-9:
+            return
+        normal = np.array([-axis[1], axis[0], 0.0]) / length
+        s = np.concatenate([[0.0], np.linspace(0.12, 0.88, 2 * SPRING_TEETH + 1), [1.0]])
+        offset = np.zeros_like(s)
+        offset[2:-2:2] = 0.18
+        offset[3:-2:2] = -0.18
+        pts = a + s[:, None] * axis + offset[:, None] * normal
+        for p, q in zip(pts[:-1], pts[1:]):
+            _add_geom(scene, mujoco.mjtGeom.mjGEOM_CAPSULE, SPRING_RGBA, p, q, 0.03)
+
+
+def _window(traj: Trajectory, start: float | None, end: float | None) -> tuple[float, float]:
+    t0 = traj.t[0] if start is None else float(start)
+    t1 = traj.t[-1] if end is None else float(end)
+    if not (traj.t[0] - 1e-9 <= t0 <= t1 <= traj.t[-1] + 1e-9):
+        raise ParameterError(f"render window [{t0}, {t1}] must have start <= end and lie inside the record [{traj.t[0]}, {traj.t[-1]}]")
+    return t0, t1
+
+
+def _check(fps: float, rate: float) -> None:
+    if not (math.isfinite(fps) and fps > 0):
+        raise ParameterError(f"fps must be > 0, got {fps}")
+    if not (math.isfinite(rate) and rate > 0):
+        raise ParameterError(f"rate (tau per second of video) must be > 0, got {rate}")
+
+
+def render_frames(
+    traj: Trajectory,
+    times: np.ndarray | None = None,
+    *,
+    fps: float = 30.0,
+    rate: float | None = None,
+    width: int = 640,
+    height: int = 480,
+    trail: float = 1.0,
+    numerics: Numerics | None = None,
+    start: float | None = None,
+    end: float | None = None,
+) -> np.ndarray:
+    """Frames (F, height, width, 3) uint8 at `times` (default: the video's frame times)."""
+    rate = default_rate(traj) if rate is None else float(rate)
+    _check(fps, rate)
+    t0, t1 = _window(traj, start, end)
+    if times is None:
+        times = frame_times(t0, t1, fps, rate)
+    else:  # explicit times (a still): frame what those frames and their trails show
+        times = np.atleast_1d(np.asarray(times, float))
+        if times.min() < traj.t[0] - 1e-9 or times.max() > traj.t[-1] + 1e-9:
+            raise ParameterError(f"times must lie inside the record [{traj.t[0]}, {traj.t[-1]}]")
+    painter = _Painter(traj, width=width, height=height, rate=rate, trail=trail, numerics=numerics,
+                       bounds_times=np.sort(times))
+    try:
+        return np.stack([painter.frame(float(t)) for t in times])
+    finally:
+        painter.close()
+
+
+def render_still(traj: Trajectory, path, *, time: float | None = None, **kwargs) -> dict:
+    """One frame (default: the last sample) to an image file (PNG), framed like the video."""
+    import mediapy
+
+    time = traj.t[-1] if time is None else float(time)
+    frame = render_frames(traj, np.array([time]), **kwargs)[0]
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    mediapy.write_image(path, frame)
+    return {"path": str(path), "time": time, "backend": gl_backend()}
+
+
+def setup_ffmpeg() -> str:
+    """Point mediapy at the ffmpeg binary shipped by imageio-ffmpeg (no system ffmpeg needed)."""
+    import imageio_ffmpeg
+    import mediapy
+
+    exe = imageio_ffmpeg.get_ffmpeg_exe()
+    mediapy.set_ffmpeg(exe)
+    return exe
+
+
+def render_trajectory(
+    traj: Trajectory,
+    path,
+    *,
+    fps: float = 30.0,
+    rate: float | None = None,
+    width: int = 640,
+    height: int = 480,
+    trail: float = 1.0,
+    numerics: Numerics | None = None,
+    start: float | None = None,
+    end: float | None = None,
+    progress: bool = True,
+) -> dict:
+    """Write an MP4 (H.264) of the trajectory; returns dict(frames, seconds, path, rate, fps, backend, wall_time_s).
+
+    Frame k shows t = start + k * rate / fps (rate in tau per second of video; default: one beat
+    per second). A progress bar shows for renders longer than a couple of seconds of video.
+    """
+    import mediapy
+
+    rate = default_rate(traj) if rate is None else float(rate)
+    _check(fps, rate)
+    t0, t1 = _window(traj, start, end)
+    times = frame_times(t0, t1, fps, rate)
+    setup_ffmpeg()
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    begin = time.perf_counter()
+    painter = _Painter(traj, width=width, height=height, rate=rate, trail=trail, numerics=numerics, bounds_times=times)
+    bar = None
+    if progress and times.size > 60:
+        from tqdm.auto import tqdm
+
+        bar = tqdm(total=times.size, desc=f"render {traj.physics.scene}", unit="frame", mininterval=0.5)
+    try:
+        with mediapy.VideoWriter(path, shape=(height, width), fps=fps) as writer:
+            for t in times:
+                writer.add_image(painter.frame(float(t)))
+                if bar is not None:
+                    bar.update(1)
+    finally:
+        painter.close()
+        if bar is not None:
+            bar.close()
+    return {
+        "path": str(path), "frames": int(times.size), "seconds": float(times.size / fps), "fps": float(fps),
+        "rate": rate, "backend": gl_backend(), "wall_time_s": time.perf_counter() - begin,
+    }
+
+
+__all__ = [
+    "RenderError", "gl_backend", "probe_backend", "render_frames", "render_still", "render_trajectory",
+    "default_rate", "frame_times", "particle_positions", "interpolate", "setup_ffmpeg", "INSTALL_HINT",
+]

@@ -117,3 +117,22 @@ def test_noise_same_realisation_in_both_engines():
     clean = simulate_reduced(Physics(n=3, sigma=1.5), numerics, 10.0)
     gap = np.abs(mj.theta - red.theta).max()
     assert gap < 0.1 * np.abs(red.theta - clean.theta).max()
+
+
+def test_error_falls_as_dt_and_mass_shrink():
+    """First order in dt (each halving roughly halves the error); inertia error falls with m."""
+    from elastoactive.validate import REFERENCE_TOLERANCE
+
+    physics, duration = Physics(n=7, sigma=0.8), 80.0
+    reference = simulate_reduced(physics, Numerics(sample_dt=0.04), duration, **REFERENCE_TOLERANCE)
+
+    def error(dt, mass):
+        c = compare(physics, Numerics(dt=dt, mass_ratio=mass, sample_dt=0.04), duration, reference=reference)
+        return c.errors["amplitude"], c.errors["frequency"]
+
+    by_dt = [error(dt, 1e-5) for dt in (0.01, 0.005, 0.0025)]
+    for coarse, fine in zip(by_dt, by_dt[1:]):
+        for e_coarse, e_fine in zip(coarse, fine):
+            assert 1.6 < e_coarse / e_fine < 2.4
+    by_mass = [error(0.00125, m)[1] for m in (1e-2, 1e-3, 1e-4)]
+    assert by_mass[0] > by_mass[1] > by_mass[2]

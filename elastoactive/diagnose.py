@@ -12,6 +12,24 @@ forces. Two time scales bound the timestep:
 
 implicitfast and implicit take the drag implicitly; discrete takes drag and springs implicitly,
 but the follower forces stay explicit in every integrator (they come from the callback).
+
+Stable is not accurate. check_timestep also refuses (accuracy=True, the default) settings that are
+stable but measured to be wrong (docs/performance.md, scripts/stability_grid.py):
+
+* resolution: dt * rate <= RESOLUTION (discrete, unpinned: DISCRETE_RESOLUTION), where rate is the fastest
+  overdamped rate of the modes the integrator must resolve: every mode for implicitfast, implicit,
+  Euler and RK4 (including the growing ones: at sigma >= 10 the straight chain has no decaying mode,
+  so the stability limit above is infinite, yet modes grow at up to ~17 sigma N^0.7 / tau); for
+  discrete, whose springs are implicit, the growing modes and the follower forces (and every mode
+  for the two-pinned chain, whose pin relaxes over 2 dt);
+* overdamped limit: mass_ratio * rate <= INERTIA_RESOLUTION (the inertial time m / gamma must be
+  short against the fastest resolved time);
+* the pin (two-pinned, all integrators but discrete): dt^2 / mass_ratio <= PIN_DT2_PER_MASS. The pin
+  is a soft constraint whose restoring force scales with the particle mass over (2 dt)^2; beyond
+  this the end drifts off the pin (0.14 l at dt^2/m = 10, off completely at 16);
+* discrete on long chains: a few probe steps; MuJoCo 4.0's effective-metric solve (M + hD + h^2 K)
+  fails to converge from N ~ 30-50 on (mjWARN_INERTIA, residuals up to 1e2) and the run is then
+  silently wrong.
 """
 
 from __future__ import annotations
@@ -32,6 +50,15 @@ RK4_STABILITY = 2.785  # real-axis stability interval of classical RK4
 EXPLICIT_SPRINGS = {"implicitfast", "implicit", "Euler", "RK4"}
 EXPLICIT_DRAG = {"Euler": 2.0, "RK4": RK4_STABILITY}
 
+# Accuracy guards (see the module docstring), calibrated on scripts/stability_grid.py and
+# `elastoactive accuracy`: at these bounds the paper's cases stay within ~5% (amplitude, frequency)
+# and ~10% (transient angles); the project's defaults and the 'fast' preset pass with margin.
+RESOLUTION = 0.2
+DISCRETE_RESOLUTION = 0.05
+INERTIA_RESOLUTION = 0.1
+PIN_DT2_PER_MASS = 1.0
+PROBE_STEPS = 5
+
 
 @dataclass(frozen=True)
 class StabilityLimits:
@@ -39,6 +66,21 @@ class StabilityLimits:
     drag_dt: float  # largest stable dt when the drag is explicit (Euler); RK4: x 1.39
     follower_dt: float  # largest stable dt with only the follower forces explicit (discrete)
     fastest_rate: float  # largest |lambda| of the overdamped dynamics, 1/tau
+    growing_rate: float = 0.0  # largest |lambda| of the growing modes (Re lambda > 0), 1/tau
+    follower_rate: float = 0.0  # largest rate of the follower-only (antisymmetric) part, 1/tau
+    pinned: bool = False
+
+    def accuracy_rate(self, integrator: str) -> float:
+        """Fastest rate the integrator must resolve for an accurate run (see the module docstring)."""
+        if integrator == "discrete" and not self.pinned:
+            return max(self.growing_rate, self.follower_rate)
+        return self.fastest_rate
+
+    def accuracy_limit(self, integrator: str) -> float:
+        """Largest dt that resolves accuracy_rate (RESOLUTION / rate; discrete, unpinned: DISCRETE_RESOLUTION / rate)."""
+        bound = DISCRETE_RESOLUTION if integrator == "discrete" and not self.pinned else RESOLUTION
+        rate = self.accuracy_rate(integrator)
+        return bound / rate if rate > 0 else np.inf
 
     def limit(self, integrator: str) -> float:
         """Largest stable dt for an integrator (linear estimate)."""
@@ -114,21 +156,28 @@ def stability_limits(physics: Physics, numerics: Numerics, qpos: np.ndarray | No
         mujoco.mj_jacSite(model, data, jac, None, model.eq_obj1id[0])
         _, s, vt = np.linalg.svd(jac[:2])
         basis = vt[np.sum(s > 1e-9):].T
+        if basis.shape[1] == 0:  # e.g. N = 2 on two pins: no free motion, nothing to destabilise
+            return StabilityLimits(spring_dt=np.inf, drag_dt=np.inf, follower_dt=np.inf, fastest_rate=0.0)
         M, D, F = (basis.T @ X @ basis for X in (M, D, F))
     overdamped = np.linalg.eigvals(np.linalg.solve(D, F))
     inertial = np.linalg.eigvals(np.linalg.solve(M, D)).real
     # follower-only part: remove the symmetric (conservative) part of F
     follower = np.linalg.eigvals(np.linalg.solve(D, 0.5 * (F - F.T)))
+    growing = overdamped[overdamped.real > 1e-12]
     return StabilityLimits(
         spring_dt=_explicit_limit(overdamped),
         drag_dt=2.0 / float(np.max(inertial)),
         follower_dt=_explicit_limit(-np.abs(follower.imag) + 0j) if np.any(follower.imag) else np.inf,
         fastest_rate=float(np.max(np.abs(overdamped))),
+        growing_rate=float(np.max(np.abs(growing))) if growing.size else 0.0,
+        follower_rate=float(np.max(np.abs(follower.imag))) if follower.size else 0.0,
+        pinned=bool(model.neq),
     )
 
 
-def check_timestep(physics: Physics, numerics: Numerics, safety: float = 1.0) -> StabilityLimits:
-    """Refuse a timestep beyond the linear stability limit of the chosen integrator."""
+def check_timestep(physics: Physics, numerics: Numerics, safety: float = 1.0, accuracy: bool = True) -> StabilityLimits:
+    """Refuse a timestep beyond the linear stability limit of the chosen integrator and, with
+    accuracy=True, settings that are stable but measured to give wrong answers (module docstring)."""
     limits = stability_limits(physics, numerics)
     dt_max = limits.limit(numerics.integrator)
     if numerics.dt > safety * dt_max:
@@ -144,7 +193,59 @@ def check_timestep(physics: Physics, numerics: Numerics, safety: float = 1.0) ->
             f"dt = {numerics.dt:g} is above the stability limit {dt_max:.3g} of integrator {numerics.integrator} "
             f"for {_describe(physics)}: {cause}"
         )
+    if accuracy:
+        check_accuracy(physics, numerics, limits)
     return limits
+
+
+def check_accuracy(physics: Physics, numerics: Numerics, limits: StabilityLimits | None = None) -> StabilityLimits:
+    """Refuse stable settings that are known to give wrong answers: an unresolved fastest rate, a
+    mass ratio outside the overdamped limit, a pin that cannot hold, discrete's unconverged solve."""
+    limits = stability_limits(physics, numerics) if limits is None else limits
+    integrator, dt, m = numerics.integrator, numerics.dt, numerics.mass_ratio
+    rate = limits.accuracy_rate(integrator)
+    where = f"for {_describe(physics)}"
+    dt_ok = limits.accuracy_limit(integrator)
+    if dt > dt_ok:
+        bound = DISCRETE_RESOLUTION if integrator == "discrete" and not limits.pinned else RESOLUTION
+        raise ParameterError(
+            f"dt = {dt:g} does not resolve the fastest overdamped rate {rate:.3g}/tau {where} (integrator {integrator}: "
+            f"dt x rate = {dt * rate:.2g} > {bound:g}); the run would be stable but inaccurate. Use dt <= {dt_ok:.2g}"
+            + (" (at sigma >= 10 the straight chain's modes grow this fast)" if limits.growing_rate >= 0.5 * rate else "")
+        )
+    if m * rate > INERTIA_RESOLUTION:
+        raise ParameterError(
+            f"mass_ratio = {m:g} is outside the overdamped limit {where}: the inertial time m / gamma is "
+            f"{m * rate:.2g} of the fastest overdamped time 1 / {rate:.3g} (> {INERTIA_RESOLUTION:g}); "
+            f"use mass_ratio <= {INERTIA_RESOLUTION / rate:.2g}"
+        )
+    if limits.pinned and integrator != "discrete" and dt * dt / m > PIN_DT2_PER_MASS:
+        raise ParameterError(
+            f"the pin cannot hold {where} with dt = {dt:g}, mass_ratio = {m:g} and integrator {integrator}: "
+            f"the soft pin's restoring force scales with mass_ratio / (2 dt)^2, and dt^2 / mass_ratio = "
+            f"{dt * dt / m:.3g} > {PIN_DT2_PER_MASS:g} lets the end drift off (0.14 l at 10). Use integrator discrete, "
+            f"dt <= {np.sqrt(PIN_DT2_PER_MASS * m):.2g} or mass_ratio >= {dt * dt / PIN_DT2_PER_MASS:.2g}"
+        )
+    if integrator == "discrete":
+        residual = _discrete_probe(physics, numerics)
+        if residual:
+            raise ParameterError(
+                f"integrator discrete cannot run {where}: MuJoCo's effective-metric solve (M + h D + h^2 K) did not "
+                f"converge in {PROBE_STEPS} probe steps (mjWARN_INERTIA {residual} times; long chains, N >~ 30), so "
+                "its accelerations would be wrong. Use integrator implicitfast"
+            )
+    return limits
+
+
+def _discrete_probe(physics: Physics, numerics: Numerics) -> int:
+    """Number of mjWARN_INERTIA warnings in a few steps of the real model from its initial state."""
+    from .controllers import follower_forces
+    from .simulate import prepare
+
+    model, data = prepare(physics, numerics)
+    with follower_forces():
+        mujoco.mj_step(model, data, nstep=PROBE_STEPS)
+    return int(data.warning[mujoco.mjtWarning.mjWARN_INERTIA].number)
 
 
 def _describe(physics: Physics) -> str:

@@ -108,3 +108,11 @@ def test_sample_spacing_must_be_whole_steps():
     with pytest.raises(ParameterError, match="sample_dt .* whole multiple of dt"):
         Numerics(dt=0.004, sample_dt=0.05)
     assert Numerics(dt=0.004, sample_dt=0.048).steps_per_sample == 12
+
+
+def test_two_pinned_n2_has_no_free_motion():
+    """Two angles, two pin constraints: the stability estimate must not fail on an empty spectrum."""
+    limits = check_timestep(Physics(scene="two-pinned", n=2, delta=0.1), Numerics())
+    assert limits.limit("implicitfast") == np.inf
+    traj = simulate_mujoco(Physics(scene="two-pinned", n=2, delta=0.1), Numerics(), 10.0)
+    assert np.ptp(traj.theta[traj.t > 5], axis=0).max() < 1e-3

@@ -1,0 +1,60 @@
+"""`elastoactive reproduce --tiny` and the scenario scripts at their tiny size."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from elastoactive.cli import main
+
+ROOT = Path(__file__).resolve().parents[1]
+SCRIPTS = {
+    "flagellar_hopf.py": ["fig3ab_hopf.png", "fig3cd_eigenvalues.png", "figA_size_effect.png", "normal_form_n2.png"],
+    "self_snapping.py": ["fig4cd_snapping.png", "figA_snapping_map.png"],
+    "rotating_pin.py": ["figA_rotating_pin.png"],
+    "synchronisation.py": ["fig5ef_sync.png", "fig5f_tongue.png", "sync_n2_kappa_c.png"],
+    "noise_anisotropy.py": ["figA_noise.png", "figA_anisotropy.png"],
+}
+
+
+def _png(path: Path) -> bool:
+    return path.exists() and path.stat().st_size > 5000 and path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_reproduce_tiny_writes_report_figures_and_data(tmp_path):
+    out = tmp_path / "repro"
+    assert main(["reproduce", "--tiny", "--out", str(out), "--workers", "2", "--quiet"]) == 0
+    report = (out / "report.md").read_text()
+    assert "| # | claim | paper | MuJoCo | reduced model | agree |" in report
+    rows = [line for line in report.splitlines() if line.startswith("| ") and line[2].isdigit()]
+    assert len(rows) >= 20
+    for claim in ("Landau-Stuart", "N^-3", "kappa_c", "Arnold tongue", "constant speed", "delta = 0", "tau_L/tau_T"):
+        assert claim in report, claim
+    figures = sorted({f for names in SCRIPTS.values() for f in names})
+    for name in figures + ["fig2_limit_cycles.png", "growth_rates.png", "fig4b_snapping_shapes.png"]:
+        assert _png(out / name), name
+    from elastoactive.analysis.studies import STUDIES, load_study
+
+    for name in STUDIES:
+        assert load_study(out, name).summary, name
+    assert (out / "stability_sigma_c.csv").read_text().startswith("N,sigma_c,")
+
+
+def test_reproduce_rejects_unknown_study(tmp_path):
+    from elastoactive.reproduce import reproduce
+
+    with pytest.raises(ValueError):
+        reproduce(tmp_path, "tiny", 1, only=["nonsense"], progress=False, log=lambda *a: None)
+
+
+@pytest.mark.parametrize("script", sorted(SCRIPTS))
+def test_scenario_script_tiny(script, tmp_path):
+    res = subprocess.run([sys.executable, str(ROOT / "scripts" / script), "--tiny", "--out", str(tmp_path), "--workers", "2"],
+                         capture_output=True, text=True, timeout=240, cwd=tmp_path)
+    assert res.returncode == 0, res.stderr[-3000:]
+    for name in SCRIPTS[script]:
+        assert _png(tmp_path / name), name
+    assert "wrote" in res.stdout

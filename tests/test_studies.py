@@ -1,0 +1,118 @@
+"""The study functions (analysis.studies) on cases with known answers, at the tiny size."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from elastoactive.analysis import reduced as R
+from elastoactive.analysis import stability as stab
+from elastoactive.analysis import studies as st
+from elastoactive.params import Physics
+
+
+# ------------------------------------------------------------------------------------ pure helpers
+def test_landau_predictions():
+    z2, om = st.landau_prediction(1e-4, "supplement")
+    assert z2 == pytest.approx(1e-4, rel=1e-3) and (om - 1) / z2 == pytest.approx(-0.125, rel=1e-2)
+    z2, om = st.landau_prediction(1e-4, "main")
+    assert z2 == pytest.approx(2e-4, rel=1e-3) and (om - 1) / z2 == pytest.approx(1.25, rel=1e-2)
+    with pytest.raises(ValueError):
+        st.landau_prediction(0.1, "other")
+
+
+def test_kappa_c_formulas():
+    assert st.kappa_c_formula(0.1, 0.98) == pytest.approx(11 / (4 * math.sqrt(6)) * math.sqrt(0.1 * 0.02))
+    # the supplement's phase equation: kappa_c -> 11/8 |1 - rho| when |rho - 1| << mu
+    assert st.kappa_c_phase_equation(0.1, 1 - 1e-5) == pytest.approx(11 / 8 * 1e-5, rel=1e-3)
+    assert st.kappa_c_phase_equation(0.1, 0.97) != pytest.approx(float(st.kappa_c_formula(0.1, 0.97)), rel=0.1)
+
+
+def test_locking_threshold():
+    k = [0.0, 0.1, 0.2, 0.3, 0.4]
+    assert st.locking_threshold(k, [False, False, True, True, True]) == (0.1, 0.2)
+    assert st.locking_threshold(k, [False, True, False, True, True]) == (0.2, 0.3)  # isolated early lock ignored
+    lo, hi = st.locking_threshold(k, [False] * 5)
+    assert lo == 0.4 and hi == math.inf
+    lo, hi = st.locking_threshold(k, [True] * 5)
+    assert math.isnan(lo) and hi == 0.0
+
+
+@pytest.mark.parametrize("sigma", [0.05, 0.3])
+def test_rotating_operator_matches_reduced_jacobian(sigma):
+    n = 5
+    J = R.jacobian(Physics(scene="rotating-pin", n=n, sigma=sigma))(0.0, np.zeros(n))
+    lam_j = np.linalg.eigvals(J)
+    lam_j = lam_j[np.abs(lam_j) > 1e-9]  # drop the rigid rotation
+    lam_o = np.linalg.eigvals(st.rotating_operator(n, sigma))
+    np.testing.assert_allclose(np.sort_complex(lam_j), np.sort_complex(lam_o), atol=1e-9)
+
+
+def test_rotation_threshold_is_a_real_eigenvalue_crossing():
+    s_r = st.rotation_threshold(7)
+    below = np.linalg.eigvals(st.rotating_operator(7, 0.99 * s_r))
+    above = np.linalg.eigvals(st.rotating_operator(7, 1.01 * s_r))
+    assert below.real.max() < 0 < above.real.max()
+    assert abs(above[np.argmax(above.real)].imag) < 1e-12
+
+
+def test_study_save_and_load_roundtrip(tmp_path):
+    s = st.Study("demo", "tiny", {"x": np.arange(3.0)}, {"a": 1.5, "b": np.float64(2.0), "c": float("nan")}, 0.1)
+    s.save(tmp_path)
+    back = st.load_study(tmp_path, "demo")
+    np.testing.assert_array_equal(back.data["x"], np.arange(3.0))
+    assert back.summary == {"a": 1.5, "b": 2.0, "c": None}
+
+
+def test_unknown_size_rejected():
+    with pytest.raises(ValueError):
+        st.stability_study("huge")
+
+
+# --------------------------------------------------------------------------------- studies, tiny
+def test_stability_study_known_answers():
+    s = st.stability_study("tiny")
+    assert s.summary["sigma_c_2"] == pytest.approx(3.0, abs=1e-6)
+    assert s.summary["omega_c_2"] == pytest.approx(1.0, abs=1e-6)
+    assert s.summary["sigma_c_7"] == pytest.approx(0.15747, abs=1e-5)
+    # N^-3: the local exponent approaches -3 from above and N^3 sigma_c approaches the continuum onset
+    loc = s.data["local_exponent"]
+    assert np.all(np.diff(loc[5:]) < 0) and -3.0 < loc[-1] < -2.8
+    assert abs(s.summary["n3_sigma_c_limit"] - s.summary["continuum_onset"]) < 0.5
+    # eigenvalue curves: N = 2 real parts are sigma - 3 in the oscillatory range
+    sig, re = s.data["eig_sigma_2"], s.data["eig_re_2"][:, 0]
+    osc = np.abs(sig - 3) < 1
+    np.testing.assert_allclose(re[osc], sig[osc] - 3, atol=1e-9)
+
+
+def test_growth_study_rates_match_eigenvalues():
+    s = st.growth_study("tiny", workers=2, progress=False)
+    assert s.summary["max_rel_err_rate_reduced"] < 1e-3
+    assert s.summary["max_rel_err_rate_mujoco"] < 0.02
+    assert s.summary["max_rel_err_omega_mujoco"] < 0.005
+    for row in s.summary["per_n"]:
+        assert row["sigma_c_mujoco"] == pytest.approx(row["sigma_c_linear"], rel=0.01)
+
+
+def test_normal_form_study_sides_with_the_supplement():
+    s = st.normal_form_study("tiny", workers=2, progress=False)
+    mu = s.data["mu"]
+    for eng in ("reduced", "mujoco"):
+        z2 = s.data[f"z2_{eng}"]
+        assert np.all(np.abs(z2 - mu) < 0.2 * mu)  # supplement: |z|^2 ~ mu (1 + O(mu))
+        assert np.all(np.abs(z2 - 2 * mu) > 0.5 * mu)  # main text: |z|^2 ~ 2 mu
+        om = s.data[f"omega_{eng}"]
+        assert np.all(om < 1.0)  # the frequency falls with amplitude (Im c < 0), not rises
+
+
+def test_noise_and_anisotropy_studies():
+    no = st.noise_study("tiny", workers=2, progress=False)
+    cv = no.data["period_cv_mujoco"]
+    assert cv[0] < 1e-3 < 0.02 < cv[1]
+    an = st.anisotropy_study("tiny", workers=2, progress=False)
+    for eng in ("mujoco", "reduced"):
+        assert np.all(np.abs(an.data[f"onset_{eng}"] - 3.0) < 0.005)
+        amp = an.data[f"amplitude_{eng}"]
+        assert amp[1] < 0.7 * amp[0]  # ratio 4 vs 1

@@ -108,7 +108,7 @@ def cmd_validate(args) -> int:
 
 # Subcommands defined in their own modules: each module has register(subparsers), which adds
 # its parser cheaply (heavy imports go inside the command's function).
-COMMAND_MODULES = ("elastoactive.render_cli", "elastoactive.sweep", "elastoactive.reproduce")
+COMMAND_MODULES = ("elastoactive.render_cli", "elastoactive.sweep", "elastoactive.accuracy", "elastoactive.reproduce")
 
 
 def build_parser() -> argparse.ArgumentParser:

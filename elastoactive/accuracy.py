@@ -25,7 +25,6 @@ timings carry noise of tens of percent.
 
 from __future__ import annotations
 
-import argparse
 import csv
 import math
 import os

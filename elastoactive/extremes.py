@@ -225,8 +225,9 @@ def compare_to_reference(traj, ref: Reference) -> dict:
 
 
 def run_cell(physics: Physics, numerics: Numerics, ref: Reference, column: str = "", duration: float | None = None,
-             preflight: bool = True) -> CellResult:
-    """Pre-flight check, MuJoCo run and comparison; never raises for an unstable or refused setting."""
+             preflight: bool = True, accuracy_guard: bool = True) -> CellResult:
+    """Pre-flight check, MuJoCo run and comparison; never raises for an unstable or refused setting.
+    accuracy_guard=False: the pre-flight check without diagnose.check_accuracy (stability only)."""
     from .diagnose import SimulationDiverged, check_timestep
     from .simulate import simulate_mujoco
 
@@ -240,7 +241,7 @@ def run_cell(physics: Physics, numerics: Numerics, ref: Reference, column: str =
 
     try:
         if preflight:
-            check_timestep(physics, numerics)
+            check_timestep(physics, numerics, accuracy=accuracy_guard)
         t0 = time.perf_counter()
         traj = simulate_mujoco(physics, numerics, duration, on_sample=on_sample)
         res.wall_s = time.perf_counter() - t0
@@ -305,23 +306,6 @@ def estimated_cost_s(physics: Physics, numerics: Numerics, duration: float) -> f
     n_index = 0 if physics.n <= 10 else (1 if physics.n <= 30 else 2)
     per_step = PER_STEP_US[numerics.integrator][n_index] * physics.n_chains
     return duration / numerics.dt * per_step * 1e-6
-
-
-def run_grid(physics_list, columns=tuple(NUMERICS), integrators=INTEGRATORS, progress=None) -> tuple[list, dict]:
-    """Every (physics, numerics column, integrator) cell; returns (cells, references)."""
-    cells, refs = [], {}
-    for physics in physics_list:
-        duration = cell_duration(physics)
-        ref_dt = 0.0025 * max(1, round(min(0.05, duration / 40.0) / 0.0025))  # divides the 0.1 spacing
-        ref = reference(physics, duration, ref_dt)
-        refs[describe(physics)] = ref
-        for column in columns:
-            for integrator in integrators:
-                numerics = numerics_for(column, integrator, duration)
-                cells.append(run_cell(physics, numerics, ref, column, duration))
-                if progress:
-                    progress(cells[-1])
-    return cells, refs
 
 
 # ------------------------------------------------------------------------------------------------

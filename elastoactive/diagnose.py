@@ -261,7 +261,8 @@ def divergence_cause(physics: Physics, numerics: Numerics, time: float, model=No
     what = "NaN or |value| > 1e10 in the state"
     if data is not None:
         names = {mujoco.mjtWarning.mjWARN_BADQACC: "qacc", mujoco.mjtWarning.mjWARN_BADQVEL: "qvel",
-                 mujoco.mjtWarning.mjWARN_BADQPOS: "qpos"}
+                 mujoco.mjtWarning.mjWARN_BADQPOS: "qpos",
+                 mujoco.mjtWarning.mjWARN_INERTIA: "the implicit solve (mass matrix not positive definite)"}
         bad = [n for w, n in names.items() if data.warning[w].number]
         if bad:
             what = f"NaN or |value| > 1e10 in {', '.join(bad)}"

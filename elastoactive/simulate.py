@@ -27,7 +27,10 @@ BAD_STATE_WARNINGS = (
     mujoco.mjtWarning.mjWARN_BADQPOS,
     mujoco.mjtWarning.mjWARN_BADQVEL,
     mujoco.mjtWarning.mjWARN_BADQACC,
+    # the implicit solve failed (seen with `discrete` on long chains): the state goes on, wrong
+    mujoco.mjtWarning.mjWARN_INERTIA,
 )
+PIN_DRIFT_LIMIT = 0.05  # l: beyond this the two-pinned end has left its pin (the exact model: 0)
 
 
 def sample_times(duration: float, sample_dt: float) -> np.ndarray:
@@ -100,6 +103,13 @@ def simulate_mujoco(
                     bar.update(CHECK_EVERY if k % CHECK_EVERY == 0 else k % CHECK_EVERY)
             if pinned:
                 violation = max(violation, pin_violation(model, data))
+                if violation > PIN_DRIFT_LIMIT:
+                    raise SimulationDiverged(
+                        f"the two-pinned chain's end drifted {violation:.3g} l off its pin at t = {data.time:.4g} tau "
+                        f"(limit {PIN_DRIFT_LIMIT} l) with dt = {numerics.dt:g}, mass_ratio = {numerics.mass_ratio:g}, "
+                        f"integrator {numerics.integrator}: the soft pin's hold scales with mass_ratio / dt^2; "
+                        "reduce dt, raise mass_ratio, or use integrator discrete"
+                    )
             if on_sample is not None:
                 on_sample(model, data)
     wall = time.perf_counter() - start

@@ -116,3 +116,16 @@ def test_two_pinned_n2_has_no_free_motion():
     assert limits.limit("implicitfast") == np.inf
     traj = simulate_mujoco(Physics(scene="two-pinned", n=2, delta=0.1), Numerics(), 10.0)
     assert np.ptp(traj.theta[traj.t > 5], axis=0).max() < 1e-3
+
+
+def test_pin_drift_stops_the_run():
+    """A soft pin that lets go (tiny mass, large dt) is an error, not a silently wrong snap."""
+    with pytest.raises(SimulationDiverged, match="drifted .* off its pin"):
+        simulate_mujoco(Physics(scene="two-pinned", n=7, sigma=0.8, delta=0.1),
+                        Numerics(dt=0.04, sample_dt=0.04, mass_ratio=1e-4), 50.0)
+
+
+def test_failed_implicit_solve_is_a_divergence():
+    from elastoactive.simulate import BAD_STATE_WARNINGS
+
+    assert mujoco.mjtWarning.mjWARN_INERTIA in BAD_STATE_WARNINGS

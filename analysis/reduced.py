@@ -107,7 +107,6 @@ __all__ = [
     "jacobian",
     "rhs",
     "rhs_reference",
-    "sample_times",
     "simulate_reduced",
     "simulate_reference",
     "spectral_radius",
@@ -788,14 +787,6 @@ def stiffness(physics: Physics, theta, *, beta: float = DEFAULT_BETA) -> float:
     return float(max(0.0, np.max(-eig.real)))
 
 
-def sample_times(duration: float, sample_dt: float) -> np.ndarray:
-    """k * sample_dt for k = 0 .. floor(duration / sample_dt) (= round when duration is a multiple)."""
-    if not np.isfinite(duration) or duration < 0:
-        raise ParameterError(f"duration must be a finite number >= 0, got {duration}")
-    k = int(math.floor(duration / sample_dt + 1e-9))
-    return sample_dt * np.arange(k + 1)
-
-
 def _constraint_info(physics: Physics, theta: np.ndarray, info: dict) -> None:
     if physics.scene == "two-pinned":
         c = np.cos(theta).sum(axis=1) - physics.n * (1.0 - physics.delta)
@@ -881,7 +872,7 @@ def simulate_reduced(
     noise > 0: Euler-Maruyama with step numerics.dt and the shared counter-based noise (seed numerics.seed);
     rtol, atol and method are then unused.
     """
-    t = sample_times(duration, numerics.sample_dt)
+    t = numerics.sample_times(duration)
     theta0 = _initial(physics, numerics, theta0)
     start = time.perf_counter()
     if physics.noise > 0:
@@ -909,7 +900,7 @@ def simulate_reference(
     """The plain numpy/scipy baseline: solve_ivp on rhs_reference (deterministic only), for benchmarks."""
     if physics.noise > 0:
         raise ParameterError("simulate_reference integrates the deterministic model only (noise must be 0)")
-    t = sample_times(duration, numerics.sample_dt)
+    t = numerics.sample_times(duration)
     theta0 = _initial(physics, numerics, theta0)
     start = time.perf_counter()
     sol = solve_ivp(

@@ -12,6 +12,8 @@ import dataclasses
 import math
 from dataclasses import dataclass, field
 
+import numpy as np
+
 SCENES = ("one-pinned", "two-pinned", "rotating-pin", "coupled-pair")
 INTEGRATORS = ("implicitfast", "implicit", "discrete", "Euler", "RK4")
 
@@ -154,6 +156,15 @@ class Numerics:
     @property
     def steps_per_sample(self) -> int:
         return max(1, int(round(self.sample_dt / self.dt)))
+
+    def sample_times(self, duration: float) -> np.ndarray:
+        """Recording times k * sample_dt, k = 0 .. floor(duration / sample_dt): the same grid for
+        both engines (sample_dt is a whole number of MuJoCo steps)."""
+        duration = _finite("duration", duration)
+        if duration < 0:
+            raise ParameterError(f"duration (in tau) must be >= 0, got {duration}")
+        spacing = self.steps_per_sample * self.dt
+        return spacing * np.arange(int(math.floor(duration / spacing + 1e-9)) + 1)
 
     @classmethod
     def preset(cls, name: str, **overrides) -> "Numerics":

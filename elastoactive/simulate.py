@@ -17,7 +17,7 @@ import numpy as np
 from .controllers import follower_forces
 from .diagnose import SimulationDiverged, divergence_cause
 from .initial import initial_angles
-from .model import absolute_angles, build_model, chain_prefixes, relative_angles
+from .model import absolute_angles, build_model, relative_angles
 from .params import Numerics, ParameterError, Physics
 from .trajectory import Trajectory
 
@@ -31,13 +31,6 @@ BAD_STATE_WARNINGS = (
     mujoco.mjtWarning.mjWARN_INERTIA,
 )
 PIN_DRIFT_LIMIT = 0.05  # l: beyond this the two-pinned end has left its pin (the exact model: 0)
-
-
-def sample_times(duration: float, sample_dt: float) -> np.ndarray:
-    """Recording times k * sample_dt, k = 0 .. round(duration / sample_dt)."""
-    if not np.isfinite(duration) or duration <= 0:
-        raise ParameterError(f"duration (in tau) must be a positive number, got {duration}")
-    return np.arange(int(round(duration / sample_dt)) + 1) * sample_dt
 
 
 def prepare(physics: Physics, numerics: Numerics, theta0: np.ndarray | None = None):
@@ -77,9 +70,9 @@ def simulate_mujoco(
     on_sample(model, data) is called at every recorded sample (e.g. to render a frame); it must
     not change the state.
     """
-    t = sample_times(duration, numerics.sample_dt * 1.0)
-    sample_dt = numerics.steps_per_sample * numerics.dt
-    t = np.arange(t.size) * sample_dt
+    if not duration > 0:
+        raise ParameterError(f"duration (in tau) must be a positive number, got {duration}")
+    t = numerics.sample_times(duration)
     model, data = prepare(physics, numerics, theta0)
     pinned = physics.scene == "two-pinned"
     violation = pin_violation(model, data) if pinned else 0.0
@@ -129,4 +122,4 @@ def _progress_bar(total: int, label: str):
     return tqdm(total=total, desc=f"mujoco {label}", unit="sample", mininterval=0.5)
 
 
-__all__ = ["simulate_mujoco", "prepare", "SimulationDiverged", "chain_prefixes", "sample_times"]
+__all__ = ["simulate_mujoco", "prepare", "SimulationDiverged"]

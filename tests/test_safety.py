@@ -129,3 +129,13 @@ def test_failed_implicit_solve_is_a_divergence():
     from elastoactive.simulate import BAD_STATE_WARNINGS
 
     assert mujoco.mjtWarning.mjWARN_INERTIA in BAD_STATE_WARNINGS
+
+
+def test_both_engines_record_on_one_grid():
+    """A duration that is not a whole number of samples gives the same grid in both engines."""
+    from elastoactive.analysis.reduced import simulate_reduced
+
+    physics, numerics = Physics(n=3, sigma=0.5), Numerics()
+    mj, red = simulate_mujoco(physics, numerics, 3.03), simulate_reduced(physics, numerics, 3.03)
+    np.testing.assert_array_equal(mj.t, red.t)
+    assert mj.t[-1] == pytest.approx(3.0)

@@ -13,6 +13,9 @@ About theta = 0 the reduced model D(theta) theta' = -K theta + Q(theta) becomes 
 The straight chain loses stability through a complex pair (flutter), never through a real eigenvalue;
 sigma_c falls like N^-3 and N^3 sigma_c tends to the continuum value (~ 76) of a clamped filament with a
 distributed follower force.
+
+On a freely rotating pin (no clamp spring: K_11 = 1) the straight chain instead loses stability through
+a real eigenvalue, a steady rotation (rotating_operator, rotation_threshold).
 """
 
 from __future__ import annotations
@@ -28,6 +31,9 @@ __all__ = [
     "critical_sigmas",
     "pair_linear_operator",
     "pair_eigenvalues",
+    "subdominant_rate",
+    "rotating_operator",
+    "rotation_threshold",
 ]
 
 
@@ -109,3 +115,39 @@ def pair_eigenvalues(n: int, sigma: float, kappa: float, rho: float) -> np.ndarr
     """Eigenvalues of the pair's linearisation, sorted by decreasing real part."""
     lam = np.linalg.eigvals(pair_linear_operator(n, sigma, kappa, rho))
     return lam[np.lexsort((-lam.imag, -lam.real))]
+
+
+def subdominant_rate(n: int, sigma: float) -> float:
+    """Real part of the first eigenvalue below the dominant (conjugate) pair of A(sigma, N): how fast
+    everything but the dominant mode dies out (-inf when nothing else is left)."""
+    lam = eigenvalues(n, sigma)
+    top = lam[0]
+    rest = [l for l in lam[1:] if abs(l - np.conj(top)) > 1e-9 * max(1.0, abs(top))]  # noqa: E741
+    return float(rest[0].real) if rest else -np.inf
+
+
+def rotating_operator(n: int, sigma: float) -> np.ndarray:
+    """Linearisation of the rotating-pin chain (no clamp spring) about the straight state, on the
+    rotation-invariant bend angles psi_i = theta_{i+1} - theta_i (the rigid rotation, eigenvalue 0,
+    factored out): an (n-1) x (n-1) matrix."""
+    idx = np.arange(1, n + 1)
+    D0 = (n - np.maximum(idx[:, None], idx[None, :]) + 1).astype(float)  # drag at rest
+    K = 2.0 * np.eye(n) - np.eye(n, k=1) - np.eye(n, k=-1)
+    K[0, 0] = K[-1, -1] = 1.0  # no clamp spring; free end
+    S = np.diag((n - idx).astype(float)) - np.triu(np.ones((n, n)), k=1)  # linearised follower forces
+    A = -np.linalg.solve(D0, K - sigma * S)
+    R = np.diff(np.eye(n), axis=0)  # (n-1) x n
+    return R @ A @ np.linalg.pinv(R)
+
+
+def rotation_threshold(n: int = 7) -> float:
+    """sigma above which the straight chain on a free pin is unstable (a real eigenvalue of
+    rotating_operator crosses zero: steady rotation)."""
+
+    def g(s: float) -> float:
+        return float(np.max(np.linalg.eigvals(rotating_operator(n, s)).real))
+
+    hi = 1e-3
+    while g(hi) < 0:
+        hi *= 1.5
+    return float(brentq(g, hi / 1.5, hi, xtol=1e-12))

@@ -11,10 +11,10 @@ from __future__ import annotations
 import mujoco
 import pytest
 
-from elastoactive.analysis.reduced import simulate_reduced, simulate_reference
 from elastoactive.controllers import compiled_passive, follower_forces, reference_passive
+from elastoactive.engines.mujoco import prepare, simulate_mujoco
+from elastoactive.engines.reduced import simulate_reduced, simulate_reference
 from elastoactive.params import Numerics, Physics
-from elastoactive.simulate import prepare, simulate_mujoco
 
 CHAIN = Physics(n=7, sigma=0.8)
 NSTEP = 2000

@@ -1,6 +1,6 @@
 """Error against wall time: which MuJoCo and reduced-model settings reach 1%, 0.1%, 0.01%.
 
-For each of the paper's cases (validate.PAPER_CASES, run for a shorter time) every setting is
+For each of the paper's cases (validate.validation_cases(), run for a shorter time) every setting is
 compared with a tight reference solution of the reduced model (numba-DOP853, rtol 1e-11,
 atol 1e-13), using the error definitions of validate.compare:
 
@@ -36,7 +36,15 @@ from pathlib import Path
 
 import numpy as np
 
-from .params import PRESETS, Numerics, ParameterError, Physics
+from .batch import default_workers
+from .diagnose import check_accuracy, check_timestep
+from .engines.mujoco import simulate_mujoco
+from .engines.reduced import simulate_reduced
+from .errors import ParameterError, SimulationDiverged
+from .params import PRESETS, Numerics, Physics
+from .progress import progress_bar
+from .results import default_transient, measure
+from .validate import angle_errors, observable_errors, validation_cases
 
 REFERENCE = dict(method="numba-DOP853", rtol=1e-11, atol=1e-13)
 SAMPLE_DT = 0.04  # a whole number of steps for every dt in the grids below
@@ -44,8 +52,9 @@ LEVELS = (1e-2, 1e-3, 1e-4)
 ERROR_KEYS = ("amplitude", "frequency", "rotation_rate", "angle")
 STEADY_KEYS = ("amplitude", "frequency", "rotation_rate")
 
-# Durations (tau): long enough for two or more periods (f ~ 0.04 / tau) in the measured second half.
-DURATION = {"full": {"single": 150.0, "pair": 300.0}, "quick": {"single": 100.0, "pair": 200.0}}
+# Durations: this fraction of each validation case's (150 / 100 tau for a single chain, 300 / 200 for the
+# pair), long enough for two or more periods (f ~ 0.04 / tau) in the measured second half.
+DURATION_FRACTION = {"full": 0.5, "quick": 1.0 / 3.0}
 
 DEFAULT_MUJOCO = dict(integrator="implicitfast", dt=Numerics().dt, mass_ratio=Numerics().mass_ratio)
 FAST_MUJOCO = dict(integrator="implicitfast", dt=PRESETS["fast"]["dt"], mass_ratio=PRESETS["fast"]["mass_ratio"])
@@ -118,17 +127,12 @@ def reduced_grid(quick: bool = False) -> list[Setting]:
 
 
 def paper_cases(quick: bool = False) -> list[tuple[Physics, float]]:
-    from .validate import PAPER_CASES
-
-    d = DURATION["quick" if quick else "full"]
-    return [(p, d["pair"] if p.scene == "coupled-pair" else d["single"]) for p, _ in PAPER_CASES]
+    fraction = DURATION_FRACTION["quick" if quick else "full"]
+    return [(c.physics, round(fraction * c.duration, 9)) for c in validation_cases()]
 
 
 def case_name(physics: Physics) -> str:
-    name = physics.scene
-    if physics.scene == "coupled-pair":
-        name += f" kappa={physics.kappa:g}"
-    return name
+    return physics.scene_def.label(physics)
 
 
 # ------------------------------------------------------------------------------------------------
@@ -136,35 +140,19 @@ def case_name(physics: Physics) -> str:
 # ------------------------------------------------------------------------------------------------
 def reference_solution(physics: Physics, duration: float, sample_dt: float = SAMPLE_DT):
     """The tight reduced-model solution every setting is measured against."""
-    from .analysis.reduced import simulate_reduced
-
     return simulate_reduced(physics, Numerics(sample_dt=sample_dt), duration, **REFERENCE)
 
 
-def errors_against(traj, reference, transient: float | None = None, reference_measure: dict | None = None) -> dict:
-    """validate.compare's errors of `traj` against `reference` (same sample times)."""
-    from .results import default_transient, measure
-    from .validate import _error, comparison_window
-
+def errors_against(traj, reference, transient: float | None = None, reference_measure=None) -> dict:
+    """validate.compare's errors of `traj` against `reference` (same sample times), plus the largest
+    (`worst`) and the largest of the steady-state ones (`steady`)."""
     physics = reference.physics
     transient = default_transient(reference.t[-1]) if transient is None else transient
     a = measure(traj, transient)
     b = measure(reference, transient) if reference_measure is None else reference_measure
-    errors: dict = {}
-    if physics.scene == "rotating-pin":
-        errors["rotation_rate"] = _error(a["rotation_rate"], b["rotation_rate"], 1e-6)
-    else:
-        errors["amplitude"] = _error(a["amplitude"], b["amplitude"], 1e-3)
-        errors["frequency"] = _error(a["frequency"], b["frequency"], 1e-3)
-    n = min(traj.t.size, reference.t.size)
-    if not np.allclose(traj.t[:n], reference.t[:n], rtol=0, atol=1e-9):
-        raise ValueError("the trajectory and the reference are not sampled at the same times")
-    window = comparison_window(reference, physics)
-    early = reference.t[:n] <= window
-    diff = np.abs(traj.theta[:n][early] - reference.theta[:n][early]).max()
-    errors["angle_rad"] = float(diff)
-    errors["angle"] = float(diff / max(np.abs(reference.theta[:n][early]).max(), 1e-12))
-    errors["window"] = float(window)
+    compared = physics.scene_def.compared
+    errors = {k: v for k, v in observable_errors(physics, a, b).items() if k in compared}
+    errors.update(angle_errors(traj, reference))
     errors["worst"] = max(errors[k] for k in ERROR_KEYS if k in errors)
     errors["steady"] = max(errors[k] for k in STEADY_KEYS if k in errors)
     return errors
@@ -175,11 +163,7 @@ def errors_against(traj, reference, transient: float | None = None, reference_me
 # ------------------------------------------------------------------------------------------------
 def _simulate(physics: Physics, duration: float, setting: Setting):
     if setting.engine == "mujoco":
-        from .simulate import simulate_mujoco
-
         return simulate_mujoco(physics, setting.numerics(), duration)
-    from .analysis.reduced import simulate_reduced
-
     return simulate_reduced(physics, setting.numerics(), duration, method=setting.series,
                             rtol=setting.rtol, atol=setting.rtol * 1e-2)
 
@@ -187,8 +171,6 @@ def _simulate(physics: Physics, duration: float, setting: Setting):
 def run_setting(physics: Physics, duration: float, setting: Setting, reference, reference_measure=None,
                 repeats: int = 3, min_time: float = 0.5) -> dict:
     """Errors and wall time of one setting on one case; never raises for an unstable setting."""
-    from .diagnose import SimulationDiverged, check_accuracy, check_timestep
-
     row = {"case": case_name(physics), "scene": physics.scene, "duration": duration, **asdict(setting),
            "label": setting.label, "status": "ok", "wall_s": math.nan, "message": "", "guard": ""}
     try:
@@ -221,10 +203,8 @@ def run_setting(physics: Physics, duration: float, setting: Setting, reference, 
 
 def _worker_init() -> None:
     # load the numba kernels once per process so that the first timed run does not pay for it
-    from .analysis.reduced import simulate_reduced
-
-    simulate_reduced(Physics(n=3), Numerics(), 1.0)
-    simulate_reduced(Physics(scene="two-pinned", n=3), Numerics(), 1.0)
+    for physics, _ in paper_cases(quick=True):
+        simulate_reduced(physics, Numerics(), 1.0)
 
 
 def _task(args):
@@ -235,8 +215,6 @@ def _task(args):
 def run_study(quick: bool = False, workers: int | None = None, progress: bool = True,
               cases=None, mujoco=None, reduced=None, repeats: int = 3) -> tuple[list[dict], dict]:
     """All settings on all cases; returns (rows, meta)."""
-    from .batch import default_workers
-
     cases = paper_cases(quick) if cases is None else cases
     settings = (mujoco_grid(quick) if mujoco is None else mujoco) + (reduced_grid(quick) if reduced is None else reduced)
     workers = default_workers() if workers is None else workers
@@ -248,9 +226,7 @@ def run_study(quick: bool = False, workers: int | None = None, progress: bool = 
     rows: list[dict | None] = [None] * len(tasks)
     bar = None
     if progress:
-        from tqdm.auto import tqdm
-
-        bar = tqdm(total=len(tasks), desc="accuracy", unit="run", file=sys.stderr)
+        bar = progress_bar(len(tasks), "accuracy", "run")
     if workers <= 1:
         _worker_init()
         for i in order:
@@ -389,10 +365,10 @@ MARKERS = {"implicitfast": "o", "implicit": "s", "discrete": "D", "Euler": "v", 
 
 def plot(rows: list[dict], summary: list[dict], path: Path, key: str = "worst") -> None:
     """Log-log error against wall time: one panel per case and one for all cases together."""
-    import matplotlib
+    import matplotlib  # start-up time: only when plotting
 
     matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    import matplotlib.pyplot as plt  # after matplotlib.use("Agg")
 
     cases = list(dict.fromkeys(r["case"] for r in rows))
     panels = cases + ["all cases (largest error, total time)"]
@@ -486,34 +462,3 @@ def write_outputs(out: Path, rows: list[dict], meta: dict) -> dict:
     ]
     (out / "accuracy.md").write_text("\n".join(text))
     return {"summary": summary}
-
-
-# ------------------------------------------------------------------------------------------------
-# command line
-# ------------------------------------------------------------------------------------------------
-def cmd_accuracy(args) -> int:
-    rows, meta = run_study(quick=args.quick, workers=args.workers, progress=not args.quiet)
-    write_outputs(args.out, rows, meta)
-    summary = summarise(rows)
-    print(format_defaults(summary))
-    print()
-    print(format_recommendations(recommend(summary, key="worst"), "worst"))
-    bad = [r for r in rows if r["status"] != "ok"]
-    print(f"\n{len(rows)} runs in {meta['elapsed_s']:.0f} s ({len(bad)} refused/diverged/failed, recorded); "
-          f"wrote {args.out / 'accuracy.md'}, accuracy.csv, accuracy.png, accuracy_steady.png")
-    return 0
-
-
-def register(sub) -> None:
-    p = sub.add_parser(
-        "accuracy",
-        help="error against wall time for MuJoCo integrators/timesteps/mass ratios and reduced-model solvers",
-        description="Measure the error of MuJoCo (integrator, dt, mass ratio) and of the reduced model (method, "
-        "tolerance) against a tight reduced-model solution (rtol 1e-11) on the paper's cases, with their wall "
-        "time; write a log-log plot, tables (markdown + CSV) and the cheapest settings for 1%, 0.1%, 0.01%.",
-    )
-    p.add_argument("--out", type=Path, default=Path("results/accuracy"), help="output folder (default %(default)s)")
-    p.add_argument("--quick", action="store_true", help="coarser grid and shorter runs (about 2-3 min on 2 cores)")
-    p.add_argument("--workers", type=int, default=None, help="processes (default: every core)")
-    p.add_argument("--quiet", action="store_true", help="no progress bar")
-    p.set_defaults(func=cmd_accuracy)

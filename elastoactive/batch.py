@@ -14,7 +14,11 @@ from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass, field
 from typing import Callable, Iterable
 
+from .engines import check_engine, run_engine
 from .params import Numerics, Physics
+from .progress import progress_bar
+from .results import Results, measure
+from .trajectory import Trajectory
 
 
 @dataclass(frozen=True)
@@ -26,27 +30,25 @@ class Case:
     transient: float | None = None
 
     def __post_init__(self):
-        if self.engine not in ("mujoco", "reduced"):
-            raise ValueError(f"engine must be 'mujoco' or 'reduced', got {self.engine!r}")
+        check_engine(self.engine)
 
 
-def run_case(case: Case, keep_trajectory: bool = False) -> dict:
-    """Simulate one case; returns the measurements (results.measure), wall time and, if asked,
-    the trajectory."""
-    from .results import measure
+@dataclass
+class CaseResult:
+    """One finished case: its measurements, the simulation's wall time and solver info, and (if
+    kept) the trajectory. batch_wall_s is the wall time of the whole batch it ran in."""
 
-    if case.engine == "mujoco":
-        from .simulate import simulate_mujoco
+    results: Results
+    wall_time_s: float
+    info: dict
+    trajectory: Trajectory | None = None
+    batch_wall_s: float = 0.0
 
-        traj = simulate_mujoco(case.physics, case.numerics, case.duration)
-    else:
-        from .analysis.reduced import simulate_reduced
 
-        traj = simulate_reduced(case.physics, case.numerics, case.duration)
-    out = {"results": measure(traj, case.transient), "wall_time_s": traj.wall_time_s, "info": traj.info}
-    if keep_trajectory:
-        out["trajectory"] = traj
-    return out
+def run_case(case: Case, keep_trajectory: bool = False) -> CaseResult:
+    """Simulate one case and measure it (results.measure)."""
+    traj = run_engine(case.engine, case.physics, case.numerics, case.duration)
+    return CaseResult(measure(traj, case.transient), traj.wall_time_s, traj.info, traj if keep_trajectory else None)
 
 
 def default_workers() -> int:
@@ -58,18 +60,16 @@ def run_cases(
     workers: int | None = None,
     progress: bool = True,
     keep_trajectory: bool = False,
-    on_result: Callable[[int, dict], None] | None = None,
+    on_result: Callable[[int, CaseResult], None] | None = None,
     desc: str = "cases",
-) -> list[dict]:
+) -> list[CaseResult]:
     """Run the cases on `workers` processes (default: every core); results in input order."""
     cases = list(cases)
     workers = default_workers() if workers is None else workers
-    results: list[dict | None] = [None] * len(cases)
+    results: list[CaseResult | None] = [None] * len(cases)
     bar = None
     if progress:
-        from tqdm.auto import tqdm
-
-        bar = tqdm(total=len(cases), desc=desc, unit="case")
+        bar = progress_bar(len(cases), desc, "case")
     start = time.perf_counter()
     if workers <= 1 or len(cases) <= 1:
         for i, case in enumerate(cases):
@@ -92,5 +92,5 @@ def run_cases(
         bar.close()
     elapsed = time.perf_counter() - start
     for r in results:
-        r["batch_wall_s"] = elapsed
+        r.batch_wall_s = elapsed
     return results  # type: ignore[return-value]

@@ -37,15 +37,15 @@ stable but measured to be wrong (docs/performance.md, scripts/stability_grid.py)
 from __future__ import annotations
 
 from dataclasses import dataclass
+from dataclasses import replace
 
 import mujoco
 import numpy as np
 
-from .params import Numerics, ParameterError, Physics
-
-
-class SimulationDiverged(RuntimeError):
-    """A MuJoCo run whose state became NaN or huge; the message names the likely cause."""
+from .controllers import follower_forces
+from .errors import ParameterError
+from .model import build_model, prepare
+from .params import Numerics, Physics
 
 
 RK4_STABILITY = 2.785  # real-axis stability interval of classical RK4
@@ -94,8 +94,14 @@ class StabilityLimits:
         return dt
 
 
+NEUTRAL = 1e-9
+"""Modes with |Re lambda| <= NEUTRAL |lambda| are neutral, not decaying: round-off puts the real part of a
+purely imaginary pair (e.g. of two chains on free pins) at +-1e-11, which would otherwise count as a decaying
+mode with an explicit limit 2 |Re| / |lambda|^2 ~ 1e-11."""
+
+
 def _explicit_limit(eigenvalues: np.ndarray) -> float:
-    decaying = eigenvalues[eigenvalues.real < -1e-12]
+    decaying = eigenvalues[eigenvalues.real < -NEUTRAL * np.abs(eigenvalues) - 1e-12]
     if decaying.size == 0:
         return np.inf
     return float(np.min(-2.0 * decaying.real / np.abs(decaying) ** 2))
@@ -140,9 +146,6 @@ def linear_operators(model: mujoco.MjModel, data: mujoco.MjData, eps: float = 1e
 
 def stability_limits(physics: Physics, numerics: Numerics, qpos: np.ndarray | None = None) -> StabilityLimits:
     """Linear stability limits of the timestep at a state (default: the base state)."""
-    from .controllers import follower_forces
-    from .model import build_model
-
     model = build_model(physics, numerics)
     data = mujoco.MjData(model)
     if qpos is not None:
@@ -177,6 +180,50 @@ def stability_limits(physics: Physics, numerics: Numerics, qpos: np.ndarray | No
     )
 
 
+def _down(x: float) -> float:
+    """x rounded down to two significant digits: a suggested bound that passes the check it came from."""
+    if not np.isfinite(x) or x <= 0:
+        return x
+    scale = 10.0 ** (np.floor(np.log10(x)) - 1)
+    return float(np.floor(x / scale * (1 - 1e-9)) * scale)  # strictly inside the bound
+
+
+def _up(x: float) -> float:
+    """x rounded up to two significant digits."""
+    if not np.isfinite(x) or x <= 0:
+        return x
+    scale = 10.0 ** (np.floor(np.log10(x)) - 1)
+    return float(np.ceil(x / scale * (1 + 1e-9)) * scale)  # strictly inside the bound
+
+
+def largest_dt(limits: StabilityLimits, numerics: Numerics, accuracy: bool = True) -> float:
+    """The largest dt every check passes at this mass ratio and integrator (stability, and with accuracy=True
+    the resolution of the fastest rate and the pin's hold): what the error messages suggest."""
+    integrator = numerics.integrator
+    dt = limits.limit(integrator)
+    if accuracy:
+        dt = min(dt, limits.accuracy_limit(integrator))
+        if limits.pinned and integrator != "discrete":
+            dt = min(dt, (PIN_DT3_PER_MASS * numerics.mass_ratio) ** (1 / 3))
+    return _down(dt)
+
+
+def passing_setting(limits: StabilityLimits, numerics: Numerics) -> tuple[float, float]:
+    """(dt, mass_ratio) that passes every check for this integrator: the mass ratio lowered into the
+    overdamped limit if needed, then the largest dt at that mass (explicit-drag integrators need
+    dt < 2 m / gamma, so their mass ratio is kept)."""
+    m = numerics.mass_ratio
+    rate = limits.accuracy_rate(numerics.integrator)
+    if numerics.integrator not in EXPLICIT_DRAG and rate > 0 and m * rate > INERTIA_RESOLUTION:
+        m = _down(INERTIA_RESOLUTION / rate)
+    return largest_dt(limits, replace(numerics, mass_ratio=m)), m
+
+
+def _suggest(limits: StabilityLimits, numerics: Numerics) -> str:
+    dt, m = passing_setting(limits, numerics)
+    return f" (a setting that passes every check: --dt {dt:.2g} --mass-ratio {m:.2g} --integrator {numerics.integrator})"
+
+
 def check_timestep(physics: Physics, numerics: Numerics, safety: float = 1.0, accuracy: bool = True) -> StabilityLimits:
     """Refuse a timestep beyond the linear stability limit of the chosen integrator and, with
     accuracy=True, settings that are stable but measured to give wrong answers (module docstring)."""
@@ -188,12 +235,12 @@ def check_timestep(physics: Physics, numerics: Numerics, safety: float = 1.0, ac
             f"at mass_ratio = {numerics.mass_ratio:g}; raise mass_ratio or use integrator implicitfast"
             if numerics.integrator in EXPLICIT_DRAG and dt_max < limits.spring_dt
             else f"the stiffest overdamped mode (rate {limits.fastest_rate:.3g}/tau) is integrated explicitly by "
-            f"{numerics.integrator}; use dt <= {dt_max:.3g}"
+            f"{numerics.integrator}; use dt <= {largest_dt(limits, numerics, accuracy):.2g}"
             + ("" if numerics.integrator == "discrete" else " or integrator discrete")
         )
         raise ParameterError(
             f"dt = {numerics.dt:g} is above the stability limit {dt_max:.3g} of integrator {numerics.integrator} "
-            f"for {_describe(physics)}: {cause}"
+            f"for {_describe(physics)}: {cause}" + (_suggest(limits, numerics) if accuracy else "")
         )
     if accuracy:
         check_accuracy(physics, numerics, limits)
@@ -212,23 +259,24 @@ def check_accuracy(physics: Physics, numerics: Numerics, limits: StabilityLimits
         bound = DISCRETE_RESOLUTION if integrator == "discrete" and not limits.pinned else RESOLUTION
         raise ParameterError(
             f"dt = {dt:g} does not resolve the fastest overdamped rate {rate:.3g}/tau {where} (integrator {integrator}: "
-            f"dt x rate = {dt * rate:.2g} > {bound:g}); the run would be stable but inaccurate. Use dt <= {dt_ok:.2g}"
+            f"dt x rate = {dt * rate:.2g} > {bound:g}); the run would be stable but inaccurate. Use dt <= "
+            f"{largest_dt(limits, numerics):.2g}"
             + (" (the straight chain's active modes grow this fast at high sigma or N)"
-               if limits.growing_rate >= 0.5 * rate and limits.growing_rate > 20 else "")
+               if limits.growing_rate >= 0.5 * rate and limits.growing_rate > 20 else "") + _suggest(limits, numerics)
         )
     if m * rate > INERTIA_RESOLUTION:
         raise ParameterError(
             f"mass_ratio = {m:g} is outside the overdamped limit {where}: the inertial time m / gamma is "
             f"{m * rate:.2g} of the fastest overdamped time 1 / {rate:.3g} (> {INERTIA_RESOLUTION:g}); "
-            f"use mass_ratio <= {INERTIA_RESOLUTION / rate:.2g}"
+            f"use mass_ratio <= {_down(INERTIA_RESOLUTION / rate):.2g}" + _suggest(limits, numerics)
         )
     if limits.pinned and integrator != "discrete" and dt**3 / m > PIN_DT3_PER_MASS:
         raise ParameterError(
             f"the pin cannot hold {where} with dt = {dt:g}, mass_ratio = {m:g} and integrator {integrator}: "
             f"the soft pin's restoring force scales with mass_ratio / (2 dt)^2 and the end drifts off by about "
             f"2 dt^3 / mass_ratio = {2 * dt**3 / m:.2g} l (> {2 * PIN_DT3_PER_MASS:g} l; beyond ~0.4 l it leaves the pin "
-            f"altogether). Use integrator discrete, dt <= {(PIN_DT3_PER_MASS * m) ** (1 / 3):.2g} or mass_ratio >= "
-            f"{dt**3 / PIN_DT3_PER_MASS:.2g}"
+            f"altogether). Use integrator discrete, dt <= {largest_dt(limits, numerics):.2g} or mass_ratio >= "
+            f"{_up(dt**3 / PIN_DT3_PER_MASS):.2g}"
         )
     if integrator == "discrete":
         residual = _discrete_probe(physics, numerics)
@@ -243,9 +291,6 @@ def check_accuracy(physics: Physics, numerics: Numerics, limits: StabilityLimits
 
 def _discrete_probe(physics: Physics, numerics: Numerics) -> int:
     """Number of mjWARN_INERTIA warnings in a few steps of the real model from its initial state."""
-    from .controllers import follower_forces
-    from .simulate import prepare
-
     model, data = prepare(physics, numerics)
     with follower_forces():
         mujoco.mj_step(model, data, nstep=PROBE_STEPS)

@@ -35,7 +35,16 @@ from dataclasses import dataclass, field, replace
 import mujoco
 import numpy as np
 
-from .params import Numerics, ParameterError, Physics
+from . import registry
+from .accuracy import errors_against
+from .diagnose import INERTIA_RESOLUTION, PIN_DT3_PER_MASS, check_timestep, stability_limits
+from .engines.mujoco import simulate_mujoco
+from .engines.reduced import simulate_reduced
+from .errors import ParameterError, SimulationDiverged
+from .params import Numerics, Physics
+from .results import measure
+from .trajectory import Trajectory
+from .validate import comparison_window
 
 TOLERANCE = {"statistics": 0.05, "angle": 0.10, "pin": 0.02}
 SIGMA_KICK = 1e-3  # relative change of sigma that defines the predictability horizon
@@ -69,29 +78,17 @@ def cell_duration(physics: Physics) -> float:
     if physics.sigma >= 5:
         return 20.0 if physics.n <= 10 else (4.0 if physics.n <= 30 else 1.0)
     if physics.n <= 10:
-        return 200.0 if physics.scene == "coupled-pair" else 100.0
+        return 100.0 * physics.n_chains  # a pair needs longer to lock or slip
     return 20.0 if physics.n <= 30 else 4.0
 
 
 def physics_grid(quick: bool = False) -> list[Physics]:
-    if quick:
-        return [Physics(n=7, sigma=0.8), Physics(scene="two-pinned", n=7, sigma=0.8, delta=0.5)]
-    g = [Physics(scene="one-pinned", n=n, sigma=s) for n in (7, 30, 100) for s in (0.8, 10.0, 100.0)]
-    g += [Physics(scene="two-pinned", n=7, sigma=s, delta=d) for d in (0.1, 0.5) for s in (0.8, 10.0)]
-    g += [Physics(scene="two-pinned", n=30, sigma=0.8, delta=0.5)]
-    g += [Physics(scene="rotating-pin", n=7, sigma=s) for s in (0.8, 100.0)] + [Physics(scene="rotating-pin", n=100, sigma=0.8)]
-    g += [Physics(scene="coupled-pair", n=7, sigma=0.8, kappa=k) for k in (0.5, 100.0, 1000.0)]
-    g += [Physics(scene="coupled-pair", n=7, sigma=10.0, kappa=1000.0)]
-    return g
+    """Every registered scene's extreme cases (Scene.extreme_cases)."""
+    return [p for scene in registry.scenes() for p in scene.extreme_cases(quick)]
 
 
 def describe(physics: Physics) -> str:
-    s = f"{physics.scene} N={physics.n} sigma={physics.sigma:g}"
-    if physics.scene == "two-pinned":
-        s += f" delta={physics.delta:g}"
-    if physics.scene == "coupled-pair":
-        s += f" kappa={physics.kappa:g}"
-    return s
+    return physics.scene_def.label(physics)
 
 
 def sample_dt_for(dt: float, duration: float) -> float:
@@ -117,10 +114,9 @@ class Reference:
     @property
     def period(self) -> float:
         """Longest oscillation period of the reference (inf when it does not oscillate)."""
-        from .results import measure
 
         try:
-            f = np.atleast_1d(measure(self.trajectory)["frequency"]).astype(float)
+            f = np.atleast_1d(measure(self.trajectory).frequency).astype(float)
         except (ValueError, KeyError):
             return math.inf
         f = f[f > 0]
@@ -133,7 +129,6 @@ class Reference:
 
     def at(self, sample_dt: float):
         """The reference sampled every sample_dt (a whole multiple of self.sample_dt)."""
-        from .trajectory import Trajectory
 
         k = int(round(sample_dt / self.sample_dt))
         if abs(k * self.sample_dt - sample_dt) > 1e-9 * sample_dt:
@@ -144,7 +139,6 @@ class Reference:
 
 def reference(physics: Physics, duration: float, sample_dt: float, seed: int = 0) -> Reference:
     """Tight reduced-model solution and its predictability horizon (sigma changed by SIGMA_KICK)."""
-    from .analysis.reduced import simulate_reduced
 
     numerics = Numerics(sample_dt=sample_dt, seed=seed)
     ref = simulate_reduced(physics, numerics, duration, **REFERENCE)
@@ -155,7 +149,6 @@ def reference(physics: Physics, duration: float, sample_dt: float, seed: int = 0
     left = gap > HORIZON_FRACTION * scale
     horizon = float(ref.t[np.argmax(left)]) if np.any(left) else math.inf
     try:
-        from .accuracy import errors_against
 
         e = errors_against(kicked, ref)
         stat_change = max(e.get(k, 0.0) for k in ("amplitude", "frequency", "rotation_rate"))
@@ -203,8 +196,6 @@ def judge(errors: dict, ref: Reference) -> tuple[str, ...]:
 def compare_to_reference(traj, ref: Reference) -> dict:
     """Errors of a MuJoCo trajectory against the reference (validate.compare's definitions, with the
     pointwise window cut at the predictability horizon)."""
-    from .accuracy import errors_against
-    from .validate import comparison_window
 
     r = ref.at(traj.t[1] - traj.t[0])
     errors = {}
@@ -228,8 +219,6 @@ def run_cell(physics: Physics, numerics: Numerics, ref: Reference, column: str =
              preflight: bool = True, accuracy_guard: bool = True) -> CellResult:
     """Pre-flight check, MuJoCo run and comparison; never raises for an unstable or refused setting.
     accuracy_guard=False: the pre-flight check without diagnose.check_accuracy (stability only)."""
-    from .diagnose import SimulationDiverged, check_timestep
-    from .simulate import simulate_mujoco
 
     duration = ref.duration if duration is None else duration
     res = CellResult(physics, numerics, column, duration, "agrees")
@@ -286,7 +275,6 @@ PER_STEP_US = {  # measured us per step (compiled callback), N = 7 / 30 / 100; f
 def resolved_numerics(physics: Physics, integrator: str, duration: float, limits=None) -> Numerics:
     """The settings check_accuracy asks for: dt = 0.0025 / 2^k at or below half the accuracy limit
     (and below the stability and pin limits), mass ratio at or below half the overdamped bound."""
-    from .diagnose import INERTIA_RESOLUTION, PIN_DT3_PER_MASS, stability_limits
 
     limits = stability_limits(physics, Numerics()) if limits is None else limits
     rate = max(limits.accuracy_rate(integrator), 1e-9)
@@ -296,7 +284,7 @@ def resolved_numerics(physics: Physics, integrator: str, duration: float, limits
     if integrator in ("Euler", "RK4"):
         stab = min(limits.spring_dt, m * (2.0 if integrator == "Euler" else 2.785))
     target = min(target, 0.9 * stab, 0.0025)
-    if physics.scene == "two-pinned" and integrator != "discrete":
+    if physics.scene_def.pinned and integrator != "discrete":
         target = min(target, (0.5 * PIN_DT3_PER_MASS * m) ** (1.0 / 3.0))
     dt = 0.0025 / 2 ** max(0, math.ceil(math.log2(0.0025 / target)))
     return Numerics(dt=dt, mass_ratio=m, integrator=integrator, sample_dt=sample_dt_for(dt, duration))
@@ -324,8 +312,6 @@ def is_stable(physics: Physics, integrator: str, dt: float, mass_ratio: float, d
     reference envelope `env` (see envelope), without a spurious burst: an instability of a fast mode
     that the nonlinearity saturates (e.g. the kappa = 1000 pair's coupling mode just beyond its linear
     limit swings theta_1 - phi_1 to 0.7 rad and decays again) is unstable too, not 'stable'."""
-    from .diagnose import SimulationDiverged
-    from .simulate import simulate_mujoco
 
     numerics = Numerics(dt=dt, mass_ratio=mass_ratio, integrator=integrator, sample_dt=dt * max(1, round(0.01 / dt)))
     try:
@@ -345,8 +331,7 @@ def largest_stable_dt(physics: Physics, integrator: str, mass_ratio: float, dura
     and bisection in log(dt) to within `ratio`; (ceiling, None) when the Numerics ceiling 0.1 is stable.
     env="auto": the burst check against a reduced-model reference (numba-DOP853) of the same run."""
     if isinstance(env, str):
-        from .analysis.reduced import simulate_reduced
-
+    
         ref = simulate_reduced(physics, Numerics(dt=1e-3, sample_dt=1e-3), duration, **REFERENCE)
         env = envelope(ref)
 

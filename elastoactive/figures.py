@@ -5,6 +5,7 @@ the paths it wrote."""
 from __future__ import annotations
 
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import matplotlib
 
@@ -13,7 +14,11 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from .analysis.measures import chain_positions  # noqa: E402
-from .analysis.studies import Study  # noqa: E402
+from .analysis.normal_form import landau_limit_cycle  # noqa: E402
+from .paper import PAPER  # noqa: E402
+
+if TYPE_CHECKING:  # typing only: the studies import both engines (start-up time)
+    from .studies import Study
 
 STABLE = dict(color="0.88", zorder=0)
 ENGINE_STYLE = {
@@ -48,9 +53,8 @@ def stability(study: Study, out: Path) -> list[Path]:
     d, s = study.data, study.summary
     paths = []
     fig, axes = plt.subplots(2, 2, figsize=(9, 6.5))
-    for row, n in enumerate((2, 7)):
+    for row, (n, sc) in enumerate(((2, s.sigma_c_2), (7, s.sigma_c_7))):
         sig = d[f"eig_sigma_{n}"]
-        sc = s[f"sigma_c_{n}"]
         for col, (part, lab) in enumerate((("re", "Re"), ("im", "Im"))):
             ax = axes[row, col]
             ax.axvspan(sig[0], sc, **STABLE)
@@ -70,19 +74,20 @@ def stability(study: Study, out: Path) -> list[Path]:
     fig, (a1, a2) = plt.subplots(1, 2, figsize=(10, 4))
     n, sc = d["n"], d["sigma_c"]
     a1.loglog(n, sc, "o", ms=3, color="C0", label=r"$\sigma_c(N)$ (linear stability)")
-    a1.loglog(n, s["continuum_onset"] / n.astype(float) ** 3, "k-", lw=1, label=rf"$S_c/N^3$, $S_c$ = {s['continuum_onset']:.2f} (continuum)")
+    a1.loglog(n, s.continuum_onset / n.astype(float) ** 3, "k-", lw=1, label=rf"$S_c/N^3$, $S_c$ = {s.continuum_onset:.2f} (continuum)")
     a1.set_xlabel("N")
     a1.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
     a1.set_ylabel(r"$\sigma_c$")
     a1.legend(fontsize=8)
-    a1.set_title(rf"Fig. A-size: slope for N $\geq$ {s['n_fit_min']}: {s['exponent_large_n']:.3f}", fontsize=9)
+    a1.set_title(rf"Fig. A-size: slope for N $\geq$ {s.n_fit_min}: {s.exponent_large_n:.3f}", fontsize=9)
     inv = 1.0 / n
     a2.plot(inv, d["n3_sigma_c"], "o", ms=3, label=r"$N^3\sigma_c$")
-    p = s["fit_n3"]["params"]
-    xx = np.linspace(0, 1.0 / s["n_fit_min"], 100)
+    p = s.fit_n3.params
+    xx = np.linspace(0, 1.0 / s.n_fit_min, 100)
     a2.plot(xx, p["limit"] + p["b1"] * xx + p["b2"] * xx**2, "C1-", label=f"fit a + b/N + c/N², a = {p['limit']:.2f}")
-    a2.axhline(s["continuum_onset"], color="k", lw=0.8, ls="--", label=f"continuum onset {s['continuum_onset']:.2f}")
-    a2.axhspan(72, 80, color="C2", alpha=0.12, label="~76 (filament codes: 72 decays, 80 grows)")
+    a2.axhline(s.continuum_onset, color="k", lw=0.8, ls="--", label=f"continuum onset {s.continuum_onset:.2f}")
+    lo, hi = PAPER.continuum_bracket
+    a2.axhspan(lo, hi, color="C2", alpha=0.12, label=f"~{PAPER.continuum_onset:g} (filament codes: {lo:g} decays, {hi:g} grows)")
     a2.set_xlabel("1/N")
     a2.set_ylabel(r"$N^3\sigma_c$")
     a2.set_xlim(0, 0.52)
@@ -123,7 +128,7 @@ def growth(study: Study, out: Path) -> list[Path]:
 def hopf(study: Study, out: Path) -> list[Path]:
     d, s = study.data, study.summary
     sig = d["sigma"]
-    sc = s["sigma_c_linear"]
+    sc = s.sigma_c_linear
     paths = []
     fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 4.2))
     for ax in (a1, a2):
@@ -133,11 +138,11 @@ def hopf(study: Study, out: Path) -> list[Path]:
     for eng in _engines(d, "amplitude"):
         a1.plot(sig, d[f"amplitude_{eng}"], **ENGINE_STYLE[eng])
         a2.plot(sig, d[f"frequency_{eng}"], **ENGINE_STYLE[eng])
-    pl = s["mujoco"].get("power_law")
-    plc = s["mujoco"].get("power_law_corrected")
+    pl = s.mujoco.power_law
+    plc = s.mujoco.power_law_corrected
     if plc:
-        p = plc["params"]
-        xx = np.linspace(p["onset"] + 1e-7, s["fit_sigma_max_corrected"], 200)
+        p = plc.params
+        xx = np.linspace(p["onset"] + 1e-7, s.fit_sigma_max_corrected, 200)
         a1.plot(xx, p["prefactor"] * (xx - p["onset"]) ** p["beta"] * (1 + p["c"] * (xx - p["onset"])), "C0-", lw=1,
                 label=rf"fit $a\Delta^\beta(1+c\Delta)$: $\sigma_c$={p['onset']:.5f}, $\beta$={p['beta']:.3f}")
     a1.axvline(sc, color="C3", ls="--", lw=0.8, label=f"linear stability {sc:.4f}")
@@ -148,20 +153,20 @@ def hopf(study: Study, out: Path) -> list[Path]:
         ins = a1.inset_axes([0.62, 0.1, 0.35, 0.42])
         for eng in _engines(d, "amplitude"):
             ok = d[f"sustained_{eng}"].astype(bool)
-            ins.loglog(sig[ok] - pl["params"]["onset"], d[f"amplitude_{eng}"][ok], **{**ENGINE_STYLE[eng], "ms": 3})
+            ins.loglog(sig[ok] - pl.params["onset"], d[f"amplitude_{eng}"][ok], **{**ENGINE_STYLE[eng], "ms": 3})
         xx = np.geomspace(1e-3, 1, 50)
-        ins.loglog(xx, pl["params"]["prefactor"] * xx**0.5, "k--", lw=0.7)
+        ins.loglog(xx, pl.params["prefactor"] * xx**PAPER.hopf_exponent, "k--", lw=0.7)
         ins.set_xlabel(r"$\sigma-\sigma_c$", fontsize=7)
         ins.tick_params(labelsize=6)
-        ins.set_title(r"log-log; dashed: slope 1/2", fontsize=6)
+        ins.set_title(f"log-log; dashed: slope {PAPER.hopf_exponent:g} (paper)", fontsize=6)
         ins.yaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
         ins.xaxis.set_major_locator(matplotlib.ticker.LogLocator(numticks=4))
-    lin = s["mujoco"].get("freq_linear_all")
+    lin = s.mujoco.freq_linear_all
     if lin:
         xx = np.linspace(sc, sig.max(), 50)
-        a2.plot(xx, lin["params"]["intercept"] + lin["params"]["slope"] * xx, "k-", lw=0.7,
-                label=f"linear fit, R² = {lin['r2']:.4f}")
-    a2.plot([sc], [s["f_c_linear"]], "r*", ms=10, label=f"onset (linear stability) f τ = {s['f_c_linear']:.5f}")
+        a2.plot(xx, lin.params["intercept"] + lin.params["slope"] * xx, "k-", lw=0.7,
+                label=f"linear fit, R² = {lin.r2:.4f}")
+    a2.plot([sc], [s.f_c_linear], "r*", ms=10, label=f"onset (linear stability) f τ = {s.f_c_linear:.5f}")
     a2.set_ylabel(r"$f\tau$")
     a2.legend(fontsize=7)
     a2.set_title("Fig. 3b: N = 7, frequency", fontsize=9)
@@ -191,15 +196,13 @@ def hopf(study: Study, out: Path) -> list[Path]:
 
 
 def normal_form(study: Study, out: Path) -> list[Path]:
-    d, s = study.data, study.summary
+    d = study.data
     mu = d["mu"]
     fig, (a1, a2) = plt.subplots(1, 2, figsize=(10, 4))
     mm = np.linspace(0, mu.max() * 1.1, 100)
-    from .analysis.studies import landau_prediction
-
-    for which, style in (("supplement", "k-"), ("main", "k--")):
-        z2, om = landau_prediction(mm, which)
-        lab = {"supplement": "supplement c = -1 - i/8", "main": "main text c = -1/2 + 5i/4"}[which]
+    for c, where, style in ((PAPER.landau_supplement, "supplement", "k-"), (PAPER.landau_main, "main text", "k--")):
+        z2, om = landau_limit_cycle(mm, c.at_onset, c.slope)
+        lab = f"{where} c = {c.printed_at_onset}"
         a1.plot(mm, z2, style, lw=1, label=lab)
         a2.plot(mm, om, style, lw=1, label=lab)
     for key, style in (("reduced", ENGINE_STYLE["reduced"]), ("mujoco", {**ENGINE_STYLE["mujoco"], "label": "MuJoCo (dt → 0)"})):
@@ -221,7 +224,7 @@ def snapping(study: Study, out: Path) -> list[Path]:
     d, s = study.data, study.summary
     paths = []
     fig, (a1, a2) = plt.subplots(1, 2, figsize=(10, 4))
-    for s_, c in ((0.6, "C0"), (0.8, "C1")):
+    for s_, c in zip(s.n7_sigmas, ("C0", "C1")):
         for eng in ("mujoco", "reduced"):
             st = {**ENGINE_STYLE[eng], "color": c, "label": rf"$\sigma$={s_} {ENGINE_STYLE[eng]['label']}"}
             a1.plot(d["delta"], d[f"snap_{s_:g}_{eng}"], **st)
@@ -246,7 +249,8 @@ def snapping(study: Study, out: Path) -> list[Path]:
         ax.set_aspect("equal")
         ax.set_xlabel("x / l (colour: time within the period)")
         ax.set_ylabel("y / l")
-        ax.set_title(r"Fig. 4b: one snapping period, N = 7, $\sigma$ = 0.8, $\delta$ = 0.1 (MuJoCo)", fontsize=9)
+        ax.set_title(rf"Fig. 4b: one snapping period, N = 7, $\sigma$ = {PAPER.snapping_sigma:g}, $\delta$ = 0.1 (MuJoCo)",
+                     fontsize=9)
         paths.append(_save(fig, out, "fig4b_snapping_shapes.png"))
 
     engines = _engines(d, "map_snap")
@@ -255,13 +259,13 @@ def snapping(study: Study, out: Path) -> list[Path]:
         for ax, eng in zip(axes[0], engines):
             m = ax.pcolormesh(d["map_delta"], d["map_sigma"], d[f"map_snap_{eng}"], shading="nearest", cmap="magma")
             fig.colorbar(m, ax=ax, label=r"std of $\theta_3$ (rad)")
-            thr = s.get(f"sigma_snap_n9_{eng}")
+            thr = s.engine(eng).sigma_snap_n9
             if thr:
-                ax.plot([s["threshold_delta"]], [thr], "c*", ms=12, label=rf"threshold at $\delta$={s['threshold_delta']}: $\sigma$={thr:.3f}")
+                ax.plot([s.threshold_delta], [thr], "c*", ms=12, label=rf"threshold at $\delta$={s.threshold_delta}: $\sigma$={thr:.3f}")
                 ax.legend(fontsize=7, loc="upper left")
             ax.set_xlabel(r"$\delta$")
             ax.set_ylabel(r"$\sigma$")
-            ax.set_title(f"Fig. A-snapping map, N = 9 ({ENGINE_STYLE[eng]['label']})", fontsize=9)
+            ax.set_title(f"Fig. A-snapping map, N = {PAPER.snapping_map_n} ({ENGINE_STYLE[eng]['label']})", fontsize=9)
         fig.tight_layout()
         paths.append(_save(fig, out, "figA_snapping_map.png"))
     return paths
@@ -271,15 +275,15 @@ def rotation(study: Study, out: Path) -> list[Path]:
     d, s = study.data, study.summary
     fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 4.2))
     sig = d["sigma"]
-    a1.axvspan(0, s["sigma_r_linear"], **STABLE)
+    a1.axvspan(0, s.sigma_r_linear, **STABLE)
     for eng in ("mujoco", "reduced"):
         a1.plot(sig, np.abs(d[f"rate_{eng}"]), **ENGINE_STYLE[eng])
         seeds = d[f"seed_rate_{eng}"]
-        x = np.full(seeds.size, s["sigma_seeds"])
+        x = np.full(seeds.size, s.sigma_seeds)
         if eng == "mujoco":
             a1.plot(x[seeds > 0] + 0.01, seeds[seeds > 0], "^", color="C2", ms=6, label=f"seeds, counter-clockwise ({(seeds > 0).sum()})")
             a1.plot(x[seeds < 0] + 0.01, -seeds[seeds < 0], "v", color="C4", ms=6, label=f"seeds, clockwise ({(seeds < 0).sum()}, |rate| shown)")
-    a1.axvline(s["sigma_r_linear"], color="C3", ls="--", lw=0.8, label=f"linear threshold {s['sigma_r_linear']:.4f}")
+    a1.axvline(s.sigma_r_linear, color="C3", ls="--", lw=0.8, label=f"linear threshold {s.sigma_r_linear:.4f}")
     a1.set_xlabel(r"$\sigma$")
     a1.set_ylabel(r"|rotation rate| (rad/$\tau$)")
     a1.legend(fontsize=7)
@@ -310,23 +314,24 @@ def sync(study: Study, out: Path) -> list[Path]:
     a1.set_xlabel(r"$t/\tau$")
     a1.set_ylabel(r"$\Psi=\Phi_2-\Phi_1$ (rad)")
     a1.legend(fontsize=8)
-    a1.set_title(r"Fig. 5e: phase difference, N = 7, $\sigma_1$ = 0.8, $\sigma_2$ = 0.6 (MuJoCo)", fontsize=9)
+    a1.set_title(rf"Fig. 5e: phase difference, N = 7, $\sigma_1$ = {PAPER.sync_sigma_1:g}, $\sigma_2$ = {PAPER.sync_sigma_2:g} (MuJoCo)",
+                 fontsize=9)
     kap = d["kappa"]
     for eng in ("mujoco", "reduced"):
         a2.plot(kap, np.abs(d[f"mismatch_{eng}"]), **ENGINE_STYLE[eng])
-        kc = s[eng]["kappa_c"]
+        kc = s.engine(eng).kappa_c
         if np.isfinite(kc if kc is not None else np.nan):
             a2.axvline(kc, color=ENGINE_STYLE[eng]["color"], lw=0.8, ls=":")
     if "alt_kappa" in d:
         a2.plot(d["alt_kappa"], np.abs(d["alt_mismatch"]), "s-", color="C2", ms=4, mfc="none",
                 label="what-if: C2 = C1, F2 = 0.75 F1 (reduced)")
-    a2.axvline(1.1, color="k", ls="--", lw=0.8, label=r"paper $\kappa_c$ = 1.1")
+    a2.axvline(PAPER.kappa_c_7, color="k", ls="--", lw=0.8, label=rf"paper $\kappa_c$ = {PAPER.kappa_c_7:g}")
     a2.set_xscale("symlog", linthresh=0.02)
     a2.set_xlim(0, kap.max() * 1.2)
     a2.set_xlabel(r"$\kappa$")
     a2.set_ylabel(r"|frequency mismatch| (cycles/$\tau$)")
     a2.legend(fontsize=7)
-    a2.set_title(rf"Fig. 5f: mismatch; $\kappa_c$ (MuJoCo) = {s['mujoco']['kappa_c']:.3g}", fontsize=9)
+    a2.set_title(rf"Fig. 5f: mismatch; $\kappa_c$ (MuJoCo) = {s.mujoco.kappa_c:.3g}", fontsize=9)
     fig.tight_layout()
     paths.append(_save(fig, out, "fig5ef_sync.png"))
     return paths
@@ -334,7 +339,7 @@ def sync(study: Study, out: Path) -> list[Path]:
 
 def tongue(study: Study, out: Path) -> list[Path]:
     d, s = study.data, study.summary
-    engines = s["engines"]
+    engines = s.engines
     fig, axes = plt.subplots(1, len(engines), figsize=(5.5 * len(engines), 4), squeeze=False)
     for ax, eng in zip(axes[0], engines):
         mism = np.abs(d[f"mismatch_{eng}"]).T
@@ -346,7 +351,7 @@ def tongue(study: Study, out: Path) -> list[Path]:
         ax.set_xticks(d["rho"])
         ax.set_xticklabels([f"{r:.3g}" for r in d["rho"]], fontsize=7)
         ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
-        ax.set_xlabel(r"$\rho = C_2/C_1$ ($\sigma_2 = 0.8/\rho$)")
+        ax.set_xlabel(rf"$\rho = C_2/C_1$ ($\sigma_2 = {PAPER.sync_sigma_1:g}/\rho$)")
         ax.set_ylabel(r"$\kappa$")
         ax.legend(fontsize=7)
         ax.set_title(f"Fig. 5f inset: Arnold tongue, N = 7 ({ENGINE_STYLE[eng]['label']})", fontsize=9)
@@ -359,8 +364,8 @@ def sync_n2(study: Study, out: Path) -> list[Path]:
     fig, ax = plt.subplots(figsize=(5.5, 4.2))
     x = np.sqrt(d["mu"] * np.abs(1 - d["rho"]))
     xx = np.linspace(0, x.max() * 1.1, 50)
-    ax.plot(xx, s["prefactor_formula"] * xx, "k--", lw=1, label=r"paper: $\frac{11}{4\sqrt{6}}\sqrt{\mu|1-\rho|}$")
-    ax.plot(xx, s["prefactor_fit"] * xx, "C3-", lw=0.8, label=f"fit through 0: prefactor {s['prefactor_fit']:.3f}")
+    ax.plot(xx, s.prefactor_formula * xx, "k--", lw=1, label=f"paper: {PAPER.kappa_c_n2_printed}")
+    ax.plot(xx, s.prefactor_fit * xx, "C3-", lw=0.8, label=f"fit through 0: prefactor {s.prefactor_fit:.3f}")
     ax.errorbar(x, d["kappa_c_reduced"], yerr=d["kappa_c_halfwidth"], fmt="x", color="C3", label="reduced model (bisection)")
     ax.plot(x, d["kappa_c_phase_equation"], "+", color="C2", ms=8, label="supplement's phase equation, solved exactly")
     if "kappa_c_mujoco" in d:
@@ -384,20 +389,20 @@ def noise(study: Study, out: Path) -> list[Path]:
         ax.set_title(f"a = {a:g}, period CV {d['period_cv_mujoco'][list(amps).index(a)]:.3f}", fontsize=8)
         ax.set_xlabel(r"$\Omega$")
     axes[0, 0].set_ylabel(r"$\Theta=\theta_2-\theta_1$")
-    fig.suptitle(r"Fig. A-noise: N = 2, $\sigma$ = 3.5, multiplicative noise (MuJoCo)", fontsize=10)
+    fig.suptitle(rf"Fig. A-noise: N = 2, $\sigma$ = {study.summary.sigma:g}, multiplicative noise (MuJoCo)", fontsize=10)
     fig.tight_layout()
     return [_save(fig, out, "figA_noise.png")]
 
 
 def anisotropy(study: Study, out: Path) -> list[Path]:
-    d = study.data
+    d, s = study.data, study.summary
     fig, (a1, a2, a3) = plt.subplots(1, 3, figsize=(14, 4))
     for r in d["ratio"]:
         a1.plot(d[f"cycle_{r:g}_omega"], d[f"cycle_{r:g}_theta"], lw=1, label=rf"$\tau_L/\tau_T$ = {r:g}")
     a1.set_xlabel(r"$\Omega$")
     a1.set_ylabel(r"$\Theta$")
     a1.legend(fontsize=7)
-    a1.set_title(r"Fig. A-anisotropy: N = 2, $\sigma$ = 3.5 (MuJoCo)", fontsize=9)
+    a1.set_title(rf"Fig. A-anisotropy: N = 2, $\sigma$ = {s.sigma:g} (MuJoCo)", fontsize=9)
     for eng in ("mujoco", "reduced"):
         a2.plot(d["ratio"], d[f"amplitude_{eng}"], **ENGINE_STYLE[eng])
         a3.plot(d["ratio"], d[f"onset_{eng}"], **ENGINE_STYLE[eng])
@@ -406,12 +411,12 @@ def anisotropy(study: Study, out: Path) -> list[Path]:
     a2.set_xlabel(r"$\tau_L/\tau_T$")
     a2.set_ylabel(r"amplitude of $\Theta$ (rad)")
     a2.legend(fontsize=7)
-    a3.axhline(3.0, color="k", lw=0.8, ls="--", label="linear stability: 3")
+    a3.axhline(PAPER.sigma_c_2, color="k", lw=0.8, ls="--", label=f"linear stability: {PAPER.sigma_c_2:g}")
     a3.set_xscale("log")
     _log_ticks(a3, d["ratio"])
-    a3.set_ylim(2.9, 3.1)
+    a3.set_ylim(PAPER.sigma_c_2 - 0.1, PAPER.sigma_c_2 + 0.1)
     a3.set_xlabel(r"$\tau_L/\tau_T$")
-    a3.set_ylabel(r"onset $\sigma$ (growth rates at 2.8, 3.2)")
+    a3.set_ylabel(rf"onset $\sigma$ (growth rates at {s.probe_sigmas[0]:g}, {s.probe_sigmas[1]:g})")
     a3.legend(fontsize=7)
     fig.tight_layout()
     return [_save(fig, out, "figA_anisotropy.png")]

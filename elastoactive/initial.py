@@ -1,34 +1,15 @@
-"""Initial states shared by both engines: the base state plus a small seeded perturbation."""
+"""Initial states shared by both engines: the base state plus a small seeded perturbation.
+
+Each scene chooses its initial state (Scene.initial_angles) from the pieces here.
+"""
 
 from __future__ import annotations
 
 import numpy as np
-from scipy.optimize import brentq
 
-from .params import Numerics, ParameterError, Physics
-
-
-def pin_residual(theta: np.ndarray, delta: float) -> np.ndarray:
-    """Two-pinned constraints g(theta) = (sum cos - N (1 - delta), sum sin); zero when satisfied."""
-    n = theta.size
-    return np.array([np.cos(theta).sum() - n * (1.0 - delta), np.sin(theta).sum()])
-
-
-def pin_jacobian(theta: np.ndarray) -> np.ndarray:
-    """dg/dtheta, shape (2, N)."""
-    return np.vstack([-np.sin(theta), np.cos(theta)])
-
-
-def project_on_pins(theta: np.ndarray, delta: float, tol: float = 1e-13, max_iter: int = 50) -> np.ndarray:
-    """Closest admissible angles (minimum-norm Gauss-Newton steps onto g = 0)."""
-    theta = np.array(theta, dtype=float)
-    for _ in range(max_iter):
-        g = pin_residual(theta, delta)
-        if np.max(np.abs(g)) < tol:
-            return theta
-        G = pin_jacobian(theta)
-        theta -= G.T @ np.linalg.lstsq(G @ G.T, g, rcond=None)[0]
-    raise ParameterError(f"delta = {delta}: could not place the chain on the pins (constraint residual {g})")
+from . import registry
+from .analysis.reduced.constraints import pin_jacobian, pin_residual, project_on_pins  # noqa: F401 (re-exported)
+from .errors import ParameterError
 
 
 def buckled_arch(n: int, delta: float) -> np.ndarray:
@@ -36,6 +17,8 @@ def buckled_arch(n: int, delta: float) -> np.ndarray:
 
     The profile is odd about the middle, so sum sin theta = 0 exactly; A solves sum cos = N (1 - delta).
     """
+    from scipy.optimize import brentq  # start-up time: scipy.optimize costs ~0.3 s to import
+
     if delta == 0:
         return np.zeros(n)
     x = np.cos(np.pi * (np.arange(1, n + 1) - 0.5) / n)
@@ -60,22 +43,22 @@ def pushed_shape(n: int, pushes: np.ndarray) -> np.ndarray:
     return np.linalg.solve(K, np.cumsum(pushes[::-1])[::-1])
 
 
-def initial_angles(physics: Physics, numerics: Numerics) -> np.ndarray:
-    """Absolute angles theta_i at t = 0 (chain 1 then chain 2 for the pair).
+def pushed_chains(n: int, n_chains: int, perturbation: float, seed: int) -> np.ndarray:
+    """Absolute angles of `n_chains` chains (chain 1 first), each the static shape under seeded
+    random lateral pushes (pushed_shape), scaled so that its largest angle is `perturbation`.
 
-    Each chain starts from the static shape under seeded random lateral pushes (pushed_shape),
-    scaled so that its largest angle is `numerics.perturbation`. A smooth start excites no
-    fast, tip-localised modes; a random angle per particle would, and those are exactly what a
-    first-order integrator gets wrong (they decay, but the instability amplifies the error).
-    The two-pinned chain starts from a single arch at its compression, pushed the same way and
-    projected back onto the pins.
+    A smooth start excites no fast, tip-localised modes; a random angle per particle would, and
+    those are exactly what a first-order integrator gets wrong (they decay, but the instability
+    amplifies the error).
     """
-    rng = np.random.default_rng(numerics.seed)
+    rng = np.random.default_rng(seed)
     shapes = []
-    for _ in range(physics.n_chains):
-        shape = pushed_shape(physics.n, rng.standard_normal(physics.n))
-        shapes.append(numerics.perturbation * shape / np.abs(shape).max())
-    kick = np.concatenate(shapes)
-    if physics.scene == "two-pinned":
-        return project_on_pins(buckled_arch(physics.n, physics.delta) + kick, physics.delta)
-    return kick
+    for _ in range(n_chains):
+        shape = pushed_shape(n, rng.standard_normal(n))
+        shapes.append(perturbation * shape / np.abs(shape).max())
+    return np.concatenate(shapes)
+
+
+def initial_angles(physics, numerics) -> np.ndarray:
+    """Absolute angles theta_i at t = 0 of a scene (chain 1 then chain 2 for the pair): its choice."""
+    return registry.get(physics.scene).initial_angles(physics, numerics)

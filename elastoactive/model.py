@@ -1,17 +1,16 @@
 """The one place that turns the paper's dimensionless parameters into a MuJoCo model.
 
-A scene is built from its base MJCF file (mjcf/<scene>.xml): the file supplies the options,
-default classes, lights and markers; the chain(s), drag actuators, pin and coupling are
-(re)generated here for any N. Mapping (units l = C1 = gamma_T = 1, so tau = 1):
+A scene is built from its base MJCF file (mjcf/<scene>.xml, Scene.base_file): the file supplies
+the options, default classes, lights and markers; the chain(s) and drag actuators are
+(re)generated here for any N, and the scene adds its own elements (Scene.build: a pin, a
+coupling). Mapping (units l = C1 = gamma_T = 1, so tau = 1):
 
-  joint stiffness       1 (chain 1), rho (chain 2); the first hinge of the rotating pin has none
+  joint stiffness       Scene.stiffness (1 for chain 1, rho for the pair's chain 2); no spring on
+                        the first hinge of an unclamped scene (the rotating pin)
   follower force        site user value sigma on every particle (applied by the C callback)
   lab-frame drag        two velocity actuators per particle site, x (along the pendulum) with
                         kv = gamma_L = drag_ratio and y (across) with kv = gamma_T = 1
   particle mass         bead geom mass = mass_ratio (inertial time m / gamma in units of tau)
-  pin (two-pinned)      connect equality: last particle to a world site at (N (1 - delta), 0)
-  coupling (pair)       fixed tendon hinge_0(chain 1) - hinge_0(chain 2), stiffness kappa,
-                        springlength 0: U_c = kappa/2 (theta_1 - phi_1)^2 exactly
   callback marker       custom numeric elastoactive_follower = (noise amplitude a, seed): the
                         C callback acts only on models that carry it
 """
@@ -21,8 +20,9 @@ from __future__ import annotations
 import mujoco
 import numpy as np
 
-from .initial import buckled_arch
-from .mjcf import scene_path
+from .errors import ParameterError
+from .initial import initial_angles
+from .mjcf import mjcf_path
 from .params import Numerics, Physics
 
 INTEGRATOR = {
@@ -32,20 +32,6 @@ INTEGRATOR = {
     "implicitfast": mujoco.mjtIntegrator.mjINT_IMPLICITFAST,
     "discrete": mujoco.mjtIntegrator.mjINT_DISCRETE,
 }
-
-# The pin is a soft constraint; its time constant is MuJoCo's floor 2 dt (set explicitly, since
-# MuJoCo would raise a smaller one silently) and its impedance is close to 1 (nearly hard). With
-# the particles' tiny mass the default solimp lets the pin drift by ~1e-2 l (MUJOCO_NOTES.md).
-PIN_SOLIMP = (0.9999, 0.999999, 0.001, 0.5, 2.0)
-
-
-def chain_prefixes(physics: Physics) -> tuple[str, ...]:
-    return ("chain1_", "chain2_") if physics.scene == "coupled-pair" else ("",)
-
-
-def chain_offset(physics: Physics, k: int) -> float:
-    """Lateral (y) position of chain k's clamp: side by side, far enough apart to see both."""
-    return -float(max(physics.n, 3)) * k
 
 
 def _add_chain(spec: mujoco.MjSpec, prefix: str, physics: Physics, numerics: Numerics, stiffness: float, y: float):
@@ -73,35 +59,21 @@ def _add_chain(spec: mujoco.MjSpec, prefix: str, physics: Physics, numerics: Num
 
 def build_spec(physics: Physics, numerics: Numerics = Numerics()) -> mujoco.MjSpec:
     """MjSpec of a scene with these parameters (compile it with .compile())."""
-    spec = mujoco.MjSpec.from_file(str(scene_path(physics.scene)))
+    scene = physics.scene_def
+    spec = mujoco.MjSpec.from_file(str(mjcf_path(scene.base_file)))
     for element in [*spec.actuators, *spec.keys, *spec.equalities, *spec.tendons]:
         spec.delete(element)
-    for prefix in chain_prefixes(physics):
+    prefixes = scene.chain_prefixes()
+    for prefix in prefixes:
         spec.delete(spec.body(f"{prefix}segment_0"))
 
-    for k, (prefix, stiffness) in enumerate(zip(chain_prefixes(physics), physics.stiffness)):
-        _add_chain(spec, prefix, physics, numerics, stiffness, chain_offset(physics, k))
+    for k, (prefix, stiffness) in enumerate(zip(prefixes, scene.stiffness(physics))):
+        _add_chain(spec, prefix, physics, numerics, stiffness, scene.chain_offset(physics, k))
 
     spec.option.timestep = numerics.dt
     spec.option.integrator = INTEGRATOR[numerics.integrator]
-    spec.modelname = physics.scene
-
-    if physics.scene == "two-pinned":
-        end = physics.n * (1.0 - physics.delta)
-        spec.site("pin").pos = [end, 0.0, 0.0]
-        spec.geom("pin_marker").pos = [end, 0.0, 0.0]
-        solref = [2.0 * numerics.dt, 1.0]
-        spec.add_equality(
-            name="pin", type=mujoco.mjtEq.mjEQ_CONNECT, objtype=mujoco.mjtObj.mjOBJ_SITE,
-            name1=f"particle_{physics.n - 1}", name2="pin", solref=solref, solimp=list(PIN_SOLIMP),
-        )
-        arch = buckled_arch(physics.n, physics.delta)
-        spec.add_key(name="buckled", qpos=np.diff(arch, prepend=0.0).tolist())
-    if physics.scene == "coupled-pair":
-        spec.geom("clamp2").pos = [-0.15, chain_offset(physics, 1), 0.0]
-        tendon = spec.add_tendon(name="coupling", stiffness=[physics.kappa, 0, 0], springlength=[0.0, 0.0])
-        tendon.wrap_joint("chain1_hinge_0", 1.0)
-        tendon.wrap_joint("chain2_hinge_0", -1.0)
+    spec.modelname = scene.name
+    scene.build(spec, physics, numerics)
     spec.numeric("elastoactive_follower").data = [physics.noise, float(numerics.seed)]
     return spec
 
@@ -122,3 +94,15 @@ def absolute_angles(physics: Physics, qpos: np.ndarray) -> np.ndarray:
     q = np.asarray(qpos, dtype=float)
     shape = q.shape[:-1] + (physics.n_chains, physics.n)
     return np.cumsum(q.reshape(shape), axis=-1).reshape(q.shape)
+
+
+def prepare(physics: Physics, numerics: Numerics, theta0: np.ndarray | None = None):
+    """Model and data at the initial state (absolute angles theta0, default: seeded perturbation)."""
+    model = build_model(physics, numerics)
+    data = mujoco.MjData(model)
+    theta0 = initial_angles(physics, numerics) if theta0 is None else np.asarray(theta0, dtype=float)
+    if theta0.shape != (physics.n_angles,):
+        raise ParameterError(f"theta0 must have {physics.n_angles} angles, got shape {theta0.shape}")
+    data.qpos[:] = relative_angles(physics, theta0)
+    mujoco.mj_forward(model, data)
+    return model, data

@@ -3,7 +3,9 @@
 Units: pendulum length l = 1, joint stiffness C (C1 for the pair) = 1 and transverse drag
 gamma = 1, so the time unit is tau = gamma l^2 / C = 1 and the active force is F_a = sigma.
 Every other module takes its physics from here; `elastoactive.model` is the one place
-that turns these numbers into MJCF attributes.
+that turns these numbers into MJCF attributes. Which parameters a scene uses, and any
+constraint on them beyond the generic ranges checked here, is the scene's business
+(`elastoactive.scenes`).
 """
 
 from __future__ import annotations
@@ -14,12 +16,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-SCENES = ("one-pinned", "two-pinned", "rotating-pin", "coupled-pair")
+from . import registry
+from .errors import ParameterError
+
 INTEGRATORS = ("implicitfast", "implicit", "discrete", "Euler", "RK4")
-
-
-class ParameterError(ValueError):
-    """An invalid physical or numerical parameter; the message names the parameter."""
+DEFAULT_SCENE = "one-pinned"
+"""The scene a Physics() without a scene describes: the paper's flagellar beating."""
 
 
 def _finite(name: str, value: float) -> float:
@@ -36,7 +38,7 @@ def _finite(name: str, value: float) -> float:
 class Physics:
     """The model in the paper's dimensionless numbers.
 
-    scene       one of SCENES
+    scene       name of a registered scene (elastoactive.scenes.names())
     n           particles per chain (N >= 1; N >= 2 when both ends are pinned)
     sigma       elasto-active number F_a l / C1
     delta       compression of the two-pinned chain, end held at (N l (1 - delta), 0)
@@ -46,26 +48,27 @@ class Physics:
     noise       amplitude a of multiplicative white noise: F_a (1 + eta), <eta eta'> = a^2 delta(t-t')
     """
 
-    scene: str = "one-pinned"
-    n: int = 7
-    sigma: float = 0.8
-    delta: float = 0.1
-    kappa: float = 1.0
-    rho: float = 4.0 / 3.0
-    drag_ratio: float = 1.0
-    noise: float = 0.0
+    scene: str = DEFAULT_SCENE
+    n: int = field(default=7, metadata={"help": "particles per chain N"})
+    sigma: float = field(default=0.8, metadata={"help": "elasto-active number F_a l / C1"})
+    delta: float = field(default=0.1, metadata={"help": "compression of the two-pinned chain, in [0, 1)"})
+    kappa: float = field(default=1.0, metadata={"help": "coupling stiffness K l^2 / C1 of the pair's first pendula"})
+    rho: float = field(default=4.0 / 3.0, metadata={"help": "stiffness ratio C2 / C1 of the pair; chain 2 has sigma/rho"})
+    drag_ratio: float = field(default=1.0, metadata={"help": "anisotropy gamma_L / gamma_T of the drag (1: isotropic)"})
+    noise: float = field(default=0.0, metadata={"help": "amplitude a of multiplicative white noise on F_a"})
 
     def __post_init__(self) -> None:
-        if self.scene not in SCENES:
-            raise ParameterError(f"scene must be one of {', '.join(SCENES)}; got {self.scene!r}")
+        try:
+            scene = registry.get(self.scene)
+        except registry.UnknownScene:
+            raise ParameterError(f"scene must be one of {', '.join(registry.names())}; got {self.scene!r}") from None
         if isinstance(self.n, bool) or not isinstance(self.n, int) and not (
             isinstance(self.n, float) and self.n.is_integer()
         ):
             raise ParameterError(f"n (number of particles N) must be an integer, got {self.n!r}")
         object.__setattr__(self, "n", int(self.n))
-        min_n = 2 if self.scene == "two-pinned" else 1
-        if self.n < min_n:
-            raise ParameterError(f"n (number of particles N) must be >= {min_n} for {self.scene}, got {self.n}")
+        if self.n < 1:
+            raise ParameterError(f"n (number of particles N) must be >= 1, got {self.n}")
         if self.n > 1000:
             raise ParameterError(f"n (number of particles N) must be <= 1000, got {self.n}")
         for name in ("sigma", "delta", "kappa", "rho", "drag_ratio", "noise"):
@@ -82,10 +85,16 @@ class Physics:
             raise ParameterError(f"drag_ratio (gamma_L/gamma_T) must be > 0, got {self.drag_ratio}")
         if self.noise < 0:
             raise ParameterError(f"noise (amplitude a) must be >= 0, got {self.noise}")
+        scene.check(self)
+
+    @property
+    def scene_def(self):
+        """The registered Scene object this physics belongs to (elastoactive.scenes)."""
+        return registry.get(self.scene)
 
     @property
     def n_chains(self) -> int:
-        return 2 if self.scene == "coupled-pair" else 1
+        return self.scene_def.n_chains
 
     @property
     def n_angles(self) -> int:
@@ -94,21 +103,16 @@ class Physics:
     @property
     def stiffness(self) -> tuple[float, ...]:
         """Joint stiffness C of each chain in units of C1."""
-        return (1.0, self.rho) if self.scene == "coupled-pair" else (1.0,)
+        return self.scene_def.stiffness(self)
 
     @property
     def clamped(self) -> bool:
         """Whether the first pendulum has a spring against the clamp."""
-        return self.scene != "rotating-pin"
+        return self.scene_def.clamped
 
     def relevant(self) -> dict:
         """The parameters this scene uses (the others are ignored and not reported)."""
-        keys = ["scene", "n", "sigma", "drag_ratio", "noise"]
-        if self.scene == "two-pinned":
-            keys.append("delta")
-        if self.scene == "coupled-pair":
-            keys += ["kappa", "rho"]
-        return {k: getattr(self, k) for k in keys}
+        return {k: getattr(self, k) for k in self.scene_def.relevant()}
 
 
 @dataclass(frozen=True)
@@ -122,12 +126,12 @@ class Numerics:
     sample_dt    spacing of the recorded trajectory
     """
 
-    dt: float = 0.0025
-    mass_ratio: float = 1e-4
-    integrator: str = "implicitfast"
-    perturbation: float = 1e-2
-    sample_dt: float = 0.05
-    seed: int = 0
+    dt: float = field(default=0.0025, metadata={"help": "MuJoCo timestep in tau"})
+    mass_ratio: float = field(default=1e-4, metadata={"help": "particle mass m / (gamma tau); the overdamped limit is 0"})
+    integrator: str = field(default="implicitfast", metadata={"help": "MuJoCo integrator", "choices": INTEGRATORS})
+    perturbation: float = field(default=1e-2, metadata={"help": "size of the random initial kick, rad"})
+    sample_dt: float = field(default=0.05, metadata={"help": "spacing of the recorded trajectory, tau"})
+    seed: int = field(default=0, metadata={"help": "seed of the initial perturbation and the noise"})
 
     def __post_init__(self) -> None:
         for name in ("dt", "mass_ratio", "perturbation", "sample_dt"):
@@ -164,7 +168,25 @@ class Numerics:
         if duration < 0:
             raise ParameterError(f"duration (in tau) must be >= 0, got {duration}")
         spacing = self.steps_per_sample * self.dt
-        return spacing * np.arange(int(math.floor(duration / spacing + 1e-9)) + 1)
+        count = math.floor(duration / spacing + 1e-9) + 1
+        if count > MAX_SAMPLES:
+            raise ParameterError(
+                f"duration ({duration:g} tau) at sample_dt = {spacing:g} would record {count:.3g} samples "
+                f"(limit {MAX_SAMPLES:.0e}); shorten --duration or raise --sample-dt")
+        return spacing * np.arange(count)
+
+    def check_duration(self, duration: float) -> float:
+        """A run length the engines can record and measure: at least MIN_SAMPLES samples."""
+        duration = _finite("duration", duration)
+        if duration <= 0:
+            raise ParameterError(f"duration (in tau) must be > 0, got {duration:g}")
+        count = self.sample_times(duration).size
+        if count < MIN_SAMPLES:
+            raise ParameterError(
+                f"duration ({duration:g} tau) holds {count} sample(s) at sample_dt = {self.sample_dt:g}; at least "
+                f"{MIN_SAMPLES} are needed to measure a run: lengthen --duration (>= "
+                f"{(MIN_SAMPLES - 1) * self.steps_per_sample * self.dt:.4g} tau) or lower --sample-dt")
+        return duration
 
     @classmethod
     def preset(cls, name: str, **overrides) -> "Numerics":
@@ -175,10 +197,20 @@ class Numerics:
         return cls(**{**PRESETS[name], **overrides})
 
 
+MAX_SAMPLES = 50_000_000
+"""Most samples one run records (about 2.8 GB of angles at N = 7): beyond it the run would exhaust memory."""
+MIN_SAMPLES = 10
+"""Fewest samples a run must record to be measured."""
+
 PRESETS = {
     "accurate": dict(dt=0.0025, mass_ratio=1e-4),
     "fast": dict(dt=0.01, mass_ratio=1e-3),
 }
+
+
+def parameter_fields(cls) -> tuple[dataclasses.Field, ...]:
+    """The fields of Physics (less `scene`) or Numerics that a user sets, with their help text."""
+    return tuple(f for f in dataclasses.fields(cls) if "help" in f.metadata)
 
 
 def replace(obj, **changes):

@@ -31,10 +31,15 @@ import sys
 import time
 from pathlib import Path
 
+import mujoco
 import numpy as np
 
-from .model import build_model, chain_offset, chain_prefixes, relative_angles
-from .params import Numerics, ParameterError, Physics
+from .analysis import observables as obs
+from .errors import ParameterError
+from .model import build_model, relative_angles
+from .outputs import atomic_file
+from .progress import progress_bar
+from .params import Numerics, Physics
 from .trajectory import Trajectory
 
 GL_BACKENDS = ("egl", "osmesa")
@@ -94,7 +99,7 @@ def probe_backend(name: str, timeout: float = 60.0) -> str | None:
 def _activate(name: str) -> None:
     """Make mujoco.Renderer use back end `name` in this process (MUJOCO_GL is read at import)."""
     os.environ["MUJOCO_GL"] = name
-    try:
+    try:  # inside: the GL module must be (re)loaded after MUJOCO_GL is set
         from mujoco.rendering.classic import gl_context
     except ImportError:  # a mujoco without the classic renderer: it reads MUJOCO_GL itself
         return
@@ -103,8 +108,6 @@ def _activate(name: str) -> None:
             importlib.reload(gl_context)
         except Exception as err:  # e.g. PyOpenGL already loaded for another platform
             raise RenderError(f"could not switch MuJoCo to MUJOCO_GL={name}: {err}\n{INSTALL_HINT}") from err
-        import mujoco
-
         mujoco.GLContext = getattr(gl_context, "GLContext", None)
 
 
@@ -135,8 +138,6 @@ def gl_backend() -> str:
 
 
 def _renderer(model, height: int, width: int, max_geom: int):
-    import mujoco
-
     backend = gl_backend()
     try:
         return mujoco.Renderer(model, height, width, max_geom=max_geom)
@@ -153,7 +154,7 @@ def particle_positions(physics: Physics, theta: np.ndarray) -> np.ndarray:
     a = theta.reshape(theta.shape[:-1] + (physics.n_chains, physics.n))
     xy = np.stack([np.cumsum(np.cos(a), axis=-1), np.cumsum(np.sin(a), axis=-1)], axis=-1)
     for k in range(physics.n_chains):
-        xy[..., k, :, 1] += chain_offset(physics, k)
+        xy[..., k, :, 1] += physics.scene_def.chain_offset(physics, k)
     return xy
 
 
@@ -170,8 +171,6 @@ def interpolate(traj: Trajectory, times: np.ndarray) -> np.ndarray:
 
 def default_rate(traj: Trajectory) -> float:
     """tau per second of video so that one beat (or one turn) lasts about a second on screen."""
-    from .analysis import observables as obs
-
     t = traj.t
     if t.size < 8 or t[-1] - t[0] <= 0:
         return DEFAULT_RATE
@@ -185,10 +184,9 @@ def default_rate(traj: Trajectory) -> float:
                     freqs.append(f)
         if freqs:
             return float(np.clip(1.0 / min(freqs), 0.5, 200.0))
-        if traj.physics.scene == "rotating-pin":
-            omega = abs(obs.rotation_rate(t, traj.theta))
-            if omega > 1e-3:
-                return float(np.clip(2.0 * math.pi / omega, 0.5, 200.0))
+        period = traj.physics.scene_def.video_period(traj)
+        if period is not None:
+            return float(np.clip(period, 0.5, 200.0))
     except ValueError:
         pass
     return DEFAULT_RATE
@@ -205,11 +203,7 @@ def frame_times(t_start: float, t_end: float, fps: float, rate: float) -> np.nda
 
 
 def _caption_left(physics: Physics) -> str:
-    parts = [physics.scene, f"N = {physics.n}", f"σ = {physics.sigma:.3g}"]
-    if physics.scene == "two-pinned":
-        parts.append(f"δ = {physics.delta:.3g}")
-    if physics.scene == "coupled-pair":
-        parts += [f"κ = {physics.kappa:.3g}", f"ρ = {physics.rho:.3g}"]
+    parts = [physics.scene, f"N = {physics.n}", f"σ = {physics.sigma:.3g}", *physics.scene_def.caption(physics)]
     if physics.drag_ratio != 1.0:
         parts.append(f"γL/γT = {physics.drag_ratio:.3g}")
     if physics.noise > 0:
@@ -221,6 +215,7 @@ class _Caption:
     """Text burnt into the top band of a frame with matplotlib's Agg renderer (no window needed)."""
 
     def __init__(self, width: int, height: int, left: str):
+        # start-up time: matplotlib (~0.3 s) loads only when a frame is drawn
         from matplotlib.backends.backend_agg import FigureCanvasAgg
         from matplotlib.figure import Figure
 
@@ -246,12 +241,9 @@ class _Caption:
 
 def _camera(physics: Physics, xy: np.ndarray, width: int, height: int, caption_px: int, fovy_deg: float):
     """Top-down free camera (x to the right, y up) whose view holds every point of xy (..., 2)."""
-    import mujoco
-
-    pts = [xy.reshape(-1, 2), np.array([[-0.3, chain_offset(physics, k)] for k in range(physics.n_chains)])]
-    if physics.scene == "two-pinned":
-        pts.append(np.array([[physics.n * (1.0 - physics.delta), 0.0]]))
-    pts = np.concatenate(pts)
+    scene = physics.scene_def
+    clamps = np.array([[-0.3, scene.chain_offset(physics, k)] for k in range(physics.n_chains)])
+    pts = np.concatenate([xy.reshape(-1, 2), clamps, scene.extent_points(physics)])
     lo, hi = pts.min(axis=0), pts.max(axis=0)
     pad = max(0.45 + 0.5 * min(ARROW_MAX, ARROW_PER_SIGMA * physics.sigma), 0.04 * (hi - lo).max())
     lo, hi = lo - pad, hi + pad
@@ -274,8 +266,6 @@ def _camera(physics: Physics, xy: np.ndarray, width: int, height: int, caption_p
 
 
 def _add_geom(scene, gtype, rgba, a, b, width: float) -> None:
-    import mujoco
-
     if scene.ngeom >= scene.maxgeom:
         return
     g = scene.geoms[scene.ngeom]
@@ -286,7 +276,7 @@ def _add_geom(scene, gtype, rgba, a, b, width: float) -> None:
 
 
 def _trail_colours(n: int) -> np.ndarray:
-    from matplotlib import colormaps
+    from matplotlib import colormaps  # start-up time: only when trails are drawn
 
     return colormaps["plasma"](np.linspace(0.15, 0.85, n))
 
@@ -296,12 +286,7 @@ class _Painter:
 
     def __init__(self, traj: Trajectory, *, width: int, height: int, rate: float, trail: float,
                  numerics: Numerics | None, bounds_times: np.ndarray):
-        import mujoco
-
-        if width < 16 or height < 16 or width % 2 or height % 2:
-            raise ParameterError(f"width and height must be even numbers >= 16 (H.264), got {width}x{height}")
-        if trail < 0:
-            raise ParameterError(f"trail (seconds of video) must be >= 0, got {trail}")
+        check_picture(width=width, height=height, trail=trail)
         physics = traj.physics
         self.traj, self.physics = traj, physics
         self.model = build_model(physics, numerics or Numerics())
@@ -312,7 +297,9 @@ class _Painter:
         vis.headlight.diffuse[:] = 0.45
         vis.headlight.specular[:] = 0.0
         self.data = mujoco.MjData(self.model)  # the render's own state: never the simulating one
-        self.sites = [[self.model.site(f"{p}particle_{i}").id for i in range(physics.n)] for p in chain_prefixes(physics)]
+        self._scene = None  # the mjvScene of the frame being made (for spring)
+        self.sites = [[self.model.site(f"{p}particle_{i}").id for i in range(physics.n)]
+                      for p in physics.scene_def.chain_prefixes()]
         self.trail_tau = trail * rate
         self.line_px = max(1.5, height / 160)  # trails are GL lines (width in pixels): capsules cost 5x more
         stride = max(1, math.ceil(physics.n / MAX_TRAILS))
@@ -332,8 +319,6 @@ class _Painter:
         self.renderer.close()
 
     def frame(self, t: float) -> np.ndarray:
-        import mujoco
-
         physics, data = self.physics, self.data
         data.qpos[:] = relative_angles(physics, interpolate(self.traj, np.array([t]))[0])
         data.time = t
@@ -342,8 +327,8 @@ class _Painter:
         scene = self.renderer.scene
         if self.trail_tau > 0:
             self._trails(scene, t)
-        if physics.scene == "coupled-pair":
-            self._spring(scene)
+        self._scene = scene
+        physics.scene_def.decorate(self)  # scene-specific extras, e.g. the pair's coupling spring
         if self.arrow > 0:
             for sites in self.sites:
                 for s in sites:
@@ -357,8 +342,6 @@ class _Painter:
         return self.caption.draw(pixels, f"t = {t:.1f} τ")
 
     def _trails(self, scene, t: float) -> None:
-        import mujoco
-
         t0 = max(self.traj.t[0], t - self.trail_tau)
         if t - t0 <= 0:
             return
@@ -373,11 +356,11 @@ class _Painter:
                     w = (j + 1) / TRAIL_POINTS
                     _add_geom(scene, mujoco.mjtGeom.mjGEOM_LINE, (*rgb, 0.9 * w), pts[j], pts[j + 1], self.line_px)
 
-    def _spring(self, scene) -> None:
-        import mujoco
-
-        a = self.data.site_xpos[self.sites[0][0]].copy()
-        b = self.data.site_xpos[self.sites[1][0]].copy()
+    def spring(self, chain_a: int, particle_a: int, chain_b: int, particle_b: int) -> None:
+        """Draw a zigzag spring between two particles into the frame being made (for Scene.decorate)."""
+        scene = self._scene
+        a = self.data.site_xpos[self.sites[chain_a][particle_a]].copy()
+        b = self.data.site_xpos[self.sites[chain_b][particle_b]].copy()
         a[2] = b[2] = -0.05
         axis = b - a
         length = np.linalg.norm(axis)
@@ -396,16 +379,32 @@ class _Painter:
 def _window(traj: Trajectory, start: float | None, end: float | None) -> tuple[float, float]:
     t0 = traj.t[0] if start is None else float(start)
     t1 = traj.t[-1] if end is None else float(end)
-    if not (traj.t[0] - 1e-9 <= t0 <= t1 <= traj.t[-1] + 1e-9):
+    if not (math.isfinite(t0) and math.isfinite(t1) and traj.t[0] - 1e-9 <= t0 <= t1 <= traj.t[-1] + 1e-9):
         raise ParameterError(f"render window [{t0}, {t1}] must have start <= end and lie inside the record [{traj.t[0]}, {traj.t[-1]}]")
     return t0, t1
 
 
-def _check(fps: float, rate: float) -> None:
-    if not (math.isfinite(fps) and fps > 0):
-        raise ParameterError(f"fps must be > 0, got {fps}")
-    if not (math.isfinite(rate) and rate > 0):
+MAX_SIDE = 8192
+"""Largest frame width or height in pixels (off-screen GL buffers of this size work everywhere seen)."""
+MAX_FPS = 240.0
+
+
+def check_picture(*, fps: float = 30.0, rate: float | None = None, width: int = 640, height: int = 480,
+                  trail: float = 1.0) -> None:
+    """Refuse, naming the option, a picture that cannot be made (before any simulation or rendering)."""
+    if not (math.isfinite(fps) and 0 < fps <= MAX_FPS):
+        raise ParameterError(f"fps (frames per second) must lie in (0, {MAX_FPS:g}], got {fps}")
+    if rate is not None and not (math.isfinite(rate) and rate > 0):
         raise ParameterError(f"rate (tau per second of video) must be > 0, got {rate}")
+    for name, side in (("width", width), ("height", height)):
+        if not (isinstance(side, (int, np.integer)) and 16 <= side <= MAX_SIDE and side % 2 == 0):
+            raise ParameterError(f"{name} must be an even number of pixels in [16, {MAX_SIDE}], got {side}")
+    if not (math.isfinite(trail) and trail >= 0):
+        raise ParameterError(f"trail (seconds of video) must be >= 0, got {trail}")
+
+
+def _check(fps: float, rate: float) -> None:
+    check_picture(fps=fps, rate=rate)
 
 
 def render_frames(
@@ -441,18 +440,21 @@ def render_frames(
 
 def render_still(traj: Trajectory, path, *, time: float | None = None, **kwargs) -> dict:
     """One frame (default: the last sample) to an image file (PNG), framed like the video."""
-    import mediapy
+    import mediapy  # start-up time: only when an image is written
 
     time = traj.t[-1] if time is None else float(time)
+    if not (math.isfinite(time) and traj.t[0] - 1e-9 <= time <= traj.t[-1] + 1e-9):
+        raise ParameterError(f"time of the still must lie inside the record [{traj.t[0]:g}, {traj.t[-1]:g}] tau, got {time}")
     frame = render_frames(traj, np.array([time]), **kwargs)[0]
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    mediapy.write_image(path, frame)
+    with atomic_file(path) as tmp:
+        mediapy.write_image(tmp, frame)
     return {"path": str(path), "time": time, "backend": gl_backend()}
 
 
 def setup_ffmpeg() -> str:
     """Point mediapy at the ffmpeg binary shipped by imageio-ffmpeg (no system ffmpeg needed)."""
+    # start-up time: the video writer loads only when a video is written
     import imageio_ffmpeg
     import mediapy
 
@@ -480,7 +482,7 @@ def render_trajectory(
     Frame k shows t = start + k * rate / fps (rate in tau per second of video; default: one beat
     per second). A progress bar shows for renders longer than a couple of seconds of video.
     """
-    import mediapy
+    import mediapy  # start-up time: only when a video is written
 
     rate = default_rate(traj) if rate is None else float(rate)
     _check(fps, rate)
@@ -488,16 +490,13 @@ def render_trajectory(
     times = frame_times(t0, t1, fps, rate)
     setup_ffmpeg()
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
     begin = time.perf_counter()
     painter = _Painter(traj, width=width, height=height, rate=rate, trail=trail, numerics=numerics, bounds_times=times)
     bar = None
     if progress and times.size > 60:
-        from tqdm.auto import tqdm
-
-        bar = tqdm(total=times.size, desc=f"render {traj.physics.scene}", unit="frame", mininterval=0.5)
+        bar = progress_bar(times.size, f"render {traj.physics.scene}", "frame")
     try:
-        with mediapy.VideoWriter(path, shape=(height, width), fps=fps) as writer:
+        with atomic_file(path) as tmp, mediapy.VideoWriter(tmp, shape=(height, width), fps=fps) as writer:
             for t in times:
                 writer.add_image(painter.frame(float(t)))
                 if bar is not None:

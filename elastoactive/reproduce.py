@@ -1,13 +1,14 @@
 """`elastoactive reproduce`: regenerate every figure, its data and report.md in one folder.
 
-A thin layer: the studies are `analysis.studies`, the figures `figures`, the claim table `claims`.
+A thin layer: the studies are `elastoactive.studies`, the figures `figures`, the claim table
+`claims` (the command line itself is elastoactive.cli.reproduce). Also the helpers the scenario
+scripts in scripts/ share.
 """
 
 from __future__ import annotations
 
 import argparse
 import csv
-import sys
 import time
 from pathlib import Path
 
@@ -18,9 +19,9 @@ def reproduce(out: Path, size: str = "quick", workers: int | None = None, only: 
 
     Returns {"studies": {name: Study}, "figures": {name: [paths]}, "report": path, "wall_s": seconds}.
     """
-    from . import claims, figures
-    from .analysis import studies as st
-    from .batch import default_workers
+    from . import claims, figures  # start-up time: figures loads matplotlib
+    from . import studies as st  # start-up time: the studies load both engines
+    from .batch import default_workers  # start-up time: batch loads both engines
 
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
@@ -42,42 +43,14 @@ def reproduce(out: Path, size: str = "quick", workers: int | None = None, only: 
         with open(out / "stability_sigma_c.csv", "w", newline="") as fh:
             w = csv.writer(fh)
             w.writerow(["N", "sigma_c", "omega_c", "f_c", "N3_sigma_c"])
-            for row in done["stability"].summary["table"]:
-                w.writerow([row["n"], repr(row["sigma_c"]), repr(row["omega_c"]), repr(row["f_c"]),
-                            repr(row["n"] ** 3 * row["sigma_c"])])
+            for row in done["stability"].summary.table:
+                w.writerow([row.n, repr(row.sigma_c), repr(row.omega_c), repr(row.f_c), repr(row.n ** 3 * row.sigma_c)])
     wall = time.perf_counter() - start
     command = "elastoactive reproduce" + (" --full" if size == "full" else "") + (" --tiny" if size == "tiny" else "")
     report = out / "report.md"
     report.write_text(claims.render_report(done, figs, {"size": size, "workers": workers, "wall_s": wall, "command": command}))
     log(f"wrote {report} ({wall:.0f} s)")
     return {"studies": done, "figures": figs, "report": report, "wall_s": wall}
-
-
-def cmd_reproduce(args) -> int:
-    size = "full" if args.full else ("tiny" if args.tiny else "quick")
-    only = args.only.split(",") if args.only else None
-    reproduce(args.out, size, args.workers, only, progress=not args.quiet,
-              log=(lambda *a: None) if args.quiet else (lambda msg: print(msg, file=sys.stderr, flush=True)))
-    print(Path(args.out) / "report.md")
-    return 0
-
-
-def register(subparsers) -> None:
-    p = subparsers.add_parser(
-        "reproduce",
-        help="regenerate the paper's figures, their data and report.md (claim by claim)",
-        description="Run every study (linear stability, Hopf N = 7, N = 2 normal form, self-snapping, rotating pin, "
-        "synchronisation, noise, anisotropic drag) with MuJoCo and the reduced model, and write PNG figures, NPZ/JSON "
-        "data and report.md into one folder. The default (quick) size takes a few minutes on 2 cores.",
-    )
-    p.add_argument("--out", type=Path, default=Path("out/reproduction"), help="output folder (default %(default)s)")
-    g = p.add_mutually_exclusive_group()
-    g.add_argument("--full", action="store_true", help="publication resolution (finer grids, longer runs: much slower)")
-    g.add_argument("--tiny", action="store_true", help="smallest grids and runs (a smoke test; numbers are rough)")
-    p.add_argument("--workers", type=int, default=None, help="worker processes (default: every core)")
-    p.add_argument("--only", default=None, help="comma-separated subset of studies, e.g. hopf,sync")
-    p.add_argument("--quiet", action="store_true", help="no progress output")
-    p.set_defaults(func=cmd_reproduce)
 
 
 # ------------------------------------------------------------------------------------------------
@@ -100,7 +73,7 @@ def scenario_size(args) -> str:
 
 def save_all(studies, out: Path) -> list[Path]:
     """Save each study's data and figures into `out`; returns the figure paths."""
-    from . import figures
+    from . import figures  # start-up time: matplotlib
 
     paths = []
     for study in studies:

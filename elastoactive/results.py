@@ -4,13 +4,101 @@ from __future__ import annotations
 
 import dataclasses
 import json
+import math
+import zipfile
+from collections.abc import Mapping
+from dataclasses import dataclass, field, fields
 from pathlib import Path
 
 import numpy as np
 
 from .analysis import observables as obs
+from .errors import ParameterError
+from .outputs import sha256, write_files
 from .params import Numerics, Physics
 from .trajectory import Trajectory
+
+
+@dataclass(frozen=True)
+class Observable:
+    """What an observable means: netCDF attributes and how validate compares two values of it."""
+
+    units: str
+    long_name: str
+    per_chain: bool = False  # one value per chain for a coupled pair
+    error: str = "relative"  # validate: "relative" (absolute below `floor`), "absolute", or "none" (not compared)
+    floor: float = 1e-3
+
+
+OBSERVABLES: dict[str, Observable] = {
+    "amplitude": Observable("rad", "amplitude of Theta = theta_N - theta_1 (half peak-to-peak)", per_chain=True),
+    "frequency": Observable("1/tau", "oscillation frequency f*tau of Theta", per_chain=True),
+    "snap_amplitude": Observable("rad", "standard deviation of theta_3 (self-snapping; NaN for n < 3)"),
+    "rotation_rate": Observable("rad/tau", "mean d theta_1 / dt", floor=1e-6),
+    "frequency_mismatch": Observable("1/tau", "f_2 - f_1 from the Hilbert phases (NaN unless both oscillate)",
+                                     error="absolute"),
+    "period_spread": Observable("1", "std / mean of the cycle periods of Theta (NaN with fewer than 2 cycles)",
+                                per_chain=True, error="none"),
+}
+"""Every observable a scene can report, in one place (Scene.observables names them)."""
+
+PerChain = float | tuple[float, ...]
+
+STEADY_AMPLITUDE = 1e-6
+"""rad: a Theta whose half peak-to-peak stays below this is at rest (frequency 0)."""
+SMALL_AMPLITUDE = 1e-3
+"""rad: below this a Theta counts as steady for the periodicity verdict (wiggles at round-off or a last
+decaying transient are not an irregular beat)."""
+PERIODIC_SPREAD = 0.01
+"""A beat is periodic when its cycle periods and cycle amplitudes vary by less than this (std / mean).
+A limit cycle gives ~1e-5; noise, chaos, or a beat still growing in the window give more."""
+MIN_CYCLES = 2
+"""Whole cycles the measured window must hold to judge whether the beat is periodic."""
+
+
+@dataclass(frozen=True)
+class Results:
+    """What a run measures after its transient (ea.measure).
+
+    amplitude, frequency  of Theta = theta_N - theta_1: floats, or one per chain (tuple) for the pair;
+                          frequency is None when the window holds fewer than two periods of a
+                          beating chain (a longer run fixes it), 0.0 for a chain at rest
+    periodic              True for a steady state or a regular beat (the single numbers describe it),
+                          False for an irregular one (period or amplitude varying by more than
+                          PERIODIC_SPREAD from cycle to cycle: use statistics, not one number), None
+                          when the window holds too few cycles to tell
+    period_spread         std / mean of the cycle periods of Theta (per chain; NaN below 2 cycles)
+    notes                 what a user should know about these numbers (the CLI prints them as warnings)
+    the rest              set only for the scenes that report them (Scene.observables), else None
+    extra                 observables of plug-in scenes not listed in OBSERVABLES
+    """
+
+    amplitude: PerChain
+    frequency: PerChain | None
+    periodic: bool | None = None
+    period_spread: PerChain = math.nan
+    notes: tuple[str, ...] = ()
+    snap_amplitude: float | None = None
+    rotation_rate: float | None = None
+    frequency_mismatch: float | None = None
+    extra: Mapping[str, float] = field(default_factory=dict)
+
+    def as_dict(self) -> dict:
+        """The observables that are set, as summary.json's `results` holds them (lists per chain)."""
+        out: dict = {}
+        for f in fields(self):
+            value = getattr(self, f.name)
+            if f.name == "extra":
+                out.update(value)
+            elif f.name in ("frequency", "periodic") or value is not None:  # null says "could not be measured"
+                out[f.name] = list(value) if isinstance(value, tuple) else value
+        return out
+
+    def value(self, name: str):
+        """An observable by name (for code that loops over Scene.observables)."""
+        if name in {f.name for f in fields(self)} and name != "extra":
+            return getattr(self, name)
+        return self.extra.get(name)
 
 
 def default_transient(duration: float) -> float:
@@ -18,78 +106,188 @@ def default_transient(duration: float) -> float:
     return 0.5 * duration
 
 
-def measure(traj: Trajectory, transient: float | None = None) -> dict:
-    """amplitude and frequency of Theta = theta_N - theta_1 (per chain for the pair, as lists),
-    plus snap_amplitude (two-pinned), rotation_rate (rotating pin), frequency_mismatch (pair)."""
+def measure(traj: Trajectory, transient: float | None = None) -> Results:
+    """amplitude and frequency of Theta = theta_N - theta_1 (per chain for the pair), plus the
+    scene's own observables (Scene.measure_extra: snap_amplitude, rotation_rate, ...)."""
     t = traj.t
     transient = default_transient(t[-1] - t[0]) if transient is None else transient
     physics = traj.physics
-    chains = [traj.chain(k) for k in range(physics.n_chains)]
-    curvatures = [obs.curvature(c) for c in chains]
-    amplitudes = [obs.amplitude(t, x, transient) for x in curvatures]
-    frequencies = [obs.frequency(t, x, transient) if a > 1e-6 else 0.0 for a, x in zip(amplitudes, curvatures)]
-    out: dict = {}
+    scene = physics.scene_def
+    beats = [_beat(t, obs.curvature(traj.chain(k)), transient) for k in range(physics.n_chains)]
+    extra = scene.measure_extra(traj, transient)
+    known = {k: extra.pop(k) for k in list(extra) if k in _RESULT_FIELDS}
+    verdicts = [b.periodic for b in beats]
+    periodic = False if False in verdicts else (None if None in verdicts else True)
+    notes = []
+    for k, b in enumerate(beats):
+        where = f"chain {k + 1}: " if physics.n_chains > 1 else ""
+        notes += [where + note for note in b.notes]
+    columns = ([b.amplitude for b in beats], [b.frequency for b in beats], [b.period_spread for b in beats])
     if physics.n_chains == 1:
-        out["amplitude"], out["frequency"] = amplitudes[0], frequencies[0]
+        amplitude, frequency, spread = (c[0] for c in columns)
     else:
-        out["amplitude"], out["frequency"] = amplitudes, frequencies
-        oscillating = all(a > 1e-3 for a in amplitudes)
-        out["frequency_mismatch"] = (
-            obs.frequency_mismatch(t, curvatures[0], curvatures[1], transient) if oscillating else float("nan")
-        )
-    if physics.scene == "two-pinned" and physics.n >= 3:
-        out["snap_amplitude"] = obs.snap_amplitude(traj.theta, t, transient)
-    if physics.scene == "rotating-pin":
-        out["rotation_rate"] = obs.rotation_rate(t, traj.theta, transient)
-    return out
+        amplitude, frequency, spread = (tuple(c) for c in columns)
+    return Results(amplitude, frequency, periodic, spread, tuple(notes), **known, extra=extra)
 
 
-def summary(traj: Trajectory, numerics: Numerics, duration: float, transient: float | None = None) -> dict:
-    """Everything summary.json holds: parameters, numerical settings, wall time and results."""
-    transient = default_transient(duration) if transient is None else transient
+@dataclass(frozen=True)
+class _Beat:
+    amplitude: float
+    frequency: float | None
+    periodic: bool | None
+    period_spread: float
+    notes: tuple[str, ...]
+
+
+def _beat(t: np.ndarray, theta_diff: np.ndarray, transient: float) -> _Beat:
+    """Amplitude, frequency and regularity of one chain's Theta over the measured window."""
+    amplitude = obs.amplitude(t, theta_diff, transient)
+    if amplitude <= STEADY_AMPLITUDE:
+        return _Beat(amplitude, 0.0, True, math.nan, ())
+    if amplitude <= SMALL_AMPLITUDE:
+        return _Beat(amplitude, obs.frequency(t, theta_diff, transient), True, math.nan, ())
+    cycles = obs.cycles(t, theta_diff, transient)
+    window = f"the measured window ({t[-1] - transient:.4g} tau after a transient of {transient:.4g} tau)"
+    _, xs = obs.steady_part(t, theta_diff, transient=transient)
+    third = max(xs.size // 3, 1)
+    drift = abs(xs[-third:].mean() - xs[:third].mean())
+    if cycles.count < MIN_CYCLES and drift > amplitude:  # a periodic signal's thirds differ by < amplitude
+        return _Beat(amplitude, None, False, math.nan, (
+            f"the motion is not periodic: Theta drifts by {drift:.3g} rad over {window} (it winds up or "
+            "creeps) with fewer than two cycles about its mean; amplitude is half the range covered",))
+    if cycles.count < 1:
+        return _Beat(amplitude, None, None, math.nan, (
+            f"frequency not measured: {window} holds fewer than two periods of Theta; run longer "
+            "(--duration) or discard less (--transient)",))
+    frequency = obs.frequency(t, theta_diff, transient)
+    if cycles.count < MIN_CYCLES:
+        return _Beat(amplitude, frequency, None, cycles.period_spread, (
+            f"periodicity not judged: {window} holds {cycles.count} whole cycle(s), fewer than {MIN_CYCLES}; "
+            "run longer (--duration)",))
+    spread = max(cycles.period_spread, cycles.amplitude_spread)
+    if spread > PERIODIC_SPREAD:
+        return _Beat(amplitude, frequency, False, cycles.period_spread, (
+            f"the beat is not periodic: its cycle periods vary by {cycles.period_spread:.2g} and its cycle "
+            f"amplitudes by {cycles.amplitude_spread:.2g} (std / mean, over {cycles.count} cycles; periodic: "
+            f"<= {PERIODIC_SPREAD:g}); amplitude and frequency are averages over an irregular motion (noise, "
+            "chaos, or a beat still growing: run longer)",))
+    return _Beat(amplitude, frequency, True, cycles.period_spread, ())
+
+
+_RESULT_FIELDS = {"snap_amplitude", "rotation_rate", "frequency_mismatch"}
+
+
+def check_transient(duration: float, transient: float | None) -> float:
+    """The transient a run will discard: default half the run; refused unless 0 <= transient < duration."""
+    if transient is None:
+        return default_transient(duration)
+    if not (math.isfinite(transient) and 0 <= transient < duration):
+        raise ParameterError(f"transient ({transient} tau) must lie in [0, duration = {duration:g} tau): the results are "
+                             "measured on the part of the run after it")
+    return float(transient)
+
+
+def summary(traj: Trajectory, numerics: Numerics, duration: float, transient: float | None = None,
+            provenance: dict | None = None) -> dict:
+    """Everything summary.json holds: parameters, numerical settings, wall time, results, solver
+    information and (when given) the provenance record of elastoactive.outputs."""
+    transient = check_transient(duration, transient)
     settings = dataclasses.asdict(numerics)
-    if traj.engine == "reduced":
-        settings = {k: settings[k] for k in ("sample_dt", "perturbation", "seed")}
-    return {
+    if traj.engine == "reduced":  # the reduced model uses these (dt: the Euler-Maruyama step with noise)
+        keep = ("sample_dt", "perturbation", "seed") + (("dt",) if traj.physics.noise > 0 else ())
+        settings = {k: settings[k] for k in keep}
+    out = {
         "engine": traj.engine,
         "parameters": traj.physics.relevant(),
         "numerics": {**settings, "duration": duration, "transient": transient},
         "wall_time_s": traj.wall_time_s,
-        "results": measure(traj, transient),
+        "results": measure(traj, transient).as_dict(),
         "solver": traj.info,
     }
+    if provenance is not None:
+        out["provenance"] = provenance
+    return out
 
 
-def _jsonable(value):
+def jsonable(value):
+    """value with numpy scalars as Python numbers and non-finite floats as None (valid JSON)."""
     if isinstance(value, dict):
-        return {k: _jsonable(v) for k, v in value.items()}
+        return {k: jsonable(v) for k, v in value.items()}
     if isinstance(value, (list, tuple)):
-        return [_jsonable(v) for v in value]
+        return [jsonable(v) for v in value]
     if isinstance(value, (np.floating, float)):
         return None if not np.isfinite(value) else float(value)
+    if isinstance(value, (np.bool_, bool)):
+        return bool(value)
     if isinstance(value, np.integer):
         return int(value)
     return value
 
 
-def write_run(out: Path, traj: Trajectory, summary_dict: dict) -> None:
-    """summary.json and trajectory.npz (t in tau, theta: one column per particle)."""
-    out = Path(out)
-    out.mkdir(parents=True, exist_ok=True)
-    (out / "summary.json").write_text(json.dumps(_jsonable(summary_dict), indent=2) + "\n")
-    np.savez_compressed(out / "trajectory.npz", t=traj.t, theta=traj.theta, scene=traj.physics.scene, n=traj.physics.n)
+def write_run(out: Path, traj: Trajectory, summary_dict: dict) -> list[Path]:
+    """summary.json and trajectory.npz (t in tau, theta: one column per particle), written together:
+    each into a temporary file first, the trajectory renamed into place before the summary that
+    records its SHA-256, so a summary never describes another trajectory unnoticed."""
+    checksum = {}
+
+    def trajectory(tmp: Path) -> None:
+        np.savez_compressed(tmp, t=traj.t, theta=traj.theta, scene=traj.physics.scene, n=traj.physics.n)
+        checksum["sha256"] = sha256(tmp)
+
+    def summary_file(tmp: Path) -> None:
+        tmp.write_text(json.dumps(jsonable({**summary_dict, "trajectory_sha256": checksum["sha256"]}), indent=2) + "\n")
+
+    return write_files(Path(out), {"trajectory.npz": trajectory, "summary.json": summary_file})
+
+
+def read_summary(path: Path) -> dict:
+    """A run's summary.json (a folder written by `run --out`, or the file itself)."""
+    path = Path(path)
+    if path.is_dir():
+        path = path / "summary.json"
+    try:
+        summary_dict = json.loads(path.read_text())
+    except FileNotFoundError:
+        raise ParameterError(f"{path} not found: give a folder written by `elastoactive run --out` or its summary.json") from None
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as err:
+        raise ParameterError(f"{path} is not a readable summary.json ({err})") from None
+    if not isinstance(summary_dict, dict) or not isinstance(summary_dict.get("parameters"), dict):
+        raise ParameterError(f"{path} is not a summary.json written by elastoactive run (no parameters)")
+    return summary_dict
 
 
 def load_trajectory(path: Path, physics: Physics | None = None) -> Trajectory:
-    """Read a trajectory.npz written by write_run (the physics from summary.json beside it)."""
+    """Read a trajectory.npz written by write_run (the physics from summary.json beside it).
+
+    Refuses, naming the file, a truncated or foreign file, missing or misshapen arrays, non-finite
+    angles, and a trajectory that is not the one its summary.json describes (checksum)."""
     path = Path(path)
     if path.is_dir():
         path = path / "trajectory.npz"
-    with np.load(path) as f:
-        t, theta = f["t"], f["theta"]
+    summary_file = path.with_name("summary.json")
+    recorded = read_summary(summary_file) if summary_file.exists() else None
     if physics is None:
-        summary_file = path.with_name("summary.json")
-        if not summary_file.exists():
-            raise FileNotFoundError(f"{summary_file} not found: pass the physics explicitly")
-        physics = Physics(**json.loads(summary_file.read_text())["parameters"])
-    return Trajectory(t=t, theta=theta, physics=physics, engine="file")
+        if recorded is None:
+            raise ParameterError(f"{summary_file} not found: the physics of {path} is unknown")
+        physics = Physics(**recorded["parameters"])
+    try:
+        with np.load(path) as f:
+            t, theta = np.asarray(f["t"], dtype=float), np.asarray(f["theta"], dtype=float)
+    except FileNotFoundError:
+        raise ParameterError(f"{path} not found") from None
+    except KeyError as err:
+        raise ParameterError(f"{path} lacks the array {err} (expected t and theta)") from None
+    except (OSError, ValueError, EOFError, zipfile.BadZipFile) as err:
+        raise ParameterError(f"{path} is not a readable trajectory.npz (truncated or foreign file: {err})") from None
+    if t.ndim != 1 or t.size < 2 or theta.shape != (t.size, physics.n_angles):
+        raise ParameterError(f"{path}: expected t of shape (T,) with T >= 2 and theta of shape (T, {physics.n_angles}) "
+                             f"for {physics.scene_def.label(physics)}; got {t.shape} and {theta.shape}")
+    if not (np.all(np.isfinite(t)) and np.all(np.diff(t) > 0)):
+        raise ParameterError(f"{path}: the sample times t are not finite and increasing")
+    if not np.all(np.isfinite(theta)):
+        bad = t[~np.all(np.isfinite(theta), axis=1)][0]
+        raise ParameterError(f"{path}: the angles are not finite from t = {bad:g} tau on (a diverged run?)")
+    if recorded is not None and recorded.get("trajectory_sha256") not in (None, sha256(path)):
+        raise ParameterError(f"{path} is not the trajectory {summary_file.name} describes (checksum differs: an "
+                             "interrupted or mixed write); re-run the simulation")
+    return Trajectory(t=t, theta=theta, physics=physics, engine=(recorded or {}).get("engine", "file"))

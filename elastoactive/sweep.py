@@ -14,16 +14,33 @@ Storage and resume
   measurements, wall time, finish time), flushed and fsync'ed as soon as the point is done.
   Appending one line is O(1) per point and a kill -9 can at worst leave a torn last line, which
   is skipped on reading; nothing already written can be damaged.
-* `<out>` (netCDF) is the Dataset: rewritten atomically (temporary file + os.replace) at most
-  every `snapshot_interval` seconds while the sweep runs, so it can be opened at any time, and
-  once more at the end (also on an error or Ctrl-C). When every point is done the journal is
-  deleted: the netCDF alone is the result. Unfinished points have status "pending".
+* Every journal line is validated when read: status "ok" or "error", index inside the grid,
+  coordinates equal to the grid's at that index, the scene's measurements present (for "ok")
+  with the right shape (one number per chain for the pair's per-chain values) and finite where
+  they always are (NaN is allowed for snap_amplitude and frequency_mismatch, and for
+  measurements this module does not know), wall time a number. A line that fails is discarded
+  with a SweepJournalWarning naming the count, and its point runs again. A point's record that
+  would fail this check is stored as an error ("invalid result: ..."), so what is written reads back.
+* `<out>` (netCDF) is the Dataset: rewritten atomically and durably (temporary file, fsync,
+  os.replace, fsync of the directory) at most every `snapshot_interval` seconds while the sweep
+  runs, so it can be opened at any time, and once more at the end (also on an error or Ctrl-C).
+  When every point is done the journal is deleted, but only after the final netCDF is on disk:
+  the netCDF alone is the result. A Ctrl-C during that final save waits until it is done (main
+  thread), so the journal is never lost. Unfinished points have status "pending".
+* Before each snapshot the free space is checked (twice the arrays' size plus 1 MB): if it is
+  short, or a write fails (ENOSPC ...), a SweepStorageError names the file and the space needed,
+  nothing more is written and the journal stays, so the sweep resumes once space is freed.
 * Re-running the same sweep with the same `out` continues it: the finished points are read from
   the netCDF and the journal (the journal wins) and only the others run. Finished means status
   "ok" or "error" (a diverged point keeps its error text; `retry_errors=True` runs those again).
   The sweep's specification (scene, grid with its order, the scene's fixed physics, numerics,
   engine, duration, transient) is stored in both files; a different one is refused with the
-  differences listed. A lock on the journal refuses a second sweep writing the same file.
+  differences listed. A lock on the journal refuses a second sweep writing the same file. A
+  journal whose header is corrupted is refused, naming it: restore it, or remove it to continue
+  from the netCDF alone.
+* Numerical settings only MuJoCo reads (dt, mass_ratio; integrator) are refused on the grid of a
+  reduced-engine sweep, where they change nothing (dt is allowed when noise > 0: it is then the
+  Euler-Maruyama step).
 
 Dask: every worker of the cluster needs elastoactive (same version) installed; the points are
 submitted with client.map and collected as they complete, exactly as with the local pool.
@@ -35,41 +52,58 @@ rather than the single self-describing file asked for.
 
 from __future__ import annotations
 
+import contextlib
+import ctypes
 import dataclasses
+import errno
 import fcntl
 import json
 import math
 import os
+import shutil
+import signal
+import threading
 import time
+import warnings
+from concurrent.futures import ProcessPoolExecutor, as_completed
+from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
 from typing import Callable, Iterator, Mapping, Sequence
 
 import numpy as np
 
+from . import registry
 from .batch import Case, default_workers, run_case
-from .params import PRESETS, SCENES, Numerics, ParameterError, Physics
+from .engines import check_engine
+from .errors import ParameterError
+from .params import PRESETS, Numerics, Physics, parameter_fields
+from .results import OBSERVABLES
 
-PHYSICS_KEYS = ("n", "sigma", "delta", "kappa", "rho", "drag_ratio", "noise")
+PHYSICS_KEYS = tuple(f.name for f in parameter_fields(Physics))
 NUMERICS_KEYS = ("seed", "dt", "mass_ratio", "perturbation", "sample_dt")
 GRID_KEYS = PHYSICS_KEYS + NUMERICS_KEYS
 INTEGER_KEYS = ("n", "seed")
+MUJOCO_ONLY = ("dt", "mass_ratio", "integrator")
+"""Numerical settings only the MuJoCo engine reads (the reduced engine uses dt only when noise > 0)."""
 FORMAT = 1
+STATUSES = ("ok", "error")
+"""Status of a finished point; an unfinished one is "pending"."""
+MUST_BE_FINITE = ("amplitude", "rotation_rate", "constraint_violation")
+"""Measurements that are always finite. The other known ones (OBSERVABLES: frequency, snap_amplitude,
+frequency_mismatch, ...) are NaN when they cannot be measured, never infinite; measurements this
+module does not know (plug-in scenes' observables, new fields) may be any number."""
+SNAPSHOT_MARGIN = 1 << 20
+"""Bytes of free space asked for beyond twice the arrays' size before writing a snapshot."""
 
-# measured variables of each scene (results.measure), present even before any point is done
-SCENE_VARIABLES = {
-    "one-pinned": ("amplitude", "frequency"),
-    "two-pinned": ("amplitude", "frequency", "snap_amplitude", "constraint_violation"),
-    "rotating-pin": ("amplitude", "frequency", "rotation_rate"),
-    "coupled-pair": ("amplitude", "frequency", "frequency_mismatch"),
-}
-PER_CHAIN = ("amplitude", "frequency")  # lists of one value per chain for the pair
+
+def scene_variables(scene: str) -> tuple[str, ...]:
+    """Measured variables of a scene (results.measure), present even before any point is done."""
+    s = registry.get(scene)
+    return ("amplitude", "frequency", *s.observables) + (("constraint_violation",) if s.pinned else ())
+
 
 VARIABLE_ATTRS = {
-    "amplitude": dict(units="rad", long_name="amplitude of Theta = theta_N - theta_1 (half peak-to-peak)"),
-    "frequency": dict(units="1/tau", long_name="oscillation frequency f*tau of Theta"),
-    "frequency_mismatch": dict(units="1/tau", long_name="f_2 - f_1 from the Hilbert phases (NaN unless both oscillate)"),
-    "snap_amplitude": dict(units="rad", long_name="standard deviation of theta_3 (self-snapping; NaN for n < 3)"),
-    "rotation_rate": dict(units="rad/tau", long_name="mean d theta_1 / dt"),
+    **{name: dict(units=o.units, long_name=o.long_name) for name, o in OBSERVABLES.items()},
     "constraint_violation": dict(units="l", long_name="largest distance of the last particle from its pin"),
     "wall_time_s": dict(units="s", long_name="wall time of the simulation (without measuring)"),
     "finished_at": dict(long_name="when the point finished"),
@@ -86,6 +120,16 @@ COORD_ATTRS = {
 
 class SweepMismatch(ParameterError):
     """The output file holds a different sweep (or is not a sweep file)."""
+
+
+class SweepStorageError(ParameterError):
+    """The netCDF (or the journal) cannot be written, e.g. the disk is full; the message names the
+    file and the space needed. The journal keeps every point recorded before: free the space and
+    re-run the same sweep to resume."""
+
+
+class SweepJournalWarning(UserWarning):
+    """Lines of the journal failed validation and were discarded: their points run again."""
 
 
 # ----------------------------------------------------------------------------- the grid
@@ -235,10 +279,9 @@ def make_sweep(
     engine: str = "mujoco",
     transient: float | None = None,
 ) -> Sweep:
-    if scene not in SCENES:
-        raise ParameterError(f"scene must be one of {', '.join(SCENES)}; got {scene!r}")
-    if engine not in ("mujoco", "reduced"):
-        raise ParameterError(f"engine must be 'mujoco' or 'reduced', got {engine!r}")
+    if scene not in registry.names():
+        raise ParameterError(f"scene must be one of {', '.join(registry.names())}; got {scene!r}")
+    check_engine(engine)
     duration = float(duration)
     if not math.isfinite(duration) or duration <= 0:
         raise ParameterError(f"duration (in tau) must be a positive number, got {duration}")
@@ -266,7 +309,24 @@ def make_sweep(
         numerics = dataclasses.replace(numerics, **{k: v for k, v in first.items() if k in NUMERICS_KEYS})
     except ParameterError as err:
         raise ParameterError(f"grid point {first}: {err}") from None
+    noisy = bool(np.any(grid["noise"] > 0)) if "noise" in grid else physics.noise > 0
+    check_engine_numerics(engine, [k for k in grid if k in MUJOCO_ONLY], noisy, lambda k: f"grid {k}")
     return Sweep(scene, grid, physics, numerics, duration, engine, None if transient is None else float(transient))
+
+
+def check_engine_numerics(engine: str, names: Sequence[str], noisy: bool, label: Callable[[str], str] = str) -> None:
+    """Refuse MuJoCo-only numerical settings (`names`, swept or given) with the reduced engine, where
+    they change nothing: mass_ratio and integrator always, dt unless some point has noise > 0 (dt is
+    then the Euler-Maruyama step). `label(name)` is how the message names the setting."""
+    if engine != "reduced":
+        return
+    for name in names:
+        if name not in MUJOCO_ONLY or (name == "dt" and noisy):
+            continue
+        why = " (the reduced engine integrates noise-free runs adaptively; it uses dt only when noise > 0)" \
+            if name == "dt" else ""
+        raise ParameterError(f"{label(name)}: {name} only affects the MuJoCo engine and changes nothing with "
+                             f"engine reduced{why}; remove it or use engine mujoco")
 
 
 def _spec_text(spec: dict) -> str:
@@ -310,14 +370,14 @@ def run_point(case: Case, timestep_check: bool = True) -> dict:
     start = time.perf_counter()
     try:
         if timestep_check and case.engine == "mujoco":
-            from .diagnose import check_timestep
+            from .diagnose import check_timestep  # start-up time: diagnose loads mujoco; the CLI imports this module
 
             check_timestep(case.physics, case.numerics)
         out = run_case(case)
-        results = dict(out["results"])
-        if "constraint_violation" in out["info"]:
-            results["constraint_violation"] = out["info"]["constraint_violation"]
-        record = {"status": "ok", "error": "", "results": _plain(results), "wall_time_s": float(out["wall_time_s"])}
+        results = out.results.as_dict()
+        if "constraint_violation" in out.info:
+            results["constraint_violation"] = out.info["constraint_violation"]
+        record = {"status": "ok", "error": "", "results": _measurements(results), "wall_time_s": float(out.wall_time_s)}
     except Exception as err:  # a diverged or refused point is recorded and the sweep goes on
         record = {"status": "error", "error": f"{type(err).__name__}: {err}", "results": {},
                   "wall_time_s": time.perf_counter() - start}
@@ -325,12 +385,28 @@ def run_point(case: Case, timestep_check: bool = True) -> dict:
     return record
 
 
+def _measurements(results: dict) -> dict:
+    """The numeric measurements of Results.as_dict(), as JSON-ready numbers: a number, or one per chain
+    (a list). None ("could not be measured") becomes NaN, a bool 0 or 1; text (e.g. notes) is left out:
+    the netCDF holds numbers per point."""
+    return {name: _plain(value) for name, value in results.items() if _numeric(value)}
+
+
+def _numeric(value) -> bool:
+    scalar = (int, float, np.integer, np.floating, np.bool_, type(None))
+    if isinstance(value, (list, tuple, np.ndarray)):
+        return len(value) > 0 and all(isinstance(v, scalar) for v in value)
+    return isinstance(value, scalar)
+
+
 def _plain(value):
     if isinstance(value, dict):
         return {k: _plain(v) for k, v in value.items()}
     if isinstance(value, (list, tuple, np.ndarray)):
         return [_plain(v) for v in value]
-    if isinstance(value, (np.integer, int)) and not isinstance(value, bool):
+    if value is None:
+        return float("nan")
+    if isinstance(value, (np.integer, int)) and not isinstance(value, (bool, np.bool_)):
         return int(value)
     return float(value)
 
@@ -340,7 +416,6 @@ def _local(todo: list[int], sweep: Sweep, workers: int, check: bool) -> Iterator
         for i in todo:
             yield i, run_point(sweep.case(i), check)
         return
-    from concurrent.futures import ProcessPoolExecutor, as_completed
 
     pool = ProcessPoolExecutor(max_workers=min(workers, len(todo)), initializer=_die_with_parent,
                                initargs=(os.getpid(),))
@@ -356,8 +431,6 @@ def _die_with_parent(parent: int) -> None:
     """Pool worker initializer (Linux): end with the sweep's process, even after a kill -9 of it,
     instead of computing points nobody will record."""
     try:
-        import ctypes
-        import signal
 
         ctypes.CDLL(None, use_errno=True).prctl(1, signal.SIGTERM)  # PR_SET_PDEATHSIG
     except (OSError, AttributeError):
@@ -367,14 +440,15 @@ def _die_with_parent(parent: int) -> None:
 
 
 def _dask(todo: list[int], sweep: Sweep, scheduler, check: bool) -> Iterator[tuple[int, dict]]:
-    from dask.distributed import Client, as_completed
+    from dask.distributed import Client  # start-up time: dask (~1 s) loads only for --scheduler
+    from dask.distributed import as_completed as dask_completed
 
     own = not isinstance(scheduler, Client)
     client = Client(scheduler) if own else scheduler
     futures = {}
     try:
         futures = dict(zip(client.map(run_point, [sweep.case(i) for i in todo], [check] * len(todo), pure=False), todo))
-        for future in as_completed(futures):
+        for future in dask_completed(futures):
             try:
                 record = future.result()
             except Exception as err:  # e.g. KilledWorker: the point took its worker down
@@ -402,20 +476,26 @@ class _Store:
         self.sweep, self.out = sweep, out
         self.spec = sweep.spec()
         shape = sweep.shape
-        self.chains = Physics(scene=sweep.scene).n_chains
+        self.chains = registry.get(sweep.scene).n_chains
+        self.required = ("amplitude", "frequency") + (("constraint_violation",) if registry.get(sweep.scene).pinned else ())
         self.arrays: dict[str, np.ndarray] = {}
-        for name in SCENE_VARIABLES[sweep.scene]:
-            self._allocate(name, per_chain=self.chains > 1 and name in PER_CHAIN)
+        for name in scene_variables(sweep.scene):
+            self._allocate(name, per_chain=self.chains > 1 and name in OBSERVABLES and OBSERVABLES[name].per_chain)
         self.arrays["wall_time_s"] = np.full(shape, np.nan)
         self.arrays["finished_at"] = np.full(shape, np.datetime64("NaT"), dtype="datetime64[ns]")
         self.arrays["status"] = np.full(shape, "pending", dtype=object)
         self.arrays["error"] = np.full(shape, "", dtype=object)
         self.journal = None
+        self.stale = False  # the netCDF may lack points the journal holds: rewrite it even if nothing runs
         self.last_snapshot = time.monotonic()
 
     def _allocate(self, name: str, per_chain: bool) -> None:
         shape = self.sweep.shape + ((self.chains,) if per_chain else ())
         self.arrays[name] = np.full(shape, np.nan)
+
+    @property
+    def journal_path(self) -> Path:
+        return _journal_path(self.out)
 
     # -- reading
     def open(self) -> None:
@@ -424,8 +504,9 @@ class _Store:
             return
         if self.out.exists():
             self._read_netcdf()
-        path = _journal_path(self.out)
-        self.journal = open(path, "a+", encoding="utf-8")
+        path = self.journal_path
+        # errors="replace": a damaged byte makes its line fail validation instead of the whole read
+        self.journal = open(path, "a+", encoding="utf-8", errors="replace")
         try:
             # a POSIX record lock: unlike flock, not inherited by the forked pool workers, so
             # workers orphaned by a kill -9 of this process do not block the resume
@@ -434,33 +515,67 @@ class _Store:
             self.journal.close()
             self.journal = None
             raise SweepMismatch(f"another sweep is writing {self.out} (its journal {path.name} is locked)") from None
+        try:
+            self._read_journal()
+        except BaseException:
+            self.close(complete=False)
+            raise
+
+    def _read_journal(self) -> None:
+        path = self.journal_path
         self.journal.seek(0)
         text = self.journal.read()
-        lines = text.splitlines()
-        if lines:
-            try:
-                header = json.loads(lines[0])["sweep_spec"]
-            except (ValueError, KeyError, TypeError):
-                header = None
-            try:
-                _check_spec(self.out, self.spec, header)
-            except SweepMismatch:
-                self.close(complete=False)
-                raise
-            for line in lines[1:]:
-                try:
-                    entry = json.loads(line)
-                    self.set(int(entry["i"]), entry)
-                except (ValueError, KeyError, TypeError, IndexError):
-                    continue  # a line torn by a kill
-            if not text.endswith("\n"):
-                self.journal.write("\n")
-        else:
+        lines = text.split("\n")
+        if lines and lines[-1] == "":
+            lines.pop()
+        if len(lines) == 1 and not text.endswith("\n") and _header(lines[0]) is None:
+            lines = []  # a header torn by a kill as the sweep started: nothing was recorded yet
+            self.journal.truncate(0)
+        if not lines:
             self.journal.write(json.dumps({"sweep_spec": self.spec}) + "\n")
-        self._sync()
+            self._sync()
+            return
+        self.stale = True
+        header = _header(lines[0])
+        if header is None:
+            raise SweepMismatch(
+                f"the journal {path} is corrupted (its first line is not a sweep header), so the points recorded "
+                f"in it cannot be trusted. To proceed, restore {path.name} from a backup and re-run, or remove it "
+                f"to continue from {self.out.name if self.out.exists() else 'scratch'} (the points recorded only "
+                "in the journal then run again).")
+        if _spec_text(self.spec) != _spec_text(header):
+            diff = "; ".join(_differences(self.spec, header)) or "format"
+            raise SweepMismatch(
+                f"the journal {path} holds a different sweep ({diff}). To resume it, repeat its exact grid and "
+                f"parameters; to start a new sweep, choose another --out or remove {path.name} (and {self.out.name} "
+                "if present).")
+        discarded: list[str] = []
+        for line in lines[1:]:
+            if not line.strip():
+                continue  # the newline added after a torn line
+            try:
+                entry = json.loads(line)
+            except ValueError:
+                discarded.append("not valid JSON (e.g. torn by a kill)")
+                continue
+            problem = self.problem(entry)
+            if problem is None:
+                self.set(entry["i"], entry)
+                continue
+            discarded.append(problem)
+            i = entry.get("i") if isinstance(entry, dict) else None
+            if _is_int(i) and 0 <= i < self.sweep.size:
+                self.reset(i)  # its newest record is unusable: run the point again
+        if discarded:
+            warnings.warn(
+                f"{path.name}: discarded {len(discarded)} journal line(s) that failed validation "
+                f"(first: {discarded[0]}); the grid points they name run again", SweepJournalWarning, stacklevel=4)
+        if not text.endswith("\n"):
+            self.journal.write("\n")
+            self._sync()
 
     def _read_netcdf(self) -> None:
-        import xarray as xr
+        import xarray as xr  # start-up time: the CLI imports this module for its parser
 
         try:
             with xr.open_dataset(self.out, engine="h5netcdf") as ds:
@@ -469,7 +584,11 @@ class _Store:
             raise SweepMismatch(f"{self.out} exists but cannot be read as netCDF ({err}); refusing to overwrite it. "
                                 "Choose another --out or remove the file.") from None
         spec = ds.attrs.get("sweep_spec")
-        _check_spec(self.out, self.spec, json.loads(spec) if isinstance(spec, str) else None)
+        try:
+            spec = json.loads(spec) if isinstance(spec, str) else None
+        except ValueError:
+            spec = None
+        _check_spec(self.out, self.spec, spec)
         dims = tuple(self.sweep.grid)
         for name, var in ds.data_vars.items():
             if var.dims[: len(dims)] != dims:
@@ -482,62 +601,190 @@ class _Store:
             elif name in ("status", "error"):
                 values = np.where(values == None, "", values).astype(object)  # noqa: E711
             self.arrays[name][...] = values
+        status = self.arrays["status"]
+        for flat in np.flatnonzero(~np.isin(status.reshape(-1), STATUSES)):
+            self.reset(int(flat))  # "pending", or anything else: not finished
+
+    def problem(self, entry) -> str | None:
+        """Why a journal line (parsed) cannot be trusted, or None if it is a valid record of its point."""
+        if not isinstance(entry, dict):
+            return "not a JSON object"
+        i = entry.get("i")
+        if not _is_int(i):
+            return f"index i={i!r} is not an integer"
+        if not 0 <= i < self.sweep.size:
+            return f"index i={i} outside the grid (0 to {self.sweep.size - 1})"
+        coords, expected = entry.get("coords"), self.sweep.coords(i)
+        if not (isinstance(coords, dict) and set(coords) == set(expected)
+                and all(_is_number(coords[k]) and coords[k] == v for k, v in expected.items())):
+            return f"point {i}: coordinates {coords!r} do not match the grid's {expected}"
+        status = entry.get("status")
+        if status not in STATUSES:
+            return f"point {i}: status {status!r} is not one of {', '.join(STATUSES)}"
+        if not isinstance(entry.get("error", ""), str):
+            return f"point {i}: error is not a text"
+        wall = entry.get("wall_time_s")
+        if not _is_number(wall) or math.isinf(wall) or wall < 0:  # NaN: unknown (a worker lost on Dask)
+            return f"point {i}: wall_time_s {wall!r} is not a number >= 0"
+        finished = entry.get("finished_at")
+        if not _is_number(finished) or not 0 <= finished < 9e9:  # datetime64[ns] ends in 2262
+            return f"point {i}: finished_at {finished!r} is not a time"
+        results = entry.get("results")
+        if not isinstance(results, dict):
+            return f"point {i}: results is not an object"
+        if status == "ok":
+            missing = [k for k in self.required if k not in results]
+            if missing:
+                return f"point {i}: results lack {', '.join(missing)}"
+        for name, value in results.items():
+            problem = self._value_problem(name, value)
+            if problem:
+                return f"point {i}: {name} {problem}"
+        return None
+
+    def _value_problem(self, name: str, value) -> str | None:
+        if name in ("status", "error", "finished_at", "wall_time_s"):
+            return "is not a measurement"
+        if name in self.arrays:
+            per_chain = self.arrays[name].ndim > len(self.sweep.shape)
+        elif name in OBSERVABLES:
+            per_chain = self.chains > 1 and OBSERVABLES[name].per_chain
+        else:  # a measurement this module does not know: either shape, but one value per chain
+            per_chain = self.chains > 1 and isinstance(value, list)
+        if per_chain:
+            if not (isinstance(value, list) and len(value) == self.chains):
+                return f"= {value!r} is not a list of {self.chains} numbers (one per chain)"
+            values = value
+        else:
+            if isinstance(value, list):
+                return f"= {value!r} is a list where one number is expected"
+            values = [value]
+        for v in values:
+            if not _is_number(v):
+                return f"= {value!r} is not a number"
+            if name in MUST_BE_FINITE and not math.isfinite(v):
+                return f"= {value!r} is not finite"
+            if (name in OBSERVABLES or name in MUST_BE_FINITE) and math.isinf(v):
+                return f"= {value!r} is infinite"
+        return None
 
     # -- writing
-    def set(self, flat: int, entry: dict) -> None:
+    def reset(self, flat: int) -> None:
+        """Mark a point as not run (pending), with no measurements."""
         index = np.unravel_index(flat, self.sweep.shape)
-        for name in list(self.arrays):
-            if name not in ("status", "error", "finished_at", "wall_time_s"):
-                self.arrays[name][index] = np.nan
+        for name, values in self.arrays.items():
+            if name not in ("status", "error", "finished_at"):
+                values[index] = np.nan
+        self.arrays["status"][index] = "pending"
+        self.arrays["error"][index] = ""
+        self.arrays["finished_at"][index] = np.datetime64("NaT")
+
+    def set(self, flat: int, entry: dict) -> None:
+        """Store a record (validated: see `problem`)."""
+        self.reset(flat)
+        index = np.unravel_index(flat, self.sweep.shape)
         for name, value in entry.get("results", {}).items():
-            per_chain = isinstance(value, list)
             if name not in self.arrays:
-                self._allocate(name, per_chain)
-            self.arrays[name][index] = np.nan if value is None else value
+                self._allocate(name, per_chain=self.chains > 1 and isinstance(value, list))
+            self.arrays[name][index] = value
         self.arrays["status"][index] = entry["status"]
         self.arrays["error"][index] = entry.get("error", "")
-        self.arrays["wall_time_s"][index] = entry.get("wall_time_s", np.nan)
+        self.arrays["wall_time_s"][index] = entry["wall_time_s"]
         self.arrays["finished_at"][index] = np.datetime64(int(round(entry["finished_at"] * 1e9)), "ns")
 
-    def record(self, flat: int, entry: dict) -> None:
+    def record(self, flat: int, entry: dict) -> dict:
+        """Store a finished point and append it to the journal (fsync'ed); returns the record stored.
+        A record that would not pass the journal's validation is stored as an error instead, so that
+        everything written can be read back."""
+        line = {"i": flat, "coords": self.sweep.coords(flat), **entry}
+        problem = self.problem(line)
+        if problem is not None:
+            entry = {"status": "error", "error": f"invalid result: {problem}", "results": {},
+                     "wall_time_s": _number_or_nan(entry.get("wall_time_s")),
+                     "finished_at": _number_or_nan(entry.get("finished_at"), time.time())}
+            line = {"i": flat, "coords": self.sweep.coords(flat), **entry}
         self.set(flat, entry)
         if self.journal is not None:
-            line = {"i": flat, "coords": self.sweep.coords(flat), **entry}
-            self.journal.write(json.dumps(line) + "\n")
-            self._sync()
+            try:
+                self.journal.write(json.dumps(line) + "\n")
+                self._sync()
+            except OSError as err:
+                raise SweepStorageError(
+                    f"cannot append to the journal {self.journal_path}: {_os_reason(err)}. The points recorded "
+                    "before are kept in it: fix this (e.g. free some space) and re-run the same sweep to resume."
+                ) from err
+        return entry
 
     def _sync(self) -> None:
         self.journal.flush()
         os.fsync(self.journal.fileno())
 
+    def bytes_needed(self) -> int:
+        """Free space asked for before writing a snapshot: twice the arrays' size, plus a margin."""
+        size = sum(len(json.dumps(v.tolist())) for v in self.sweep.grid.values())
+        for values in self.arrays.values():
+            if values.dtype == object:  # status and error texts: most are short or empty
+                size += 24 * values.size + 4 * sum(len(v) for v in values.flat if isinstance(v, str) and len(v) > 8)
+            else:
+                size += values.nbytes
+        return 2 * size + SNAPSHOT_MARGIN
+
     def snapshot(self, interval: float | None) -> None:
-        """Rewrite the netCDF (atomically) if `interval` seconds passed since the last time (None: now)."""
+        """Rewrite the netCDF (atomically and durably) if `interval` seconds passed since the last time (None: now).
+
+        The new file is written beside the old one, fsync'ed, renamed over it (os.replace) and the
+        directory fsync'ed: after a crash either the old or the new file is there, complete. No write
+        starts without enough free space (SweepStorageError, before h5py is called: a full disk
+        can crash it)."""
         if self.out is None or (interval is not None and time.monotonic() - self.last_snapshot < interval):
             return
+        needed = self.bytes_needed()
+        try:
+            free = shutil.disk_usage(self.out.parent).free
+        except OSError:
+            free = None
+        if free is not None and free < needed:
+            raise SweepStorageError(
+                f"not enough free space to write {self.out}: about {_megabytes(needed)} needed, {_megabytes(free)} "
+                f"free in {self.out.parent}. Nothing was written; {self._kept()}")
         ds = self.dataset()
         tmp = self.out.with_name(f".{self.out.name}.tmp-{os.getpid()}")
         try:
             ds.to_netcdf(tmp, engine="h5netcdf")
+            _fsync_path(tmp)
             os.replace(tmp, self.out)
+            _fsync_path(self.out.parent)
+        except OSError as err:
+            if _is_disk_full(err):
+                raise SweepStorageError(f"no space left on the device to write {self.out} (about {_megabytes(needed)} "
+                                        f"needed); {self._kept()}") from err
+            raise SweepStorageError(f"cannot write {self.out}: {_os_reason(err)}; {self._kept()}") from err
         finally:
             if tmp.exists():
                 tmp.unlink()
         self.last_snapshot = time.monotonic()
 
+    def _kept(self) -> str:
+        return (f"the journal {self.journal_path} keeps every finished point: free some space (or fix the cause) "
+                "and re-run the same sweep to resume")
+
     def close(self, complete: bool) -> None:
+        """Release the journal; `complete`: remove it (only once the final netCDF is on disk)."""
         if self.journal is None:
             return
         if complete:
-            _journal_path(self.out).unlink(missing_ok=True)
+            self.journal_path.unlink(missing_ok=True)
+            with contextlib.suppress(OSError):
+                _fsync_path(self.out.parent)
         self.journal.close()  # releases the lock
         self.journal = None
 
     # -- the Dataset
     def done(self) -> np.ndarray:
-        return self.arrays["status"] != "pending"
+        return np.isin(self.arrays["status"], STATUSES)
 
     def dataset(self):
-        import xarray as xr
+        import xarray as xr  # start-up time: the CLI imports this module for its parser
 
         sweep = self.sweep
         dims = tuple(sweep.grid)
@@ -567,15 +814,74 @@ class _Store:
             "units": "l = C1 = gamma = 1: times in tau = gamma l^2 / C1, frequencies f*tau",
         }
         if sweep.engine == "mujoco":
-            import mujoco
+            import mujoco  # start-up time: loaded by now only for MuJoCo sweeps
 
             attrs["mujoco_version"] = mujoco.__version__
         return xr.Dataset(data, coords=coords, attrs=attrs)
 
 
-def _version() -> str:
-    from importlib.metadata import PackageNotFoundError, version
+def _header(line: str) -> dict | None:
+    """The sweep specification in a journal's first line, or None if it is not a sweep header."""
+    try:
+        spec = json.loads(line)["sweep_spec"]
+    except (ValueError, KeyError, TypeError, IndexError):
+        return None
+    return spec if isinstance(spec, dict) else None
 
+
+def _is_int(value) -> bool:
+    return isinstance(value, int) and not isinstance(value, bool)
+
+
+def _is_number(value) -> bool:
+    return isinstance(value, (int, float)) and not isinstance(value, bool)
+
+
+def _number_or_nan(value, default: float = float("nan")) -> float:
+    return float(value) if _is_number(value) and math.isfinite(value) else default
+
+
+def _megabytes(size: int) -> str:
+    return f"{size / 1e6:.1f} MB"
+
+
+def _is_disk_full(err: OSError) -> bool:
+    return err.errno in (errno.ENOSPC, errno.EDQUOT) or "no space left" in str(err).lower()
+
+
+def _os_reason(err: OSError) -> str:
+    return "no space left on the device" if _is_disk_full(err) else (err.strerror or str(err))
+
+
+def _fsync_path(path: Path) -> None:
+    """fsync a file or a directory (the latter makes a rename or removal in it durable)."""
+    fd = os.open(path, os.O_RDONLY | (os.O_DIRECTORY if path.is_dir() else 0))
+    try:
+        os.fsync(fd)
+    finally:
+        os.close(fd)
+
+
+@contextlib.contextmanager
+def _sigint_deferred():
+    """Hold a Ctrl-C (SIGINT) back until the block is done, then deliver it (KeyboardInterrupt by
+    default). Only in the main thread (the only one Python delivers signals to), and only if SIGINT is
+    handled from Python; elsewhere the block runs unprotected."""
+    previous = signal.getsignal(signal.SIGINT) if threading.current_thread() is threading.main_thread() else None
+    if previous is None or previous is signal.SIG_IGN:
+        yield
+        return
+    caught = []
+    signal.signal(signal.SIGINT, lambda signum, frame: caught.append(signum))
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
+        if caught:
+            signal.raise_signal(signal.SIGINT)  # to the restored handler
+
+
+def _version() -> str:
     try:
         return version("elastoactive")
     except PackageNotFoundError:
@@ -610,12 +916,19 @@ def run_sweep(
     numerics   a Numerics or a preset name ('accurate', 'fast'); seed/dt/... may be on the grid
     out        netCDF file written as the sweep goes (see the module docstring); re-running with
                the same arguments resumes, different arguments for an existing file are refused
-    workers    local processes (default: every core); ignored when `scheduler` is given
+    workers    local processes, >= 1 (default: every core); ignored when `scheduler` is given
     scheduler  Dask scheduler address ('tcp://host:port') or a dask.distributed.Client
     on_point   called as on_point(coords, record) in this process after each point is stored
     timestep_check  refuse (record as an error) MuJoCo points whose dt is beyond the linear
                stability limit, as `elastoactive run` does
+
+    Raises ParameterError for invalid arguments (e.g. workers < 1, dt or mass_ratio on the grid of a
+    reduced-engine sweep where they change nothing), SweepMismatch when `out` or its journal holds
+    another sweep or is corrupted, SweepStorageError when `out` cannot be written (full disk: the
+    journal is kept, re-run to resume). A failed point is not an exception: its status is "error".
     """
+    if workers is not None and (not isinstance(workers, (int, np.integer)) or isinstance(workers, bool) or workers < 1):
+        raise ParameterError(f"workers must be an integer >= 1, got {workers!r}")
     sweep = make_sweep(scene, grid, fixed=fixed, numerics=numerics, duration=duration, engine=engine,
                        transient=transient)
     for i in range(sweep.size):  # refuse an invalid point before starting
@@ -623,22 +936,23 @@ def run_sweep(
     out_path = Path(out) if out is not None else None
     if out_path is not None:
         out_path.parent.mkdir(parents=True, exist_ok=True)
-    # import what a point needs here: forked pool workers then start with it (saves ~1 s each)
-    from . import diagnose, results  # noqa: F401
+    # import what a point needs here (not at the top: the CLI imports this module for its parser):
+    # forked pool workers then start with it loaded (saves ~1 s each)
+    from . import diagnose  # noqa: F401
 
     if engine == "mujoco":
-        from . import simulate  # noqa: F401
+        from .engines import mujoco  # noqa: F401
     else:
-        from .analysis import reduced  # noqa: F401
+        from .engines import reduced  # noqa: F401
     store = _Store(sweep, out_path)
     store.open()
-    complete = False
+    saved = False  # the final netCDF is on disk
     try:
         status = store.arrays["status"].reshape(-1)
         todo = [i for i in range(sweep.size) if status[i] == "pending" or (retry_errors and status[i] == "error")]
         bar = None
         if progress:
-            from tqdm.auto import tqdm
+            from tqdm.auto import tqdm  # start-up time: only when a bar is shown
 
             bar = tqdm(total=sweep.size, initial=sweep.size - len(todo), desc=f"sweep {scene}", unit="point")
         if todo:
@@ -646,7 +960,7 @@ def run_sweep(
                       else _local(todo, sweep, default_workers() if workers is None else int(workers), timestep_check))
             try:
                 for flat, record in runner:
-                    store.record(flat, record)
+                    record = store.record(flat, record)
                     store.snapshot(snapshot_interval)
                     if bar is not None:
                         bar.update()
@@ -660,92 +974,24 @@ def run_sweep(
                     bar.close()
         elif bar is not None:
             bar.close()
-        complete = bool(store.done().all())
-        if todo or not (out_path and out_path.exists()):
-            store.snapshot(None)
-    except BaseException:
-        try:
-            store.snapshot(None)  # keep what is done readable; the journal has it anyway
-        except Exception:
-            pass
+        # the final save: a Ctrl-C now waits until the netCDF is on disk (and the journal, if every
+        # point is done, removed), then interrupts; the journal goes only after the netCDF is durable
+        with _sigint_deferred():
+            if todo or store.stale or not (out_path and out_path.exists()):
+                store.snapshot(None)
+            saved = True
+            store.close(complete=bool(store.done().all()))
+    except BaseException as err:
+        if not saved and not isinstance(err, SweepStorageError):
+            with _sigint_deferred():
+                try:
+                    store.snapshot(None)  # keep what is done readable; the journal has it anyway
+                except Exception:
+                    pass
         raise
     finally:
-        store.close(complete)
+        store.close(complete=False)  # keeps the journal (a no-op if already closed above)
     return store.dataset()
 
 
 # ----------------------------------------------------------------------------- command line
-
-
-EXAMPLES = """examples:
-  elastoactive sweep one-pinned --grid sigma=0.2:1.0:9 --grid n=5,7,9 --duration 300 --out onset.nc
-  elastoactive sweep coupled-pair --grid kappa=0:2:11 --grid rho=1,1.333 --preset fast --out pair.nc
-  elastoactive sweep one-pinned --grid seed=0:9:10 --noise 0.1 --engine reduced --out noise.nc
-  elastoactive sweep ... --scheduler tcp://10.0.0.5:8786      (run on a Dask cluster)
-
-Grid values: a comma list (kappa=0.5,1,2) or start:stop:num (sigma=0.2:1.0:9, ends included).
-Re-running the same command continues an interrupted sweep (finished points are kept); the same
---out with a different grid or parameters is refused. Results: xarray.open_dataset(OUT)."""
-
-
-def register(subparsers) -> None:
-    import argparse
-
-    p = subparsers.add_parser(
-        "sweep", help="run a scene over a grid of parameters (every core or a Dask cluster) into a netCDF file",
-        description="Run a scene at every point of a parameter grid and write the measurements (amplitude, "
-        "frequency, ...) as an xarray Dataset to netCDF, point by point; resumable. Units: l = C1 = gamma = 1.",
-        epilog=EXAMPLES, formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("scene", choices=SCENES, metavar="SCENE", help="one of: " + ", ".join(SCENES))
-    p.add_argument("--grid", action="append", required=True, metavar="NAME=VALUES",
-                   help=f"a grid axis (repeat for more); NAME one of {', '.join(GRID_KEYS)}")
-    d, dn = Physics(), Numerics()
-    g = p.add_argument_group("fixed physics (off the grid; defaults as in `run`)")
-    g.add_argument("--n", type=int, help=f"particles per chain N (default {d.n})")
-    for name, text in (("sigma", "elasto-active number"), ("delta", "compression (two-pinned)"),
-                       ("kappa", "coupling stiffness (pair)"), ("rho", "stiffness ratio C2/C1 (pair)"),
-                       ("drag-ratio", "gamma_L / gamma_T"), ("noise", "noise amplitude a")):
-        g.add_argument(f"--{name}", type=float, help=f"{text} (default {getattr(d, name.replace('-', '_')):.6g})")
-    g = p.add_argument_group("numerics (default: the preset's; a given option overrides it)")
-    g.add_argument("--preset", choices=tuple(PRESETS), default="accurate",
-                   help="numerical settings (default %(default)s; fast: dt 0.01, ~4x quicker, results within 0.3%%)")
-    g.add_argument("--dt", type=float, help="MuJoCo timestep in tau")
-    g.add_argument("--mass-ratio", type=float, help="particle mass m / (gamma tau)")
-    g.add_argument("--integrator", choices=("implicitfast", "implicit", "discrete", "Euler", "RK4"))
-    g.add_argument("--seed", type=int, help=f"seed (default {dn.seed})")
-    g.add_argument("--perturbation", type=float, help=f"initial kick, rad (default {dn.perturbation})")
-    g.add_argument("--sample-dt", type=float, help=f"recording interval, tau (default {dn.sample_dt})")
-    g = p.add_argument_group("run")
-    g.add_argument("--engine", choices=("mujoco", "reduced"), default="mujoco", help="(default %(default)s)")
-    g.add_argument("--duration", type=float, default=300.0, help="simulated time per point, tau (default %(default)s)")
-    g.add_argument("--transient", type=float, help="time discarded before measuring, tau (default: half the run)")
-    g.add_argument("--out", type=Path, required=True, help="netCDF file (resumed if it holds the same sweep)")
-    g.add_argument("--workers", type=int, help="local worker processes (default: every core; unused with --scheduler)")
-    g.add_argument("--scheduler", metavar="ADDRESS", help="Dask scheduler address, e.g. tcp://host:8786 (default: local processes)")
-    g.add_argument("--retry-errors", action="store_true", help="when resuming, run failed points again")
-    g.add_argument("--no-timestep-check", action="store_true", help="run MuJoCo points beyond the linear stability limit of dt")
-    g.add_argument("--quiet", action="store_true", help="no progress bar")
-    p.set_defaults(func=cmd_sweep)
-
-
-def cmd_sweep(args) -> int:
-    import sys
-
-    grid = parse_grid(args.grid)
-    fixed = {k: getattr(args, k) for k in PHYSICS_KEYS if getattr(args, k) is not None}
-    overrides = {k: getattr(args, k) for k in ("dt", "mass_ratio", "integrator", "seed", "perturbation", "sample_dt")
-                 if getattr(args, k) is not None}
-    both = [k for k in grid if k in fixed or k in overrides]
-    if both:
-        raise ParameterError(f"{', '.join(both)} given both as an option and on the grid")
-    numerics = Numerics.preset(args.preset, **overrides)
-    ds = run_sweep(args.scene, grid, fixed=fixed, numerics=numerics, duration=args.duration, engine=args.engine,
-                   transient=args.transient, out=args.out, workers=args.workers, scheduler=args.scheduler,
-                   progress=not args.quiet, retry_errors=args.retry_errors,
-                   timestep_check=not args.no_timestep_check)
-    failed = ds["status"].values == "error"
-    print(f"wrote {args.out}: {ds.attrs['points_done']} of {ds.attrs['points_total']} points over "
-          f"{' x '.join(f'{k}[{v.size}]' for k, v in grid.items())}, {int(failed.sum())} failed")
-    for err in list(dict.fromkeys(ds["error"].values[failed]))[:3]:
-        print(f"  failed: {err}", file=sys.stderr)
-    return 0

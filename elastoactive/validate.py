@@ -2,24 +2,27 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
 
-from .analysis.reduced import simulate_reduced
+from . import registry
 from .analysis import observables as obs
+from .diagnose import PIN_DT3_PER_MASS
+from .engines.mujoco import simulate_mujoco
+from .engines.reduced import simulate_reduced
+from .errors import SimulationDiverged
 from .params import Numerics, Physics
-from .results import default_transient, measure
-from .simulate import simulate_mujoco
+from .results import OBSERVABLES, Results, default_transient, measure
+from .scenes.base import ValidationCase
 
-# The paper's cases (issue 2): scene, parameters, duration in tau.
-PAPER_CASES: tuple[tuple[Physics, float], ...] = (
-    (Physics(scene="one-pinned", n=7, sigma=0.8), 300.0),
-    (Physics(scene="two-pinned", n=7, sigma=0.8, delta=0.1), 300.0),
-    (Physics(scene="rotating-pin", n=7, sigma=0.8), 300.0),
-    (Physics(scene="coupled-pair", n=7, sigma=0.8, rho=4 / 3, kappa=0.5), 600.0),
-    (Physics(scene="coupled-pair", n=7, sigma=0.8, rho=4 / 3, kappa=2.0), 600.0),
-)
+
+def validation_cases(scene: str | None = None) -> list[ValidationCase]:
+    """The registered scenes' validation cases (the paper's cases), or one scene's."""
+    chosen = registry.scenes() if scene is None else (registry.get(scene),)
+    return [case for s in chosen for case in s.validation_cases()]
+
 
 REFERENCE_TOLERANCE = dict(rtol=1e-10, atol=1e-12)
 MIN_WINDOW = 20.0  # tau: the pointwise comparison covers at least this much of the start
@@ -38,8 +41,49 @@ def comparison_window(reference, physics: Physics) -> float:
 def _error(value, reference, floor: float) -> float:
     """Relative error, or absolute error where the reference is below `floor`."""
     value, reference = np.atleast_1d(np.asarray(value, float)), np.atleast_1d(np.asarray(reference, float))
+    both = ~(np.isnan(value) | np.isnan(reference))  # chains measured by both engines
+    value, reference = value[both], reference[both]
     scale = np.where(np.abs(reference) > floor, np.abs(reference), 1.0)
-    return float(np.max(np.abs(value - reference) / scale))
+    return float(np.max(np.abs(value - reference) / scale)) if both.any() else math.nan
+
+
+def observable_errors(physics: Physics, value: Results, reference: Results) -> dict[str, float]:
+    """Errors of the scene's observables against a reference: relative for those validate holds to its
+    tolerance (Scene.compared) and the scene's other relative ones, absolute where OBSERVABLES says so
+    (stored as NAME_abs)."""
+    scene = physics.scene_def
+    errors: dict[str, float] = {}
+    for name in dict.fromkeys((*scene.compared, *scene.observables)):
+        a, b = _values(value.value(name)), _values(reference.value(name))
+        kind = OBSERVABLES[name]
+        if kind.error == "none" or (np.all(np.isnan(a)) and np.all(np.isnan(b))):
+            continue  # measured by neither engine (e.g. a frequency over too short a window)
+        if np.any(np.isnan(a) != np.isnan(b)):  # measured by one engine only: no agreement to claim
+            errors[name] = math.inf
+        elif kind.error == "absolute":
+            errors[f"{name}_abs"] = float(np.max(np.abs(np.nan_to_num(a) - np.nan_to_num(b))))
+        else:
+            errors[name] = _error(a, b, kind.floor)
+    return errors
+
+
+def _values(value) -> np.ndarray:
+    """An observable (number, None, or one per chain) as a float array, None as NaN."""
+    items = value if isinstance(value, (tuple, list)) else (value,)
+    return np.array([np.nan if v is None else v for v in items], dtype=float)
+
+
+def angle_errors(traj, reference) -> dict[str, float]:
+    """Largest angle difference over the reference's transient window (absolute, and relative to the
+    largest angle there); the trajectories must share their sample times."""
+    n = min(traj.t.size, reference.t.size)
+    if not np.allclose(traj.t[:n], reference.t[:n], rtol=0, atol=1e-9):
+        raise ValueError("the trajectory and the reference are not sampled at the same times")
+    window = comparison_window(reference, reference.physics)
+    early = reference.t[:n] <= window
+    diff = np.abs(traj.theta[:n][early] - reference.theta[:n][early]).max()
+    return {"angle_rad": float(diff), "angle": float(diff / max(np.abs(reference.theta[:n][early]).max(), 1e-12)),
+            "window": float(window)}
 
 
 @dataclass
@@ -47,16 +91,17 @@ class Comparison:
     physics: Physics
     numerics: Numerics
     duration: float
-    mujoco: dict
-    reduced: dict
+    mujoco: Results | None
+    reduced: Results | None
     mujoco_wall_s: float
     reduced_wall_s: float
     errors: dict
     constraint_violation: float | None
+    note: str = ""  # why a setting has no errors (a run that stopped)
 
     def worst(self) -> float:
         """Largest of the relative errors checked against the 1% target."""
-        return max(self.errors[k] for k in ("amplitude", "frequency", "rotation_rate", "angle") if k in self.errors)
+        return max(self.errors[k] for k in (*self.physics.scene_def.compared, "angle") if k in self.errors)
 
 
 def compare(physics: Physics, numerics: Numerics = Numerics(), duration: float = 300.0,
@@ -66,23 +111,8 @@ def compare(physics: Physics, numerics: Numerics = Numerics(), duration: float =
     mj = simulate_mujoco(physics, numerics, duration)
     red = reference if reference is not None else simulate_reduced(physics, numerics, duration, **REFERENCE_TOLERANCE)
     a, b = measure(mj, transient), measure(red, transient)
-    errors = {}
-    if physics.scene == "rotating-pin":
-        errors["rotation_rate"] = _error(a["rotation_rate"], b["rotation_rate"], 1e-6)
-    else:
-        errors["amplitude"] = _error(a["amplitude"], b["amplitude"], 1e-3)
-        errors["frequency"] = _error(a["frequency"], b["frequency"], 1e-3)
-    if "snap_amplitude" in a:
-        errors["snap_amplitude"] = _error(a["snap_amplitude"], b["snap_amplitude"], 1e-3)
-    if "frequency_mismatch" in a:
-        errors["frequency_mismatch_abs"] = abs(np.nan_to_num(a["frequency_mismatch"]) - np.nan_to_num(b["frequency_mismatch"]))
-    n = min(mj.t.size, red.t.size)
-    window = comparison_window(red, physics)
-    early = mj.t[:n] <= window
-    diff = np.abs(mj.theta[:n][early] - red.theta[:n][early]).max()
-    errors["angle_rad"] = float(diff)
-    errors["angle"] = float(diff / max(np.abs(red.theta[:n][early]).max(), 1e-12))
-    errors["window"] = window
+    errors = observable_errors(physics, a, b)
+    errors.update(angle_errors(mj, red))
     return Comparison(physics, numerics, duration, a, b, mj.wall_time_s, red.wall_time_s, errors,
                       mj.info.get("constraint_violation"))
 
@@ -93,12 +123,7 @@ def format_table(rows: list[Comparison]) -> str:
             "| max angle diff over transient [0, T] | pin violation |")
     lines = [head, "|" + "---|" * 8]
     for c in rows:
-        p = c.physics
-        case = f"{p.scene} N={p.n} sigma={p.sigma:g}"
-        if p.scene == "two-pinned":
-            case += f" delta={p.delta:g}"
-        if p.scene == "coupled-pair":
-            case += f" rho={p.rho:.4g} kappa={p.kappa:g}"
+        case = c.physics.scene_def.label(c.physics)
         e = c.errors
         pct = lambda k: f"{100 * e[k]:.3f}%" if k in e else "-"
         viol = f"{c.constraint_violation:.1e}" if c.constraint_violation is not None else "-"
@@ -115,14 +140,28 @@ CONVERGENCE_MASS = (1e-2, 1e-3, 1e-4, 1e-5)
 
 def convergence(physics: Physics, duration: float, *, dts=CONVERGENCE_DT, masses=CONVERGENCE_MASS,
                 fixed_dt: float = 0.00125, fixed_mass: float = 1e-5) -> list[Comparison]:
-    """Errors as dt shrinks (mass fixed small) and as the mass ratio shrinks (dt fixed small)."""
+    """Errors as dt shrinks (mass fixed small) and as the mass ratio shrinks (dt fixed small).
+
+    A pinned scene's dt series runs at the smallest mass ratio whose soft pin holds at the largest dt
+    (diagnose.PIN_DT3_PER_MASS); a setting that stops anyway is a row saying why, not an abort."""
+    if physics.scene_def.pinned:
+        fixed_mass = max(fixed_mass, float(f"{1.01 * max(dts) ** 3 / PIN_DT3_PER_MASS:.1g}"))
     sample_dt = 0.04  # a whole number of steps for every dt in the study
     reference = simulate_reduced(physics, Numerics(sample_dt=sample_dt), duration, **REFERENCE_TOLERANCE)
-    rows = [compare(physics, Numerics(dt=dt, mass_ratio=fixed_mass, sample_dt=sample_dt), duration, reference=reference)
-            for dt in dts]
-    rows += [compare(physics, Numerics(dt=fixed_dt, mass_ratio=m, sample_dt=sample_dt), duration, reference=reference)
-             for m in masses]
+    settings = [Numerics(dt=dt, mass_ratio=fixed_mass, sample_dt=sample_dt) for dt in dts]
+    settings += [Numerics(dt=fixed_dt, mass_ratio=m, sample_dt=sample_dt) for m in masses]
+    rows = []
+    for numerics in settings:
+        try:
+            rows.append(compare(physics, numerics, duration, reference=reference))
+        except SimulationDiverged as err:  # e.g. a pin that cannot hold at the coarsest dt: a row, not an abort
+            rows.append(Comparison(physics, numerics, duration, None, None, math.nan, math.nan, {}, None,
+                                   note=f"stopped: {_first_clause(str(err))}"))
     return rows
+
+
+def _first_clause(message: str) -> str:
+    return message.split(":")[0] if len(message) > 120 else message
 
 
 def format_convergence(rows: list[Comparison]) -> str:
@@ -130,6 +169,9 @@ def format_convergence(rows: list[Comparison]) -> str:
              "|" + "---|" * 8]
     for c in rows:
         e = c.errors
+        if c.note:
+            lines.append(f"| {c.numerics.dt:g} | {c.numerics.mass_ratio:g} | {c.note} ||||||")
+            continue
         pct = lambda k: f"{100 * e[k]:.4f}%" if k in e else "-"
         viol = f"{c.constraint_violation:.1e}" if c.constraint_violation is not None else "-"
         lines.append(f"| {c.numerics.dt:g} | {c.numerics.mass_ratio:g} | {pct('amplitude')} | {pct('frequency')} "

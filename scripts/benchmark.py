@@ -28,15 +28,15 @@ from pathlib import Path
 import mujoco
 import numpy as np
 
-from elastoactive.analysis.reduced import simulate_reduced, simulate_reference
 from elastoactive.batch import Case, run_cases
 from elastoactive.controllers import compiled_passive, follower_forces, reference_passive
+from elastoactive.engines.mujoco import prepare, simulate_mujoco
+from elastoactive.engines.reduced import simulate_reduced, simulate_reference
 from elastoactive.params import Numerics, Physics
 from elastoactive.results import measure
-from elastoactive.simulate import prepare, simulate_mujoco
-from elastoactive.validate import PAPER_CASES
+from elastoactive.validate import validation_cases
 
-CHAIN = Physics(scene="one-pinned", n=7, sigma=0.8)
+CHAIN = Physics(n=7, sigma=0.8)  # one pinned end, the paper's beat
 
 
 def best_of(fn, repeats: int) -> float:
@@ -82,8 +82,8 @@ def bench_reduced(repeats: int, quick: bool) -> list[dict]:
     rows = []
     tol = dict(rtol=1e-9, atol=1e-11)
     simulate_reduced(CHAIN, Numerics(), 1.0)  # load the compiled kernels before timing
-    for physics, duration in PAPER_CASES:
-        duration = duration / 3 if quick else duration
+    for case in validation_cases():
+        physics, duration = case.physics, case.duration / 3 if quick else case.duration
         numerics = Numerics()
         fast = best_of(lambda: simulate_reduced(physics, numerics, duration, method="numba-DOP853", **tol), repeats)
         a = simulate_reduced(physics, numerics, duration, method="numba-DOP853", **tol)
@@ -98,7 +98,7 @@ def bench_reduced(repeats: int, quick: bool) -> list[dict]:
 
 
 def _case(p: Physics) -> str:
-    return p.scene + (f" kappa={p.kappa:g}" if p.scene == "coupled-pair" else "")
+    return p.scene_def.label(p)
 
 
 # ------------------------------------------------------------------------------------------------
@@ -116,7 +116,7 @@ def bench_sweep(n_cases: int, duration: float, repeats: int) -> dict:
 # ------------------------------------------------------------------------------------------------
 def bench_throughput(repeats: int, duration: float) -> list[dict]:
     ref = simulate_reduced(CHAIN, Numerics(), duration, rtol=1e-11, atol=1e-13)
-    ref_amp = measure(ref)["amplitude"]
+    ref_amp = measure(ref).amplitude
     rows = []
     for name, numerics in (("default (accurate)", Numerics()), ("fast preset", Numerics.preset("fast")),
                            ("fast preset, sample_dt 0.1", Numerics.preset("fast", sample_dt=0.1))):
@@ -124,10 +124,10 @@ def bench_throughput(repeats: int, duration: float) -> list[dict]:
         wall = min(r.wall_time_s for r in runs)
         if numerics.sample_dt != ref.t[1] - ref.t[0]:
             ref_n = simulate_reduced(CHAIN, numerics, duration, rtol=1e-11, atol=1e-13)
-            amp_ref = measure(ref_n)["amplitude"]
+            amp_ref = measure(ref_n).amplitude
         else:
             amp_ref = ref_amp
-        amp_err = abs(measure(runs[0])["amplitude"] - amp_ref) / amp_ref
+        amp_err = abs(measure(runs[0]).amplitude - amp_ref) / amp_ref
         # the engine alone: the same number of steps in one C call (no sampling loop, no callback changes)
         steps = runs[0].info["steps"]
         model, data = prepare(CHAIN, numerics)

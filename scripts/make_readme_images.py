@@ -1,5 +1,5 @@
-"""Write the README's four images (docs/img/<scene>.png): one still of each scene at the paper's
-parameters, after the transient, with a beat's worth of fading particle trails.
+"""Write the README's images (docs/img/<scene>.png): one still of each registered scene at its last
+validation case (the paper's parameters), after the transient, with a beat's worth of fading trails.
 
     .venv/bin/python scripts/make_readme_images.py [--out docs/img] [--width 640 --height 480]
 
@@ -13,17 +13,13 @@ import argparse
 import time
 from pathlib import Path
 
-from elastoactive.params import Numerics, Physics
+import elastoactive as ea
+from elastoactive.engines.mujoco import simulate_mujoco
+from elastoactive.params import Numerics
 from elastoactive.render import default_rate, render_still
-from elastoactive.simulate import simulate_mujoco
 
-# (file name, physics, simulated time in tau): the paper's cases (elastoactive.validate.PAPER_CASES)
-CASES = (
-    ("one-pinned", Physics(scene="one-pinned", n=7, sigma=0.8), 300.0),
-    ("two-pinned", Physics(scene="two-pinned", n=7, sigma=0.8, delta=0.1), 300.0),
-    ("rotating-pin", Physics(scene="rotating-pin", n=7, sigma=0.8), 300.0),
-    ("coupled-pair", Physics(scene="coupled-pair", n=7, sigma=0.8, rho=4 / 3, kappa=2.0), 600.0),
-)
+# (file name, physics, simulated time in tau): each scene's last validation case (the pair: kappa = 2)
+CASES = tuple((s.name, s.validation_cases()[-1].physics, s.validation_cases()[-1].duration) for s in ea.scenes.scenes())
 
 
 def main() -> None:

@@ -6,8 +6,8 @@ amplitude shrinking).
     .venv/bin/python scripts/noise_anisotropy.py [--tiny | --full] [--out DIR] [--workers K]
 """
 
-from elastoactive.analysis.studies import anisotropy_study, noise_study
 from elastoactive.reproduce import save_all, scenario_parser, scenario_size
+from elastoactive.studies import anisotropy_study, noise_study
 
 
 def main(argv=None):

@@ -6,8 +6,8 @@ N = 9 (supplement), with the sigma below which a compressed chain stays still.
     .venv/bin/python scripts/self_snapping.py [--tiny | --full] [--out DIR] [--workers K]
 """
 
-from elastoactive.analysis.studies import snapping_study
 from elastoactive.reproduce import save_all, scenario_parser, scenario_size
+from elastoactive.studies import snapping_study
 
 
 def main(argv=None):
@@ -15,13 +15,13 @@ def main(argv=None):
     study = snapping_study(scenario_size(args), args.workers)
     save_all([study], args.out)
     d, s = study.data, study.summary
-    for sigma in (0.6, 0.8):
+    for sigma in s.n7_sigmas:
         print(f"N = 7, sigma = {sigma}:  delta  std(theta_3) MuJoCo / reduced   f tau MuJoCo")
         for i, delta in enumerate(d["delta"]):
             print(f"    {delta:6.3f}   {d[f'snap_{sigma:g}_mujoco'][i]:.4f} / {d[f'snap_{sigma:g}_reduced'][i]:.4f}"
                   f"          {d[f'freq_{sigma:g}_mujoco'][i]:.5f}")
-    print(f"N = 9, delta = {s['threshold_delta']}: snapping above sigma = {s['sigma_snap_n9_mujoco']:.3f} (MuJoCo), "
-          f"{s['sigma_snap_n9_reduced']:.3f} (reduced)")
+    print(f"N = 9, delta = {s.threshold_delta}: snapping above sigma = {s.mujoco.sigma_snap_n9:.3f} (MuJoCo), "
+          f"{s.reduced.sigma_snap_n9:.3f} (reduced)")
 
 
 if __name__ == "__main__":

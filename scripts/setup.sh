@@ -1,6 +1,10 @@
 #!/usr/bin/env bash
 # Set up everything on a fresh machine: system libraries for off-screen rendering (when root and
 # apt is available), a virtual environment in .venv, and elastoactive with its test extras.
+# Needs Python >= 3.11 with venv, a C compiler and the Python headers (the follower-force callback is
+# compiled at install), network access to PyPI, and about 1.1 GB of disk for .venv.
+# Idempotent and quick when nothing changed: the install is skipped while pyproject.toml, setup.py
+# and the C callback are as they were at the last install (stamp in .venv/.elastoactive-stamp).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 if command -v apt-get >/dev/null 2>&1 && [ "$(id -u)" = 0 ]; then
@@ -14,5 +18,10 @@ if command -v apt-get >/dev/null 2>&1 && [ "$(id -u)" = 0 ]; then
   fi
 fi
 [ -x .venv/bin/python ] || python3 -m venv .venv
+stamp=$(cat pyproject.toml setup.py controllers/follower.c | sha256sum | cut -d' ' -f1)
+if [ "$(cat .venv/.elastoactive-stamp 2>/dev/null)" = "$stamp" ] && .venv/bin/python -c "import elastoactive.controllers" 2>/dev/null; then
+  exit 0
+fi
 .venv/bin/python -m pip install -q --upgrade pip
 .venv/bin/python -m pip install -q -e '.[test]'
+echo "$stamp" > .venv/.elastoactive-stamp

@@ -134,7 +134,7 @@ def run_limits(ns, sigmas, integrators, workers: int) -> list[dict]:
 # ------------------------------------------------------------------------------------------------
 def reduced_extremes(quick: bool) -> list[dict]:
     """Default method choice and cost of the reduced model at the extremes (short runs)."""
-    from elastoactive.analysis.reduced import STIFF_RADIUS, simulate_reduced, spectral_radius
+    from elastoactive.engines.reduced import STIFF_RADIUS, simulate_reduced, spectral_radius
     from elastoactive.initial import initial_angles
 
     rows = []

@@ -6,8 +6,9 @@ near-onset threshold against kappa_c = 11/(4 sqrt 6) sqrt(mu |1 - rho|).
     .venv/bin/python scripts/synchronisation.py [--tiny | --full] [--out DIR] [--workers K]
 """
 
-from elastoactive.analysis.studies import sync_n2_study, sync_study, tongue_study
+from elastoactive.paper import PAPER
 from elastoactive.reproduce import save_all, scenario_parser, scenario_size
+from elastoactive.studies import sync_n2_study, sync_study, tongue_study
 
 
 def main(argv=None):
@@ -18,10 +19,10 @@ def main(argv=None):
     n2 = sync_n2_study(size, args.workers)
     save_all([sync, tongue, n2], args.out)
     for eng in ("mujoco", "reduced"):
-        s = sync.summary[eng]
-        print(f"N = 7 pair ({eng}): kappa_c = {s['kappa_c']:.4g} (bracket {s['kappa_c_bracket']}); paper 1.1")
+        s = sync.summary.engine(eng)
+        print(f"N = 7 pair ({eng}): kappa_c = {s.kappa_c:.4g} (bracket {list(s.kappa_c_bracket)}); paper {PAPER.kappa_c_7:g}")
     q = n2.summary
-    print(f"N = 2: kappa_c / sqrt(mu |1 - rho|) = {q['prefactor_fit']:.3f} (paper {q['prefactor_formula']:.3f})")
+    print(f"N = 2: kappa_c / sqrt(mu |1 - rho|) = {q.prefactor_fit:.3f} (paper {q.prefactor_formula:.3f})")
 
 
 if __name__ == "__main__":

@@ -7,8 +7,9 @@ import pytest
 from elastoactive.controllers import _follower, compiled_passive, follower_forces, reference_passive
 from elastoactive.model import build_model
 from elastoactive.noise import standard_normal
-from elastoactive.params import SCENES, Numerics, Physics
-from elastoactive.simulate import simulate_mujoco
+from elastoactive.params import Numerics, Physics
+from elastoactive.scenes import names as scene_names
+from elastoactive.engines.mujoco import simulate_mujoco
 
 
 def passive_forces(model, data, callback):
@@ -18,7 +19,7 @@ def passive_forces(model, data, callback):
 
 
 @pytest.mark.parametrize("noise", [0.0, 0.4])
-@pytest.mark.parametrize("scene", SCENES)
+@pytest.mark.parametrize("scene", scene_names())
 def test_compiled_equals_reference(scene, noise):
     model = build_model(Physics(scene=scene, n=6, sigma=1.3, noise=noise), Numerics(seed=11))
     data = mujoco.MjData(model)
@@ -32,7 +33,7 @@ def test_compiled_equals_reference(scene, noise):
 
 
 def test_follower_force_is_generalised_force_of_paper():
-    """Q_k = sigma sum_{i>=k} sin(theta_k - theta_i) for a clamped chain (PHYSICS.md)."""
+    """Q_k = sigma sum_{i>=k} sin(theta_k - theta_i) for a clamped chain (docs/model.md, section 3)."""
     physics = Physics(scene="rotating-pin", n=5, sigma=0.9)  # no springs on hinge 0; subtract the rest
     model = build_model(physics)
     data = mujoco.MjData(model)
@@ -47,7 +48,7 @@ def test_follower_force_is_generalised_force_of_paper():
 def test_trajectory_same_with_either_callback():
     physics, numerics = Physics(n=4, sigma=0.8, noise=0.1), Numerics(seed=3)
     fast = simulate_mujoco(physics, numerics, 5.0)
-    import elastoactive.simulate as sim
+    import elastoactive.engines.mujoco as sim
 
     original = sim.follower_forces
     sim.follower_forces = lambda: original(reference_passive)

@@ -113,7 +113,7 @@ def test_discrete_on_a_long_chain_is_refused_by_the_probe():
 
 
 def test_reduced_model_answers_at_sigma_100_n_100():
-    from elastoactive.analysis.reduced import simulate_reduced
+    from elastoactive.engines.reduced import simulate_reduced
 
     physics = Physics(n=100, sigma=100.0)
     numerics = Numerics(dt=0.001, sample_dt=0.001)
@@ -127,7 +127,7 @@ def test_reduced_model_answers_at_sigma_100_n_100():
 
 def test_reduced_model_goes_implicit_when_stiff():
     """A very stiff coupling gives fast *decaying* modes: then the default switches to Radau."""
-    from elastoactive.analysis.reduced import simulate_reduced
+    from elastoactive.engines.reduced import simulate_reduced
 
     traj = simulate_reduced(Physics(scene="coupled-pair", n=7, kappa=3000.0), Numerics(), 1.0)
     assert traj.info["method"] == "Radau" and traj.info["stiffness"] > 2e3

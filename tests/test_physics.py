@@ -4,9 +4,9 @@ import numpy as np
 import pytest
 
 from elastoactive.analysis import observables as obs
-from elastoactive.analysis.reduced import simulate_reduced
+from elastoactive.engines.reduced import simulate_reduced
 from elastoactive.params import Numerics, Physics
-from elastoactive.simulate import simulate_mujoco
+from elastoactive.engines.mujoco import simulate_mujoco
 from elastoactive.validate import compare
 
 PAPER_CASES = [

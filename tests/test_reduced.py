@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from elastoactive.analysis import reduced as R
+from elastoactive.engines import reduced as R
 from elastoactive.analysis import stability
 from elastoactive.initial import initial_angles, pin_residual
 from elastoactive.noise import force_factor

@@ -14,7 +14,7 @@ import pytest
 from elastoactive import render
 from elastoactive.cli import main
 from elastoactive.params import Numerics, Physics
-from elastoactive.simulate import simulate_mujoco
+from elastoactive.engines.mujoco import simulate_mujoco
 from elastoactive.trajectory import Trajectory
 
 
@@ -130,7 +130,7 @@ def test_missing_gl_gives_install_instructions(tmp_path):
     (tmp_path / "summary.json").write_text('{"parameters": {"scene": "one-pinned", "n": 2, "sigma": 0.8}}')
     env = {k: v for k, v in os.environ.items() if k != "MUJOCO_GL"}
     env["PYOPENGL_PLATFORM"] = "no-such-platform"
-    cmd = [sys.executable, "-m", "elastoactive.cli", "render", str(tmp_path), "-o", str(tmp_path / "x.mp4")]
+    cmd = [sys.executable, "-m", "elastoactive", "render", str(tmp_path), "-o", str(tmp_path / "x.mp4")]
     out = subprocess.run(cmd, env=env, capture_output=True, text=True, timeout=120)
     assert out.returncode == 4, out.stderr
     for hint in ("no OpenGL back end", "MUJOCO_GL=egl", "MUJOCO_GL=osmesa", "libegl1", "libosmesa6", "scripts/setup.sh"):

@@ -9,6 +9,8 @@ from pathlib import Path
 import pytest
 
 from elastoactive.cli import main
+from elastoactive.reproduce import reproduce
+from elastoactive.studies import STUDIES, SUMMARIES, load_study
 
 ROOT = Path(__file__).resolve().parents[1]
 SCRIPTS = {
@@ -36,16 +38,13 @@ def test_reproduce_tiny_writes_report_figures_and_data(tmp_path):
     figures = sorted({f for names in SCRIPTS.values() for f in names})
     for name in figures + ["fig2_limit_cycles.png", "growth_rates.png", "fig4b_snapping_shapes.png"]:
         assert _png(out / name), name
-    from elastoactive.analysis.studies import STUDIES, load_study
-
     for name in STUDIES:
-        assert load_study(out, name).summary, name
+        summary = load_study(out, name).summary
+        assert isinstance(summary, SUMMARIES[name]) and summary.as_dict(), name
     assert (out / "stability_sigma_c.csv").read_text().startswith("N,sigma_c,")
 
 
 def test_reproduce_rejects_unknown_study(tmp_path):
-    from elastoactive.reproduce import reproduce
-
     with pytest.raises(ValueError):
         reproduce(tmp_path, "tiny", 1, only=["nonsense"], progress=False, log=lambda *a: None)
 

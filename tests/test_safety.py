@@ -7,10 +7,12 @@ import numpy as np
 import pytest
 
 from elastoactive.cli import main
-from elastoactive.diagnose import SimulationDiverged, check_timestep, stability_limits
+from elastoactive.diagnose import check_timestep, stability_limits
+from elastoactive.errors import SimulationDiverged
 from elastoactive.model import build_model
-from elastoactive.params import SCENES, Numerics, ParameterError, Physics
-from elastoactive.simulate import simulate_mujoco
+from elastoactive.params import Numerics, ParameterError, Physics
+from elastoactive.scenes import names as scene_names
+from elastoactive.engines.mujoco import simulate_mujoco
 
 
 @pytest.mark.parametrize(
@@ -66,7 +68,7 @@ def test_two_pinned_starts_on_its_pins(n, delta):
     assert np.abs(pin_residual(theta, delta)).max() < 1e-12
 
 
-@pytest.mark.parametrize("scene", SCENES)
+@pytest.mark.parametrize("scene", scene_names())
 def test_autoreset_is_off(scene):
     model = build_model(Physics(scene=scene, n=3))
     assert model.opt.disableflags & mujoco.mjtDisableBit.mjDSBL_AUTORESET
@@ -126,14 +128,14 @@ def test_pin_drift_stops_the_run():
 
 
 def test_failed_implicit_solve_is_a_divergence():
-    from elastoactive.simulate import BAD_STATE_WARNINGS
+    from elastoactive.engines.mujoco import BAD_STATE_WARNINGS
 
     assert mujoco.mjtWarning.mjWARN_INERTIA in BAD_STATE_WARNINGS
 
 
 def test_both_engines_record_on_one_grid():
     """A duration that is not a whole number of samples gives the same grid in both engines."""
-    from elastoactive.analysis.reduced import simulate_reduced
+    from elastoactive.engines.reduced import simulate_reduced
 
     physics, numerics = Physics(n=3, sigma=0.5), Numerics()
     mj, red = simulate_mujoco(physics, numerics, 3.03), simulate_reduced(physics, numerics, 3.03)

@@ -4,9 +4,16 @@ import mujoco
 import numpy as np
 import pytest
 
-from elastoactive.mjcf import scene_path
+from elastoactive import scenes
+from elastoactive.mjcf import mjcf_path
 from elastoactive.model import absolute_angles, build_model, relative_angles
-from elastoactive.params import SCENES, Numerics, Physics
+from elastoactive.params import Numerics, Physics
+
+SCENES = scenes.names()
+
+
+def scene_path(scene):
+    return mjcf_path(scenes.get(scene).base_file)
 
 D = mujoco.mjtDisableBit
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from elastoactive.analysis import reduced as R
+from elastoactive.engines import reduced as R
 from elastoactive.analysis import stability as S
 from elastoactive.params import Physics
 

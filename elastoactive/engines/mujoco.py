@@ -14,14 +14,16 @@ from typing import Callable
 import mujoco
 import numpy as np
 
-from .controllers import follower_forces
-from .diagnose import SimulationDiverged, divergence_cause
-from .initial import initial_angles
-from .model import absolute_angles, build_model, relative_angles
-from .params import Numerics, ParameterError, Physics
-from .trajectory import Trajectory
+from ..controllers import follower_forces
+from ..diagnose import divergence_cause
+from ..errors import ParameterError, SimulationDiverged
+from ..model import absolute_angles, prepare
+from ..params import Numerics, Physics
+from ..progress import progress_bar
+from ..trajectory import Trajectory
 
 CHECK_EVERY = 100  # samples between divergence checks
+PROGRESS_EVERY = 0.25  # seconds between progress updates (a long chain's sample can take seconds)
 
 BAD_STATE_WARNINGS = (
     mujoco.mjtWarning.mjWARN_BADQPOS,
@@ -33,24 +35,12 @@ BAD_STATE_WARNINGS = (
 PIN_DRIFT_LIMIT = 0.05  # l: beyond this the two-pinned end has left its pin (the exact model: 0)
 
 
-def prepare(physics: Physics, numerics: Numerics, theta0: np.ndarray | None = None):
-    """Model and data at the initial state (absolute angles theta0, default: seeded perturbation)."""
-    model = build_model(physics, numerics)
-    data = mujoco.MjData(model)
-    theta0 = initial_angles(physics, numerics) if theta0 is None else np.asarray(theta0, dtype=float)
-    if theta0.shape != (physics.n_angles,):
-        raise ParameterError(f"theta0 must have {physics.n_angles} angles, got shape {theta0.shape}")
-    data.qpos[:] = relative_angles(physics, theta0)
-    mujoco.mj_forward(model, data)
-    return model, data
-
-
 def _bad_state(data: mujoco.MjData) -> bool:
     return any(data.warning[w].number for w in BAD_STATE_WARNINGS) or not np.all(np.isfinite(data.qpos))
 
 
 def pin_violation(model: mujoco.MjModel, data: mujoco.MjData) -> float:
-    """Distance between the last particle and its pin (two-pinned scene), in units of l."""
+    """Distance between the two sites of the model's first equality (a pinned scene's end and its pin), in l."""
     end = data.site(model.eq_obj1id[0]).xpos
     pin = data.site(model.eq_obj2id[0]).xpos
     return float(np.linalg.norm(end - pin))
@@ -74,31 +64,32 @@ def simulate_mujoco(
         raise ParameterError(f"duration (in tau) must be a positive number, got {duration}")
     t = numerics.sample_times(duration)
     model, data = prepare(physics, numerics, theta0)
-    pinned = physics.scene == "two-pinned"
+    pinned = physics.scene_def.pinned
     violation = pin_violation(model, data) if pinned else 0.0
     if on_sample is not None:
         on_sample(model, data)
 
-    bar = _progress_bar(t.size - 1, physics.scene) if progress else None
+    bar = progress_bar(t.size - 1, f"mujoco {physics.scene}", "sample") if progress else None
+    shown = 0
     nstep = numerics.steps_per_sample
     qpos = np.empty((t.size, model.nq))
     qpos[0] = data.qpos
-    start = time.perf_counter()
+    start = last_shown = time.perf_counter()
     with follower_forces():
         for k in range(1, t.size):
             mujoco.mj_step(model, data, nstep=nstep)
             qpos[k] = data.qpos
             # a diverged state stays NaN (auto-reset is off), so a periodic check loses nothing
-            if k % CHECK_EVERY == 0 or k == t.size - 1:
-                if _bad_state(data):
-                    raise SimulationDiverged(divergence_cause(physics, numerics, float(data.time), model, data))
-                if bar is not None:
-                    bar.update(CHECK_EVERY if k % CHECK_EVERY == 0 else k % CHECK_EVERY)
+            if (k % CHECK_EVERY == 0 or k == t.size - 1) and _bad_state(data):
+                raise SimulationDiverged(divergence_cause(physics, numerics, float(data.time), model, data))
+            if bar is not None and (k == t.size - 1 or time.perf_counter() - last_shown >= PROGRESS_EVERY):
+                bar.update(k - shown)
+                shown, last_shown = k, time.perf_counter()
             if pinned:
                 violation = max(violation, pin_violation(model, data))
                 if violation > PIN_DRIFT_LIMIT:
                     raise SimulationDiverged(
-                        f"the two-pinned chain's end drifted {violation:.3g} l off its pin at t = {data.time:.4g} tau "
+                        f"the pinned chain's end drifted {violation:.3g} l off its pin at t = {data.time:.4g} tau "
                         f"(limit {PIN_DRIFT_LIMIT} l) with dt = {numerics.dt:g}, mass_ratio = {numerics.mass_ratio:g}, "
                         f"integrator {numerics.integrator}: the soft pin's hold scales with mass_ratio / dt^2; "
                         "reduce dt, raise mass_ratio, or use integrator discrete"
@@ -114,12 +105,6 @@ def simulate_mujoco(
     if pinned:
         info["constraint_violation"] = violation
     return Trajectory(t=t, theta=theta, physics=physics, engine="mujoco", wall_time_s=wall, info=info)
-
-
-def _progress_bar(total: int, label: str):
-    from tqdm.auto import tqdm
-
-    return tqdm(total=total, desc=f"mujoco {label}", unit="sample", mininterval=0.5)
 
 
 __all__ = ["simulate_mujoco", "prepare", "SimulationDiverged"]

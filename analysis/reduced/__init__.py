@@ -1,0 +1,50 @@
+"""The reduced (overdamped) pendulum model, solved without MuJoCo: arrays and records in, arrays out.
+
+  system.py                a system of chains as a typed record, ChainSystem (built by each scene)
+  equations.py             the derivation, the paper's errata, and rhs_reference (plain numpy)
+  constraints.py           the two-pinned constraints g = 0: residual, Jacobian, projection
+  kernels.py               numba kernels: drag matrix, forces, right-hand side, Jacobian, Euler-Maruyama
+  dop853_coefficients.py   the DOP853 tableau (copied from scipy, BSD)
+  dop853.py                DOP853 compiled together with the right-hand side
+  solve.py                 the public solvers on a ChainSystem: rhs, jacobian, solve_ode, solve_sde, ...
+
+This package knows no scene and no Physics: elastoactive.engines.reduced turns a Physics into a
+ChainSystem (Scene.reduced_system) and a Trajectory. Importing it is cheap (numpy only); the names
+of solve.py, which need numba, load it on first use.
+"""
+
+from .constraints import pin_jacobian, pin_residual, project_on_pins
+from .equations import rhs_reference
+from .system import ChainSystem
+
+SOLVE_NAMES = (  # the public names of solve.py (its __all__), loaded on first use
+    "COMPILED_METHODS",
+    "DEFAULT_BETA",
+    "IMPLICIT_METHODS",
+    "SCIPY_METHODS",
+    "STIFF_RADIUS",
+    "constraint_violation",
+    "drag_matrix",
+    "jacobian",
+    "rhs",
+    "solve_ode",
+    "solve_sde",
+    "spectral_radius",
+    "stiffness",
+)
+
+__all__ = sorted(SOLVE_NAMES + ("ChainSystem", "pin_jacobian", "pin_residual", "project_on_pins", "rhs_reference"))
+
+
+def __getattr__(name: str):
+    # start-up time: solve.py imports numba (~0.2 s), and every scene imports ChainSystem from this
+    # package when elastoactive is imported; the solvers are loaded on first use
+    if name in SOLVE_NAMES:
+        from . import solve  # loaded on first use (numba; see above)
+
+        return getattr(solve, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def __dir__():
+    return sorted(set(globals()) | set(SOLVE_NAMES))

@@ -1,0 +1,123 @@
+r"""The reduced (overdamped) model of the elasto-active chains: its equations, and where the paper misprints them.
+
+Derivation (virtual work, units l = C1 = gamma_T = 1)
+-----------------------------------------------------
+Particle i sits at r_i = sum_{j<=i} e_j with e_j = (cos th_j, sin th_j); put n_j = (-sin th_j, cos th_j).
+Then dr_i/dth_k = n_k [k <= i] and v_i = dr_i/dt = sum_{j<=i} n_j th'_j.
+
+* Drag on particle i (longitudinal gamma_L along e_i, transverse gamma_T along n_i):
+  F^d_i = -(gamma_L e_i e_i^T + gamma_T n_i n_i^T) v_i.  Its generalised force is
+  Q^d_k = sum_{i>=k} n_k . F^d_i = -sum_j D_kj th'_j with, using e_i.n_j = sin(th_i - th_j) and
+  n_i.n_j = cos(th_i - th_j),
+
+      D_jk = sum_{i >= max(j,k)} [gamma_L sin(th_i - th_j) sin(th_i - th_k) + gamma_T cos(th_i - th_j) cos(th_i - th_k)],
+
+  symmetric positive definite; isotropic drag gives D_jk = gamma (N - max(j,k) + 1) cos(th_j - th_k).
+* Follower force F^a_i = -sigma (1 + eta_i) e_i:  Q_k = sum_{i>=k} n_k . F^a_i = sigma sum_{i>=k} (1 + eta_i) sin(th_k - th_i).
+* Springs: U = c/2 th_1^2 (absent on the rotating pin) + c/2 sum_i (th_{i+1} - th_i)^2 with c = 1 for chain 1
+  (theta) and c = rho for chain 2 (phi) of the coupled pair, plus U_c = kappa/2 (th_1 - phi_1)^2.
+* Without inertia the virtual work of all forces vanishes for every dth, so
+
+      D(th) th' = f(th) := -dU/dth + Q(th)          [+ G^T mu for the two-pinned chain].
+
+  The pair's D is block diagonal (one block per chain, same sigma and drag); its state is [theta, phi].
+* Two-pinned chain: g(th) = (sum cos th_i - N (1 - delta), sum sin th_i) = 0, G = dg/dth (2 x N). The
+  index-2 DAE is replaced by its Baumgarte-stabilised index-1 form G th' = -beta g, i.e. each RHS
+  evaluation solves the saddle-point system  [[D, G^T], [G, 0]] [th'; lam] = [f; -beta g]  (Schur
+  complement on the Cholesky factor of D). Drift off g = 0 decays at rate beta (default 10); the largest
+  |g| over the samples is reported by solve.constraint_violation (the engine's
+  Trajectory.info["constraint_violation"]).
+
+N = 2 (isotropic, one pinned end) gives exactly the paper's main-text Eqs. (1)-(2):
+  2 th1' + cos(th1 - th2) th2' = th2 - 2 th1 + sigma sin(th1 - th2);  cos(th1 - th2) th1' + th2' = th1 - th2.
+
+Where the paper's printed equations are wrong (first principles win; checked in tests/test_reduced.py)
+------------------------------------------------------------------------------------------------------
+* Appendix C, single chain, equation "i = 1": the drag term reads tau (N th1' + sum_{j>=2} th_j' cos(th1 - th_j));
+  the coefficient of th_j' must be (N - j + 1) (= D_1j). The printed form is right only for N = 2 (for
+  N >= 3 it misses e.g. the factor 2 = N - j + 1 on th_2' at N = 3; the pair's "i = 1" equations and the
+  linear-limit matrix A_ij print the factor correctly, the linear "i = 1" equation again omits it).
+* Equation "i = N": the drag sum runs from j = i (= N), i.e. only tau th_N'; it must be sum_{j=1}^{N}
+  th_j' cos(th_N - th_j) (row N of D). Same misprint in the pair's and the two-pinned "i = N" equations
+  and in the linear limit.
+* Supplement, anisotropic drag, N = 2: the printed coefficients (e.g. tau_T/4 (cos 4th1 + 2 cos 2th1 cos 2th2 + 5))
+  depend on the absolute angles, so they break the rotation invariance that any drag law defined in the
+  pendulum frame has (and that the isotropic limit tau_L = tau_T has). They coincide with the correct
+  D = [[tau_T (1 + cos^2 d) + tau_L sin^2 d, tau_T cos d], [tau_T cos d, tau_T]] (d = th1 - th2) at
+  th1 = th2 = 0, hence in the linear limit (so the "onset unchanged" claim stands), but not elsewhere:
+  at th1 = th2 = pi/4 the printed matrix is half the correct [[2, 1], [1, 1]] tau_T for any tau_L; it is
+  not symmetric (at (th1, th2) = (0.3, -0.2): printed D_12 = 0.804, D_21 = 0.990, correct 0.878); and with
+  tau_L = tau_T it does not reduce to the isotropic matrix (test_paper_anisotropic_n2_is_wrong).
+  Here D_jk above is used for every N.
+* The linear-limit matrix A_ij writes the elastic part as tridiag(-1, 2, -1) in every row; the free end
+  has K_NN = 1. (With K_NN = 2, sigma_c(7) would be 0.187 instead of 0.157, and N = 2 would lose
+  stability through a real eigenvalue at sigma = 3 rather than through a Hopf pair. With the misprinted
+  drag rows above, sigma_c(7) would be 0.137.) The paper's sigma_c(7) = 0.15 matches the correct
+  equations (0.1575, see analysis.stability), so these are misprints, not errors in its computations.
+* N = 2 Landau-Stuart form, z = th1 + i sqrt((1 + mu)/(1 - mu)) th2, mu = sigma - 3: the linear part
+  (i + mu) z is right (eigenvalues mu +- i sqrt(1 - mu^2)). The cubic coefficients differ between the
+  main text, -(sigma - 5/2) + i (17/4 - sigma) = -1/2 + 5i/4 at sigma = 3, and the supplement,
+  -1 - i/8 at mu = 0. Simulating this model near onset (mu = 0.0025 ... 0.01, rtol 1e-11) gives
+  mu / <|z|^2> = 0.996, 0.993, 0.985 and (omega - 1) / <|z|^2> = -0.124, -0.122, -0.119, i.e. c -> -1 - i/8:
+  the supplement is right, the main text's coefficient is wrong (it would make the limit-cycle radius
+  sqrt(2 mu) instead of sqrt(mu) and the frequency rise instead of fall with amplitude).
+
+How these equations are integrated (compiled kernels, DOP853, Radau, Euler-Maruyama): solve.py.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .constraints import pin_jacobian, pin_residual
+from .system import ChainSystem
+
+__all__ = ["rhs_reference"]
+
+
+def rhs_reference(system: ChainSystem, *, beta: float, factor=None):
+    """Plain-numpy f(t, theta), written straight from the formulas (for tests and benchmarks).
+
+    factor: optional per-particle force factor (1 + eta_i), default ones. beta: Baumgarte rate (pinned).
+    """
+    system = system.typed()
+    n = system.n
+    nch = system.n_chains
+    gl, gt = system.gamma_l, system.gamma_t
+    fac = system.force_factors(factor)
+    i_idx = np.arange(n)
+    # mask[i, j, k] = i >= max(j, k)
+    mask = (i_idx[:, None, None] >= i_idx[None, :, None]) & (i_idx[:, None, None] >= i_idx[None, None, :])
+    upper = i_idx[None, :] >= i_idx[:, None]  # upper[k, i] = i >= k
+
+    def chain_terms(th, c, a):
+        diff = th[:, None] - th[None, :]  # diff[i, j] = th_i - th_j
+        s, co = np.sin(diff), np.cos(diff)
+        D = np.einsum("ijk,ij,ik->jk", mask, gl * s, s) + np.einsum("ijk,ij,ik->jk", mask, gt * co, co)
+        Q = system.sigma * np.sum(upper * a[None, :] * np.sin(th[:, None] - th[None, :]), axis=1)
+        grad = np.zeros(n)
+        if system.clamped:
+            grad[0] += c * th[0]
+        bend = np.diff(th)
+        grad[:-1] -= c * bend
+        grad[1:] += c * bend
+        return D, Q - grad
+
+    def f(t, theta):
+        theta = np.asarray(theta, dtype=float)
+        Dfull = np.zeros((n * nch, n * nch))
+        force = np.zeros(n * nch)
+        for ch in range(nch):
+            sl = slice(ch * n, (ch + 1) * n)
+            Dfull[sl, sl], force[sl] = chain_terms(theta[sl], system.stiffness(ch), fac[sl])
+        if nch == 2:
+            force[0] -= system.kappa * (theta[0] - theta[n])
+            force[n] += system.kappa * (theta[0] - theta[n])
+        if not system.pinned:
+            return np.linalg.solve(Dfull, force)
+        G = pin_jacobian(theta)
+        M = np.block([[Dfull, G.T], [G, np.zeros((2, 2))]])
+        sol = np.linalg.solve(M, np.concatenate([force, -beta * pin_residual(theta, system.delta)]))
+        return sol[:n]
+
+    return f

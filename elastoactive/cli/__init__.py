@@ -1,0 +1,46 @@
+"""`elastoactive`: the command line, in the paper's dimensionless parameters.
+
+One module per subcommand, each with register(subparsers) and main(args). Building the parser
+imports nothing heavy (the engines, matplotlib, xarray load only when a command runs), so
+`elastoactive --help` answers at once.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+from ..errors import ParameterError, SimulationDiverged
+from . import accuracy, render, reproduce, run, sweep, validate
+from .options import UNITS, scene_help
+
+COMMANDS = (run, validate, sweep, render, accuracy, reproduce)
+"""The subcommands, in the order --help lists them."""
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="elastoactive",
+        description="Elasto-active chains in MuJoCo (Zheng et al., 'Self-oscillation and synchronisation "
+        "transitions in elasto-active structures'), checked against the reduced overdamped model. " + UNITS,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+        epilog=scene_help(),
+    )
+    sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+    for command in COMMANDS:
+        command.register(sub)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    try:
+        return args.func(args)
+    except ParameterError as err:
+        print(f"elastoactive: error: {err}", file=sys.stderr)
+        return 2
+    except SimulationDiverged as err:
+        print(f"elastoactive: {err}", file=sys.stderr)
+        return 3
+

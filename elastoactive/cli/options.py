@@ -1,0 +1,71 @@
+"""Options shared by the subcommands, generated from the parameter records and the scene registry."""
+
+from __future__ import annotations
+
+import argparse
+
+from .. import registry
+from ..params import Numerics, Physics, parameter_fields
+from ..scenes.base import COMMON_PARAMETERS
+
+UNITS = "Units: l = C1 = gamma = 1, so times are in tau = gamma l^2 / C1 and frequencies are f*tau."
+
+
+def scene_help() -> str:
+    """The registered scenes, one line each (the CLI's epilog)."""
+    return "scenes:\n" + "\n".join(f"  {s.name:<13} {s.summary}" for s in registry.scenes())
+
+
+def _used_by(name: str) -> str:
+    if name in COMMON_PARAMETERS:
+        return ""
+    users = [s.name for s in registry.scenes() if name in s.parameters]
+    return f"; {', '.join(users)} only" if users else ""
+
+
+def add_fields(group, cls, *, defaults: bool = True) -> None:
+    """One option per user-set field of Physics or Numerics, named and explained by the field itself."""
+    """defaults=False: options left out are None (the caller fills them, e.g. from a preset)."""
+    default = cls()
+    for f in parameter_fields(cls):
+        value = getattr(default, f.name)
+        kind = int if isinstance(value, int) else (str if isinstance(value, str) else float)
+        shown = f"{value:.4g}" if kind is float else value
+        group.add_argument(f"--{f.name.replace('_', '-')}", type=kind, default=value if defaults else None,
+                           choices=f.metadata.get("choices"),
+                           help=f"{f.metadata['help']} (default {shown}{_used_by(f.name) if cls is Physics else ''})")
+
+
+def physics_args(p: argparse.ArgumentParser) -> None:
+    add_fields(p.add_argument_group("physics (the paper's dimensionless numbers)"), Physics)
+
+
+def numerics_args(p: argparse.ArgumentParser) -> None:
+    add_fields(p.add_argument_group("numerics"), Numerics)
+
+
+def scene_argument(p: argparse.ArgumentParser, **kw) -> None:
+    """The positional SCENE, one of the registered scenes."""
+    p.add_argument("scene", choices=registry.names(), metavar="SCENE", help="one of: " + ", ".join(registry.names()), **kw)
+
+
+def physics_from(args, scene: str) -> Physics:
+    return Physics(scene=scene, **{f.name: getattr(args, f.name) for f in parameter_fields(Physics)})
+
+
+def numerics_from(args) -> Numerics:
+    return Numerics(**{f.name: getattr(args, f.name) for f in parameter_fields(Numerics)})
+
+
+def workers_argument(p: argparse.ArgumentParser, help_text: str = "worker processes (default: every core)") -> None:
+    """--workers K, K >= 1 (None: every core)."""
+    def workers(text: str) -> int:
+        try:
+            value = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"must be a whole number >= 1, got {text!r}") from None
+        if value < 1:
+            raise argparse.ArgumentTypeError(f"must be >= 1, got {value}")
+        return value
+
+    p.add_argument("--workers", type=workers, default=None, help=help_text)

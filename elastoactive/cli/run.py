@@ -1,0 +1,129 @@
+"""`elastoactive run SCENE`: simulate one scene, write summary.json + trajectory.npz, optionally a video.
+
+Everything that can be checked is checked before the simulation (parameters, run length, transient,
+the output folder and the video file), so a long run is never lost to a bad option; the outputs are
+written atomically, with a provenance record. `--from DIR` re-runs a recorded run.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import time
+from pathlib import Path
+
+from ..engines import ENGINES
+from ..errors import ParameterError
+from ..params import Numerics, Physics, parameter_fields
+from .options import UNITS, add_fields, scene_argument, scene_help
+from .render import add_video_args
+
+DEFAULT_DURATION = 300.0
+
+
+def register(subparsers) -> None:
+    run = subparsers.add_parser("run", help="simulate one scene and write summary.json + trajectory.npz",
+                                description="Simulate one scene. " + UNITS, epilog=scene_help(),
+                                formatter_class=argparse.RawDescriptionHelpFormatter)
+    scene_argument(run, nargs="?")
+    add_fields(run.add_argument_group("physics (the paper's dimensionless numbers)"), Physics, defaults=False)
+    add_fields(run.add_argument_group("numerics"), Numerics, defaults=False)
+    run.add_argument("--duration", type=float, default=None, help=f"simulated time in tau (default {DEFAULT_DURATION:g})")
+    run.add_argument("--transient", type=float, default=None, help="time discarded before measuring, tau (default: half the run)")
+    run.add_argument("--engine", choices=ENGINES, default=None, help="MuJoCo scene or the reduced ODE (default mujoco)")
+    run.add_argument("--out", type=Path, help="folder for summary.json and trajectory.npz")
+    run.add_argument("--force", action="store_true", help="replace a run with other settings already in --out")
+    run.add_argument("--from", dest="source", type=Path, metavar="SUMMARY",
+                     help="re-run a recorded run (its folder or summary.json) with the same scene, parameters, numerics, "
+                     "engine and duration; options given beside it override the recorded ones")
+    run.add_argument("--quiet", action="store_true", help="no progress bar")
+    run.add_argument("--video", type=Path, help="also render the run to this MP4 (see `elastoactive render -h`)")
+    add_video_args(run)
+    run.set_defaults(func=main)
+
+
+def _recorded(path: Path) -> dict:
+    """What --from re-runs: scene, physics, numerics, engine, duration and transient of a summary.json."""
+    from ..results import read_summary  # start-up time: results loads the analysis
+
+    s = read_summary(path)
+    numerics = dict(s.get("numerics", {}))
+    return {"physics": dict(s["parameters"]), "duration": numerics.pop("duration", None),
+            "transient": numerics.pop("transient", None), "numerics": numerics, "engine": s.get("engine", "mujoco")}
+
+
+def settings_from(args) -> tuple[Physics, Numerics, str, float, float | None]:
+    """physics, numerics, engine, duration, transient: the recorded run's (--from), overridden by options given."""
+    base = _recorded(args.source) if args.source else {"physics": {}, "numerics": {}, "engine": None, "duration": None,
+                                                         "transient": None}
+    scene = args.scene or base["physics"].pop("scene", None)
+    base["physics"].pop("scene", None)
+    if scene is None:
+        raise ParameterError("give a SCENE (or --from a recorded run)")
+    given = lambda cls: {f.name: getattr(args, f.name) for f in parameter_fields(cls) if getattr(args, f.name) is not None}
+    physics = Physics(scene=scene, **{**base["physics"], **given(Physics)})
+    numerics = Numerics(**{**base["numerics"], **given(Numerics)})
+    engine = args.engine or base["engine"] or "mujoco"
+    duration = args.duration if args.duration is not None else (base["duration"] or DEFAULT_DURATION)
+    transient = args.transient if args.transient is not None else (base["transient"] if args.duration is None else None)
+    return physics, numerics, engine, numerics.check_duration(duration), transient
+
+
+def _check_destination(out: Path, physics: Physics, numerics: Numerics, engine: str, duration: float,
+                       transient: float, force: bool) -> None:
+    """Refuse, before simulating, an --out that cannot be written or that holds another run."""
+    from ..outputs import check_folder  # start-up time: only when a run writes files
+    from ..results import read_summary
+
+    check_folder(out)
+    if force or not (out / "summary.json").exists():
+        return
+    try:
+        old = read_summary(out)
+    except ParameterError:
+        old = {}
+    new_settings = {"engine": engine, "parameters": physics.relevant(), "duration": duration, "transient": transient}
+    old_settings = {"engine": old.get("engine"), "parameters": old.get("parameters"),
+                    "duration": (old.get("numerics") or {}).get("duration"),
+                    "transient": (old.get("numerics") or {}).get("transient")}
+    old_numerics = {k: v for k, v in (old.get("numerics") or {}).items() if k not in ("duration", "transient")}
+    new_numerics = {k: getattr(numerics, k) for k in old_numerics if hasattr(numerics, k)}
+    differences = [k for k in new_settings if new_settings[k] != old_settings[k]]
+    differences += [k for k in old_numerics if old_numerics[k] != new_numerics.get(k)]
+    if differences:
+        raise ParameterError(f"--out {out} already holds a run with other settings ({', '.join(differences)} differ); "
+                             "choose another folder, or pass --force to replace it")
+
+
+def main(args) -> int:
+    # start-up time: the engines and analysis load only when a command runs, not for --help
+    from ..api import simulate
+    from ..outputs import check_file, provenance, utc_now
+    from ..results import jsonable, summary, write_run, check_transient
+
+    started, clock = utc_now(), time.perf_counter()
+    physics, numerics, engine, duration, transient = settings_from(args)
+    transient = check_transient(duration, transient)
+    if args.out:
+        _check_destination(Path(args.out), physics, numerics, engine, duration, transient, args.force)
+    if args.video:
+        check_file(args.video, "--video", (".mp4",))
+        from .render import check_video_options  # start-up time: rendering loads matplotlib and GL
+
+        check_video_options(args)
+    traj = simulate(physics, numerics, duration=duration, engine=engine, progress=not args.quiet)
+    s = summary(traj, numerics, duration, transient)
+    s["provenance"] = provenance(started, time.perf_counter() - clock)
+    if args.out:
+        write_run(Path(args.out), traj, s)
+    print(json.dumps(jsonable({"wall_time_s": round(s["wall_time_s"], 3), **s["results"]}), indent=2))
+    for note in s["results"].get("notes", []):
+        print(f"elastoactive: warning: {note}", file=sys.stderr)
+    if args.out:
+        print(f"wrote {Path(args.out) / 'summary.json'} and {Path(args.out) / 'trajectory.npz'}")
+    if args.video:  # rendered from the recorded trajectory, after the simulation
+        from .render import video_after_run  # start-up time: rendering loads matplotlib and GL
+
+        return video_after_run(args, traj, numerics)
+    return 0

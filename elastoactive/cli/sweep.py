@@ -1,0 +1,94 @@
+"""`elastoactive sweep SCENE --grid ...`: any grid of any scene into a resumable netCDF file.
+
+Exit status: 0 when the sweep finished and at least one point succeeded (a partly failed sweep is a
+result: its failed points are counted, their first errors shown, and `--retry-errors` runs them
+again); 1 when every point failed (the first error is shown); 2 for invalid options, an output that
+holds another sweep or a corrupted journal, or an output that cannot be written (e.g. a full disk:
+the journal is kept, re-run to resume).
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from ..engines import ENGINES
+from ..errors import ParameterError
+from ..params import PRESETS, Numerics, Physics, parameter_fields
+from ..sweep import GRID_KEYS
+from .options import add_fields, scene_argument
+
+EXAMPLES = """examples:
+  elastoactive sweep one-pinned --grid sigma=0.2:1.0:9 --grid n=5,7,9 --duration 300 --out onset.nc
+  elastoactive sweep coupled-pair --grid kappa=0:2:11 --grid rho=1,1.333 --preset fast --out pair.nc
+  elastoactive sweep one-pinned --grid seed=0:9:10 --noise 0.1 --engine reduced --out noise.nc
+  elastoactive sweep ... --scheduler tcp://10.0.0.5:8786      (run on a Dask cluster)
+
+Grid values: a comma list (kappa=0.5,1,2) or start:stop:num (sigma=0.2:1.0:9, ends included).
+Re-running the same command continues an interrupted sweep (finished points are kept); the same
+--out with a different grid or parameters is refused. Results: xarray.open_dataset(OUT).
+
+Exit status: 0 if at least one point succeeded (failed points are counted and listed; rerun them
+with --retry-errors), 1 if every point failed, 2 for invalid options or an unusable --out."""
+
+
+def register(subparsers) -> None:
+    p = subparsers.add_parser(
+        "sweep", help="run a scene over a grid of parameters (every core or a Dask cluster) into a netCDF file",
+        description="Run a scene at every point of a parameter grid and write the measurements (amplitude, "
+        "frequency, ...) as an xarray Dataset to netCDF, point by point; resumable. Units: l = C1 = gamma = 1.",
+        epilog=EXAMPLES, formatter_class=argparse.RawDescriptionHelpFormatter)
+    scene_argument(p)
+    p.add_argument("--grid", action="append", required=True, metavar="NAME=VALUES",
+                   help=f"a grid axis (repeat for more); NAME one of {', '.join(GRID_KEYS)}")
+    add_fields(p.add_argument_group("fixed physics (off the grid; defaults as in `run`)"), Physics, defaults=False)
+    g = p.add_argument_group("numerics (default: the preset's; a given option overrides it)")
+    g.add_argument("--preset", choices=tuple(PRESETS), default="accurate",
+                   help="numerical settings (default %(default)s; fast: dt 0.01, ~4x quicker, results within 0.3%%)")
+    add_fields(g, Numerics, defaults=False)
+    g = p.add_argument_group("run")
+    g.add_argument("--engine", choices=ENGINES, default="mujoco", help="(default %(default)s)")
+    g.add_argument("--duration", type=float, default=300.0, help="simulated time per point, tau (default %(default)s)")
+    g.add_argument("--transient", type=float, help="time discarded before measuring, tau (default: half the run)")
+    g.add_argument("--out", type=Path, required=True, help="netCDF file (resumed if it holds the same sweep)")
+    g.add_argument("--workers", type=int, help="local worker processes, >= 1 (default: every core; unused with --scheduler)")
+    g.add_argument("--scheduler", metavar="ADDRESS", help="Dask scheduler address, e.g. tcp://host:8786 (default: local processes)")
+    g.add_argument("--retry-errors", action="store_true", help="when resuming, run failed points again")
+    g.add_argument("--no-timestep-check", action="store_true", help="run MuJoCo points beyond the linear stability limit of dt")
+    g.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.set_defaults(func=main)
+
+
+def main(args) -> int:
+    # start-up time: xarray, h5py and the engines load only when a sweep runs
+    from ..sweep import MUJOCO_ONLY, check_engine_numerics, parse_grid, run_sweep
+
+    if args.workers is not None and args.workers < 1:
+        raise ParameterError(f"--workers must be >= 1, got {args.workers}")
+    grid = parse_grid(args.grid)
+    fixed = {f.name: getattr(args, f.name) for f in parameter_fields(Physics) if getattr(args, f.name) is not None}
+    overrides = {f.name: getattr(args, f.name) for f in parameter_fields(Numerics) if getattr(args, f.name) is not None}
+    both = [k for k in grid if k in fixed or k in overrides]
+    if both:
+        raise ParameterError(f"{', '.join(both)} given both as an option and on the grid")
+    noisy = bool((grid["noise"] > 0).any()) if "noise" in grid else fixed.get("noise", Physics().noise) > 0
+    check_engine_numerics(args.engine, [k for k in overrides if k in MUJOCO_ONLY], noisy,
+                          lambda k: f"--{k.replace('_', '-')}")
+    numerics = Numerics.preset(args.preset, **overrides)
+    ds = run_sweep(args.scene, grid, fixed=fixed, numerics=numerics, duration=args.duration, engine=args.engine,
+                   transient=args.transient, out=args.out, workers=args.workers, scheduler=args.scheduler,
+                   progress=not args.quiet, retry_errors=args.retry_errors,
+                   timestep_check=not args.no_timestep_check)
+    status = ds["status"].values.reshape(-1)
+    errors = ds["error"].values.reshape(-1)
+    failed = status == "error"
+    print(f"wrote {args.out}: {ds.attrs['points_done']} of {ds.attrs['points_total']} points over "
+          f"{' x '.join(f'{k}[{v.size}]' for k, v in grid.items())}, {int(failed.sum())} failed")
+    if failed.size and failed.all():
+        print(f"elastoactive: all {failed.size} points of the sweep failed; the first error: {errors[0]}",
+              file=sys.stderr)
+        return 1
+    for err in list(dict.fromkeys(errors[failed]))[:3]:
+        print(f"  failed: {err}", file=sys.stderr)
+    return 0

@@ -1,0 +1,58 @@
+"""The scene registry's table: scene name -> Scene object.
+
+A leaf module (it imports nothing of the package), so that `params` can look a scene up while
+the scene modules themselves import `params`. Scenes enter the table through `register`; the
+built-in ones when `elastoactive.scenes` is imported, which `import elastoactive` does first.
+`elastoactive.scenes` is the public face of this table.
+"""
+
+from __future__ import annotations
+
+from typing import Protocol
+
+
+class Scene(Protocol):
+    """What the table needs of a scene: its name (the full contract: elastoactive.scenes.base.Scene)."""
+
+    name: str
+
+
+_SCENES: dict[str, Scene] = {}
+
+
+class UnknownScene(KeyError):
+    """Raised by `get` for a name that no scene registered (params turns it into a ParameterError)."""
+
+
+def register(scene: Scene, *, replace: bool = False) -> Scene:
+    """Add a scene to the registry under `scene.name`; returns it (usable as a decorator on instances)."""
+    name = getattr(scene, "name", None)
+    if not isinstance(name, str) or not name:
+        raise ValueError(f"a scene needs a non-empty string `name`, got {name!r}")
+    if name in _SCENES and not replace and _SCENES[name] is not scene:
+        raise ValueError(f"a scene named {name!r} is already registered (pass replace=True to replace it)")
+    _SCENES[name] = scene
+    return scene
+
+
+def unregister(name: str) -> None:
+    """Remove a scene (tests that register a toy scene clean up with this)."""
+    _SCENES.pop(name, None)
+
+
+def get(name: str) -> Scene:
+    """The registered scene called `name`."""
+    try:
+        return _SCENES[name]
+    except (KeyError, TypeError):
+        raise UnknownScene(name) from None
+
+
+def names() -> tuple[str, ...]:
+    """Names of the registered scenes, in registration order."""
+    return tuple(_SCENES)
+
+
+def scenes() -> tuple[Scene, ...]:
+    """The registered scenes, in registration order."""
+    return tuple(_SCENES.values())

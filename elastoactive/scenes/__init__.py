@@ -1,0 +1,21 @@
+"""The scene registry: every scene is one module here, registered under its name.
+
+    import elastoactive as ea
+    ea.scenes.names()                 # ('one-pinned', 'two-pinned', 'rotating-pin', 'coupled-pair')
+    scene = ea.scenes.get("two-pinned")
+    scene.parameters, scene.observables, scene.validation_cases()
+
+A new scene is a subclass of `Scene` (elastoactive.scenes.base) registered with `register`;
+the CLI, sweeps, validate, render, accuracy and the stability grid then offer it. See
+docs/scenes.md for the contract and the diff a new scene needs.
+"""
+
+from ..registry import UnknownScene, get, names, register, scenes, unregister
+from . import coupled_pair, one_pinned, rotating_pin, two_pinned
+from .base import COMMON_PARAMETERS, Scene, ValidationCase
+
+for _module in (one_pinned, two_pinned, rotating_pin, coupled_pair):  # the paper's order
+    register(_module.SCENE)
+
+__all__ = ["COMMON_PARAMETERS", "Scene", "UnknownScene", "ValidationCase", "get", "names", "register", "scenes",
+           "unregister"]

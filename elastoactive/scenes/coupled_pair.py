@@ -1,0 +1,68 @@
+"""Two chains coupled by a spring between their first pendula: frequency entrainment.
+
+Chain 1 has joint stiffness C1, chain 2 C2 = rho C1 (so chain 2's elasto-active number is
+sigma / rho and it relaxes rho times faster). The coupling energy is kappa/2 (theta_1 - phi_1)^2:
+in MuJoCo a fixed tendon hinge_0(chain 1) - hinge_0(chain 2) with stiffness kappa and spring
+length 0. The chains lock above kappa_c = 0.078 at the paper's sigma = 0.8, rho = 4/3 (the paper
+says ~1.1; see docs/errata.md). Observables: per-chain amplitude and frequency, and
+frequency_mismatch f_2 - f_1 from the Hilbert phases.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..analysis import observables as obs
+from ..analysis.reduced.system import ChainSystem
+from ..params import Numerics, Physics
+from ..trajectory import Trajectory
+from .base import Scene, ValidationCase
+
+
+class CoupledPair(Scene):
+    name = "coupled-pair"
+    summary = ("two chains (stiffness C1, C2 = rho C1) joined by a spring kappa between their first\n"
+               "                pendula: frequency entrainment above kappa_c = 0.078 (sigma 0.8, rho 4/3) [paper: ~1.1]")
+    base_file = "coupled-pair.xml"
+    parameters = ("kappa", "rho")
+    n_chains = 2
+    observables = ("frequency_mismatch",)
+
+    def stiffness(self, physics: Physics) -> tuple[float, ...]:
+        return (1.0, physics.rho)
+
+    def build(self, spec, physics: Physics, numerics: Numerics) -> None:
+        first, second = (f"{prefix}hinge_0" for prefix in self.chain_prefixes())
+        spec.geom("clamp2").pos = [-0.15, self.chain_offset(physics, 1), 0.0]
+        tendon = spec.add_tendon(name="coupling", stiffness=[physics.kappa, 0, 0], springlength=[0.0, 0.0])
+        tendon.wrap_joint(first, 1.0)
+        tendon.wrap_joint(second, -1.0)
+
+    def reduced_system(self, physics: Physics) -> ChainSystem:
+        return super().reduced_system(physics)._replace(kappa=physics.kappa, rho=physics.rho)
+
+    def measure_extra(self, traj: Trajectory, transient: float) -> dict[str, float]:
+        t = traj.t
+        curvatures = [obs.curvature(traj.chain(k)) for k in range(self.n_chains)]
+        oscillating = all(obs.amplitude(t, x, transient) > 1e-3 for x in curvatures)
+        mismatch = obs.frequency_mismatch(t, *curvatures, transient) if oscillating else float("nan")
+        return {"frequency_mismatch": mismatch}
+
+    def validation_cases(self) -> tuple[ValidationCase, ...]:
+        return (
+            ValidationCase(self.physics(n=7, sigma=0.8, rho=4 / 3, kappa=0.5), 600.0, convergence=False),
+            ValidationCase(self.physics(n=7, sigma=0.8, rho=4 / 3, kappa=2.0), 600.0),
+        )
+
+    def extreme_cases(self, quick: bool = False) -> tuple[Physics, ...]:
+        if quick:
+            return ()
+        cases = tuple(self.physics(n=7, sigma=0.8, kappa=k) for k in (0.5, 100.0, 1000.0))
+        return cases + (self.physics(n=7, sigma=10.0, kappa=1000.0),)
+
+    def decorate(self, frame) -> None:
+        """The coupling spring, a zigzag between the two chains' first particles."""
+        frame.spring(0, 0, 1, 0)
+
+
+SCENE = CoupledPair()

@@ -1,0 +1,77 @@
+"""The studies behind the paper's figures and claims, shared by `elastoactive reproduce` and the
+scenario scripts in scripts/.
+
+Each study is one function ``name_study(size="quick", workers=None, progress=True) -> Study``: it
+chooses its parameter grid and run lengths from ``size`` ("tiny" for tests, "quick" for the default
+reproduce run, "full" for publication resolution), runs its simulations through
+`elastoactive.batch.run_cases` (a process pool) and returns the arrays behind the figure
+(`Study.data`, saved as NPZ) and the numbers the report quotes (`Study.summary`, a typed dataclass,
+saved as JSON). MuJoCo ("mujoco") and the reduced overdamped model ("reduced") run the same cases
+from the same initial state. The mathematics they use lives in `elastoactive.analysis`; the paper's
+numbers they are set against in `elastoactive.paper`.
+
+    linear        stability (sigma_c(N), N^-3, continuum), growth (linear rates seen by both engines)
+    hopf          the Hopf bifurcation of N = 7
+    normal_form   the N = 2 Landau-Stuart coefficient
+    snapping      self-snapping with both ends pinned
+    rotation      the freely rotating pin
+    sync          the coupled pair, the Arnold tongue, kappa_c of N = 2
+    noise         multiplicative noise and anisotropic drag (N = 2)
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Callable
+
+from .base import ENGINES, SIZES, Study, Summary
+from .hopf import HopfSummary, hopf_study
+from .linear import GrowthSummary, StabilitySummary, growth_study, stability_study
+from .noise import AnisotropySummary, NoiseSummary, anisotropy_study, noise_study
+from .normal_form import NormalFormSummary, normal_form_study
+from .rotation import RotationSummary, rotation_study
+from .snapping import SnappingSummary, snapping_study
+from .sync import SyncN2Summary, SyncSummary, TongueSummary, sync_n2_study, sync_study, tongue_study
+
+__all__ = [
+    "ENGINES", "SIZES", "STUDIES", "SUMMARIES", "Study", "Summary", "load_study",
+    "stability_study", "growth_study", "hopf_study", "normal_form_study", "snapping_study", "rotation_study",
+    "sync_study", "tongue_study", "sync_n2_study", "noise_study", "anisotropy_study",
+]
+
+STUDIES: dict[str, Callable[..., Study]] = {
+    "stability": stability_study,
+    "growth": growth_study,
+    "hopf": hopf_study,
+    "normal_form": normal_form_study,
+    "snapping": snapping_study,
+    "rotation": rotation_study,
+    "sync": sync_study,
+    "tongue": tongue_study,
+    "sync_n2": sync_n2_study,
+    "noise": noise_study,
+    "anisotropy": anisotropy_study,
+}
+"""Every study by name, in the order reproduce runs them."""
+
+SUMMARIES: dict[str, type[Summary]] = {
+    "stability": StabilitySummary,
+    "growth": GrowthSummary,
+    "hopf": HopfSummary,
+    "normal_form": NormalFormSummary,
+    "snapping": SnappingSummary,
+    "rotation": RotationSummary,
+    "sync": SyncSummary,
+    "tongue": TongueSummary,
+    "sync_n2": SyncN2Summary,
+    "noise": NoiseSummary,
+    "anisotropy": AnisotropySummary,
+}
+"""The summary type of each study."""
+
+
+def load_study(folder: Path, name: str) -> Study:
+    """Read back a study saved by Study.save (NPZ + JSON), its summary typed."""
+    if name not in SUMMARIES:
+        raise ValueError(f"unknown study {name!r}; choose from {', '.join(SUMMARIES)}")
+    return Study.load(folder, name, SUMMARIES[name])

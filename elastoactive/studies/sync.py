@@ -1,0 +1,380 @@
+"""Synchronisation of a coupled pair (Fig. 5), the Arnold tongue, and the N = 2 theory of kappa_c.
+
+sync_study: frequency mismatch against kappa for the paper's pair (N = 7, sigma_1 = 0.8, rho = 4/3,
+so sigma_2 = 0.6), both engines; the critical kappa; phase differences Psi(t); and a what-if with
+chain 2 as stiff as chain 1 but a weaker active force (sigma_2 = 0.6 at the same tau).
+tongue_study: |mismatch| and locking over (rho, kappa) (quick: reduced model; full: both engines).
+sync_n2_study: the locking threshold of two N = 2 chains near onset by bisection on kappa, against
+the supplement's kappa_c = 11/(4 sqrt 6) sqrt(mu |1 - rho|) and its own phase equation.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from concurrent.futures import ProcessPoolExecutor
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.integrate import solve_ivp
+
+from ..analysis import fits
+from ..analysis import measures as ms
+from ..analysis import observables as obs
+from ..analysis import synchronisation as syn
+from ..batch import Case, default_workers
+from ..engines.reduced import rhs
+from ..initial import initial_angles
+from ..paper import PAPER
+from ..params import Numerics
+from ..scenes import coupled_pair
+from .base import ENGINES, EngineParts, Study, Summary, downsample, fast, pick, run, try_fit
+
+
+def kappa_c_formula(mu, rho):
+    """The supplement's near-onset N = 2 threshold kappa_c = 11 / (4 sqrt 6) sqrt(mu |1 - rho|)."""
+    return syn.kappa_c_sqrt_law(mu, rho, PAPER.kappa_c_n2_prefactor)
+
+
+def kappa_c_phase_equation(mu, rho):
+    """kappa_c from the supplement's own phase equation (d nu = 11/8 (rho - 1)); tends to
+    11/8 |1 - rho| for |rho - 1| << mu (analysis.synchronisation.kappa_c_phase_equation)."""
+    return syn.kappa_c_phase_equation(mu, rho, PAPER.phase_detuning)
+
+
+# --------------------------------------------------------------------------------------------------
+# summaries
+# --------------------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class SyncEngine(Summary):
+    kappa_c_bracket: tuple[float, float]
+    """(largest slipping kappa, smallest kappa from which all larger lock) on the grid."""
+    kappa_c: float
+    """Middle of the bracket (nan if the largest kappa does not lock)."""
+    kappa_c_adler: float | None
+    """From a square-root (Adler) fit of |mismatch| against kappa below the bracket."""
+    mismatch_uncoupled: float
+    f1_uncoupled: float
+    f2_uncoupled: float
+    f_locked_at_paper_kappa_c: float | None
+    """Chain 1's frequency at the grid kappa nearest the paper's kappa_c (1.1), if locked there."""
+    locked_at_fig5_weak_kappa: bool | None
+    """Locked at the grid kappa nearest the paper's Fig. 5b weak coupling (0.8); None at the tiny size."""
+
+
+@dataclass(frozen=True)
+class AltPair(Summary):
+    """The what-if pair: chain 2 as stiff as chain 1 with a weaker force (reduced model)."""
+
+    kappa_c_bracket: tuple[float, float]
+    kappa_c: float
+    mismatch_lowest_kappa: float
+    kappa_lowest: float
+    kappa_max: float
+    f_locked_kappa_max: float
+
+
+@dataclass(frozen=True)
+class SyncSummary(EngineParts):
+    n: int
+    sigma_1: float
+    rho: float
+    sigma_2: float
+    duration: float
+    mujoco: SyncEngine
+    reduced: SyncEngine
+    alt_same_stiffness: AltPair | None = None
+
+
+@dataclass(frozen=True)
+class TongueEngine(Summary):
+    kappa_c_by_rho: dict[str, float]
+    """Grid kappa_c (inf: none of the grid locks) by rho (formatted .4g)."""
+    tongue_widens: bool
+    kappa_c_min_rho: float
+
+
+@dataclass(frozen=True)
+class TongueSummary(EngineParts):
+    engines: list[str]
+    duration: float
+    mujoco: TongueEngine | None = None
+    reduced: TongueEngine | None = None
+
+
+@dataclass(frozen=True)
+class N2MujocoCheck(Summary):
+    """MuJoCo against the reduced kappa_c of one (mu, rho): full size bisects (kappa_c, halfwidth);
+    smaller sizes probe just below and above the reduced threshold (probe_factors, locked, consistent)."""
+
+    kappa_c: float | None = None
+    halfwidth: float | None = None
+    probe_factors: list[float] | None = None
+    locked: list[bool] | None = None
+    consistent: bool | None = None
+
+
+@dataclass(frozen=True)
+class SyncN2Summary(Summary):
+    duration: float
+    combos: list[tuple[float, float]]
+    """(mu, rho) of each point."""
+    prefactor_formula: float
+    prefactor_fit: float
+    prefactor_mean: float
+    prefactor_std: float
+    ratio_sim_over_formula: list[float]
+    ratio_sim_over_phase_equation: list[float]
+    kappa_c: list[float]
+    """Reduced model, by bisection."""
+    kappa_c_formula: list[float]
+    kappa_c_phase_equation: list[float]
+    mujoco: dict[str, N2MujocoCheck]
+    """By "mu,rho"."""
+    exponent_mu: float | None = None
+    exponent_mu_err: float | None = None
+    exponent_rho: float | None = None
+    exponent_rho_err: float | None = None
+
+
+# --------------------------------------------------------------------------------------------------
+# measurements
+# --------------------------------------------------------------------------------------------------
+def _pair_measures(tr, transient):
+    x1, x2 = obs.curvature(tr.chain(0)), obs.curvature(tr.chain(1))
+    f1, f2 = obs.frequency(tr.t, x1, transient), obs.frequency(tr.t, x2, transient)
+    a1, a2 = obs.amplitude(tr.t, x1, transient), obs.amplitude(tr.t, x2, transient)
+    if min(a1, a2) < 1e-3 or f1 == 0 or f2 == 0:
+        return {"mismatch": np.nan, "slips": np.nan, "locked": False, "f1": f1, "f2": f2, "a1": a1, "a2": a2}
+    mism = obs.frequency_mismatch(tr.t, x1, x2, transient)
+    slips = ms.phase_slips(tr.t, x1, x2, transient)
+    return {"mismatch": mism, "slips": slips, "locked": slips < 0.5, "f1": f1, "f2": f2, "a1": a1, "a2": a2}
+
+
+def _alt_pair_run(args):
+    """What-if pair (reduced model): chain 2 as stiff as chain 1 but with a weaker active force
+    (sigma_2 = factor * sigma), i.e. sigma_2 = 0.6 at the same tau. Not the paper's stated model."""
+    n, sigma, factor, kappa, duration, transient = args
+    phys = coupled_pair.SCENE.physics(n=n, sigma=sigma, rho=1.0, kappa=kappa)
+    f = rhs(phys, factor=np.r_[np.ones(n), factor * np.ones(n)])
+    th0 = initial_angles(phys, Numerics(perturbation=0.3))
+    t = np.arange(0.0, duration + 1e-9, 0.1)
+    sol = solve_ivp(f, (0.0, t[-1]), th0, method="DOP853", t_eval=t, rtol=1e-7, atol=1e-9)
+    th = sol.y.T
+    x1, x2 = th[:, n - 1] - th[:, 0], th[:, 2 * n - 1] - th[:, n]
+    return {"mismatch": obs.frequency_mismatch(t, x1, x2, transient), "slips": ms.phase_slips(t, x1, x2, transient),
+            "f1": obs.frequency(t, x1, transient), "f2": obs.frequency(t, x2, transient)}
+
+
+# --------------------------------------------------------------------------------------------------
+# the paper's pair
+# --------------------------------------------------------------------------------------------------
+def sync_study(size: str = "quick", workers=None, progress: bool = True) -> Study:
+    """Mismatch against kappa for the paper's pair, both engines; kappa_c; Psi(t); the what-if pair."""
+    start = time.perf_counter()
+    n, sigma, rho = 7, PAPER.sync_sigma_1, PAPER.sync_rho
+    k_weak, k_strong = PAPER.fig5_kappas
+    kappas = pick(size, (0.0, 0.04, 0.1, 1.1),
+                  (0.0, 0.03, 0.05, 0.065, 0.07, 0.075, 0.08, 0.09, 0.15, 0.4, 0.8, 1.1, 2.0),
+                  tuple(np.round(np.r_[np.arange(0.0, 0.05, 0.01), np.arange(0.05, 0.09, 0.0025), np.arange(0.09, 0.2, 0.02),
+                                      np.arange(0.2, 2.51, 0.1), k_weak, PAPER.kappa_c_7, k_strong], 4)))
+    kappas = tuple(sorted(set(float(k) for k in kappas)))
+    dur = pick(size, 800.0, 3000.0, 6000.0)
+    tr_ = dur / 2
+    cases, meta = [], []
+    for k in kappas:
+        for eng in ENGINES:
+            cases.append(Case(coupled_pair.SCENE.physics(n=n, sigma=sigma, rho=rho, kappa=k),
+                              fast(perturbation=0.3, sample_dt=0.1), dur, eng, tr_))
+            meta.append((k, eng))
+    trajs = run(cases, workers, progress, "sync N=7")
+    data = {"kappa": np.array(kappas)}
+    res = {}
+    psi_keep = {}
+    for (k, eng), tr in zip(meta, trajs):
+        res[(k, eng)] = _pair_measures(tr, tr_)
+        if eng == "mujoco":
+            try:
+                tp, psi = ms.phase_difference(tr.t, obs.curvature(tr.chain(0)), obs.curvature(tr.chain(1)), 0.0)
+                psi_keep[k] = (downsample(tp, 1500), downsample(psi - psi[0], 1500))
+            except ValueError:
+                pass
+    parts = {}
+    for eng in ENGINES:
+        for key in ("mismatch", "slips", "locked", "f1", "f2", "a1", "a2"):
+            data[f"{key}_{eng}"] = np.array([res[(k, eng)][key] for k in kappas])
+        lo, hi = syn.locking_threshold(kappas, data[f"locked_{eng}"])
+        kap = np.array(kappas)
+        unl = (~data[f"locked_{eng}"]) & (kap > 0) & (kap <= lo)
+        adler = None
+        if np.count_nonzero(unl) >= 3:
+            adler = try_fit(fits.square_root_onset_fit, -kap[unl][-4:], np.abs(data[f"mismatch_{eng}"][unl][-4:]))
+        i0 = int(np.argmin(kap))
+        i_paper = int(np.argmin(np.abs(kap - PAPER.kappa_c_7)))
+        parts[eng] = SyncEngine(
+            kappa_c_bracket=(lo, hi), kappa_c=0.5 * (lo + hi) if np.isfinite(hi) else float("nan"),
+            kappa_c_adler=-adler.params["onset"] if adler else None,
+            mismatch_uncoupled=float(data[f"mismatch_{eng}"][i0]),
+            f1_uncoupled=float(data[f"f1_{eng}"][i0]), f2_uncoupled=float(data[f"f2_{eng}"][i0]),
+            f_locked_at_paper_kappa_c=float(data[f"f1_{eng}"][i_paper]) if data[f"locked_{eng}"][i_paper] else None,
+            locked_at_fig5_weak_kappa=(bool(data[f"locked_{eng}"][int(np.argmin(np.abs(kap - k_weak)))])
+                                       if size != "tiny" else None),
+        )
+    # phase differences of one unlocked and two locked cases (the paper's K = 0.8 and 1.2 analogues)
+    lo_m = parts["mujoco"].kappa_c_bracket[0]
+    picks = [k for k in kappas if k in psi_keep]
+    chosen = sorted({min(picks, key=lambda k: abs(k - target))
+                     for target in (0.5 * lo_m if np.isfinite(lo_m) else 0.0, k_weak, k_strong)})
+    for k in chosen:
+        data[f"psi_{k:g}_t"], data[f"psi_{k:g}"] = psi_keep[k]
+    data["psi_kappas"] = np.array(chosen)
+
+    # what-if: sigma_2 = 0.6 with chain 2 as stiff as chain 1 (the main text's wording "rho is the ratio
+    # of the elasto-active numbers" read literally)
+    alt = None
+    alt_k = pick(size, (), (0.0, 0.4, 0.6, 0.7, 0.8, 1.0, 1.2), tuple(np.round(np.arange(0.0, 1.61, 0.1), 4)))
+    alt_dur = pick(size, 0.0, 2000.0, 4000.0)
+    if alt_k:
+        force_ratio = 0.75  # sigma_2 / sigma_1 = 0.6 / 0.8, written exactly
+        args = [(n, sigma, force_ratio, k, alt_dur, alt_dur / 2) for k in alt_k]
+        w = default_workers() if workers is None else workers
+        with ProcessPoolExecutor(max_workers=max(1, min(w, len(args)))) as pool:
+            runs = list(pool.map(_alt_pair_run, args))
+        data["alt_kappa"] = np.array(alt_k)
+        data["alt_mismatch"] = np.array([a["mismatch"] for a in runs])
+        data["alt_locked"] = np.array([a["slips"] < 0.5 for a in runs])
+        data["alt_f1"] = np.array([a["f1"] for a in runs])
+        lo_a, hi_a = syn.locking_threshold(alt_k, data["alt_locked"])
+        alt = AltPair(kappa_c_bracket=(lo_a, hi_a), kappa_c=0.5 * (lo_a + hi_a),
+                      mismatch_lowest_kappa=float(data["alt_mismatch"][0]), kappa_lowest=float(alt_k[0]),
+                      kappa_max=float(alt_k[-1]), f_locked_kappa_max=float(data["alt_f1"][-1]))
+    summary = SyncSummary(n=n, sigma_1=sigma, rho=rho, sigma_2=sigma / rho, duration=dur, alt_same_stiffness=alt, **parts)
+    return Study("sync", size, data, summary, time.perf_counter() - start)
+
+
+# --------------------------------------------------------------------------------------------------
+# Arnold tongue
+# --------------------------------------------------------------------------------------------------
+def tongue_study(size: str = "quick", workers=None, progress: bool = True) -> Study:
+    """|frequency mismatch| and locking over (rho, kappa) for N = 7, sigma_1 = 0.8 (quick: reduced
+    model; full: both engines)."""
+    start = time.perf_counter()
+    rhos = pick(size, (0.5, 1.0, 3.0), (0.5, 0.75, 1.0, PAPER.sync_rho, 2.0, 3.0),
+                tuple(np.r_[np.geomspace(0.4, 4.0, 15), PAPER.sync_rho]))
+    rhos = tuple(sorted(set(round(float(r), 6) for r in rhos)))
+    kappas = pick(size, (0.0, 0.1, 0.5), (0.0, 0.03, 0.07, 0.15, 0.3, 0.6),
+                  (0.0, 0.01, 0.02, 0.035, 0.05, 0.075, 0.1, 0.15, 0.2, 0.3, 0.4, 0.6, 0.8, 1.1, 1.5))
+    engines = pick(size, ("reduced",), ("reduced",), ENGINES)
+    dur = pick(size, 600.0, 2400.0, 6000.0)
+    cases, meta = [], []
+    for r in rhos:
+        for k in kappas:
+            for eng in engines:
+                cases.append(Case(coupled_pair.SCENE.physics(n=7, sigma=PAPER.sync_sigma_1, rho=r, kappa=k),
+                                  fast(perturbation=0.3, sample_dt=0.2), dur, eng, dur / 2))
+                meta.append((r, k, eng))
+    trajs = run(cases, workers, progress, "Arnold tongue")
+    data = {"rho": np.array(rhos), "kappa": np.array(kappas)}
+    grids = {eng: (np.full((len(rhos), len(kappas)), np.nan), np.zeros((len(rhos), len(kappas)), bool)) for eng in engines}
+    for (r, k, eng), tr in zip(meta, trajs):
+        m = _pair_measures(tr, dur / 2)
+        i, j = rhos.index(r), kappas.index(k)
+        grids[eng][0][i, j] = m["mismatch"]
+        grids[eng][1][i, j] = m["locked"]
+    parts = {}
+    for eng in engines:
+        data[f"mismatch_{eng}"], data[f"locked_{eng}"] = grids[eng]
+        kc = np.array([syn.locking_threshold(kappas, row)[1] for row in grids[eng][1]])
+        data[f"kappa_c_{eng}"] = kc
+        r = np.array(rhos)
+        parts[eng] = TongueEngine(
+            kappa_c_by_rho={f"{x:.4g}": float(y) for x, y in zip(rhos, kc)},
+            tongue_widens=bool(np.all(np.diff(kc[r >= 1]) >= 0) and np.all(np.diff(kc[r <= 1]) <= 0)),
+            kappa_c_min_rho=float(r[int(np.argmin(kc))]))
+    summary = TongueSummary(engines=list(engines), duration=dur, **parts)
+    return Study("tongue", size, data, summary, time.perf_counter() - start)
+
+
+# --------------------------------------------------------------------------------------------------
+# N = 2 near onset
+# --------------------------------------------------------------------------------------------------
+def _bisect_locking(combos, make_case, lo0, hi0, steps, workers, progress, desc, transient_of):
+    """Bisection on kappa for every combo at once (one batch per step)."""
+    lo, hi = dict(lo0), dict(hi0)
+    for step in range(steps):
+        cases = [make_case(c, 0.5 * (lo[c] + hi[c])) for c in combos]
+        trajs = run(cases, workers, progress and step == 0, desc)
+        for c, tr, case in zip(combos, trajs, cases):
+            if _pair_measures(tr, transient_of(case))["locked"]:
+                hi[c] = case.physics.kappa
+            else:
+                lo[c] = case.physics.kappa
+    return lo, hi
+
+
+def sync_n2_study(size: str = "quick", workers=None, progress: bool = True) -> Study:
+    """The locking threshold kappa_c of two N = 2 chains near onset (mu = sigma - 3 small, rho near 1),
+    by bisection on kappa with the reduced model, checked with MuJoCo, against
+    kappa_c = 11 / (4 sqrt 6) sqrt(mu |1 - rho|)."""
+    start = time.perf_counter()
+    combos = pick(size, ((0.1, 0.98),), tuple((m, r) for m in (0.05, 0.1, 0.2) for r in (0.97, 0.99)),
+                  tuple((m, r) for m in (0.05, 0.1, 0.2) for r in (0.97, 0.98, 0.99)))
+    steps = pick(size, 5, 9, 12)
+    dur = pick(size, 1500.0, 6000.0, 12000.0)
+
+    def make(c, k, engine="reduced", dt=0.01, duration=dur):
+        mu, rho = c
+        num = Numerics(dt=dt, mass_ratio=1e-5 if engine == "mujoco" else 1e-4, perturbation=math.sqrt(mu), sample_dt=0.1)
+        return Case(coupled_pair.SCENE.physics(n=2, sigma=3.0 + mu, rho=rho, kappa=k), num, duration, engine, duration / 2)
+
+    hi0 = {c: 2.0 * float(kappa_c_formula(*c)) for c in combos}
+    lo, hi = _bisect_locking(combos, make, {c: 0.0 for c in combos}, hi0, steps, workers, progress, "kappa_c N=2",
+                             lambda case: case.duration / 2)
+    kc_red = {c: 0.5 * (lo[c] + hi[c]) for c in combos}
+    # MuJoCo: quick checks the classification just below and above the reduced threshold for one combo;
+    # full bisects every combo (dt small: implicitfast shifts the N = 2 onset by ~dt/2 in mu)
+    mj_dt = 0.00125
+    if size == "full":
+        mj_dur = pick(size, 600.0, 3000.0, 6000.0)
+        mlo, mhi = _bisect_locking(combos, lambda c, k: make(c, k, "mujoco", mj_dt, mj_dur), {c: 0.7 * kc_red[c] for c in combos},
+                                   {c: 1.3 * kc_red[c] for c in combos}, 6, workers, progress, "kappa_c N=2 MuJoCo",
+                                   lambda case: case.duration / 2)
+        mj = {c: N2MujocoCheck(kappa_c=0.5 * (mlo[c] + mhi[c]), halfwidth=0.5 * (mhi[c] - mlo[c])) for c in combos}
+    else:
+        c = combos[0] if size == "tiny" else (0.1, 0.97)
+        probe = (0.85, 1.15)
+        probe_dur = pick(size, 1000.0, 3000.0, 3000.0)
+        trajs = run([make(c, f * kc_red[c], "mujoco", mj_dt, probe_dur) for f in probe], workers, progress,
+                    "kappa_c N=2 MuJoCo check")
+        checks = [_pair_measures(tr, probe_dur / 2)["locked"] for tr in trajs]
+        mj = {c: N2MujocoCheck(probe_factors=list(probe), locked=checks, consistent=(not checks[0]) and checks[1])}
+    mus = np.array([c[0] for c in combos])
+    rhos = np.array([c[1] for c in combos])
+    kc = np.array([kc_red[c] for c in combos])
+    half = np.array([0.5 * (hi[c] - lo[c]) for c in combos])
+    formula = kappa_c_formula(mus, rhos)
+    phase_eq = kappa_c_phase_equation(mus, rhos)
+    data = {"mu": mus, "rho": rhos, "kappa_c_reduced": kc, "kappa_c_halfwidth": half, "kappa_c_formula": formula,
+            "kappa_c_phase_equation": phase_eq}
+    if size == "full":
+        data["kappa_c_mujoco"] = np.array([mj[c].kappa_c for c in combos])
+    x = np.sqrt(mus * np.abs(1 - rhos))
+    prefactor = kc / x
+    exponents = {}
+    if len(set(mus)) >= 2 and len(set(rhos)) >= 2:
+        A = np.column_stack([np.ones_like(mus), np.log(mus), np.log(np.abs(1 - rhos))])
+        coef, cov = fits._lstsq(A, np.log(kc))
+        exponents = {"exponent_mu": float(coef[1]), "exponent_mu_err": float(math.sqrt(cov[1, 1])),
+                     "exponent_rho": float(coef[2]), "exponent_rho_err": float(math.sqrt(cov[2, 2]))}
+    summary = SyncN2Summary(
+        duration=dur, combos=[tuple(c) for c in combos],
+        prefactor_formula=PAPER.kappa_c_n2_prefactor,
+        prefactor_fit=float(np.sum(kc * x) / np.sum(x * x)),
+        prefactor_mean=float(prefactor.mean()), prefactor_std=float(prefactor.std()),
+        ratio_sim_over_formula=[float(v) for v in kc / formula],
+        ratio_sim_over_phase_equation=[float(v) for v in kc / phase_eq],
+        kappa_c=[float(v) for v in kc], kappa_c_formula=[float(v) for v in formula],
+        kappa_c_phase_equation=[float(v) for v in phase_eq],
+        mujoco={f"{c[0]:g},{c[1]:g}": v for c, v in mj.items()},
+        **exponents)
+    return Study("sync_n2", size, data, summary, time.perf_counter() - start)

@@ -1,0 +1,121 @@
+"""The package's layering, checked on its source: no import cycles, scenes are plug-ins, analysis is pure.
+
+These read the code with `ast` (nothing is imported), so they name the offending file and line.
+"""
+
+from __future__ import annotations
+
+import ast
+import tomllib
+from pathlib import Path
+
+import pytest
+
+import elastoactive as ea
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def _modules() -> dict[str, Path]:
+    """Module name -> file, from pyproject's package-dir mapping (the top-level folders are sub-packages)."""
+    cfg = tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["setuptools"]
+    mapping = cfg.get("package-dir", {})
+    out = {}
+    for package in cfg["packages"]:
+        folder = ROOT / mapping.get(package, package.replace(".", "/"))
+        for f in folder.glob("*.py"):
+            out[package if f.name == "__init__.py" else f"{package}.{f.stem}"] = f
+    return out
+
+
+MODULES = _modules()
+
+
+def _imports(name: str, path: Path):
+    """(target module, line, inside a function or class, under `if TYPE_CHECKING`) for every import."""
+    tree = ast.parse(path.read_text(), str(path))
+    package = name if path.name == "__init__.py" else name.rsplit(".", 1)[0]
+    nested: set[int] = set()
+    typing_only: set[int] = set()
+    for node in ast.walk(tree):
+        if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)):
+            nested |= {id(n) for n in ast.walk(node) if n is not node}
+        if isinstance(node, ast.If) and "TYPE_CHECKING" in ast.unparse(node.test):
+            typing_only |= {id(n) for n in ast.walk(node) if n is not node}
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            targets = [a.name for a in node.names]
+        elif isinstance(node, ast.ImportFrom):
+            base = node.module or ""
+            if node.level:
+                parts = package.split(".")[: len(package.split(".")) - node.level + 1]
+                base = ".".join(parts + ([base] if base else []))
+            targets = [base] + [f"{base}.{a.name}" for a in node.names]
+        else:
+            continue
+        for target in targets:
+            yield target, node.lineno, id(node) in nested, id(node) in typing_only
+
+
+def test_no_import_cycles_between_modules():
+    """Imports inside functions count; importing a sub-module imports its package, so edges into a
+    package's __init__ are not counted (as in the team's import_cycles tool)."""
+    graph = {m: set() for m in MODULES}
+    for name, path in MODULES.items():
+        for target, *_ in _imports(name, path):
+            if target in MODULES and target != name and MODULES[target].name != "__init__.py":
+                graph[name].add(target)
+    cycles, state = [], {}
+
+    def visit(node, stack):
+        state[node] = "open"
+        for nxt in sorted(graph[node]):
+            if state.get(nxt) == "open":
+                cycles.append(stack[stack.index(nxt):] + [nxt])
+            elif nxt not in state:
+                visit(nxt, stack + [nxt])
+        state[node] = "done"
+
+    for m in sorted(graph):
+        if m not in state:
+            visit(m, [m])
+    assert not cycles, "import cycles: " + "; ".join(" -> ".join(c) for c in cycles)
+
+
+def test_function_level_imports_say_why():
+    """An import inside a function needs a comment on its line or the line above (start-up time, an
+    optional dependency, ...)."""
+    missing = []
+    for name, path in MODULES.items():
+        lines = path.read_text().splitlines()
+        for _, line, nested, typing_only in _imports(name, path):
+            if not nested or typing_only:
+                continue
+            first = line  # the block of consecutive import lines this one belongs to, and the line above it
+            while first >= 2 and lines[first - 2].strip().startswith(("import ", "from ")):
+                first -= 1
+            if not any("#" in lines[i - 1] for i in range(max(first - 1, 1), line + 1)):
+                missing.append(f"{path.relative_to(ROOT)}:{line}")
+    assert not missing, "imports inside functions without a reason: " + ", ".join(sorted(set(missing)))
+
+
+def test_scene_names_only_in_scene_modules():
+    """Outside elastoactive/scenes/ no code names a scene, but for the one default (params.DEFAULT_SCENE)."""
+    hits = []
+    for name, path in MODULES.items():
+        if name.startswith("elastoactive.scenes"):
+            continue
+        for lineno, line in enumerate(path.read_text().splitlines(), 1):
+            for scene in ea.scenes.names():
+                if f'"{scene}"' in line or f"'{scene}'" in line:
+                    hits.append(f"{path.relative_to(ROOT)}:{lineno}: {line.strip()}")
+    assert len(hits) == 1 and "DEFAULT_SCENE" in hits[0], hits
+
+
+@pytest.mark.parametrize("name", sorted(m for m in MODULES if m.startswith("elastoactive.analysis")))
+def test_analysis_is_pure(name):
+    """analysis/ is mathematics: it imports nothing of the package outside itself but the error types."""
+    outside = [f"line {line}: {target}" for target, line, *_ in _imports(name, MODULES[name])
+               if target.startswith("elastoactive") and not target.startswith(("elastoactive.analysis", "elastoactive.errors"))
+               and target != "elastoactive"]
+    assert not outside, f"{name} imports {outside}"

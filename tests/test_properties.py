@@ -1,0 +1,86 @@
+"""Property-based: over the parameter space of the library and the CLI, every input either runs or is
+refused with one line naming the parameter; never a traceback."""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import math
+
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+import elastoactive as ea
+from elastoactive.cli import main
+
+ODD_NUMBERS = st.one_of(
+    st.floats(allow_nan=True, allow_infinity=True, width=64),
+    st.floats(min_value=-3, max_value=3),
+    st.integers(min_value=-10, max_value=10**6),
+    st.text(max_size=4),
+    st.none(),
+    st.booleans(),
+)
+PHYSICS_FIELDS = ("n", "sigma", "delta", "kappa", "rho", "drag_ratio", "noise")
+NUMERICS_FIELDS = ("dt", "mass_ratio", "perturbation", "sample_dt", "seed", "integrator")
+
+
+def _names_parameter(message: str, keys) -> bool:
+    return any(k in message for k in keys)
+
+
+@settings(max_examples=300, deadline=None)
+@given(scene=st.one_of(st.sampled_from(ea.scenes.names()), st.text(max_size=8)),
+       values=st.dictionaries(st.sampled_from(PHYSICS_FIELDS), ODD_NUMBERS, max_size=4))
+def test_physics_runs_or_names_the_parameter(scene, values):
+    try:
+        physics = ea.Physics(scene=scene, **values)
+    except ea.ParameterError as err:
+        assert "\n" not in str(err) and _names_parameter(str(err), ("scene", *values)), str(err)
+    else:
+        assert physics.n >= physics.scene_def.min_n and all(math.isfinite(getattr(physics, k)) for k in PHYSICS_FIELDS[1:])
+
+
+@settings(max_examples=300, deadline=None)
+@given(values=st.dictionaries(st.sampled_from(NUMERICS_FIELDS), st.one_of(ODD_NUMBERS, st.sampled_from(("RK4", "Euler"))),
+                              max_size=4),
+       duration=ODD_NUMBERS)
+def test_numerics_and_duration_run_or_name_the_parameter(values, duration):
+    try:
+        numerics = ea.Numerics(**values)
+        numerics.check_duration(duration)
+    except ea.ParameterError as err:
+        assert "\n" not in str(err) and _names_parameter(str(err), ("duration", "sample", *values)), str(err)
+
+
+def _run(argv: list[str]) -> tuple[int, str]:
+    err = io.StringIO()
+    with contextlib.redirect_stderr(err), contextlib.redirect_stdout(io.StringIO()):
+        try:
+            code = main(argv)
+        except SystemExit as exit_:  # argparse's own refusals (a malformed number, an unknown choice)
+            code = exit_.code
+    return code, err.getvalue()
+
+
+NUMBER_TEXT = st.one_of(
+    st.floats(min_value=-1, max_value=3).map(lambda x: f"{x:.3g}"),
+    st.sampled_from(["nan", "inf", "-inf", "0", "1e9", "-1", "1e-9", "abc", ""]),
+)
+
+
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(scene=st.sampled_from(ea.scenes.names()), engine=st.sampled_from(["reduced", "mujoco"]),
+       options=st.dictionaries(st.sampled_from(["--n", "--sigma", "--delta", "--kappa", "--rho", "--noise", "--dt",
+                                                "--mass-ratio", "--sample-dt", "--duration", "--transient", "--seed"]),
+                               NUMBER_TEXT, max_size=3))
+def test_cli_run_runs_or_refuses_in_one_line(scene, engine, options):
+    options = {"--n": "3", "--duration": "5", **options}
+    argv = ["run", scene, "--engine", engine, "--quiet"] + [x for kv in options.items() for x in kv]
+    code, stderr = _run(argv)
+    assert "Traceback" not in stderr, stderr
+    assert code in (0, 2, 3), (argv, code, stderr)
+    if code:
+        lines = [line for line in stderr.splitlines() if line.strip() and not line.startswith("usage:")
+                 and not line.startswith(" ")]
+        assert lines and lines[-1].startswith(("elastoactive: ", "elastoactive run: error:")), (argv, stderr)

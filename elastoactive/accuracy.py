@@ -26,6 +26,7 @@ timings carry noise of tens of percent.
 from __future__ import annotations
 
 import csv
+import json
 import math
 import os
 import sys
@@ -42,6 +43,7 @@ from .engines.mujoco import simulate_mujoco
 from .engines.reduced import simulate_reduced
 from .errors import ParameterError, SimulationDiverged
 from .params import PRESETS, Numerics, Physics
+from .outputs import atomic_file, provenance, provenance_line, utc_now, write_text
 from .progress import progress_bar
 from .results import default_transient, measure
 from .validate import angle_errors, observable_errors, validation_cases
@@ -218,7 +220,7 @@ def run_study(quick: bool = False, workers: int | None = None, progress: bool = 
     cases = paper_cases(quick) if cases is None else cases
     settings = (mujoco_grid(quick) if mujoco is None else mujoco) + (reduced_grid(quick) if reduced is None else reduced)
     workers = default_workers() if workers is None else workers
-    start = time.perf_counter()
+    start, started = time.perf_counter(), utc_now()
     references = [reference_solution(p, d) for p, d in cases]
     tasks = [(p, d, s, ref, repeats) for (p, d), ref in zip(cases, references) for s in settings]
     # longest first, so the pool does not end on one long run
@@ -242,7 +244,7 @@ def run_study(quick: bool = False, workers: int | None = None, progress: bool = 
                     bar.update()
     if bar:
         bar.close()
-    meta = {"quick": quick, "workers": workers, "elapsed_s": time.perf_counter() - start,
+    meta = {"quick": quick, "workers": workers, "elapsed_s": time.perf_counter() - start, "started_utc": started,
             "cases": [(case_name(p), d) for p, d in cases], "reference": REFERENCE, "sample_dt": SAMPLE_DT,
             "reference_wall_s": [r.wall_time_s for r in references], "cpu_count": os.cpu_count()}
     return rows, meta  # type: ignore[return-value]
@@ -408,7 +410,8 @@ def plot(rows: list[dict], summary: list[dict], path: Path, key: str = "worst") 
                  fontsize=11)
     fig.tight_layout(rect=(0, 0.07, 1, 0.97))
     path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=110)
+    with atomic_file(Path(path)) as tmp:
+        fig.savefig(tmp, dpi=110)
     plt.close(fig)
 
 
@@ -421,7 +424,7 @@ def write_outputs(out: Path, rows: list[dict], meta: dict) -> dict:
     """accuracy.csv (every run), accuracy.md (tables) and accuracy.png / accuracy_steady.png."""
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    with open(out / "accuracy.csv", "w", newline="") as fh:
+    with atomic_file(out / "accuracy.csv") as tmp, open(tmp, "w", newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=CSV_FIELDS, extrasaction="ignore")
         w.writeheader()
         for r in rows:
@@ -460,5 +463,8 @@ def write_outputs(out: Path, rows: list[dict], meta: dict) -> dict:
         "Plots: accuracy.png (worst error), accuracy_steady.png (steady observables). Per-run data: accuracy.csv.",
         "",
     ]
-    (out / "accuracy.md").write_text("\n".join(text))
+    record = provenance(meta.get("started_utc"), meta.get("elapsed_s"))
+    write_text(out / "accuracy_provenance.json", json.dumps(record, indent=2) + "\n")
+    text += ["## Provenance", "", provenance_line(record, "accuracy_provenance.json"), ""]
+    write_text(out / "accuracy.md", "\n".join(text))
     return {"summary": summary}

@@ -12,6 +12,7 @@ from dataclasses import dataclass
 from fractions import Fraction
 from typing import TYPE_CHECKING
 
+from .outputs import provenance_line
 from .paper import PAPER as P
 
 if TYPE_CHECKING:  # typing only: the studies import both engines (start-up time)
@@ -429,4 +430,7 @@ def render_report(studies: dict[str, Study], figures: dict[str, list], meta: dic
     for name, st in studies.items():
         out.append(f"| {name} | {st.wall_s:.1f} |")
     out += ["", "Data: one `<study>.npz` (arrays behind each figure) and `<study>.json` (the numbers above) per study.", ""]
+    if meta.get("provenance"):
+        out += ["## Provenance", "", provenance_line(meta["provenance"]), ""]
     return "\n".join(out)
+

@@ -181,3 +181,11 @@ def sha256(path: Path) -> str:
         for block in iter(lambda: f.read(1 << 20), b""):
             digest.update(block)
     return digest.hexdigest()
+
+
+def provenance_line(record: dict, sidecar: str = "provenance.json") -> str:
+    """One line naming what made an output (elastoactive.outputs.provenance)."""
+    versions = ", ".join(f"{k} {v}" for k, v in record.get("versions", {}).items() if v)
+    commit = f", git {record['git_commit']}" if record.get("git_commit") else ""
+    return (f"Made by `{' '.join(record.get('command', []))}` on {record.get('platform')} at {record.get('started_utc')} "
+            f"UTC ({versions}{commit}); also in {sidecar}.")

@@ -9,8 +9,11 @@ from __future__ import annotations
 
 import argparse
 import csv
+import json
 import time
 from pathlib import Path
+
+from .outputs import atomic_file, provenance, utc_now, write_text
 
 
 def reproduce(out: Path, size: str = "quick", workers: int | None = None, only: list[str] | None = None,
@@ -25,6 +28,7 @@ def reproduce(out: Path, size: str = "quick", workers: int | None = None, only: 
 
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
+    started = utc_now()
     workers = default_workers() if workers is None else workers
     names = list(st.STUDIES) if not only else only
     unknown = [n for n in names if n not in st.STUDIES]
@@ -35,20 +39,23 @@ def reproduce(out: Path, size: str = "quick", workers: int | None = None, only: 
     for i, name in enumerate(names, 1):
         log(f"[{i}/{len(names)}] {name} ...")
         study = st.STUDIES[name](size, workers=workers, progress=progress)
-        study.save(out)
+        study.save(out, provenance(started, study.wall_s))
         figs[name] = figures.make_figures(study, out)
         done[name] = study
         log(f"[{i}/{len(names)}] {name} done in {study.wall_s:.1f} s -> {', '.join(p.name for p in figs[name])}")
     if "stability" in done:
-        with open(out / "stability_sigma_c.csv", "w", newline="") as fh:
+        with atomic_file(out / "stability_sigma_c.csv") as tmp, open(tmp, "w", newline="") as fh:
             w = csv.writer(fh)
             w.writerow(["N", "sigma_c", "omega_c", "f_c", "N3_sigma_c"])
             for row in done["stability"].summary.table:
                 w.writerow([row.n, repr(row.sigma_c), repr(row.omega_c), repr(row.f_c), repr(row.n ** 3 * row.sigma_c)])
     wall = time.perf_counter() - start
     command = "elastoactive reproduce" + (" --full" if size == "full" else "") + (" --tiny" if size == "tiny" else "")
+    record = provenance(started, wall)
+    write_text(out / "provenance.json", json.dumps(record, indent=2) + "\n")
     report = out / "report.md"
-    report.write_text(claims.render_report(done, figs, {"size": size, "workers": workers, "wall_s": wall, "command": command}))
+    write_text(report, claims.render_report(done, figs, {"size": size, "workers": workers, "wall_s": wall,
+                                                          "command": command, "provenance": record}))
     log(f"wrote {report} ({wall:.0f} s)")
     return {"studies": done, "figures": figs, "report": report, "wall_s": wall}
 

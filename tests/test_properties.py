@@ -29,7 +29,7 @@ def _names_parameter(message: str, keys) -> bool:
     return any(k in message for k in keys)
 
 
-@settings(max_examples=300, deadline=None)
+@settings(max_examples=300, deadline=None, derandomize=True)
 @given(scene=st.one_of(st.sampled_from(ea.scenes.names()), st.text(max_size=8)),
        values=st.dictionaries(st.sampled_from(PHYSICS_FIELDS), ODD_NUMBERS, max_size=4))
 def test_physics_runs_or_names_the_parameter(scene, values):
@@ -41,7 +41,7 @@ def test_physics_runs_or_names_the_parameter(scene, values):
         assert physics.n >= physics.scene_def.min_n and all(math.isfinite(getattr(physics, k)) for k in PHYSICS_FIELDS[1:])
 
 
-@settings(max_examples=300, deadline=None)
+@settings(max_examples=300, deadline=None, derandomize=True)
 @given(values=st.dictionaries(st.sampled_from(NUMERICS_FIELDS), st.one_of(ODD_NUMBERS, st.sampled_from(("RK4", "Euler"))),
                               max_size=4),
        duration=ODD_NUMBERS)
@@ -69,13 +69,20 @@ NUMBER_TEXT = st.one_of(
 )
 
 
-@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+TIMESTEP_TEXT = st.sampled_from(["nan", "inf", "-1", "0", "abc", "", "1e-9", "1e-300", "0.2", "0.05", "0.01", "0.0025",
+                                 "0.001"])
+"""dt values: every kind of refusal, and valid ones that keep a 5-tau run short (a tiny valid dt would
+simply run long, which is not what this test is about; MAX_STEPS refuses the absurd ones)."""
+
+
+@settings(max_examples=60, deadline=None, derandomize=True, suppress_health_check=[HealthCheck.too_slow])
 @given(scene=st.sampled_from(ea.scenes.names()), engine=st.sampled_from(["reduced", "mujoco"]),
-       options=st.dictionaries(st.sampled_from(["--n", "--sigma", "--delta", "--kappa", "--rho", "--noise", "--dt",
+       options=st.dictionaries(st.sampled_from(["--n", "--sigma", "--delta", "--kappa", "--rho", "--noise",
                                                 "--mass-ratio", "--sample-dt", "--duration", "--transient", "--seed"]),
-                               NUMBER_TEXT, max_size=3))
-def test_cli_run_runs_or_refuses_in_one_line(scene, engine, options):
-    options = {"--n": "3", "--duration": "5", **options}
+                               NUMBER_TEXT, max_size=3),
+       dt=st.one_of(st.none(), TIMESTEP_TEXT))
+def test_cli_run_runs_or_refuses_in_one_line(scene, engine, options, dt):
+    options = {"--n": "3", "--duration": "5", **options, **({"--dt": dt} if dt is not None else {})}
     argv = ["run", scene, "--engine", engine, "--quiet"] + [x for kv in options.items() for x in kv]
     code, stderr = _run(argv)
     assert "Traceback" not in stderr, stderr

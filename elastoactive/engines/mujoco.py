@@ -23,6 +23,7 @@ from ..progress import progress_bar
 from ..trajectory import Trajectory
 
 CHECK_EVERY = 100  # samples between divergence checks
+MAX_STEPS = 1_000_000_000  # steps one run may take: ~1 h at N = 7, far more for long chains
 PROGRESS_EVERY = 0.25  # seconds between progress updates (a long chain's sample can take seconds)
 
 BAD_STATE_WARNINGS = (
@@ -63,6 +64,10 @@ def simulate_mujoco(
     if not duration > 0:
         raise ParameterError(f"duration (in tau) must be a positive number, got {duration}")
     t = numerics.sample_times(duration)
+    steps = (t.size - 1) * numerics.steps_per_sample
+    if steps > MAX_STEPS:
+        raise ParameterError(f"dt = {numerics.dt:g} over duration = {duration:g} tau is {steps:.2g} MuJoCo steps (limit "
+                             f"{MAX_STEPS:.0e}, hours of computing); raise --dt or shorten --duration")
     model, data = prepare(physics, numerics, theta0)
     pinned = physics.scene_def.pinned
     violation = pin_violation(model, data) if pinned else 0.0

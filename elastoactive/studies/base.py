@@ -21,6 +21,8 @@ from typing import Any, Callable, TypeVar
 
 import numpy as np
 
+from ..outputs import write_files
+
 from ..analysis.fits import Fit
 from ..batch import Case, run_cases
 from ..engines import ENGINES
@@ -161,16 +163,17 @@ class Study:
     summary: Summary | None = None
     wall_s: float = 0.0
 
-    def save(self, folder: Path) -> list[Path]:
-        """<name>.npz and <name>.json in `folder`."""
-        folder = Path(folder)
-        folder.mkdir(parents=True, exist_ok=True)
-        npz = folder / f"{self.name}.npz"
-        np.savez_compressed(npz, **{k: np.asarray(v) for k, v in self.data.items()})
-        js = folder / f"{self.name}.json"
-        js.write_text(json.dumps({"study": self.name, "size": self.size, "wall_s": to_jsonable(self.wall_s),
-                                  "summary": to_jsonable(self.summary)}, indent=2) + "\n")
-        return [npz, js]
+    def save(self, folder: Path, provenance: dict | None = None) -> list[Path]:
+        """<name>.npz and <name>.json in `folder`, written atomically together (the JSON, which may carry
+        the provenance record of elastoactive.outputs, last)."""
+        record = {"study": self.name, "size": self.size, "wall_s": to_jsonable(self.wall_s),
+                  "summary": to_jsonable(self.summary)}
+        if provenance is not None:
+            record["provenance"] = provenance
+        return write_files(Path(folder), {
+            f"{self.name}.npz": lambda tmp: np.savez_compressed(tmp, **{k: np.asarray(v) for k, v in self.data.items()}),
+            f"{self.name}.json": lambda tmp: tmp.write_text(json.dumps(record, indent=2) + "\n"),
+        })
 
     @classmethod
     def load(cls, folder: Path, name: str, summary_type: type[Summary]) -> "Study":

@@ -1,0 +1,223 @@
+"""Trustworthy runs: nothing lost, nothing silently wrong, every run reproducible (run, render, reproduce).
+
+Sweeps have their own such tests in test_sweep.py, the README's commands in test_readme.py, random inputs
+in test_properties.py, the library's pre-flight check in test_front_door.py.
+"""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+import elastoactive as ea
+from elastoactive import api, progress
+from elastoactive.cli import main
+from elastoactive.diagnose import check_timestep
+from elastoactive.results import load_trajectory
+
+RUN = ["run", "one-pinned", "--n", "4", "--sigma", "1.2", "--duration", "60", "--quiet"]
+
+
+def refused(capsys, argv, *words):
+    """main(argv) exits 2 with one 'elastoactive: error:' line containing every word."""
+    capsys.readouterr()  # what earlier calls printed
+    assert main(argv) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("elastoactive: error:"), err
+    for word in words:
+        assert word in err[0], (word, err[0])
+    return err[0]
+
+
+@pytest.fixture
+def no_simulation(monkeypatch):
+    """Fail the test if anything is simulated: the checks must come first."""
+    def boom(*args, **kwargs):
+        raise AssertionError("simulated before the options were checked")
+
+    monkeypatch.setattr(api, "run_engine", boom)
+
+
+# ------------------------------------------------------------------------------- silently wrong
+
+
+def test_short_window_gives_null_frequency_naming_the_fix(tmp_path, capsys):
+    assert main(["run", "one-pinned", "--duration", "50", "--engine", "reduced", "--quiet", "--out", str(tmp_path)]) == 0
+    captured = capsys.readouterr()
+    results = json.loads((tmp_path / "summary.json").read_text())["results"]
+    assert results["frequency"] is None and results["amplitude"] > 2  # clearly beating, but < 2 periods
+    assert "--duration" in captured.err and "warning" in captured.err
+
+
+def test_beat_regularity_is_reported():
+    clean = ea.measure(ea.simulate(ea.Physics(), duration=400, engine="reduced"))
+    assert clean.periodic is True and clean.period_spread < 1e-4 and not clean.notes
+    noisy = ea.measure(ea.simulate(ea.Physics(noise=0.1), duration=400, engine="reduced"))
+    assert noisy.periodic is False and noisy.period_spread > 0.01 and "not periodic" in noisy.notes[0]
+    short = ea.measure(ea.simulate(ea.Physics(), duration=80, engine="reduced"))
+    assert short.periodic is None and short.notes
+
+
+def test_suggested_settings_pass_the_check():
+    """A refusal's suggested setting is accepted (it used to suggest dt values that were refused next)."""
+    for physics, numerics in ((ea.Physics(scene="coupled-pair", kappa=1000), ea.Numerics(dt=0.0025)),
+                              (ea.Physics(n=30, sigma=100), ea.Numerics(dt=2e-5, sample_dt=0.05)),
+                              (ea.Physics(scene="two-pinned"), ea.Numerics(dt=0.04, sample_dt=0.04))):
+        with pytest.raises(ea.ParameterError) as err:
+            check_timestep(physics, numerics)
+        words = str(err.value).split("--dt ")[1].split()
+        dt, mass = float(words[0]), float(words[2])
+        check_timestep(physics, ea.Numerics(dt=dt, mass_ratio=mass, sample_dt=dt * max(1, round(0.05 / dt))))
+
+
+# ------------------------------------------------------------------------------- nothing lost
+
+
+def test_outputs_are_checked_before_simulating(tmp_path, capsys, no_simulation):
+    afile = tmp_path / "afile"
+    afile.write_text("x")
+    refused(capsys, RUN + ["--out", str(afile)], "--out", "is a file")
+    refused(capsys, RUN + ["--out", "/proc/elastoactive-test/run"], "--out", "cannot write")
+    refused(capsys, RUN + ["--transient", "60"], "transient")
+    refused(capsys, RUN + ["--video", str(tmp_path / "v.gif")], "--video", ".mp4")
+    refused(capsys, RUN + ["--video", str(tmp_path / "v.mp4"), "--width", "100000"], "width")
+    refused(capsys, RUN[:-5] + ["--duration", "1e9", "--quiet"], "duration", "--sample-dt")
+    refused(capsys, RUN[:-5] + ["--duration", "0.01", "--quiet"], "duration")
+    refused(capsys, RUN + ["--sample-dt", "1e9"], "--sample-dt")
+
+
+def test_a_failed_write_keeps_the_previous_run_whole(tmp_path, capsys, monkeypatch):
+    out = tmp_path / "run"
+    assert main(RUN + ["--out", str(out), "--engine", "reduced"]) == 0
+    before = {p.name: p.read_bytes() for p in out.iterdir()}
+
+    def full_disk(*args, **kwargs):
+        raise OSError(28, "No space left on device")
+
+    monkeypatch.setattr(np, "savez_compressed", full_disk)
+    with pytest.raises(OSError):
+        main(RUN + ["--out", str(out), "--engine", "reduced", "--force", "--sigma", "1.3"])
+    assert {p.name: p.read_bytes() for p in out.iterdir()} == before  # no temporary file left, nothing torn
+    load_trajectory(out)  # the pair still belongs together
+
+
+def test_summary_and_trajectory_must_belong_together(tmp_path, capsys):
+    for name, sigma in (("a", "1.2"), ("b", "1.3")):
+        assert main(RUN + ["--out", str(tmp_path / name), "--engine", "reduced", "--sigma", sigma]) == 0
+    (tmp_path / "a" / "trajectory.npz").write_bytes((tmp_path / "b" / "trajectory.npz").read_bytes())
+    with pytest.raises(ea.ParameterError, match="checksum"):
+        load_trajectory(tmp_path / "a")
+
+
+def test_an_earlier_run_is_not_replaced_without_force(tmp_path, capsys):
+    out = str(tmp_path / "run")
+    assert main(RUN + ["--out", out, "--engine", "reduced"]) == 0
+    assert main(RUN + ["--out", out, "--engine", "reduced"]) == 0  # the same run again: nothing is lost
+    refused(capsys, RUN + ["--out", out, "--engine", "reduced", "--sigma", "1.3"], "--force", "parameters")
+    assert main(RUN + ["--out", out, "--engine", "reduced", "--sigma", "1.3", "--force"]) == 0
+    assert json.loads((tmp_path / "run" / "summary.json").read_text())["parameters"]["sigma"] == 1.3
+
+
+# ------------------------------------------------------------------------------- clear messages
+
+
+def test_render_refuses_bad_inputs_in_one_line(tmp_path, capsys):
+    run = tmp_path / "run"
+    assert main(RUN + ["--out", str(run), "--engine", "reduced"]) == 0
+    capsys.readouterr()
+    png = str(tmp_path / "s.png")
+    refused(capsys, ["render", str(run), "--still", png, "--time", "nan"], "time")
+    refused(capsys, ["render", str(run), "--still", png, "--width", "100000"], "width")
+    refused(capsys, ["render", str(run)], "--output")
+    truncated = tmp_path / "truncated" / "trajectory.npz"
+    truncated.parent.mkdir()
+    (truncated.parent / "summary.json").write_text((run / "summary.json").read_text())
+    truncated.write_bytes((run / "trajectory.npz").read_bytes()[:500])
+    refused(capsys, ["render", str(truncated), "--still", png], "truncated")
+    wrong = tmp_path / "wrong"
+    wrong.mkdir()
+    summary = json.loads((run / "summary.json").read_text())
+    summary.pop("trajectory_sha256")
+    (wrong / "summary.json").write_text(json.dumps(summary))
+    np.savez(wrong / "trajectory.npz", t=np.arange(5.0), theta=np.zeros((5, 3)))
+    refused(capsys, ["render", str(wrong), "--still", png], "theta of shape")
+    np.savez(wrong / "trajectory.npz", t=np.arange(5.0), angles=np.zeros((5, 4)))
+    refused(capsys, ["render", str(wrong), "--still", png], "lacks the array")
+    theta = np.zeros((5, 4))
+    theta[3:] = np.nan
+    np.savez(wrong / "trajectory.npz", t=np.arange(5.0), theta=theta)
+    refused(capsys, ["render", str(wrong), "--still", png], "not finite", "t = 3")
+
+
+def test_reproduce_and_accuracy_options_are_checked(capsys, tmp_path, no_simulation):
+    refused(capsys, ["reproduce", "--only", "bogus", "--out", str(tmp_path)], "--only", "bogus", "hopf")
+    refused(capsys, ["reproduce", "--only", "", "--out", str(tmp_path)], "--only")
+    for command in ("reproduce", "accuracy"):
+        for workers in ("0", "-1"):
+            with pytest.raises(SystemExit) as exit_:
+                main([command, "--workers", workers])
+            assert exit_.value.code == 2 and "--workers" in capsys.readouterr().err
+
+
+def test_progress_writes_lines_in_a_log(monkeypatch, capsys):
+    monkeypatch.setattr(progress, "LOG_INTERVAL", 0.0)
+    bar = progress.progress_bar(10, "mujoco one-pinned", "sample")  # stderr is not a terminal under pytest
+    bar.update(5)
+    bar.close()
+    lines = capsys.readouterr().err.splitlines()
+    assert lines[0] == "mujoco one-pinned: 50% (5/10 samples, 0 s)" and "\r" not in "".join(lines)
+
+
+def test_progress_moves_within_a_run_of_slow_samples(monkeypatch):
+    """A long chain takes seconds per checked block of samples: the bar moves by wall time, not every 100 samples."""
+    from elastoactive.engines import mujoco as engine
+
+    updates = []
+
+    class Bar:
+        def update(self, n):
+            updates.append(n)
+
+        def close(self):
+            pass
+
+    monkeypatch.setattr(engine, "progress_bar", lambda *a, **k: Bar())
+    monkeypatch.setattr(engine, "PROGRESS_EVERY", 0.0)
+    engine.simulate_mujoco(ea.Physics(n=3), ea.Numerics(), 2.0, progress=True)
+    assert len(updates) == 40 and sum(updates) == 40  # every sample, not only every CHECK_EVERY = 100
+
+
+# ------------------------------------------------------------------------------- reproducible
+
+
+def test_summary_records_provenance(tmp_path):
+    assert main(RUN + ["--out", str(tmp_path), "--engine", "reduced"]) == 0
+    prov = json.loads((tmp_path / "summary.json").read_text())["provenance"]
+    assert set(prov["versions"]) >= {"elastoactive", "mujoco", "numpy", "scipy", "numba", "python"}
+    assert prov["command"] and prov["started_utc"].endswith("+00:00") and prov["wall_time_s"] > 0
+    assert "platform" in prov and "git_commit" in prov
+
+
+def test_from_reruns_a_recorded_mujoco_run_bit_identically(tmp_path):
+    first, again = tmp_path / "first", tmp_path / "again"
+    assert main(["run", "two-pinned", "--n", "5", "--sigma", "0.9", "--delta", "0.15", "--seed", "3", "--duration", "20",
+                 "--dt", "0.005", "--sample-dt", "0.05", "--quiet", "--out", str(first)]) == 0
+    assert main(["run", "--from", str(first / "summary.json"), "--out", str(again), "--quiet"]) == 0
+    with np.load(first / "trajectory.npz") as a, np.load(again / "trajectory.npz") as b:
+        np.testing.assert_array_equal(a["theta"], b["theta"])
+    s1, s2 = (json.loads((p / "summary.json").read_text()) for p in (first, again))
+    assert s1["parameters"] == s2["parameters"] and s1["numerics"] == s2["numerics"] and s1["results"] == s2["results"]
+    # an option beside --from overrides the record
+    assert main(["run", "--from", str(first), "--duration", "30", "--out", str(tmp_path / "longer"), "--quiet"]) == 0
+    assert json.loads((tmp_path / "longer" / "summary.json").read_text())["numerics"]["duration"] == 30
+
+
+def test_reproduce_records_provenance(tmp_path):
+    from elastoactive.reproduce import reproduce
+
+    reproduce(tmp_path, "tiny", 1, ["stability"], progress=False, log=lambda *a: None)
+    assert json.loads((tmp_path / "provenance.json").read_text())["versions"]["mujoco"]
+    assert "## Provenance" in (tmp_path / "report.md").read_text()
+    assert "provenance" in json.loads((tmp_path / "stability.json").read_text())

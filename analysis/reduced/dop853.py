@@ -3,7 +3,9 @@
 The algorithm is scipy's solve_ivp(method="DOP853") (E. Hairer and G. Wanner's DOP853: explicit
 Runge-Kutta of order 8 with 5th- and 3rd-order error estimators, the same error norm, initial step,
 step-size control and 7th-order dense output), written as one numba function that calls the
-compiled right-hand side (kernels.eval_rhs) directly, so a step costs no Python call. The
+compiled right-hand side (kernels.eval_rhs) directly, so a step costs no Python call. The right-hand
+side takes the dense Cholesky path for short chains and the O(N) articulated-drag recursion from
+kernels.RECURSIVE_MIN_N particles on (the workspace allocated here decides). The
 coefficients come from dop853_coefficients.py (a copy of scipy's). Taking the same steps as scipy,
 it agrees with solve_ivp(DOP853) on the same right-hand side to round-off.
 """
@@ -17,7 +19,7 @@ from numba import njit
 
 from . import dop853_coefficients as coef
 from .dop853_coefficients import INTERPOLATOR_POWER, N_STAGES, N_STAGES_EXTENDED
-from .kernels import eval_rhs
+from .kernels import eval_rhs, uses_recursive
 from .system import ChainSystem
 
 __all__ = ["integrate"]
@@ -60,8 +62,11 @@ def _dop853(y0, ts, system, beta, rtol, atol, A, B, C, E3, E5, DD, out):
     na = y0.size
     nch = system.n_chains
     n = system.n
-    L = np.zeros((nch, n, n))
-    D = np.zeros((n, n))
+    # the workspace of eval_rhs (kernels.make_workspace, allocated here, not by a call: the compiled
+    # arithmetic of a short chain's run then stays bit for bit what it was before the recursion)
+    m = 0 if uses_recursive(n) else n
+    L = np.zeros((nch, m, m))
+    D = np.zeros((n, n)) if m == n else np.zeros((nch * n, 4))
     X = np.zeros((n, 2))
     lam = np.zeros(2)
     fac = np.ones(na)

@@ -24,9 +24,51 @@ Then dr_i/dth_k = n_k [k <= i] and v_i = dr_i/dt = sum_{j<=i} n_j th'_j.
 * Two-pinned chain: g(th) = (sum cos th_i - N (1 - delta), sum sin th_i) = 0, G = dg/dth (2 x N). The
   index-2 DAE is replaced by its Baumgarte-stabilised index-1 form G th' = -beta g, i.e. each RHS
   evaluation solves the saddle-point system  [[D, G^T], [G, 0]] [th'; lam] = [f; -beta g]  (Schur
-  complement on the Cholesky factor of D). Drift off g = 0 decays at rate beta (default 10); the largest
+  complement: th' = y - X lam with D y = f, D X = G^T, (G X) lam = G y + beta g). Drift off g = 0 decays at rate beta (default 10); the largest
   |g| over the samples is reported by solve.constraint_violation (the engine's
   Trajectory.info["constraint_violation"]).
+
+Solving D th' = f in O(N): articulated drag (kernels.articulated_solve)
+---------------------------------------------------------------------
+D = J^T W J with J the 2N x N Jacobian of the positions (J_ik = n_k [k <= i]) and W = diag(W_i),
+W_i = gamma_L e_i e_i^T + gamma_T n_i n_i^T. Building D costs O(N^2) and factoring it O(N^3), but the
+chain structure solves it in O(N), as the articulated-body algorithm solves a chain's dynamics; here
+inertia is replaced by drag ("articulated drag"). Write w = th' and v_i = v_{i-1} + n_i w_i (v_0 = 0)
+for the particle velocities. Row k of D w = f reads
+
+    n_k . P_k = f_k,    P_k = sum_{i>=k} W_i v_i   (-P_k: the drag on particles k..N, which th_k shifts by n_k dth_k),
+
+and P_k = W_k v_k + P_{k+1}. Suppose P_{k+1} = A_{k+1} v_{k+1} + B_{k+1} (true for k + 1 = N with
+A_N = W_N, B_N = 0). Insert v_{k+1} = v_k + n_{k+1} w_{k+1} into row k + 1, with d = n^T A n, all at k + 1:
+
+    w_{k+1} = (f_{k+1} - n.B - (A n).v_k) / d,
+    P_{k+1} = (A - A n n^T A / d) v_k + B + A n (f_{k+1} - n.B) / d,
+
+so P_k = A_k v_k + B_k again, with A_k = W_k + A'_{k+1} and
+B_k = B_{k+1} + A_{k+1} n_{k+1} (f_{k+1} - n.B_{k+1}) / d_{k+1}.
+The downdated A' = A - A n n^T A / d is symmetric with A' n = 0, so in the plane it is rank one:
+A' = alpha e e^T with alpha = e^T A' e = det A / (n^T A n). (The subchain beyond a joint turns freely about
+it, so moving the joint meets resistance only along the subchain's first link.) Hence one scalar per
+joint: with s_k = sin(th_{k+1} - th_k) = e_{k+1}.n_k, c_k = cos(th_{k+1} - th_k), and alpha_{N+1} = 0,
+
+    A_k = W_k + alpha_{k+1} e_{k+1} e_{k+1}^T,    A_k n_k = gamma_T n_k + alpha_{k+1} s_k e_{k+1},
+    d_k = n_k^T A_k n_k = gamma_T + alpha_{k+1} s_k^2,
+    alpha_k = det A_k / d_k = (gamma_L gamma_T + alpha_{k+1} (gamma_L s_k^2 + gamma_T c_k^2)) / d_k
+
+(isotropic straight chain: alpha_k = N - k + 1, the number of particles k..N). The solve is
+
+  backward, k = N .. 1:  u_k = A_k n_k / d_k,  q_k = (f_k - n_k.B_k) / d_k,  B_{k-1} = B_k + A_k n_k q_k  (B_N = 0),
+                         then alpha_k;
+  forward,  k = 1 .. N:  w_k = q_k - u_k.v_{k-1},  v_k = v_{k-1} + n_k w_k  (v_0 = 0),
+
+O(1) work and one cosine/sine per joint, no N x N array. It is Gaussian elimination ordered from the tip
+(an LDL^T factorisation of D in disguise: the d_k are its pivots); the pivots d_k >= gamma_T > 0 and
+alpha_k >= 0, so it needs no pivoting, and it does not lose the ~cond(D) ~ N^2 factor of round-off that
+the dense Cholesky solve does. A new right-hand side changes only q and B: the pinned chain's
+X = D^-1 G^T rides along as two more right-hand sides (the columns of G^T, (-sin th_i) and (cos th_i), are
+n_i . x and n_i . y: the generalised forces of unit forces at the last particle), followed by the same
+2 x 2 Schur complement. The pair's D is block diagonal, so each chain is solved on its own (the coupling
+is in f only). The analytic Jacobian (implicit methods, stiff cases) stays dense and O(N^3).
 
 N = 2 (isotropic, one pinned end) gives exactly the paper's main-text Eqs. (1)-(2):
   2 th1' + cos(th1 - th2) th2' = th2 - 2 th1 + sigma sin(th1 - th2);  cos(th1 - th2) th1' + th2' = th1 - th2.

@@ -7,6 +7,25 @@ argument. The record must come through `ChainSystem.typed()` (the functions of s
 that the field types are always (int64, int64, bool, bool, float64 x 6) and each kernel is compiled,
 and cached on disk, once. The formulas are those of equations.py; rhs_reference there is the
 plain-numpy twin that tests hold these kernels to.
+
+Two solvers of D(th) th' = f(th)
+--------------------------------
+* dense (eval_rhs_dense): builds each chain's drag block D in O(N^2) (drag_block), factors it by
+  Cholesky in O(N^3) and solves. Its factors are what the analytic Jacobian (eval_jacobian) reuses:
+  the Jacobian, used only by the implicit methods on stiff cases, stays O(N^3) (it is a dense N x N
+  matrix D^-1 R anyway).
+* recursive (eval_rhs_recursive, articulated_solve): the O(N) "articulated drag" recursion derived in
+  equations.py (a backward pass carrying one scalar, the longitudinal drag alpha of the subchain
+  beyond each joint, and one bias vector per right-hand side; a forward pass for the rates); the
+  pinned chain's D^-1 G^T rides along as two more right-hand sides, then the same 2 x 2 Schur
+  complement as the dense path; the pair is solved chain by chain (its coupling is in f only).
+
+eval_rhs takes the path its workspace was sized for (`workspace`, `make_workspace`): dense below
+RECURSIVE_MIN_N particles per chain, recursive from there on. Below it the results are bit for bit
+those of the dense solver (as before the recursion existed); above it they agree with it to its
+round-off: the dense solve loses ~cond(D) ~ N^2 times the unit round-off, the recursion does not
+(at N = 400, 3e-13 - 8e-13 relative against 5e-15 - 1.5e-14, both measured against an extended-
+precision refinement).
 """
 
 from __future__ import annotations
@@ -19,24 +38,58 @@ from numba import njit
 from .system import ChainSystem
 
 __all__ = [
+    "RECURSIVE_MIN_N",
+    "articulated_solve",
     "chol_solve",
     "chol_solve_cols",
     "cholesky",
     "drag_block",
     "eval_jacobian",
     "eval_rhs",
+    "eval_rhs_dense",
+    "eval_rhs_recursive",
     "euler_maruyama",
     "forces",
+    "make_workspace",
     "restore_pins",
+    "uses_recursive",
     "workspace",
 ]
 
+RECURSIVE_MIN_N = 10
+"""Particles per chain from which eval_rhs solves by the O(N) recursion instead of dense Cholesky.
 
-def workspace(system: ChainSystem):
-    """Scratch arrays of eval_rhs / eval_jacobian: L (Cholesky factors per chain), D (one drag block),
-    X (D^-1 G^T), lam (multipliers)."""
-    n, nch = system.n, system.n_chains
-    return np.zeros((nch, n, n)), np.zeros((n, n)), np.zeros((n, 2)), np.zeros(2)
+Not a speed crossover: measured (numba, one core of the development machine; us per evaluation, one
+chain / two-pinned), the recursion is faster at every N >= 2: N = 2: 0.19 / 0.23 against 0.27 / 0.41 dense;
+N = 7: 0.32 / 0.37 against 0.54 / 0.91; N = 9: 0.38 / 0.43 against 0.68 / 1.25; N = 100: 2.7 / 3.0 against
+95 / 107. Below 10 the dense path costs at most ~1 us more per evaluation, and keeping it there keeps
+every run of the paper's chains (N = 2, 7, 9) bit for bit what it was before the recursion existed.
+Lower it to 2 to take the recursion everywhere (results then change at round-off only)."""
+
+
+@njit(cache=True)
+def uses_recursive(n):
+    """Whether a chain of n particles is solved by the O(N) recursion (n >= RECURSIVE_MIN_N)."""
+    return n >= RECURSIVE_MIN_N
+
+
+@njit(cache=True)
+def make_workspace(nch, n, dense):
+    """Scratch arrays (L, D, X, lam) of eval_rhs for nch chains of n particles. dense: L (nch, n, n)
+    Cholesky factors, D (n, n) one drag block; recursive: L (nch, 0, 0) (its mark: eval_rhs takes
+    the dense path iff L holds n x n factors), D (nch * n, 4) the per-joint records of articulated_solve.
+    Both: X (n, 2) D^-1 G^T, lam (2) multipliers of a pinned chain."""
+    if dense:
+        return np.zeros((nch, n, n)), np.zeros((n, n)), np.zeros((n, 2)), np.zeros(2)
+    return np.zeros((nch, 0, 0)), np.zeros((nch * n, 4)), np.zeros((n, 2)), np.zeros(2)
+
+
+def workspace(system: ChainSystem, dense: bool | None = None):
+    """Scratch arrays (L, D, X, lam) of eval_rhs / eval_jacobian (see make_workspace). dense: None picks
+    by N (the dense path below RECURSIVE_MIN_N); eval_jacobian needs dense=True."""
+    if dense is None:
+        dense = not uses_recursive(system.n)
+    return make_workspace(system.n_chains, system.n, bool(dense))
 
 
 @njit(cache=True)
@@ -54,6 +107,30 @@ def drag_block(th, off, n, gl, gt, D):
         for j in range(m + 1):
             cj = math.cos(th[off + j])
             sj = math.sin(th[off + j])
+            v = sj * sm * sxx - (sj * cm + cj * sm) * sxy + cj * cm * syy
+            D[j, m] = v
+            D[m, j] = v
+
+
+@njit(cache=True)
+def _drag_block_cached(th, off, n, gl, gt, D, CS):
+    """drag_block with the n cosines and sines computed once (into CS[:n, 0:2]) instead of O(N^2) times:
+    the same arithmetic in the same order, so bit for bit the same D."""
+    for j in range(n):
+        CS[j, 0] = math.cos(th[off + j])
+        CS[j, 1] = math.sin(th[off + j])
+    sxx = 0.0
+    sxy = 0.0
+    syy = 0.0
+    for m in range(n - 1, -1, -1):
+        cm = CS[m, 0]
+        sm = CS[m, 1]
+        sxx += gl * cm * cm + gt * sm * sm
+        sxy += (gl - gt) * cm * sm
+        syy += gl * sm * sm + gt * cm * cm
+        for j in range(m + 1):
+            cj = CS[j, 0]
+            sj = CS[j, 1]
             v = sj * sm * sxx - (sj * cm + cj * sm) * sxy + cj * cm * syy
             D[j, m] = v
             D[m, j] = v
@@ -134,69 +211,222 @@ def forces(th, fac, off, n, sigma, c, clamped, out):
 
 
 @njit(cache=True)
+def _chain_forces(th, fac, system, out):
+    """out = f(th) = -dU/dth + Q (springs, follower forces, the pair's coupling) of every chain."""
+    n = system.n
+    for ch in range(system.n_chains):
+        c = 1.0 if ch == 0 else system.rho
+        forces(th, fac, ch * n, n, system.sigma, c, system.clamped, out)
+    if system.n_chains == 2:
+        d = system.kappa * (th[0] - th[n])
+        out[0] -= d
+        out[n] += d
+
+
+@njit(cache=True)
+def _pin_correction(th, n, beta, delta, out, X, lam, CS, cached):
+    """Given out = D^-1 f and X = D^-1 G^T (chain 1), solve the Schur complement (G X) lam = G out + beta g
+    and set out -= X lam: the rates of the Baumgarte-stabilised saddle point. cached: cos th_i, sin th_i
+    are in CS[i, 2], CS[i, 3] (else computed; the same numbers either way)."""
+    g0 = -n * (1.0 - delta)
+    g1 = 0.0
+    for i in range(n):
+        if cached:
+            g0 += CS[i, 2]
+            g1 += CS[i, 3]
+        else:
+            g0 += math.cos(th[i])
+            g1 += math.sin(th[i])
+    # Schur complement S = G X, right side G y + beta g
+    s00 = 0.0
+    s01 = 0.0
+    s10 = 0.0
+    s11 = 0.0
+    r0 = beta * g0
+    r1 = beta * g1
+    for i in range(n):
+        if cached:
+            ci = CS[i, 2]
+            si = CS[i, 3]
+        else:
+            ci = math.cos(th[i])
+            si = math.sin(th[i])
+        s00 -= si * X[i, 0]
+        s01 -= si * X[i, 1]
+        s10 += ci * X[i, 0]
+        s11 += ci * X[i, 1]
+        r0 -= si * out[i]
+        r1 += ci * out[i]
+    det = s00 * s11 - s01 * s10
+    l0 = (s11 * r0 - s01 * r1) / det
+    l1 = (s00 * r1 - s10 * r0) / det
+    lam[0] = l0
+    lam[1] = l1
+    for i in range(n):
+        out[i] -= X[i, 0] * l0 + X[i, 1] * l1
+
+
+@njit(cache=True)
 def eval_rhs(th, fac, system, beta, out, L, D, X, lam):
-    """out = th' at th (force factors fac, Baumgarte rate beta); leaves Cholesky factors in L, D^-1 G^T in X,
-    multipliers in lam (L, D, X, lam: the arrays of `workspace`)."""
+    """out = th' at th (force factors fac, Baumgarte rate beta), by the path the workspace (L, D, X, lam,
+    from `workspace` / `make_workspace`) was sized for: dense Cholesky when L holds n x n factors
+    (eval_rhs_dense), else the O(N) recursion (eval_rhs_recursive). X, lam: as in eval_rhs_dense."""
+    if L.shape[1] >= system.n:
+        eval_rhs_dense(th, fac, system, beta, out, L, D, X, lam)
+    else:
+        eval_rhs_recursive(th, fac, system, beta, out, D, X, lam)
+
+
+@njit(cache=True)
+def eval_rhs_dense(th, fac, system, beta, out, L, D, X, lam):
+    """out = th' at th (force factors fac, Baumgarte rate beta) by dense Cholesky, O(N^3); leaves Cholesky
+    factors in L, D^-1 G^T in X, multipliers in lam (L, D, X, lam: a dense workspace, L (nch, n, n),
+    D (n, n), X (n, 2), lam (2))."""
     n = system.n
     nch = system.n_chains
-    clamped = system.clamped
-    pinned = system.pinned
-    sigma = system.sigma
-    gl = system.gamma_l
-    gt = system.gamma_t
-    kappa = system.kappa
-    rho = system.rho
+    if L.shape[0] < nch or L.shape[1] < n or D.shape[0] < n or D.shape[1] < n or X.shape[0] < n:
+        raise ValueError("eval_rhs_dense needs a dense workspace (L of shape (n_chains, n, n), D (n, n))")
+    _chain_forces(th, fac, system, out)
     for ch in range(nch):
-        c = 1.0 if ch == 0 else rho
-        forces(th, fac, ch * n, n, sigma, c, clamped, out)
+        _drag_block_cached(th, ch * n, n, system.gamma_l, system.gamma_t, D, X)  # X: scratch until the pins
+        cholesky(D, L[ch])
+        chol_solve(L[ch], out, ch * n)
+    if system.pinned:
+        for i in range(n):
+            X[i, 0] = -math.sin(th[i])
+            X[i, 1] = math.cos(th[i])
+        chol_solve_cols(L[0], X, 0)
+        _pin_correction(th, n, beta, system.delta, out, X, lam, X, False)
+
+
+@njit(cache=True, error_model="numpy")  # no zero-division checks: d_k >= gamma_T > 0
+def articulated_solve(off, n, gl, gt, b, U, X, ncols):
+    """Solve D w = b[off:off+n] in place for the chain of angles th[off:off+n] in O(N) by the articulated-drag
+    recursion (equations.py), and with ncols = 2 also D Y = G^T (G^T = (-sin th_i, cos th_i) as columns,
+    the pinned chain's constraint directions), written into X[:n, :2]. U: rows off .. off+n-1 hold
+    (., ., cos th_k, sin th_k) on entry; columns 0-1 (A_k n_k / d_k) are scratch."""
+    # backward pass: alpha = longitudinal articulated drag of the subchain beyond joint k, along
+    # e_{k+1}; (bx, by), (px, py), (qx, qy) = its bias force B, one per right-hand side
+    alpha = 0.0
+    c1 = 1.0
+    s1 = 0.0
+    bx = 0.0
+    by = 0.0
+    px = 0.0
+    py = 0.0
+    qx = 0.0
+    qy = 0.0
+    for k in range(n - 1, -1, -1):
+        c = U[off + k, 2]
+        s = U[off + k, 3]
+        sd = s1 * c - c1 * s  # e_{k+1} . n_k = sin(th_{k+1} - th_k)
+        cd = c1 * c + s1 * s  # e_{k+1} . e_k = cos(th_{k+1} - th_k)
+        # A_k = gl e_k e_k^T + gt n_k n_k^T + alpha e_{k+1} e_{k+1}^T;  a = A_k n_k, d = n_k^T A_k n_k
+        t = alpha * sd
+        ax = -gt * s + t * c1
+        ay = gt * c + t * s1
+        d = gt + t * sd
+        r = 1.0 / d
+        # q_k = (b_k - n_k . B) / d, stored in place of b_k; then B += a q_k
+        qk = (b[off + k] + s * bx - c * by) * r
+        b[off + k] = qk
+        bx += ax * qk
+        by += ay * qk
+        if ncols == 2:
+            x0 = (-s + s * px - c * py) * r
+            x1 = (c + s * qx - c * qy) * r
+            X[k, 0] = x0
+            X[k, 1] = x1
+            px += ax * x0
+            py += ay * x0
+            qx += ax * x1
+            qy += ay * x1
+        U[off + k, 0] = ax * r
+        U[off + k, 1] = ay * r
+        # alpha_k = det(A_k) / (n_k^T A_k n_k)
+        alpha = (gl * gt + alpha * (gl * sd * sd + gt * cd * cd)) * r
+        c1 = c
+        s1 = s
+    # forward pass: w_k = q_k - (A_k n_k / d_k) . v_{k-1},  v_k = v_{k-1} + n_k w_k
+    vx = 0.0
+    vy = 0.0
+    ux0 = 0.0
+    uy0 = 0.0
+    ux1 = 0.0
+    uy1 = 0.0
+    for k in range(n):
+        gx = U[off + k, 0]
+        gy = U[off + k, 1]
+        c = U[off + k, 2]
+        s = U[off + k, 3]
+        w = b[off + k] - (gx * vx + gy * vy)
+        b[off + k] = w
+        vx -= s * w
+        vy += c * w
+        if ncols == 2:
+            w0 = X[k, 0] - (gx * ux0 + gy * uy0)
+            w1 = X[k, 1] - (gx * ux1 + gy * uy1)
+            X[k, 0] = w0
+            X[k, 1] = w1
+            ux0 -= s * w0
+            uy0 += c * w0
+            ux1 -= s * w1
+            uy1 += c * w1
+
+
+@njit(cache=True)
+def _forces_cached(th, fac, off, n, sigma, c, clamped, CS, out):
+    """forces() with cos th_k, sin th_k read from CS[k, 2], CS[k, 3] (the same numbers, the same arithmetic)."""
+    for i in range(n):
+        f = 0.0
+        if i == 0:
+            if clamped:
+                f -= c * th[off]
+        else:
+            f += c * (th[off + i - 1] - th[off + i])
+        if i < n - 1:
+            f += c * (th[off + i + 1] - th[off + i])
+        out[off + i] = f
+    px = 0.0
+    py = 0.0
+    for k in range(n - 1, -1, -1):
+        ck = CS[off + k, 2]
+        sk = CS[off + k, 3]
+        px -= sigma * fac[off + k] * ck
+        py -= sigma * fac[off + k] * sk
+        out[off + k] += -sk * px + ck * py
+
+
+@njit(cache=True)
+def eval_rhs_recursive(th, fac, system, beta, out, U, X, lam):
+    """out = th' at th (force factors fac, Baumgarte rate beta) by the O(N) articulated-drag recursion;
+    leaves D^-1 G^T in X and the multipliers in lam (pinned). U (n_angles, 4), X (n, 2), lam (2): scratch
+    (a recursive workspace's D, X, lam); one cosine and sine per angle, kept in U."""
+    n = system.n
+    nch = system.n_chains
+    if U.shape[0] < n * nch or U.shape[1] < 4 or X.shape[0] < n:
+        raise ValueError("eval_rhs_recursive needs scratch U of shape (n_angles, 4) and X (n, 2)")
+    for i in range(n * nch):
+        U[i, 2] = math.cos(th[i])
+        U[i, 3] = math.sin(th[i])
+    for ch in range(nch):
+        c = 1.0 if ch == 0 else system.rho
+        _forces_cached(th, fac, ch * n, n, system.sigma, c, system.clamped, U, out)
     if nch == 2:
-        d = kappa * (th[0] - th[n])
+        d = system.kappa * (th[0] - th[n])
         out[0] -= d
         out[n] += d
     for ch in range(nch):
-        drag_block(th, ch * n, n, gl, gt, D)
-        cholesky(D, L[ch])
-        chol_solve(L[ch], out, ch * n)
-    if pinned:
-        delta = system.delta
-        g0 = -n * (1.0 - delta)
-        g1 = 0.0
-        for i in range(n):
-            ci = math.cos(th[i])
-            si = math.sin(th[i])
-            g0 += ci
-            g1 += si
-            X[i, 0] = -si
-            X[i, 1] = ci
-        chol_solve_cols(L[0], X, 0)
-        # Schur complement S = G X, right side G y + beta g
-        s00 = 0.0
-        s01 = 0.0
-        s10 = 0.0
-        s11 = 0.0
-        r0 = beta * g0
-        r1 = beta * g1
-        for i in range(n):
-            ci = math.cos(th[i])
-            si = math.sin(th[i])
-            s00 -= si * X[i, 0]
-            s01 -= si * X[i, 1]
-            s10 += ci * X[i, 0]
-            s11 += ci * X[i, 1]
-            r0 -= si * out[i]
-            r1 += ci * out[i]
-        det = s00 * s11 - s01 * s10
-        l0 = (s11 * r0 - s01 * r1) / det
-        l1 = (s00 * r1 - s10 * r0) / det
-        lam[0] = l0
-        lam[1] = l1
-        for i in range(n):
-            out[i] -= X[i, 0] * l0 + X[i, 1] * l1
+        ncols = 2 if (system.pinned and ch == 0) else 0
+        articulated_solve(ch * n, n, system.gamma_l, system.gamma_t, out, U, X, ncols)
+    if system.pinned:
+        _pin_correction(th, n, beta, system.delta, out, X, lam, U, True)
 
 
 @njit(cache=True)
 def eval_jacobian(th, system, beta, J, L, D, X, lam):
-    """Analytic Jacobian d(th')/d(th) of the deterministic ODE (fac = 1), written into J."""
+    """Analytic Jacobian d(th')/d(th) of the deterministic ODE (fac = 1), written into J. O(N^3): it
+    reuses the dense path's Cholesky factors, so L, D, X, lam must be a dense workspace."""
     n = system.n
     nch = system.n_chains
     clamped = system.clamped
@@ -209,7 +439,7 @@ def eval_jacobian(th, system, beta, J, L, D, X, lam):
     na = n * nch
     fac = np.ones(na)
     w = np.empty(na)
-    eval_rhs(th, fac, system, beta, w, L, D, X, lam)
+    eval_rhs_dense(th, fac, system, beta, w, L, D, X, lam)
     R = J
     R[:, :] = 0.0
     cs = np.cos(th)
@@ -371,8 +601,9 @@ def euler_maruyama(y, k0, facs, dt, system, beta, sidx, out, jptr):
     n = system.n
     nch = system.n_chains
     na = y.size
-    L = np.zeros((nch, n, n))
-    D = np.zeros((n, n))
+    m = 0 if uses_recursive(n) else n  # make_workspace, inlined as in dop853._dop853
+    L = np.zeros((nch, m, m))
+    D = np.zeros((n, n)) if m == n else np.zeros((nch * n, 4))
     X = np.zeros((n, 2))
     lam = np.zeros(2)
     f = np.empty(na)

@@ -99,3 +99,24 @@ def test_every_readme_python_block_runs(tmp_path):
     for code in blocks:
         result = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, capture_output=True, text=True, timeout=600)
         assert result.returncode == 0, f"{code}\n{result.stderr[-2000:]}"
+
+
+def test_readme_tables_come_from_the_committed_reports():
+    """The README's claims, validate and convergence tables equal the committed report files."""
+    result = subprocess.run([sys.executable, str(ROOT / "scripts" / "update_readme.py"), "--check"],
+                            capture_output=True, text=True, timeout=60)
+    assert result.returncode == 0, result.stderr
+
+
+def test_committed_report_matches_the_code():
+    """docs/reproduction/report.md was written by today's code: its claims and sigma_c tables equal those
+    the code builds from the committed study data (so a change of wording or of a number shows here)."""
+    from elastoactive import claims
+    from elastoactive.studies import STUDIES, load_study
+
+    folder = ROOT / "docs" / "reproduction"
+    studies = {name: load_study(folder, name) for name in STUDIES}
+    report = (folder / "report.md").read_text()
+    assert claims.claims_table(claims.build_claims(studies)) in report
+    stability = studies["stability"]
+    assert claims.sigma_c_table(stability, every=1 if stability.summary.n_max <= 20 else 4) in report

@@ -22,8 +22,6 @@ stable but measured to be wrong (docs/performance.md, scripts/stability_grid.py)
   so the stability limit above is infinite, yet modes grow at up to ~17 sigma N^0.7 / tau); for
   discrete, whose springs are implicit, the growing modes and the follower forces (and every mode
   for the two-pinned chain, whose pin relaxes over 2 dt);
-* overdamped limit: mass_ratio * rate <= INERTIA_RESOLUTION (the inertial time m / gamma must be
-  short against the fastest resolved time);
 * the pin (two-pinned, all integrators but discrete): dt^3 / mass_ratio <= PIN_DT3_PER_MASS. The pin
   is a soft constraint whose restoring force scales with the particle mass over (2 dt)^2; measured
   on the paper's two-pinned case, its largest violation is about 2 dt^3 / mass_ratio (in l) up to
@@ -32,16 +30,42 @@ stable but measured to be wrong (docs/performance.md, scripts/stability_grid.py)
 * discrete on long chains: a few probe steps; MuJoCo 4.0's effective-metric solve (M + hD + h^2 K)
   fails to converge from N ~ 30-50 on (mjWARN_INERTIA, residuals up to 1e2) and the run is then
   silently wrong.
+
+The mass ratio is physics, not a numerical setting to refuse. `regime` (elastoactive.engines.reduced.regime,
+the one criterion: mass_ratio x fastest overdamped rate at the base state vs INERTIA_RESOLUTION = 0.1)
+classifies a run:
+
+* overdamped (inside the limit): both engines model the paper's overdamped chain, MuJoCo with a small mass;
+  every check above applies as it always did.
+* inertial (outside the limit): both engines model the chain with particles of that mass (the reduced
+  engine integrates its inertial model), so the mass is no longer refused. The timestep checks then use
+  the inertial linearisation M q'' + D q' = F q at the base state instead of the overdamped one:
+  - stability: the linearised step of the integrator, S(h) (implicitfast / implicit: v' = (M + hD)^-1
+    (M v + hF q), q' = q + h v'; Euler: the same with the drag explicit; RK4: the Taylor polynomial of
+    the companion matrix), may have no more eigenvalues |z| > 1 than the chain has growing modes; the
+    largest such h (bisection) is the limit;
+  - accuracy: dt x inertial_rate <= RESOLUTION, inertial_rate = the fastest eigenvalue |lambda| of the
+    quadratic problem (lambda^2 M + lambda D - F) x = 0 that the step must resolve: every mode but the
+    drag relaxations: with x a mode's shape, lambda solves m lambda^2 + d lambda + k = 0 (m = x^H M x,
+    d = x^H D x, k = -x^H F x), and the drag relaxations are its fast roots, ~ -gamma/m, decaying at least at
+    d / 2m and oscillating no faster than they decay. Those are taken implicitly by implicitfast and
+    implicit, whose backward-Euler step slaves them exactly to first order however large dt gamma / m is;
+    the slow relaxations, the growing modes and every oscillation (the inertial oscillations, sqrt(K/M))
+    are explicit in the springs and follower forces, forward-Euler-like with error ~ dt |lambda| / 2.
+    For discrete the oscillations are added to its own rates. Measured: at the default dt = 0.0025 the
+    paper's cases agree with the inertial reduced model within 0.07% at mass ratios 0.01, 0.5 and 10
+    (elastoactive validate --mass-ratio).
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from dataclasses import replace
 
 import mujoco
 import numpy as np
 
+from .analysis.reduced import INERTIA_RESOLUTION  # noqa: F401  (re-exported: the overdamped limit)
 from .controllers import follower_forces
 from .errors import ParameterError
 from .model import build_model, prepare
@@ -57,8 +81,9 @@ EXPLICIT_DRAG = {"Euler": 2.0, "RK4": RK4_STABILITY}
 # and ~10% (transient angles); the project's defaults and the 'fast' preset pass with margin.
 RESOLUTION = 0.2
 DISCRETE_RESOLUTION = 0.03
-INERTIA_RESOLUTION = 0.1
 PIN_DT3_PER_MASS = 0.01
+# INERTIA_RESOLUTION (0.1, the overdamped limit) lives with its criterion in analysis/reduced/regime.py
+INERTIAL_STEP_INTEGRATORS = ("implicitfast", "implicit", "Euler", "RK4")  # linearised step known (module docstring)
 PROBE_STEPS = 5
 
 
@@ -71,11 +96,27 @@ class StabilityLimits:
     growing_rate: float = 0.0  # largest |lambda| of the growing modes (Re lambda > 0), 1/tau
     follower_rate: float = 0.0  # largest rate of the follower-only (antisymmetric) part, 1/tau
     pinned: bool = False
+    # the regime (module docstring): "overdamped" or "inertial", at this mass ratio
+    model: str = "overdamped"
+    mass_ratio: float = 0.0
+    inertia_number: float = 0.0  # mass_ratio x fastest overdamped rate (at the base state)
+    inertial_rate: float = 0.0  # inertial regime: fastest mode the step must resolve, 1/tau
+    oscillation_rate: float = 0.0  # inertial regime: fastest oscillating mode |lambda|, 1/tau
+    inertial_growing_rate: float = 0.0  # inertial regime: fastest growing mode |lambda|, 1/tau
+    step_limits: dict = field(default_factory=dict)  # inertial regime: largest stable dt per integrator
+
+    @property
+    def inertial(self) -> bool:
+        """Outside the overdamped limit: both engines model the inertial chain."""
+        return self.model == "inertial"
 
     def accuracy_rate(self, integrator: str) -> float:
         """Fastest rate the integrator must resolve for an accurate run (see the module docstring)."""
         if integrator == "discrete" and not self.pinned:
-            return max(self.growing_rate, self.follower_rate)
+            rate = max(self.growing_rate, self.follower_rate)
+            return max(rate, self.oscillation_rate) if self.inertial else rate
+        if self.inertial:
+            return max(self.inertial_rate, self.oscillation_rate) if integrator == "discrete" else self.inertial_rate
         return self.fastest_rate
 
     def accuracy_limit(self, integrator: str) -> float:
@@ -86,6 +127,8 @@ class StabilityLimits:
 
     def limit(self, integrator: str) -> float:
         """Largest stable dt for an integrator (linear estimate)."""
+        if self.inertial and integrator in self.step_limits:
+            return self.step_limits[integrator]
         if integrator == "discrete":
             return self.follower_dt
         dt = self.spring_dt
@@ -169,6 +212,12 @@ def stability_limits(physics: Physics, numerics: Numerics, qpos: np.ndarray | No
     # follower-only part: remove the symmetric (conservative) part of F
     follower = np.linalg.eigvals(np.linalg.solve(D, 0.5 * (F - F.T)))
     growing = overdamped[overdamped.real > 1e-12]
+    reg = regime(physics, numerics)
+    extra = {}
+    if reg.inertial:
+        resolved, oscillating, growing_in = inertial_rates(M, D, F)
+        extra = dict(inertial_rate=resolved, oscillation_rate=oscillating, inertial_growing_rate=growing_in,
+                     step_limits={name: step_limit(M, D, F, name) for name in INERTIAL_STEP_INTEGRATORS})
     return StabilityLimits(
         spring_dt=_explicit_limit(overdamped),
         drag_dt=2.0 / float(np.max(inertial)),
@@ -177,7 +226,99 @@ def stability_limits(physics: Physics, numerics: Numerics, qpos: np.ndarray | No
         growing_rate=float(np.max(np.abs(growing))) if growing.size else 0.0,
         follower_rate=float(np.max(np.abs(follower.imag))) if follower.size else 0.0,
         pinned=bool(model.neq),
+        model=reg.model, mass_ratio=reg.mass_ratio, inertia_number=reg.inertia_number, **extra,
     )
+
+
+def regime(physics: Physics, numerics: Numerics):
+    """Which physics this mass ratio gives: elastoactive.engines.reduced.regime (the one criterion), a Regime
+    with model "overdamped" or "inertial" (module docstring)."""
+    from .engines.reduced import regime as _regime  # start-up time: the reduced engine loads numba
+
+    return _regime(physics, numerics)
+
+
+def _companion(M: np.ndarray, D: np.ndarray, F: np.ndarray) -> np.ndarray:
+    """A of (q, v)' = A (q, v) for M q'' + D q' = F q."""
+    n = M.shape[0]
+    return np.block([[np.zeros((n, n)), np.eye(n)], [np.linalg.solve(M, F), -np.linalg.solve(M, D)]])
+
+
+def inertial_rates(M: np.ndarray, D: np.ndarray, F: np.ndarray) -> tuple[float, float, float]:
+    """(fastest |lambda| a step must resolve, fastest |lambda| of a resolved oscillating mode, fastest |lambda| of
+    a growing mode) of M q'' + D q' = F q: every eigenvalue but the drag relaxations (module docstring). With x
+    the mode's shape, lambda solves m lambda^2 + d lambda + k = 0 for m = x^H M x, d = x^H D x, k = -x^H F x; a drag
+    relaxation is the fast root, decaying at least at the drag rate d / 2m and not oscillating faster than
+    it decays: -Re lambda >= d / 2m and |Im lambda| <= -Re lambda (a real one: |lambda| >= d / 2m)."""
+    n = M.shape[0]
+    if n == 0:
+        return 0.0, 0.0, 0.0
+    lam, vec = np.linalg.eig(_companion(M, D, F))
+    scale = max(float(np.max(np.abs(lam))), 1e-300)
+    resolved = oscillating = growing = 0.0
+    for k, value in enumerate(lam):
+        x = vec[:n, k]
+        mx, dx = float(np.real(np.conj(x) @ M @ x)), float(np.real(np.conj(x) @ D @ x))
+        decay = -value.real
+        if decay > 0 and decay * mx >= 0.5 * dx * (1 - 1e-9) and abs(value.imag) <= decay:
+            continue  # a drag relaxation
+        resolved = max(resolved, abs(value))
+        if abs(value.imag) > 1e-9 * scale:
+            oscillating = max(oscillating, abs(value))
+        if value.real > 1e-12:
+            growing = max(growing, abs(value))
+    return resolved, oscillating, growing
+
+
+def step_matrix(M: np.ndarray, D: np.ndarray, F: np.ndarray, h: float, integrator: str) -> np.ndarray:
+    """The integrator's linearised step (q, v) -> (q, v) of M q'' + D q' = F q (springs and follower forces F
+    explicit everywhere; the drag D implicit in implicitfast and implicit, explicit in Euler; RK4 classical)."""
+    n = M.shape[0]
+    eye = np.eye(n)
+    if integrator in ("implicitfast", "implicit", "Euler"):
+        if integrator == "Euler":
+            B = np.linalg.inv(M)
+            P = eye - h * B @ D
+        else:
+            B = np.linalg.inv(M + h * D)
+            P = B @ M
+        BF = h * (B @ F)
+        return np.block([[eye + h * BF, h * P], [BF, P]])
+    if integrator == "RK4":
+        hA = h * _companion(M, D, F)
+        S = np.eye(2 * n)
+        term = np.eye(2 * n)
+        for k in range(1, 5):
+            term = term @ hA / k
+            S = S + term
+        return S
+    raise ParameterError(f"no linearised step for integrator {integrator!r}")
+
+
+def step_limit(M: np.ndarray, D: np.ndarray, F: np.ndarray, integrator: str, ceiling: float = 1.0) -> float:
+    """Largest dt whose linearised step (step_matrix) has no more eigenvalues |z| > 1 than the chain has growing
+    modes (bisection in log dt; inf when stable up to `ceiling`)."""
+    n = M.shape[0]
+    if n == 0:
+        return np.inf
+    lam = np.linalg.eigvals(_companion(M, D, F))
+    growing = int(np.sum(lam.real > 1e-7 * max(float(np.max(np.abs(lam))), 1e-300)))
+
+    def stable(h: float) -> bool:
+        z = np.abs(np.linalg.eigvals(step_matrix(M, D, F, h, integrator)))
+        return int(np.sum(z > 1.0 + 1e-6)) <= growing
+
+    if stable(ceiling):
+        return np.inf
+    lo, hi = 1e-9, ceiling
+    if not stable(lo):
+        return 0.0
+    for _ in range(60):
+        if hi / lo < 1.0 + 1e-4:
+            break
+        mid = np.sqrt(lo * hi)
+        lo, hi = (mid, hi) if stable(mid) else (lo, mid)
+    return float(lo)
 
 
 def _down(x: float) -> float:
@@ -209,13 +350,9 @@ def largest_dt(limits: StabilityLimits, numerics: Numerics, accuracy: bool = Tru
 
 
 def passing_setting(limits: StabilityLimits, numerics: Numerics) -> tuple[float, float]:
-    """(dt, mass_ratio) that passes every check for this integrator: the mass ratio lowered into the
-    overdamped limit if needed, then the largest dt at that mass (explicit-drag integrators need
-    dt < 2 m / gamma, so their mass ratio is kept)."""
+    """(dt, mass_ratio) that passes every check for this integrator: the largest dt at the run's mass ratio.
+    The mass is kept: it is physics (outside the overdamped limit both engines model the inertial chain)."""
     m = numerics.mass_ratio
-    rate = limits.accuracy_rate(numerics.integrator)
-    if numerics.integrator not in EXPLICIT_DRAG and rate > 0 and m * rate > INERTIA_RESOLUTION:
-        m = _down(INERTIA_RESOLUTION / rate)
     return largest_dt(limits, replace(numerics, mass_ratio=m)), m
 
 
@@ -231,7 +368,11 @@ def check_timestep(physics: Physics, numerics: Numerics, safety: float = 1.0, ac
     dt_max = limits.limit(numerics.integrator)
     if numerics.dt > safety * dt_max:
         cause = (
-            f"the particle mass: {numerics.integrator} treats the drag explicitly and needs dt < {limits.drag_dt * EXPLICIT_DRAG.get(numerics.integrator, 2.0) / 2:.3g} "
+            f"the inertial chain (mass_ratio = {numerics.mass_ratio:g}, outside the overdamped limit: "
+            f"m x rate = {limits.inertia_number:.2g}) is unstable under {numerics.integrator} for larger dt (its "
+            f"linearised step at the base state); use dt <= {largest_dt(limits, numerics, accuracy):.2g}"
+            if limits.inertial and numerics.integrator in limits.step_limits
+            else f"the particle mass: {numerics.integrator} treats the drag explicitly and needs dt < {limits.drag_dt * EXPLICIT_DRAG.get(numerics.integrator, 2.0) / 2:.3g} "
             f"at mass_ratio = {numerics.mass_ratio:g}; raise mass_ratio or use integrator implicitfast"
             if numerics.integrator in EXPLICIT_DRAG and dt_max < limits.spring_dt
             else f"the stiffest overdamped mode (rate {limits.fastest_rate:.3g}/tau) is integrated explicitly by "
@@ -248,13 +389,32 @@ def check_timestep(physics: Physics, numerics: Numerics, safety: float = 1.0, ac
 
 
 def check_accuracy(physics: Physics, numerics: Numerics, limits: StabilityLimits | None = None) -> StabilityLimits:
-    """Refuse stable settings that are known to give wrong answers: an unresolved fastest rate, a
-    mass ratio outside the overdamped limit, a pin that cannot hold, discrete's unconverged solve."""
+    """Refuse stable settings that are known to give wrong answers: an unresolved fastest rate (of the
+    overdamped chain, or of the inertial one outside the overdamped limit), a pin that cannot hold,
+    discrete's unconverged solve. A mass ratio outside the overdamped limit is not refused: it makes the
+    run inertial (limits.model; both engines model the chain with that mass)."""
     limits = stability_limits(physics, numerics) if limits is None else limits
     integrator, dt, m = numerics.integrator, numerics.dt, numerics.mass_ratio
     rate = limits.accuracy_rate(integrator)
     where = f"for {_describe(physics)}"
     dt_ok = limits.accuracy_limit(integrator)
+    if dt > dt_ok and limits.inertial:
+        bound = DISCRETE_RESOLUTION if integrator == "discrete" and not limits.pinned else RESOLUTION
+        if limits.oscillation_rate > 0 and rate <= limits.oscillation_rate * (1 + 1e-9):
+            kind = "an inertial oscillation"
+        elif limits.inertial_growing_rate > 0 and rate <= limits.inertial_growing_rate * (1 + 1e-9):
+            kind = "a growing mode"
+        else:
+            kind = "a relaxation"
+        raise ParameterError(
+            f"dt = {dt:g} does not resolve the inertial chain {where} at mass_ratio = {m:g} (outside the overdamped "
+            f"limit, m x rate = {limits.inertia_number:.2g}: both engines model the chain with this mass): its fastest "
+            f"resolved mode, {kind}, has rate {rate:.3g}/tau (integrator {integrator}: dt x rate = {dt * rate:.2g} > "
+            f"{bound:g}); the run would be inaccurate. Use dt <= {largest_dt(limits, numerics):.2g}"
+            + (" (the straight chain's active modes grow this fast at high sigma or N)"
+               if limits.inertial_growing_rate >= 0.5 * rate and limits.inertial_growing_rate > 20 else "")
+            + _suggest(limits, numerics)
+        )
     if dt > dt_ok:
         bound = DISCRETE_RESOLUTION if integrator == "discrete" and not limits.pinned else RESOLUTION
         raise ParameterError(
@@ -263,12 +423,6 @@ def check_accuracy(physics: Physics, numerics: Numerics, limits: StabilityLimits
             f"{largest_dt(limits, numerics):.2g}"
             + (" (the straight chain's active modes grow this fast at high sigma or N)"
                if limits.growing_rate >= 0.5 * rate and limits.growing_rate > 20 else "") + _suggest(limits, numerics)
-        )
-    if m * rate > INERTIA_RESOLUTION:
-        raise ParameterError(
-            f"mass_ratio = {m:g} is outside the overdamped limit {where}: the inertial time m / gamma is "
-            f"{m * rate:.2g} of the fastest overdamped time 1 / {rate:.3g} (> {INERTIA_RESOLUTION:g}); "
-            f"use mass_ratio <= {_down(INERTIA_RESOLUTION / rate):.2g}" + _suggest(limits, numerics)
         )
     if limits.pinned and integrator != "discrete" and dt**3 / m > PIN_DT3_PER_MASS:
         raise ParameterError(

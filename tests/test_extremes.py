@@ -91,15 +91,19 @@ def test_run_beyond_the_stability_limit_stops_with_the_named_cause():
 
 
 def test_predicted_limit_matches_bisection_for_stiff_coupling():
-    """In the overdamped limit (m * rate << 1) the linear estimate is the measured limit; with inertia
-    (m * rate = 0.2 at m = 1e-4) the measured limit is larger, so the estimate errs on the safe side."""
+    """In the overdamped limit (m * rate << 1) the overdamped linear estimate is the measured limit; with inertia
+    (m * rate = 0.2 at m = 1e-4, outside the overdamped limit) the measured limit is larger, and the estimate from
+    the inertial chain's linearised step (diagnose.step_limit) is the measured one again."""
     physics = Physics(scene="coupled-pair", n=7, sigma=0.8, kappa=1000.0)
-    predicted = stability_limits(physics, Numerics()).limit("implicitfast")
+    predicted = stability_limits(physics, Numerics(mass_ratio=1e-6)).limit("implicitfast")
     stable, unstable = X.largest_stable_dt(physics, "implicitfast", 1e-6, 5.0, predicted)
     assert unstable is not None
     assert 0.85 * predicted < stable <= unstable < 1.2 * predicted
-    stable_heavy, _ = X.largest_stable_dt(physics, "implicitfast", 1e-4, 5.0, predicted)
+    heavy = stability_limits(physics, Numerics())
+    assert heavy.inertial and heavy.limit("implicitfast") > predicted
+    stable_heavy, unstable_heavy = X.largest_stable_dt(physics, "implicitfast", 1e-4, 5.0, heavy.limit("implicitfast"))
     assert stable_heavy > predicted
+    assert unstable_heavy is not None and 0.85 * heavy.limit("implicitfast") < stable_heavy <= unstable_heavy < 1.2 * heavy.limit("implicitfast")
 
 
 def test_discrete_on_a_long_chain_is_refused_by_the_probe():

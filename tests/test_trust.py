@@ -63,7 +63,7 @@ def test_beat_regularity_is_reported():
 def test_suggested_settings_pass_the_check():
     """A refusal's suggested setting is accepted (it used to suggest dt values that were refused next)."""
     for physics, numerics in ((ea.Physics(scene="coupled-pair", kappa=1000), ea.Numerics(dt=0.0025)),
-                              (ea.Physics(n=30, sigma=100), ea.Numerics(dt=2e-5, sample_dt=0.05)),
+                              (ea.Physics(n=30, sigma=100), ea.Numerics(dt=1e-4, sample_dt=0.05)),
                               (ea.Physics(scene="two-pinned"), ea.Numerics(dt=0.04, sample_dt=0.04))):
         with pytest.raises(ea.ParameterError) as err:
             check_timestep(physics, numerics)

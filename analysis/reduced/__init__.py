@@ -1,12 +1,17 @@
-"""The reduced (overdamped) pendulum model, solved without MuJoCo: arrays and records in, arrays out.
+"""The reduced pendulum model, overdamped (the paper's) or with the particles' inertia (MuJoCo's chain at a
+finite mass), solved without MuJoCo: arrays and records in, arrays out.
 
   system.py                a system of chains as a typed record, ChainSystem (built by each scene)
-  equations.py             the derivation, the paper's errata, and rhs_reference (plain numpy)
+  equations.py             the derivations (overdamped and inertial), the paper's errata, rhs_reference and
+                           rhs_inertial_reference (plain numpy)
   constraints.py           the two-pinned constraints g = 0: residual, Jacobian, projection
-  kernels.py               numba kernels: drag matrix, forces, right-hand side, Jacobian, Euler-Maruyama
+  kernels.py               numba kernels: drag matrix, forces, right-hand side, Jacobian, Euler-Maruyama;
+                           the inertial model's right-hand side (dense mass matrix), its Jacobian and RK4
   dop853_coefficients.py   the DOP853 tableau (copied from scipy, BSD)
   dop853.py                DOP853 compiled together with the right-hand side
-  solve.py                 the public solvers on a ChainSystem: rhs, jacobian, solve_ode, solve_sde, ...
+  regime.py                the overdamped limit: when a particle mass needs the inertial model (numpy)
+  solve.py                 the public solvers on a ChainSystem: rhs, jacobian, solve_ode, solve_sde,
+                           solve_inertial, ...
 
 This package knows no scene and no Physics: elastoactive.engines.reduced turns a Physics into a
 ChainSystem (Scene.reduced_system) and a Trajectory. Importing it is cheap (numpy only); the names
@@ -14,26 +19,43 @@ of solve.py, which need numba, load it on first use.
 """
 
 from .constraints import pin_jacobian, pin_residual, project_on_pins
-from .equations import rhs_reference
-from .system import ChainSystem
+from .equations import rhs_inertial_reference, rhs_reference
+from .regime import (
+    INERTIA_RESOLUTION,
+    force_jacobian,
+    inertia_number,
+    needs_inertia,
+    outside_overdamped_limit,
+    overdamped_rate,
+    rate_bound,
+)
+from .system import BEAD_INERTIA_FACTOR, ChainSystem
 
 SOLVE_NAMES = (  # the public names of solve.py (its __all__), loaded on first use
     "COMPILED_METHODS",
     "DEFAULT_BETA",
     "IMPLICIT_METHODS",
+    "RK4_STEP",
     "SCIPY_METHODS",
     "STIFF_RADIUS",
+    "STIFF_RATIO",
     "constraint_violation",
     "drag_matrix",
     "jacobian",
+    "mass_matrix",
     "rhs",
+    "solve_inertial",
     "solve_ode",
     "solve_sde",
     "spectral_radius",
     "stiffness",
 )
 
-__all__ = sorted(SOLVE_NAMES + ("ChainSystem", "pin_jacobian", "pin_residual", "project_on_pins", "rhs_reference"))
+__all__ = sorted(SOLVE_NAMES + (
+    "BEAD_INERTIA_FACTOR", "ChainSystem", "INERTIA_RESOLUTION", "force_jacobian", "inertia_number", "needs_inertia",
+    "outside_overdamped_limit", "overdamped_rate", "pin_jacobian", "rate_bound", "pin_residual", "project_on_pins",
+    "rhs_inertial_reference", "rhs_reference",
+))
 
 
 def __getattr__(name: str):

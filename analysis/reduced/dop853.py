@@ -3,9 +3,11 @@
 The algorithm is scipy's solve_ivp(method="DOP853") (E. Hairer and G. Wanner's DOP853: explicit
 Runge-Kutta of order 8 with 5th- and 3rd-order error estimators, the same error norm, initial step,
 step-size control and 7th-order dense output), written as one numba function that calls the
-compiled right-hand side (kernels.eval_rhs) directly, so a step costs no Python call. The right-hand
-side takes the dense Cholesky path for short chains and the O(N) articulated-drag recursion from
-kernels.RECURSIVE_MIN_N particles on (the workspace allocated here decides). The
+compiled right-hand side (kernels.eval_state) directly, so a step costs no Python call. For the
+overdamped model (mass_ratio = 0) that is kernels.eval_rhs, the dense Cholesky path for short chains
+and the O(N) articulated-drag recursion from kernels.RECURSIVE_MIN_N particles on (the workspace
+allocated here decides); for the inertial model (mass_ratio > 0) kernels.eval_rhs_inertial, whose
+state (angles, then rates) is twice as long. The
 coefficients come from dop853_coefficients.py (a copy of scipy's). Taking the same steps as scipy,
 it agrees with solve_ivp(DOP853) on the same right-hand side to round-off.
 """
@@ -19,7 +21,7 @@ from numba import njit
 
 from . import dop853_coefficients as coef
 from .dop853_coefficients import INTERPOLATOR_POWER, N_STAGES, N_STAGES_EXTENDED
-from .kernels import eval_rhs, uses_recursive
+from .kernels import eval_state, uses_recursive
 from .system import ChainSystem
 
 __all__ = ["integrate"]
@@ -28,7 +30,8 @@ _TABLEAU = (np.ascontiguousarray(coef.A), coef.B, coef.C, coef.E3, coef.E5, coef
 
 
 def integrate(system: ChainSystem, ts: np.ndarray, y0: np.ndarray, *, rtol: float, atol: float, beta: float):
-    """Integrate the deterministic model (force factors 1) from y0 at t = 0 and sample it at ts.
+    """Integrate the deterministic model (force factors 1) from y0 at t = 0 and sample it at ts (y0: the angles
+    of the overdamped model, or angles then rates of the inertial one, system.mass_ratio > 0).
 
     system: a typed ChainSystem (ChainSystem.typed()); ts: increasing sample times with ts[0] = 0;
     beta: Baumgarte rate (pinned systems). Returns (y, status, nfev, naccept, nreject) with y of shape
@@ -64,9 +67,16 @@ def _dop853(y0, ts, system, beta, rtol, atol, A, B, C, E3, E5, DD, out):
     n = system.n
     # the workspace of eval_rhs (kernels.make_workspace, allocated here, not by a call: the compiled
     # arithmetic of a short chain's run then stays bit for bit what it was before the recursion)
-    m = 0 if uses_recursive(n) else n
+    # the inertial model (mass_ratio > 0) solves its mass matrix densely (kernels.make_inertial_workspace)
+    inertial = system.mass_ratio > 0
+    m = n if inertial or not uses_recursive(n) else 0
     L = np.zeros((nch, m, m))
-    D = np.zeros((n, n)) if m == n else np.zeros((nch * n, 4))
+    if inertial:
+        D = np.zeros((n, n + 2))
+    elif m == n:
+        D = np.zeros((n, n))
+    else:
+        D = np.zeros((nch * n, 4))
     X = np.zeros((n, 2))
     lam = np.zeros(2)
     fac = np.ones(na)
@@ -82,7 +92,7 @@ def _dop853(y0, ts, system, beta, rtol, atol, A, B, C, E3, E5, DD, out):
     e5 = np.empty(na)
     T = ts[-1]
     t = 0.0
-    eval_rhs(y, fac, system, beta, f, L, D, X, lam)
+    eval_state(y, fac, system, beta, f, L, D, X, lam)
     nfev = 1
     # initial step (scipy's select_initial_step for solve_ivp, error order 7)
     for i in range(na):
@@ -98,7 +108,7 @@ def _dop853(y0, ts, system, beta, rtol, atol, A, B, C, E3, E5, DD, out):
     h0 = min(h0, T)
     for i in range(na):
         ytmp[i] = y[i] + h0 * f[i]
-    eval_rhs(ytmp, fac, system, beta, f_new, L, D, X, lam)
+    eval_state(ytmp, fac, system, beta, f_new, L, D, X, lam)
     nfev += 1
     for i in range(na):
         e3[i] = (f_new[i] - f[i]) / scale[i]
@@ -140,13 +150,13 @@ def _dop853(y0, ts, system, beta, rtol, atol, A, B, C, E3, E5, DD, out):
                     for j in range(s):
                         acc += A[s, j] * K[j, i]
                     ytmp[i] = y[i] + h * acc
-                eval_rhs(ytmp, fac, system, beta, K[s], L, D, X, lam)
+                eval_state(ytmp, fac, system, beta, K[s], L, D, X, lam)
             for i in range(na):
                 acc = 0.0
                 for j in range(ns):
                     acc += B[j] * K[j, i]
                 y_new[i] = y[i] + h * acc
-            eval_rhs(y_new, fac, system, beta, f_new, L, D, X, lam)
+            eval_state(y_new, fac, system, beta, f_new, L, D, X, lam)
             K[ns, :] = f_new
             nfev += ns
             n5 = 0.0
@@ -190,7 +200,7 @@ def _dop853(y0, ts, system, beta, rtol, atol, A, B, C, E3, E5, DD, out):
                     for j in range(s):
                         acc += A[s, j] * K[j, i]
                     ytmp[i] = y[i] + h * acc
-                eval_rhs(ytmp, fac, system, beta, K[s], L, D, X, lam)
+                eval_state(ytmp, fac, system, beta, K[s], L, D, X, lam)
             nfev += nse - ns - 1
             for i in range(na):
                 dy = y_new[i] - y[i]

@@ -1,4 +1,5 @@
-r"""The reduced (overdamped) model of the elasto-active chains: its equations, and where the paper misprints them.
+r"""The reduced model of the elasto-active chains: its equations (overdamped, and with the particles' inertia),
+and where the paper misprints them.
 
 Derivation (virtual work, units l = C1 = gamma_T = 1)
 -----------------------------------------------------
@@ -73,6 +74,57 @@ is in f only). The analytic Jacobian (implicit methods, stiff cases) stays dense
 N = 2 (isotropic, one pinned end) gives exactly the paper's main-text Eqs. (1)-(2):
   2 th1' + cos(th1 - th2) th2' = th2 - 2 th1 + sigma sin(th1 - th2);  cos(th1 - th2) th1' + th2' = th1 - th2.
 
+With inertia: the exact counterpart of the MuJoCo scenes at a finite mass
+--------------------------------------------------------------------------
+MuJoCo's chain (mjcf/common.xml) carries all its mass in one bead per particle: a solid sphere of mass
+m = mass_ratio (units gamma_T tau) and radius r = 0.14 centred on particle i, rigidly fixed to pendulum i,
+so body i also turns with th_i' and has the rotational inertia I = (2/5) m r^2 = m inertia_factor
+(ChainSystem.inertia_factor, 0.00784) about the vertical axis; the links are massless. Kinetic energy:
+
+    T = sum_i [ m/2 |v_i|^2 + I/2 th_i'^2 ] = 1/2 th'^T M(th) th',
+    M_jk = m sum_{i >= max(j,k)} n_j.n_k + I delta_jk = a_jk cos(th_j - th_k) + I delta_jk,
+    a_jk = m (N - max(j,k) + 1)
+
+(1-based; v_i = sum_{j<=i} n_j th_j'). This M is exactly MuJoCo's mass matrix (mj_fullM) after the change
+from its relative hinge angles q to the absolute angles th = L q (L lower triangular ones): M_q = L^T M L
+(checked to round-off in tests/test_inertia.py, as are the accelerations below against MuJoCo's qacc).
+Lagrange's equations d/dt dT/dth_j' - dT/dth_j = Q_j with dM_kl/dth_j = -a_kl sin(th_k - th_l) (delta_kj - delta_lj):
+
+    d/dt (M th')_j = (M th'')_j - sum_k a_jk sin(th_j - th_k) (th_j' - th_k') th_k',
+    dT/dth_j       = -sum_k a_jk sin(th_j - th_k) th_j' th_k',
+
+so the velocity-quadratic (centripetal) terms are
+
+    c_j(th, th') = sum_k a_jk sin(th_j - th_k) th_k'^2 = m n_j . sum_{i >= j} A_i,    A_i = -sum_{k<=i} e_k th_k'^2
+
+(A_i: the centripetal part of particle i's acceleration r_i'' = sum_{k<=i} (n_k th_k'' - e_k th_k'^2); the
+bead's spin I th_j' adds no such term, I being constant), and the equations of motion are
+
+    M(th) th'' + c(th, th') + D(th) th' = f(th)          [- G^T lam for the two-pinned chain]
+
+with the same D, springs, follower forces and coupling f as above (the pair: M block diagonal, the
+same m on both chains). The state is (th, om = th'); MuJoCo starts at rest, so om(0) = 0. As m -> 0 the
+fast modes relax at ~ gamma/m onto D th' = f: the overdamped model is the limit m = 0.
+
+Pins, at the acceleration level: g(th) = 0 gives G th'' + G' th' = 0 with (G' th')_1 = -sum cos th_i th_i'^2,
+(G' th')_2 = -sum sin th_i th_i'^2. The index-3 DAE is replaced by its Baumgarte-stabilised index-1 form
+g'' + 2 beta g' + beta^2 g = 0 (critically damped drift, rate beta, the same DEFAULT_BETA = 10):
+
+    [[M, G^T], [G, 0]] [th''; lam] = [f - D th' - c; -G' th' - 2 beta G th' - beta^2 g],
+
+solved by the Schur complement: th'' = a0 - X lam with M a0 = f - D th' - c, M X = G^T,
+(G X) lam = G a0 + G' th' + 2 beta G th' + beta^2 g.
+
+Cost: the generalised drag D th' and the centripetal terms take O(N) (prefix sums of the particle
+velocities and centripetal accelerations, then suffix sums of the particle forces P_i = -W_i v_i - m A_i,
+Q_k = n_k . sum_{i >= k} P_i); M is built in O(N^2) and solved by dense Cholesky, O(N^3) (acceptable: the
+articulated-body algorithm would make it O(N), as the articulated drag above does for D, but the inertial
+runs are of the paper's short chains). Integration: the compiled DOP853 on the doubled state; the system
+is stiff only for small m (fast inertial relaxation gamma/m), where solve.py switches to Radau with a
+finite-difference Jacobian (kernels.eval_jacobian_inertial). The engine runs this model only outside the
+overdamped limit (mass_ratio x fastest overdamped rate > INERTIA_RESOLUTION = 0.1, regime.py),
+where gamma/m < 10 x that rate, or on request.
+
 Where the paper's printed equations are wrong (first principles win; checked in tests/test_reduced.py)
 ------------------------------------------------------------------------------------------------------
 * Appendix C, single chain, equation "i = 1": the drag term reads tau (N th1' + sum_{j>=2} th_j' cos(th1 - th_j));
@@ -114,7 +166,7 @@ import numpy as np
 from .constraints import pin_jacobian, pin_residual
 from .system import ChainSystem
 
-__all__ = ["rhs_reference"]
+__all__ = ["rhs_inertial_reference", "rhs_reference"]
 
 
 def rhs_reference(system: ChainSystem, *, beta: float, factor=None):
@@ -161,5 +213,59 @@ def rhs_reference(system: ChainSystem, *, beta: float, factor=None):
         M = np.block([[Dfull, G.T], [G, np.zeros((2, 2))]])
         sol = np.linalg.solve(M, np.concatenate([force, -beta * pin_residual(theta, system.delta)]))
         return sol[:n]
+
+    return f
+
+
+
+def rhs_inertial_reference(system: ChainSystem, *, beta: float, factor=None):
+    """Plain-numpy y' = f(t, y) of the inertial model (system.mass_ratio > 0), y = (theta, omega), written
+    straight from the formulas above: M and c from a_jk, D from its sum over particles, f from U and Q."""
+    system = system.typed()
+    n = system.n
+    nch = system.n_chains
+    na = n * nch
+    m = system.mass_ratio
+    gl, gt = system.gamma_l, system.gamma_t
+    fac = system.force_factors(factor)
+    i_idx = np.arange(n)
+    a = m * (n - np.maximum(i_idx[:, None], i_idx[None, :]))  # a_jk = m #{i >= max(j, k)} (0-based)
+    mask = (i_idx[:, None, None] >= i_idx[None, :, None]) & (i_idx[:, None, None] >= i_idx[None, None, :])
+    upper = i_idx[None, :] >= i_idx[:, None]  # upper[k, i] = i >= k
+
+    def f(t, y):
+        y = np.asarray(y, dtype=float)
+        theta, omega = y[:na], y[na:]
+        M = np.zeros((na, na))
+        D = np.zeros((na, na))
+        force = np.zeros(na)
+        c = np.zeros(na)
+        for ch in range(nch):
+            sl = slice(ch * n, (ch + 1) * n)
+            th, w, cs = theta[sl], omega[sl], system.stiffness(ch)
+            diff = th[:, None] - th[None, :]  # th_j - th_k
+            M[sl, sl] = a * np.cos(diff) + m * system.inertia_factor * np.eye(n)
+            c[sl] = (a * np.sin(diff)) @ (w**2)
+            s_, c_ = np.sin(diff), np.cos(diff)
+            D[sl, sl] = np.einsum("ijk,ij,ik->jk", mask, gl * s_, s_) + np.einsum("ijk,ij,ik->jk", mask, gt * c_, c_)
+            grad = np.zeros(n)  # dU/dth
+            if system.clamped:
+                grad[0] += cs * th[0]
+            bend = np.diff(th)
+            grad[:-1] -= cs * bend
+            grad[1:] += cs * bend
+            Q = system.sigma * np.sum(upper * fac[sl][None, :] * np.sin(diff), axis=1)
+            force[sl] = Q - grad
+        if nch == 2:
+            force[0] -= system.kappa * (theta[0] - theta[n])
+            force[n] += system.kappa * (theta[0] - theta[n])
+        rhs_acc = force - D @ omega - c
+        if not system.pinned:
+            return np.concatenate([omega, np.linalg.solve(M, rhs_acc)])
+        G = pin_jacobian(theta)
+        gdot_om = -np.array([np.sum(np.cos(theta) * omega**2), np.sum(np.sin(theta) * omega**2)])
+        b = -gdot_om - 2.0 * beta * (G @ omega) - beta**2 * pin_residual(theta, system.delta)
+        K = np.block([[M, G.T], [G, np.zeros((2, 2))]])
+        return np.concatenate([omega, np.linalg.solve(K, np.concatenate([rhs_acc, b]))[:na]])
 
     return f

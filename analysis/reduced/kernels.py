@@ -1,10 +1,11 @@
 """The compiled (numba) kernels of the reduced model: drag matrix, forces, right-hand side, Jacobian,
-Euler-Maruyama steps and the projection onto the pins.
+Euler-Maruyama steps and the projection onto the pins; the inertial model's right-hand side, Jacobian and
+RK4 steps.
 
 Every kernel that needs the model's parameters takes the `ChainSystem` record itself (numba compiles a
 NamedTuple as a typed record; fields are read by name) and the Baumgarte rate `beta` as a float
 argument. The record must come through `ChainSystem.typed()` (the functions of solve.py do that), so
-that the field types are always (int64, int64, bool, bool, float64 x 6) and each kernel is compiled,
+that the field types are always (int64, int64, bool, bool, float64 x 8) and each kernel is compiled,
 and cached on disk, once. The formulas are those of equations.py; rhs_reference there is the
 plain-numpy twin that tests hold these kernels to.
 
@@ -19,6 +20,12 @@ Two solvers of D(th) th' = f(th)
   beyond each joint, and one bias vector per right-hand side; a forward pass for the rates); the
   pinned chain's D^-1 G^T rides along as two more right-hand sides, then the same 2 x 2 Schur
   complement as the dense path; the pair is solved chain by chain (its coupling is in f only).
+
+The inertial model (system.mass_ratio > 0, equations.py): eval_rhs_inertial on the state (th, om) builds
+each chain's mass block in O(N^2), its drag and centripetal terms in O(N), and solves by dense Cholesky,
+O(N^3); eval_state picks it or eval_rhs by the record's mass_ratio (mass_ratio = 0 runs eval_rhs exactly as
+before the inertial model existed); eval_jacobian_inertial differentiates it by central differences;
+rk4_piecewise integrates it under step-wise constant noise forces.
 
 eval_rhs takes the path its workspace was sized for (`workspace`, `make_workspace`): dense below
 RECURSIVE_MIN_N particles per chain, recursive from there on. Below it the results are bit for bit
@@ -45,13 +52,20 @@ __all__ = [
     "cholesky",
     "drag_block",
     "eval_jacobian",
+    "eval_jacobian_inertial",
     "eval_rhs",
     "eval_rhs_dense",
+    "eval_rhs_inertial",
     "eval_rhs_recursive",
+    "eval_state",
     "euler_maruyama",
     "forces",
+    "make_inertial_workspace",
     "make_workspace",
+    "mass_block",
     "restore_pins",
+    "rk4_piecewise",
+    "state_workspace",
     "uses_recursive",
     "workspace",
 ]
@@ -617,4 +631,227 @@ def euler_maruyama(y, k0, facs, dt, system, beta, sidx, out, jptr):
             y[i] += dt * f[i]
         if system.pinned:
             restore_pins(y, system.delta)
+    return jptr
+
+
+# ----------------------------------------------------------------------------------------------
+# the inertial model (system.mass_ratio > 0): M(th) th'' + c(th, th') + D(th) th' = f(th), state (th, om)
+# ----------------------------------------------------------------------------------------------
+@njit(cache=True)
+def make_inertial_workspace(nch, n):
+    """Scratch arrays (L, D, X, lam) of eval_rhs_inertial: L (nch, n, n) Cholesky factors of the mass blocks,
+    D (n, n + 2) one mass block and, in its last two columns, the cosines and sines of that chain's angles,
+    X (n, 2) particle forces, then M^-1 G^T (pinned), lam (2) the multipliers (pinned)."""
+    return np.zeros((nch, n, n)), np.zeros((n, n + 2)), np.zeros((n, 2)), np.zeros(2)
+
+
+@njit(cache=True)
+def mass_block(th, off, n, m, ifac, M):
+    """M of the chain th[off:off+n] into M[:n, :n]: M_jk = m (n - max(j, k)) cos(th_j - th_k) + m ifac delta_jk
+    (0-based j, k: the particles i >= max(j, k) all move with both angles), the kinetic energy T = th'^T M th' / 2."""
+    for j in range(n):
+        cj = math.cos(th[off + j])
+        sj = math.sin(th[off + j])
+        for k in range(j, n):
+            v = m * (n - k) * (cj * math.cos(th[off + k]) + sj * math.sin(th[off + k]))
+            M[j, k] = v
+            M[k, j] = v
+        M[j, j] += m * ifac
+
+
+@njit(cache=True)
+def eval_rhs_inertial(y, fac, system, beta, out, L, D, X, lam):
+    """out = (th', om') at y = (th, om) of the inertial model (equations.py): om' = M^-1 (f - D om - c), by
+    dense Cholesky of each chain's mass block, O(N^3) (the O(N) articulated-body algorithm would do; N is
+    small where inertia is run). Pinned: the Baumgarte-stabilised acceleration constraint
+    G om' = -G' om - 2 beta G om - beta^2 g through the 2 x 2 Schur complement, as in the overdamped model.
+    fac: force factors (1 + eta), first n_angles entries read. L, D, X, lam: make_inertial_workspace."""
+    n = system.n
+    nch = system.n_chains
+    na = n * nch
+    m = system.mass_ratio
+    ifac = system.inertia_factor
+    gl = system.gamma_l
+    gt = system.gamma_t
+    if L.shape[0] < nch or L.shape[1] < n or D.shape[0] < n or D.shape[1] < n + 2 or X.shape[0] < n:
+        raise ValueError("eval_rhs_inertial needs an inertial workspace (L (n_chains, n, n), D (n, n + 2), X (n, 2))")
+    if y.size < 2 * na or out.size < 2 * na:
+        raise ValueError("eval_rhs_inertial: the state holds 2 n_angles numbers (angles, then rates)")
+    th = y[:na]
+    acc = out[na:]
+    for i in range(na):
+        out[i] = y[na + i]
+    _chain_forces(th, fac, system, acc)  # springs, follower forces, coupling
+    cc = n
+    sc = n + 1
+    for ch in range(nch):
+        off = ch * n
+        for j in range(n):
+            D[j, cc] = math.cos(th[off + j])
+            D[j, sc] = math.sin(th[off + j])
+        # particle forces P_i = -W_i v_i - m a_i (a_i: centripetal acceleration), v_i, a_i as prefix sums
+        vx = 0.0
+        vy = 0.0
+        ax = 0.0
+        ay = 0.0
+        for i in range(n):
+            c = D[i, cc]
+            s = D[i, sc]
+            w = y[na + off + i]
+            vx -= s * w
+            vy += c * w
+            ax -= c * w * w
+            ay -= s * w * w
+            el = c * vx + s * vy
+            et = -s * vx + c * vy
+            X[i, 0] = -(gl * el * c - gt * et * s) - m * ax
+            X[i, 1] = -(gl * el * s + gt * et * c) - m * ay
+        # their generalised forces: n_k . sum_{i >= k} P_i
+        px = 0.0
+        py = 0.0
+        for k in range(n - 1, -1, -1):
+            px += X[k, 0]
+            py += X[k, 1]
+            acc[off + k] += -D[k, sc] * px + D[k, cc] * py
+        # mass block (columns 0 .. n-1 of D), factor, solve
+        for j in range(n):
+            cj = D[j, cc]
+            sj = D[j, sc]
+            for k in range(j, n):
+                v = m * (n - k) * (cj * D[k, cc] + sj * D[k, sc])
+                D[j, k] = v
+                D[k, j] = v
+            D[j, j] += m * ifac
+        cholesky(D, L[ch])
+        chol_solve(L[ch], out, na + off)
+    if system.pinned:
+        # g, G om and G' om (G' om = -(sum cos th_i om_i^2, sum sin th_i om_i^2)); X = M^-1 G^T
+        g0 = -n * (1.0 - system.delta)
+        g1 = 0.0
+        v0 = 0.0
+        v1 = 0.0
+        d0 = 0.0
+        d1 = 0.0
+        for i in range(n):
+            c = D[i, cc]
+            s = D[i, sc]
+            w = y[na + i]
+            g0 += c
+            g1 += s
+            v0 -= s * w
+            v1 += c * w
+            d0 -= c * w * w
+            d1 -= s * w * w
+            X[i, 0] = -s
+            X[i, 1] = c
+        chol_solve_cols(L[0], X, 0)
+        # (G X) lam = G a0 + G' om + 2 beta G om + beta^2 g;  om' = a0 - X lam
+        s00 = 0.0
+        s01 = 0.0
+        s10 = 0.0
+        s11 = 0.0
+        r0 = d0 + 2.0 * beta * v0 + beta * beta * g0
+        r1 = d1 + 2.0 * beta * v1 + beta * beta * g1
+        for i in range(n):
+            c = D[i, cc]
+            s = D[i, sc]
+            s00 -= s * X[i, 0]
+            s01 -= s * X[i, 1]
+            s10 += c * X[i, 0]
+            s11 += c * X[i, 1]
+            r0 -= s * acc[i]
+            r1 += c * acc[i]
+        det = s00 * s11 - s01 * s10
+        l0 = (s11 * r0 - s01 * r1) / det
+        l1 = (s00 * r1 - s10 * r0) / det
+        lam[0] = l0
+        lam[1] = l1
+        for i in range(n):
+            acc[i] -= X[i, 0] * l0 + X[i, 1] * l1
+
+
+@njit(cache=True)
+def eval_state(y, fac, system, beta, out, L, D, X, lam):
+    """The right-hand side of the integrated state: eval_rhs (overdamped, state th) when system.mass_ratio == 0,
+    exactly as before the inertial model existed; eval_rhs_inertial (state (th, om)) when it is > 0. The
+    workspace must match (state_workspace)."""
+    if system.mass_ratio > 0:
+        eval_rhs_inertial(y, fac, system, beta, out, L, D, X, lam)
+    else:
+        eval_rhs(y, fac, system, beta, out, L, D, X, lam)
+
+
+def state_workspace(system: ChainSystem):
+    """The workspace of eval_state for this system: `workspace` (overdamped) or make_inertial_workspace."""
+    if system.mass_ratio > 0:
+        return make_inertial_workspace(system.n_chains, system.n)
+    return workspace(system)
+
+
+FD_STEP = 6.0554544523933395e-06
+"""Relative step of the central differences of eval_jacobian_inertial: the cube root of the unit round-off."""
+
+
+@njit(cache=True)
+def eval_jacobian_inertial(y, system, beta, J, L, D, X, lam):
+    """Jacobian d(y')/dy of the deterministic inertial model (fac = 1), written into J (2 n_angles square):
+    the exact blocks d th'/d th = 0, d th'/d om = 1, and the accelerations' by central differences
+    (2 n_angles evaluations; relative error ~ 1e-10). For the implicit methods and the stiffness check."""
+    ns = y.size
+    na = ns // 2
+    fac = np.ones(ns)
+    yp = y.copy()
+    fp = np.empty(ns)
+    fm = np.empty(ns)
+    J[:, :] = 0.0
+    for i in range(na):
+        J[i, na + i] = 1.0
+    for j in range(ns):
+        h = FD_STEP * max(1.0, abs(y[j]))
+        yp[j] = y[j] + h
+        hp = yp[j] - y[j]
+        eval_rhs_inertial(yp, fac, system, beta, fp, L, D, X, lam)
+        yp[j] = y[j] - h
+        hm = y[j] - yp[j]
+        eval_rhs_inertial(yp, fac, system, beta, fm, L, D, X, lam)
+        yp[j] = y[j]
+        for i in range(na, ns):
+            J[i, j] = (fp[i] - fm[i]) / (hp + hm)
+
+
+@njit(cache=True)
+def rk4_piecewise(y, k0, facs, dt, nsub, system, beta, sidx, out, jptr):
+    """The inertial model with force factors constant over each step of length dt (the noise of MuJoCo's
+    steps, elastoactive.noise): steps k0 .. k0 + len(facs) - 1 of dt, each by nsub classical RK4 substeps
+    with facs[r]; records out[j] = the angles after sidx[j] steps. Returns the next jptr."""
+    ns = y.size
+    na = ns // 2
+    L, D, X, lam = make_inertial_workspace(system.n_chains, system.n)
+    k1 = np.empty(ns)
+    k2 = np.empty(ns)
+    k3 = np.empty(ns)
+    k4 = np.empty(ns)
+    yt = np.empty(ns)
+    fac = np.ones(ns)
+    h = dt / nsub
+    for r in range(facs.shape[0]):
+        k = k0 + r
+        while jptr < sidx.size and sidx[jptr] == k:
+            out[jptr, :] = y[:na]
+            jptr += 1
+        for i in range(na):
+            fac[i] = facs[r, i]
+        for _ in range(nsub):
+            eval_rhs_inertial(y, fac, system, beta, k1, L, D, X, lam)
+            for i in range(ns):
+                yt[i] = y[i] + 0.5 * h * k1[i]
+            eval_rhs_inertial(yt, fac, system, beta, k2, L, D, X, lam)
+            for i in range(ns):
+                yt[i] = y[i] + 0.5 * h * k2[i]
+            eval_rhs_inertial(yt, fac, system, beta, k3, L, D, X, lam)
+            for i in range(ns):
+                yt[i] = y[i] + h * k3[i]
+            eval_rhs_inertial(yt, fac, system, beta, k4, L, D, X, lam)
+            for i in range(ns):
+                y[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
     return jptr

@@ -30,6 +30,16 @@ then chain 2). For the two-pinned chain each Euler-Maruyama step is followed by 
 back onto g = 0 (the noise increments, ~ a sqrt(dt), would otherwise leave an O(a^2 dt) drift that the
 Baumgarte term only partly removes).
 
+The inertial model (system.mass_ratio > 0; equations.py) integrates the state (theta, omega), twice as long,
+from rest (omega0 = 0; solve_inertial, whose angles solve_ode returns). Its right-hand side solves the mass
+matrix by dense Cholesky (O(N^3); kernels.eval_rhs_inertial), its Jacobian takes the accelerations' part by
+central differences (kernels.eval_jacobian_inertial). method=None takes numba-DOP853 unless the fastest
+decay rate at the start (~ gamma / m for small masses) is above STIFF_RADIUS and STIFF_RATIO x the rates of
+the modes that do not decay, then Radau. With noise the force factors are constant over each step dt, as
+MuJoCo applies them, and each step is taken by RK4 substeps (h x spectral radius <= RK4_STEP): with
+inertia the angles are smooth, so no Ito correction and no projection onto the pins arise. Which model a
+scene's mass ratio needs is decided in regime.py (the overdamped limit), applied by the engine.
+
 Every function takes the record and calls ChainSystem.typed() on it, so the compiled kernels see one
 set of field types and compile once.
 """
@@ -67,13 +77,24 @@ _SDE_CHUNK = 20000
 # right-hand side, Jacobian, drag matrix, linear stability
 # ----------------------------------------------------------------------------------------------
 def rhs(system: ChainSystem, *, beta: float, factor=None):
-    """Compiled right-hand side f(t, theta) -> dtheta/dt of the model.
+    """Compiled right-hand side f(t, theta) -> dtheta/dt of the model; of the inertial model
+    (system.mass_ratio > 0) f(t, y) -> dy/dt with the state y = (theta, omega).
 
     factor: optional per-particle force factor (1 + eta_i), default ones. beta: Baumgarte rate (pinned).
     """
     system = system.typed()
     beta = float(beta)
     fac = system.force_factors(factor)
+    if system.inertial:
+        L, D, X, lam = kernels.make_inertial_workspace(system.n_chains, system.n)
+
+        def f_inertial(t, y):
+            state = np.ascontiguousarray(y, dtype=float)
+            out = np.empty(state.size)
+            kernels.eval_rhs_inertial(state, fac, system, beta, out, L, D, X, lam)
+            return out
+
+        return f_inertial
     L, D, X, lam = kernels.workspace(system)
 
     def f(t, theta):
@@ -86,12 +107,24 @@ def rhs(system: ChainSystem, *, beta: float, factor=None):
 
 
 def jacobian(system: ChainSystem, *, beta: float):
-    """Compiled analytic Jacobian J(t, theta) = d(dtheta/dt)/d(theta) of the deterministic model.
+    """Compiled analytic Jacobian J(t, theta) = d(dtheta/dt)/d(theta) of the deterministic model. Of the
+    inertial model (system.mass_ratio > 0): J(t, y) = dy'/dy for y = (theta, omega) (or theta alone, at rest),
+    with the accelerations' part by central differences (kernels.eval_jacobian_inertial).
 
     O(N^3) per call (dense Cholesky of D, then D^-1 applied to an N x N matrix) at every N: it is used by
     the implicit methods (stiff cases) and by `stiffness` once per solve_ode(method=None)."""
     system = system.typed()
     beta = float(beta)
+    if system.inertial:  # d(theta, omega)'/d(theta, omega), accelerations by central differences
+        L, D, X, lam = kernels.make_inertial_workspace(system.n_chains, system.n)
+
+        def jac_inertial(t, y):
+            state = _state(system, y)
+            J = np.empty((state.size, state.size))
+            kernels.eval_jacobian_inertial(state, system, beta, J, L, D, X, lam)
+            return J
+
+        return jac_inertial
     L, D, X, lam = kernels.workspace(system, dense=True)  # the Jacobian reuses the Cholesky factors
 
     def jac(t, theta):
@@ -116,12 +149,35 @@ def drag_matrix(system: ChainSystem, theta) -> np.ndarray:
     return out
 
 
+def mass_matrix(system: ChainSystem, theta) -> np.ndarray:
+    """M(theta) of the inertial model (block diagonal for a pair): M_jk = m sum_{i >= max(j,k)} cos(th_j - th_k)
+    + I delta_jk with m = system.mass_ratio and I = m system.inertia_factor (zero for the overdamped model)."""
+    system = system.typed()
+    theta = np.ascontiguousarray(theta, dtype=float)[: system.n_angles]
+    n = system.n
+    out = np.zeros((system.n_angles, system.n_angles))
+    M = np.zeros((n, n))
+    for ch in range(system.n_chains):
+        kernels.mass_block(theta, ch * n, n, system.mass_ratio, system.inertia_factor, M)
+        out[ch * n : (ch + 1) * n, ch * n : (ch + 1) * n] = M
+    return out
+
+
+def _state(system: ChainSystem, y) -> np.ndarray:
+    """The integrated state at y: the angles (overdamped); (theta, omega) for the inertial model, where a
+    state of n_angles numbers is taken as angles at rest."""
+    y = np.ascontiguousarray(y, dtype=float).reshape(-1)
+    if system.mass_ratio > 0 and y.size == system.n_angles:
+        return np.concatenate([y, np.zeros(system.n_angles)])
+    return y
+
+
 def _eigenvalues(system: ChainSystem, theta, beta: float) -> np.ndarray:
-    return np.linalg.eigvals(jacobian(system, beta=beta)(0.0, theta))
+    return np.linalg.eigvals(jacobian(system, beta=beta)(0.0, _state(system, theta)))
 
 
 def spectral_radius(system: ChainSystem, theta, *, beta: float) -> float:
-    """Largest |eigenvalue| of the Jacobian at theta."""
+    """Largest |eigenvalue| of the Jacobian at theta (inertial model: at the state theta, or at rest)."""
     return float(np.max(np.abs(_eigenvalues(system, theta, beta))))
 
 
@@ -161,6 +217,7 @@ def solve_ode(
     system: ChainSystem, t, theta0, *, rtol: float, atol: float, method: str | None = None, beta: float
 ) -> tuple[np.ndarray, dict]:
     """Integrate the deterministic model from theta0 at t = 0; returns (theta at the times t, info).
+    The inertial model (system.mass_ratio > 0) starts at rest: solve_inertial, of which the angles are returned.
 
     method: None (automatic: "numba-DOP853", or "Radau" when the linearisation at theta0 is stiff, see
     the module docstring), "numba-DOP853", or any name in SCIPY_METHODS. info holds rtol, atol, method,
@@ -171,6 +228,9 @@ def solve_ode(
     t, theta0 = _samples_and_state(system, t, theta0)
     if method is not None and method not in COMPILED_METHODS + SCIPY_METHODS:
         raise ParameterError(f"method must be None, one of {COMPILED_METHODS + SCIPY_METHODS}, got {method!r}")
+    if system.inertial:
+        y, info = solve_inertial(system, t, theta0, rtol=rtol, atol=atol, method=method, beta=beta)
+        return y[:, : system.n_angles].copy(), info
     info = {"rtol": rtol, "atol": atol}
     if method is None:
         eig = _eigenvalues(system, theta0, beta)
@@ -200,6 +260,73 @@ def solve_ode(
     return sol.y.T.copy(), info
 
 
+STIFF_RATIO = 10.0
+"""The inertial model is stiff when its fastest decay rate is above STIFF_RADIUS and STIFF_RATIO x the fastest
+rate of the modes that do not decay (see _inertial_method)."""
+
+
+def _inertial_method(eig: np.ndarray) -> str:
+    """method=None for the inertial model: Radau when the fastest decay rate is above STIFF_RADIUS and above
+    STIFF_RATIO x every rate of the modes that do not decay (those an explicit method must resolve anyway:
+    growing modes, oscillations of a neutral mode), else numba-DOP853. Small masses (the drag's inertial
+    relaxation ~ gamma / m against the overdamped rates) are stiff; a mass that is outside the overdamped
+    limit only because the growing modes are fast (high sigma or N) is not: there gamma / m is below 10 x
+    the fastest overdamped rate, and Radau with its finite-difference Jacobian would be slower."""
+    decay = float(max(0.0, np.max(-eig.real)))
+    other = eig[eig.real >= -1e-9 * np.abs(eig)]
+    resolved = float(np.max(np.abs(other))) if other.size else 0.0
+    return "Radau" if decay > STIFF_RADIUS and decay > STIFF_RATIO * resolved else "numba-DOP853"
+
+
+def solve_inertial(
+    system: ChainSystem, t, theta0, *, rtol: float, atol: float, method: str | None = None, beta: float,
+    omega0=None,
+) -> tuple[np.ndarray, dict]:
+    """Integrate the inertial model (system.mass_ratio > 0) from (theta0, omega0) at t = 0 (omega0 default 0:
+    at rest, as MuJoCo starts); returns (the states (theta, omega) at the times t, shape (len(t), 2 n_angles),
+    info). method: None (numba-DOP853, or Radau when stiff, see _inertial_method), "numba-DOP853" or a name
+    in SCIPY_METHODS (implicit ones get the finite-difference Jacobian, kernels.eval_jacobian_inertial)."""
+    system = system.typed()
+    if not system.inertial:
+        raise ParameterError("solve_inertial integrates the inertial model: system.mass_ratio must be > 0")
+    t, theta0 = _samples_and_state(system, t, theta0)
+    if method is not None and method not in COMPILED_METHODS + SCIPY_METHODS:
+        raise ParameterError(f"method must be None, one of {COMPILED_METHODS + SCIPY_METHODS}, got {method!r}")
+    omega0 = np.zeros(system.n_angles) if omega0 is None else np.array(omega0, dtype=float).reshape(-1)
+    if omega0.size != system.n_angles:
+        raise ParameterError(f"omega0 must have {system.n_angles} rates, got {omega0.size}")
+    y0 = np.concatenate([theta0, omega0])
+    info = {"rtol": rtol, "atol": atol, "model": "inertial", "mass_ratio": system.mass_ratio}
+    if method is None:
+        eig = _eigenvalues(system, y0, beta)
+        info["spectral_radius"] = float(np.max(np.abs(eig)))
+        info["stiffness"] = float(max(0.0, np.max(-eig.real)))
+        method = _inertial_method(eig)
+    info["method"] = method
+    if t[-1] == 0.0:
+        info.update(nfev=0, njev=0, nsteps=0, status=0)
+        return y0[None, :].copy(), info
+    if method == "numba-DOP853":
+        out, status, nfev, nacc, nrej = dop853.integrate(system, t, y0, rtol=rtol, atol=atol, beta=beta)
+        if status != 0:
+            raise RuntimeError(f"numba-DOP853 failed: step size became too small ({system})")
+        info.update(nfev=nfev, njev=0, nsteps=nacc, nreject=nrej, status=0)
+        return out, info
+    from scipy.integrate import solve_ivp  # start-up time (see solve_ode)
+
+    kw = {"jac": jacobian(system, beta=beta)} if method in IMPLICIT_METHODS else {}
+    sol = solve_ivp(rhs(system, beta=beta), (0.0, float(t[-1])), y0, method=method, t_eval=t, rtol=rtol, atol=atol,
+                    **kw)
+    if not sol.success:
+        raise RuntimeError(f"solve_ivp ({method}) failed: {sol.message}")
+    info.update(nfev=int(sol.nfev), njev=int(sol.njev), nlu=int(sol.nlu), status=int(sol.status))
+    return sol.y.T.copy(), info
+
+
+RK4_STEP = 0.25
+"""Largest h x spectral radius of the RK4 substeps of the inertial model with noise (solve_sde)."""
+
+
 def solve_sde(
     system: ChainSystem, t, theta0, *, dt: float, factors: Callable[[np.ndarray], np.ndarray], beta: float
 ) -> tuple[np.ndarray, dict]:
@@ -216,6 +343,8 @@ def solve_sde(
     sidx = np.rint(t / dt).astype(np.int64)
     total = int(sidx[-1])
     out = np.empty((t.size, theta0.size))
+    if system.inertial:
+        return _solve_sde_inertial(system, t, theta0, dt, factors, beta, sidx, total, out)
     y = theta0.copy()
     jptr = 0
     for k0 in range(0, total, _SDE_CHUNK):
@@ -231,4 +360,30 @@ def solve_sde(
         out[jptr] = y
         jptr += 1
     info = {"method": "Euler-Maruyama", "dt": dt, "nsteps": total, "nfev": total}
+    return out, info
+
+
+def _solve_sde_inertial(system, t, theta0, dt, factors, beta, sidx, total, out):
+    """The inertial model under the step-wise constant noise forces: each step dt (its force factors fixed,
+    as in MuJoCo's step) by nsub RK4 substeps, h x (spectral radius at theta0, at rest) <= RK4_STEP. With
+    inertia the angles are smooth (the noise enters the accelerations), so there is no Ito correction and
+    no projection onto the pins (the Baumgarte term holds them)."""
+    radius = spectral_radius(system, theta0, beta=beta)
+    nsub = max(1, int(np.ceil(dt * radius / RK4_STEP)))
+    y = np.concatenate([theta0, np.zeros(system.n_angles)])
+    jptr = 0
+    for k0 in range(0, total, _SDE_CHUNK):
+        steps = np.arange(k0, min(total, k0 + _SDE_CHUNK))
+        facs = np.ascontiguousarray(factors(steps), dtype=float)
+        if facs.shape != (steps.size, system.n_angles):
+            raise ParameterError(
+                f"factors(steps) must have shape (len(steps), n_angles) = {(steps.size, system.n_angles)}, "
+                f"got {facs.shape}"
+            )
+        jptr = kernels.rk4_piecewise(y, k0, facs, dt, nsub, system, beta, sidx, out, jptr)
+    while jptr < t.size:
+        out[jptr] = y[: system.n_angles]
+        jptr += 1
+    info = {"method": "RK4 (noise constant over each step)", "dt": dt, "substeps": nsub, "nsteps": total * nsub,
+            "nfev": 4 * total * nsub, "model": "inertial", "mass_ratio": system.mass_ratio}
     return out, info

@@ -15,13 +15,17 @@ def register(subparsers) -> None:
     numerics_args(val)
     val.add_argument("--tolerance", type=float, default=0.01, help="largest acceptable relative error (default 0.01)")
     val.add_argument("--convergence", action="store_true", help="instead: tabulate the error as dt and the mass ratio shrink")
+    val.add_argument("--inertial", action="store_true",
+                     help="compare MuJoCo with the reduced model's inertial counterpart at the run's mass ratio (implied "
+                          "by a --mass-ratio other than the default; heavy chains run longer: x sqrt(mass ratio) above 1)")
     val.add_argument("--quiet", action="store_true")
     val.set_defaults(func=main)
 
 
 def main(args) -> int:
     # start-up time: both engines load only when a command runs, not for --help
-    from ..validate import compare, convergence, format_convergence, format_table, validation_cases
+    from ..params import Numerics
+    from ..validate import compare, convergence, format_convergence, format_table, inertial_cases, validation_cases
 
     cases = validation_cases(args.scene)
     if args.convergence:
@@ -33,10 +37,15 @@ def main(args) -> int:
                 print(format_convergence(rows))
         return 0
     numerics = numerics_from(args)
+    inertial = bool(getattr(args, "inertial", False)) or numerics.mass_ratio != Numerics().mass_ratio
+    if inertial:
+        cases = inertial_cases(numerics.mass_ratio, args.scene)
+        print(f"MuJoCo ({numerics.integrator}, dt = {numerics.dt:g}) against the inertial reduced model at mass ratio "
+              f"{numerics.mass_ratio:g} (durations {', '.join(f'{c.duration:g}' for c in cases)} tau)\n")
     rows = []
     for case in cases:
         physics = case.physics
-        rows.append(compare(physics, numerics, case.duration))
+        rows.append(compare(physics, numerics, case.duration, inertial=True if inertial else None))
         if not args.quiet:
             print(f"  done {physics.scene} ({rows[-1].mujoco_wall_s:.2f} s MuJoCo, {rows[-1].reduced_wall_s:.2f} s reduced)",
                   file=sys.stderr)

@@ -1,22 +1,31 @@
-"""Run a scene in the reduced (overdamped) model: the cross-check of the MuJoCo engine.
+"""Run a scene in the reduced model: the cross-check of the MuJoCo engine.
 
 The mathematics is elastoactive.analysis.reduced (equations, compiled kernels, solvers), which knows
 no scene: here a Physics becomes the scene's ChainSystem (Scene.reduced_system), the initial state
 comes from the scene (elastoactive.initial), the noise from elastoactive.noise (the counter-based
 force factors the MuJoCo engine uses too), and the result is a Trajectory.
 
+Which model runs: the overdamped one (the paper's) or the inertial one (MuJoCo's chain with particles
+of mass numerics.mass_ratio, analysis/reduced/equations.py). One criterion, `regime`: inside the
+overdamped limit, mass_ratio x (fastest overdamped rate at the scene's base state) <= INERTIA_RESOLUTION
+(0.1), both engines model the overdamped physics (MuJoCo approximates it with a small mass); outside it,
+both model the inertial physics with that mass, and simulate_reduced integrates the inertial model.
+elastoactive.diagnose classifies MuJoCo runs by the same function. simulate_reduced(inertial=True/False)
+overrides it; Trajectory.info records "model" ("overdamped" / "inertial") and "mass_ratio".
+
 The physics-level functions (rhs, jacobian, drag_matrix, ...) are those of the package, applied to
-system_of(physics).
+system_of(physics) (overdamped; mass_ratio > 0: the inertial model's, on the state (theta, omega)).
 """
 
 from __future__ import annotations
 
 import time
+from dataclasses import dataclass
 
 import numpy as np
 
 from ..analysis import reduced as _math
-from ..analysis.reduced import DEFAULT_BETA, STIFF_RADIUS, ChainSystem
+from ..analysis.reduced import DEFAULT_BETA, INERTIA_RESOLUTION, STIFF_RADIUS, ChainSystem
 from ..errors import ParameterError
 from ..initial import initial_angles
 from ..noise import force_factor
@@ -25,9 +34,13 @@ from ..trajectory import Trajectory
 
 __all__ = [
     "DEFAULT_BETA",
+    "INERTIA_RESOLUTION",
     "STIFF_RADIUS",
+    "Regime",
+    "base_state",
     "drag_matrix",
     "jacobian",
+    "regime",
     "rhs",
     "rhs_reference",
     "simulate_reduced",
@@ -38,25 +51,100 @@ __all__ = [
 ]
 
 
-def system_of(physics: Physics) -> ChainSystem:
-    """The reduced model of this physics, as its scene describes it."""
-    return physics.scene_def.reduced_system(physics)
+def system_of(physics: Physics, mass_ratio: float = 0.0) -> ChainSystem:
+    """The reduced model of this physics, as its scene describes it: overdamped (mass_ratio = 0), or the
+    inertial model with particles of mass mass_ratio (and the scene's bead inertia)."""
+    system = physics.scene_def.reduced_system(physics)
+    return system._replace(mass_ratio=float(mass_ratio)) if mass_ratio else system
+
+
+# ----------------------------------------------------------------------------------------------
+# which model: the overdamped limit
+# ----------------------------------------------------------------------------------------------
+def base_state(physics: Physics) -> np.ndarray:
+    """The scene's base state (its initial state without the seeded push): the straight chain(s), or the
+    two-pinned chain's arch (MuJoCo's keyframe)."""
+    return np.asarray(physics.scene_def.initial_angles(physics, Numerics(perturbation=0.0)), dtype=float)
+
+
+@dataclass(frozen=True)
+class Regime:
+    """Which physics a mass ratio gives (see the module docstring).
+
+    model           "overdamped" or "inertial"
+    mass_ratio      the particle mass m / (gamma tau)
+    rate            fastest overdamped rate at the base state, 1/tau (analysis.reduced.overdamped_rate); for
+                    systems of EXACT_RATE_ANGLES angles or more, its upper bound (analysis.reduced.rate_bound)
+                    when that already places the mass inside the limit (rate_is_bound)
+    inertia_number  mass_ratio x rate: the inertial time over the fastest overdamped time
+    """
+
+    model: str
+    mass_ratio: float
+    rate: float
+    inertia_number: float
+    rate_is_bound: bool = False
+
+    @property
+    def inertial(self) -> bool:
+        return self.model == "inertial"
+
+    @property
+    def mass_limit(self) -> float:
+        """Largest mass ratio inside the overdamped limit (INERTIA_RESOLUTION / rate)."""
+        return INERTIA_RESOLUTION / self.rate if self.rate > 0 else np.inf
+
+    def describe(self) -> str:
+        where = "outside" if self.inertial else "inside"
+        return (f"mass_ratio = {self.mass_ratio:g} is {where} the overdamped limit (m x fastest overdamped rate = "
+                f"{self.mass_ratio:g} x {self.rate:.3g} = {self.inertia_number:.2g}, limit {INERTIA_RESOLUTION:g}): "
+                f"both engines model the {self.model} chain")
+
+
+def regime(physics: Physics, numerics: Numerics) -> Regime:
+    """The one criterion: inertial iff numerics.mass_ratio x (fastest overdamped rate at the base state)
+    > INERTIA_RESOLUTION (analysis.reduced.regime). Used by simulate_reduced and by elastoactive.diagnose."""
+    m = float(numerics.mass_ratio)
+    system, theta = system_of(physics), base_state(physics)
+    if system.n_angles >= EXACT_RATE_ANGLES:  # the eigenvalues cost ~1 s at N = 400: a norm bound decides first
+        bound = _math.rate_bound(system, theta)
+        if not _math.outside_overdamped_limit(m, bound):
+            return Regime("overdamped", m, bound, m * bound, rate_is_bound=True)
+    rate = _math.overdamped_rate(system, theta)
+    return Regime("inertial" if _math.outside_overdamped_limit(m, rate) else "overdamped", m, rate, m * rate)
+
+
+EXACT_RATE_ANGLES = 50
+"""From this many angles on, regime tries the cheap upper bound of the rate before its eigenvalues."""
+
+
+def _use_inertia(physics: Physics, numerics: Numerics, inertial: bool | None) -> tuple[bool, dict]:
+    """(whether to run the inertial model, what to record in Trajectory.info) for simulate_reduced's `inertial`."""
+    if inertial is None:
+        r = regime(physics, numerics)
+        key = "inertia_number_bound" if r.rate_is_bound else "inertia_number"
+        return r.inertial, {key: r.inertia_number}
+    if inertial not in (True, False):
+        raise ParameterError(f"inertial must be True, False or None (automatic), got {inertial!r}")
+    return bool(inertial), {"inertial_override": bool(inertial)}
 
 
 # ----------------------------------------------------------------------------------------------
 # the package's functions on a Physics
 # ----------------------------------------------------------------------------------------------
-def rhs(physics: Physics, *, beta: float = DEFAULT_BETA, factor=None):
-    """Compiled right-hand side f(t, theta) -> dtheta/dt of the deterministic model.
+def rhs(physics: Physics, *, beta: float = DEFAULT_BETA, factor=None, mass_ratio: float = 0.0):
+    """Compiled right-hand side f(t, theta) -> dtheta/dt of the deterministic model (mass_ratio > 0: the
+    inertial model's f(t, y) -> dy/dt, y = (theta, omega)).
 
     factor: optional per-particle force factor (1 + eta_i), default ones. beta: Baumgarte rate (two-pinned).
     """
-    return _math.rhs(system_of(physics), beta=beta, factor=factor)
+    return _math.rhs(system_of(physics, mass_ratio), beta=beta, factor=factor)
 
 
-def jacobian(physics: Physics, *, beta: float = DEFAULT_BETA):
-    """Compiled analytic Jacobian J(t, theta) = d(dtheta/dt)/d(theta) of the deterministic model."""
-    return _math.jacobian(system_of(physics), beta=beta)
+def jacobian(physics: Physics, *, beta: float = DEFAULT_BETA, mass_ratio: float = 0.0):
+    """Compiled analytic Jacobian J(t, theta) = d(dtheta/dt)/d(theta) of the deterministic model (mass_ratio > 0:
+    the inertial model's, on (theta, omega))."""
+    return _math.jacobian(system_of(physics, mass_ratio), beta=beta)
 
 
 def drag_matrix(physics: Physics, theta) -> np.ndarray:
@@ -101,14 +189,19 @@ def simulate_reduced(
     atol: float = 1e-11,
     method: str | None = None,
     beta: float = DEFAULT_BETA,
+    inertial: bool | None = None,
 ) -> Trajectory:
     """Integrate the reduced model from theta0 (default: initial_angles) and sample every numerics.sample_dt.
 
+    inertial: None (automatic: the inertial model, at rest at t = 0, when numerics.mass_ratio is outside the
+    overdamped limit, see `regime`), True (the inertial model at numerics.mass_ratio), False (overdamped).
     Deterministic (noise = 0): adaptive ODE solver (method: see elastoactive.analysis.reduced.solve).
-    noise > 0: Euler-Maruyama with step numerics.dt and the shared counter-based noise (seed numerics.seed);
-    rtol, atol and method are then unused.
+    noise > 0: Euler-Maruyama with step numerics.dt and the shared counter-based noise (seed numerics.seed)
+    (inertial: the noise force constant over each step dt, as in MuJoCo, RK4 substeps); rtol, atol and
+    method are then unused. info records "model" ("overdamped" / "inertial") and "mass_ratio".
     """
-    system = system_of(physics)
+    use_inertia, record = _use_inertia(physics, numerics, inertial)
+    system = system_of(physics, numerics.mass_ratio if use_inertia else 0.0)
     t = numerics.sample_times(duration)
     theta0 = _initial(physics, numerics, theta0)
     start = time.perf_counter()
@@ -123,6 +216,7 @@ def simulate_reduced(
     else:
         theta, info = _math.solve_ode(system, t, theta0, rtol=rtol, atol=atol, method=method, beta=beta)
     wall = time.perf_counter() - start
+    info.update(model="inertial" if use_inertia else "overdamped", mass_ratio=float(numerics.mass_ratio), **record)
     if system.pinned:
         info["beta"] = beta
         info["constraint_violation"] = _math.constraint_violation(system, theta)
@@ -139,26 +233,31 @@ def simulate_reference(
     atol: float = 1e-11,
     method: str = "DOP853",
     beta: float = DEFAULT_BETA,
+    inertial: bool | None = None,
 ) -> Trajectory:
-    """The plain numpy/scipy baseline: solve_ivp on rhs_reference (deterministic only), for benchmarks."""
+    """The plain numpy/scipy baseline: solve_ivp on rhs_reference (deterministic only), for benchmarks;
+    inertial as in simulate_reduced (rhs_inertial_reference, from rest)."""
     # start-up time: scipy.integrate costs ~0.4 s to import; the compiled default does not need it
     from scipy.integrate import solve_ivp
 
     if physics.noise > 0:
         raise ParameterError("simulate_reference integrates the deterministic model only (noise must be 0)")
-    system = system_of(physics)
+    use_inertia, record = _use_inertia(physics, numerics, inertial)
+    system = system_of(physics, numerics.mass_ratio if use_inertia else 0.0)
     t = numerics.sample_times(duration)
     theta0 = _initial(physics, numerics, theta0)
     start = time.perf_counter()
-    sol = solve_ivp(
-        _math.rhs_reference(system, beta=beta), (0.0, float(t[-1])), theta0, method=method, t_eval=t, rtol=rtol,
-        atol=atol,
-    )
+    if use_inertia:
+        f, y0 = _math.rhs_inertial_reference(system, beta=beta), np.concatenate([theta0, np.zeros(theta0.size)])
+    else:
+        f, y0 = _math.rhs_reference(system, beta=beta), theta0
+    sol = solve_ivp(f, (0.0, float(t[-1])), y0, method=method, t_eval=t, rtol=rtol, atol=atol)
     wall = time.perf_counter() - start
     if not sol.success:
         raise RuntimeError(f"solve_ivp ({method}) failed: {sol.message}")
-    info = {"method": method, "rtol": rtol, "atol": atol, "nfev": int(sol.nfev), "rhs": "numpy reference"}
-    theta = sol.y.T.copy()
+    info = {"method": method, "rtol": rtol, "atol": atol, "nfev": int(sol.nfev), "rhs": "numpy reference",
+            "model": "inertial" if use_inertia else "overdamped", "mass_ratio": float(numerics.mass_ratio), **record}
+    theta = sol.y.T[:, : theta0.size].copy()
     if system.pinned:
         info["constraint_violation"] = _math.constraint_violation(system, theta)
     return Trajectory(t=t, theta=theta, physics=physics, engine="reduced-reference", wall_time_s=wall, info=info)

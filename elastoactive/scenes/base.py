@@ -26,7 +26,7 @@ from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 
-from ..analysis.reduced.system import ChainSystem
+from ..analysis.reduced.system import BEAD_INERTIA_FACTOR, ChainSystem
 from ..errors import ParameterError
 
 if TYPE_CHECKING:  # typing only: these modules import the registry that holds scenes
@@ -113,10 +113,12 @@ class Scene:
 
     # ------------------------------------------------------------------ reduced model
     def reduced_system(self, physics: "Physics") -> ChainSystem:
-        """The reduced model of this scene."""
+        """The reduced model of this scene: overdamped (mass_ratio 0); the engine sets the particle mass for the
+        inertial model (engines.reduced.system_of), whose beads have MuJoCo's rotational inertia (mjcf/common.xml)."""
         return ChainSystem(
             n=physics.n, n_chains=self.n_chains, clamped=self.clamped, pinned=self.pinned, sigma=physics.sigma,
             gamma_l=physics.drag_ratio, gamma_t=1.0, kappa=0.0, rho=1.0, delta=0.0,
+            mass_ratio=0.0, inertia_factor=BEAD_INERTIA_FACTOR,
         )
 
     # ------------------------------------------------------------------ initial state

@@ -3,10 +3,26 @@
    Every site with a non-zero first user value s->user[0] = F carries a force of magnitude F
    along minus its own x axis (the pendulum's direction, pointing back toward the anchor):
        f = -F (1 + eta) x_site .
-   eta is optional multiplicative white noise. The callback acts only on models that carry
-   the custom numeric "elastoactive_follower" = (noise amplitude a, seed), so other models in
-   the process are left alone; the draw is the counter-based one of elastoactive/noise.py, so
-   both engines see the same noise.
+   eta is optional multiplicative noise. The callback acts only on models that carry the custom
+   numeric "elastoactive_follower" = (noise amplitude a, seed[, correlation time tau_c]), so other
+   models in the process are left alone; the draws are the counter-based ones of
+   elastoactive/noise.py, so both engines see the same noise.
+
+   White noise (tau_c = 0 or absent): eta = a xi(seed, k, p) / sqrt(dt) over step k (k = the nearest
+   whole number to time / dt).
+
+   Coloured noise (tau_c > 0): eta is an Ornstein-Uhlenbeck process per particle (variance
+   a^2 / (2 tau_c), correlation time tau_c), updated once per step by the exact discretisation
+       eta_0 = sqrt(var) xi(seed, UINT64_MAX, p),  eta_{k+1} = e eta_k + sqrt(var (1 - e^2)) xi(seed, k, p)
+   (e = exp(-dt / tau_c)); step k applies eta_k. The state lives in mjData.userdata (the model has
+   nuserdata >= 1 + P for P particles): userdata[0] = k + 1 for the step k whose eta is held
+   (0: none yet), userdata[1 + p] = eta_k of particle p. The step of a call is
+   k = floor(time / dt + 1e-6): every call within one step (mj_forward, the implicit integrators'
+   one call, RK4's stages at t and t + dt/2) reads the held values; a call in a later step advances
+   them, one update per step in order (so RK4's last stage, at t + dt, takes eta_{k+1}: the noise
+   is a piecewise-constant function of time). A call at an earlier step restarts from eta_0. eta_k is
+   therefore a function of (seed, k) alone, and copies of mjData (mj_copyData, mjSTATE_INTEGRATION,
+   which holds userdata) continue the same realisation.
 
    The forces are turned into generalised forces in one pass from the leaves to the root:
    each body collects the total force F_b and moment M_b (about the world origin) of the
@@ -63,10 +79,38 @@ static const mjtNum* find_numeric(const mjModel* m, const char* name, int size) 
   return NULL;
 }
 
+/* The coloured noise of step `step` for `count` particles, in d->userdata (see the top of the file);
+   returns the array of eta (userdata + 1), or NULL when the model holds no room for it. */
+static const mjtNum* coloured_noise(const mjModel* m, mjData* d, const mjtNum* params, int count) {
+  if (m->nuserdata < 1 + count) return NULL;
+  double dt = m->opt.timestep, amplitude = params[0], tau_c = params[2];
+  uint64_t seed = (uint64_t)params[1];
+  double var = amplitude * amplitude / (2.0 * tau_c);
+  double decay = exp(-dt / tau_c);
+  double std = sqrt(var), kick = sqrt(var * (1.0 - decay * decay));
+  double where = floor(d->time / dt + 1e-6);
+  uint64_t step = where > 0 ? (uint64_t)where : 0;
+  mjtNum* eta = d->userdata + 1;
+  double held = d->userdata[0] - 1.0;
+  if (held < 0 || (double)step < held) {
+    for (int p = 0; p < count; p++) eta[p] = std * standard_normal(seed, UINT64_MAX, (uint64_t)p);
+    held = 0;
+  }
+  for (uint64_t k = (uint64_t)held; k < step; k++) {
+    for (int p = 0; p < count; p++) eta[p] = decay * eta[p] + kick * standard_normal(seed, k, (uint64_t)p);
+  }
+  d->userdata[0] = (double)step + 1.0;
+  return eta;
+}
+
 static void follower_passive(const mjModel* m, mjData* d) {
   if (m->nuser_site < 1) return;
   const mjtNum* params = find_numeric(m, "elastoactive_follower", 2);
   if (!params) return;
+  int coloured = 0;
+  for (int i = 0; i < m->nnumeric; i++) {
+    if (m->numeric_data + m->numeric_adr[i] == params) coloured = m->numeric_size[i] >= 3 && params[2] > 0;
+  }
   int nbody = m->nbody;
   if (scratch_bodies < nbody) {
     mjtNum* grown = (mjtNum*)realloc(scratch, sizeof(mjtNum) * 6 * nbody);
@@ -80,7 +124,12 @@ static void follower_passive(const mjModel* m, mjData* d) {
 
   double amplitude = 0;
   uint64_t seed = 0, step = 0;
-  if (params[0] > 0) {
+  const mjtNum* eta = NULL;
+  if (coloured && params[0] > 0) {
+    int count = 0;
+    for (int s = 0; s < m->nsite; s++) count += m->site_user[s * m->nuser_site] != 0;
+    eta = coloured_noise(m, d, params, count);
+  } else if (params[0] > 0) {
     amplitude = params[0] / sqrt(m->opt.timestep);
     seed = (uint64_t)params[1];
     step = (uint64_t)llround(d->time / m->opt.timestep);
@@ -90,7 +139,11 @@ static void follower_passive(const mjModel* m, mjData* d) {
   for (int s = 0; s < m->nsite; s++) {
     mjtNum magnitude = m->site_user[s * m->nuser_site];
     if (magnitude == 0) continue;
-    if (amplitude > 0) magnitude *= 1.0 + amplitude * standard_normal(seed, step, (uint64_t)particle);
+    if (eta) {
+      magnitude *= 1.0 + eta[particle];
+    } else if (amplitude > 0) {
+      magnitude *= 1.0 + amplitude * standard_normal(seed, step, (uint64_t)particle);
+    }
     particle++;
     any = 1;
     const mjtNum* R = d->site_xmat + 9 * s;

@@ -11,8 +11,10 @@ coupling). Mapping (units l = C1 = gamma_T = 1, so tau = 1):
   lab-frame drag        two velocity actuators per particle site, x (along the pendulum) with
                         kv = gamma_L = drag_ratio and y (across) with kv = gamma_T = 1
   particle mass         bead geom mass = mass_ratio (inertial time m / gamma in units of tau)
-  callback marker       custom numeric elastoactive_follower = (noise amplitude a, seed): the
-                        C callback acts only on models that carry it
+  callback marker       custom numeric elastoactive_follower = (noise amplitude a, seed, correlation
+                        time tau_c): the C callback acts only on models that carry it
+  noise state           coloured noise (tau_c > 0): nuserdata = 1 + number of particles; mjData.userdata
+                        holds (held step + 1, eta of each particle), see controllers/follower.c
 """
 
 from __future__ import annotations
@@ -74,7 +76,16 @@ def build_spec(physics: Physics, numerics: Numerics = Numerics()) -> mujoco.MjSp
     spec.option.integrator = INTEGRATOR[numerics.integrator]
     spec.modelname = scene.name
     scene.build(spec, physics, numerics)
-    spec.numeric("elastoactive_follower").data = [physics.noise, float(numerics.seed)]
+    if physics.noise > 0 and physics.noise_correlation == 0 and physics.noise_calculus != "ito":
+        raise ParameterError(
+            "MuJoCo applies white noise in the Ito reading only (constant over each step); for the Stratonovich "
+            "reading give the noise a short correlation time (--noise-correlation, its Wong-Zakai limit), or use "
+            "the reduced engine")
+    marker = spec.numeric("elastoactive_follower")  # mjcf/common.xml declares (a, seed); tau_c goes after them
+    marker.size = 3
+    marker.data = [physics.noise, float(numerics.seed), physics.noise_correlation]
+    if physics.noise_correlation > 0:
+        spec.nuserdata = 1 + physics.n_angles  # the coloured noise's state (follower.c)
     return spec
 
 

@@ -19,6 +19,7 @@ import numpy as np
 from . import registry
 from .errors import ParameterError
 
+NOISE_CALCULI = ("ito", "stratonovich")
 INTEGRATORS = ("implicitfast", "implicit", "discrete", "Euler", "RK4")
 DEFAULT_SCENE = "one-pinned"
 """The scene a Physics() without a scene describes: the paper's flagellar beating."""
@@ -45,7 +46,12 @@ class Physics:
     kappa       coupling stiffness K l^2 / C1 of the pair's first pendula
     rho         stiffness ratio C2 / C1 of the pair (second chain has sigma / rho)
     drag_ratio  gamma_L / gamma_T, longitudinal over transverse drag (1 = isotropic)
-    noise       amplitude a of multiplicative white noise: F_a (1 + eta), <eta eta'> = a^2 delta(t-t')
+    noise       amplitude a of multiplicative noise: F_a (1 + eta); white: <eta eta'> = a^2 delta(t-t')
+    noise_correlation  correlation time tau_c of the noise (0: white); tau_c > 0: eta is an Ornstein-Uhlenbeck
+                process, <eta(t) eta(t')> = a^2 / (2 tau_c) exp(-|t - t'| / tau_c), of the same intensity
+                as the white noise of amplitude a (its limit as tau_c -> 0)
+    noise_calculus  reading of white noise: "ito" or "stratonovich" (the white limit of coloured noise,
+                Wong-Zakai); unused for coloured noise. Reported only when noise > 0
     """
 
     scene: str = DEFAULT_SCENE
@@ -56,6 +62,12 @@ class Physics:
     rho: float = field(default=4.0 / 3.0, metadata={"help": "stiffness ratio C2 / C1 of the pair; chain 2 has sigma/rho"})
     drag_ratio: float = field(default=1.0, metadata={"help": "anisotropy gamma_L / gamma_T of the drag (1: isotropic)"})
     noise: float = field(default=0.0, metadata={"help": "amplitude a of multiplicative white noise on F_a"})
+    noise_correlation: float = field(default=0.0, metadata={
+        "help": "correlation time tau_c of the noise, in tau (0: white; > 0: Ornstein-Uhlenbeck of variance "
+                "a^2 / (2 tau_c))"})
+    noise_calculus: str = field(default="ito", metadata={
+        "help": "reading of white noise (reduced engine; MuJoCo: ito, or stratonovich as small tau_c)",
+        "choices": NOISE_CALCULI})
 
     def __post_init__(self) -> None:
         try:
@@ -71,7 +83,7 @@ class Physics:
             raise ParameterError(f"n (number of particles N) must be >= 1, got {self.n}")
         if self.n > 1000:
             raise ParameterError(f"n (number of particles N) must be <= 1000, got {self.n}")
-        for name in ("sigma", "delta", "kappa", "rho", "drag_ratio", "noise"):
+        for name in ("sigma", "delta", "kappa", "rho", "drag_ratio", "noise", "noise_correlation"):
             object.__setattr__(self, name, _finite(name, getattr(self, name)))
         if self.sigma < 0:
             raise ParameterError(f"sigma (elasto-active number) must be >= 0, got {self.sigma}")
@@ -85,6 +97,10 @@ class Physics:
             raise ParameterError(f"drag_ratio (gamma_L/gamma_T) must be > 0, got {self.drag_ratio}")
         if self.noise < 0:
             raise ParameterError(f"noise (amplitude a) must be >= 0, got {self.noise}")
+        if self.noise_correlation < 0:
+            raise ParameterError(f"noise_correlation (tau_c, 0: white) must be >= 0, got {self.noise_correlation}")
+        if self.noise_calculus not in NOISE_CALCULI:
+            raise ParameterError(f"noise_calculus must be one of {', '.join(NOISE_CALCULI)}, got {self.noise_calculus!r}")
         scene.check(self)
 
     @property
@@ -111,8 +127,9 @@ class Physics:
         return self.scene_def.clamped
 
     def relevant(self) -> dict:
-        """The parameters this scene uses (the others are ignored and not reported)."""
-        return {k: getattr(self, k) for k in self.scene_def.relevant()}
+        """The parameters this scene uses (the others are ignored and not reported); the noise's correlation time
+        and calculus only when noise > 0 (so that noise-free summaries are what they were before they existed)."""
+        return {k: getattr(self, k) for k in self.scene_def.relevant(self)}
 
 
 @dataclass(frozen=True)

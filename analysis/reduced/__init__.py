@@ -37,6 +37,7 @@ SOLVE_NAMES = (  # the public names of solve.py (its __all__), loaded on first u
     "IMPLICIT_METHODS",
     "RK4_STEP",
     "SCIPY_METHODS",
+    "SDE_SCHEMES",
     "STIFF_RADIUS",
     "STIFF_RATIO",
     "constraint_violation",

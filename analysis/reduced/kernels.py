@@ -59,6 +59,7 @@ __all__ = [
     "eval_rhs_recursive",
     "eval_state",
     "euler_maruyama",
+    "heun",
     "forces",
     "make_inertial_workspace",
     "make_workspace",
@@ -629,6 +630,39 @@ def euler_maruyama(y, k0, facs, dt, system, beta, sidx, out, jptr):
         eval_rhs(y, facs[r], system, beta, f, L, D, X, lam)
         for i in range(na):
             y[i] += dt * f[i]
+        if system.pinned:
+            restore_pins(y, system.delta)
+    return jptr
+
+
+@njit(cache=True)
+def heun(y, k0, facs, dt, system, beta, sidx, out, jptr):
+    """euler_maruyama's loop with the stochastic Heun (predictor-corrector) step, which converges to the
+    Stratonovich reading of the multiplicative white noise: with f(y, fac) the right-hand side under step k's
+    force factors (its noise increment fixed over the step), y* = y + dt f(y, fac_k),
+    y_{k+1} = y + dt (f(y, fac_k) + f(y*, fac_k)) / 2; pinned systems are projected after each step."""
+    n = system.n
+    nch = system.n_chains
+    na = y.size
+    m = 0 if uses_recursive(n) else n
+    L = np.zeros((nch, m, m))
+    D = np.zeros((n, n)) if m == n else np.zeros((nch * n, 4))
+    X = np.zeros((n, 2))
+    lam = np.zeros(2)
+    f = np.empty(na)
+    g = np.empty(na)
+    yp = np.empty(na)
+    for r in range(facs.shape[0]):
+        k = k0 + r
+        while jptr < sidx.size and sidx[jptr] == k:
+            out[jptr, :] = y
+            jptr += 1
+        eval_rhs(y, facs[r], system, beta, f, L, D, X, lam)
+        for i in range(na):
+            yp[i] = y[i] + dt * f[i]
+        eval_rhs(yp, facs[r], system, beta, g, L, D, X, lam)
+        for i in range(na):
+            y[i] += 0.5 * dt * (f[i] + g[i])
         if system.pinned:
             restore_pins(y, system.delta)
     return jptr

@@ -327,15 +327,26 @@ RK4_STEP = 0.25
 """Largest h x spectral radius of the RK4 substeps of the inertial model with noise (solve_sde)."""
 
 
+SDE_SCHEMES = ("euler", "heun")
+"""solve_sde's schemes: Euler-Maruyama (Ito; also the coloured noise's random ODE) and stochastic Heun
+(Stratonovich)."""
+
+
 def solve_sde(
-    system: ChainSystem, t, theta0, *, dt: float, factors: Callable[[np.ndarray], np.ndarray], beta: float
+    system: ChainSystem, t, theta0, *, dt: float, factors: Callable[[np.ndarray], np.ndarray], beta: float,
+    scheme: str = "euler",
 ) -> tuple[np.ndarray, dict]:
-    """Euler-Maruyama from theta0 at t = 0 with step dt; returns (theta at the times t, info).
+    """Euler-Maruyama (scheme "euler") or stochastic Heun ("heun") from theta0 at t = 0 with step dt; returns
+    (theta at the times t, info).
 
     The sample times must be multiples of dt. factors(steps) gives the force factors (1 + eta) of the
     step indices `steps` (an int64 array), shape (len(steps), n_angles): step k uses factors(...)[k]
-    for its drift at the step start. Pinned systems are projected back onto the pins after each step.
+    for its drift at the step start (Heun: for its predictor and its corrector, so that white noise is read
+    in the Stratonovich sense). Pinned systems are projected back onto the pins after each step. The
+    inertial model ignores the scheme (the noise enters its accelerations: no Ito-Stratonovich difference).
     """
+    if scheme not in SDE_SCHEMES:
+        raise ParameterError(f"scheme must be one of {SDE_SCHEMES}, got {scheme!r}")
     system = system.typed()
     t, theta0 = _samples_and_state(system, t, theta0)
     beta = float(beta)
@@ -355,11 +366,15 @@ def solve_sde(
                 f"factors(steps) must have shape (len(steps), n_angles) = {(steps.size, system.n_angles)}, "
                 f"got {facs.shape}"
             )
-        jptr = kernels.euler_maruyama(y, k0, facs, dt, system, beta, sidx, out, jptr)
+        step = kernels.heun if scheme == "heun" else kernels.euler_maruyama
+        jptr = step(y, k0, facs, dt, system, beta, sidx, out, jptr)
     while jptr < t.size:  # samples at the final step
         out[jptr] = y
         jptr += 1
-    info = {"method": "Euler-Maruyama", "dt": dt, "nsteps": total, "nfev": total}
+    if scheme == "heun":
+        info = {"method": "stochastic Heun", "dt": dt, "nsteps": total, "nfev": 2 * total}
+    else:
+        info = {"method": "Euler-Maruyama", "dt": dt, "nsteps": total, "nfev": total}
     return out, info
 
 

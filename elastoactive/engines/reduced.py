@@ -28,7 +28,7 @@ from ..analysis import reduced as _math
 from ..analysis.reduced import DEFAULT_BETA, INERTIA_RESOLUTION, STIFF_RADIUS, ChainSystem
 from ..errors import ParameterError
 from ..initial import initial_angles
-from ..noise import force_factor
+from ..noise import ColouredNoise, force_factor
 from ..params import Numerics, Physics
 from ..trajectory import Trajectory
 
@@ -198,7 +198,10 @@ def simulate_reduced(
     Deterministic (noise = 0): adaptive ODE solver (method: see elastoactive.analysis.reduced.solve).
     noise > 0: Euler-Maruyama with step numerics.dt and the shared counter-based noise (seed numerics.seed)
     (inertial: the noise force constant over each step dt, as in MuJoCo, RK4 substeps); rtol, atol and
-    method are then unused. info records "model" ("overdamped" / "inertial") and "mass_ratio".
+    method are then unused. White noise read as Stratonovich (physics.noise_calculus): stochastic Heun
+    instead (the inertial model has no Ito-Stratonovich difference). Coloured noise (noise_correlation
+    tau_c > 0): the Ornstein-Uhlenbeck realisation of elastoactive.noise.ColouredNoise, the one MuJoCo's
+    callback applies, constant over each step (Euler steps of the random ODE; dt << tau_c resolves it). info records "model" ("overdamped" / "inertial") and "mass_ratio".
     """
     use_inertia, record = _use_inertia(physics, numerics, inertial)
     system = system_of(physics, numerics.mass_ratio if use_inertia else 0.0)
@@ -207,12 +210,22 @@ def simulate_reduced(
     start = time.perf_counter()
     if physics.noise > 0:
         dt = numerics.dt
+        scheme = "euler"
+        if physics.noise_correlation > 0:  # the shared Ornstein-Uhlenbeck realisation, constant over each step
+            coloured = ColouredNoise(numerics.seed, physics.n_angles, physics.noise, physics.noise_correlation, dt)
+            factors = coloured.force_factor
+        else:
+            scheme = "heun" if physics.noise_calculus == "stratonovich" and not use_inertia else "euler"
 
-        def factors(steps: np.ndarray) -> np.ndarray:
-            return force_factor(numerics.seed, steps, physics.n_angles, physics.noise, dt)
+            def factors(steps: np.ndarray) -> np.ndarray:
+                return force_factor(numerics.seed, steps, physics.n_angles, physics.noise, dt)
 
-        theta, info = _math.solve_sde(system, t, theta0, dt=dt, factors=factors, beta=beta)
+        theta, info = _math.solve_sde(system, t, theta0, dt=dt, factors=factors, beta=beta, scheme=scheme)
         info["seed"] = numerics.seed
+        if physics.noise_correlation > 0:
+            info["noise_correlation"] = physics.noise_correlation
+        else:
+            info["noise_calculus"] = physics.noise_calculus
     else:
         theta, info = _math.solve_ode(system, t, theta0, rtol=rtol, atol=atol, method=method, beta=beta)
     wall = time.perf_counter() - start

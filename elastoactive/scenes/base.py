@@ -35,6 +35,8 @@ if TYPE_CHECKING:  # typing only: these modules import the registry that holds s
 
 COMMON_PARAMETERS = ("n", "sigma", "drag_ratio", "noise")
 """Physics parameters every chain scene uses."""
+NOISE_PARAMETERS = ("noise_correlation", "noise_calculus")
+"""Physics parameters of the noise, used (and reported) when noise > 0."""
 
 
 @dataclass(frozen=True)
@@ -72,9 +74,11 @@ class Scene:
     """Observables that validate holds to its tolerance (relative error)."""
 
     # ------------------------------------------------------------------ parameters
-    def relevant(self) -> tuple[str, ...]:
-        """Names of the physics parameters this scene uses (the others are ignored and not reported)."""
-        return ("scene",) + COMMON_PARAMETERS + self.parameters
+    def relevant(self, physics: "Physics | None" = None) -> tuple[str, ...]:
+        """Names of the physics parameters this scene uses (the others are ignored and not reported). Given a
+        physics, NOISE_PARAMETERS are among them only when its noise is > 0."""
+        names = ("scene",) + COMMON_PARAMETERS + self.parameters
+        return names + NOISE_PARAMETERS if physics is not None and physics.noise > 0 else names
 
     def check(self, physics: "Physics") -> None:
         """Scene-specific checks of the parameters (the generic ranges are checked by Physics)."""

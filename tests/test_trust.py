@@ -221,3 +221,15 @@ def test_reproduce_records_provenance(tmp_path):
     assert json.loads((tmp_path / "provenance.json").read_text())["versions"]["mujoco"]
     assert "## Provenance" in (tmp_path / "report.md").read_text()
     assert "provenance" in json.loads((tmp_path / "stability.json").read_text())
+
+
+def test_engines_compare_irregular_beats_by_their_statistics():
+    """With noise the beat is irregular: validate compares cycle statistics (z-scores), not single numbers."""
+    from elastoactive.validate import Z_AGREE, compare, format_table
+
+    c = compare(ea.Physics(noise=0.1), ea.Numerics(), 400)
+    assert c.mujoco.periodic is False and c.statistics is not None
+    assert c.statistics["z"] <= Z_AGREE and c.worst() < 0.01
+    assert "irregular beat" in format_table([c])
+    regular = compare(ea.Physics(n=4, sigma=1.2), ea.Numerics(), 200)
+    assert regular.statistics is None

@@ -1,9 +1,12 @@
 """Run many independent cases on every core: one case = one simulation + its measurements.
 
-A process pool (not threads: the sampling loop between MuJoCo's C chunks holds the GIL, so threads
-barely scale; processes gave 1.84x on 2 cores). Results come back in input order; with
-`on_result` each is handed over as soon as it is done (in completion order), so a caller can
-write it out before the rest finish.
+MuJoCo cases run together with `mujoco.batch` (engines.mujoco_batch): the cases that share one
+compiled model step in one batch on `workers` C threads of this process, bit for bit what
+`run_case` gives. Reduced-engine cases run on a process pool: their compiled kernels hold the
+GIL, so threads would not help (processes gave 1.84x on 2 cores). Results come back in input
+order; with `on_result` each is handed over (in this thread) as soon as it is done, so a caller
+can write it out before the rest finish. A failed case (e.g. SimulationDiverged) raises, once
+the others have finished: the first failure in input order.
 """
 
 from __future__ import annotations
@@ -63,33 +66,56 @@ def run_cases(
     on_result: Callable[[int, CaseResult], None] | None = None,
     desc: str = "cases",
 ) -> list[CaseResult]:
-    """Run the cases on `workers` processes (default: every core); results in input order."""
+    """Run the cases on `workers` threads (MuJoCo) or processes (reduced; default: every core);
+    results in input order."""
     cases = list(cases)
     workers = default_workers() if workers is None else workers
     results: list[CaseResult | None] = [None] * len(cases)
+    errors: dict[int, BaseException] = {}
     bar = None
     if progress:
         bar = progress_bar(len(cases), desc, "case")
     start = time.perf_counter()
-    if workers <= 1 or len(cases) <= 1:
-        for i, case in enumerate(cases):
-            results[i] = run_case(case, keep_trajectory)
-            if on_result:
-                on_result(i, results[i])
-            if bar:
-                bar.update()
-    else:
-        with ProcessPoolExecutor(max_workers=workers) as pool:
-            futures = {pool.submit(run_case, case, keep_trajectory): i for i, case in enumerate(cases)}
-            for future in as_completed(futures):
-                i = futures[future]
-                results[i] = future.result()
-                if on_result:
-                    on_result(i, results[i])
-                if bar:
-                    bar.update()
-    if bar:
-        bar.close()
+
+    def finished(i: int, result: CaseResult) -> None:
+        results[i] = result
+        if on_result:
+            on_result(i, result)
+        if bar:
+            bar.update()
+
+    try:
+        simulated = [i for i, case in enumerate(cases) if case.engine == "mujoco"]
+        if simulated:
+            from .engines.mujoco_batch import iter_mujoco_batch  # start-up time: loads mujoco
+
+            runs = [cases[i] for i in simulated]
+            for j, outcome in iter_mujoco_batch(runs, threads=max(1, workers)):
+                i = simulated[j]
+                if isinstance(outcome, BaseException):
+                    errors[i] = outcome
+                    continue
+                try:
+                    res = measure(outcome, cases[i].transient)
+                except Exception as err:  # noqa: BLE001 (raised below, as run_case would)
+                    errors[i] = err
+                    continue
+                finished(i, CaseResult(res, outcome.wall_time_s, outcome.info,
+                                       outcome if keep_trajectory else None))
+        reduced = [i for i, case in enumerate(cases) if case.engine != "mujoco"]
+        if workers <= 1 or len(reduced) <= 1:
+            for i in reduced:
+                finished(i, run_case(cases[i], keep_trajectory))
+        elif reduced:
+            with ProcessPoolExecutor(max_workers=workers) as pool:
+                futures = {pool.submit(run_case, cases[i], keep_trajectory): i for i in reduced}
+                for future in as_completed(futures):
+                    finished(futures[future], future.result())
+    finally:
+        if bar:
+            bar.close()
+    if errors:
+        raise errors[min(errors)]
     elapsed = time.perf_counter() - start
     for r in results:
         r.batch_wall_s = elapsed

@@ -2,23 +2,39 @@
 
     elastoactive sweep one-pinned --grid sigma=0.2:1.0:9 --grid n=5,7 --duration 300 --out s.nc
 
-Each grid point is one `batch.Case`, run on every core (a local process pool, the default) or on
-a Dask cluster (`scheduler="tcp://host:port"`), and measured by `results.measure`. The result is
-an xarray Dataset whose dimensions are the grid parameters (plus `chain` for the pair), written
-to netCDF (h5netcdf engine).
+Each grid point is one `batch.Case`, measured by `results.measure`. The result is an xarray Dataset
+whose dimensions are the grid parameters (plus `chain` for the pair), written to netCDF (h5netcdf
+engine).
+
+Running
+-------
+* MuJoCo points run in batches (`engines.mujoco_batch`): points that share one compiled model (same
+  N, mass ratio, integrator, dt and sampling; sigma, seed, noise, kappa, rho, drag ratio, delta and
+  perturbation are per-simulation fields or states of it) step together in one `mujoco.batch` on
+  `workers` C threads of this process: no Python per step, bit for bit what `elastoactive run` gives.
+  A batch holds at most `batch_size` points (default 8 per thread). Its points are journaled when it
+  ends (together: one fsync); a point that fails at once (diverged early, or refused by the pre-flight
+  check, diagnose.check_timestep, computed once per distinct model while the batch steps) as soon as
+  it does. A diverged point is its own error; the others of its batch go on. A kill loses at most
+  the running batches.
+* Reduced-engine points run on a local process pool (its compiled kernels hold the GIL).
+* On a Dask cluster (`scheduler="tcp://host:port"`) each task is one MuJoCo batch (on every thread of
+  the worker that runs it, whose tasks take turns; at least one batch per worker), or one reduced point.
+* Every point also records whether its motion is periodic (`periodic`: 1, 0, or NaN when the window
+  holds too few cycles), its `period_spread` (per chain for the pair) and its `notes` (text).
 
 Storage and resume
 ------------------
 * `<out>.journal` is an append-only JSON-lines file: a header with the sweep's specification,
   then one line per finished point (its flat grid index, coordinates, status, error text,
-  measurements, wall time, finish time), flushed and fsync'ed as soon as the point is done.
+  measurements, notes, wall time, finish time), flushed and fsync'ed as soon as the point is done.
   Appending one line is O(1) per point and a kill -9 can at worst leave a torn last line, which
   is skipped on reading; nothing already written can be damaged.
 * Every journal line is validated when read: status "ok" or "error", index inside the grid,
   coordinates equal to the grid's at that index, the scene's measurements present (for "ok")
   with the right shape (one number per chain for the pair's per-chain values) and finite where
   they always are (NaN is allowed for snap_amplitude and frequency_mismatch, and for
-  measurements this module does not know), wall time a number. A line that fails is discarded
+  measurements this module does not know), periodic 1, 0 or NaN, notes a text, wall time a number. A line that fails is discarded
   with a SweepJournalWarning naming the count, and its point runs again. A point's record that
   would fail this check is stored as an error ("invalid result: ..."), so what is written reads back.
 * `<out>` (netCDF) is the Dataset: rewritten atomically and durably (temporary file, fsync,
@@ -42,8 +58,8 @@ Storage and resume
   reduced-engine sweep, where they change nothing (dt is allowed when noise > 0: it is then the
   Euler-Maruyama step).
 
-Dask: every worker of the cluster needs elastoactive (same version) installed; the points are
-submitted with client.map and collected as they complete, exactly as with the local pool.
+Dask: every worker of the cluster needs elastoactive (same version) installed; the batches (or
+reduced points) are submitted with client.map and collected as they complete, as locally.
 
 Why not rewrite the netCDF after every point: that costs O(size of the file) per point, i.e.
 O(points^2) for the sweep; and zarr region writes would add a dependency and leave a directory
@@ -57,6 +73,7 @@ import ctypes
 import dataclasses
 import errno
 import fcntl
+import functools
 import json
 import math
 import os
@@ -87,6 +104,8 @@ MUJOCO_ONLY = ("dt", "mass_ratio", "integrator")
 """Numerical settings only the MuJoCo engine reads (the reduced engine uses dt only when noise > 0)."""
 FORMAT = 1
 STATUSES = ("ok", "error")
+TEXT_VARIABLES = ("status", "error", "notes")
+"""Variables that hold text per point (the others are numbers, and finished_at a time)."""
 """Status of a finished point; an unfinished one is "pending"."""
 MUST_BE_FINITE = ("amplitude", "rotation_rate", "constraint_violation")
 """Measurements that are always finite. The other known ones (OBSERVABLES: frequency, snap_amplitude,
@@ -97,15 +116,28 @@ SNAPSHOT_MARGIN = 1 << 20
 
 
 def scene_variables(scene: str) -> tuple[str, ...]:
-    """Measured variables of a scene (results.measure), present even before any point is done."""
+    """Measured variables of a scene (results.measure), present even before any point is done: amplitude,
+    frequency, whether the motion is periodic and its period spread, the scene's observables and, for a
+    pinned scene, the pin's largest violation. (Each point's notes are a text variable besides these.)"""
     s = registry.get(scene)
-    return ("amplitude", "frequency", *s.observables) + (("constraint_violation",) if s.pinned else ())
+    names = ("amplitude", "frequency", "periodic", "period_spread", *s.observables)
+    return tuple(dict.fromkeys(names)) + (("constraint_violation",) if s.pinned else ())
 
 
 VARIABLE_ATTRS = {
     **{name: dict(units=o.units, long_name=o.long_name) for name, o in OBSERVABLES.items()},
+    "periodic": dict(
+        units="1", long_name="whether the motion is periodic (results.Results.periodic)",
+        flag_values=np.array([1.0, 0.0]), flag_meanings="periodic irregular",
+        comment="1: a steady state or a regular beat (amplitude and frequency describe it); 0: irregular (cycle "
+                "periods or amplitudes vary by more than 1% - noise, chaos, or a beat still growing: amplitude and "
+                "frequency are averages); NaN: the measured window holds too few cycles to tell, or the point "
+                "failed"),
+    "notes": dict(long_name="what to know about the point's numbers (results.Results.notes, joined with '; '); "
+                            "empty when there is nothing to say"),
     "constraint_violation": dict(units="l", long_name="largest distance of the last particle from its pin"),
-    "wall_time_s": dict(units="s", long_name="wall time of the simulation (without measuring)"),
+    "wall_time_s": dict(units="s", long_name="wall time of the simulation (without measuring); for MuJoCo points run "
+                                             "together in one mujoco.batch, its share: batch wall time x threads / points"),
     "finished_at": dict(long_name="when the point finished"),
     "status": dict(long_name="ok, error (see error) or pending (not run yet)"),
     "error": dict(long_name="error text of a failed point (empty if ok)"),
@@ -362,7 +394,14 @@ def _check_spec(path: Path, mine: dict, theirs: dict | None) -> None:
                             f"(and {_journal_path(path).name} if present).")
 
 
-# ----------------------------------------------------------------------------- running one point
+# ----------------------------------------------------------------------------- running points
+
+BATCH_POINTS_PER_THREAD = 8
+"""Default size of a local MuJoCo batch: this many points per thread (a killed sweep loses at most the
+batches that are running; a larger batch gains little once every thread has several simulations)."""
+_TASK_LOCK = threading.Lock()
+"""One batch task at a time per Dask worker process: each uses all the worker's threads, and the
+follower callback is global to the process."""
 
 
 def run_point(case: Case, timestep_check: bool = True) -> dict:
@@ -374,21 +413,179 @@ def run_point(case: Case, timestep_check: bool = True) -> dict:
 
             check_timestep(case.physics, case.numerics)
         out = run_case(case)
-        results = out.results.as_dict()
-        if "constraint_violation" in out.info:
-            results["constraint_violation"] = out.info["constraint_violation"]
-        record = {"status": "ok", "error": "", "results": _measurements(results), "wall_time_s": float(out.wall_time_s)}
+        record = _ok_record(out.results, out.info, out.wall_time_s)
     except Exception as err:  # a diverged or refused point is recorded and the sweep goes on
-        record = {"status": "error", "error": f"{type(err).__name__}: {err}", "results": {},
-                  "wall_time_s": time.perf_counter() - start}
+        record = _error_record(err, time.perf_counter() - start)
     record["finished_at"] = time.time()
     return record
 
 
+def _ok_record(results, info: dict, wall_time_s: float) -> dict:
+    """A successful point's record: its numeric measurements, its notes as one text, its wall time."""
+    values = results.as_dict()
+    if "constraint_violation" in info:
+        values["constraint_violation"] = info["constraint_violation"]
+    notes = "; ".join(str(note) for note in (results.notes or ()))
+    return {"status": "ok", "error": "", "results": _measurements(values), "notes": notes,
+            "wall_time_s": float(wall_time_s)}
+
+
+def _error_record(err: BaseException, wall_time_s: float) -> dict:
+    return {"status": "error", "error": f"{type(err).__name__}: {err}", "results": {}, "notes": "",
+            "wall_time_s": float(wall_time_s)}
+
+
+class _TimestepChecks:
+    """diagnose.check_timestep per point, computed once per distinct model: its outcome depends on the
+    physics, dt, mass_ratio and integrator, on the seed only with noise (the linearisation sees the
+    first step's noise draw) and on the initial state only for integrator discrete (its probe run).
+    Thread-safe: a check another thread is computing is waited for, not computed again."""
+
+    def __init__(self):
+        self._cache: dict = {}
+        self._running: dict = {}  # key -> Event set when that check is done
+        self._lock = threading.Lock()
+
+    @staticmethod
+    def key(physics: Physics, numerics: Numerics) -> tuple:
+        seed = numerics.seed if physics.noise > 0 or numerics.integrator == "discrete" else None
+        perturbation = numerics.perturbation if numerics.integrator == "discrete" else None
+        return (physics, numerics.dt, numerics.mass_ratio, numerics.integrator, seed, perturbation)
+
+    def known_refusal(self, physics: Physics, numerics: Numerics) -> Exception | None:
+        """The check's refusal if it is done and refused the point, else None (nothing is computed)."""
+        key = self.key(physics, numerics)
+        with self._lock:
+            return self._cache.get(key)
+
+    def refusal(self, physics: Physics, numerics: Numerics) -> Exception | None:
+        """The check's refusal (a ParameterError, or whatever else it raised), or None if the point may run."""
+        key = self.key(physics, numerics)
+        while True:
+            with self._lock:
+                if key in self._cache:
+                    return self._cache[key]
+                running = self._running.get(key)
+                if running is None:
+                    running = self._running[key] = threading.Event()
+                    break
+            running.wait()  # another thread computes it
+        from .diagnose import check_timestep  # start-up time: diagnose loads mujoco
+
+        error = None
+        try:
+            check_timestep(physics, numerics)
+        except Exception as err:  # refused (ParameterError) or failed: the point's error either way
+            error = err
+        except BaseException:  # interrupted: nothing is known
+            with self._lock:
+                del self._running[key]
+            running.set()
+            raise
+        with self._lock:
+            self._cache[key] = error
+            del self._running[key]
+        running.set()
+        return error
+
+    def __call__(self, physics: Physics, numerics: Numerics) -> None:
+        error = self.refusal(physics, numerics)
+        if error is not None:
+            raise error
+
+
+def run_points(cases: Sequence[Case], timestep_check: bool = True, threads: int = 1, *,
+               on_record: Callable[[int, dict], None] | None = None, cancel: threading.Event | None = None,
+               checks: _TimestepChecks | None = None, on_start: Callable[[], None] | None = None) -> list[dict]:
+    """MuJoCo grid points run together (engines.mujoco_batch, `threads` C threads); returns each point's
+    record as run_point would (never raises for a failed point). on_record(j, record) is called as each
+    is known: a point that fails at once, the others when their batch ends. The follower callback must
+    be installed by the caller (mujoco_batch.run_chunks does).
+
+    The pre-flight checks (diagnose.check_timestep, once per distinct model) run on a thread of their
+    own while the batch steps: a refused point is dropped from its batch at its next chunk of samples
+    and recorded with the refusal, as if it had never run; a point is recorded only once its check is
+    done."""
+    from .engines.mujoco_batch import Cancelled, as_runs, run_chunk  # start-up time: loads mujoco
+    from .results import measure
+
+    start = time.perf_counter()
+    records: list[dict | None] = [None] * len(cases)
+    checks = checks if checks is not None else _TimestepChecks()
+    stepping, finished = threading.Event(), threading.Event()
+
+    def put(j: int, record: dict) -> None:
+        record["finished_at"] = time.time()
+        records[j] = record
+        if on_record is not None:
+            on_record(j, record)
+
+    def drop(j: int) -> BaseException | None:
+        return checks.known_refusal(cases[j].physics, cases[j].numerics)
+
+    def done(j: int, outcome) -> None:
+        refused = checks.refusal(cases[j].physics, cases[j].numerics) if timestep_check else None
+        if refused is not None:  # the check's verdict comes first, whatever the simulation did
+            outcome = refused
+        if isinstance(outcome, BaseException):
+            put(j, _error_record(outcome, time.perf_counter() - start))
+            return
+        try:
+            put(j, _ok_record(measure(outcome, cases[j].transient), outcome.info, outcome.wall_time_s))
+        except Exception as err:  # measuring failed: the point's error, as in run_point
+            put(j, _error_record(err, time.perf_counter() - start))
+
+    def check_all() -> None:
+        # after the stepping has started: the checks need the GIL, which preparing the models needs too
+        while not (stepping.wait(0.05) or finished.is_set()):
+            pass
+        for case in cases:
+            if finished.is_set() or (cancel is not None and cancel.is_set()):
+                return
+            with contextlib.suppress(Exception):
+                checks.refusal(case.physics, case.numerics)
+
+    def started() -> None:
+        stepping.set()
+        if on_start is not None:
+            on_start()
+
+    checker = threading.Thread(target=check_all, name="elastoactive-checks", daemon=True) if timestep_check else None
+    if checker is not None:
+        checker.start()
+    try:
+        run_chunk(as_runs(cases), range(len(cases)), threads, done, cancel, started, drop if timestep_check else None)
+    except Cancelled:
+        raise
+    except Exception as err:  # the batch itself failed: its unfinished points are errors, the sweep goes on
+        for j, record in enumerate(records):
+            if record is None:
+                put(j, _error_record(err, time.perf_counter() - start))
+    finally:
+        finished.set()
+        if checker is not None:
+            checker.join()
+    return records  # type: ignore[return-value]
+
+
+def run_points_task(cases: Sequence[Case], timestep_check: bool = True) -> list[dict]:
+    """A Dask task: one batch of MuJoCo points (run_points) on every thread of the worker that runs it;
+    tasks of one worker process take turns."""
+    threads = 1
+    with contextlib.suppress(Exception):
+        from dask.distributed import get_worker  # optional dependency, loaded on Dask workers only
+
+        threads = max(1, int(get_worker().state.nthreads))
+    from .controllers import follower_forces  # start-up time: loads mujoco
+
+    with _TASK_LOCK, follower_forces():
+        return run_points(cases, timestep_check, threads)
+
+
 def _measurements(results: dict) -> dict:
     """The numeric measurements of Results.as_dict(), as JSON-ready numbers: a number, or one per chain
-    (a list). None ("could not be measured") becomes NaN, a bool 0 or 1; text (e.g. notes) is left out:
-    the netCDF holds numbers per point."""
+    (a list). None ("could not be measured") becomes NaN, a bool 0 or 1; text (the notes) is left out:
+    it is stored as the record's `notes`."""
     return {name: _plain(value) for name, value in results.items() if _numeric(value)}
 
 
@@ -412,6 +609,7 @@ def _plain(value):
 
 
 def _local(todo: list[int], sweep: Sweep, workers: int, check: bool) -> Iterator[tuple[int, dict]]:
+    """Reduced-engine points on a process pool (its compiled kernels hold the GIL: threads would not help)."""
     if workers <= 1 or len(todo) <= 1:
         for i in todo:
             yield i, run_point(sweep.case(i), check)
@@ -427,6 +625,61 @@ def _local(todo: list[int], sweep: Sweep, workers: int, check: bool) -> Iterator
         pool.shutdown(wait=False, cancel_futures=True)
 
 
+def _chunks(todo: list[int], sweep: Sweep, max_points: int, min_chunks: int = 1) -> tuple[dict, list[list[int]]]:
+    """The todo points' cases and their batches (flat indices), as engines.mujoco_batch.plan forms them."""
+    from .engines.mujoco_batch import plan  # start-up time: loads mujoco
+
+    cases = {i: sweep.case(i) for i in todo}
+    chunks = plan([cases[i] for i in todo], max_points, min_chunks)
+    return cases, [[todo[j] for j in chunk] for chunk in chunks]
+
+
+def _local_mujoco(todo: list[int], sweep: Sweep, workers: int, check: bool,
+                  batch_size: int | None) -> Iterator[tuple[int, dict]]:
+    """MuJoCo points in mujoco.batch batches on `workers` threads of this process; each point's record is
+    yielded (in this thread) as soon as it is known, so a killed sweep loses at most the running batches."""
+    from .engines.mujoco_batch import run_chunks  # start-up time: loads mujoco
+
+    cases, chunks = _chunks(todo, sweep, batch_size or BATCH_POINTS_PER_THREAD * workers)
+    checks = _TimestepChecks()
+    started, stop = threading.Event(), threading.Event()
+    # what the netCDF snapshots need (xarray, and the dask.array it loads: ~0.6 s) is loaded while the C
+    # threads step, instead of after them; the loading waits until the stepping has started (it needs
+    # the GIL, which the pre-flight checks and the preparation of the models need too)
+    preload = threading.Thread(target=_preload_storage, args=(started, stop), name="elastoactive-preload",
+                               daemon=True)
+    preload.start()
+
+    def task(chunk, threads, emit, cancel):
+        run_points([cases[i] for i in chunk], check, threads, cancel=cancel, checks=checks, on_start=started.set,
+                   on_record=lambda j, record: emit((chunk[j], record)))
+
+    try:
+        yield from run_chunks(chunks, workers, task, idle=FLUSH)
+    finally:
+        stop.set()
+        started.set()
+        preload.join()
+
+
+FLUSH = object()
+"""Yielded by a runner when no record is waiting: the records before it are written out together."""
+
+
+def _preload_storage(started: threading.Event, stop: threading.Event) -> None:
+    started.wait()
+    if stop.is_set():
+        return
+    with contextlib.suppress(Exception):
+        import xarray as xr  # start-up time: loaded in the background, see _local_mujoco
+
+        # a tiny netCDF written in memory loads all a snapshot needs: xarray's duck-array modules
+        # (dask.array), its backends and their locks (distributed), h5netcdf and h5py
+        xr.Dataset({"v": ("p", np.zeros(1)), "s": ("p", np.array([""], dtype=object)),
+                    "t": ("p", np.array(["NaT"], dtype="datetime64[ns]"))}).to_netcdf(engine="h5netcdf")
+        _version()  # reads the package's metadata
+
+
 def _die_with_parent(parent: int) -> None:
     """Pool worker initializer (Linux): end with the sweep's process, even after a kill -9 of it,
     instead of computing points nobody will record."""
@@ -439,7 +692,10 @@ def _die_with_parent(parent: int) -> None:
         os._exit(1)
 
 
-def _dask(todo: list[int], sweep: Sweep, scheduler, check: bool) -> Iterator[tuple[int, dict]]:
+def _dask(todo: list[int], sweep: Sweep, scheduler, check: bool,
+          batch_size: int | None = None) -> Iterator[tuple[int, dict]]:
+    """Points on a Dask cluster: MuJoCo points one batch per task (run_points_task, on all the threads of
+    the worker that runs it), at least one batch per worker; reduced-engine points one per task."""
     from dask.distributed import Client  # start-up time: dask (~1 s) loads only for --scheduler
     from dask.distributed import as_completed as dask_completed
 
@@ -447,14 +703,27 @@ def _dask(todo: list[int], sweep: Sweep, scheduler, check: bool) -> Iterator[tup
     client = Client(scheduler) if own else scheduler
     futures = {}
     try:
-        futures = dict(zip(client.map(run_point, [sweep.case(i) for i in todo], [check] * len(todo), pure=False), todo))
+        if sweep.engine == "mujoco":
+            # a task runs on every thread of its worker, and a worker's tasks take turns: at least one
+            # batch per worker, and batches of at most BATCH_POINTS_PER_THREAD points per worker thread
+            nthreads = list(client.nthreads().values()) or [1]
+            cases, chunks = _chunks(todo, sweep, batch_size or BATCH_POINTS_PER_THREAD * max(nthreads),
+                                    min_chunks=len(nthreads))
+            futures = dict(zip(client.map(run_points_task, [[cases[i] for i in chunk] for chunk in chunks],
+                                          [check] * len(chunks), pure=False), chunks))
+        else:
+            futures = dict(zip(client.map(run_point, [sweep.case(i) for i in todo], [check] * len(todo), pure=False),
+                               [[i] for i in todo]))
         for future in dask_completed(futures):
+            chunk = futures[future]
             try:
-                record = future.result()
-            except Exception as err:  # e.g. KilledWorker: the point took its worker down
-                record = {"status": "error", "error": f"{type(err).__name__}: {err}", "results": {},
-                          "wall_time_s": float("nan"), "finished_at": time.time()}
-            yield futures[future], record
+                records = future.result()
+                if isinstance(records, dict):
+                    records = [records]
+            except Exception as err:  # e.g. KilledWorker: the task took its worker down
+                records = [{**_error_record(err, float("nan")), "finished_at": time.time()} for _ in chunk]
+            for i, record in zip(chunk, records):
+                yield i, record
     finally:
         if futures:
             client.cancel(list(futures))
@@ -485,7 +754,9 @@ class _Store:
         self.arrays["finished_at"] = np.full(shape, np.datetime64("NaT"), dtype="datetime64[ns]")
         self.arrays["status"] = np.full(shape, "pending", dtype=object)
         self.arrays["error"] = np.full(shape, "", dtype=object)
+        self.arrays["notes"] = np.full(shape, "", dtype=object)
         self.journal = None
+        self.unsynced = False  # journal lines written but not yet fsync'ed (record(sync=False))
         self.stale = False  # the netCDF may lack points the journal holds: rewrite it even if nothing runs
         self.last_snapshot = time.monotonic()
 
@@ -598,7 +869,7 @@ class _Store:
             values = var.values
             if name == "finished_at":
                 values = values.astype("datetime64[ns]")
-            elif name in ("status", "error"):
+            elif name in TEXT_VARIABLES:
                 values = np.where(values == None, "", values).astype(object)  # noqa: E711
             self.arrays[name][...] = values
         status = self.arrays["status"]
@@ -623,6 +894,8 @@ class _Store:
             return f"point {i}: status {status!r} is not one of {', '.join(STATUSES)}"
         if not isinstance(entry.get("error", ""), str):
             return f"point {i}: error is not a text"
+        if not isinstance(entry.get("notes", ""), str):
+            return f"point {i}: notes is not a text"
         wall = entry.get("wall_time_s")
         if not _is_number(wall) or math.isinf(wall) or wall < 0:  # NaN: unknown (a worker lost on Dask)
             return f"point {i}: wall_time_s {wall!r} is not a number >= 0"
@@ -643,7 +916,7 @@ class _Store:
         return None
 
     def _value_problem(self, name: str, value) -> str | None:
-        if name in ("status", "error", "finished_at", "wall_time_s"):
+        if name in (*TEXT_VARIABLES, "finished_at", "wall_time_s"):
             return "is not a measurement"
         if name in self.arrays:
             per_chain = self.arrays[name].ndim > len(self.sweep.shape)
@@ -666,6 +939,8 @@ class _Store:
                 return f"= {value!r} is not finite"
             if (name in OBSERVABLES or name in MUST_BE_FINITE) and math.isinf(v):
                 return f"= {value!r} is infinite"
+            if name == "periodic" and not (math.isnan(v) or v in (0, 1)):
+                return f"= {value!r} is not 1, 0 or NaN"
         return None
 
     # -- writing
@@ -673,10 +948,11 @@ class _Store:
         """Mark a point as not run (pending), with no measurements."""
         index = np.unravel_index(flat, self.sweep.shape)
         for name, values in self.arrays.items():
-            if name not in ("status", "error", "finished_at"):
+            if name not in (*TEXT_VARIABLES, "finished_at"):
                 values[index] = np.nan
         self.arrays["status"][index] = "pending"
         self.arrays["error"][index] = ""
+        self.arrays["notes"][index] = ""
         self.arrays["finished_at"][index] = np.datetime64("NaT")
 
     def set(self, flat: int, entry: dict) -> None:
@@ -689,17 +965,18 @@ class _Store:
             self.arrays[name][index] = value
         self.arrays["status"][index] = entry["status"]
         self.arrays["error"][index] = entry.get("error", "")
+        self.arrays["notes"][index] = entry.get("notes", "")
         self.arrays["wall_time_s"][index] = entry["wall_time_s"]
         self.arrays["finished_at"][index] = np.datetime64(int(round(entry["finished_at"] * 1e9)), "ns")
 
-    def record(self, flat: int, entry: dict) -> dict:
-        """Store a finished point and append it to the journal (fsync'ed); returns the record stored.
-        A record that would not pass the journal's validation is stored as an error instead, so that
-        everything written can be read back."""
+    def record(self, flat: int, entry: dict, sync: bool = True) -> dict:
+        """Store a finished point and append it to the journal (fsync'ed, or with sync=False left for
+        `sync`); returns the record stored. A record that would not pass the journal's validation is
+        stored as an error instead, so that everything written can be read back."""
         line = {"i": flat, "coords": self.sweep.coords(flat), **entry}
         problem = self.problem(line)
         if problem is not None:
-            entry = {"status": "error", "error": f"invalid result: {problem}", "results": {},
+            entry = {"status": "error", "error": f"invalid result: {problem}", "results": {}, "notes": "",
                      "wall_time_s": _number_or_nan(entry.get("wall_time_s")),
                      "finished_at": _number_or_nan(entry.get("finished_at"), time.time())}
             line = {"i": flat, "coords": self.sweep.coords(flat), **entry}
@@ -707,13 +984,27 @@ class _Store:
         if self.journal is not None:
             try:
                 self.journal.write(json.dumps(line) + "\n")
-                self._sync()
+                self.unsynced = True
             except OSError as err:
-                raise SweepStorageError(
-                    f"cannot append to the journal {self.journal_path}: {_os_reason(err)}. The points recorded "
-                    "before are kept in it: fix this (e.g. free some space) and re-run the same sweep to resume."
-                ) from err
+                raise self._journal_error(err) from err
+            if sync:
+                self.sync()
         return entry
+
+    def sync(self) -> None:
+        """Flush and fsync the journal lines written since the last time."""
+        if self.journal is None or not self.unsynced:
+            return
+        try:
+            self._sync()
+        except OSError as err:
+            raise self._journal_error(err) from err
+        self.unsynced = False
+
+    def _journal_error(self, err: OSError) -> SweepStorageError:
+        return SweepStorageError(
+            f"cannot append to the journal {self.journal_path}: {_os_reason(err)}. The points recorded "
+            "before are kept in it: fix this (e.g. free some space) and re-run the same sweep to resume.")
 
     def _sync(self) -> None:
         self.journal.flush()
@@ -772,6 +1063,9 @@ class _Store:
         """Release the journal; `complete`: remove it (only once the final netCDF is on disk)."""
         if self.journal is None:
             return
+        if not complete:
+            with contextlib.suppress(OSError, SweepStorageError):
+                self.sync()
         if complete:
             self.journal_path.unlink(missing_ok=True)
             with contextlib.suppress(OSError):
@@ -812,6 +1106,10 @@ class _Store:
             "complete": int(done.all()),
             "sweep_spec": _spec_text(self.spec),
             "units": "l = C1 = gamma = 1: times in tau = gamma l^2 / C1, frequencies f*tau",
+            "measurements": "per point, after the transient: amplitude and frequency of Theta = theta_N - theta_1; "
+                            "periodic (1: periodic, 0: irregular, NaN: too few cycles to tell or failed) with "
+                            "period_spread (std / mean of the cycle periods; per chain for the pair); notes (text: "
+                            "what to know about the numbers, '; '-separated); the scene's observables",
         }
         if sweep.engine == "mujoco":
             import mujoco  # start-up time: loaded by now only for MuJoCo sweeps
@@ -881,6 +1179,7 @@ def _sigint_deferred():
             signal.raise_signal(signal.SIGINT)  # to the restored handler
 
 
+@functools.cache
 def _version() -> str:
     try:
         return version("elastoactive")
@@ -908,6 +1207,7 @@ def run_sweep(
     timestep_check: bool = True,
     snapshot_interval: float = 10.0,
     on_point: Callable[[dict, dict], None] | None = None,
+    batch_size: int | None = None,
 ):
     """Run `scene` at every point of `grid` ({name: values}; names from GRID_KEYS) and return an
     xarray.Dataset (dims: the grid parameters in the given order, plus `chain` for the pair).
@@ -916,8 +1216,11 @@ def run_sweep(
     numerics   a Numerics or a preset name ('accurate', 'fast'); seed/dt/... may be on the grid
     out        netCDF file written as the sweep goes (see the module docstring); re-running with
                the same arguments resumes, different arguments for an existing file are refused
-    workers    local processes, >= 1 (default: every core); ignored when `scheduler` is given
+    workers    local threads (MuJoCo: mujoco.batch's C threads) or processes (reduced engine), >= 1
+               (default: every core); ignored when `scheduler` is given
     scheduler  Dask scheduler address ('tcp://host:port') or a dask.distributed.Client
+    batch_size most MuJoCo points per mujoco.batch batch (default: 8 per local thread; 8 per Dask task):
+               the points of a batch are journaled when it ends, so a kill loses at most the running batches
     on_point   called as on_point(coords, record) in this process after each point is stored
     timestep_check  refuse (record as an error) MuJoCo points whose dt is beyond the linear
                stability limit, as `elastoactive run` does
@@ -929,6 +1232,9 @@ def run_sweep(
     """
     if workers is not None and (not isinstance(workers, (int, np.integer)) or isinstance(workers, bool) or workers < 1):
         raise ParameterError(f"workers must be an integer >= 1, got {workers!r}")
+    if batch_size is not None and (not isinstance(batch_size, (int, np.integer)) or isinstance(batch_size, bool)
+                                   or batch_size < 1):
+        raise ParameterError(f"batch_size must be an integer >= 1, got {batch_size!r}")
     sweep = make_sweep(scene, grid, fixed=fixed, numerics=numerics, duration=duration, engine=engine,
                        transient=transient)
     for i in range(sweep.size):  # refuse an invalid point before starting
@@ -941,7 +1247,7 @@ def run_sweep(
     from . import diagnose  # noqa: F401
 
     if engine == "mujoco":
-        from .engines import mujoco  # noqa: F401
+        from .engines import mujoco, mujoco_batch  # noqa: F401
     else:
         from .engines import reduced  # noqa: F401
     store = _Store(sweep, out_path)
@@ -956,18 +1262,38 @@ def run_sweep(
 
             bar = tqdm(total=sweep.size, initial=sweep.size - len(todo), desc=f"sweep {scene}", unit="point")
         if todo:
-            runner = (_dask(todo, sweep, scheduler, timestep_check) if scheduler is not None
-                      else _local(todo, sweep, default_workers() if workers is None else int(workers), timestep_check))
+            local = default_workers() if workers is None else int(workers)
+            runner_flushes = scheduler is None and engine == "mujoco"  # yields FLUSH between groups of records
+            if scheduler is not None:
+                runner = _dask(todo, sweep, scheduler, timestep_check, batch_size)
+            elif engine == "mujoco":
+                runner = _local_mujoco(todo, sweep, local, timestep_check, batch_size)
+            else:
+                runner = _local(todo, sweep, local, timestep_check)
             try:
-                for flat, record in runner:
-                    record = store.record(flat, record)
+                written: list[tuple[int, dict]] = []  # journaled, not yet fsync'ed nor reported
+
+                def report() -> None:
+                    store.sync()
                     store.snapshot(snapshot_interval)
-                    if bar is not None:
-                        bar.update()
-                        if record["status"] != "ok":
-                            bar.set_postfix(failed=int((store.arrays["status"] == "error").sum()))
-                    if on_point is not None:
-                        on_point(sweep.coords(flat), record)
+                    while written:
+                        flat, record = written.pop(0)
+                        if bar is not None:
+                            bar.update()
+                            if record["status"] != "ok":
+                                bar.set_postfix(failed=int((store.arrays["status"] == "error").sum()))
+                        if on_point is not None:
+                            on_point(sweep.coords(flat), record)
+
+                for item in runner:
+                    if item is FLUSH:  # the records that arrived together (a batch's) share one fsync
+                        report()
+                        continue
+                    flat, record = item
+                    written.append((flat, store.record(flat, record, sync=False)))
+                    if runner_flushes is False:
+                        report()
+                report()
             finally:
                 runner.close()
                 if bar is not None:

@@ -18,7 +18,7 @@ import xarray as xr
 from elastoactive.batch import Case, run_case
 from elastoactive.cli import main
 from elastoactive.params import Numerics, ParameterError, Physics
-from elastoactive.sweep import SweepMismatch, make_sweep, normalize_grid, parse_grid, run_sweep
+from elastoactive.sweep import SweepMismatch, make_sweep, normalize_grid, parse_grid, run_point, run_sweep
 
 FAST = Numerics.preset("fast")
 VOLATILE = ["wall_time_s", "finished_at"]
@@ -38,7 +38,8 @@ def check_against_run_case(ds, scene, fixed, numerics, duration, engine):
         num = numerics if "seed" not in point else Numerics(**{**numerics.__dict__, "seed": point["seed"]})
         expected = run_case(Case(Physics(scene=scene, **fixed, **phys), num, duration, engine)).results.as_dict()
         for name, value in expected.items():
-            if name == "notes":  # text (Results.notes), not stored by a sweep
+            if name == "notes":  # text: one string per point
+                assert ds["notes"].values[index] == "; ".join(value), point
                 continue
             np.testing.assert_array_equal(ds[name].values[index], np.asarray(value, dtype=float), err_msg=f"{name} at {point}")
 
@@ -467,3 +468,157 @@ def test_mujoco_only_numerics_refused_with_reduced_engine(tmp_path, capsys):
     assert main(base + ["--grid", "dt=0.01,0.025"]) == 2
     assert "grid dt: dt only affects the MuJoCo engine" in capsys.readouterr().err
     assert not (tmp_path / "e.nc").exists()
+
+
+# ----------------------------------------------------------------------------- MuJoCo sweeps on mujoco.batch
+
+
+def test_mujoco_sweep_resumed_after_an_interruption_gives_the_same_dataset(tmp_path):
+    """Points run in batches (here 2 per batch on 2 threads, noise with different seeds): an interrupted
+    sweep keeps what was journaled, the resume runs only the rest, and the dataset equals the
+    uninterrupted sweep's, which equals run_case point by point."""
+    grid = {"sigma": [0.3, 0.8, 1.5], "seed": [0, 1]}
+    kw = dict(fixed={"n": 4, "noise": 0.05}, numerics=FAST, duration=20, progress=False, snapshot_interval=0,
+              workers=2, batch_size=2)
+    whole = run_sweep("one-pinned", grid, out=tmp_path / "whole.nc", **kw)
+    check_against_run_case(whole, "one-pinned", {"n": 4, "noise": 0.05}, FAST, 20, "mujoco")
+
+    out = tmp_path / "part.nc"
+    seen = []
+
+    def interrupt(coords, record):
+        seen.append(coords)
+        if len(seen) == 3:
+            raise Stop
+
+    with pytest.raises(Stop):
+        run_sweep("one-pinned", grid, out=out, on_point=interrupt, **kw)
+    part = load(out)
+    done = int((part["status"].values != "pending").sum())  # the batches that ended: 2 points each
+    assert done >= 3 and part.attrs["complete"] == int(done == 6)
+    again = []
+    resumed = run_sweep("one-pinned", grid, out=out, on_point=lambda c, r: again.append(c), **kw)
+    assert len(again) == 6 - done and not any(c in seen for c in again)
+    xr.testing.assert_equal(resumed.drop_vars(VOLATILE), whole.drop_vars(VOLATILE))
+    xr.testing.assert_identical(load(out), resumed)
+    assert not (tmp_path / "part.nc.journal").exists()
+
+
+def test_a_diverging_point_of_a_batch_is_its_error_and_the_others_finish(tmp_path):
+    # one model (Euler, n = 3) for every sigma: sigma = 100 blows up at dt = 0.01, the others do not
+    num = Numerics(integrator="Euler", mass_ratio=1e-2, dt=0.01, sample_dt=0.05)
+    ds = run_sweep("one-pinned", {"sigma": [0.5, 100.0, 50.0]}, fixed={"n": 3}, numerics=num, duration=10,
+                   out=tmp_path / "d.nc", workers=2, progress=False, timestep_check=False)
+    assert ds["status"].values.tolist() == ["ok", "error", "ok"]
+    assert "SimulationDiverged" in ds["error"].values[1] and "diverged at t = 5 tau" in ds["error"].values[1]
+    assert np.isfinite(ds["amplitude"].values[[0, 2]]).all() and np.isnan(ds["amplitude"].values[1])
+    expected = run_case(Case(Physics(n=3, sigma=50.0), num, 10)).results
+    assert ds["amplitude"].values[2] == expected.amplitude
+
+
+def test_preflight_check_once_per_distinct_model(tmp_path, monkeypatch):
+    from elastoactive import diagnose
+
+    calls = []
+    original = diagnose.check_timestep
+
+    def counted(physics, numerics, *args, **kwargs):
+        calls.append((physics.sigma, numerics.seed))
+        return original(physics, numerics, *args, **kwargs)
+
+    monkeypatch.setattr(diagnose, "check_timestep", counted)
+    # sigma = 5 at N = 5: dt = 0.01 does not resolve the fastest rate; refused while its batch runs
+    ds = run_sweep("one-pinned", {"sigma": [0.3, 0.8, 5.0], "seed": [0, 1, 2]}, fixed={"n": 5}, numerics=FAST,
+                   duration=10, workers=2, progress=False)
+    assert sorted(calls) == [(0.3, 0), (0.8, 0), (5.0, 0)]  # the seed changes nothing it checks (no noise)
+    assert (ds["status"].values[:2] == "ok").all() and (ds["status"].values[2] == "error").all()
+    refused = run_point(Case(Physics(n=5, sigma=5.0), FAST, 10))
+    assert refused["status"] == "error" and "does not resolve" in refused["error"]
+    assert (ds["error"].values[2] == refused["error"]).all() and np.isnan(ds["amplitude"].values[2]).all()
+
+
+def test_periodicity_and_notes_are_stored(tmp_path):
+    """Every scene's sweep stores periodic (1 / 0 / NaN), period_spread (per chain for the pair) and the
+    notes of each point (text, '; '-joined), as run_case measures them, with attributes saying what
+    they are."""
+    out = tmp_path / "p.nc"
+    grid = {"sigma": [0.5, 4.0], "noise": [0.0, 0.3]}
+    ds = run_sweep("one-pinned", grid, fixed={"n": 3}, numerics=FAST, duration=60, out=out, workers=2,
+                   progress=False, timestep_check=False)
+    check_against_run_case(ds, "one-pinned", {"n": 3}, FAST, 60, "mujoco")
+    disk = load(out)
+    xr.testing.assert_identical(disk, ds)
+    assert disk["periodic"].dims == ("sigma", "noise") and disk["period_spread"].dims == ("sigma", "noise")
+    periodic = disk["periodic"].values
+    assert periodic[0, 0] == 1 and periodic[1, 1] == 0  # at rest; an irregular, noisy beat
+    assert np.isin(periodic[~np.isnan(periodic)], [0, 1]).all()
+    notes = disk["notes"].values
+    assert notes[0, 0] == "" and "not periodic" in notes[1, 1]
+    attrs = disk["periodic"].attrs
+    assert list(attrs["flag_values"]) == [1, 0] and attrs["flag_meanings"] == "periodic irregular"
+    assert "NaN" in attrs["comment"] and "notes" in disk["notes"].attrs["long_name"]
+    assert "periodic" in disk.attrs["measurements"]
+
+    pair = run_sweep("coupled-pair", {"noise": [0.0, 0.3]}, fixed={"n": 3, "sigma": 4.0, "kappa": 0.5},
+                     numerics=FAST, duration=40, out=tmp_path / "pair.nc", workers=1, progress=False,
+                     timestep_check=False)
+    check_against_run_case(pair, "coupled-pair", {"n": 3, "sigma": 4.0, "kappa": 0.5}, FAST, 40, "mujoco")
+    assert pair["period_spread"].dims == ("noise", "chain") and pair["periodic"].dims == ("noise",)
+    assert pair["periodic"].values[1] == 0 and pair["notes"].values[1].count("chain ") == 2
+    for scene in ("two-pinned", "rotating-pin"):  # present before any point is done
+        ds = run_sweep(scene, {"sigma": [0.5]}, fixed={"n": 3}, numerics=FAST, duration=10, workers=1,
+                       progress=False)
+        assert {"periodic", "period_spread", "notes"} <= set(ds.data_vars)
+
+
+def test_journal_lines_with_bad_periodic_or_notes_are_run_again(tmp_path):
+    grid = {"sigma": [0.2, 0.5, 0.8]}
+    kw = {**REDUCED, "snapshot_interval": 1e9}
+    out, journal = tmp_path / "q.nc", tmp_path / "q.nc.journal"
+
+    def stop(coords, record):
+        if coords["sigma"] == 0.8:
+            raise Stop
+
+    with pytest.raises(Stop):
+        run_sweep("one-pinned", grid, out=out, on_point=stop, **kw)
+    reference = load(out)
+    out.unlink()
+    header, *lines = journal.read_text().splitlines()
+    entries = {e["i"]: e for e in map(json.loads, lines)}
+    assert sorted(entries) == [0, 1, 2] and all(isinstance(e["notes"], str) for e in entries.values())
+    entries[1]["results"]["periodic"] = 0.5
+    entries[2]["notes"] = 3
+    journal.write_text("\n".join([header, *(json.dumps(entries[i]) for i in range(3))]) + "\n")
+    again = []
+    with pytest.warns(UserWarning, match="discarded 2 journal line"):
+        resumed = run_sweep("one-pinned", grid, out=out, on_point=lambda c, r: again.append(c["sigma"]), **kw)
+    assert sorted(again) == [0.5, 0.8]
+    xr.testing.assert_equal(resumed.drop_vars(VOLATILE), reference.drop_vars(VOLATILE))
+
+
+def test_a_failing_batch_is_its_points_errors(tmp_path, monkeypatch):
+    """Should a whole batch fail (not one simulation), its points are errors and the other batches go on."""
+    from elastoactive.engines import mujoco_batch
+
+    original = mujoco_batch.run_batch
+
+    def fragile(sims, *args, **kwargs):
+        if sims[0].run.physics.n == 4:
+            raise RuntimeError("batch lost")
+        return original(sims, *args, **kwargs)
+
+    monkeypatch.setattr(mujoco_batch, "run_batch", fragile)
+    ds = run_sweep("one-pinned", {"n": [3, 4], "sigma": [0.5, 0.9]}, numerics=FAST, duration=10, workers=2,
+                   progress=False)
+    assert ds["status"].values.tolist() == [["ok", "ok"], ["error", "error"]]
+    assert (ds["error"].values[1] == "RuntimeError: batch lost").all()
+
+
+def test_batch_size_must_be_at_least_one(tmp_path, capsys):
+    with pytest.raises(ParameterError, match="batch_size must be"):
+        run_sweep("one-pinned", {"sigma": [0.3]}, batch_size=0, progress=False)
+    args = ["sweep", "one-pinned", "--grid", "sigma=0.3", "--out", str(tmp_path / "b.nc"), "--batch-size", "0",
+            "--quiet"]
+    assert main(args) == 2 and "--batch-size must be >= 1" in capsys.readouterr().err
+    assert not (tmp_path / "b.nc").exists()

@@ -10,6 +10,7 @@ the journal is kept, re-run to resume).
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 from pathlib import Path
 
@@ -26,6 +27,8 @@ EXAMPLES = """examples:
   elastoactive sweep ... --scheduler tcp://10.0.0.5:8786      (run on a Dask cluster)
 
 Grid values: a comma list (kappa=0.5,1,2) or start:stop:num (sigma=0.2:1.0:9, ends included).
+MuJoCo points that share a model (e.g. along sigma, seed, noise, kappa) run together in one
+mujoco.batch on every core's thread; each point also records whether its motion is periodic.
 Re-running the same command continues an interrupted sweep (finished points are kept); the same
 --out with a different grid or parameters is refused. Results: xarray.open_dataset(OUT).
 
@@ -52,12 +55,29 @@ def register(subparsers) -> None:
     g.add_argument("--duration", type=float, default=300.0, help="simulated time per point, tau (default %(default)s)")
     g.add_argument("--transient", type=float, help="time discarded before measuring, tau (default: half the run)")
     g.add_argument("--out", type=Path, required=True, help="netCDF file (resumed if it holds the same sweep)")
-    g.add_argument("--workers", type=int, help="local worker processes, >= 1 (default: every core; unused with --scheduler)")
-    g.add_argument("--scheduler", metavar="ADDRESS", help="Dask scheduler address, e.g. tcp://host:8786 (default: local processes)")
+    g.add_argument("--workers", type=int, help="local threads (MuJoCo: mujoco.batch) or processes (reduced engine), >= 1 "
+                   "(default: every core; unused with --scheduler)")
+    g.add_argument("--batch-size", type=int, metavar="POINTS",
+                   help="most MuJoCo points stepped together in one mujoco.batch (default: 8 per thread); a batch's "
+                   "points are saved when it ends, so an interrupted sweep loses at most the running batches")
+    g.add_argument("--scheduler", metavar="ADDRESS", help="Dask scheduler address, e.g. tcp://host:8786 (default: this machine)")
     g.add_argument("--retry-errors", action="store_true", help="when resuming, run failed points again")
     g.add_argument("--no-timestep-check", action="store_true", help="run MuJoCo points beyond the linear stability limit of dt")
     g.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=main)
+
+
+def _import_mujoco_headless() -> None:
+    """Import MuJoCo without its GL back end: a sweep renders nothing, and loading glfw costs a child
+    Python that probes the library (~0.07 s, before any point can start). MUJOCO_GL is set only for the
+    import and only if the user has not set it; elastoactive.render switches back ends if asked later."""
+    if "mujoco" in sys.modules or os.environ.get("MUJOCO_GL"):
+        return
+    os.environ["MUJOCO_GL"] = "disable"
+    try:
+        import mujoco  # noqa: F401 (start-up time: see the docstring)
+    finally:
+        os.environ.pop("MUJOCO_GL", None)
 
 
 def main(args) -> int:
@@ -66,6 +86,8 @@ def main(args) -> int:
 
     if args.workers is not None and args.workers < 1:
         raise ParameterError(f"--workers must be >= 1, got {args.workers}")
+    if args.batch_size is not None and args.batch_size < 1:
+        raise ParameterError(f"--batch-size must be >= 1, got {args.batch_size}")
     grid = parse_grid(args.grid)
     fixed = {f.name: getattr(args, f.name) for f in parameter_fields(Physics) if getattr(args, f.name) is not None}
     overrides = {f.name: getattr(args, f.name) for f in parameter_fields(Numerics) if getattr(args, f.name) is not None}
@@ -76,10 +98,12 @@ def main(args) -> int:
     check_engine_numerics(args.engine, [k for k in overrides if k in MUJOCO_ONLY], noisy,
                           lambda k: f"--{k.replace('_', '-')}")
     numerics = Numerics.preset(args.preset, **overrides)
+    if args.engine == "mujoco":
+        _import_mujoco_headless()
     ds = run_sweep(args.scene, grid, fixed=fixed, numerics=numerics, duration=args.duration, engine=args.engine,
                    transient=args.transient, out=args.out, workers=args.workers, scheduler=args.scheduler,
                    progress=not args.quiet, retry_errors=args.retry_errors,
-                   timestep_check=not args.no_timestep_check)
+                   timestep_check=not args.no_timestep_check, batch_size=args.batch_size)
     status = ds["status"].values.reshape(-1)
     errors = ds["error"].values.reshape(-1)
     failed = status == "error"

@@ -36,6 +36,16 @@ BAD_STATE_WARNINGS = (
 PIN_DRIFT_LIMIT = 0.05  # l: beyond this the two-pinned end has left its pin (the exact model: 0)
 
 
+def pin_drift_message(violation: float, time: float, numerics: Numerics) -> str:
+    """Why a pinned run stopped: its end left the pin (shared with the batched engine)."""
+    return (
+        f"the pinned chain's end drifted {violation:.3g} l off its pin at t = {time:.4g} tau "
+        f"(limit {PIN_DRIFT_LIMIT} l) with dt = {numerics.dt:g}, mass_ratio = {numerics.mass_ratio:g}, "
+        f"integrator {numerics.integrator}: the soft pin's hold scales with mass_ratio / dt^2; "
+        "reduce dt, raise mass_ratio, or use integrator discrete"
+    )
+
+
 def _bad_state(data: mujoco.MjData) -> bool:
     return any(data.warning[w].number for w in BAD_STATE_WARNINGS) or not np.all(np.isfinite(data.qpos))
 
@@ -93,12 +103,7 @@ def simulate_mujoco(
             if pinned:
                 violation = max(violation, pin_violation(model, data))
                 if violation > PIN_DRIFT_LIMIT:
-                    raise SimulationDiverged(
-                        f"the pinned chain's end drifted {violation:.3g} l off its pin at t = {data.time:.4g} tau "
-                        f"(limit {PIN_DRIFT_LIMIT} l) with dt = {numerics.dt:g}, mass_ratio = {numerics.mass_ratio:g}, "
-                        f"integrator {numerics.integrator}: the soft pin's hold scales with mass_ratio / dt^2; "
-                        "reduce dt, raise mass_ratio, or use integrator discrete"
-                    )
+                    raise SimulationDiverged(pin_drift_message(violation, float(data.time), numerics))
             if on_sample is not None:
                 on_sample(model, data)
     wall = time.perf_counter() - start

@@ -100,8 +100,9 @@ PHYSICS_KEYS = tuple(f.name for f in parameter_fields(Physics))
 NUMERICS_KEYS = ("seed", "dt", "mass_ratio", "perturbation", "sample_dt")
 GRID_KEYS = PHYSICS_KEYS + NUMERICS_KEYS
 INTEGER_KEYS = ("n", "seed")
-MUJOCO_ONLY = ("dt", "mass_ratio", "integrator")
-"""Numerical settings only the MuJoCo engine reads (the reduced engine uses dt only when noise > 0)."""
+MUJOCO_ONLY = ("dt", "integrator")
+"""Numerical settings only the MuJoCo engine reads (the reduced engine uses dt only when noise > 0; it does use
+mass_ratio, which decides whether a run is overdamped or inertial: docs/mujoco.md section 5)."""
 FORMAT = 1
 STATUSES = ("ok", "error")
 TEXT_VARIABLES = ("status", "error", "notes")
@@ -348,8 +349,8 @@ def make_sweep(
 
 def check_engine_numerics(engine: str, names: Sequence[str], noisy: bool, label: Callable[[str], str] = str) -> None:
     """Refuse MuJoCo-only numerical settings (`names`, swept or given) with the reduced engine, where
-    they change nothing: mass_ratio and integrator always, dt unless some point has noise > 0 (dt is
-    then the Euler-Maruyama step). `label(name)` is how the message names the setting."""
+    they change nothing: integrator always, dt unless some point has noise > 0 (dt is then the noise
+    step). `label(name)` is how the message names the setting."""
     if engine != "reduced":
         return
     for name in names:

@@ -238,11 +238,18 @@ def solve_ode(
         info["stiffness"] = float(max(0.0, np.max(-eig.real)))
         method = "Radau" if info["stiffness"] > STIFF_RADIUS else "numba-DOP853"
     info["method"] = method
+    return _integrate(system, t, theta0, method, rtol, atol, beta, info)
+
+
+def _integrate(system: ChainSystem, t: np.ndarray, y0: np.ndarray, method: str, rtol: float, atol: float,
+               beta: float, info: dict) -> tuple[np.ndarray, dict]:
+    """The states at the times t from y0 at t = 0 by `method` (the compiled DOP853 or scipy's solve_ivp on the
+    compiled right-hand side, implicit methods with the Jacobian), the solver's counts added to info."""
     if t[-1] == 0.0:
         info.update(nfev=0, njev=0, nsteps=0, status=0)
-        return theta0[None, :].copy(), info
+        return y0[None, :].copy(), info
     if method == "numba-DOP853":
-        out, status, nfev, nacc, nrej = dop853.integrate(system, t, theta0, rtol=rtol, atol=atol, beta=beta)
+        out, status, nfev, nacc, nrej = dop853.integrate(system, t, y0, rtol=rtol, atol=atol, beta=beta)
         if status != 0:
             raise RuntimeError(f"numba-DOP853 failed: step size became too small ({system})")
         info.update(nfev=nfev, njev=0, nsteps=nacc, nreject=nrej, status=0)
@@ -251,9 +258,8 @@ def solve_ode(
     from scipy.integrate import solve_ivp
 
     kw = {"jac": jacobian(system, beta=beta)} if method in IMPLICIT_METHODS else {}
-    sol = solve_ivp(
-        rhs(system, beta=beta), (0.0, float(t[-1])), theta0, method=method, t_eval=t, rtol=rtol, atol=atol, **kw
-    )
+    sol = solve_ivp(rhs(system, beta=beta), (0.0, float(t[-1])), y0, method=method, t_eval=t, rtol=rtol, atol=atol,
+                    **kw)
     if not sol.success:
         raise RuntimeError(f"solve_ivp ({method}) failed: {sol.message}")
     info.update(nfev=int(sol.nfev), njev=int(sol.njev), nlu=int(sol.nlu), status=int(sol.status))
@@ -303,24 +309,7 @@ def solve_inertial(
         info["stiffness"] = float(max(0.0, np.max(-eig.real)))
         method = _inertial_method(eig)
     info["method"] = method
-    if t[-1] == 0.0:
-        info.update(nfev=0, njev=0, nsteps=0, status=0)
-        return y0[None, :].copy(), info
-    if method == "numba-DOP853":
-        out, status, nfev, nacc, nrej = dop853.integrate(system, t, y0, rtol=rtol, atol=atol, beta=beta)
-        if status != 0:
-            raise RuntimeError(f"numba-DOP853 failed: step size became too small ({system})")
-        info.update(nfev=nfev, njev=0, nsteps=nacc, nreject=nrej, status=0)
-        return out, info
-    from scipy.integrate import solve_ivp  # start-up time (see solve_ode)
-
-    kw = {"jac": jacobian(system, beta=beta)} if method in IMPLICIT_METHODS else {}
-    sol = solve_ivp(rhs(system, beta=beta), (0.0, float(t[-1])), y0, method=method, t_eval=t, rtol=rtol, atol=atol,
-                    **kw)
-    if not sol.success:
-        raise RuntimeError(f"solve_ivp ({method}) failed: {sol.message}")
-    info.update(nfev=int(sol.nfev), njev=int(sol.njev), nlu=int(sol.nlu), status=int(sol.status))
-    return sol.y.T.copy(), info
+    return _integrate(system, t, y0, method, rtol, atol, beta, info)
 
 
 RK4_STEP = 0.25

@@ -642,6 +642,67 @@ def anisotropy(study: Study, out: Path) -> list[Path]:
     return [_save(fig, out, "figA_anisotropy.png")]
 
 
+@_styled
+def inertia(study: Study, out: Path) -> list[Path]:
+    d, s = study.data, study.summary
+    m = d["mass_ratio"]
+    fig, (a1, a2, a3) = plt.subplots(1, 3, figsize=(13.5, 4.2))
+    exp = np.asarray(d["experiment_mass_ratio"])
+    for n, c in ((2, "C0"), (7, "C3")):
+        a1.plot(m, d[f"sigma_c_{n}"] / float(d[f"sigma_c0_{n}"]), color=c, label=f"N = {n}")
+        a2.plot(m, d[f"f_c_{n}"] / float(d[f"f_c0_{n}"]), color=c, label=f"N = {n}")
+        m1 = float(d[f"shift_mass_ratio_{n}"])
+        for ax in (a1, a2):
+            ax.axvline(m1, color=c, ls=":", lw=1)
+    a1.axhline(1 - 0.01, color="k", ls="--", lw=0.8, label="1% shift")
+    for ax in (a1, a2):
+        ax.axvspan(exp.min(), exp.max(), color="C2", alpha=0.25, label="experiment (7 g bug, assumed)")
+        ax.set_xscale("log")
+        ax.set_xlabel(r"mass ratio $m/(\gamma\tau)$")
+        ax.legend(loc="lower left")
+    a1.set_ylabel(r"$\sigma_c(m)/\sigma_c(0)$")
+    a1.set_title("onset (dotted: 1% shift mass ratio)")
+    a2.set_ylabel(r"$f_c(m)/f_c(0)$")
+    a2.set_title("onset frequency")
+    sm = d["sim_mass_ratio"]
+    for eng in _engines(d, "sim_frequency"):
+        a3.plot(sm, d[f"sim_frequency_{eng}"], **ENGINE_STYLE[eng])
+    a3.set_xscale("log")
+    a3.set_xlabel(r"mass ratio $m/(\gamma\tau)$")
+    a3.set_ylabel(r"$f\tau$ of the beat")
+    a3.set_title(rf"N = 7, $\sigma$ = {s.sim_sigma:g}: simulated beat")
+    a3.legend()
+    fig.suptitle("Inertia: linear stability with mass (analysis.flutter) and simulated beats")
+    fig.tight_layout()
+    return [_save(fig, out, "figA_inertia.png")]
+
+
+@_styled
+def noise_readings(study: Study, out: Path) -> list[Path]:
+    d, s = study.data, study.summary
+    amps = np.asarray(d["noise"])
+    fig, ax = plt.subplots(figsize=(6.4, 4.6))
+    for i, r in enumerate(s.readings):
+        for eng in ("mujoco", "reduced"):
+            key = f"period_cv_{r.reading}_{eng}"
+            if key not in d:
+                continue
+            cv = np.asarray(d[key], dtype=float)
+            ok = np.isfinite(cv)
+            st = dict(marker="o" if eng == "mujoco" else "x", mfc="none" if eng == "mujoco" else None,
+                      ls="-" if eng == "mujoco" else "--", color=f"C{i}")
+            ax.plot(amps[ok], cv[ok], label=f"{r.reading} ({'MuJoCo' if eng == 'mujoco' else 'reduced'})", **st)
+            for a in amps[~ok]:
+                ax.plot([a], [0], marker="v", color=f"C{i}", ms=9, ls="none")
+    ax.plot([], [], "v", color="0.4", label="beat dies (plotted at 0)")
+    ax.set_xlabel("noise amplitude a")
+    ax.set_ylabel("period CV (std / mean)")
+    ax.set_title(rf"Claim 21 under each reading: N = {s.n}, $\sigma$ = {s.sigma:g}")
+    ax.legend(fontsize=7.5, ncol=2)
+    fig.tight_layout()
+    return [_save(fig, out, "figA_noise_readings.png")]
+
+
 FIGURES = {
     "stability": stability,
     "growth": growth,
@@ -654,6 +715,8 @@ FIGURES = {
     "sync_n2": sync_n2,
     "noise": noise,
     "anisotropy": anisotropy,
+    "inertia": inertia,
+    "noise_readings": noise_readings,
 }
 """Figure function of each study, by study name."""
 

@@ -80,6 +80,28 @@ class Paper:
     # ------------------------------------------------------------------ noise and anisotropic drag (supplement)
     noise_sigma: float = _quoted(3.5, "supplement, 'Role of noise' (N = 2; sigma as in the anisotropy figure, 3.5)")
     anisotropy_sigma: float = _quoted(3.5, "supplement, Fig. 'Role of anisotropy' caption: sigma = 3.5, tau_T = 1")
+    # ------------------------------------------------------------------ the experiment's own numbers (main text, supplement)
+    active_force_n: float = _quoted(0.0157, "main text and supplement Appendix B: pinned Hexbug force F_a = 15.7 +/- 3.1 mN (mean)")
+    active_force_std_n: float = _quoted(0.0031, "supplement Appendix B: the force 'fluctuated rapidly', Gaussian with standard deviation 3.1 mN")
+    drag_n_s_per_m: float = _quoted(0.63, "main text: gamma = F_a / v_a = 0.63 +/- 0.11 N s/m (v_a = 0.025 m/s)")
+    chain_length_m: float = _quoted(0.5, "main text, Fig. 4 caption: undeformed chain length L = 500 mm (7 bugs: link pitch ~ L / 7)")
+    experiment_sigmas: tuple[float, ...] = _quoted(
+        (0.166, 0.17, 0.21, 0.695, 0.8), "main text, Figs. 1-2 captions: the experiments' chains at sigma = 0.17, 0.21, 0.80 and 0.166, 0.695")
+    # ------------------------------------------------------------------ literature (not the paper): Ziegler's column
+    ziegler_undamped: float = _quoted(
+        3.5 - math.sqrt(2.0), "literature (not the paper): Ziegler 1952, undamped double pendulum, P_c = (7/2 - sqrt 2) C/l")
+    ziegler_damped_limit: float = _quoted(
+        41.0 / 28.0, "literature (not the paper): Ziegler 1952 / Kirillov (destabilisation paradox), P_c -> 41/28 C/l as joint damping vanishes")
+
+    @property
+    def link_pitch_m(self) -> float:
+        """The experiment's link length l ~ L / N = 0.5 m / 7 = 71 mm."""
+        return self.chain_length_m / 7.0
+
+    @property
+    def force_relative_spread(self) -> float:
+        """std / mean of the measured active force: 3.1 / 15.7 = 0.197."""
+        return self.active_force_std_n / self.active_force_n
 
     @property
     def snapping_sigmas(self) -> tuple[float, float]:

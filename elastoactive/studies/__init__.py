@@ -17,6 +17,8 @@ numbers they are set against in `elastoactive.paper`.
     rotation      the freely rotating pin
     sync          the coupled pair, the Arnold tongue, kappa_c of N = 2
     noise         multiplicative noise and anisotropic drag (N = 2)
+    inertia       the overdamped idealisation: sigma_c(mass ratio), Ziegler's column, the experiment's mass ratio
+    noise_readings  claim 21 under Ito, Stratonovich and coloured noise; the experiment's noise regime
 """
 
 from __future__ import annotations
@@ -27,7 +29,8 @@ from typing import Callable
 from .base import ENGINES, SIZES, Study, Summary
 from .hopf import HopfSummary, hopf_study
 from .linear import GrowthSummary, StabilitySummary, growth_study, stability_study
-from .noise import AnisotropySummary, NoiseSummary, anisotropy_study, noise_study
+from .inertia import InertiaSummary, inertia_study
+from .noise import AnisotropySummary, NoiseReadingsSummary, NoiseSummary, anisotropy_study, noise_readings_study, noise_study
 from .normal_form import NormalFormSummary, normal_form_study
 from .rotation import RotationSummary, rotation_study
 from .snapping import SnappingSummary, snapping_study
@@ -37,6 +40,7 @@ __all__ = [
     "ENGINES", "SIZES", "STUDIES", "SUMMARIES", "Study", "Summary", "load_study",
     "stability_study", "growth_study", "hopf_study", "normal_form_study", "snapping_study", "rotation_study",
     "sync_study", "tongue_study", "sync_n2_study", "noise_study", "anisotropy_study",
+    "inertia_study", "noise_readings_study",
 ]
 
 STUDIES: dict[str, Callable[..., Study]] = {
@@ -51,6 +55,8 @@ STUDIES: dict[str, Callable[..., Study]] = {
     "sync_n2": sync_n2_study,
     "noise": noise_study,
     "anisotropy": anisotropy_study,
+    "inertia": inertia_study,
+    "noise_readings": noise_readings_study,
 }
 """Every study by name, in the order reproduce runs them."""
 
@@ -66,6 +72,8 @@ SUMMARIES: dict[str, type[Summary]] = {
     "sync_n2": SyncN2Summary,
     "noise": NoiseSummary,
     "anisotropy": AnisotropySummary,
+    "inertia": InertiaSummary,
+    "noise_readings": NoiseReadingsSummary,
 }
 """The summary type of each study."""
 

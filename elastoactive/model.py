@@ -7,7 +7,8 @@ coupling). Mapping (units l = C1 = gamma_T = 1, so tau = 1):
 
   joint stiffness       Scene.stiffness (1 for chain 1, rho for the pair's chain 2); no spring on
                         the first hinge of an unclamped scene (the rotating pin)
-  follower force        site user value sigma on every particle (applied by the C callback)
+  follower force        site user value sigma on every loaded particle (physics.loaded; 0 on the others,
+                        which the C callback skips)
   lab-frame drag        two velocity actuators per particle site, x (along the pendulum) with
                         kv = gamma_L = drag_ratio and y (across) with kv = gamma_T = 1
   particle mass         bead geom mass = mass_ratio (inertial time m / gamma in units of tau)
@@ -40,13 +41,14 @@ def _add_chain(spec: mujoco.MjSpec, prefix: str, physics: Physics, numerics: Num
     segment = spec.find_default("segment")
     link, bead, drag = (spec.find_default(c) for c in ("link", "bead", "drag"))
     parent, pos = spec.worldbody, [0.0, y, 0.0]
+    loaded = physics.load_mask()
     for i in range(physics.n):
         body = parent.add_body(name=f"{prefix}segment_{i}", pos=pos, childclass="segment")
         clamp_spring = 0.0 if (i == 0 and not physics.clamped) else stiffness
         body.add_joint(name=f"{prefix}hinge_{i}", default=segment, stiffness=[clamp_spring, 0, 0])
         body.add_geom(name=f"{prefix}link_{i}", default=link)
         body.add_geom(name=f"{prefix}bead_{i}", default=bead, mass=numerics.mass_ratio)
-        body.add_site(name=f"{prefix}particle_{i}", default=segment, userdata=[physics.sigma])
+        body.add_site(name=f"{prefix}particle_{i}", default=segment, userdata=[physics.sigma if loaded[i] else 0.0])
         parent, pos = body, [1.0, 0.0, 0.0]
     for i in range(physics.n):
         site = f"{prefix}particle_{i}"

@@ -35,6 +35,49 @@ def _finite(name: str, value: float) -> float:
     return value
 
 
+def _loaded_indices(text: str, n: int) -> list[int]:
+    """The 1-based particle indices of a `loaded` value other than "all" and "tip" (checked)."""
+    parts = [p.strip() for p in text.split(",")]
+    try:
+        idx = [int(p) for p in parts]
+    except ValueError:
+        raise ParameterError(
+            f"loaded must be all, tip, or comma-separated 1-based particle indices like 1,3,7; got {text!r}") from None
+    bad = [i for i in idx if not 1 <= i <= n]
+    if bad:
+        raise ParameterError(f"loaded: particle indices must lie in 1..{n} (N = {n}), got {bad[0]} in {text!r}")
+    dup = sorted({i for i in idx if idx.count(i) > 1})
+    if dup:
+        raise ParameterError(f"loaded: particle index {dup[0]} appears more than once in {text!r}")
+    return idx
+
+
+def _loaded(value, n: int) -> str:
+    """The checked, normalised `loaded` value: "all", "tip", or sorted indices "1,3,7"."""
+    if not isinstance(value, str):
+        if isinstance(value, (list, tuple)) and all(isinstance(i, int) and not isinstance(i, bool) for i in value):
+            value = ",".join(str(i) for i in value)
+        else:
+            raise ParameterError(f"loaded must be a string (all, tip, or indices like 1,3,7), got {value!r}")
+    text = value.strip().lower()
+    if text in ("all", "tip"):
+        return text
+    if not text:
+        raise ParameterError("loaded must be all, tip, or comma-separated 1-based particle indices like 1,3,7; got ''")
+    return ",".join(str(i) for i in sorted(_loaded_indices(text, n)))
+
+
+def _load_mask(loaded: str, n: int) -> np.ndarray:
+    mask = np.zeros(n, dtype=bool)
+    if loaded == "all":
+        mask[:] = True
+    elif loaded == "tip":
+        mask[-1] = True
+    else:
+        mask[np.array(_loaded_indices(loaded, n)) - 1] = True
+    return mask
+
+
 @dataclass(frozen=True)
 class Physics:
     """The model in the paper's dimensionless numbers.
@@ -52,6 +95,9 @@ class Physics:
                 as the white noise of amplitude a (its limit as tau_c -> 0)
     noise_calculus  reading of white noise: "ito" or "stratonovich" (the white limit of coloured noise,
                 Wong-Zakai); unused for coloured noise. Reported only when noise > 0
+    loaded      particles carrying the follower force: "all" (the paper), "tip" (the last particle: the
+                tip-loaded column) or 1-based indices "1,3,7"; the same particles on both chains of a pair.
+                Reported only when not "all" (load_mask: the boolean mask per particle)
     """
 
     scene: str = DEFAULT_SCENE
@@ -68,6 +114,8 @@ class Physics:
     noise_calculus: str = field(default="ito", metadata={
         "help": "reading of white noise (reduced engine; MuJoCo: ito, or stratonovich as small tau_c)",
         "choices": NOISE_CALCULI})
+    loaded: str = field(default="all", metadata={
+        "help": "particles carrying the follower force: all, tip, or 1-based indices like 1,3,7"})
 
     def __post_init__(self) -> None:
         try:
@@ -101,7 +149,16 @@ class Physics:
             raise ParameterError(f"noise_correlation (tau_c, 0: white) must be >= 0, got {self.noise_correlation}")
         if self.noise_calculus not in NOISE_CALCULI:
             raise ParameterError(f"noise_calculus must be one of {', '.join(NOISE_CALCULI)}, got {self.noise_calculus!r}")
+        object.__setattr__(self, "loaded", _loaded(self.loaded, self.n))
         scene.check(self)
+
+    def load_mask(self) -> np.ndarray:
+        """Boolean mask of the particles of one chain that carry the follower force (all True for "all")."""
+        return _load_mask(self.loaded, self.n)
+
+    @property
+    def all_loaded(self) -> bool:
+        return self.loaded == "all"
 
     @property
     def scene_def(self):

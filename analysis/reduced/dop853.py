@@ -29,9 +29,14 @@ __all__ = ["integrate"]
 _TABLEAU = (np.ascontiguousarray(coef.A), coef.B, coef.C, coef.E3, coef.E5, coef.D)
 
 
-def integrate(system: ChainSystem, ts: np.ndarray, y0: np.ndarray, *, rtol: float, atol: float, beta: float):
+def integrate(system: ChainSystem, ts: np.ndarray, y0: np.ndarray, *, rtol: float, atol: float, beta: float,
+              loads=None):
     """Integrate the deterministic model (force factors 1) from y0 at t = 0 and sample it at ts (y0: the angles
     of the overdamped model, or angles then rates of the inertial one, system.mass_ratio > 0).
+
+    loads: optional per-particle load factors (n_angles entries, 1: the particle carries the follower force,
+    0: it does not), the constant force factors of the run; default ones (every particle loaded, bit for bit
+    as before: the kernels multiply sigma by the factor, and x 1.0 is exact).
 
     system: a typed ChainSystem (ChainSystem.typed()); ts: increasing sample times with ts[0] = 0;
     beta: Baumgarte rate (pinned systems). Returns (y, status, nfev, naccept, nreject) with y of shape
@@ -40,8 +45,11 @@ def integrate(system: ChainSystem, ts: np.ndarray, y0: np.ndarray, *, rtol: floa
     ts = np.ascontiguousarray(ts, dtype=float)
     y0 = np.ascontiguousarray(y0, dtype=float)
     out = np.empty((ts.size, y0.size))
+    fac = np.ones(y0.size)  # the inertial kernel reads the first n_angles entries
+    if loads is not None:
+        fac[: system.n_angles] = system.force_factors(loads)
     status, nfev, naccept, nreject = _dop853(
-        y0.copy(), ts, system, float(beta), float(rtol), float(atol), *_TABLEAU, out
+        y0.copy(), ts, system, float(beta), float(rtol), float(atol), *_TABLEAU, out, fac
     )
     return out, int(status), int(nfev), int(naccept), int(nreject)
 
@@ -55,9 +63,10 @@ def _rms(x):
 
 
 @njit(cache=True)
-def _dop853(y0, ts, system, beta, rtol, atol, A, B, C, E3, E5, DD, out):
+def _dop853(y0, ts, system, beta, rtol, atol, A, B, C, E3, E5, DD, out, fac):
     """scipy's DOP853 (same tableau, error norm, step control and 7th-order dense output), compiled.
 
+    fac: the constant per-particle force factors (the load factors, ones when every particle is loaded).
     Writes the solution at the sample times ts (ts[0] = 0 is y0) into out; returns (status, nfev, naccept, nreject).
     """
     ns = N_STAGES
@@ -79,7 +88,6 @@ def _dop853(y0, ts, system, beta, rtol, atol, A, B, C, E3, E5, DD, out):
         D = np.zeros((nch * n, 4))
     X = np.zeros((n, 2))
     lam = np.zeros(2)
-    fac = np.ones(na)
     K = np.zeros((nse, na))
     F = np.zeros((INTERPOLATOR_POWER, na))
     y = y0.copy()

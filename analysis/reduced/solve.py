@@ -172,8 +172,37 @@ def _state(system: ChainSystem, y) -> np.ndarray:
     return y
 
 
-def _eigenvalues(system: ChainSystem, theta, beta: float) -> np.ndarray:
-    return np.linalg.eigvals(jacobian(system, beta=beta)(0.0, _state(system, theta)))
+def _loads(system: ChainSystem, loads) -> np.ndarray | None:
+    """The per-particle load factors (n_angles entries) of a run, or None when every particle is loaded (loads
+    None or all ones: the unchanged, bit-identical path with the analytic Jacobian)."""
+    if loads is None:
+        return None
+    fac = system.force_factors(loads)
+    return None if np.all(fac == 1.0) else fac
+
+
+def _numeric_jacobian(system: ChainSystem, beta: float, loads: np.ndarray):
+    """J(t, y) of the model under constant force factors `loads` by central differences of the compiled
+    right-hand side (the analytic kernels assume every particle loaded)."""
+    f = rhs(system, beta=beta, factor=loads)
+
+    def jac(t, y):
+        y = _state(system, y)
+        J = np.empty((y.size, y.size))
+        for k in range(y.size):
+            h = 1e-7 * max(1.0, abs(y[k]))
+            yp, ym = y.copy(), y.copy()
+            yp[k] += h
+            ym[k] -= h
+            J[:, k] = (f(t, yp) - f(t, ym)) / (2.0 * h)
+        return J
+
+    return jac
+
+
+def _eigenvalues(system: ChainSystem, theta, beta: float, loads: np.ndarray | None = None) -> np.ndarray:
+    jac = jacobian(system, beta=beta) if loads is None else _numeric_jacobian(system, beta, loads)
+    return np.linalg.eigvals(jac(0.0, _state(system, theta)))
 
 
 def spectral_radius(system: ChainSystem, theta, *, beta: float) -> float:
@@ -214,7 +243,8 @@ def _samples_and_state(system: ChainSystem, t, theta0) -> tuple[np.ndarray, np.n
 
 
 def solve_ode(
-    system: ChainSystem, t, theta0, *, rtol: float, atol: float, method: str | None = None, beta: float
+    system: ChainSystem, t, theta0, *, rtol: float, atol: float, method: str | None = None, beta: float,
+    loads=None,
 ) -> tuple[np.ndarray, dict]:
     """Integrate the deterministic model from theta0 at t = 0; returns (theta at the times t, info).
     The inertial model (system.mass_ratio > 0) starts at rest: solve_inertial, of which the angles are returned.
@@ -223,33 +253,40 @@ def solve_ode(
     the module docstring), "numba-DOP853", or any name in SCIPY_METHODS. info holds rtol, atol, method,
     the solver's counts (nfev, njev, nsteps/nlu, status) and, for method=None, spectral_radius and
     stiffness at theta0. Raises RuntimeError when the solver gives up.
+
+    loads: optional per-particle load factors (n_angles entries: 1 where the particle carries the follower
+    force, 0 where it does not; particles of chain 1, then chain 2), the constant force factors of the run.
+    None or all ones: every particle loaded, bit for bit the unmasked run. Otherwise the implicit methods
+    (and method=None's stiffness check) use a central-difference Jacobian of the masked right-hand side.
     """
     system = system.typed()
     t, theta0 = _samples_and_state(system, t, theta0)
     if method is not None and method not in COMPILED_METHODS + SCIPY_METHODS:
         raise ParameterError(f"method must be None, one of {COMPILED_METHODS + SCIPY_METHODS}, got {method!r}")
     if system.inertial:
-        y, info = solve_inertial(system, t, theta0, rtol=rtol, atol=atol, method=method, beta=beta)
+        y, info = solve_inertial(system, t, theta0, rtol=rtol, atol=atol, method=method, beta=beta, loads=loads)
         return y[:, : system.n_angles].copy(), info
+    loads = _loads(system, loads)
     info = {"rtol": rtol, "atol": atol}
     if method is None:
-        eig = _eigenvalues(system, theta0, beta)
+        eig = _eigenvalues(system, theta0, beta, loads)
         info["spectral_radius"] = float(np.max(np.abs(eig)))
         info["stiffness"] = float(max(0.0, np.max(-eig.real)))
         method = "Radau" if info["stiffness"] > STIFF_RADIUS else "numba-DOP853"
     info["method"] = method
-    return _integrate(system, t, theta0, method, rtol, atol, beta, info)
+    return _integrate(system, t, theta0, method, rtol, atol, beta, info, loads)
 
 
 def _integrate(system: ChainSystem, t: np.ndarray, y0: np.ndarray, method: str, rtol: float, atol: float,
-               beta: float, info: dict) -> tuple[np.ndarray, dict]:
+               beta: float, info: dict, loads: np.ndarray | None = None) -> tuple[np.ndarray, dict]:
     """The states at the times t from y0 at t = 0 by `method` (the compiled DOP853 or scipy's solve_ivp on the
-    compiled right-hand side, implicit methods with the Jacobian), the solver's counts added to info."""
+    compiled right-hand side, implicit methods with the Jacobian), the solver's counts added to info.
+    loads: per-particle load factors (_loads; None: every particle loaded)."""
     if t[-1] == 0.0:
         info.update(nfev=0, njev=0, nsteps=0, status=0)
         return y0[None, :].copy(), info
     if method == "numba-DOP853":
-        out, status, nfev, nacc, nrej = dop853.integrate(system, t, y0, rtol=rtol, atol=atol, beta=beta)
+        out, status, nfev, nacc, nrej = dop853.integrate(system, t, y0, rtol=rtol, atol=atol, beta=beta, loads=loads)
         if status != 0:
             raise RuntimeError(f"numba-DOP853 failed: step size became too small ({system})")
         info.update(nfev=nfev, njev=0, nsteps=nacc, nreject=nrej, status=0)
@@ -257,8 +294,10 @@ def _integrate(system: ChainSystem, t: np.ndarray, y0: np.ndarray, method: str, 
     # start-up time: scipy.integrate costs ~0.4 s to import; the compiled default does not need it
     from scipy.integrate import solve_ivp
 
-    kw = {"jac": jacobian(system, beta=beta)} if method in IMPLICIT_METHODS else {}
-    sol = solve_ivp(rhs(system, beta=beta), (0.0, float(t[-1])), y0, method=method, t_eval=t, rtol=rtol, atol=atol,
+    kw = {}
+    if method in IMPLICIT_METHODS:
+        kw["jac"] = jacobian(system, beta=beta) if loads is None else _numeric_jacobian(system, beta, loads)
+    sol = solve_ivp(rhs(system, beta=beta, factor=loads), (0.0, float(t[-1])), y0, method=method, t_eval=t, rtol=rtol, atol=atol,
                     **kw)
     if not sol.success:
         raise RuntimeError(f"solve_ivp ({method}) failed: {sol.message}")
@@ -286,12 +325,13 @@ def _inertial_method(eig: np.ndarray) -> str:
 
 def solve_inertial(
     system: ChainSystem, t, theta0, *, rtol: float, atol: float, method: str | None = None, beta: float,
-    omega0=None,
+    omega0=None, loads=None,
 ) -> tuple[np.ndarray, dict]:
     """Integrate the inertial model (system.mass_ratio > 0) from (theta0, omega0) at t = 0 (omega0 default 0:
     at rest, as MuJoCo starts); returns (the states (theta, omega) at the times t, shape (len(t), 2 n_angles),
     info). method: None (numba-DOP853, or Radau when stiff, see _inertial_method), "numba-DOP853" or a name
-    in SCIPY_METHODS (implicit ones get the finite-difference Jacobian, kernels.eval_jacobian_inertial)."""
+    in SCIPY_METHODS (implicit ones get the finite-difference Jacobian, kernels.eval_jacobian_inertial).
+    loads: per-particle load factors as in solve_ode."""
     system = system.typed()
     if not system.inertial:
         raise ParameterError("solve_inertial integrates the inertial model: system.mass_ratio must be > 0")
@@ -302,14 +342,15 @@ def solve_inertial(
     if omega0.size != system.n_angles:
         raise ParameterError(f"omega0 must have {system.n_angles} rates, got {omega0.size}")
     y0 = np.concatenate([theta0, omega0])
+    loads = _loads(system, loads)
     info = {"rtol": rtol, "atol": atol, "model": "inertial", "mass_ratio": system.mass_ratio}
     if method is None:
-        eig = _eigenvalues(system, y0, beta)
+        eig = _eigenvalues(system, y0, beta, loads)
         info["spectral_radius"] = float(np.max(np.abs(eig)))
         info["stiffness"] = float(max(0.0, np.max(-eig.real)))
         method = _inertial_method(eig)
     info["method"] = method
-    return _integrate(system, t, y0, method, rtol, atol, beta, info)
+    return _integrate(system, t, y0, method, rtol, atol, beta, info, loads)
 
 
 RK4_STEP = 0.25

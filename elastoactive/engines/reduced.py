@@ -132,13 +132,22 @@ def _use_inertia(physics: Physics, numerics: Numerics, inertial: bool | None) ->
 # ----------------------------------------------------------------------------------------------
 # the package's functions on a Physics
 # ----------------------------------------------------------------------------------------------
+def _with_loads(physics: Physics, factor):
+    """The force factors times physics' load factors (factor None: the load factors; all loaded: unchanged)."""
+    loads = load_factors(physics)
+    if loads is None:
+        return factor
+    return loads if factor is None else loads * np.asarray(factor, dtype=float).reshape(-1)
+
+
 def rhs(physics: Physics, *, beta: float = DEFAULT_BETA, factor=None, mass_ratio: float = 0.0):
     """Compiled right-hand side f(t, theta) -> dtheta/dt of the deterministic model (mass_ratio > 0: the
     inertial model's f(t, y) -> dy/dt, y = (theta, omega)).
 
-    factor: optional per-particle force factor (1 + eta_i), default ones. beta: Baumgarte rate (two-pinned).
+    factor: optional per-particle force factor (1 + eta_i), default ones; times the load factors of
+    physics.loaded (0 on unloaded particles). beta: Baumgarte rate (two-pinned).
     """
-    return _math.rhs(system_of(physics, mass_ratio), beta=beta, factor=factor)
+    return _math.rhs(system_of(physics, mass_ratio), beta=beta, factor=_with_loads(physics, factor))
 
 
 def jacobian(physics: Physics, *, beta: float = DEFAULT_BETA, mass_ratio: float = 0.0):
@@ -154,7 +163,7 @@ def drag_matrix(physics: Physics, theta) -> np.ndarray:
 
 def rhs_reference(physics: Physics, *, beta: float = DEFAULT_BETA, factor=None):
     """Plain-numpy f(t, theta), written straight from the formulas (for tests and benchmarks)."""
-    return _math.rhs_reference(system_of(physics), beta=beta, factor=factor)
+    return _math.rhs_reference(system_of(physics), beta=beta, factor=_with_loads(physics, factor))
 
 
 def spectral_radius(physics: Physics, theta, *, beta: float = DEFAULT_BETA) -> float:
@@ -170,6 +179,30 @@ def stiffness(physics: Physics, theta, *, beta: float = DEFAULT_BETA) -> float:
 # ----------------------------------------------------------------------------------------------
 # the engine
 # ----------------------------------------------------------------------------------------------
+def load_factors(physics: Physics) -> np.ndarray | None:
+    """Per-particle load factors (1.0 loaded, 0.0 not; chain 1, then chain 2, the same mask on both) of
+    physics.loaded, or None when every particle is loaded (the unmasked path, bit for bit as before)."""
+    if physics.loaded == "all":
+        return None
+    return np.tile(physics.load_mask().astype(float), physics.n_chains)
+
+
+def _loaded_noise(factors, loads: np.ndarray | None):
+    """The force factors of the loaded particles spread over all particles (0 on the others). MuJoCo's callback
+    numbers the noise of the loaded particles only (sites with a non-zero user value, in order), so `factors`
+    gives one column per loaded particle; None loads: factors unchanged."""
+    if loads is None:
+        return factors
+    where = np.flatnonzero(loads)
+
+    def spread(steps: np.ndarray) -> np.ndarray:
+        out = np.zeros((np.size(steps), loads.size))
+        out[:, where] = factors(steps)
+        return out
+
+    return spread
+
+
 def _initial(physics: Physics, numerics: Numerics, theta0) -> np.ndarray:
     if theta0 is None:
         return initial_angles(physics, numerics)
@@ -207,27 +240,31 @@ def simulate_reduced(
     system = system_of(physics, numerics.mass_ratio if use_inertia else 0.0)
     t = numerics.sample_times(duration)
     theta0 = _initial(physics, numerics, theta0)
+    loads = load_factors(physics)
+    count = physics.n_angles if loads is None else int(np.count_nonzero(loads))  # particles with a force
     start = time.perf_counter()
     if physics.noise > 0:
         dt = numerics.dt
         scheme = "euler"
         if physics.noise_correlation > 0:  # the shared Ornstein-Uhlenbeck realisation, constant over each step
-            coloured = ColouredNoise(numerics.seed, physics.n_angles, physics.noise, physics.noise_correlation, dt)
+            coloured = ColouredNoise(numerics.seed, count, physics.noise, physics.noise_correlation, dt)
             factors = coloured.force_factor
         else:
             scheme = "heun" if physics.noise_calculus == "stratonovich" and not use_inertia else "euler"
 
             def factors(steps: np.ndarray) -> np.ndarray:
-                return force_factor(numerics.seed, steps, physics.n_angles, physics.noise, dt)
+                return force_factor(numerics.seed, steps, count, physics.noise, dt)
 
-        theta, info = _math.solve_sde(system, t, theta0, dt=dt, factors=factors, beta=beta, scheme=scheme)
+        theta, info = _math.solve_sde(system, t, theta0, dt=dt, factors=_loaded_noise(factors, loads), beta=beta,
+                                      scheme=scheme)
         info["seed"] = numerics.seed
         if physics.noise_correlation > 0:
             info["noise_correlation"] = physics.noise_correlation
         else:
             info["noise_calculus"] = physics.noise_calculus
     else:
-        theta, info = _math.solve_ode(system, t, theta0, rtol=rtol, atol=atol, method=method, beta=beta)
+        theta, info = _math.solve_ode(system, t, theta0, rtol=rtol, atol=atol, method=method, beta=beta,
+                                      loads=loads)
     wall = time.perf_counter() - start
     info.update(model="inertial" if use_inertia else "overdamped", mass_ratio=float(numerics.mass_ratio), **record)
     if system.pinned:
@@ -260,10 +297,12 @@ def simulate_reference(
     t = numerics.sample_times(duration)
     theta0 = _initial(physics, numerics, theta0)
     start = time.perf_counter()
+    loads = load_factors(physics)  # None: every particle loaded
     if use_inertia:
-        f, y0 = _math.rhs_inertial_reference(system, beta=beta), np.concatenate([theta0, np.zeros(theta0.size)])
+        f = _math.rhs_inertial_reference(system, beta=beta, factor=loads)
+        y0 = np.concatenate([theta0, np.zeros(theta0.size)])
     else:
-        f, y0 = _math.rhs_reference(system, beta=beta), theta0
+        f, y0 = _math.rhs_reference(system, beta=beta, factor=loads), theta0
     sol = solve_ivp(f, (0.0, float(t[-1])), y0, method=method, t_eval=t, rtol=rtol, atol=atol)
     wall = time.perf_counter() - start
     if not sol.success:

@@ -76,9 +76,14 @@ class Scene:
     # ------------------------------------------------------------------ parameters
     def relevant(self, physics: "Physics | None" = None) -> tuple[str, ...]:
         """Names of the physics parameters this scene uses (the others are ignored and not reported). Given a
-        physics, NOISE_PARAMETERS are among them only when its noise is > 0."""
+        physics, NOISE_PARAMETERS are among them only when its noise is > 0, and `loaded` only when it is not
+        "all"."""
         names = ("scene",) + COMMON_PARAMETERS + self.parameters
-        return names + NOISE_PARAMETERS if physics is not None and physics.noise > 0 else names
+        if physics is not None and physics.noise > 0:
+            names += NOISE_PARAMETERS
+        if physics is not None and getattr(physics, "loaded", "all") != "all":
+            names += ("loaded",)
+        return names
 
     def check(self, physics: "Physics") -> None:
         """Scene-specific checks of the parameters (the generic ranges are checked by Physics)."""

@@ -1,42 +1,64 @@
 #!/usr/bin/env python
 """Performance benchmark, run on demand (not a test): every figure measured side by side in one run.
 
-  .venv/bin/python scripts/benchmark.py [--out results/benchmark.md] [--repeats 7] [--quick]
+  .venv/bin/python scripts/benchmark.py [--quick] [--out docs/generated/benchmark.md]
 
-1. force callback: mj_step(nstep) on the same N = 7 one-pinned model with the compiled C passive
-   callback, with no callback (bare engine, no follower forces) and with the Python reference
-   callback, per integrator (target: compiled / bare <= 1.3)
-2. reduced model: simulate_reduced (numba-DOP853) against simulate_reference (scipy DOP853 on the
-   plain-numpy right-hand side) at the same tolerance, per paper case (target >= 10x)
-3. sweeps: batch.run_cases with 1 and 2 worker processes on the same MuJoCo cases (target >= 1.8x)
-4. throughput: tau simulated per wall second on one core, N = 7 one-pinned chain, at the default
-   settings and at the 'fast' preset, with their amplitude error against the reduced model (target
-   >= 2000 tau/s at <= 1% amplitude error), plus where the time goes (engine steps vs the Python
-   sampling loop of simulate_mujoco)
+A. reduced model, warm, at EQUAL ACCURACY (target e): the compiled default (simulate_reduced, rtol 1e-9)
+   against plain scipy (solve_ivp with LSODA, Radau, BDF, RK45, DOP853 on the plain-numpy right-hand side
+   rhs_reference). Accuracy = max |theta - theta_ref| over the run, theta_ref the compiled model at rtol 1e-12.
+   Each scipy method gets the loosest rtol (atol = rtol / 100; ladder of decades, then one bisection step)
+   whose error is <= 2 x the compiled run's error. A method is dropped as soon as one of its runs is slower
+   than the best plain method found so far for that case (it cannot win), or exceeds a time cap.
+   Cases: N = 7, every scene's validation case at 600 tau; N = 30 and 100, one-pinned, sigma 0.05, 100 tau.
+B. whole process (target e, b): `elastoactive run one-pinned --engine reduced --duration 600 --quiet` against a
+   plain script written to a temporary file (numpy + scipy LSODA, the same equations, at the rtol that matched
+   in A, its imports included), median of 5 subprocess wall times each; `elastoactive --help` (target < 0.2 s).
+C. MuJoCo sweep (target a): `elastoactive sweep one-pinned --grid sigma=0.3:1.0:16 --duration 100 --out TMP
+   --quiet` as a whole process against the engine floor measured in the same run: the compiled step cost
+   (best of several) x all steps / cores.
+D. long chains (targets c, d): MuJoCo tau per wall second at N = 7, 30, 100 (simulate_mujoco, default numerics,
+   pre-flight check off: simulate_mujoco does not call it); the reduced model's wall s per 100 tau at
+   N = 7, 30, 100, 200 (sigma 0.05) and the log-log growth exponent.
+E. the compiled force callback against the bare MuJoCo step (mj_step(nstep), N = 7, per integrator).
 
-Timings are the best of N repeats (the machine is shared; the best is the least disturbed run).
+Timings are best of a few repeats unless said (the 2 cores are shared; the best is the least disturbed run);
+whole-process figures are medians. --quick shortens every part (about 1 min).
 """
 
 from __future__ import annotations
 
 import argparse
+import os
 import platform
+import statistics
+import subprocess
 import sys
+import tempfile
+import textwrap
 import time
 from pathlib import Path
 
 import mujoco
 import numpy as np
 
-from elastoactive.batch import Case, run_cases
 from elastoactive.controllers import compiled_passive, follower_forces, reference_passive
 from elastoactive.engines.mujoco import prepare, simulate_mujoco
-from elastoactive.engines.reduced import simulate_reduced, simulate_reference
+from elastoactive.engines.reduced import rhs_reference, simulate_reduced, system_of
+from elastoactive.initial import initial_angles
 from elastoactive.params import Numerics, Physics
-from elastoactive.results import measure
 from elastoactive.validate import validation_cases
 
-CHAIN = Physics(n=7, sigma=0.8)  # one pinned end, the paper's beat
+ROOT = Path(__file__).resolve().parents[1]
+BIN = Path(sys.executable).parent
+CLI = str(BIN / "elastoactive")
+CORES = os.cpu_count() or 1
+PLAIN_METHODS = ("LSODA", "DOP853", "RK45", "BDF", "Radau")  # LSODA first: the usual winner prunes the rest
+MATCH = 2.0  # a plain method matches when its error is <= MATCH x the compiled run's error
+REF_TOL = dict(rtol=1e-12, atol=1e-14)
+
+
+def log(msg: str) -> None:
+    print(f"[{time.strftime('%H:%M:%S')}] {msg}", file=sys.stderr, flush=True)
 
 
 def best_of(fn, repeats: int) -> float:
@@ -48,16 +70,267 @@ def best_of(fn, repeats: int) -> float:
     return min(times)
 
 
+def load() -> str:
+    return " ".join(open("/proc/loadavg").read().split()[:3]) if os.path.exists("/proc/loadavg") else "?"
+
+
+# ------------------------------------------------------------------------------------------------
+# A. reduced model, warm, equal accuracy
+# ------------------------------------------------------------------------------------------------
+class TooSlow(Exception):
+    pass
+
+
+def plain_run(physics: Physics, duration: float, method: str, rtol: float, deadline_s: float):
+    """solve_ivp(method) on rhs_reference, as a user would write it; stops (TooSlow) past deadline_s."""
+    from scipy.integrate import solve_ivp
+
+    numerics = Numerics()
+    t = numerics.sample_times(duration)
+    theta0 = initial_angles(physics, numerics)
+    f = rhs_reference(physics)
+    t0 = time.perf_counter()
+    stop = t0 + deadline_s
+
+    def g(t_, y):
+        if time.perf_counter() > stop:
+            raise TooSlow
+        return f(t_, y)
+
+    sol = solve_ivp(g, (0.0, float(t[-1])), theta0, method=method, t_eval=t, rtol=rtol, atol=rtol * 1e-2)
+    wall = time.perf_counter() - t0
+    if not sol.success:
+        raise TooSlow
+    return sol.y.T, wall
+
+
+def match_method(physics, duration, method, ref, target, best_so_far, cap_s):
+    """Loosest rtol of `method` with error <= target. Returns a dict (rtol, err, wall) or a reason string."""
+    passed = None
+    failed_rtol = None
+    rtol = 1e-4
+    while rtol >= 1e-13:
+        limit = min(cap_s, best_so_far)
+        try:
+            theta, wall = plain_run(physics, duration, method, rtol, limit)
+        except TooSlow:
+            why = "slower than the best plain method" if best_so_far <= cap_s else f"over the {cap_s:g} s cap"
+            return passed or f"{why} at rtol {rtol:.0e}"
+        err = float(np.abs(theta - ref).max())
+        if err <= target:
+            passed = {"rtol": rtol, "err": err, "wall": wall}
+            break
+        failed_rtol = rtol
+        rtol /= 10
+    if passed is None:
+        return "did not reach the accuracy"
+    if failed_rtol is not None:  # one bisection step in log rtol: a looser rtol that still matches is cheaper
+        mid = np.sqrt(passed["rtol"] * failed_rtol)
+        try:
+            theta, wall = plain_run(physics, duration, method, mid, min(cap_s, best_so_far))
+            err = float(np.abs(theta - ref).max())
+            if err <= target:
+                passed = {"rtol": mid, "err": err, "wall": min(wall, passed["wall"])}
+        except TooSlow:
+            pass
+    return passed
+
+
+def bench_reduced(cases, repeats: int, cap_s: float) -> list[dict]:
+    simulate_reduced(Physics(n=7, sigma=0.8), Numerics(), 1.0)  # compiled kernels loaded before timing
+    rows = []
+    for label, physics, duration in cases:
+        log(f"reduced warm: {label}, {duration:g} tau (load {load()})")
+        numerics = Numerics()
+        ref = simulate_reduced(physics, numerics, duration, **REF_TOL).theta
+        comp = simulate_reduced(physics, numerics, duration)  # also the warm-up (kernels compiled on first use)
+        err_c = float(np.abs(comp.theta - ref).max())
+        wall_c = min(simulate_reduced(physics, numerics, duration).wall_time_s for _ in range(repeats))
+        target = MATCH * max(err_c, 1e-13)
+        best = np.inf
+        methods = {}
+        for method in PLAIN_METHODS:
+            r = match_method(physics, duration, method, ref, target, best, cap_s)
+            methods[method] = r
+            if isinstance(r, dict):
+                best = min(best, r["wall"])
+            log(f"  {method}: " + (r if isinstance(r, str) else _plain_cell(r)))
+        winners = {m: r for m, r in methods.items() if isinstance(r, dict)}
+        win = min(winners, key=lambda m: winners[m]["wall"]) if winners else None
+        rows.append({"case": label, "n": physics.n, "duration": duration, "compiled_s": wall_c,
+                     "compiled_err": err_c, "method": comp.info.get("method", "?"), "plain": methods, "best": win,
+                     "best_s": winners[win]["wall"] if win else np.nan,
+                     "speedup": winners[win]["wall"] / wall_c if win else np.nan,
+                     "bound": None if win else cap_s / wall_c})
+    return rows
+
+
+# ------------------------------------------------------------------------------------------------
+# B. whole process
+# ------------------------------------------------------------------------------------------------
+PLAIN_SCRIPT = '''\
+"""Plain numpy + scipy: the one-pinned chain (N = {n}, sigma = {sigma}), LSODA, {duration:g} tau."""
+import sys
+import numpy as np
+from scipy.integrate import solve_ivp
+
+n, sigma, c, gl, gt = {n}, {sigma!r}, 1.0, {gl!r}, {gt!r}
+theta0 = np.array({theta0!r})
+i = np.arange(n)
+mask = (i[:, None, None] >= i[None, :, None]) & (i[:, None, None] >= i[None, None, :])  # i >= max(j, k)
+upper = i[None, :] >= i[:, None]
+
+
+def f(t, th):
+    diff = th[:, None] - th[None, :]
+    s, co = np.sin(diff), np.cos(diff)
+    D = np.einsum("ijk,ij,ik->jk", mask, gl * s, s) + np.einsum("ijk,ij,ik->jk", mask, gt * co, co)
+    Q = sigma * np.sum(upper * np.sin(diff), axis=1)
+    grad = np.zeros(n)
+    grad[0] += c * th[0]
+    bend = np.diff(th)
+    grad[:-1] -= c * bend
+    grad[1:] += c * bend
+    return np.linalg.solve(D, Q - grad)
+
+
+t = np.arange({samples}) * {sample_dt!r}
+sol = solve_ivp(f, (0.0, t[-1]), theta0, method="LSODA", t_eval=t, rtol={rtol!r}, atol={atol!r})
+np.save(sys.argv[1], sol.y.T)
+'''
+
+
+def run_wall(cmd, cwd) -> float:
+    t0 = time.perf_counter()
+    subprocess.run(cmd, cwd=cwd, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    return time.perf_counter() - t0
+
+
+def bench_process(lsoda_rtol: float, repeats: int) -> dict:
+    physics, numerics, duration = Physics(n=7, sigma=0.8), Numerics(), 600.0
+    system = system_of(physics)
+    assert system.n_chains == 1 and system.clamped and not system.pinned
+    t = numerics.sample_times(duration)
+    ref = simulate_reduced(physics, numerics, duration, **REF_TOL).theta
+    err_cli = float(np.abs(simulate_reduced(physics, numerics, duration).theta - ref).max())  # the CLI's path
+    with tempfile.TemporaryDirectory() as tmp:
+        script = Path(tmp) / "plain_lsoda.py"
+        script.write_text(PLAIN_SCRIPT.format(
+            n=system.n, sigma=float(system.sigma), gl=float(system.gamma_l), gt=float(system.gamma_t),
+            theta0=[float(x) for x in initial_angles(physics, numerics)], duration=duration, samples=t.size,
+            sample_dt=float(numerics.sample_dt), rtol=float(lsoda_rtol), atol=float(lsoda_rtol) * 1e-2))
+        out = Path(tmp) / "theta.npy"
+        cli_cmd = [CLI, "run", "one-pinned", "--engine", "reduced", "--duration", "600", "--quiet"]
+        plain_cmd = [sys.executable, str(script), str(out)]
+        help_cmd = [CLI, "--help"]
+        run_wall(cli_cmd, tmp), run_wall(plain_cmd, tmp)  # file caches warm, numba cache built
+        cli, plain, hlp = [], [], []
+        for _ in range(repeats):  # interleaved
+            cli.append(run_wall(cli_cmd, tmp))
+            plain.append(run_wall(plain_cmd, tmp))
+            hlp.append(run_wall(help_cmd, tmp))
+        err_plain = float(np.abs(np.load(out) - ref).max())
+        imports = run_wall([sys.executable, "-c", "import numpy, scipy.integrate"], tmp)
+    return {"cli": cli, "plain": plain, "help": hlp, "err_cli": err_cli, "err_plain": err_plain,
+            "rtol": lsoda_rtol, "imports": imports, "cmd": " ".join(["elastoactive"] + cli_cmd[1:])}
+
+
+# ------------------------------------------------------------------------------------------------
+# C. MuJoCo sweep against the engine floor
+# ------------------------------------------------------------------------------------------------
+def step_cost(physics: Physics, numerics: Numerics, nstep: int, repeats: int) -> float:
+    model, data = prepare(physics, numerics)
+    q0 = data.qpos.copy()
+    best = np.inf
+    with follower_forces(compiled_passive):
+        for _ in range(repeats):
+            mujoco.mj_resetData(model, data)
+            data.qpos[:] = q0
+            t0 = time.perf_counter()
+            mujoco.mj_step(model, data, nstep=nstep)
+            best = min(best, (time.perf_counter() - t0) / nstep)
+    return best
+
+
+def bench_sweep(points: int, duration: float, repeats: int) -> dict:
+    numerics = Numerics()
+    sigmas = np.linspace(0.3, 1.0, points)
+    costs = [step_cost(Physics(n=7, sigma=s), numerics, 4000, 5) for s in (sigmas[0], sigmas[-1])]
+    steps = points * round(duration / numerics.dt)
+    floor = min(costs) * steps / CORES
+    walls = []
+    with tempfile.TemporaryDirectory() as tmp:
+        for k in range(repeats):
+            out = Path(tmp) / f"sweep{k}.nc"
+            walls.append(run_wall([CLI, "sweep", "one-pinned", "--grid", f"sigma=0.3:1.0:{points}", "--duration",
+                                   f"{duration:g}", "--out", str(out), "--quiet"], tmp))
+    return {"points": points, "duration": duration, "steps": steps, "us_per_step": 1e6 * min(costs),
+            "floor_s": floor, "walls": walls, "wall_s": statistics.median(walls), "best_s": min(walls)}
+
+
+# ------------------------------------------------------------------------------------------------
+# D. long chains
+# ------------------------------------------------------------------------------------------------
+def bench_mujoco_long(durations: dict, repeats: int) -> list[dict]:
+    rows = []
+    for n, (sigma, duration) in durations.items():
+        physics = Physics(n=n, sigma=sigma)
+        simulate_mujoco(physics, Numerics(), min(duration, 0.5))  # model compiled once
+        wall = min(simulate_mujoco(physics, Numerics(), duration).wall_time_s for _ in range(repeats))
+        rows.append({"n": n, "sigma": sigma, "duration": duration, "wall_s": wall, "tau_per_s": duration / wall})
+    return rows
+
+
+def bench_reduced_long(ns, duration: float, repeats: int) -> dict:
+    rows = []
+    for n in ns:
+        physics = Physics(n=n, sigma=0.05)
+        simulate_reduced(physics, Numerics(), duration)  # warm-up: some kernels compile on first use, not at 1 tau
+        runs = [simulate_reduced(physics, Numerics(), duration) for _ in range(repeats)]
+        wall = min(r.wall_time_s for r in runs)
+        rows.append({"n": n, "duration": duration, "wall_s": wall, "per_100": wall * 100 / duration,
+                     "method": runs[0].info.get("method", "?"), "nfev": runs[0].info.get("nfev")})
+    x, y = np.log([r["n"] for r in rows]), np.log([r["per_100"] for r in rows])
+    big = [i for i, r in enumerate(rows) if r["n"] >= 30]
+    slope_all = float(np.polyfit(x, y, 1)[0])
+    slope_big = float(np.polyfit(x[big], y[big], 1)[0]) if len(big) >= 2 else np.nan
+    return {"rows": rows, "exponent_all": slope_all, "exponent_long": slope_big}
+
+
+SINGLE_BLAS = '''
+import json, sys
+from elastoactive.engines.reduced import simulate_reduced
+from elastoactive.params import Numerics, Physics
+out = {}
+for n in map(int, sys.argv[2:]):
+    p = Physics(n=n, sigma=0.05)
+    simulate_reduced(p, Numerics(), float(sys.argv[1]))
+    out[n] = min(simulate_reduced(p, Numerics(), float(sys.argv[1])).wall_time_s for _ in range(2))
+print(json.dumps(out))
+'''
+
+
+def bench_reduced_single_blas(ns, duration: float) -> dict:
+    """The same reduced runs in a fresh process with OPENBLAS_NUM_THREADS=1 (BLAS threads vs a loaded machine)."""
+    import json
+
+    env = dict(os.environ, OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1", MKL_NUM_THREADS="1")
+    res = subprocess.run([sys.executable, "-c", SINGLE_BLAS, f"{duration:g}", *map(str, ns)], env=env, check=True,
+                         capture_output=True, text=True)
+    return {int(k): v * 100 / duration for k, v in json.loads(res.stdout.strip().splitlines()[-1]).items()}
+
+
+# ------------------------------------------------------------------------------------------------
+# E. callback vs bare step
 # ------------------------------------------------------------------------------------------------
 def bench_callback(repeats: int, nstep: int) -> list[dict]:
-    """us per step with the compiled callback, without a callback and with the Python callback."""
+    chain = Physics(n=7, sigma=0.8)
     rows = []
     for integrator in ("implicitfast", "implicit", "discrete", "Euler", "RK4"):
         # Euler/RK4 treat the drag explicitly: dt must stay below 2 m / gamma
         numerics = Numerics(integrator=integrator, **({"mass_ratio": 1e-2} if integrator in ("Euler", "RK4") else {}))
-        model, data = prepare(CHAIN, numerics)
+        model, data = prepare(chain, numerics)
         q0 = data.qpos.copy()
-        results = {}
         variants = {"bare": None, "compiled": compiled_passive, "python": reference_passive}
         best = {k: np.inf for k in variants}
         for _ in range(repeats):  # interleaved, so that a slow spell hits all variants alike
@@ -69,142 +342,113 @@ def bench_callback(repeats: int, nstep: int) -> list[dict]:
                     t0 = time.perf_counter()
                     mujoco.mj_step(model, data, nstep=n)
                     best[name] = min(best[name], (time.perf_counter() - t0) / n)
-        for name in variants:
-            results[name] = 1e6 * best[name]
-        rows.append({"integrator": integrator, "mass_ratio": numerics.mass_ratio, "dt": numerics.dt, **results,
-                     "compiled_ratio": results["compiled"] / results["bare"],
-                     "python_ratio": results["python"] / results["bare"]})
+        res = {k: 1e6 * v for k, v in best.items()}
+        rows.append({"integrator": integrator, "mass_ratio": numerics.mass_ratio, **res,
+                     "compiled_ratio": res["compiled"] / res["bare"], "python_ratio": res["python"] / res["bare"]})
     return rows
 
 
 # ------------------------------------------------------------------------------------------------
-def bench_reduced(repeats: int, quick: bool) -> list[dict]:
-    rows = []
-    tol = dict(rtol=1e-9, atol=1e-11)
-    simulate_reduced(CHAIN, Numerics(), 1.0)  # load the compiled kernels before timing
-    for case in validation_cases():
-        physics, duration = case.physics, case.duration / 3 if quick else case.duration
-        numerics = Numerics()
-        fast = best_of(lambda: simulate_reduced(physics, numerics, duration, method="numba-DOP853", **tol), repeats)
-        a = simulate_reduced(physics, numerics, duration, method="numba-DOP853", **tol)
-        ref_runs = []
-        for _ in range(max(1, repeats // 3)):
-            b = simulate_reference(physics, numerics, duration, method="DOP853", **tol)
-            ref_runs.append(b.wall_time_s)
-        slow = min(ref_runs)
-        rows.append({"case": _case(physics), "duration": duration, "compiled_s": fast, "reference_s": slow,
-                     "speedup": slow / fast, "max_diff": float(np.abs(a.theta - b.theta).max())})
-    return rows
+def _plain_cell(r) -> str:
+    if isinstance(r, dict):
+        return f"{r['wall']:.3f} s (rtol {r['rtol']:.0e}, err {r['err']:.0e})"
+    return "- (" + r + ")"
 
 
-def _case(p: Physics) -> str:
-    return p.scene_def.label(p)
-
-
-# ------------------------------------------------------------------------------------------------
-def bench_sweep(n_cases: int, duration: float, repeats: int) -> dict:
-    cases = [Case(Physics(n=7, sigma=s), Numerics(), duration) for s in np.linspace(0.3, 1.5, n_cases)]
-    run_cases(cases[:2], workers=2, progress=False)  # start-up costs (imports, numba cache) out of the way
-    one, two = [], []
-    for _ in range(repeats):  # interleaved, so that a busy spell of the shared machine hits both
-        one.append(best_of(lambda: run_cases(cases, workers=1, progress=False), 1))
-        two.append(best_of(lambda: run_cases(cases, workers=2, progress=False), 1))
-    return {"cases": n_cases, "duration": duration, "one_s": min(one), "two_s": min(two),
-            "speedup": min(one) / min(two), "one_all": one, "two_all": two}
-
-
-# ------------------------------------------------------------------------------------------------
-def bench_throughput(repeats: int, duration: float) -> list[dict]:
-    ref = simulate_reduced(CHAIN, Numerics(), duration, rtol=1e-11, atol=1e-13)
-    ref_amp = measure(ref).amplitude
-    rows = []
-    for name, numerics in (("default (accurate)", Numerics()), ("fast preset", Numerics.preset("fast")),
-                           ("fast preset, sample_dt 0.1", Numerics.preset("fast", sample_dt=0.1))):
-        runs = [simulate_mujoco(CHAIN, numerics, duration) for _ in range(repeats)]
-        wall = min(r.wall_time_s for r in runs)
-        if numerics.sample_dt != ref.t[1] - ref.t[0]:
-            ref_n = simulate_reduced(CHAIN, numerics, duration, rtol=1e-11, atol=1e-13)
-            amp_ref = measure(ref_n).amplitude
-        else:
-            amp_ref = ref_amp
-        amp_err = abs(measure(runs[0]).amplitude - amp_ref) / amp_ref
-        # the engine alone: the same number of steps in one C call (no sampling loop, no callback changes)
-        steps = runs[0].info["steps"]
-        model, data = prepare(CHAIN, numerics)
-        q0 = data.qpos.copy()
-
-        def engine_only():
-            mujoco.mj_resetData(model, data)
-            data.qpos[:] = q0
-            with follower_forces():
-                mujoco.mj_step(model, data, nstep=steps)
-
-        engine = best_of(engine_only, repeats)
-        rows.append({"setting": name, "dt": numerics.dt, "mass_ratio": numerics.mass_ratio,
-                     "sample_dt": numerics.sample_dt, "wall_s": wall, "tau_per_s": duration / wall,
-                     "engine_s": engine, "engine_tau_per_s": duration / engine, "loop_share": 1 - engine / wall,
-                     "us_per_sample_loop": 1e6 * (wall - engine) / (runs[0].t.size - 1),
-                     "amplitude_error": amp_err})
-    return rows
-
-
-# ------------------------------------------------------------------------------------------------
-def report(cb, red, sweep, thr, meta) -> str:
-    out = [f"# Benchmark ({meta['date']}, {meta['machine']})", "",
-           f"Best of {meta['repeats']} repeats per figure; the 2 cores were shared with other jobs "
-           f"(load average at start {meta['load']}), so figures carry tens of percent noise.", ""]
-    out += ["## 1. Force callback vs bare engine step (N = 7 one-pinned, dt = 0.0025)", "",
-            "| integrator | mass ratio | bare us/step | compiled callback us/step | Python callback us/step "
-            "| compiled / bare (target <= 1.3) | Python / bare |", "|---|---|---|---|---|---|---|"]
-    for r in cb:
-        out.append(f"| {r['integrator']} | {r['mass_ratio']:g} | {r['bare']:.2f} | {r['compiled']:.2f} | {r['python']:.1f} "
-                   f"| **{r['compiled_ratio']:.2f}x** | {r['python_ratio']:.1f}x |")
-    out += ["", "## 2. Reduced model: compiled vs plain numpy/scipy (same DOP853 algorithm, rtol 1e-9, atol 1e-11)", "",
-            "| case | duration tau | simulate_reduced s | simulate_reference s | speed-up (target >= 10) | max angle difference |",
-            "|---|---|---|---|---|---|"]
+def report(red, proc, sweep, mj, rl, cb, meta) -> str:
+    o = [f"# Benchmark ({meta['date']}, {meta['machine']})", "",
+         f"One run of `scripts/benchmark.py{' --quick' if meta['quick'] else ''}`. Machine load (1/5/15 min): "
+         f"{meta['load_start']} at the start, {meta['load_end']} at the end (2 shared cores; figures carry tens "
+         f"of percent noise). Warm timings are best of {meta['repeats']}, whole-process timings medians.", ""]
+    o += ["## A. Reduced model, warm, at equal accuracy (target e)", "",
+          f"Error = max |theta - theta_ref| (rad) over the run; theta_ref = compiled model at rtol 1e-12. Each scipy "
+          f"method (solve_ivp on the plain-numpy `rhs_reference`, atol = rtol/100) at the loosest rtol whose error "
+          f"is <= {MATCH:g} x the compiled default's (ladder of decades, one bisection step). '-' = dropped: slower "
+          f"than the best plain method already found (it cannot win) or over the time cap.", "",
+          "| case | N | tau | compiled default s (err) | " + " | ".join(PLAIN_METHODS)
+          + " | best plain | speed-up vs best plain |", "|---" * (6 + len(PLAIN_METHODS)) + "|"]
     for r in red:
-        out.append(f"| {r['case']} | {r['duration']:g} | {r['compiled_s']:.4f} | {r['reference_s']:.3f} "
-                   f"| **{r['speedup']:.0f}x** | {r['max_diff']:.1e} |")
-    out += ["", "## 3. Sweep on 2 cores vs 1 (batch.run_cases, process pool)", "",
-            "| cases | tau per case | 1 worker s | 2 workers s | speed-up (target >= 1.8) |", "|---|---|---|---|---|",
-            f"| {sweep['cases']} MuJoCo one-pinned N = 7 | {sweep['duration']:g} | {sweep['one_s']:.2f} | {sweep['two_s']:.2f} "
-            f"| **{sweep['speedup']:.2f}x** |", "",
-            "All repeats (s), 1 worker: " + ", ".join(f"{x:.2f}" for x in sweep["one_all"])
-            + "; 2 workers: " + ", ".join(f"{x:.2f}" for x in sweep["two_all"]) + "."]
-    out += ["", "## 4. Throughput on one core: N = 7 one-pinned chain", "",
-            "| setting | dt | mass ratio | sample_dt | tau per wall s (target >= 2000) | amplitude error (target <= 1%) "
-            "| engine alone, tau/s | share of time in the Python sampling loop | loop cost per sample, us |",
-            "|---|---|---|---|---|---|---|---|---|"]
-    for r in thr:
-        out.append(f"| {r['setting']} | {r['dt']:g} | {r['mass_ratio']:g} | {r['sample_dt']:g} | **{r['tau_per_s']:.0f}** "
-                   f"| {100 * r['amplitude_error']:.3f}% | {r['engine_tau_per_s']:.0f} | {100 * r['loop_share']:.0f}% "
-                   f"| {r['us_per_sample_loop']:.1f} |")
-    out.append("")
-    return "\n".join(out)
+        o.append(f"| {r['case']} | {r['n']} | {r['duration']:g} | {r['compiled_s']:.4f} ({r['compiled_err']:.0e}) | "
+                 + " | ".join(_plain_cell(r["plain"][m]) for m in PLAIN_METHODS)
+                 + f" | {r['best'] or 'none within the cap'} | "
+                 + (f"**{r['speedup']:.0f}x** |" if r["best"] else f"**> {r['bound']:.0f}x** (cap / compiled) |"))
+    cli, plain, hlp = (statistics.median(proc[k]) for k in ("cli", "plain", "help"))
+    o += ["", "## B. Whole process (targets e, b): median of " + str(len(proc["cli"])) + " subprocess wall times", "",
+          "| command | median s | all runs s | max angle error |", "|---|---|---|---|",
+          f"| `{proc['cmd']}` | **{cli:.2f}** | {', '.join(f'{x:.2f}' for x in proc['cli'])} | {proc['err_cli']:.0e} |",
+          f"| plain script: numpy + scipy LSODA, same equations, rtol {proc['rtol']:.0e} | **{plain:.2f}** | "
+          f"{', '.join(f'{x:.2f}' for x in proc['plain'])} | {proc['err_plain']:.0e} |",
+          f"| `elastoactive --help` (target < 0.2 s) | **{hlp:.3f}** | {', '.join(f'{x:.3f}' for x in proc['help'])} | |",
+          "", f"Whole process, CLI / plain script: **{plain / cli:.2f}x** faster. For scale, "
+          f"`python -c 'import numpy, scipy.integrate'` alone took {proc['imports']:.2f} s."]
+    o += ["", "## C. MuJoCo sweep against the engine floor (target a)", "",
+          "| command | median s (all) | engine floor s | sweep / floor |", "|---|---|---|---|",
+          f"| `elastoactive sweep one-pinned --grid sigma=0.3:1.0:{sweep['points']} --duration {sweep['duration']:g} "
+          f"--out TMP --quiet` | **{sweep['wall_s']:.2f}** ({', '.join(f'{x:.2f}' for x in sweep['walls'])}) | "
+          f"{sweep['floor_s']:.2f} | **{sweep['wall_s'] / sweep['floor_s']:.2f}x** |", "",
+          f"Floor = {sweep['us_per_step']:.2f} us per compiled step (mj_step with the C callback, N = 7, default "
+          f"numerics, best of 5 x 4000 steps) x {sweep['steps']} steps / {CORES} cores. The whole process includes "
+          f"start-up, model compilation, pre-flight checks and writing the netCDF file."]
+    o += ["", "## D. Long chains (targets c, d)", "",
+          "MuJoCo (`simulate_mujoco`, default numerics dt 0.0025, m 1e-4; pre-flight check OFF: simulate_mujoco "
+          "does not call it, and `elastoactive run` would refuse N = 100 at the default dt), best of "
+          f"{meta['mj_repeats']}:", "", "| N | sigma | tau simulated | wall s | tau per wall s |", "|---|---|---|---|---|"]
+    for r in mj:
+        o.append(f"| {r['n']} | {r['sigma']:g} | {r['duration']:g} | {r['wall_s']:.3f} | **{r['tau_per_s']:.0f}** |")
+    o += ["", f"Reduced model (simulate_reduced defaults, one-pinned, sigma 0.05), best of {meta['rl_repeats']}:", "",
+          "| N | wall s per 100 tau | same, fresh process, OPENBLAS_NUM_THREADS=1 | method | RHS evaluations |",
+          "|---|---|---|---|---|"]
+    for r in rl["rows"]:
+        one = rl["single_blas"].get(r["n"])
+        o.append(f"| {r['n']} | **{r['per_100']:.3f}** | {'' if one is None else f'{one:.3f}'} | {r['method']} "
+                 f"| {r['nfev']} |")
+    nmax = rl["rows"][-1]["n"]
+    o += ["", f"Growth exponent (log-log fit of cost against N): **{rl['exponent_long']:.2f}** over N = 30-{nmax}, "
+          f"{rl['exponent_all']:.2f} over N = 7-{nmax}. The exponent includes the number of steps, which grows "
+          f"with the chain's fastest rate, not only the O(N) cost per evaluation."]
+    o += ["", "## E. Force callback against the bare engine step (N = 7 one-pinned, dt 0.0025)", "",
+          "| integrator | mass ratio | bare us/step | compiled callback us/step | Python callback us/step "
+          "| compiled / bare (target <= 1.3) | Python / bare |", "|---|---|---|---|---|---|---|"]
+    for r in cb:
+        o.append(f"| {r['integrator']} | {r['mass_ratio']:g} | {r['bare']:.2f} | {r['compiled']:.2f} | "
+                 f"{r['python']:.1f} | **{r['compiled_ratio']:.2f}x** | {r['python_ratio']:.1f}x |")
+    o.append("")
+    return "\n".join(o)
 
 
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--out", type=Path, default=Path("results/benchmark.md"))
-    ap.add_argument("--repeats", type=int, default=7)
-    ap.add_argument("--quick", action="store_true", help="fewer steps and shorter runs (about 1 min)")
+    ap.add_argument("--out", type=Path, default=Path("docs/generated/benchmark.md"))
+    ap.add_argument("--quick", action="store_true", help="shorter runs, fewer repeats (about 1 min)")
     args = ap.parse_args(argv)
-    import os
-
-    meta = {"date": time.strftime("%Y-%m-%d %H:%M"), "repeats": args.repeats,
-            "machine": f"{platform.processor() or platform.machine()}, {os.cpu_count()} cores, MuJoCo {mujoco.__version__}",
-            "load": " ".join(open("/proc/loadavg").read().split()[:3]) if os.path.exists("/proc/loadavg") else "?"}
+    q = args.quick
+    meta = {"date": time.strftime("%Y-%m-%d %H:%M"), "quick": q, "load_start": load(),
+            "machine": f"{platform.processor() or platform.machine()}, {CORES} cores, MuJoCo {mujoco.__version__}",
+            "repeats": 2 if q else 3, "mj_repeats": 1 if q else 2, "rl_repeats": 2}
     t0 = time.perf_counter()
-    print("callback ...", file=sys.stderr)
-    cb = bench_callback(args.repeats, 2000 if args.quick else 10000)
-    print("reduced ...", file=sys.stderr)
-    red = bench_reduced(args.repeats, args.quick)
-    print("sweep ...", file=sys.stderr)
-    sweep = bench_sweep(8 if args.quick else 12, 100.0 if args.quick else 200.0, 1 if args.quick else 3)
-    print("throughput ...", file=sys.stderr)
-    thr = bench_throughput(3 if args.quick else args.repeats, 100.0 if args.quick else 300.0)
-    text = report(cb, red, sweep, thr, meta)
-    text += f"\nBenchmark took {time.perf_counter() - t0:.0f} s. Rerun: `.venv/bin/python scripts/benchmark.py`.\n"
+    scale = 0.25 if q else 1.0
+    cases = [(c.physics.scene_def.label(c.physics), c.physics, 600.0 * scale) for c in validation_cases()]
+    if q:
+        cases = cases[:2]
+    cases += [("one-pinned sigma=0.05", Physics(n=n, sigma=0.05), 100.0 * scale) for n in ((30,) if q else (30, 100))]
+    red = bench_reduced(cases, meta["repeats"], cap_s=5.0 if q else 10.0)
+    lsoda = red[0]["plain"]["LSODA"]
+    lsoda_rtol = lsoda["rtol"] if isinstance(lsoda, dict) else 1e-10
+    log(f"whole process (load {load()})")
+    proc = bench_process(lsoda_rtol, 3 if q else 5)
+    log(f"sweep (load {load()})")
+    sweep = bench_sweep(8 if q else 16, 50.0 if q else 100.0, 1 if q else 3)
+    log(f"long chains (load {load()})")
+    mj = bench_mujoco_long({7: (0.8, 10.0 if q else 40.0), 30: (0.05, 4.0 if q else 15.0),
+                            100: (0.05, 1.0 if q else 4.0)}, meta["mj_repeats"])
+    ns = (7, 30, 100) if q else (7, 30, 100, 200)
+    rl = bench_reduced_long(ns, 25.0 if q else 100.0, meta["rl_repeats"])
+    rl["single_blas"] = bench_reduced_single_blas(ns, 25.0 if q else 100.0)
+    log(f"callback (load {load()})")
+    cb = bench_callback(3 if q else 5, 2000 if q else 8000)
+    meta["load_end"] = load()
+    text = report(red, proc, sweep, mj, rl, cb, meta)
+    text += f"\nBenchmark took {time.perf_counter() - t0:.0f} s.\n"
     args.out.parent.mkdir(parents=True, exist_ok=True)
     args.out.write_text(text)
     print(text)

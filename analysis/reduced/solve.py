@@ -136,17 +136,23 @@ def jacobian(system: ChainSystem, *, beta: float):
     return jac
 
 
+def _block_diagonal(system: ChainSystem, theta: np.ndarray, fill) -> np.ndarray:
+    """The system's matrix with one block per chain, fill(theta, offset, n, block) writing each block."""
+    n = system.n
+    out = np.zeros((system.n_angles, system.n_angles))
+    block = np.zeros((n, n))
+    for ch in range(system.n_chains):
+        fill(theta, ch * n, n, block)
+        out[ch * n : (ch + 1) * n, ch * n : (ch + 1) * n] = block
+    return out
+
+
 def drag_matrix(system: ChainSystem, theta) -> np.ndarray:
     """D(theta) of the whole system (block diagonal for a pair), from the compiled kernel."""
     system = system.typed()
     theta = np.ascontiguousarray(theta, dtype=float)
-    n = system.n
-    out = np.zeros((system.n_angles, system.n_angles))
-    D = np.zeros((n, n))
-    for ch in range(system.n_chains):
-        kernels.drag_block(theta, ch * n, n, system.gamma_l, system.gamma_t, D)
-        out[ch * n : (ch + 1) * n, ch * n : (ch + 1) * n] = D
-    return out
+    return _block_diagonal(system, theta, lambda th, off, n, D: kernels.drag_block(th, off, n, system.gamma_l,
+                                                                                     system.gamma_t, D))
 
 
 def mass_matrix(system: ChainSystem, theta) -> np.ndarray:
@@ -154,13 +160,8 @@ def mass_matrix(system: ChainSystem, theta) -> np.ndarray:
     + I delta_jk with m = system.mass_ratio and I = m system.inertia_factor (zero for the overdamped model)."""
     system = system.typed()
     theta = np.ascontiguousarray(theta, dtype=float)[: system.n_angles]
-    n = system.n
-    out = np.zeros((system.n_angles, system.n_angles))
-    M = np.zeros((n, n))
-    for ch in range(system.n_chains):
-        kernels.mass_block(theta, ch * n, n, system.mass_ratio, system.inertia_factor, M)
-        out[ch * n : (ch + 1) * n, ch * n : (ch + 1) * n] = M
-    return out
+    return _block_diagonal(system, theta, lambda th, off, n, M: kernels.mass_block(th, off, n, system.mass_ratio,
+                                                                                     system.inertia_factor, M))
 
 
 def _state(system: ChainSystem, y) -> np.ndarray:

@@ -389,15 +389,8 @@ def solve_sde(
         return _solve_sde_inertial(system, t, theta0, dt, factors, beta, sidx, total, out)
     y = theta0.copy()
     jptr = 0
-    for k0 in range(0, total, _SDE_CHUNK):
-        steps = np.arange(k0, min(total, k0 + _SDE_CHUNK))
-        facs = np.ascontiguousarray(factors(steps), dtype=float)
-        if facs.shape != (steps.size, system.n_angles):
-            raise ParameterError(
-                f"factors(steps) must have shape (len(steps), n_angles) = {(steps.size, system.n_angles)}, "
-                f"got {facs.shape}"
-            )
-        step = kernels.heun if scheme == "heun" else kernels.euler_maruyama
+    step = kernels.heun if scheme == "heun" else kernels.euler_maruyama
+    for k0, facs in _factor_chunks(system, total, factors):
         jptr = step(y, k0, facs, dt, system, beta, sidx, out, jptr)
     while jptr < t.size:  # samples at the final step
         out[jptr] = y
@@ -409,6 +402,20 @@ def solve_sde(
     return out, info
 
 
+def _factor_chunks(system: ChainSystem, total: int, factors):
+    """(first step, force factors of steps first .. first + _SDE_CHUNK - 1) up to `total` steps, each
+    checked for shape (len(steps), n_angles)."""
+    for k0 in range(0, total, _SDE_CHUNK):
+        steps = np.arange(k0, min(total, k0 + _SDE_CHUNK))
+        facs = np.ascontiguousarray(factors(steps), dtype=float)
+        if facs.shape != (steps.size, system.n_angles):
+            raise ParameterError(
+                f"factors(steps) must have shape (len(steps), n_angles) = {(steps.size, system.n_angles)}, "
+                f"got {facs.shape}"
+            )
+        yield k0, facs
+
+
 def _solve_sde_inertial(system, t, theta0, dt, factors, beta, sidx, total, out):
     """The inertial model under the step-wise constant noise forces: each step dt (its force factors fixed,
     as in MuJoCo's step) by nsub RK4 substeps, h x (spectral radius at theta0, at rest) <= RK4_STEP. With
@@ -418,14 +425,7 @@ def _solve_sde_inertial(system, t, theta0, dt, factors, beta, sidx, total, out):
     nsub = max(1, int(np.ceil(dt * radius / RK4_STEP)))
     y = np.concatenate([theta0, np.zeros(system.n_angles)])
     jptr = 0
-    for k0 in range(0, total, _SDE_CHUNK):
-        steps = np.arange(k0, min(total, k0 + _SDE_CHUNK))
-        facs = np.ascontiguousarray(factors(steps), dtype=float)
-        if facs.shape != (steps.size, system.n_angles):
-            raise ParameterError(
-                f"factors(steps) must have shape (len(steps), n_angles) = {(steps.size, system.n_angles)}, "
-                f"got {facs.shape}"
-            )
+    for k0, facs in _factor_chunks(system, total, factors):
         jptr = kernels.rk4_piecewise(y, k0, facs, dt, nsub, system, beta, sidx, out, jptr)
     while jptr < t.size:
         out[jptr] = y[: system.n_angles]

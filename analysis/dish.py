@@ -31,6 +31,7 @@ from . import observables as obs
 __all__ = [
     "REST_RATE",
     "REST_MOTION",
+    "REST_SLOWDOWN",
     "SPIN_RADIUS",
     "RIGID_RTOL",
     "DRIFT_RTOL",
@@ -51,8 +52,14 @@ REST_RATE = 1e-3
 """rad/tau: a body rotation rate or an orbit rate of at most this in magnitude is no rotation (one turn
 in about 6000 tau). Also the absolute part of the drift tolerance (see :data:`DRIFT_RTOL`)."""
 REST_MOTION = 1e-2
-"""l: a chain is at rest when the root-mean-square displacement of its N + 1 points about their mean
-positions over the steady part is at most this (and it does not rotate)."""
+"""l: a chain that does not rotate is at rest when the root-mean-square displacement of its N + 1 points
+about their mean positions over the steady part is at most this ..."""
+REST_SLOWDOWN = 0.7
+"""... or when it is still gliding to its resting place: the points' root-mean-square speed over the last
+quarter of the steady part is at most this fraction of that over the first quarter. A chain relaxing in the
+trap slows down by about exp(-k 3T/4) between the two quarters of a steady part of length T (0.51 for trap
+0.003 and 0.11 for trap 0.01 over a 300 tau steady part); one that beats in place, or drifts at constant
+speed, does not slow down and is irregular."""
 SPIN_RADIUS = 0.1
 """A rotating chain spins in place when its centre of mass stays, on average, within this fraction of the
 chain's length N l of the dish's centre (0.7 l for N = 7)."""
@@ -116,12 +123,15 @@ def positions(theta, head) -> np.ndarray:
     return out
 
 
-def centre_of_mass(theta, head) -> np.ndarray:
+def centre_of_mass(theta, head, *, include_head: bool = True) -> np.ndarray:
     """Centre of mass (T, 2) in l: the mean over the N + 1 points, the head counted as one of them.
 
     The head carries one particle's drag (the chain's front piece), so it weighs as a particle.
+    ``include_head=False``: the mean over the N particles only (the convention of the issue's quick
+    model: its orbit radii 1.40 at trap 0.1 and 0.27 at trap 0.3 are of this centre).
     """
-    return positions(theta, head).mean(axis=1)
+    p = positions(theta, head)
+    return (p if include_head else p[:, 1:]).mean(axis=1)
 
 
 def _polar_angle(com: np.ndarray) -> np.ndarray | None:
@@ -136,16 +146,16 @@ def _polar_angle(com: np.ndarray) -> np.ndarray | None:
     return phi[0] + np.concatenate([[0.0], np.cumsum(step)])
 
 
-def orbit_angle(t, theta, head, transient: float | None = None) -> np.ndarray:
+def orbit_angle(t, theta, head, transient: float | None = None, *, include_head: bool = True) -> np.ndarray:
     """Unwrapped polar angle (radians) of the centre of mass about the dish's centre, over the steady part.
 
     One value per steady sample (aligned with ``observables.steady_part(t, theta, transient=transient)[0]``),
     continuous in time. All NaN when the centre of mass comes within :data:`MIN_ORBIT_RADIUS` of
     the centre, or moves round it by more than :data:`MAX_POLAR_STEP` between two samples: the
-    angle is then undefined or cannot be unwrapped.
+    angle is then undefined or cannot be unwrapped. ``include_head``: see :func:`centre_of_mass`.
     """
     ts, a, h = _steady_chain(t, theta, head, transient)
-    phi = _polar_angle(centre_of_mass(a, h))
+    phi = _polar_angle(centre_of_mass(a, h, include_head=include_head))
     return np.full(ts.size, math.nan) if phi is None else phi
 
 
@@ -153,23 +163,27 @@ def _slope(t: np.ndarray, y: np.ndarray) -> float:
     return float(np.polyfit(t, y, 1)[0])
 
 
-def orbit_rate(t, theta, head, transient: float | None = None) -> float:
+def orbit_rate(t, theta, head, transient: float | None = None, *, include_head: bool = True) -> float:
     """Mean angular velocity of the centre of mass about the dish's centre, rad per tau.
 
     Slope of a least-squares line through the unwrapped polar angle of the centre of mass
     (:func:`orbit_angle`) over the steady part, as :func:`observables.rotation_rate` does for
     theta_1. NaN when that angle is undefined (a centre of mass at the centre, e.g. a chain
-    spinning about its own centre of mass there).
+    spinning about its own centre of mass there). ``include_head``: see :func:`centre_of_mass`.
     """
     ts, a, h = _steady_chain(t, theta, head, transient)
-    phi = _polar_angle(centre_of_mass(a, h))
+    phi = _polar_angle(centre_of_mass(a, h, include_head=include_head))
     return math.nan if phi is None else _slope(ts, phi)
 
 
-def orbit_radius(t, theta, head, transient: float | None = None) -> float:
-    """Mean distance (in l) of the centre of mass from the dish's centre over the steady part."""
+def orbit_radius(t, theta, head, transient: float | None = None, *, include_head: bool = True) -> float:
+    """Mean distance (in l) of the centre of mass from the dish's centre over the steady part.
+
+    ``include_head``: see :func:`centre_of_mass` (the radius depends on it; the rates of a rigid
+    turn do not).
+    """
     _, a, h = _steady_chain(t, theta, head, transient)
-    com = centre_of_mass(a, h)
+    com = centre_of_mass(a, h, include_head=include_head)
     return float(np.mean(np.hypot(com[:, 0], com[:, 1])))
 
 
@@ -207,6 +221,17 @@ def _steady_rates(ts: np.ndarray, a: np.ndarray, h: np.ndarray) -> tuple[float, 
     return omega, (math.nan if phi is None else _slope(ts, phi))
 
 
+def _at_rest(ts: np.ndarray, p: np.ndarray) -> bool:
+    """Whether points p (T, M, 2) barely move (:data:`REST_MOTION`) or slow down (:data:`REST_SLOWDOWN`)."""
+    motion = math.sqrt(float(np.mean(np.sum((p - p.mean(axis=0)) ** 2, axis=-1))))
+    if motion <= REST_MOTION:
+        return True
+    speed2 = np.sum(np.diff(p, axis=0) ** 2, axis=-1).mean(axis=1) / np.diff(ts) ** 2  # mean over points of |v|^2
+    quarter = speed2.size // 4
+    first, last = speed2[:quarter].mean(), speed2[-quarter:].mean()
+    return math.sqrt(last) <= REST_SLOWDOWN * math.sqrt(first)
+
+
 def _drifts(r1: float, r2: float) -> bool:
     if math.isnan(r1) != math.isnan(r2):
         return True
@@ -225,7 +250,9 @@ def dish_state(t, theta, head, transient: float | None = None) -> str:
       the second half (tolerance :data:`DRIFT_RTOL`; Omega defined in one half and not the other
       counts as a change);
     - ``"rest"`` if |omega| and |Omega| (when defined) are at most :data:`REST_RATE` and the points'
-      root-mean-square displacement is at most :data:`REST_MOTION`: no motion;
+      root-mean-square displacement is at most :data:`REST_MOTION` (no motion), or their speed falls
+      by :data:`REST_SLOWDOWN` across the steady part (still gliding to rest: a longer record would
+      show it settle);
     - ``"spin"`` if |omega| > :data:`REST_RATE` and R < :data:`SPIN_RADIUS` N: it rotates in place
       about the centre (Omega may be undefined, or equal to omega: a rigid turn about a point near
       the centre of mass);
@@ -235,7 +262,9 @@ def dish_state(t, theta, head, transient: float | None = None) -> str:
       round the centre while its body turns at another rate (the supplement's "crawls in circles";
       includes a body that does not turn at all);
     - ``"irregular"`` otherwise, none of these steady patterns (e.g. a chain that beats in place
-      without turning, or turns away from the centre without going round it).
+      without turning, drifts at a steady speed, or turns away from the centre without going round it).
+
+    The centre of mass is that of the N + 1 points (:func:`centre_of_mass`).
     """
     ts, a, h = _steady_chain(t, theta, head, transient, min_samples=6)
     half = ts.size // 2
@@ -247,9 +276,7 @@ def dish_state(t, theta, head, transient: float | None = None) -> str:
     turns = abs(omega) > REST_RATE
     goes_round = not math.isnan(big_omega) and abs(big_omega) > REST_RATE
     if not turns and not goes_round:
-        p = positions(a, h)
-        motion = math.sqrt(float(np.mean(np.sum((p - p.mean(axis=0)) ** 2, axis=-1))))
-        return "rest" if motion <= REST_MOTION else "irregular"
+        return "rest" if _at_rest(ts, positions(a, h)) else "irregular"
     com = centre_of_mass(a, h)
     radius = float(np.mean(np.hypot(com[:, 0], com[:, 1])))
     if turns and radius < SPIN_RADIUS * a.shape[1]:

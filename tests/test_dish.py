@@ -107,6 +107,30 @@ def test_rest():
     assert dish.dish_state(T, theta, head) == "rest"
 
 
+def test_a_chain_still_gliding_to_rest_is_at_rest_one_drifting_steadily_is_not():
+    """A straight chain pointing outward relaxes to its resting place in a trap 0.01 (time 1/k = 100 tau)."""
+    theta = np.zeros((T.size, N))
+    x = 26.0 - 20.0 * np.exp(-0.003 * T)  # trap 0.003: slows down by exp(-0.003 * 150) = 0.64 across the steady part
+    head = np.stack([x, np.zeros_like(x)], axis=-1)
+    _, x_steady = ob.steady_part(T, x)
+    assert np.std(x_steady) > 10 * dish.REST_MOTION  # it still moves, but slows down
+    assert dish.dish_state(T, theta, head) == "rest"
+    head = np.stack([0.01 * T + 5.0, np.zeros_like(x)], axis=-1)  # sliding at a steady speed
+    assert dish.dish_state(T, theta, head) == "irregular"
+
+
+def test_centre_of_mass_with_or_without_the_head():
+    theta, head = rigid(0.08)
+    p = dish.positions(theta, head)
+    np.testing.assert_allclose(dish.centre_of_mass(theta, head, include_head=False), p[:, 1:].mean(axis=1))
+    r = np.hypot(*p[0, 1:].mean(axis=0))
+    assert dish.orbit_radius(T, theta, head, include_head=False) == pytest.approx(r, abs=1e-9)
+    assert r != pytest.approx(dish.orbit_radius(T, theta, head), abs=1e-3)
+    assert dish.orbit_rate(T, theta, head, include_head=False) == pytest.approx(0.08, abs=1e-6)
+    assert dish.orbit_angle(T, theta, head, include_head=False)[0] == pytest.approx(
+        math.atan2(*p[T >= T[-1] / 2][0, 1:].mean(axis=0)[::-1]), abs=1e-12)
+
+
 def test_crawl_body_and_orbit_at_different_rates():
     theta, head = trajectory(0.12, 0.05, 1.5)
     assert ob.rotation_rate(T, theta) == pytest.approx(0.12, abs=1e-6)

@@ -5,6 +5,7 @@ finite mass), solved without MuJoCo: arrays and records in, arrays out.
   equations.py             the derivations (overdamped and inertial), the paper's errata, rhs_reference and
                            rhs_inertial_reference (plain numpy)
   constraints.py           the two-pinned constraints g = 0: residual, Jacobian, projection
+  contact.py               self-contact of a chain's capsules (plain numpy): geometry, capsule_clearance, penalty
   kernels.py               numba kernels: drag matrix, forces, right-hand side, Jacobian, Euler-Maruyama;
                            the inertial model's right-hand side (dense mass matrix), its Jacobian and RK4
   dop853_coefficients.py   the DOP853 tableau (copied from scipy, BSD)
@@ -19,7 +20,8 @@ of solve.py, which need numba, load it on first use.
 """
 
 from .constraints import pin_jacobian, pin_residual, project_on_pins
-from .equations import rhs_inertial_reference, rhs_reference
+from .contact import capsule_clearance
+from .equations import drag_and_forces_reference, potential_reference, rhs_inertial_reference, rhs_reference
 from .regime import (
     INERTIA_RESOLUTION,
     force_jacobian,
@@ -29,7 +31,7 @@ from .regime import (
     overdamped_rate,
     rate_bound,
 )
-from .system import BEAD_INERTIA_FACTOR, ChainSystem
+from .system import BEAD_INERTIA_FACTOR, CONTACT_LENGTH, ChainSystem
 
 SOLVE_NAMES = (  # the public names of solve.py (its __all__), loaded on first use
     "COMPILED_METHODS",
@@ -53,7 +55,8 @@ SOLVE_NAMES = (  # the public names of solve.py (its __all__), loaded on first u
 )
 
 __all__ = sorted(SOLVE_NAMES + (
-    "BEAD_INERTIA_FACTOR", "ChainSystem", "INERTIA_RESOLUTION", "force_jacobian", "inertia_number", "needs_inertia",
+    "BEAD_INERTIA_FACTOR", "CONTACT_LENGTH", "ChainSystem", "INERTIA_RESOLUTION", "capsule_clearance",
+    "drag_and_forces_reference", "potential_reference", "force_jacobian", "inertia_number", "needs_inertia",
     "outside_overdamped_limit", "overdamped_rate", "pin_jacobian", "rate_bound", "pin_residual", "project_on_pins",
     "rhs_inertial_reference", "rhs_reference",
 ))

@@ -6,7 +6,8 @@ step-size control and 7th-order dense output), written as one numba function tha
 compiled right-hand side (kernels.eval_state) directly, so a step costs no Python call. For the
 overdamped model (mass_ratio = 0) that is kernels.eval_rhs, the dense Cholesky path for short chains
 and the O(N) articulated-drag recursion from kernels.RECURSIVE_MIN_N particles on (the workspace
-allocated here decides); for the inertial model (mass_ratio > 0) kernels.eval_rhs_inertial, whose
+allocated here decides), kernels.eval_rhs_general with a free head, a trap or self-contact (the state
+then ends with the head's position); for the inertial model (mass_ratio > 0) kernels.eval_rhs_inertial, whose
 state (angles, then rates) is twice as long. The
 coefficients come from dop853_coefficients.py (a copy of scipy's). Taking the same steps as scipy,
 it agrees with solve_ivp(DOP853) on the same right-hand side to round-off.
@@ -21,7 +22,7 @@ from numba import njit
 
 from . import dop853_coefficients as coef
 from .dop853_coefficients import INTERPOLATOR_POWER, N_STAGES, N_STAGES_EXTENDED
-from .kernels import eval_state, uses_recursive
+from .kernels import eval_state, is_extended, uses_recursive
 from .system import ChainSystem
 
 __all__ = ["integrate"]
@@ -32,7 +33,8 @@ _TABLEAU = (np.ascontiguousarray(coef.A), coef.B, coef.C, coef.E3, coef.E5, coef
 def integrate(system: ChainSystem, ts: np.ndarray, y0: np.ndarray, *, rtol: float, atol: float, beta: float,
               loads=None):
     """Integrate the deterministic model (force factors 1) from y0 at t = 0 and sample it at ts (y0: the angles
-    of the overdamped model, or angles then rates of the inertial one, system.mass_ratio > 0).
+    of the overdamped model, then the head's position with a free head; or angles then rates of the inertial
+    one, system.mass_ratio > 0).
 
     loads: optional per-particle load factors (n_angles entries, 1: the particle carries the follower force,
     0: it does not), the constant force factors of the run; default ones (every particle loaded, bit for bit
@@ -77,16 +79,23 @@ def _dop853(y0, ts, system, beta, rtol, atol, A, B, C, E3, E5, DD, out, fac):
     # the workspace of eval_rhs (kernels.make_workspace, allocated here, not by a call: the compiled
     # arithmetic of a short chain's run then stays bit for bit what it was before the recursion)
     # the inertial model (mass_ratio > 0) solves its mass matrix densely (kernels.make_inertial_workspace)
+    # an extended term (a free head, a trap, self-contact) solves densely over all coordinates
+    # (kernels.make_general_workspace; the state: angles, then the head)
     inertial = system.mass_ratio > 0
-    m = n if inertial or not uses_recursive(n) else 0
-    L = np.zeros((nch, m, m))
-    if inertial:
-        D = np.zeros((n, n + 2))
-    elif m == n:
-        D = np.zeros((n, n))
+    if is_extended(system):
+        L = np.zeros((2, na, na))
+        D = np.zeros((nch * n, 8))
+        X = np.zeros((na, 2))
     else:
-        D = np.zeros((nch * n, 4))
-    X = np.zeros((n, 2))
+        m = n if inertial or not uses_recursive(n) else 0
+        L = np.zeros((nch, m, m))
+        if inertial:
+            D = np.zeros((n, n + 2))
+        elif m == n:
+            D = np.zeros((n, n))
+        else:
+            D = np.zeros((nch * n, 4))
+        X = np.zeros((n, 2))
     lam = np.zeros(2)
     K = np.zeros((nse, na))
     F = np.zeros((INTERPOLATOR_POWER, na))

@@ -156,6 +156,38 @@ Where the paper's printed equations are wrong (first principles win; checked in 
   the supplement is right, the main text's coefficient is wrong (it would make the limit-cycle radius
   sqrt(2 mu) instead of sqrt(mu) and the frequency rise instead of fall with amplitude).
 
+A free head, a harmonic trap and self-contact (ChainSystem.head_free, trap, contact_radius)
+----------------------------------------------------------------------------------------
+The same virtual work with more coordinates and forces. Let q be the state: the angles, then (free head) the
+head's position h = (x_h, y_h), the pivot of the first pendulum: r_i = h + sum_{k<=i} e_k. Write J_i = dr_i/dq
+(2 x dim q: n_k in column k <= i, the identity in the head's columns) and W_i = gamma_L e_i e_i^T +
+gamma_T n_i n_i^T. The head is the chain's front piece: it carries one particle's drag, W_h = W(th_0) (gamma_L
+along the first pendulum, gamma_T across), and no active force; J_h = dh/dq (the identity in the head's
+columns). Then
+
+    D(q) q' = f(q),   D = sum_i J_i^T W_i J_i + J_h^T W_h J_h,
+    f = sum_i J_i^T (F^a_i - trap r_i) - J_h^T trap h + sum_{contacts} J_c^T F_c - dU_springs/dq,
+
+with D_jk (angles) as above, D_{k,h} = (sum_{i >= k} W_i) n_k, D_hh = sum_i W_i + W_h. The trap (the small-slope
+limit of a paraboloid dish under gravity, stiffness trap = k l^2 / C1) pulls every particle and the head towards
+the origin; with a fixed pivot at the origin the head term is zero (the pivot does not move). Contact forces F_c
+act at points c = (1 - s) P_{i-1} + s P_i of the links (contact.py: the penalty, the capsules, crossing cores),
+so J_c = (1 - s) J_{P_{i-1}} + s J_{P_i} (dc/dth_k = n_k for k < i, s n_i for k = i, the identity for the head).
+
+Why the head needs drag: without W_h, D is singular. The motion dq = (dth_0 = 1, dh = -n_0, the other angles
+fixed) moves no particle: dr_i = dh + n_0 dth_0 = 0 for every i, so the first pendulum swings about particle 0
+while the head slides, at no drag (q^T D q = 0). A physical head (the chain's front piece) resists it; giving it
+one particle's drag is the simplest choice that does, and it is what the MuJoCo scene builds (a body with the
+particles' drag at the head). With W_h, q'^T D q' >= |h'|^2 min(gamma) > 0 for any motion of the head, and a
+motion with h' = 0 is that of the pinned chain, whose D is positive definite: D > 0.
+
+Energy: U = U_springs + trap/2 (sum |r_i|^2 + |h|^2) + U_contact, and at sigma = 0, dU/dt = -q'^T f = -q'^T D q' <= 0.
+Contact forces are internal (equal and opposite, along the line of their points), so with a free head, no trap
+and sigma = 0 the drag forces on the whole chain (particles and head) sum to zero, and so do their torques.
+
+The compiled kernel is kernels.eval_rhs_general (assembles D over all coordinates, O(N^2) plus the O(N^2) contact
+pair loop, dense Cholesky); rhs_reference below is its plain-numpy twin (explicit Jacobians J_i).
+
 How these equations are integrated (compiled kernels, DOP853, Radau, Euler-Maruyama): solve.py.
 """
 
@@ -164,15 +196,18 @@ from __future__ import annotations
 import numpy as np
 
 from .constraints import pin_jacobian, pin_residual
+from .contact import contact_forces
 from .system import ChainSystem
 
-__all__ = ["rhs_inertial_reference", "rhs_reference"]
+__all__ = ["drag_and_forces_reference", "potential_reference", "rhs_inertial_reference", "rhs_reference"]
 
 
 def rhs_reference(system: ChainSystem, *, beta: float, factor=None):
     """Plain-numpy f(t, theta), written straight from the formulas (for tests and benchmarks).
 
     factor: optional per-particle force factor (1 + eta_i), default ones. beta: Baumgarte rate (pinned).
+    With a free head, a trap or self-contact (system.extended) the state is system.state_size long (the angles,
+    then the head) and D, f come from drag_and_forces_reference.
     """
     system = system.typed()
     n = system.n
@@ -196,6 +231,20 @@ def rhs_reference(system: ChainSystem, *, beta: float, factor=None):
         grad[:-1] -= c * bend
         grad[1:] += c * bend
         return D, Q - grad
+
+    if system.extended:  # a free head, a trap or self-contact: D and f over every coordinate
+        def f_extended(t, y):
+            y = np.asarray(y, dtype=float)
+            D, force = drag_and_forces_reference(system, y, fac)
+            if not system.pinned:
+                return np.linalg.solve(D, force)
+            theta = y[: system.n_angles]
+            G = pin_jacobian(theta)
+            M = np.block([[D, G.T], [G, np.zeros((2, 2))]])
+            sol = np.linalg.solve(M, np.concatenate([force, -beta * pin_residual(theta, system.delta)]))
+            return sol[:n]
+
+        return f_extended
 
     def f(t, theta):
         theta = np.asarray(theta, dtype=float)
@@ -269,3 +318,100 @@ def rhs_inertial_reference(system: ChainSystem, *, beta: float, factor=None):
         return np.concatenate([omega, np.linalg.solve(K, np.concatenate([rhs_acc, b]))[:na]])
 
     return f
+
+
+def _chain_geometry(system: ChainSystem, y: np.ndarray, ch: int):
+    """(pivots P_{i-1} (N, 2), e (N, 2), nrm (N, 2), head columns or None) of chain ch at the state y."""
+    n = system.n
+    th = y[ch * n : (ch + 1) * n]
+    e = np.stack([np.cos(th), np.sin(th)], axis=1)
+    nrm = np.stack([-np.sin(th), np.cos(th)], axis=1)
+    head = y[system.n_angles : system.n_angles + 2] if (system.head_free and ch == 0) else np.zeros(2)
+    ends = head + np.cumsum(e, axis=0)
+    pivots = np.vstack([head, ends[:-1]])
+    return pivots, e, nrm
+
+
+def _node_jacobians(system: ChainSystem, nrm: np.ndarray, ch: int) -> np.ndarray:
+    """dP/dq of chain ch's nodes: P_{-1} (the pivot), P_0 .. P_{N-1}; shape (N + 1, 2, dim q)."""
+    n = system.n
+    nq = system.state_size
+    J = np.zeros((n + 1, 2, nq))
+    if system.head_free and ch == 0:
+        J[:, :, system.n_angles : system.n_angles + 2] = np.eye(2)
+    for i in range(n):
+        J[i + 1 :, :, ch * n + i] += nrm[i]
+    return J
+
+
+def _spring_gradient(system: ChainSystem, y: np.ndarray) -> np.ndarray:
+    """dU/dq of the joint springs and the pair's coupling spring (zero in the head's columns)."""
+    n = system.n
+    grad = np.zeros(system.state_size)
+    for ch in range(system.n_chains):
+        c = system.stiffness(ch)
+        th = y[ch * n : (ch + 1) * n]
+        g = np.zeros(n)
+        if system.clamped:
+            g[0] += c * th[0]
+        bend = np.diff(th)
+        g[:-1] -= c * bend
+        g[1:] += c * bend
+        grad[ch * n : (ch + 1) * n] = g
+    if system.n_chains == 2:
+        grad[0] += system.kappa * (y[0] - y[n])
+        grad[n] -= system.kappa * (y[0] - y[n])
+    return grad
+
+
+def drag_and_forces_reference(system: ChainSystem, y, factor=None) -> tuple[np.ndarray, np.ndarray]:
+    """(D(q), f(q)) over the whole state q (angles, then the free head), plain numpy, from the explicit position
+    Jacobians (see "A free head, a harmonic trap and self-contact" above): D = sum_i J_i^T W_i J_i + J_h^T W_h J_h,
+    f = sum J^T (active + trap + contact forces) - dU_springs/dq. For any system (the pinned chain's constraint
+    force is not in f). factor: the per-particle force factors (1 + eta_i)."""
+    system = system.typed()
+    if system.inertial:
+        raise ValueError("drag_and_forces_reference: the overdamped model's D and f (mass_ratio must be 0)")
+    y = np.asarray(y, dtype=float).reshape(-1)
+    fac = system.force_factors(factor)
+    n = system.n
+    gl, gt, k = system.gamma_l, system.gamma_t, system.trap
+    D = np.zeros((system.state_size, system.state_size))
+    force = -_spring_gradient(system, y)
+    for ch in range(system.n_chains):
+        pivots, e, nrm = _chain_geometry(system, y, ch)
+        J = _node_jacobians(system, nrm, ch)
+        for i in range(n):
+            W = gl * np.outer(e[i], e[i]) + gt * np.outer(nrm[i], nrm[i])
+            Ji = J[i + 1]
+            D += Ji.T @ W @ Ji
+            force += Ji.T @ (-system.sigma * fac[ch * n + i] * e[i] - k * (pivots[i] + e[i]))
+        if system.head_free and ch == 0:
+            W = gl * np.outer(e[0], e[0]) + gt * np.outer(nrm[0], nrm[0])
+            D += J[0].T @ W @ J[0]
+            force += J[0].T @ (-k * pivots[0])
+        if system.contact_radius > 0:
+            points, _ = contact_forces(pivots, e, system.contact_radius, system.contact_stiffness)
+            for i, s, F in points:
+                force += ((1.0 - s) * J[i] + s * J[i + 1]).T @ F
+    return D, force
+
+
+def potential_reference(system: ChainSystem, y) -> float:
+    """U(q): joint springs, the pair's coupling, the trap (particles and head) and the contact penalty; at sigma = 0
+    the overdamped dynamics never increases it."""
+    system = system.typed()
+    y = np.asarray(y, dtype=float).reshape(-1)
+    n = system.n
+    energy = 0.0
+    for ch in range(system.n_chains):
+        th = y[ch * n : (ch + 1) * n]
+        c = system.stiffness(ch)
+        energy += 0.5 * c * np.sum(np.diff(th) ** 2) + (0.5 * c * th[0] ** 2 if system.clamped else 0.0)
+        pivots, e, _ = _chain_geometry(system, y, ch)
+        energy += 0.5 * system.trap * (np.sum((pivots + e) ** 2) + np.sum(pivots[0] ** 2))
+        if system.contact_radius > 0:
+            energy += contact_forces(pivots, e, system.contact_radius, system.contact_stiffness)[1]
+    if system.n_chains == 2:
+        energy += 0.5 * system.kappa * (y[0] - y[n]) ** 2
+    return float(energy)

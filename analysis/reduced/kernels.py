@@ -27,6 +27,13 @@ O(N^3); eval_state picks it or eval_rhs by the record's mass_ratio (mass_ratio =
 before the inertial model existed); eval_jacobian_inertial differentiates it by central differences;
 rk4_piecewise integrates it under step-wise constant noise forces.
 
+The extended terms (a free head, a harmonic trap, self-contact; ChainSystem.head_free, trap, contact_radius):
+whenever any is on, eval_rhs takes eval_rhs_general instead: it assembles D over all coordinates (the angles,
+then the head) in O(N^2) (_general_drag), the generalised forces with the trap and the contact penalty (O(N^2)
+pair loop with a bounding-circle skip, each core end against the other core; general_forces, contact.py), and solves by dense Cholesky (the pinned
+chain: the same Schur-complement Baumgarte correction). Its workspace is make_general_workspace's
+(state_workspace / workspace pick it). With every extended term off, the paths below run exactly as before.
+
 eval_rhs takes the path its workspace was sized for (`workspace`, `make_workspace`): dense below
 RECURSIVE_MIN_N particles per chain, recursive from there on. Below it the results are bit for bit
 those of the dense solver (as before the recursion existed); above it they agree with it to its
@@ -42,6 +49,8 @@ import math
 import numpy as np
 from numba import njit
 
+from .contact import CROSSING_DISTANCE as _CROSSING_DISTANCE
+from .system import CONTACT_LENGTH as _CONTACT_LENGTH
 from .system import ChainSystem
 
 __all__ = [
@@ -55,12 +64,17 @@ __all__ = [
     "eval_jacobian_inertial",
     "eval_rhs",
     "eval_rhs_dense",
+    "eval_rhs_general",
     "eval_rhs_inertial",
     "eval_rhs_recursive",
     "eval_state",
     "euler_maruyama",
     "heun",
     "forces",
+    "general_drag",
+    "general_forces",
+    "is_extended",
+    "make_general_workspace",
     "make_inertial_workspace",
     "make_workspace",
     "mass_block",
@@ -101,7 +115,10 @@ def make_workspace(nch, n, dense):
 
 def workspace(system: ChainSystem, dense: bool | None = None):
     """Scratch arrays (L, D, X, lam) of eval_rhs / eval_jacobian (see make_workspace). dense: None picks
-    by N (the dense path below RECURSIVE_MIN_N); eval_jacobian needs dense=True."""
+    by N (the dense path below RECURSIVE_MIN_N); eval_jacobian needs dense=True. A system with an extended term
+    (system.extended) gets make_general_workspace's arrays (eval_rhs_general), whatever dense says."""
+    if system.extended:
+        return make_general_workspace(system.n_chains, system.n, system.n_angles + system.n_head)
     if dense is None:
         dense = not uses_recursive(system.n)
     return make_workspace(system.n_chains, system.n, bool(dense))
@@ -285,8 +302,12 @@ def _pin_correction(th, n, beta, delta, out, X, lam, CS, cached):
 def eval_rhs(th, fac, system, beta, out, L, D, X, lam):
     """out = th' at th (force factors fac, Baumgarte rate beta), by the path the workspace (L, D, X, lam,
     from `workspace` / `make_workspace`) was sized for: dense Cholesky when L holds n x n factors
-    (eval_rhs_dense), else the O(N) recursion (eval_rhs_recursive). X, lam: as in eval_rhs_dense."""
-    if L.shape[1] >= system.n:
+    (eval_rhs_dense), else the O(N) recursion (eval_rhs_recursive). X, lam: as in eval_rhs_dense.
+    With an extended term on (is_extended), eval_rhs_general on the state th (angles, then the free head) and
+    make_general_workspace's arrays."""
+    if is_extended(system):
+        eval_rhs_general(th, fac, system, beta, out, L, D, X, lam)
+    elif L.shape[1] >= system.n:
         eval_rhs_dense(th, fac, system, beta, out, L, D, X, lam)
     else:
         eval_rhs_recursive(th, fac, system, beta, out, D, X, lam)
@@ -583,6 +604,260 @@ def eval_jacobian(th, system, beta, J, L, D, X, lam):
                 R[i, m] -= X[i, 0] * b0 + X[i, 1] * b1
 
 
+# ----------------------------------------------------------------------------------------------
+# the extended terms: a free head, a harmonic trap, self-contact (equations.py, contact.py)
+# ----------------------------------------------------------------------------------------------
+CONTACT_LENGTH = _CONTACT_LENGTH
+CROSSING_DISTANCE = _CROSSING_DISTANCE
+
+
+@njit(cache=True)
+def is_extended(system):
+    """Whether any extended term is on (ChainSystem.extended): head_free, trap > 0 or contact_radius > 0."""
+    return system.head_free or system.trap > 0.0 or system.contact_radius > 0.0
+
+
+@njit(cache=True)
+def make_general_workspace(nch, n, nq):
+    """Scratch arrays (L, D, X, lam) of eval_rhs_general for nch chains of n particles and nq coordinates (n nch,
+    plus 2 with a free head): L (2, nq, nq) (L[0] the Cholesky factor, L[1] the drag matrix D), D (nch n, 8)
+    per-link records (cos, sin, pivot x, y, node force x, y, scratch), X (nq, 2) D^-1 G^T (pinned), lam (2)."""
+    return np.zeros((2, nq, nq)), np.zeros((nch * n, 8)), np.zeros((nq, 2)), np.zeros(2)
+
+
+@njit(cache=True)
+def _general_geometry(y, system, C):
+    """C[i, 0:4] = (cos th_i, sin th_i, pivot P_{i-1} x, y) of every link (the pivot of link 0: the head when
+    head_free, else the origin); C[i, 4:6] = the trap's force -trap P_i on particle i."""
+    n = system.n
+    na = n * system.n_chains
+    k = system.trap
+    for ch in range(system.n_chains):
+        off = ch * n
+        px = 0.0
+        py = 0.0
+        if system.head_free and ch == 0:
+            px = y[na]
+            py = y[na + 1]
+        for i in range(n):
+            c = math.cos(y[off + i])
+            s = math.sin(y[off + i])
+            C[off + i, 0] = c
+            C[off + i, 1] = s
+            C[off + i, 2] = px
+            C[off + i, 3] = py
+            px += c
+            py += s
+            C[off + i, 4] = -k * px
+            C[off + i, 5] = -k * py
+
+
+@njit(cache=True)
+def _end_contact(C, off, own, other, s_end, s_a, s_b, radius, stiffness):
+    """The penalty of the core end at fraction s_end of link `own` against the core of link `other` (contact.py):
+    adds the force on the end and the opposite on its closest point to the node forces C[., 4:6] (a force F at
+    fraction s of link i: (1 - s) F to its pivot P_{i-1}, s F to particle i). Returns (force on the chain's pivot
+    x, y, energy)."""
+    span = s_b - s_a
+    co = C[off + own, 0]
+    so = C[off + own, 1]
+    px = C[off + own, 2] + s_end * co
+    py = C[off + own, 3] + s_end * so
+    ct = C[off + other, 0]
+    st = C[off + other, 1]
+    ax = C[off + other, 2] + s_a * ct
+    ay = C[off + other, 3] + s_a * st
+    dx = span * ct
+    dy = span * st
+    t = min(max(((px - ax) * dx + (py - ay) * dy) / (dx * dx + dy * dy), 0.0), 1.0)
+    cx = ax + t * dx
+    cy = ay + t * dy
+    sx = px - cx
+    sy = py - cy
+    dist = math.hypot(sx, sy)
+    two_r = 2.0 * radius
+    if dist >= two_r:
+        return 0.0, 0.0, 0.0
+    if dist > CROSSING_DISTANCE:
+        ux = sx / dist
+        uy = sy / dist
+    else:  # the end on the other core: along its normal, away on the side of the end's own core midpoint
+        mx = C[off + own, 2] + 0.5 * (s_a + s_b) * co
+        my = C[off + own, 3] + 0.5 * (s_a + s_b) * so
+        if (mx - cx) * (-st) + (my - cy) * ct >= 0.0:
+            ux = -st
+            uy = ct
+        else:
+            ux = st
+            uy = -ct
+        dist = 0.0
+    overlap = two_r - dist
+    fx = stiffness * overlap * ux
+    fy = stiffness * overlap * uy
+    hx = 0.0
+    hy = 0.0
+    # +F on link own at s_end, -F on link other at s_a + t span
+    C[off + own, 4] += s_end * fx
+    C[off + own, 5] += s_end * fy
+    if own == 0:
+        hx += (1.0 - s_end) * fx
+        hy += (1.0 - s_end) * fy
+    else:
+        C[off + own - 1, 4] += (1.0 - s_end) * fx
+        C[off + own - 1, 5] += (1.0 - s_end) * fy
+    s_o = s_a + t * span
+    C[off + other, 4] -= s_o * fx
+    C[off + other, 5] -= s_o * fy
+    if other == 0:
+        hx -= (1.0 - s_o) * fx
+        hy -= (1.0 - s_o) * fy
+    else:
+        C[off + other - 1, 4] -= (1.0 - s_o) * fx
+        C[off + other - 1, 5] -= (1.0 - s_o) * fy
+    return hx, hy, 0.5 * stiffness * overlap * overlap
+
+
+@njit(cache=True)
+def _chain_contact(C, off, n, radius, stiffness):
+    """Add the contact penalty's forces of one chain (links off .. off + n - 1 of C, _general_geometry) to the node
+    forces C[., 4:6]: for every pair of non-adjacent links, each of the four core ends against the other core
+    (_end_contact, contact.py). Returns (force on the chain's pivot x, y, U_contact). Pairs whose cores' midpoints
+    are farther apart than the core length plus 2R cannot touch and are skipped."""
+    s_a = (1.0 - CONTACT_LENGTH) / 2.0 + radius
+    s_b = (1.0 + CONTACT_LENGTH) / 2.0 - radius
+    reach = (s_b - s_a) + 2.0 * radius
+    reach2 = reach * reach
+    hx = 0.0
+    hy = 0.0
+    energy = 0.0
+    for i in range(n):
+        mix = C[off + i, 2] + 0.5 * C[off + i, 0]
+        miy = C[off + i, 3] + 0.5 * C[off + i, 1]
+        for j in range(i + 2, n):
+            dx = mix - (C[off + j, 2] + 0.5 * C[off + j, 0])
+            dy = miy - (C[off + j, 3] + 0.5 * C[off + j, 1])
+            if dx * dx + dy * dy > reach2:
+                continue
+            for own, other in ((i, j), (j, i)):
+                for s_end in (s_a, s_b):
+                    fx, fy, u = _end_contact(C, off, own, other, s_end, s_a, s_b, radius, stiffness)
+                    hx += fx
+                    hy += fy
+                    energy += u
+    return hx, hy, energy
+
+
+@njit(cache=True)
+def general_forces(y, fac, system, C, out):
+    """out[:nq] = f(q): the generalised forces of the state y (angles, then the free head) with every term:
+    springs, follower forces, the pair's coupling, the trap on the particles and the head, the contact penalty
+    (the pinned chain's constraint forces are not in it). C: the (n_angles, 8) records of make_general_workspace;
+    on return C[:, 0:4] hold the geometry (_general_geometry). Returns U_contact."""
+    n = system.n
+    na = n * system.n_chains
+    _chain_forces(y, fac, system, out)  # springs, follower forces, coupling (angles only)
+    _general_geometry(y, system, C)
+    energy = 0.0
+    for ch in range(system.n_chains):
+        off = ch * n
+        # the trap's force on the pivot (zero for a pivot fixed at the origin)
+        hx = -system.trap * C[off, 2]
+        hy = -system.trap * C[off, 3]
+        if system.contact_radius > 0.0:
+            cx, cy, u = _chain_contact(C, off, n, system.contact_radius, system.contact_stiffness)
+            hx += cx
+            hy += cy
+            energy += u
+        # generalised forces of the node forces: n_k . sum_{i >= k} F_i; the head: all of them
+        fx = 0.0
+        fy = 0.0
+        ax = 0.0
+        ay = 0.0
+        for k in range(n - 1, -1, -1):
+            c = C[off + k, 0]
+            s = C[off + k, 1]
+            fx += C[off + k, 4]
+            fy += C[off + k, 5]
+            out[off + k] += -s * fx + c * fy
+            ax -= system.sigma * fac[off + k] * c
+            ay -= system.sigma * fac[off + k] * s
+        if system.head_free and ch == 0:
+            out[na] = fx + hx + ax
+            out[na + 1] = fy + hy + ay
+    return energy
+
+
+@njit(cache=True)
+def general_drag(system, C, A):
+    """A[:nq, :nq] = D(q) over the angles and the free head, from the geometry C (_general_geometry): the angle
+    blocks as drag_block (suffix sums S_m of W_i), D_{k,h} = S_k n_k, D_hh = S_0 + W(th_0) (the head's drag);
+    zero between the chains of a pair."""
+    n = system.n
+    na = n * system.n_chains
+    gl = system.gamma_l
+    gt = system.gamma_t
+    A[:, :] = 0.0
+    for ch in range(system.n_chains):
+        off = ch * n
+        head = system.head_free and ch == 0
+        sxx = 0.0
+        sxy = 0.0
+        syy = 0.0
+        for m in range(n - 1, -1, -1):
+            cm = C[off + m, 0]
+            sm = C[off + m, 1]
+            sxx += gl * cm * cm + gt * sm * sm
+            sxy += (gl - gt) * cm * sm
+            syy += gl * sm * sm + gt * cm * cm
+            for j in range(m + 1):
+                cj = C[off + j, 0]
+                sj = C[off + j, 1]
+                v = sj * sm * sxx - (sj * cm + cj * sm) * sxy + cj * cm * syy
+                A[off + j, off + m] = v
+                A[off + m, off + j] = v
+            if head:
+                vx = -sm * sxx + cm * sxy
+                vy = -sm * sxy + cm * syy
+                A[off + m, na] = vx
+                A[na, off + m] = vx
+                A[off + m, na + 1] = vy
+                A[na + 1, off + m] = vy
+        if head:
+            c0 = C[off, 0]
+            s0 = C[off, 1]
+            A[na, na] = sxx + gl * c0 * c0 + gt * s0 * s0
+            v = sxy + (gl - gt) * c0 * s0
+            A[na, na + 1] = v
+            A[na + 1, na] = v
+            A[na + 1, na + 1] = syy + gl * s0 * s0 + gt * c0 * c0
+
+
+@njit(cache=True)
+def eval_rhs_general(y, fac, system, beta, out, L, C, X, lam):
+    """out = q' at the state q = y (the angles, then the free head) with every term on (equations.py: a free
+    head, a harmonic trap and self-contact): f by general_forces, D by general_drag (O(N^2) each), dense
+    Cholesky (L[0]; L[1] holds D); the pinned chain's Baumgarte saddle point as in eval_rhs_dense (X = D^-1 G^T,
+    multipliers in lam). L, C, X, lam: make_general_workspace."""
+    n = system.n
+    na = n * system.n_chains
+    nq = na + (2 if system.head_free else 0)
+    if (L.shape[0] < 2 or L.shape[1] != nq or L.shape[2] != nq or C.shape[0] < na or C.shape[1] < 8
+            or X.shape[0] < nq):
+        raise ValueError("eval_rhs_general needs make_general_workspace's arrays: L (2, nq, nq), C (n_angles, 8), X (nq, 2)")
+    if y.size < nq or out.size < nq:
+        raise ValueError("eval_rhs_general: the state holds n_angles numbers, plus 2 with a free head")
+    general_forces(y, fac, system, C, out)
+    general_drag(system, C, L[1])
+    cholesky(L[1], L[0])
+    chol_solve(L[0], out, 0)
+    if system.pinned:
+        for i in range(n):
+            X[i, 0] = -C[i, 1]
+            X[i, 1] = C[i, 0]
+        chol_solve_cols(L[0], X, 0)
+        _pin_correction(y, n, beta, system.delta, out, X, lam, C, False)
+
+
 @njit(cache=True)
 def restore_pins(th, delta):
     """Minimum-norm Gauss-Newton steps th -= G^T (G G^T)^-1 g back onto g = 0 (two-pinned SDE steps)."""
@@ -616,10 +891,15 @@ def euler_maruyama(y, k0, facs, dt, system, beta, sidx, out, jptr):
     n = system.n
     nch = system.n_chains
     na = y.size
-    m = 0 if uses_recursive(n) else n  # make_workspace, inlined as in dop853._dop853
-    L = np.zeros((nch, m, m))
-    D = np.zeros((n, n)) if m == n else np.zeros((nch * n, 4))
-    X = np.zeros((n, 2))
+    if is_extended(system):  # make_general_workspace (the state: angles, then the free head)
+        L = np.zeros((2, na, na))
+        D = np.zeros((nch * n, 8))
+        X = np.zeros((na, 2))
+    else:
+        m = 0 if uses_recursive(n) else n  # make_workspace, inlined as in dop853._dop853
+        L = np.zeros((nch, m, m))
+        D = np.zeros((n, n)) if m == n else np.zeros((nch * n, 4))
+        X = np.zeros((n, 2))
     lam = np.zeros(2)
     f = np.empty(na)
     for r in range(facs.shape[0]):
@@ -644,10 +924,15 @@ def heun(y, k0, facs, dt, system, beta, sidx, out, jptr):
     n = system.n
     nch = system.n_chains
     na = y.size
-    m = 0 if uses_recursive(n) else n
-    L = np.zeros((nch, m, m))
-    D = np.zeros((n, n)) if m == n else np.zeros((nch * n, 4))
-    X = np.zeros((n, 2))
+    if is_extended(system):  # make_general_workspace
+        L = np.zeros((2, na, na))
+        D = np.zeros((nch * n, 8))
+        X = np.zeros((na, 2))
+    else:
+        m = 0 if uses_recursive(n) else n
+        L = np.zeros((nch, m, m))
+        D = np.zeros((n, n)) if m == n else np.zeros((nch * n, 4))
+        X = np.zeros((n, 2))
     lam = np.zeros(2)
     f = np.empty(na)
     g = np.empty(na)
@@ -816,7 +1101,8 @@ def eval_state(y, fac, system, beta, out, L, D, X, lam):
 
 
 def state_workspace(system: ChainSystem):
-    """The workspace of eval_state for this system: `workspace` (overdamped) or make_inertial_workspace."""
+    """The workspace of eval_state for this system: `workspace` (overdamped; make_general_workspace's with an
+    extended term) or make_inertial_workspace."""
     if system.mass_ratio > 0:
         return make_inertial_workspace(system.n_chains, system.n)
     return workspace(system)

@@ -9,6 +9,9 @@ fastest overdamped time 1 / rate, rate = max |lambda| of the overdamped linearis
                                                                       ~0.2 m x rate, angles ~5 m x rate)
     outside:                       m x rate >  INERTIA_RESOLUTION     (only the inertial model with that m)
 
+With a free head, a trap or self-contact (ChainSystem.extended) the linearisation is taken over the whole state
+(the angles, then the head) with df/dq by central differences of equations.drag_and_forces_reference.
+
 This module is the one place of that criterion. elastoactive.engines.reduced.regime applies it at a scene's
 base state (for simulate_reduced and elastoactive.diagnose alike).
 """
@@ -17,6 +20,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .equations import drag_and_forces_reference
 from .system import ChainSystem
 
 __all__ = [
@@ -46,7 +50,8 @@ def _drag(system: ChainSystem, theta: np.ndarray) -> np.ndarray:
 
 
 def force_jacobian(system: ChainSystem, theta) -> np.ndarray:
-    """df/dtheta of the generalised forces f = -dU/dtheta + Q (springs, coupling, follower forces; fac = 1)."""
+    """df/dtheta of the generalised forces f = -dU/dtheta + Q (springs, coupling, follower forces; fac = 1); the
+    extended terms (a free head, the trap, contact) are not in it (see _extended_operators)."""
     system = system.typed()
     theta = np.asarray(theta, dtype=float).reshape(-1)[: system.n_angles]
     n = system.n
@@ -71,11 +76,38 @@ def force_jacobian(system: ChainSystem, theta) -> np.ndarray:
     return F
 
 
+FD_STEP = 1e-6
+"""Step of the central differences of df/dq for a system with a free head, a trap or self-contact."""
+
+
+def _extended_operators(system: ChainSystem, theta) -> tuple[np.ndarray, np.ndarray]:
+    """(D, df/dq) over the whole state of a system with an extended term (equations.drag_and_forces_reference;
+    df/dq by central differences): theta is the state (the angles, then the head) or the angles alone (the head
+    at the origin)."""
+    y = np.asarray(theta, dtype=float).reshape(-1)
+    if system.head_free and y.size == system.n_angles:
+        y = np.concatenate([y, np.zeros(2)])
+    y = y[: system.state_size]
+    D, _ = drag_and_forces_reference(system, y)
+    F = np.empty((y.size, y.size))
+    for k in range(y.size):
+        step = np.zeros(y.size)
+        step[k] = FD_STEP
+        F[:, k] = (drag_and_forces_reference(system, y + step)[1] - drag_and_forces_reference(system, y - step)[1]) / (
+            2.0 * FD_STEP)
+    return D, F
+
+
 def _operators(system: ChainSystem, theta) -> tuple[np.ndarray, np.ndarray] | None:
-    """(D, df/dth) at theta, on the pins' tangent space for a pinned chain; None when nothing can move."""
+    """(D, df/dth) at theta, on the pins' tangent space for a pinned chain; None when nothing can move. With a
+    free head, a trap or self-contact (system.extended): over the whole state, df/dq by central differences."""
     system = system.typed()
-    theta = np.asarray(theta, dtype=float).reshape(-1)[: system.n_angles]
-    D, F = _drag(system, theta), force_jacobian(system, theta)
+    if system.extended:
+        D, F = _extended_operators(system, theta)
+        theta = np.asarray(theta, dtype=float).reshape(-1)[: system.n_angles]
+    else:
+        theta = np.asarray(theta, dtype=float).reshape(-1)[: system.n_angles]
+        D, F = _drag(system, theta), force_jacobian(system, theta)
     if system.pinned:
         _, sv, vt = np.linalg.svd(np.vstack([-np.sin(theta), np.cos(theta)]))
         basis = vt[np.sum(sv > 1e-9):].T

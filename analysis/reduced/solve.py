@@ -40,6 +40,15 @@ MuJoCo applies them, and each step is taken by RK4 substeps (h x spectral radius
 inertia the angles are smooth, so no Ito correction and no projection onto the pins arise. Which model a
 scene's mass ratio needs is decided in regime.py (the overdamped limit), applied by the engine.
 
+A free head, a harmonic trap and self-contact (ChainSystem.head_free, trap, contact_radius; equations.py,
+contact.py): with any of them on, the right-hand side is kernels.eval_rhs_general (dense over all coordinates),
+taken by rhs, numba-DOP853, Euler-Maruyama and Heun alike; `jacobian` (and so `stiffness`, method=None's check and
+the implicit methods) is then a central-difference Jacobian of it (the analytic one knows none of these terms).
+The state is system.state_size long: the angles, then (head_free) the head's position (x_h, y_h). solve_ode and
+solve_sde return it whole, shape (len(t), state_size), and take the initial state either whole (theta0 of
+state_size numbers) or as the angles (n_angles numbers) plus the keyword head0 (default: the origin).
+With every extended term off, everything runs exactly as before they existed.
+
 Every function takes the record and calls ChainSystem.typed() on it, so the compiled kernels see one
 set of field types and compile once.
 """
@@ -78,7 +87,8 @@ _SDE_CHUNK = 20000
 # ----------------------------------------------------------------------------------------------
 def rhs(system: ChainSystem, *, beta: float, factor=None):
     """Compiled right-hand side f(t, theta) -> dtheta/dt of the model; of the inertial model
-    (system.mass_ratio > 0) f(t, y) -> dy/dt with the state y = (theta, omega).
+    (system.mass_ratio > 0) f(t, y) -> dy/dt with the state y = (theta, omega); with a free head the state is
+    (theta, x_h, y_h) (system.state_size numbers).
 
     factor: optional per-particle force factor (1 + eta_i), default ones. beta: Baumgarte rate (pinned).
     """
@@ -112,9 +122,14 @@ def jacobian(system: ChainSystem, *, beta: float):
     with the accelerations' part by central differences (kernels.eval_jacobian_inertial).
 
     O(N^3) per call (dense Cholesky of D, then D^-1 applied to an N x N matrix) at every N: it is used by
-    the implicit methods (stiff cases) and by `stiffness` once per solve_ode(method=None)."""
+    the implicit methods (stiff cases) and by `stiffness` once per solve_ode(method=None).
+
+    With a free head, a trap or self-contact (system.extended), the analytic kernel does not apply: the Jacobian
+    over the whole state is taken by central differences of the compiled right-hand side (relative step 1e-7)."""
     system = system.typed()
     beta = float(beta)
+    if system.extended:
+        return _numeric_jacobian(system, beta, None)
     if system.inertial:  # d(theta, omega)'/d(theta, omega), accelerations by central differences
         L, D, X, lam = kernels.make_inertial_workspace(system.n_chains, system.n)
 
@@ -148,8 +163,16 @@ def _block_diagonal(system: ChainSystem, theta: np.ndarray, fill) -> np.ndarray:
 
 
 def drag_matrix(system: ChainSystem, theta) -> np.ndarray:
-    """D(theta) of the whole system (block diagonal for a pair), from the compiled kernel."""
+    """D(theta) of the whole system (block diagonal for a pair), from the compiled kernel. With a free head:
+    over the whole state (the angles, then the head; theta of n_angles or state_size numbers), from
+    kernels.general_drag, including the head's drag."""
     system = system.typed()
+    if system.head_free:
+        y = _state(system, theta)
+        L, C, _, _ = kernels.make_general_workspace(system.n_chains, system.n, y.size)
+        kernels._general_geometry(y, system, C)
+        kernels.general_drag(system, C, L[1])
+        return L[1].copy()
     theta = np.ascontiguousarray(theta, dtype=float)
     return _block_diagonal(system, theta, lambda th, off, n, D: kernels.drag_block(th, off, n, system.gamma_l,
                                                                                      system.gamma_t, D))
@@ -166,10 +189,13 @@ def mass_matrix(system: ChainSystem, theta) -> np.ndarray:
 
 def _state(system: ChainSystem, y) -> np.ndarray:
     """The integrated state at y: the angles (overdamped); (theta, omega) for the inertial model, where a
-    state of n_angles numbers is taken as angles at rest."""
+    state of n_angles numbers is taken as angles at rest; with a free head, the angles then the head, where a
+    state of n_angles numbers is taken with the head at the origin."""
     y = np.ascontiguousarray(y, dtype=float).reshape(-1)
     if system.mass_ratio > 0 and y.size == system.n_angles:
         return np.concatenate([y, np.zeros(system.n_angles)])
+    if system.head_free and y.size == system.n_angles:
+        return np.concatenate([y, np.zeros(2)])
     return y
 
 
@@ -233,11 +259,28 @@ def constraint_violation(system: ChainSystem, theta) -> float:
 # ----------------------------------------------------------------------------------------------
 # integration
 # ----------------------------------------------------------------------------------------------
-def _samples_and_state(system: ChainSystem, t, theta0) -> tuple[np.ndarray, np.ndarray]:
+def _samples_and_state(system: ChainSystem, t, theta0, head0=None) -> tuple[np.ndarray, np.ndarray]:
+    """The sample times, checked, and the initial state: the angles theta0 (n_angles numbers); with a free head
+    (overdamped), the angles then the head: theta0 of state_size numbers, or n_angles angles plus head0 (default
+    the origin)."""
     t = np.ascontiguousarray(t, dtype=float)
     if t.ndim != 1 or t.size == 0 or t[0] != 0.0 or np.any(np.diff(t) < 0):
         raise ParameterError("t must be a non-empty, non-decreasing 1-D array of sample times starting at 0")
     theta0 = np.array(theta0, dtype=float).reshape(-1)
+    if system.head_free and not system.inertial:
+        if theta0.size == system.state_size:
+            if head0 is not None:
+                raise ParameterError("give the head's position either at the end of theta0 or as head0, not both")
+            return t, theta0
+        if theta0.size == system.n_angles:
+            head = np.zeros(2) if head0 is None else np.array(head0, dtype=float).reshape(-1)
+            if head.size != 2 or not np.all(np.isfinite(head)):
+                raise ParameterError(f"head0 must be a finite point (x_h, y_h), got {head0!r}")
+            return t, np.concatenate([theta0, head])
+        raise ParameterError(f"theta0 must have {system.n_angles} angles (plus head0), or {system.state_size} numbers "
+                             f"(the angles, then the head), got {theta0.size}")
+    if head0 is not None:
+        raise ParameterError("head0: only a system with a free head (head_free) has a head position")
     if theta0.size != system.n_angles:
         raise ParameterError(f"theta0 must have {system.n_angles} angles, got {theta0.size}")
     return t, theta0
@@ -245,10 +288,14 @@ def _samples_and_state(system: ChainSystem, t, theta0) -> tuple[np.ndarray, np.n
 
 def solve_ode(
     system: ChainSystem, t, theta0, *, rtol: float, atol: float, method: str | None = None, beta: float,
-    loads=None,
+    loads=None, head0=None,
 ) -> tuple[np.ndarray, dict]:
     """Integrate the deterministic model from theta0 at t = 0; returns (theta at the times t, info).
     The inertial model (system.mass_ratio > 0) starts at rest: solve_inertial, of which the angles are returned.
+
+    With a free head (system.head_free) the state is (angles, x_h, y_h): theta0 is either that whole state
+    (state_size numbers) or the angles with the head at head0 (default the origin), and the result has shape
+    (len(t), state_size), the head's position in its last two columns.
 
     method: None (automatic: "numba-DOP853", or "Radau" when the linearisation at theta0 is stiff, see
     the module docstring), "numba-DOP853", or any name in SCIPY_METHODS. info holds rtol, atol, method,
@@ -261,7 +308,7 @@ def solve_ode(
     (and method=None's stiffness check) use a central-difference Jacobian of the masked right-hand side.
     """
     system = system.typed()
-    t, theta0 = _samples_and_state(system, t, theta0)
+    t, theta0 = _samples_and_state(system, t, theta0, head0)
     if method is not None and method not in COMPILED_METHODS + SCIPY_METHODS:
         raise ParameterError(f"method must be None, one of {COMPILED_METHODS + SCIPY_METHODS}, got {method!r}")
     if system.inertial:
@@ -365,7 +412,7 @@ SDE_SCHEMES = ("euler", "heun")
 
 def solve_sde(
     system: ChainSystem, t, theta0, *, dt: float, factors: Callable[[np.ndarray], np.ndarray], beta: float,
-    scheme: str = "euler",
+    scheme: str = "euler", head0=None,
 ) -> tuple[np.ndarray, dict]:
     """Euler-Maruyama (scheme "euler") or stochastic Heun ("heun") from theta0 at t = 0 with step dt; returns
     (theta at the times t, info).
@@ -375,11 +422,12 @@ def solve_sde(
     for its drift at the step start (Heun: for its predictor and its corrector, so that white noise is read
     in the Stratonovich sense). Pinned systems are projected back onto the pins after each step. The
     inertial model ignores the scheme (the noise enters its accelerations: no Ito-Stratonovich difference).
+    With a free head: theta0 and head0, and the returned states, as in solve_ode (the state ends with the head).
     """
     if scheme not in SDE_SCHEMES:
         raise ParameterError(f"scheme must be one of {SDE_SCHEMES}, got {scheme!r}")
     system = system.typed()
-    t, theta0 = _samples_and_state(system, t, theta0)
+    t, theta0 = _samples_and_state(system, t, theta0, head0)
     beta = float(beta)
     dt = float(dt)
     sidx = np.rint(t / dt).astype(np.int64)

@@ -17,6 +17,12 @@ BEAD_INERTIA_FACTOR = 0.4 * 0.14**2
 """I / m of the MuJoCo scenes' bead, a solid sphere of radius 0.14 l on each particle: (2/5) r^2 = 0.00784
 (the same number as analysis.flutter.BEAD_INERTIA_FACTOR, which imports scipy; this package must not)."""
 
+CONTACT_LENGTH = 0.7
+"""Length of each link's contact capsule, caps included, in units of the link length l: a Hexbug Nano is about
+5 cm long on a link pitch of about 7 cm (N = 7 over L = 500 mm), so 5 / 7 ~ 0.7. The capsule of link i is
+centred on the link; its core (the segment whose points within the radius R make the capsule) runs over the
+fractions s in [(1 - CONTACT_LENGTH) / 2 + R, (1 + CONTACT_LENGTH) / 2 - R] of the link (contact.py)."""
+
 
 class ChainSystem(NamedTuple):
     """One chain, or two chains coupled at their first pendula, in units l = C1 = gamma_T = 1.
@@ -35,6 +41,24 @@ class ChainSystem(NamedTuple):
                     inertial model (M th'' + c + D th' = f, state (th, th'); equations.py)
     inertia_factor  rotational inertia of each particle's body about the vertical axis, over its mass
                     (default: the MuJoCo bead's (2/5) 0.14^2); used only when mass_ratio > 0
+
+    The extended terms (all off by default; with every one off, the kernels run exactly as before they existed,
+    bit for bit; with any one on, the overdamped right-hand side is the general dense solve of
+    kernels.eval_rhs_general, equations.py):
+
+    head_free          the first pendulum's pivot (the head) slides freely in the plane: the state is
+                       (th_0 .. th_{N-1}, x_h, y_h), two more coordinates after the angles. The head carries one
+                       particle's drag (gamma_l along e(th_0), gamma_t across) and no active force. Only for one
+                       chain with a free pin (n_chains = 1, clamped = False, pinned = False)
+    trap               harmonic trap -trap r on every particle and on the head, centred on the pivot's rest
+                       position (the origin; each chain's own pivot for a pair), in units k l^2 / C1 (as kappa).
+                       With a fixed pivot at the origin the head term does nothing
+    contact_radius     radius R of the self-contact capsules (0: no contact), in l; 0 <= R < CONTACT_LENGTH / 2
+    contact_stiffness  penalty stiffness K (force K x overlap, units C1 / l^3): U = K/2 max(0, 2R - dist)^2 for
+                       each core end of a link against the core of every non-adjacent link (|i - j| >= 2) of the
+                       same chain (contact.py: for a single contact, exactly K/2 max(0, 2R - d)^2 of the cores'
+                       distance d); must be > 0 when contact_radius > 0
+    The inertial model (mass_ratio > 0) has none of these terms: typed() raises a ParameterError for them.
     """
 
     n: int
@@ -49,10 +73,25 @@ class ChainSystem(NamedTuple):
     delta: float = 0.0
     mass_ratio: float = 0.0
     inertia_factor: float = BEAD_INERTIA_FACTOR
+    head_free: bool = False
+    trap: float = 0.0
+    contact_radius: float = 0.0
+    contact_stiffness: float = 0.0
 
     @property
     def n_angles(self) -> int:
         return self.n * self.n_chains
+
+    @property
+    def n_head(self) -> int:
+        """Head coordinates in the state: 2 (x_h, y_h, after the angles) when head_free, else 0."""
+        return 2 if self.head_free else 0
+
+    @property
+    def extended(self) -> bool:
+        """Whether any extended term is on (head_free, trap > 0, contact_radius > 0): the overdamped right-hand
+        side is then kernels.eval_rhs_general, the Jacobian a finite-difference one."""
+        return bool(self.head_free) or self.trap > 0 or self.contact_radius > 0
 
     @property
     def inertial(self) -> bool:
@@ -61,8 +100,9 @@ class ChainSystem(NamedTuple):
 
     @property
     def state_size(self) -> int:
-        """Numbers in the integrated state: n_angles (overdamped), 2 n_angles (inertial: angles, then rates)."""
-        return 2 * self.n_angles if self.mass_ratio > 0 else self.n_angles
+        """Numbers in the integrated state: n_angles (overdamped), n_angles + 2 with a free head (angles, then
+        x_h, y_h), 2 n_angles (inertial: angles, then rates)."""
+        return 2 * self.n_angles if self.mass_ratio > 0 else self.n_angles + self.n_head
 
     def stiffness(self, chain: int) -> float:
         """Joint stiffness of chain `chain` (0 or 1) in units of C1."""
@@ -70,8 +110,9 @@ class ChainSystem(NamedTuple):
 
     def typed(self) -> "ChainSystem":
         """This record with the field types the compiled kernels are compiled for (int n and n_chains,
-        bool clamped and pinned, float the rest), so that a numpy integer or an integer sigma does not
-        compile a second specialisation. The solvers call it on every record they are given."""
+        bool clamped, pinned and head_free, float the rest), so that a numpy integer or an integer sigma does
+        not compile a second specialisation. The solvers call it on every record they are given; it raises a
+        ParameterError for a record the kernels cannot solve."""
         if int(self.n) != self.n or self.n < 1:
             raise ParameterError(f"n (particles per chain) must be an integer >= 1, got {self.n!r}")
         if self.n_chains not in (1, 2):
@@ -82,11 +123,34 @@ class ChainSystem(NamedTuple):
             raise ParameterError(f"mass_ratio must be finite and >= 0 (0: overdamped), got {self.mass_ratio!r}")
         if not (self.inertia_factor >= 0 and np.isfinite(self.inertia_factor)):
             raise ParameterError(f"inertia_factor must be finite and >= 0, got {self.inertia_factor!r}")
+        if self.head_free and (self.n_chains != 1 or self.clamped or self.pinned):
+            raise ParameterError(
+                "head_free: only a single chain on a free pin can slide (n_chains = 1, clamped = False, pinned = False), "
+                f"got n_chains={self.n_chains!r}, clamped={self.clamped!r}, pinned={self.pinned!r}"
+            )
+        if not (self.trap >= 0 and np.isfinite(self.trap)):
+            raise ParameterError(f"trap (k l^2 / C1) must be finite and >= 0, got {self.trap!r}")
+        if not (0 <= self.contact_radius < CONTACT_LENGTH / 2):
+            raise ParameterError(
+                f"contact_radius must be >= 0 (0: no contact) and below CONTACT_LENGTH / 2 = {CONTACT_LENGTH / 2} "
+                f"(the capsule's core must have a length), got {self.contact_radius!r}"
+            )
+        if not (self.contact_stiffness >= 0 and np.isfinite(self.contact_stiffness)):
+            raise ParameterError(f"contact_stiffness must be finite and >= 0, got {self.contact_stiffness!r}")
+        if self.contact_radius > 0 and not self.contact_stiffness > 0:
+            raise ParameterError("contact_radius > 0 needs contact_stiffness > 0 (the penalty of an overlap)")
+        if self.mass_ratio > 0 and self.extended:
+            raise ParameterError(
+                "the inertial model (mass_ratio > 0) has no free head, trap or self-contact: those terms exist in the "
+                "overdamped model only (set mass_ratio = 0, or head_free = False, trap = 0 and contact_radius = 0)"
+            )
         return ChainSystem(
             n=int(self.n), n_chains=int(self.n_chains), clamped=bool(self.clamped), pinned=bool(self.pinned),
             sigma=float(self.sigma), gamma_l=float(self.gamma_l), gamma_t=float(self.gamma_t),
             kappa=float(self.kappa), rho=float(self.rho), delta=float(self.delta),
             mass_ratio=float(self.mass_ratio), inertia_factor=float(self.inertia_factor),
+            head_free=bool(self.head_free), trap=float(self.trap), contact_radius=float(self.contact_radius),
+            contact_stiffness=float(self.contact_stiffness),
         )
 
     def force_factors(self, factor=None) -> np.ndarray:

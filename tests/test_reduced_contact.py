@@ -78,8 +78,6 @@ def test_new_fields_default_off_and_keep_old_records():
     (dict(contact_radius=0.35, contact_stiffness=1.0), "contact_radius"),
     (dict(contact_radius=-0.1, contact_stiffness=1.0), "contact_radius"),
     (dict(contact_radius=0.1, contact_stiffness=-1.0), "contact_stiffness"),
-    (dict(trap=0.1, mass_ratio=0.01), "inertial"),
-    (dict(contact_radius=0.1, contact_stiffness=1.0, mass_ratio=0.01), "inertial"),
 ])
 def test_typed_rejects_what_the_kernels_cannot_solve(kw, words):
     with pytest.raises(ParameterError, match=words):
@@ -319,6 +317,48 @@ def test_solvers_take_and_return_the_whole_state():
     assert capsule_clearance(fold, 0.1) < 0
     _, info = M.solve_ode(stiff, np.linspace(0.0, 0.2, 3), fold, rtol=1e-6, atol=1e-8, beta=BETA)
     assert info["method"] == "Radau" and info["stiffness"] > M.STIFF_RADIUS
+
+
+@pytest.mark.parametrize("index", range(5))
+def test_inertial_kernel_matches_plain_twin_in_contact(index):
+    """The inertial model with the extended terms (eval_rhs_inertial_general) against its plain twin; state (q, q')."""
+    system = _contact_systems()[index]._replace(mass_ratio=0.05).typed()
+    nq = system.n_angles + system.n_head
+    assert system.state_size == 2 * nq
+    rng = np.random.default_rng(10 + index)
+    fast = M.rhs(system, beta=BETA)
+    slow = M.rhs_inertial_reference(system, beta=BETA)
+    for q in _overlapping_states(system, rng, count=10):
+        y = np.concatenate([q, rng.normal(0.0, 1.0, nq)])
+        ref = slow(0.0, y)
+        np.testing.assert_allclose(fast(0.0, y), ref, rtol=0, atol=1e-12 * np.max(np.abs(ref)))
+    if system.head_free:
+        Mq = M.mass_matrix(system, q)
+        assert Mq.shape == (nq, nq) and np.min(np.linalg.eigvalsh(Mq)) > 0
+        # a rigid translation of the whole chain moves N particles and the head's bead: m (N + 1)
+        assert Mq[-1, -1] == pytest.approx(system.mass_ratio * (system.n + 1))
+
+
+def test_small_mass_approaches_the_overdamped_free_chain():
+    """A free chain in a trap with particle masses m -> 0: the inertial solution (state (q, q')) tends to the
+    overdamped one, the gap shrinking about as m."""
+    base = ChainSystem(n=7, clamped=False, head_free=True, trap=0.1, sigma=0.3)
+    t = np.linspace(0.0, 20.0, 5)
+    th0 = 0.1 * np.arange(7)
+    ref, _ = M.solve_ode(base, t, th0, head0=(1.0, 0.0), rtol=1e-9, atol=1e-9, beta=BETA)
+    gaps = []
+    for m in (0.02, 0.002):
+        y, info = M.solve_ode(base._replace(mass_ratio=m), t, th0, head0=(1.0, 0.0), rtol=1e-9, atol=1e-9, beta=BETA)
+        assert y.shape == (5, 9) and info["model"] == "inertial"
+        gaps.append(np.max(np.abs(y - ref)))
+    assert gaps[1] < 0.2 * gaps[0] and gaps[1] < 2e-3
+    full, _ = M.solve_inertial(base._replace(mass_ratio=0.002), t, th0, head0=(1.0, 0.0), rtol=1e-9, atol=1e-9,
+                               beta=BETA)
+    assert full.shape == (5, 18)
+    noisy, info = M.solve_sde(base._replace(mass_ratio=0.002), t, th0, head0=(1.0, 0.0), dt=0.01, beta=BETA,
+                              factors=lambda steps: np.ones((steps.size, 7)))
+    assert noisy.shape == (5, 9) and info["model"] == "inertial"
+    np.testing.assert_allclose(noisy, full[:, :9], atol=1e-4)
 
 
 def test_capsule_clearance():

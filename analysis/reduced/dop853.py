@@ -80,12 +80,13 @@ def _dop853(y0, ts, system, beta, rtol, atol, A, B, C, E3, E5, DD, out, fac):
     # arithmetic of a short chain's run then stays bit for bit what it was before the recursion)
     # the inertial model (mass_ratio > 0) solves its mass matrix densely (kernels.make_inertial_workspace)
     # an extended term (a free head, a trap, self-contact) solves densely over all coordinates
-    # (kernels.make_general_workspace; the state: angles, then the head)
+    # (kernels.make_general_workspace; the state: angles, then the head; inertial: then their rates)
     inertial = system.mass_ratio > 0
     if is_extended(system):
-        L = np.zeros((2, na, na))
+        nq = na // 2 if inertial else na  # position coordinates (the inertial state: positions, then rates)
+        L = np.zeros((2, nq, nq))
         D = np.zeros((nch * n, 8))
-        X = np.zeros((na, 2))
+        X = np.zeros((nq, 2))
     else:
         m = n if inertial or not uses_recursive(n) else 0
         L = np.zeros((nch, m, m))

@@ -185,6 +185,11 @@ Energy: U = U_springs + trap/2 (sum |r_i|^2 + |h|^2) + U_contact, and at sigma =
 Contact forces are internal (equal and opposite, along the line of their points), so with a free head, no trap
 and sigma = 0 the drag forces on the whole chain (particles and head) sum to zero, and so do their torques.
 
+With inertia (mass_ratio m > 0) the same coordinates get M q'' + c + D q' = f with M = m sum_i J_i^T J_i + the
+beads' rotational inertia m inertia_factor on every angle, plus the head's bead: mass m at the pivot, turning with
+the first pendulum (M_hh = m (N + 1) 1 in all, and m inertia_factor more on th_0), as MuJoCo's paraboloid scene
+builds it; c = m sum_i J_i^T a_i with the centripetal accelerations a_i = -sum_{k<=i} e_k th_k'^2.
+
 The compiled kernel is kernels.eval_rhs_general (assembles D over all coordinates, O(N^2) plus the O(N^2) contact
 pair loop, dense Cholesky); rhs_reference below is its plain-numpy twin (explicit Jacobians J_i).
 
@@ -269,7 +274,8 @@ def rhs_reference(system: ChainSystem, *, beta: float, factor=None):
 
 def rhs_inertial_reference(system: ChainSystem, *, beta: float, factor=None):
     """Plain-numpy y' = f(t, y) of the inertial model (system.mass_ratio > 0), y = (theta, omega), written
-    straight from the formulas above: M and c from a_jk, D from its sum over particles, f from U and Q."""
+    straight from the formulas above: M and c from a_jk, D from its sum over particles, f from U and Q. With a free
+    head, a trap or self-contact: y = (q, q') over the angles and the head, M, c from the explicit Jacobians."""
     system = system.typed()
     n = system.n
     nch = system.n_chains
@@ -281,6 +287,9 @@ def rhs_inertial_reference(system: ChainSystem, *, beta: float, factor=None):
     a = m * (n - np.maximum(i_idx[:, None], i_idx[None, :]))  # a_jk = m #{i >= max(j, k)} (0-based)
     mask = (i_idx[:, None, None] >= i_idx[None, :, None]) & (i_idx[:, None, None] >= i_idx[None, None, :])
     upper = i_idx[None, :] >= i_idx[:, None]  # upper[k, i] = i >= k
+
+    if system.extended:
+        return _inertial_extended_reference(system, beta, fac)
 
     def f(t, y):
         y = np.asarray(y, dtype=float)
@@ -335,7 +344,7 @@ def _chain_geometry(system: ChainSystem, y: np.ndarray, ch: int):
 def _node_jacobians(system: ChainSystem, nrm: np.ndarray, ch: int) -> np.ndarray:
     """dP/dq of chain ch's nodes: P_{-1} (the pivot), P_0 .. P_{N-1}; shape (N + 1, 2, dim q)."""
     n = system.n
-    nq = system.state_size
+    nq = system.n_angles + system.n_head
     J = np.zeros((n + 1, 2, nq))
     if system.head_free and ch == 0:
         J[:, :, system.n_angles : system.n_angles + 2] = np.eye(2)
@@ -347,7 +356,7 @@ def _node_jacobians(system: ChainSystem, nrm: np.ndarray, ch: int) -> np.ndarray
 def _spring_gradient(system: ChainSystem, y: np.ndarray) -> np.ndarray:
     """dU/dq of the joint springs and the pair's coupling spring (zero in the head's columns)."""
     n = system.n
-    grad = np.zeros(system.state_size)
+    grad = np.zeros(system.n_angles + system.n_head)
     for ch in range(system.n_chains):
         c = system.stiffness(ch)
         th = y[ch * n : (ch + 1) * n]
@@ -368,15 +377,15 @@ def drag_and_forces_reference(system: ChainSystem, y, factor=None) -> tuple[np.n
     """(D(q), f(q)) over the whole state q (angles, then the free head), plain numpy, from the explicit position
     Jacobians (see "A free head, a harmonic trap and self-contact" above): D = sum_i J_i^T W_i J_i + J_h^T W_h J_h,
     f = sum J^T (active + trap + contact forces) - dU_springs/dq. For any system (the pinned chain's constraint
-    force is not in f). factor: the per-particle force factors (1 + eta_i)."""
+    force is not in f). factor: the per-particle force factors (1 + eta_i). y: the positions (the inertial model's
+    rates, if given after them, are ignored)."""
     system = system.typed()
-    if system.inertial:
-        raise ValueError("drag_and_forces_reference: the overdamped model's D and f (mass_ratio must be 0)")
-    y = np.asarray(y, dtype=float).reshape(-1)
+    y = np.asarray(y, dtype=float).reshape(-1)[: system.n_angles + system.n_head]
     fac = system.force_factors(factor)
     n = system.n
     gl, gt, k = system.gamma_l, system.gamma_t, system.trap
-    D = np.zeros((system.state_size, system.state_size))
+    nq = system.n_angles + system.n_head
+    D = np.zeros((nq, nq))
     force = -_spring_gradient(system, y)
     for ch in range(system.n_chains):
         pivots, e, nrm = _chain_geometry(system, y, ch)
@@ -415,3 +424,43 @@ def potential_reference(system: ChainSystem, y) -> float:
     if system.n_chains == 2:
         energy += 0.5 * system.kappa * (y[0] - y[n]) ** 2
     return float(energy)
+
+
+def _inertial_extended_reference(system: ChainSystem, beta: float, fac: np.ndarray):
+    """y' of the inertial model with the extended terms, y = (q, q'): M q'' = f - D q' - c with M = m sum_i J_i^T J_i
+    + the beads' rotation (m inertia_factor on each angle) + the head's bead (mass m at the pivot, turning with
+    th_0), c = m sum_i J_i^T a_i, a_i = -sum_{k <= i} e_k th_k'^2 (the centripetal accelerations), D and f from
+    drag_and_forces_reference; the pinned chain's Baumgarte acceleration constraint as in rhs_inertial_reference."""
+    n = system.n
+    nq = system.n_angles + system.n_head
+    m = system.mass_ratio
+
+    def f(t, y):
+        y = np.asarray(y, dtype=float)
+        q, w = y[:nq], y[nq:]
+        D, force = drag_and_forces_reference(system, q, fac)
+        M = m * system.inertia_factor * np.diag(np.r_[np.ones(system.n_angles), np.zeros(system.n_head)])
+        cgen = np.zeros(nq)
+        for ch in range(system.n_chains):
+            th, om = q[ch * n : (ch + 1) * n], w[ch * n : (ch + 1) * n]
+            _, e, nrm = _chain_geometry(system, q, ch)
+            J = _node_jacobians(system, nrm, ch)
+            centripetal = -np.cumsum(e * om[:, None] ** 2, axis=0)
+            for i in range(n):
+                M += m * J[i + 1].T @ J[i + 1]
+                cgen += m * J[i + 1].T @ centripetal[i]
+            if system.head_free and ch == 0:
+                M += m * J[0].T @ J[0]
+                M[0, 0] += m * system.inertia_factor
+            del th
+        rhs_acc = force - D @ w - cgen
+        if not system.pinned:
+            return np.concatenate([w, np.linalg.solve(M, rhs_acc)])
+        theta = q[:n]
+        G = pin_jacobian(theta)
+        gdot_om = -np.array([np.sum(np.cos(theta) * w**2), np.sum(np.sin(theta) * w**2)])
+        b = -gdot_om - 2.0 * beta * (G @ w) - beta**2 * pin_residual(theta, system.delta)
+        K = np.block([[M, G.T], [G, np.zeros((2, 2))]])
+        return np.concatenate([w, np.linalg.solve(K, np.concatenate([rhs_acc, b]))[:nq]])
+
+    return f

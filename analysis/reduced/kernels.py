@@ -32,7 +32,10 @@ whenever any is on, eval_rhs takes eval_rhs_general instead: it assembles D over
 then the head) in O(N^2) (_general_drag), the generalised forces with the trap and the contact penalty (O(N^2)
 pair loop with a bounding-circle skip, each core end against the other core; general_forces, contact.py), and solves by dense Cholesky (the pinned
 chain: the same Schur-complement Baumgarte correction). Its workspace is make_general_workspace's
-(state_workspace / workspace pick it). With every extended term off, the paths below run exactly as before.
+(state_workspace / workspace pick it). The inertial model with an extended term is eval_rhs_inertial_general
+(state (q, q'); M by general_mass, with the free head's bead; the particles' drag and centripetal forces as node
+forces), taken by eval_state and rk4_piecewise. With every extended term off, the paths below run exactly as
+before, bit for bit.
 
 eval_rhs takes the path its workspace was sized for (`workspace`, `make_workspace`): dense below
 RECURSIVE_MIN_N particles per chain, recursive from there on. Below it the results are bit for bit
@@ -66,6 +69,7 @@ __all__ = [
     "eval_rhs_dense",
     "eval_rhs_general",
     "eval_rhs_inertial",
+    "eval_rhs_inertial_general",
     "eval_rhs_recursive",
     "eval_state",
     "euler_maruyama",
@@ -73,6 +77,7 @@ __all__ = [
     "forces",
     "general_drag",
     "general_forces",
+    "general_mass",
     "is_extended",
     "make_general_workspace",
     "make_inertial_workspace",
@@ -748,27 +753,33 @@ def _chain_contact(C, off, n, radius, stiffness):
 
 
 @njit(cache=True)
-def general_forces(y, fac, system, C, out):
-    """out[:nq] = f(q): the generalised forces of the state y (angles, then the free head) with every term:
-    springs, follower forces, the pair's coupling, the trap on the particles and the head, the contact penalty
-    (the pinned chain's constraint forces are not in it). C: the (n_angles, 8) records of make_general_workspace;
-    on return C[:, 0:4] hold the geometry (_general_geometry). Returns U_contact."""
+def _node_forces(y, system, C):
+    """The geometry (_general_geometry) and the node forces of the trap and the contact penalty: C[i, 4:6] on
+    particle i, C[off, 6:8] on the pivot of the chain starting at row off. Returns U_contact."""
     n = system.n
-    na = n * system.n_chains
-    _chain_forces(y, fac, system, out)  # springs, follower forces, coupling (angles only)
     _general_geometry(y, system, C)
     energy = 0.0
     for ch in range(system.n_chains):
         off = ch * n
         # the trap's force on the pivot (zero for a pivot fixed at the origin)
-        hx = -system.trap * C[off, 2]
-        hy = -system.trap * C[off, 3]
+        C[off, 6] = -system.trap * C[off, 2]
+        C[off, 7] = -system.trap * C[off, 3]
         if system.contact_radius > 0.0:
             cx, cy, u = _chain_contact(C, off, n, system.contact_radius, system.contact_stiffness)
-            hx += cx
-            hy += cy
+            C[off, 6] += cx
+            C[off, 7] += cy
             energy += u
-        # generalised forces of the node forces: n_k . sum_{i >= k} F_i; the head: all of them
+    return energy
+
+
+@njit(cache=True)
+def _project_node_forces(fac, system, C, out):
+    """Add the generalised forces of the node forces C[:, 4:6] (particles) to the angles' entries of out,
+    n_k . sum_{i >= k} F_i, and set the head's: all node forces, the pivot's C[0, 6:8] and the follower forces."""
+    n = system.n
+    na = n * system.n_chains
+    for ch in range(system.n_chains):
+        off = ch * n
         fx = 0.0
         fy = 0.0
         ax = 0.0
@@ -782,9 +793,153 @@ def general_forces(y, fac, system, C, out):
             ax -= system.sigma * fac[off + k] * c
             ay -= system.sigma * fac[off + k] * s
         if system.head_free and ch == 0:
-            out[na] = fx + hx + ax
-            out[na + 1] = fy + hy + ay
+            out[na] = fx + C[off, 6] + ax
+            out[na + 1] = fy + C[off, 7] + ay
+
+
+@njit(cache=True)
+def general_forces(y, fac, system, C, out):
+    """out[:nq] = f(q): the generalised forces of the state y (angles, then the free head) with every term:
+    springs, follower forces, the pair's coupling, the trap on the particles and the head, the contact penalty
+    (the pinned chain's constraint forces are not in it). C: the (n_angles, 8) records of make_general_workspace;
+    on return C[:, 0:4] hold the geometry (_general_geometry). Returns U_contact."""
+    _chain_forces(y, fac, system, out)  # springs, follower forces, coupling (angles only)
+    energy = _node_forces(y, system, C)
+    _project_node_forces(fac, system, C, out)
     return energy
+
+
+@njit(cache=True)
+def general_mass(system, C, A):
+    """A[:nq, :nq] = M(q) of the inertial model over the angles and the free head, from the geometry C: the angle
+    blocks as mass_block, M_{k,h} = m (N - k) n_k (0-based k: the particles k .. N-1 move with both), and the head's
+    bead (one particle's mass m at the pivot, turning with the first pendulum, as MuJoCo's paraboloid scene
+    builds it): M_hh = m (N + 1) 1, and m inertia_factor more on th_0."""
+    n = system.n
+    na = n * system.n_chains
+    m = system.mass_ratio
+    ifac = system.inertia_factor
+    A[:, :] = 0.0
+    for ch in range(system.n_chains):
+        off = ch * n
+        for j in range(n):
+            cj = C[off + j, 0]
+            sj = C[off + j, 1]
+            for k in range(j, n):
+                v = m * (n - k) * (cj * C[off + k, 0] + sj * C[off + k, 1])
+                A[off + j, off + k] = v
+                A[off + k, off + j] = v
+            A[off + j, off + j] += m * ifac
+        if system.head_free and ch == 0:
+            for k in range(n):
+                vx = -m * (n - k) * C[off + k, 1]
+                vy = m * (n - k) * C[off + k, 0]
+                A[off + k, na] = vx
+                A[na, off + k] = vx
+                A[off + k, na + 1] = vy
+                A[na + 1, off + k] = vy
+            A[na, na] = m * (n + 1)
+            A[na + 1, na + 1] = m * (n + 1)
+            A[off, off] += m * ifac
+
+
+@njit(cache=True)
+def eval_rhs_inertial_general(y, fac, system, beta, out, L, C, X, lam):
+    """out = (q', q'') at y = (q, q') of the inertial model with the extended terms (a free head, the trap,
+    self-contact): M q'' = f(q) - D q' - c(q, q') with every force taken as node forces (the particles' drag and
+    centripetal terms as in eval_rhs_inertial; the head's bead: one particle's mass and drag), M by general_mass,
+    dense Cholesky; the pinned chain's acceleration constraint as in eval_rhs_inertial. L, C, X, lam:
+    make_general_workspace with nq position coordinates."""
+    n = system.n
+    nch = system.n_chains
+    na = n * nch
+    nq = na + (2 if system.head_free else 0)
+    m = system.mass_ratio
+    gl = system.gamma_l
+    gt = system.gamma_t
+    if (L.shape[0] < 2 or L.shape[1] != nq or L.shape[2] != nq or C.shape[0] < na or C.shape[1] < 8
+            or X.shape[0] < nq):
+        raise ValueError("eval_rhs_inertial_general needs make_general_workspace's arrays: L (2, nq, nq), C (n_angles, 8), X (nq, 2)")
+    if y.size < 2 * nq or out.size < 2 * nq:
+        raise ValueError("eval_rhs_inertial_general: the state holds 2 nq numbers (positions, then rates)")
+    for i in range(nq):
+        out[i] = y[nq + i]
+    acc = out[nq:]
+    _chain_forces(y, fac, system, acc)  # springs, follower forces, coupling (angles)
+    _node_forces(y, system, C)  # geometry, trap, contact
+    for ch in range(nch):
+        off = ch * n
+        vx = 0.0
+        vy = 0.0
+        if system.head_free and ch == 0:  # the head's drag on its velocity
+            vx = y[nq + na]
+            vy = y[nq + na + 1]
+            c = C[off, 0]
+            s = C[off, 1]
+            el = c * vx + s * vy
+            et = -s * vx + c * vy
+            C[off, 6] -= gl * el * c - gt * et * s
+            C[off, 7] -= gl * el * s + gt * et * c
+        ax = 0.0
+        ay = 0.0
+        for i in range(n):
+            c = C[off + i, 0]
+            s = C[off + i, 1]
+            w = y[nq + off + i]
+            vx -= s * w
+            vy += c * w
+            ax -= c * w * w
+            ay -= s * w * w
+            el = c * vx + s * vy
+            et = -s * vx + c * vy
+            C[off + i, 4] += -(gl * el * c - gt * et * s) - m * ax
+            C[off + i, 5] += -(gl * el * s + gt * et * c) - m * ay
+    _project_node_forces(fac, system, C, acc)
+    general_mass(system, C, L[1])
+    cholesky(L[1], L[0])
+    chol_solve(L[0], out, nq)
+    if system.pinned:  # as eval_rhs_inertial (no head: nq = n)
+        g0 = -n * (1.0 - system.delta)
+        g1 = 0.0
+        v0 = 0.0
+        v1 = 0.0
+        d0 = 0.0
+        d1 = 0.0
+        for i in range(n):
+            c = C[i, 0]
+            s = C[i, 1]
+            w = y[nq + i]
+            g0 += c
+            g1 += s
+            v0 -= s * w
+            v1 += c * w
+            d0 -= c * w * w
+            d1 -= s * w * w
+            X[i, 0] = -s
+            X[i, 1] = c
+        chol_solve_cols(L[0], X, 0)
+        s00 = 0.0
+        s01 = 0.0
+        s10 = 0.0
+        s11 = 0.0
+        r0 = d0 + 2.0 * beta * v0 + beta * beta * g0
+        r1 = d1 + 2.0 * beta * v1 + beta * beta * g1
+        for i in range(n):
+            c = C[i, 0]
+            s = C[i, 1]
+            s00 -= s * X[i, 0]
+            s01 -= s * X[i, 1]
+            s10 += c * X[i, 0]
+            s11 += c * X[i, 1]
+            r0 -= s * acc[i]
+            r1 += c * acc[i]
+        det = s00 * s11 - s01 * s10
+        l0 = (s11 * r0 - s01 * r1) / det
+        l1 = (s00 * r1 - s10 * r0) / det
+        lam[0] = l0
+        lam[1] = l1
+        for i in range(n):
+            acc[i] -= X[i, 0] * l0 + X[i, 1] * l1
 
 
 @njit(cache=True)
@@ -1092,10 +1247,14 @@ def eval_rhs_inertial(y, fac, system, beta, out, L, D, X, lam):
 @njit(cache=True)
 def eval_state(y, fac, system, beta, out, L, D, X, lam):
     """The right-hand side of the integrated state: eval_rhs (overdamped, state th) when system.mass_ratio == 0,
-    exactly as before the inertial model existed; eval_rhs_inertial (state (th, om)) when it is > 0. The
-    workspace must match (state_workspace)."""
+    exactly as before the inertial model existed; eval_rhs_inertial (state (th, om)) when it is > 0, or
+    eval_rhs_inertial_general with an extended term (state (q, q'), q = angles then the free head). The workspace
+    must match (state_workspace)."""
     if system.mass_ratio > 0:
-        eval_rhs_inertial(y, fac, system, beta, out, L, D, X, lam)
+        if is_extended(system):
+            eval_rhs_inertial_general(y, fac, system, beta, out, L, D, X, lam)
+        else:
+            eval_rhs_inertial(y, fac, system, beta, out, L, D, X, lam)
     else:
         eval_rhs(y, fac, system, beta, out, L, D, X, lam)
 
@@ -1104,6 +1263,8 @@ def state_workspace(system: ChainSystem):
     """The workspace of eval_state for this system: `workspace` (overdamped; make_general_workspace's with an
     extended term) or make_inertial_workspace."""
     if system.mass_ratio > 0:
+        if system.extended:
+            return make_general_workspace(system.n_chains, system.n, system.n_angles + system.n_head)
         return make_inertial_workspace(system.n_chains, system.n)
     return workspace(system)
 
@@ -1146,7 +1307,13 @@ def rk4_piecewise(y, k0, facs, dt, nsub, system, beta, sidx, out, jptr):
     with facs[r]; records out[j] = the angles after sidx[j] steps. Returns the next jptr."""
     ns = y.size
     na = ns // 2
-    L, D, X, lam = make_inertial_workspace(system.n_chains, system.n)
+    if is_extended(system):  # the state (q, q'), q = angles then the free head: make_general_workspace
+        L = np.zeros((2, na, na))
+        D = np.zeros((system.n_chains * system.n, 8))
+        X = np.zeros((na, 2))
+        lam = np.zeros(2)
+    else:
+        L, D, X, lam = make_inertial_workspace(system.n_chains, system.n)
     k1 = np.empty(ns)
     k2 = np.empty(ns)
     k3 = np.empty(ns)
@@ -1159,19 +1326,19 @@ def rk4_piecewise(y, k0, facs, dt, nsub, system, beta, sidx, out, jptr):
         while jptr < sidx.size and sidx[jptr] == k:
             out[jptr, :] = y[:na]
             jptr += 1
-        for i in range(na):
+        for i in range(facs.shape[1]):
             fac[i] = facs[r, i]
         for _ in range(nsub):
-            eval_rhs_inertial(y, fac, system, beta, k1, L, D, X, lam)
+            eval_state(y, fac, system, beta, k1, L, D, X, lam)
             for i in range(ns):
                 yt[i] = y[i] + 0.5 * h * k1[i]
-            eval_rhs_inertial(yt, fac, system, beta, k2, L, D, X, lam)
+            eval_state(yt, fac, system, beta, k2, L, D, X, lam)
             for i in range(ns):
                 yt[i] = y[i] + 0.5 * h * k2[i]
-            eval_rhs_inertial(yt, fac, system, beta, k3, L, D, X, lam)
+            eval_state(yt, fac, system, beta, k3, L, D, X, lam)
             for i in range(ns):
                 yt[i] = y[i] + h * k3[i]
-            eval_rhs_inertial(yt, fac, system, beta, k4, L, D, X, lam)
+            eval_state(yt, fac, system, beta, k4, L, D, X, lam)
             for i in range(ns):
                 y[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
     return jptr

@@ -44,9 +44,11 @@ A free head, a harmonic trap and self-contact (ChainSystem.head_free, trap, cont
 contact.py): with any of them on, the right-hand side is kernels.eval_rhs_general (dense over all coordinates),
 taken by rhs, numba-DOP853, Euler-Maruyama and Heun alike; `jacobian` (and so `stiffness`, method=None's check and
 the implicit methods) is then a central-difference Jacobian of it (the analytic one knows none of these terms).
-The state is system.state_size long: the angles, then (head_free) the head's position (x_h, y_h). solve_ode and
-solve_sde return it whole, shape (len(t), state_size), and take the initial state either whole (theta0 of
-state_size numbers) or as the angles (n_angles numbers) plus the keyword head0 (default: the origin).
+The positions are the angles, then (head_free) the head's position (x_h, y_h): n_angles + 2 numbers. solve_ode
+and solve_sde return them whole, shape (len(t), n_angles + 2), and take the initial positions either whole (theta0
+of n_angles + 2 numbers) or as the angles (n_angles numbers) plus the keyword head0 (default: the origin). The
+inertial model has the same terms (kernels.eval_rhs_inertial_general; state (positions, rates), state_size numbers;
+solve_inertial returns that whole state).
 With every extended term off, everything runs exactly as before they existed.
 
 Every function takes the record and calls ChainSystem.typed() on it, so the compiled kernels see one
@@ -96,12 +98,12 @@ def rhs(system: ChainSystem, *, beta: float, factor=None):
     beta = float(beta)
     fac = system.force_factors(factor)
     if system.inertial:
-        L, D, X, lam = kernels.make_inertial_workspace(system.n_chains, system.n)
+        L, D, X, lam = kernels.state_workspace(system)
 
         def f_inertial(t, y):
             state = np.ascontiguousarray(y, dtype=float)
             out = np.empty(state.size)
-            kernels.eval_rhs_inertial(state, fac, system, beta, out, L, D, X, lam)
+            kernels.eval_state(state, fac, system, beta, out, L, D, X, lam)
             return out
 
         return f_inertial
@@ -128,7 +130,7 @@ def jacobian(system: ChainSystem, *, beta: float):
     over the whole state is taken by central differences of the compiled right-hand side (relative step 1e-7)."""
     system = system.typed()
     beta = float(beta)
-    if system.extended:
+    if system.extended:  # overdamped or inertial: central differences of the whole state's right-hand side
         return _numeric_jacobian(system, beta, None)
     if system.inertial:  # d(theta, omega)'/d(theta, omega), accelerations by central differences
         L, D, X, lam = kernels.make_inertial_workspace(system.n_chains, system.n)
@@ -180,8 +182,16 @@ def drag_matrix(system: ChainSystem, theta) -> np.ndarray:
 
 def mass_matrix(system: ChainSystem, theta) -> np.ndarray:
     """M(theta) of the inertial model (block diagonal for a pair): M_jk = m sum_{i >= max(j,k)} cos(th_j - th_k)
-    + I delta_jk with m = system.mass_ratio and I = m system.inertia_factor (zero for the overdamped model)."""
+    + I delta_jk with m = system.mass_ratio and I = m system.inertia_factor (zero for the overdamped model). With a
+    free head: over the angles then the head (theta: the positions, or the angles with the head at the origin)."""
     system = system.typed()
+    if system.head_free:  # over the angles and the head (kernels.general_mass: the head's bead included)
+        y = np.ascontiguousarray(theta, dtype=float).reshape(-1)
+        y = np.concatenate([y[: system.n_angles], np.zeros(2)]) if y.size == system.n_angles else y[: system.n_angles + 2]
+        L, C, _, _ = kernels.make_general_workspace(system.n_chains, system.n, y.size)
+        kernels._general_geometry(y, system, C)
+        kernels.general_mass(system, C, L[1])
+        return L[1].copy()
     theta = np.ascontiguousarray(theta, dtype=float)[: system.n_angles]
     return _block_diagonal(system, theta, lambda th, off, n, M: kernels.mass_block(th, off, n, system.mass_ratio,
                                                                                      system.inertia_factor, M))
@@ -189,13 +199,14 @@ def mass_matrix(system: ChainSystem, theta) -> np.ndarray:
 
 def _state(system: ChainSystem, y) -> np.ndarray:
     """The integrated state at y: the angles (overdamped); (theta, omega) for the inertial model, where a
-    state of n_angles numbers is taken as angles at rest; with a free head, the angles then the head, where a
-    state of n_angles numbers is taken with the head at the origin."""
+    state of n_angles numbers is taken as angles at rest; with a free head, the angles then the head (then,
+    inertial, their rates), where n_angles numbers are the angles with the head at the origin."""
     y = np.ascontiguousarray(y, dtype=float).reshape(-1)
-    if system.mass_ratio > 0 and y.size == system.n_angles:
-        return np.concatenate([y, np.zeros(system.n_angles)])
     if system.head_free and y.size == system.n_angles:
-        return np.concatenate([y, np.zeros(2)])
+        y = np.concatenate([y, np.zeros(2)])
+    nq = system.n_angles + system.n_head
+    if system.mass_ratio > 0 and y.size == nq:
+        return np.concatenate([y, np.zeros(nq)])
     return y
 
 
@@ -260,15 +271,15 @@ def constraint_violation(system: ChainSystem, theta) -> float:
 # integration
 # ----------------------------------------------------------------------------------------------
 def _samples_and_state(system: ChainSystem, t, theta0, head0=None) -> tuple[np.ndarray, np.ndarray]:
-    """The sample times, checked, and the initial state: the angles theta0 (n_angles numbers); with a free head
-    (overdamped), the angles then the head: theta0 of state_size numbers, or n_angles angles plus head0 (default
-    the origin)."""
+    """The sample times, checked, and the initial positions: the angles theta0 (n_angles numbers); with a free
+    head, the angles then the head: theta0 of n_angles + 2 numbers, or n_angles angles plus head0 (default the
+    origin)."""
     t = np.ascontiguousarray(t, dtype=float)
     if t.ndim != 1 or t.size == 0 or t[0] != 0.0 or np.any(np.diff(t) < 0):
         raise ParameterError("t must be a non-empty, non-decreasing 1-D array of sample times starting at 0")
     theta0 = np.array(theta0, dtype=float).reshape(-1)
-    if system.head_free and not system.inertial:
-        if theta0.size == system.state_size:
+    if system.head_free:
+        if theta0.size == system.n_angles + system.n_head:
             if head0 is not None:
                 raise ParameterError("give the head's position either at the end of theta0 or as head0, not both")
             return t, theta0
@@ -277,8 +288,8 @@ def _samples_and_state(system: ChainSystem, t, theta0, head0=None) -> tuple[np.n
             if head.size != 2 or not np.all(np.isfinite(head)):
                 raise ParameterError(f"head0 must be a finite point (x_h, y_h), got {head0!r}")
             return t, np.concatenate([theta0, head])
-        raise ParameterError(f"theta0 must have {system.n_angles} angles (plus head0), or {system.state_size} numbers "
-                             f"(the angles, then the head), got {theta0.size}")
+        raise ParameterError(f"theta0 must have {system.n_angles} angles (plus head0), or {system.n_angles + 2} "
+                             f"numbers (the angles, then the head), got {theta0.size}")
     if head0 is not None:
         raise ParameterError("head0: only a system with a free head (head_free) has a head position")
     if theta0.size != system.n_angles:
@@ -293,9 +304,9 @@ def solve_ode(
     """Integrate the deterministic model from theta0 at t = 0; returns (theta at the times t, info).
     The inertial model (system.mass_ratio > 0) starts at rest: solve_inertial, of which the angles are returned.
 
-    With a free head (system.head_free) the state is (angles, x_h, y_h): theta0 is either that whole state
-    (state_size numbers) or the angles with the head at head0 (default the origin), and the result has shape
-    (len(t), state_size), the head's position in its last two columns.
+    With a free head (system.head_free) the positions are (angles, x_h, y_h): theta0 is either all of them
+    (n_angles + 2 numbers) or the angles with the head at head0 (default the origin), and the result has shape
+    (len(t), n_angles + 2), the head's position in its last two columns (also for the inertial model).
 
     method: None (automatic: "numba-DOP853", or "Radau" when the linearisation at theta0 is stiff, see
     the module docstring), "numba-DOP853", or any name in SCIPY_METHODS. info holds rtol, atol, method,
@@ -313,7 +324,7 @@ def solve_ode(
         raise ParameterError(f"method must be None, one of {COMPILED_METHODS + SCIPY_METHODS}, got {method!r}")
     if system.inertial:
         y, info = solve_inertial(system, t, theta0, rtol=rtol, atol=atol, method=method, beta=beta, loads=loads)
-        return y[:, : system.n_angles].copy(), info
+        return y[:, : theta0.size].copy(), info
     loads = _loads(system, loads)
     info = {"rtol": rtol, "atol": atol}
     if method is None:
@@ -373,22 +384,24 @@ def _inertial_method(eig: np.ndarray) -> str:
 
 def solve_inertial(
     system: ChainSystem, t, theta0, *, rtol: float, atol: float, method: str | None = None, beta: float,
-    omega0=None, loads=None,
+    omega0=None, loads=None, head0=None,
 ) -> tuple[np.ndarray, dict]:
     """Integrate the inertial model (system.mass_ratio > 0) from (theta0, omega0) at t = 0 (omega0 default 0:
     at rest, as MuJoCo starts); returns (the states (theta, omega) at the times t, shape (len(t), 2 n_angles),
     info). method: None (numba-DOP853, or Radau when stiff, see _inertial_method), "numba-DOP853" or a name
     in SCIPY_METHODS (implicit ones get the finite-difference Jacobian, kernels.eval_jacobian_inertial).
-    loads: per-particle load factors as in solve_ode."""
+    loads: per-particle load factors as in solve_ode. With a free head the positions are (angles, x_h, y_h) (theta0
+    whole or with head0, as in solve_ode), omega0 their rates, and the states (positions, rates), 2 (n_angles + 2)
+    numbers."""
     system = system.typed()
     if not system.inertial:
         raise ParameterError("solve_inertial integrates the inertial model: system.mass_ratio must be > 0")
-    t, theta0 = _samples_and_state(system, t, theta0)
+    t, theta0 = _samples_and_state(system, t, theta0, head0)
     if method is not None and method not in COMPILED_METHODS + SCIPY_METHODS:
         raise ParameterError(f"method must be None, one of {COMPILED_METHODS + SCIPY_METHODS}, got {method!r}")
-    omega0 = np.zeros(system.n_angles) if omega0 is None else np.array(omega0, dtype=float).reshape(-1)
-    if omega0.size != system.n_angles:
-        raise ParameterError(f"omega0 must have {system.n_angles} rates, got {omega0.size}")
+    omega0 = np.zeros(theta0.size) if omega0 is None else np.array(omega0, dtype=float).reshape(-1)
+    if omega0.size != theta0.size:
+        raise ParameterError(f"omega0 must have {theta0.size} rates, got {omega0.size}")
     y0 = np.concatenate([theta0, omega0])
     loads = _loads(system, loads)
     info = {"rtol": rtol, "atol": atol, "model": "inertial", "mass_ratio": system.mass_ratio}
@@ -471,12 +484,12 @@ def _solve_sde_inertial(system, t, theta0, dt, factors, beta, sidx, total, out):
     no projection onto the pins (the Baumgarte term holds them)."""
     radius = spectral_radius(system, theta0, beta=beta)
     nsub = max(1, int(np.ceil(dt * radius / RK4_STEP)))
-    y = np.concatenate([theta0, np.zeros(system.n_angles)])
+    y = np.concatenate([theta0, np.zeros(theta0.size)])
     jptr = 0
     for k0, facs in _factor_chunks(system, total, factors):
         jptr = kernels.rk4_piecewise(y, k0, facs, dt, nsub, system, beta, sidx, out, jptr)
     while jptr < t.size:
-        out[jptr] = y[: system.n_angles]
+        out[jptr] = y[: theta0.size]
         jptr += 1
     info = {"method": "RK4 (noise constant over each step)", "dt": dt, "substeps": nsub, "nsteps": total * nsub,
             "nfev": 4 * total * nsub, "model": "inertial", "mass_ratio": system.mass_ratio}

@@ -58,7 +58,8 @@ class ChainSystem(NamedTuple):
                        each core end of a link against the core of every non-adjacent link (|i - j| >= 2) of the
                        same chain (contact.py: for a single contact, exactly K/2 max(0, 2R - d)^2 of the cores'
                        distance d); must be > 0 when contact_radius > 0
-    The inertial model (mass_ratio > 0) has none of these terms: typed() raises a ParameterError for them.
+    The inertial model (mass_ratio > 0) has them too (kernels.eval_rhs_inertial_general); its free head is a bead
+    like the particles' (mass m at the pivot, turning with the first pendulum), as MuJoCo's paraboloid scene builds it.
     """
 
     n: int
@@ -101,8 +102,9 @@ class ChainSystem(NamedTuple):
     @property
     def state_size(self) -> int:
         """Numbers in the integrated state: n_angles (overdamped), n_angles + 2 with a free head (angles, then
-        x_h, y_h), 2 n_angles (inertial: angles, then rates)."""
-        return 2 * self.n_angles if self.mass_ratio > 0 else self.n_angles + self.n_head
+        x_h, y_h); inertial: twice that (positions, then their rates)."""
+        positions = self.n_angles + self.n_head
+        return 2 * positions if self.mass_ratio > 0 else positions
 
     def stiffness(self, chain: int) -> float:
         """Joint stiffness of chain `chain` (0 or 1) in units of C1."""
@@ -139,11 +141,6 @@ class ChainSystem(NamedTuple):
             raise ParameterError(f"contact_stiffness must be finite and >= 0, got {self.contact_stiffness!r}")
         if self.contact_radius > 0 and not self.contact_stiffness > 0:
             raise ParameterError("contact_radius > 0 needs contact_stiffness > 0 (the penalty of an overlap)")
-        if self.mass_ratio > 0 and self.extended:
-            raise ParameterError(
-                "the inertial model (mass_ratio > 0) has no free head, trap or self-contact: those terms exist in the "
-                "overdamped model only (set mass_ratio = 0, or head_free = False, trap = 0 and contact_radius = 0)"
-            )
         return ChainSystem(
             n=int(self.n), n_chains=int(self.n_chains), clamped=bool(self.clamped), pinned=bool(self.pinned),
             sigma=float(self.sigma), gamma_l=float(self.gamma_l), gamma_t=float(self.gamma_t),

@@ -16,7 +16,7 @@ discarded from ``t[0]``, ``None``: the first half of the record's duration), and
 - Rates are in rad per tau, counter-clockwise positive. The body's rotation rate is
   :func:`observables.rotation_rate` (the mean d theta_1/dt); it is not repeated here.
 
-:func:`dish_state` sorts a run into ``"rest"``, ``"spin"``, ``"orbit"``, ``"crawl"`` or
+:func:`dish_state` sorts a run into ``"rest"``, ``"spin"``, ``"orbit"``, ``"crawl"``, ``"beat"`` or
 ``"irregular"``, with the thresholds below (module constants, each used in one place).
 """
 
@@ -37,6 +37,7 @@ __all__ = [
     "DRIFT_RTOL",
     "MIN_ORBIT_RADIUS",
     "MAX_POLAR_STEP",
+    "BEAT_SPREAD",
     "STATES",
     "positions",
     "centre_of_mass",
@@ -75,7 +76,10 @@ MIN_ORBIT_RADIUS = 1e-6
 MAX_POLAR_STEP = math.pi / 2
 """rad: a polar angle that changes by more than this between two samples cannot be unwrapped reliably
 (the centre of mass passes too close to the centre for the sampling); the orbit rate is then NaN."""
-STATES = ("rest", "spin", "orbit", "crawl", "irregular")
+BEAT_SPREAD = 0.01
+"""A chain that neither turns nor goes round beats in place when the cycle periods and amplitudes of its Theta
+vary by at most this (std / mean; results.PERIODIC_SPREAD's level): the flagellar beat, its head held by the dish."""
+STATES = ("rest", "spin", "orbit", "crawl", "beat", "irregular")
 """The values :func:`dish_state` returns."""
 
 
@@ -232,6 +236,13 @@ def _at_rest(ts: np.ndarray, p: np.ndarray) -> bool:
     return math.sqrt(last) <= REST_SLOWDOWN * math.sqrt(first)
 
 
+def _beats(ts: np.ndarray, big_theta: np.ndarray) -> bool:
+    """Whether Theta = theta_N - theta_1 beats periodically: at least two whole cycles whose periods and amplitudes
+    vary by at most :data:`BEAT_SPREAD` (std / mean)."""
+    c = obs.cycles(ts, big_theta, transient=0.0)
+    return c.count >= 2 and max(c.period_spread, c.amplitude_spread) <= BEAT_SPREAD
+
+
 def _drifts(r1: float, r2: float) -> bool:
     if math.isnan(r1) != math.isnan(r2):
         return True
@@ -261,8 +272,10 @@ def dish_state(t, theta, head, transient: float | None = None) -> str:
     - ``"crawl"`` if R is larger, |Omega| > :data:`REST_RATE` and omega differs from Omega: it goes
       round the centre while its body turns at another rate (the supplement's "crawls in circles";
       includes a body that does not turn at all);
-    - ``"irregular"`` otherwise, none of these steady patterns (e.g. a chain that beats in place
-      without turning, drifts at a steady speed, or turns away from the centre without going round it).
+    - ``"beat"`` if it neither turns nor goes round nor rests, and Theta = theta_N - theta_1 beats
+      periodically (:data:`BEAT_SPREAD`): the flagellar beat in place, the dish holding the head;
+    - ``"irregular"`` otherwise, none of these steady patterns (e.g. a chain that drifts at a steady
+      speed, or turns away from the centre without going round it).
 
     The centre of mass is that of the N + 1 points (:func:`centre_of_mass`).
     """
@@ -276,7 +289,9 @@ def dish_state(t, theta, head, transient: float | None = None) -> str:
     turns = abs(omega) > REST_RATE
     goes_round = not math.isnan(big_omega) and abs(big_omega) > REST_RATE
     if not turns and not goes_round:
-        return "rest" if _at_rest(ts, positions(a, h)) else "irregular"
+        if _at_rest(ts, positions(a, h)):
+            return "rest"
+        return "beat" if _beats(ts, a[:, -1] - a[:, 0]) else "irregular"
     com = centre_of_mass(a, h)
     radius = float(np.mean(np.hypot(com[:, 0], com[:, 1])))
     if turns and radius < SPIN_RADIUS * a.shape[1]:

@@ -17,6 +17,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from . import registry
+from .analysis.reduced.system import CONTACT_LENGTH
 from .errors import ParameterError
 
 NOISE_CALCULI = ("ito", "stratonovich")
@@ -98,6 +99,11 @@ class Physics:
     loaded      particles carrying the follower force: "all" (the paper), "tip" (the last particle: the
                 tip-loaded column) or 1-based indices "1,3,7"; the same particles on both chains of a pair.
                 Reported only when not "all" (load_mask: the boolean mask per particle)
+    contact     self-contact (off by default): each link carries a capsule of radius contact_radius and length
+                CONTACT_LENGTH that collides with the capsules of non-adjacent links of its own chain (never
+                neighbours, never the other chain of a pair); contact_radius and contact_friction are reported
+                only with contact on
+    trap        the paraboloid dish's harmonic trap: force -k r on every particle and on the head, k l^2 / C1
     """
 
     scene: str = DEFAULT_SCENE
@@ -116,6 +122,14 @@ class Physics:
         "choices": NOISE_CALCULI})
     loaded: str = field(default="all", metadata={
         "help": "particles carrying the follower force: all, tip, or 1-based indices like 1,3,7"})
+    contact: bool = field(default=False, metadata={
+        "help": "self-contact: the links' capsules collide with non-adjacent links of the same chain"})
+    contact_radius: float = field(default=0.1, metadata={
+        "help": "radius of each link's capsule, in l (with --contact; the capsule is 0.7 l long)"})
+    contact_friction: float = field(default=0.0, metadata={
+        "help": "friction coefficient between capsules (with --contact; 0: frictionless)"})
+    trap: float = field(default=0.1, metadata={
+        "help": "stiffness k l^2 / C1 of the dish's harmonic trap -k r on every particle and the head"})
 
     def __post_init__(self) -> None:
         try:
@@ -131,7 +145,11 @@ class Physics:
             raise ParameterError(f"n (number of particles N) must be >= 1, got {self.n}")
         if self.n > 1000:
             raise ParameterError(f"n (number of particles N) must be <= 1000, got {self.n}")
-        for name in ("sigma", "delta", "kappa", "rho", "drag_ratio", "noise", "noise_correlation"):
+        if not isinstance(self.contact, (bool, np.bool_)):
+            raise ParameterError(f"contact must be true or false, got {self.contact!r}")
+        object.__setattr__(self, "contact", bool(self.contact))
+        for name in ("sigma", "delta", "kappa", "rho", "drag_ratio", "noise", "noise_correlation", "contact_radius",
+                     "contact_friction", "trap"):
             object.__setattr__(self, name, _finite(name, getattr(self, name)))
         if self.sigma < 0:
             raise ParameterError(f"sigma (elasto-active number) must be >= 0, got {self.sigma}")
@@ -149,6 +167,13 @@ class Physics:
             raise ParameterError(f"noise_correlation (tau_c, 0: white) must be >= 0, got {self.noise_correlation}")
         if self.noise_calculus not in NOISE_CALCULI:
             raise ParameterError(f"noise_calculus must be one of {', '.join(NOISE_CALCULI)}, got {self.noise_calculus!r}")
+        if not 0 < self.contact_radius < CONTACT_LENGTH / 2:
+            raise ParameterError(f"contact_radius (capsule radius, in l) must lie in (0, {CONTACT_LENGTH / 2:g}) (the "
+                                 f"capsule is {CONTACT_LENGTH:g} l long), got {self.contact_radius}")
+        if self.contact_friction < 0:
+            raise ParameterError(f"contact_friction (friction coefficient) must be >= 0, got {self.contact_friction}")
+        if self.trap < 0:
+            raise ParameterError(f"trap (trap stiffness k l^2 / C1) must be >= 0, got {self.trap}")
         object.__setattr__(self, "loaded", _loaded(self.loaded, self.n))
         scene.check(self)
 

@@ -11,6 +11,8 @@ What a frame shows (top-down camera that frames the whole motion):
     noise; capped at ARROW_MAX)
   - fading trails of the particle paths over the last `trail` seconds of video
   - for the coupled pair, the coupling spring as a zigzag between the two first particles
+  - with self-contact, the links' capsules and a marker at every contact; for the paraboloid, the dish (rings of
+    equal height) and the trap's springs
   - a caption: scene, N, sigma (delta, kappa, rho where they apply) and the time in tau
 
 Time: frame k shows t = t_start + k * rate / fps, with `rate` in tau per second of video.
@@ -36,7 +38,7 @@ import numpy as np
 
 from .analysis import observables as obs
 from .errors import ParameterError
-from .model import build_model, relative_angles
+from .model import build_model, qpos_of
 from .outputs import atomic_file
 from .progress import progress_bar
 from .params import Numerics, Physics
@@ -148,25 +150,36 @@ def _renderer(model, height: int, width: int, max_geom: int):
 # --------------------------------------------------------------------------- kinematics and timing
 
 
-def particle_positions(physics: Physics, theta: np.ndarray) -> np.ndarray:
-    """Particle positions (..., n_chains, N, 2) in units of l from absolute angles (..., n_angles)."""
+def particle_positions(physics: Physics, theta: np.ndarray, head: np.ndarray | None = None) -> np.ndarray:
+    """Particle positions (..., n_chains, N, 2) in units of l from absolute angles (..., n_angles) and, for a scene
+    whose pivot moves, the head's position (..., 2)."""
     theta = np.asarray(theta, dtype=float)
     a = theta.reshape(theta.shape[:-1] + (physics.n_chains, physics.n))
     xy = np.stack([np.cumsum(np.cos(a), axis=-1), np.cumsum(np.sin(a), axis=-1)], axis=-1)
     for k in range(physics.n_chains):
         xy[..., k, :, 1] += physics.scene_def.chain_offset(physics, k)
+    if head is not None:
+        xy[..., 0, :, :] += np.asarray(head, dtype=float)[..., None, :]
     return xy
+
+
+def _interpolate(t: np.ndarray, values: np.ndarray, times: np.ndarray) -> np.ndarray:
+    times = np.clip(np.asarray(times, dtype=float), t[0], t[-1])
+    if t.size == 1:
+        return np.broadcast_to(values[0], times.shape + values.shape[1:]).copy()
+    i = np.clip(np.searchsorted(t, times, side="right") - 1, 0, t.size - 2)
+    w = ((times - t[i]) / (t[i + 1] - t[i]))[..., None]
+    return (1.0 - w) * values[i] + w * values[i + 1]
 
 
 def interpolate(traj: Trajectory, times: np.ndarray) -> np.ndarray:
     """Angles at `times` (linear interpolation between samples, clipped to the record)."""
-    t = traj.t
-    times = np.clip(np.asarray(times, dtype=float), t[0], t[-1])
-    if t.size == 1:
-        return np.broadcast_to(traj.theta[0], times.shape + traj.theta.shape[1:]).copy()
-    i = np.clip(np.searchsorted(t, times, side="right") - 1, 0, t.size - 2)
-    w = ((times - t[i]) / (t[i + 1] - t[i]))[..., None]
-    return (1.0 - w) * traj.theta[i] + w * traj.theta[i + 1]
+    return _interpolate(traj.t, traj.theta, times)
+
+
+def interpolate_head(traj: Trajectory, times: np.ndarray) -> np.ndarray | None:
+    """The head's position at `times` (as `interpolate`), or None for a scene whose pivot does not move."""
+    return None if traj.head is None else _interpolate(traj.t, traj.head, times)
 
 
 def default_rate(traj: Trajectory) -> float:
@@ -311,19 +324,27 @@ class _Painter:
         # frame the whole motion: every particle at every time shown, trails included
         t0 = bounds_times[0] - self.trail_tau
         span = np.concatenate([bounds_times, traj.t[(traj.t >= t0) & (traj.t <= bounds_times[-1])]])
-        xy = particle_positions(physics, interpolate(traj, span))
+        xy = particle_positions(physics, interpolate(traj, span), interpolate_head(traj, span))
         self.camera = _camera(physics, xy, width, height, self.caption.h, float(self.model.vis.global_.fovy))
         self.renderer = _renderer(self.model, height, width, self.model.ngeom + n_extra + 100)
+        self.options = mujoco.MjvOption()
+        if physics.contact:  # self-contacts drawn where the capsules touch (mj_forward of the frame finds them; a
+            # force would not be the run's: the render state has no velocities and no follower forces)
+            self.options.flags[mujoco.mjtVisFlag.mjVIS_CONTACTPOINT] = True
+            self.model.vis.scale.contactwidth = 0.2
+            self.model.vis.scale.contactheight = 0.08
 
     def close(self) -> None:
         self.renderer.close()
 
     def frame(self, t: float) -> np.ndarray:
         physics, data = self.physics, self.data
-        data.qpos[:] = relative_angles(physics, interpolate(self.traj, np.array([t]))[0])
+        now = np.array([t])
+        head = interpolate_head(self.traj, now)
+        data.qpos[:] = qpos_of(physics, interpolate(self.traj, now)[0], None if head is None else head[0])
         data.time = t
-        mujoco.mj_forward(self.model, data)
-        self.renderer.update_scene(data, self.camera)
+        mujoco.mj_forward(self.model, data)  # with self-contact, this also finds the contacts drawn
+        self.renderer.update_scene(data, self.camera, self.options)
         scene = self.renderer.scene
         if self.trail_tau > 0:
             self._trails(scene, t)
@@ -346,7 +367,7 @@ class _Painter:
         if t - t0 <= 0:
             return
         times = np.linspace(t0, t, TRAIL_POINTS + 1)
-        xy = particle_positions(self.physics, interpolate(self.traj, times))  # (P, C, N, 2)
+        xy = particle_positions(self.physics, interpolate(self.traj, times), interpolate_head(self.traj, times))
         z = np.full(times.shape + (1,), -0.1)
         for c in range(self.physics.n_chains):
             for i in self.trailed:
@@ -513,5 +534,5 @@ def render_trajectory(
 
 __all__ = [
     "RenderError", "gl_backend", "probe_backend", "render_frames", "render_still", "render_trajectory",
-    "default_rate", "frame_times", "particle_positions", "interpolate", "setup_ffmpeg", "INSTALL_HINT",
+    "default_rate", "frame_times", "particle_positions", "interpolate", "interpolate_head", "setup_ffmpeg", "INSTALL_HINT",
 ]

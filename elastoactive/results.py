@@ -13,6 +13,8 @@ from pathlib import Path
 import numpy as np
 
 from .analysis import observables as obs
+from .analysis import spectrum
+from .analysis.reduced.contact import capsule_clearance
 from .errors import ParameterError
 from .outputs import sha256, write_files
 from .params import Numerics, Physics
@@ -30,6 +32,9 @@ class Observable:
     floor: float = 1e-3
 
 
+HARMONICS = 5
+"""Harmonics of Theta every run reports (Results.harmonics)."""
+
 OBSERVABLES: dict[str, Observable] = {
     "amplitude": Observable("rad", "amplitude of Theta = theta_N - theta_1 (half peak-to-peak)", per_chain=True),
     "frequency": Observable("1/tau", "oscillation frequency f*tau of Theta", per_chain=True),
@@ -39,6 +44,19 @@ OBSERVABLES: dict[str, Observable] = {
                                      error="absolute"),
     "period_spread": Observable("1", "std / mean of the cycle periods of Theta (NaN with fewer than 2 cycles)",
                                 per_chain=True, error="none"),
+    "harmonics": Observable("1", f"amplitudes of harmonics 1-{HARMONICS} of Theta relative to the fundamental "
+                            "(NaN without a periodic beat)", per_chain=True, error="none"),
+    "contact_fraction": Observable("1", "share of recorded samples with at least one self-contact (overlapping "
+                                   "capsules of non-adjacent links)", error="absolute", floor=0.0),
+    "min_clearance": Observable("l", "smallest clearance between capsules of non-adjacent links over the measured "
+                                "window (negative: overlap)", error="none"),
+    "orbit_rate": Observable("rad/tau", "mean angular velocity of the centre of mass about the dish's centre",
+                             floor=1e-6),
+    "orbit_radius": Observable("l", "mean distance of the centre of mass from the dish's centre", floor=1e-3),
+    "curvature": Observable("1/l", "mean curvature of the chain (theta_{i+1} - theta_i per l, signed)",
+                            floor=1e-4),
+    "dish_state": Observable("", "state of the chain in the dish: rest, spin, orbit, crawl or irregular",
+                             error="none"),
 }
 """Every observable a scene can report, in one place (Scene.observables names them)."""
 
@@ -68,6 +86,12 @@ class Results:
                           PERIODIC_SPREAD from cycle to cycle: use statistics, not one number), None
                           when the window holds too few cycles to tell
     period_spread         std / mean of the cycle periods of Theta (per chain; NaN below 2 cycles)
+    harmonics             amplitudes of harmonics 1 .. HARMONICS of Theta relative to the fundamental (element 0
+                          is 1; per chain for the pair); NaN without a periodic beat (analysis.spectrum)
+    contact_fraction      with self-contact on: the share of recorded samples (after the transient) with at least
+                          one overlap between capsules of non-adjacent links; min_clearance: their smallest
+                          clearance (negative: the deepest overlap). Measured on the trajectory's geometry, the
+                          same way for both engines
     notes                 what a user should know about these numbers (the CLI prints them as warnings)
     the rest              set only for the scenes that report them (Scene.observables), else None
     extra                 observables of plug-in scenes not listed in OBSERVABLES
@@ -78,9 +102,16 @@ class Results:
     periodic: bool | None = None
     period_spread: PerChain = math.nan
     notes: tuple[str, ...] = ()
+    harmonics: tuple[float, ...] | tuple[tuple[float, ...], ...] = ()
     snap_amplitude: float | None = None
     rotation_rate: float | None = None
     frequency_mismatch: float | None = None
+    contact_fraction: float | None = None
+    min_clearance: float | None = None
+    orbit_rate: float | None = None
+    orbit_radius: float | None = None
+    curvature: float | None = None
+    dish_state: str | None = None
     extra: Mapping[str, float] = field(default_factory=dict)
 
     def as_dict(self) -> dict:
@@ -91,7 +122,7 @@ class Results:
             if f.name == "extra":
                 out.update(value)
             elif f.name in ("frequency", "periodic") or value is not None:  # null says "could not be measured"
-                out[f.name] = list(value) if isinstance(value, tuple) else value
+                out[f.name] = _listed(value)
         return out
 
     def value(self, name: str):
@@ -99,6 +130,11 @@ class Results:
         if name in {f.name for f in fields(self)} and name != "extra":
             return getattr(self, name)
         return self.extra.get(name)
+
+
+def _listed(value):
+    """Tuples (per chain, harmonics; nested for the pair's harmonics) as lists."""
+    return [_listed(v) for v in value] if isinstance(value, tuple) else value
 
 
 def default_transient(duration: float) -> float:
@@ -113,8 +149,12 @@ def measure(traj: Trajectory, transient: float | None = None) -> Results:
     transient = default_transient(t[-1] - t[0]) if transient is None else transient
     physics = traj.physics
     scene = physics.scene_def
-    beats = [_beat(t, obs.curvature(traj.chain(k)), transient) for k in range(physics.n_chains)]
+    thetas = [obs.curvature(traj.chain(k)) for k in range(physics.n_chains)]
+    beats = [_beat(t, x, transient) for x in thetas]
+    spectra = [tuple(float(a) for a in spectrum.harmonics(t, x, transient, HARMONICS)) for x in thetas]
     extra = scene.measure_extra(traj, transient)
+    if physics.contact:
+        extra.update(_contact(traj, transient))
     known = {k: extra.pop(k) for k in list(extra) if k in _RESULT_FIELDS}
     verdicts = [b.periodic for b in beats]
     periodic = False if False in verdicts else (None if None in verdicts else True)
@@ -127,7 +167,17 @@ def measure(traj: Trajectory, transient: float | None = None) -> Results:
         amplitude, frequency, spread = (c[0] for c in columns)
     else:
         amplitude, frequency, spread = (tuple(c) for c in columns)
-    return Results(amplitude, frequency, periodic, spread, tuple(notes), **known, extra=extra)
+    harmonics = spectra[0] if physics.n_chains == 1 else tuple(spectra)
+    return Results(amplitude, frequency, periodic, spread, tuple(notes), harmonics, **known, extra=extra)
+
+
+def _contact(traj: Trajectory, transient: float) -> dict[str, float]:
+    """contact_fraction and min_clearance of a run with self-contact, from the capsules' geometry (every chain)."""
+    steady = traj.t - traj.t[0] >= transient
+    head = None if traj.head is None else traj.head[steady]
+    clearance = np.min([capsule_clearance(traj.chain(k)[steady], traj.physics.contact_radius, head)
+                        for k in range(traj.physics.n_chains)], axis=0)
+    return {"contact_fraction": float(np.mean(clearance < 0.0)), "min_clearance": float(np.min(clearance))}
 
 
 @dataclass(frozen=True)
@@ -174,7 +224,8 @@ def _beat(t: np.ndarray, theta_diff: np.ndarray, transient: float) -> _Beat:
     return _Beat(amplitude, frequency, True, cycles.period_spread, ())
 
 
-_RESULT_FIELDS = {"snap_amplitude", "rotation_rate", "frequency_mismatch"}
+_RESULT_FIELDS = {"snap_amplitude", "rotation_rate", "frequency_mismatch", "contact_fraction", "min_clearance",
+                  "orbit_rate", "orbit_radius", "curvature", "dish_state"}
 
 
 def check_transient(duration: float, transient: float | None) -> float:
@@ -225,13 +276,15 @@ def jsonable(value):
 
 
 def write_run(out: Path, traj: Trajectory, summary_dict: dict) -> list[Path]:
-    """summary.json and trajectory.npz (t in tau, theta: one column per particle), written together:
+    """summary.json and trajectory.npz (t in tau, theta: one column per particle; head (T, 2) for a scene whose
+    pivot moves), written together:
     each into a temporary file first, the trajectory renamed into place before the summary that
     records its SHA-256, so a summary never describes another trajectory unnoticed."""
     checksum = {}
 
     def trajectory(tmp: Path) -> None:
-        np.savez_compressed(tmp, t=traj.t, theta=traj.theta, scene=traj.physics.scene, n=traj.physics.n)
+        head = {} if traj.head is None else {"head": traj.head}
+        np.savez_compressed(tmp, t=traj.t, theta=traj.theta, scene=traj.physics.scene, n=traj.physics.n, **head)
         checksum["sha256"] = sha256(tmp)
 
     def summary_file(tmp: Path) -> None:
@@ -273,10 +326,11 @@ def load_trajectory(path: Path, physics: Physics | None = None) -> Trajectory:
     try:
         with np.load(path) as f:
             t, theta = np.asarray(f["t"], dtype=float), np.asarray(f["theta"], dtype=float)
+            head = np.asarray(f["head"], dtype=float) if physics.scene_def.head_coordinates else None
     except FileNotFoundError:
         raise ParameterError(f"{path} not found") from None
     except KeyError as err:
-        raise ParameterError(f"{path} lacks the array {err} (expected t and theta)") from None
+        raise ParameterError(f"{path} lacks the array {err} (expected t and theta, and head for a moving pivot)") from None
     except (OSError, ValueError, EOFError, zipfile.BadZipFile) as err:
         raise ParameterError(f"{path} is not a readable trajectory.npz (truncated or foreign file: {err})") from None
     if t.ndim != 1 or t.size < 2 or theta.shape != (t.size, physics.n_angles):
@@ -284,10 +338,14 @@ def load_trajectory(path: Path, physics: Physics | None = None) -> Trajectory:
                              f"for {physics.scene_def.label(physics)}; got {t.shape} and {theta.shape}")
     if not (np.all(np.isfinite(t)) and np.all(np.diff(t) > 0)):
         raise ParameterError(f"{path}: the sample times t are not finite and increasing")
-    if not np.all(np.isfinite(theta)):
-        bad = t[~np.all(np.isfinite(theta), axis=1)][0]
+    if head is not None and head.shape != (t.size, physics.scene_def.head_coordinates):
+        raise ParameterError(f"{path}: expected head of shape ({t.size}, {physics.scene_def.head_coordinates}), got "
+                             f"{head.shape}")
+    state = theta if head is None else np.hstack([theta, head])
+    if not np.all(np.isfinite(state)):
+        bad = t[~np.all(np.isfinite(state), axis=1)][0]
         raise ParameterError(f"{path}: the angles are not finite from t = {bad:g} tau on (a diverged run?)")
     if recorded is not None and recorded.get("trajectory_sha256") not in (None, sha256(path)):
         raise ParameterError(f"{path} is not the trajectory {summary_file.name} describes (checksum differs: an "
                              "interrupted or mixed write); re-run the simulation")
-    return Trajectory(t=t, theta=theta, physics=physics, engine=(recorded or {}).get("engine", "file"))
+    return Trajectory(t=t, theta=theta, physics=physics, engine=(recorded or {}).get("engine", "file"), head=head)

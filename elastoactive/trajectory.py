@@ -11,7 +11,9 @@ from .params import Physics
 
 @dataclass
 class Trajectory:
-    """t: (T,) times in tau; theta: (T, n_angles) absolute angles (chain 1 then chain 2)."""
+    """t: (T,) times in tau; theta: (T, n_angles) absolute angles (chain 1 then chain 2); head: (T, 2) position
+    of the first pendulum's pivot for scenes whose pivot moves (Scene.head_coordinates: the paraboloid), else
+    None (the pivot sits at the origin)."""
 
     t: np.ndarray
     theta: np.ndarray
@@ -19,6 +21,7 @@ class Trajectory:
     engine: str
     wall_time_s: float = 0.0
     info: dict = field(default_factory=dict)
+    head: np.ndarray | None = None
 
     def chain(self, k: int) -> np.ndarray:
         """Angles of chain k (0 or 1), shape (T, N)."""

@@ -80,9 +80,11 @@ def observable_errors(physics: Physics, value: Results, reference: Results) -> d
     scene = physics.scene_def
     errors: dict[str, float] = {}
     for name in dict.fromkeys((*scene.compared, *scene.observables)):
-        a, b = _values(value.value(name)), _values(reference.value(name))
         kind = OBSERVABLES[name]
-        if kind.error == "none" or (np.all(np.isnan(a)) and np.all(np.isnan(b))):
+        if kind.error == "none":
+            continue
+        a, b = _values(value.value(name)), _values(reference.value(name))
+        if np.all(np.isnan(a)) and np.all(np.isnan(b)):
             continue  # measured by neither engine (e.g. a frequency over too short a window)
         if np.any(np.isnan(a) != np.isnan(b)):  # measured by one engine only: no agreement to claim
             errors[name] = math.inf

@@ -160,15 +160,21 @@ def test_orbit_with_a_beat_on_top():
     assert dish.dish_state(T, theta, head) == "orbit"
 
 
-def test_irregular_when_the_rates_drift_or_it_only_beats():
+def test_irregular_when_the_rates_drift_or_it_beats_irregularly():
     theta = SHAPE[None, :] + (0.02 * T + 0.0004 * T**2)[:, None]  # the body spins up
     head = -body_com(theta)
     assert dish.dish_state(T, theta, head) == "irregular"
-    theta, head = trajectory(0.0, 0.0, 2.0)  # beating in place, no net rotation
-    theta = theta + 0.5 * np.sin(2 * np.pi * 0.2 * T)[:, None] * np.linspace(0, 1, N)[None, :]
-    assert dish.dish_state(T, theta, head) == "irregular"
     theta, head = trajectory(0.1, 0.0, 3.0)  # turning in place far from the centre, not going round
     assert dish.dish_state(T, theta, head) == "irregular"
+    theta, head = trajectory(0.0, 0.0, 2.0)  # beating in place with a period that wanders
+    wobble = 0.5 * np.sin(2 * np.pi * (0.2 * T + 0.8 * np.sin(2 * np.pi * T / 97.0)))
+    assert dish.dish_state(T, theta + wobble[:, None] * np.linspace(0, 1, N)[None, :], head) == "irregular"
+
+
+def test_beat_when_it_beats_in_place_without_turning():
+    theta, head = trajectory(0.0, 0.0, 2.0)
+    theta = theta + 0.5 * np.sin(2 * np.pi * 0.2 * T)[:, None] * np.linspace(0, 1, N)[None, :]
+    assert dish.dish_state(T, theta, head) == "beat"
 
 
 def test_transient_is_discarded():
@@ -183,7 +189,7 @@ def test_transient_is_discarded():
 
 
 def test_states_are_the_documented_ones():
-    assert set(dish.STATES) == {"rest", "spin", "orbit", "crawl", "irregular"}
+    assert set(dish.STATES) == {"rest", "spin", "orbit", "crawl", "beat", "irregular"}
 
 
 # ----------------------------------------------------------------------------- invalid inputs

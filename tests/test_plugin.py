@@ -81,7 +81,7 @@ def test_toy_through_run(toy, tmp_path):
                  "--quiet"]) == 0
     summary = json.loads((out / "summary.json").read_text())
     assert summary["parameters"]["scene"] == toy.name and "rho" not in summary["parameters"]
-    assert set(summary["results"]) == {"amplitude", "frequency", "periodic", "period_spread", "notes", "rotation_rate"}
+    assert set(summary["results"]) == {"amplitude", "frequency", "periodic", "period_spread", "notes", "harmonics", "rotation_rate"}
     assert len(summary["results"]["amplitude"]) == 2
 
 

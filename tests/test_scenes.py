@@ -54,8 +54,9 @@ def test_each_scene_holds_only_what_it_needs(scene, n):
     physics = Physics(scene=scene, n=n)
     model = build_model(physics)
     chains = physics.n_chains
-    assert model.nq == model.nv == n * chains  # one hinge per particle, nothing else
-    assert model.nu == 2 * n * chains  # two drag actuators per particle
+    head = physics.scene_def.head_coordinates  # the paraboloid's sliding head: two slides, one particle's drag
+    assert model.nq == model.nv == n * chains + head  # one hinge per particle, nothing else
+    assert model.nu == 2 * n * chains + (2 if head else 0)  # two drag actuators per particle (and head)
     assert all(model.actuator_trntype == mujoco.mjtTrn.mjTRN_SITE)
     assert np.count_nonzero(model.site_user[:, 0]) == n * chains  # one follower force per particle
     np.testing.assert_allclose(model.site_user[model.site_user[:, 0] != 0, 0], physics.sigma)
@@ -63,7 +64,7 @@ def test_each_scene_holds_only_what_it_needs(scene, n):
     off = flags(model)
     assert ALWAYS_OFF <= off
     assert model.neq == (1 if scene == "two-pinned" else 0)
-    assert model.ntendon == (1 if scene == "coupled-pair" else 0)
+    assert model.ntendon == {"coupled-pair": 1, "paraboloid": n + 1}.get(scene, 0)  # coupling; trap springs
     if scene != "two-pinned":
         assert {"mjDSBL_CONSTRAINT", "mjDSBL_EQUALITY", "mjDSBL_WARMSTART"} <= off
     else:
@@ -75,7 +76,9 @@ def test_each_scene_holds_only_what_it_needs(scene, n):
     # mass sits on the particles only: the visual capsules weigh nothing
     links = [i for i in range(model.ngeom) if "link_" in model.geom(i).name]
     assert len(links) == n * chains and not np.any(model.geom_size[links, 0] == 0)
-    np.testing.assert_allclose(model.body_mass[1:], Numerics().mass_ratio)
+    masses = np.full(model.nbody - 1, Numerics().mass_ratio)
+    masses[0] += Numerics().mass_ratio if head else 0.0  # the head's bead rides on the first body
+    np.testing.assert_allclose(model.body_mass[1:], masses)
 
 
 def test_physical_parameters_reach_the_model():

@@ -29,9 +29,14 @@ def add_fields(group, cls, *, defaults: bool = True) -> None:
     default = cls()
     for f in parameter_fields(cls):
         value = getattr(default, f.name)
+        option = f"--{f.name.replace('_', '-')}"
+        if isinstance(value, bool):  # a switch: --contact / --no-contact
+            group.add_argument(option, action=argparse.BooleanOptionalAction, default=value if defaults else None,
+                               help=f"{f.metadata['help']} (default {'on' if value else 'off'})")
+            continue
         kind = int if isinstance(value, int) else (str if isinstance(value, str) else float)
         shown = f"{value:.4g}" if kind is float else value
-        group.add_argument(f"--{f.name.replace('_', '-')}", type=kind, default=value if defaults else None,
+        group.add_argument(option, type=kind, default=value if defaults else None,
                            choices=f.metadata.get("choices"),
                            help=f"{f.metadata['help']} (default {shown}{_used_by(f.name) if cls is Physics else ''})")
 

@@ -17,7 +17,7 @@ import numpy as np
 from ..controllers import follower_forces
 from ..diagnose import divergence_cause
 from ..errors import ParameterError, SimulationDiverged
-from ..model import absolute_angles, prepare
+from ..model import prepare, state_of
 from ..params import Numerics, Physics
 from ..progress import progress_bar
 from ..trajectory import Trajectory
@@ -107,14 +107,14 @@ def simulate_mujoco(
             if on_sample is not None:
                 on_sample(model, data)
     wall = time.perf_counter() - start
-    theta = absolute_angles(physics, qpos)
+    theta, head = state_of(physics, qpos)
     if bar is not None:
         bar.close()
     info = {"steps": int((t.size - 1) * nstep), "integrator": numerics.integrator}
     info["us_per_step"] = 1e6 * wall / max(info["steps"], 1)
     if pinned:
         info["constraint_violation"] = violation
-    return Trajectory(t=t, theta=theta, physics=physics, engine="mujoco", wall_time_s=wall, info=info)
+    return Trajectory(t=t, theta=theta, physics=physics, engine="mujoco", wall_time_s=wall, info=info, head=head)
 
 
 __all__ = ["simulate_mujoco", "prepare", "SimulationDiverged"]

@@ -47,7 +47,7 @@ from mujoco import batch as mjbatch
 from ..controllers import follower_forces
 from ..diagnose import divergence_cause
 from ..errors import ParameterError, SimulationDiverged
-from ..model import absolute_angles, prepare
+from ..model import prepare, state_of
 from ..params import Numerics, Physics
 from ..trajectory import Trajectory
 from .mujoco import BAD_STATE_WARNINGS, CHECK_EVERY, PIN_DRIFT_LIMIT, pin_drift_message, pin_violation
@@ -349,11 +349,11 @@ def run_batch(
                 "batch": {"size": nsim, "threads": min(threads, nsim), "wall_s": wall}}
         if pinned:
             info["constraint_violation"] = float(violation[k])
-        theta = absolute_angles(physics, s.qpos)
+        theta, head = state_of(physics, s.qpos)
         s.qpos = None
         done[k] = True
         on_done(s.index, Trajectory(t=s.t, theta=theta, physics=physics, engine="mujoco", wall_time_s=share,
-                                    info=info))
+                                    info=info, head=head))
 
 
 def _pin_drift(xpos: np.ndarray, ends: tuple[int, int], violation: np.ndarray, k: int) -> int | None:

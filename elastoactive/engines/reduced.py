@@ -270,7 +270,15 @@ def simulate_reduced(
     if system.pinned:
         info["beta"] = beta
         info["constraint_violation"] = _math.constraint_violation(system, theta)
-    return Trajectory(t=t, theta=theta, physics=physics, engine="reduced", wall_time_s=wall, info=info)
+    theta, head = _split_head(system, theta)
+    return Trajectory(t=t, theta=theta, physics=physics, engine="reduced", wall_time_s=wall, info=info, head=head)
+
+
+def _split_head(system: ChainSystem, state: np.ndarray) -> tuple[np.ndarray, np.ndarray | None]:
+    """(angles, head position or None) of the solvers' states (a free head's two coordinates come last)."""
+    if not system.head_free:
+        return state, None
+    return state[:, : system.n_angles].copy(), state[:, system.n_angles :].copy()
 
 
 def simulate_reference(
@@ -303,13 +311,16 @@ def simulate_reference(
         y0 = np.concatenate([theta0, np.zeros(theta0.size)])
     else:
         f, y0 = _math.rhs_reference(system, beta=beta, factor=loads), theta0
+        if system.head_free:  # the head starts at the dish's centre, as in simulate_reduced and MuJoCo
+            y0 = np.concatenate([theta0, np.zeros(2)])
     sol = solve_ivp(f, (0.0, float(t[-1])), y0, method=method, t_eval=t, rtol=rtol, atol=atol)
     wall = time.perf_counter() - start
     if not sol.success:
         raise RuntimeError(f"solve_ivp ({method}) failed: {sol.message}")
     info = {"method": method, "rtol": rtol, "atol": atol, "nfev": int(sol.nfev), "rhs": "numpy reference",
             "model": "inertial" if use_inertia else "overdamped", "mass_ratio": float(numerics.mass_ratio), **record}
-    theta = sol.y.T[:, : theta0.size].copy()
+    theta, head = _split_head(system, sol.y.T[:, : system.state_size if not use_inertia else theta0.size])
     if system.pinned:
         info["constraint_violation"] = _math.constraint_violation(system, theta)
-    return Trajectory(t=t, theta=theta, physics=physics, engine="reduced-reference", wall_time_s=wall, info=info)
+    return Trajectory(t=t, theta=theta, physics=physics, engine="reduced-reference", wall_time_s=wall, info=info,
+                      head=head)

@@ -1,7 +1,7 @@
 """The scene registry: every scene is one module here, registered under its name.
 
     import elastoactive as ea
-    ea.scenes.names()                 # ('one-pinned', 'two-pinned', 'rotating-pin', 'coupled-pair')
+    ea.scenes.names()                 # ('one-pinned', 'two-pinned', 'rotating-pin', 'coupled-pair', 'paraboloid')
     scene = ea.scenes.get("two-pinned")
     scene.parameters, scene.observables, scene.validation_cases()
 
@@ -11,10 +11,10 @@ docs/scenes.md for the contract and the diff a new scene needs.
 """
 
 from ..registry import UnknownScene, get, names, register, scenes, unregister
-from . import coupled_pair, one_pinned, rotating_pin, two_pinned
+from . import coupled_pair, one_pinned, paraboloid, rotating_pin, two_pinned
 from .base import COMMON_PARAMETERS, Scene, ValidationCase
 
-for _module in (one_pinned, two_pinned, rotating_pin, coupled_pair):  # the paper's order
+for _module in (one_pinned, two_pinned, rotating_pin, coupled_pair, paraboloid):  # the paper's order, then ours
     register(_module.SCENE)
 
 __all__ = ["COMMON_PARAMETERS", "Scene", "UnknownScene", "ValidationCase", "get", "names", "register", "scenes",

@@ -33,10 +33,16 @@ if TYPE_CHECKING:  # typing only: these modules import the registry that holds s
     from ..params import Numerics, Physics
     from ..trajectory import Trajectory
 
+CONTACT_STIFFNESS = 1.0e3
+"""The reduced model's self-contact penalty K (force K x overlap, units C1 / l^2): overlaps ~ force / K ~ 1e-3 l.
+MuJoCo's contact is nearly hard instead (elastoactive.model.contact_solref); the two agree as K grows and dt
+shrinks (docs/model.md, "Self-contact")."""
 COMMON_PARAMETERS = ("n", "sigma", "drag_ratio", "noise")
 """Physics parameters every chain scene uses."""
 NOISE_PARAMETERS = ("noise_correlation", "noise_calculus")
 """Physics parameters of the noise, used (and reported) when noise > 0."""
+CONTACT_PARAMETERS = ("contact", "contact_radius", "contact_friction")
+"""Physics parameters of self-contact, used (and reported) when contact is on."""
 
 
 @dataclass(frozen=True)
@@ -66,6 +72,9 @@ class Scene:
     n_chains: ClassVar[int] = 1
     clamped: ClassVar[bool] = True
     """Whether a spring holds the first pendulum against the clamp (False: a free pin)."""
+    head_coordinates: ClassVar[int] = 0
+    """Coordinates of a moving pivot (the head) before the angles: 0 (pinned at the origin) or 2 (x_h, y_h; MuJoCo's
+    slide joints, the reduced model's last two state variables, Trajectory.head)."""
     pinned: ClassVar[bool] = False
     """Whether the last particle is held by a pin (a MuJoCo equality; monitored for drift)."""
     observables: ClassVar[tuple[str, ...]] = ()
@@ -76,13 +85,15 @@ class Scene:
     # ------------------------------------------------------------------ parameters
     def relevant(self, physics: "Physics | None" = None) -> tuple[str, ...]:
         """Names of the physics parameters this scene uses (the others are ignored and not reported). Given a
-        physics, NOISE_PARAMETERS are among them only when its noise is > 0, and `loaded` only when it is not
-        "all"."""
+        physics, NOISE_PARAMETERS are among them only when its noise is > 0, `loaded` only when it is not
+        "all", and CONTACT_PARAMETERS only with contact on."""
         names = ("scene",) + COMMON_PARAMETERS + self.parameters
         if physics is not None and physics.noise > 0:
             names += NOISE_PARAMETERS
         if physics is not None and getattr(physics, "loaded", "all") != "all":
             names += ("loaded",)
+        if physics is not None and getattr(physics, "contact", False):
+            names += CONTACT_PARAMETERS
         return names
 
     def check(self, physics: "Physics") -> None:
@@ -124,11 +135,14 @@ class Scene:
     def reduced_system(self, physics: "Physics") -> ChainSystem:
         """The reduced model of this scene: overdamped (mass_ratio 0); the engine sets the particle mass for the
         inertial model (engines.reduced.system_of), whose beads have MuJoCo's rotational inertia (mjcf/common.xml)."""
-        return ChainSystem(
+        system = ChainSystem(
             n=physics.n, n_chains=self.n_chains, clamped=self.clamped, pinned=self.pinned, sigma=physics.sigma,
             gamma_l=physics.drag_ratio, gamma_t=1.0, kappa=0.0, rho=1.0, delta=0.0,
             mass_ratio=0.0, inertia_factor=BEAD_INERTIA_FACTOR,
         )
+        if physics.contact:  # MuJoCo's near-hard contact becomes a steep penalty (docs/model.md, "Self-contact")
+            system = system._replace(contact_radius=physics.contact_radius, contact_stiffness=CONTACT_STIFFNESS)
+        return system
 
     # ------------------------------------------------------------------ initial state
     def initial_angles(self, physics: "Physics", numerics: "Numerics") -> np.ndarray:
@@ -138,7 +152,7 @@ class Scene:
         return pushed_chains(physics.n, self.n_chains, numerics.perturbation, numerics.seed)
 
     # ------------------------------------------------------------------ observables
-    def measure_extra(self, traj: "Trajectory", transient: float) -> dict[str, float]:
+    def measure_extra(self, traj: "Trajectory", transient: float) -> dict[str, float | str]:
         """Values of `observables` (amplitude and frequency are measured for every scene)."""
         return {}
 
@@ -155,7 +169,11 @@ class Scene:
     def caption(self, physics: "Physics") -> list[str]:
         """Parameter parts of a video caption, after scene, N and sigma."""
         symbols = {"delta": "δ", "kappa": "κ", "rho": "ρ"}
-        return [f"{symbols.get(k, k)} = {getattr(physics, k):.3g}" for k in self.parameters]
+        parts = [f"{symbols.get(k, k)} = {getattr(physics, k):.3g}" for k in self.parameters]
+        if physics.contact:
+            parts.append(f"contact R = {physics.contact_radius:.3g}"
+                         + (f" μ = {physics.contact_friction:.3g}" if physics.contact_friction > 0 else ""))
+        return parts
 
     def extent_points(self, physics: "Physics") -> np.ndarray:
         """Fixed points (k, 2) besides the particles that a camera must keep in view (e.g. a pin)."""

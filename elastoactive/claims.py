@@ -437,6 +437,76 @@ def _noise_readings_claims(st: Study) -> list[Claim]:
         f"{x.amplitude[1]:.2f}, well below the a where Ito and Stratonovich part")]
 
 
+def _pct(x: float) -> str:
+    return f"{100 * x:.0f}%"
+
+
+def _harm(h, ks=(2, 4)) -> str:
+    """'A3 0.079, A5 0.0064' from a harmonics tuple (indices 2 and 4: the 3rd and 5th)."""
+    return ", ".join(f"A{k + 1} {_f(h[k], 2)}" for k in ks)
+
+
+def _long_chain_claims(st: Study) -> list[Claim]:
+    s = st.summary
+    at = {(r.contact, r.engine): r for r in s.runs if r.sigma == s.sigma}
+    free, touch, red = at[False, "mujoco"], at[True, "mujoco"], at.get((True, "reduced"))
+    conv = sorted(s.convergence, key=lambda c: (c.mass_ratio, -c.dt))
+    table = "; ".join(f"dt {c.dt:g}, m {c.mass_ratio:g}: overlap {c.overlap:.2g} l, A {c.amplitude:.4f}, f {c.frequency:.4g}"
+                      for c in conv)
+    wind = {(w.contact, w.engine): w for w in s.winding}
+    rows = [Claim(
+        f"N = {s.n}, sigma = {s.sigma:g}: higher harmonics, 'due to self-contact' (the supplement's speculation)",
+        f'"{P.long_chain_words}"',
+        f"without contact: Theta {_harm(free.harmonics)} (relative to A1), links cross in {_pct(free.crossing_fraction)} of "
+        f"the samples (it passes through itself); with contact: {_harm(touch.harmonics)}, in contact "
+        f"{_pct(touch.contact_fraction)} of the time; mid-chain theta_{s.n // 2 + 1}: {_harm(free.harmonics_mid)} -> "
+        f"{_harm(touch.harmonics_mid)}",
+        "-" if red is None else f"with contact (penalty): {_harm(red.harmonics)}, A {red.amplitude:.4f}, f {red.frequency:.4g} "
+        f"(MuJoCo {touch.amplitude:.4f}, {touch.frequency:.4g})",
+        _verdict(s.passes_through and s.odd_harmonics_raised),
+        f"Yes, self-contact explains them: the beat of Theta is odd-symmetric, so only odd harmonics exist; contact "
+        f"multiplies A3/A1 by {touch.harmonics[2] / free.harmonics[2]:.1f} and A5/A1 by "
+        f"{touch.harmonics[4] / free.harmonics[4]:.0f} and lowers the amplitude {free.amplitude:.3f} -> {touch.amplitude:.3f} rad "
+        f"and f tau {free.frequency:.4g} -> {touch.frequency:.4g}. Without contact the chain passes through itself from "
+        f"sigma = {s.contact_onset_sigma:g} on (of the sweep). Contact convergence (MuJoCo): {table}")]
+    if (False, "mujoco") in wind and (True, "mujoco") in wind:
+        wf, wc, wr = wind[False, "mujoco"], wind[True, "mujoco"], wind.get((True, "reduced"))
+        rows.append(Claim(
+            f"N = {wf.n}, sigma = {wf.sigma:g}: without contact the chain winds through itself", "- (not in the paper)",
+            f"Theta spans {wf.theta_span:.0f} rad without contact ({wf.theta_span / (2 * math.pi):.0f} turns, links crossing in "
+            f"{_pct(wf.crossing_fraction)} of the samples); {wc.theta_span:.1f} rad with it, a "
+            + ("periodic" if wc.periodic else "non-periodic") + f" beat at f tau {wc.frequency:.3g}",
+            "-" if wr is None else f"with contact: Theta spans {wr.theta_span:.1f} rad, f tau {wr.frequency:.3g}",
+            _verdict(wc.theta_span < 0.5 * wf.theta_span),
+            f"contact stops the winding: the chain coils against itself and beats; deepest overlap {-wc.min_clearance:.2g} l "
+            f"(MuJoCo; forces ~ sigma N), links still cross in {_pct(wc.crossing_fraction)} of the samples near the "
+            "joints, which the 0.7 l capsules leave bare"))
+    return rows
+
+
+def _dish_claims(st: Study) -> list[Claim]:
+    s = st.summary
+    lo, hi = s.supplement_orbit_traps
+    states = ", ".join(f"{k}: {v}" for k, v in s.supplement_states.items())
+    mj = [p for p in s.checks if p.engine == "mujoco" and p.sigma == s.supplement_sigma]
+    mj_txt = "; ".join(f"trap {p.trap:g}: {p.state}, body {p.rotation_rate:+.4f}, orbit {p.orbit_rate:+.4f} rad/tau, "
+                       f"R {p.orbit_radius:.3g}" for p in mj)
+    counts = ", ".join(f"{k} {v}" for k, v in s.states.items() if v)
+    return [Claim(
+        f"Chain in a paraboloid dish (sigma = {s.supplement_sigma:g}): goes round the centre and crawls in circles",
+        f'"{P.dish_words}"', mj_txt, f"by trap: {states}",
+        _verdict(math.isfinite(lo), partly=False),
+        f"The dish as a harmonic trap -k r (its small-slope limit), N = {s.n}. At sigma = {s.supplement_sigma:g} the chain "
+        f"goes round the centre, its bent body crawling head first along the circle, for trap {lo:g}-{hi:g} (of the "
+        f"grid); weaker traps hold it still far out, pointing outward; stiffer ones curl it into a spin near the centre. "
+        f"Phase diagram over {len(s.sigmas)} x {len(s.traps)} (sigma, trap) points: {counts}. "
+        + ("A crawl with a body rotation different from the orbit occurs. " if s.crawl_found else
+           "Nowhere does the body turn at a rate other than the orbit's: the steady crawl of the dish is a rigid orbit, "
+           "so the supplement's two motions are one. ")
+        + f"Engines: rates within {100 * s.engines_max_rel_diff:.2g}%, "
+        + ("the same state at every check" if s.engines_same_state else "states differ at some checks"))]
+
+
 def build_claims(studies: dict[str, Study]) -> list[Claim]:
     rows: list[Claim] = []
     if "stability" in studies:
@@ -457,6 +527,10 @@ def build_claims(studies: dict[str, Study]) -> list[Claim]:
         rows += _noise_readings_claims(studies["noise_readings"])
     if "inertia" in studies:
         rows += _inertia_claims(studies["inertia"])
+    if "long_chain" in studies:
+        rows += _long_chain_claims(studies["long_chain"])
+    if "dish" in studies:
+        rows += _dish_claims(studies["dish"])
     return rows
 
 

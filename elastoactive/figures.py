@@ -16,6 +16,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+from matplotlib.colors import ListedColormap  # noqa: E402
 from matplotlib.patches import Patch  # noqa: E402
 
 from .analysis.measures import chain_positions  # noqa: E402
@@ -703,6 +704,97 @@ def noise_readings(study: Study, out: Path) -> list[Path]:
     return [_save(fig, out, "figA_noise_readings.png")]
 
 
+@_styled
+def long_chain(study: Study, out: Path) -> list[Path]:
+    d, s = study.data, study.summary
+    fig, (a1, a2, a3) = plt.subplots(1, 3, figsize=(14.0, 4.2))
+    for key, label, style in (("free", "without contact (passes through itself)", dict(color="C0")),
+                              ("contact", "with self-contact", dict(color="C3"))):
+        if f"t_{key}" in d:
+            t = d[f"t_{key}"]
+            a1.plot(t - t[0], d[f"Theta_{key}"], label=label, **style)
+    a1.set_xlabel(r"$t/\tau$ (last four beats)")
+    a1.set_ylabel(r"$\Theta = \theta_N - \theta_1$ (rad)")
+    a1.set_title(rf"N = {s.n}, $\sigma$ = {s.sigma:g} (MuJoCo)")
+    a1.legend(loc="lower right")
+    runs = {(r.contact, r.engine): r for r in s.runs if r.sigma == s.sigma}
+    k = np.arange(1, 6)
+    width = 0.2
+    bars = [("Theta, free", runs[False, "mujoco"].harmonics, "C0", None),
+            ("Theta, contact", runs[True, "mujoco"].harmonics, "C3", None),
+            (rf"$\theta_{{{s.n // 2 + 1}}}$, free", runs[False, "mujoco"].harmonics_mid, "C0", "//"),
+            (rf"$\theta_{{{s.n // 2 + 1}}}$, contact", runs[True, "mujoco"].harmonics_mid, "C3", "//")]
+    for i, (label, h, colour, hatch) in enumerate(bars):
+        a2.bar(k + (i - 1.5) * width, np.nan_to_num(h), width, color=colour, alpha=0.85 if hatch is None else 0.45,
+               hatch=hatch, label=label, edgecolor="k", lw=0.4)
+    a2.set_yscale("log")
+    a2.set_ylim(1e-4, 2)
+    a2.set_xticks(k)
+    a2.set_xlabel("harmonic k")
+    a2.set_ylabel(r"$A_k / A_1$")
+    a2.set_title("spectrum: contact raises the odd harmonics")
+    a2.legend(fontsize=8, loc="upper right")
+    sig = d["sigma"]
+    a3.plot(sig, d["crossing_fraction_free"], "o-", color="C0", label="links crossing, without contact")
+    a3.plot(sig, d["contact_fraction_contact"], "s-", color="C3", mfc="none", label="contact_fraction, with contact")
+    a3.plot(sig, np.array(d["harmonics_contact"])[:, 2], "^--", color="C3", label=r"$A_3/A_1$ with contact")
+    a3.plot(sig, np.array(d["harmonics_free"])[:, 2], "^--", color="C0", mfc="none", label=r"$A_3/A_1$ without")
+    a3.set_xlabel(r"$\sigma$")
+    a3.set_ylabel("share of samples / harmonic ratio")
+    a3.set_title(f"N = {s.n} over sigma (MuJoCo)")
+    a3.legend(fontsize=8)
+    fig.suptitle("The supplement's long chain: self-contact and the higher harmonics")
+    fig.tight_layout()
+    return [_save(fig, out, "figA_long_chain.png")]
+
+
+DISH_COLOURS = {"rest": "0.85", "spin": "C1", "orbit": "C0", "crawl": "C2", "beat": "C3", "irregular": "k"}
+"""Colour of each state of analysis.dish.dish_state in the phase diagram."""
+
+
+@_styled
+def dish(study: Study, out: Path) -> list[Path]:
+    d, s = study.data, study.summary
+    names = [str(n) for n in d["state_names"]]
+    sig, trap = np.asarray(d["sigma"]), np.asarray(d["trap"])
+    fig, (a1, a2) = plt.subplots(1, 2, figsize=(11.0, 4.4))
+    cmap = ListedColormap([DISH_COLOURS[n] for n in names])
+    a1.pcolormesh(_edges(trap, log=True), _edges(sig, log=True), d["state"], cmap=cmap, vmin=-0.5,
+                  vmax=len(names) - 0.5, shading="flat")
+    for p in s.checks:
+        if p.engine == "mujoco":
+            a1.plot(p.trap, p.sigma, "o", mfc="none", mec="w", ms=9, mew=1.5)
+    a1.axhline(s.supplement_sigma, color="w", ls=":", lw=1)
+    a1.set_xscale("log")
+    a1.set_yscale("log")
+    a1.set_xlabel(r"trap $k l^2 / C_1$")
+    a1.set_ylabel(r"$\sigma$")
+    a1.set_title(f"N = {s.n} in the dish (reduced model; rings: MuJoCo checks)")
+    present = [n for i, n in enumerate(names) if np.any(d["state"] == i)]
+    a1.legend(handles=[Patch(color=DISH_COLOURS[n], label=n) for n in present], loc="upper left", fontsize=8)
+    scan = d["scan_trap"]
+    a2.plot(scan, np.abs(d["scan_rotation_rate"]), "o-", color="C0", ms=4, label=r"|body rotation| $|\dot\theta_1|$")
+    a2.plot(scan, np.abs(d["scan_orbit_rate"]), "x--", color="C3", label="|orbit rate| of the centre of mass")
+    lo, hi = s.supplement_orbit_traps
+    if np.isfinite(lo):
+        a2.axvspan(lo, hi, color=DISH_COLOURS["orbit"], alpha=0.15, label="goes round the centre (orbit)")
+    for p in s.checks:
+        if p.engine == "mujoco" and p.sigma == s.supplement_sigma:
+            a2.plot(p.trap, abs(p.rotation_rate), "s", mfc="none", color="k", ms=8)
+    a2.plot([], [], "s", mfc="none", color="k", label="MuJoCo")
+    a2.set_xscale("log")
+    a2.set_xlabel(r"trap $k l^2 / C_1$")
+    a2.set_ylabel(r"rad / $\tau$")
+    ax = a2.twinx()
+    ax.plot(scan, d["scan_orbit_radius"], ":", color="C2")
+    ax.set_yscale("log")
+    ax.set_ylabel("orbit radius / l (dotted)", color="C2")
+    a2.set_title(rf"the supplement's $\sigma$ = {s.supplement_sigma:g}")
+    a2.legend(fontsize=8, loc="upper left")
+    fig.tight_layout()
+    return [_save(fig, out, "figA_dish.png")]
+
+
 FIGURES = {
     "stability": stability,
     "growth": growth,
@@ -717,6 +809,8 @@ FIGURES = {
     "anisotropy": anisotropy,
     "inertia": inertia,
     "noise_readings": noise_readings,
+    "long_chain": long_chain,
+    "dish": dish,
 }
 """Figure function of each study, by study name."""
 

@@ -87,6 +87,18 @@ class Paper:
     chain_length_m: float = _quoted(0.5, "main text, Fig. 4 caption: undeformed chain length L = 500 mm (7 bugs: link pitch ~ L / 7)")
     experiment_sigmas: tuple[float, ...] = _quoted(
         (0.166, 0.17, 0.21, 0.695, 0.8), "main text, Figs. 1-2 captions: the experiments' chains at sigma = 0.17, 0.21, 0.80 and 0.166, 0.695")
+    # ------------------------------------------------------------------ supplement: experiments no model covered
+    long_chain_n: int = _quoted(17, "supplement, Appendix B 'Chains pinned at one end with N = 17'")
+    long_chain_sigma: float = _quoted(0.8, "supplement, Appendix B: the N = 17 chain at sigma = 0.8")
+    long_chain_words: str = _quoted(
+        "in addition to the lowest harmonic seen in the short chain and in the stability analysis, higher harmonic "
+        "seem to be occurring, which we speculate are due to self-contact interactions",
+        "supplement, Appendix B, N = 17 (the words as printed)")
+    dish_sigma: float = _quoted(0.30, "supplement, Appendix B, caption of the confinement figure: satellite dish, sigma = 0.30")
+    dish_words: str = _quoted(
+        "when the chain is confined in a paraboloid, it tends to rotate around the center of the paraboloid, but this "
+        "time is also craws in circles at the same time",
+        "supplement, Appendix B 'Chains confined on a freely rotating pin and in a paraboloid' (the words as printed)")
     # ------------------------------------------------------------------ literature (not the paper): Ziegler's column
     ziegler_undamped: float = _quoted(
         3.5 - math.sqrt(2.0), "literature (not the paper): Ziegler 1952, undamped double pendulum, P_c = (7/2 - sqrt 2) C/l")

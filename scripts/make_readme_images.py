@@ -1,5 +1,7 @@
 """Write the README's images (docs/img/<scene>.png): one still of each registered scene at its last
-validation case (the paper's parameters), after the transient, with a beat's worth of fading trails.
+validation case (the paper's parameters), after the transient, with a beat's worth of fading trails; and the
+videos of the two experiments beyond the paper (docs/img/<name>.mp4 with a still <name>.png): the N = 17
+chain with self-contact and the chain in the dish.
 
     .venv/bin/python scripts/make_readme_images.py [--out docs/img] [--width 640 --height 480]
 
@@ -16,10 +18,17 @@ from pathlib import Path
 import elastoactive as ea
 from elastoactive.engines.mujoco import simulate_mujoco
 from elastoactive.params import Numerics
-from elastoactive.render import default_rate, render_still
+from elastoactive.render import default_rate, render_still, render_trajectory
 
 # (file name, physics, simulated time in tau): each scene's last validation case (the pair: kappa = 2)
 CASES = tuple((s.name, s.validation_cases()[-1].physics, s.validation_cases()[-1].duration) for s in ea.scenes.scenes())
+# (file name, physics, simulated time, seconds of video): the supplement's two experiments, as videos
+VIDEOS = (
+    ("long-chain-contact", ea.Physics(scene="one-pinned", n=17, sigma=0.8, contact=True), 400.0, 6.0),
+    ("paraboloid", ea.Physics(scene="paraboloid", n=7, sigma=0.3, trap=0.1), 800.0, 6.0),
+)
+VIDEO_SIZE = (480, 360)
+VIDEO_FPS = 15.0
 
 
 def main() -> None:
@@ -33,6 +42,16 @@ def main() -> None:
         traj = simulate_mujoco(physics, Numerics(), duration)
         path = args.out / f"{name}.png"
         render_still(traj, path, rate=default_rate(traj), width=args.width, height=args.height)
+        kib = path.stat().st_size / 1024
+        print(f"{path}  {kib:.0f} KiB  ({time.perf_counter() - start:.1f} s)")
+    for name, physics, duration, seconds in VIDEOS:
+        start = time.perf_counter()
+        traj = simulate_mujoco(physics, Numerics(), duration)
+        rate = default_rate(traj)
+        path = args.out / f"{name}.mp4"
+        render_trajectory(traj, path, fps=VIDEO_FPS, rate=rate, start=max(duration / 2, duration - seconds * rate),
+                          width=VIDEO_SIZE[0], height=VIDEO_SIZE[1], progress=False)
+        render_still(traj, args.out / f"{name}.png", rate=rate, width=args.width, height=args.height)
         kib = path.stat().st_size / 1024
         print(f"{path}  {kib:.0f} KiB  ({time.perf_counter() - start:.1f} s)")
 

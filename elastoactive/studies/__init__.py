@@ -19,6 +19,8 @@ numbers they are set against in `elastoactive.paper`.
     noise         multiplicative noise and anisotropic drag (N = 2)
     inertia       the overdamped idealisation: sigma_c(mass ratio), Ziegler's column, the experiment's mass ratio
     noise_readings  claim 21 under Ito, Stratonovich and coloured noise; the experiment's noise regime
+    long_chain    the supplement's N = 17 chain with and without self-contact; contact convergence; winding
+    dish          the supplement's chain in a paraboloid dish: the (sigma, trap) phase diagram of N = 7
 """
 
 from __future__ import annotations
@@ -27,12 +29,14 @@ from pathlib import Path
 from typing import Callable
 
 from .base import ENGINES, SIZES, Study, Summary
+from .dish import DishSummary, dish_study
 from .hopf import HopfSummary, hopf_study
 from .linear import GrowthSummary, StabilitySummary, growth_study, stability_study
 from .inertia import InertiaSummary, inertia_study
 from .noise import AnisotropySummary, NoiseReadingsSummary, NoiseSummary, anisotropy_study, noise_readings_study, noise_study
 from .normal_form import NormalFormSummary, normal_form_study
 from .rotation import RotationSummary, rotation_study
+from .self_contact import LongChainSummary, long_chain_study
 from .snapping import SnappingSummary, snapping_study
 from .sync import SyncN2Summary, SyncSummary, TongueSummary, sync_n2_study, sync_study, tongue_study
 
@@ -40,7 +44,7 @@ __all__ = [
     "ENGINES", "SIZES", "STUDIES", "SUMMARIES", "Study", "Summary", "load_study",
     "stability_study", "growth_study", "hopf_study", "normal_form_study", "snapping_study", "rotation_study",
     "sync_study", "tongue_study", "sync_n2_study", "noise_study", "anisotropy_study",
-    "inertia_study", "noise_readings_study",
+    "inertia_study", "noise_readings_study", "long_chain_study", "dish_study",
 ]
 
 STUDIES: dict[str, Callable[..., Study]] = {
@@ -57,6 +61,8 @@ STUDIES: dict[str, Callable[..., Study]] = {
     "anisotropy": anisotropy_study,
     "inertia": inertia_study,
     "noise_readings": noise_readings_study,
+    "long_chain": long_chain_study,
+    "dish": dish_study,
 }
 """Every study by name, in the order reproduce runs them."""
 
@@ -74,6 +80,8 @@ SUMMARIES: dict[str, type[Summary]] = {
     "anisotropy": AnisotropySummary,
     "inertia": InertiaSummary,
     "noise_readings": NoiseReadingsSummary,
+    "long_chain": LongChainSummary,
+    "dish": DishSummary,
 }
 """The summary type of each study."""
 

@@ -1,0 +1,132 @@
+"""The dish: a free chain in a paraboloid (the supplement's satellite-dish experiment, sigma = 0.30).
+
+dish_study:
+- the phase diagram over (sigma, trap) for N = 7 in the reduced model (analysis.dish.dish_state: rest, spin,
+  orbit, crawl, beat, irregular), with the body rotation rate, the orbit rate and radius, and the curvature;
+- both engines side by side at the supplement's sigma = 0.30 over the trap stiffness and at a beating point;
+- the supplement's observation ("tends to rotate around the center of the paraboloid, but ... also crawls in
+  circles at the same time") located on the diagram: a fine scan of the trap stiffness at sigma = 0.30, and the
+  band where the chain goes round the centre.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..analysis import dish
+from ..batch import Case
+from ..paper import PAPER
+from ..params import Numerics
+from ..results import measure
+from ..scenes import paraboloid
+from .base import Study, Summary, pick, run
+
+__all__ = ["DishPoint", "DishSummary", "dish_study"]
+
+N = 7
+SUPPLEMENT_SIGMA = PAPER.dish_sigma
+"""The supplement's dish experiment (0.30)."""
+SAMPLE_DT = 0.2
+"""tau between samples (the dish's motions are slow: 0.2 rad/tau at most below sigma = 1)."""
+
+
+def _duration(trap: float) -> float:
+    """Run length: long enough to settle, the slowest relaxation being the trap's (rate ~ trap / gamma)."""
+    return float(min(8000.0, max(1200.0, 10.0 * math.ceil(4.0 / trap))))
+
+
+@dataclass(frozen=True)
+class DishPoint(Summary):
+    sigma: float
+    trap: float
+    engine: str
+    duration: float
+    state: str
+    rotation_rate: float
+    orbit_rate: float
+    orbit_radius: float
+    curvature: float
+    amplitude: float
+    """Amplitude of Theta (the beat, when it beats)."""
+
+
+@dataclass(frozen=True)
+class DishSummary(Summary):
+    n: int
+    sigmas: tuple[float, ...]
+    traps: tuple[float, ...]
+    states: dict[str, int]
+    """How many grid points fall in each state (reduced model)."""
+    crawl_found: bool
+    """Whether any grid point crawls (orbit rate != body rotation rate)."""
+    supplement_sigma: float
+    supplement_orbit_traps: tuple[float, float]
+    """The smallest and largest trap of the fine scan at sigma = 0.30 where the chain goes round the centre (NaN:
+    none)."""
+    supplement_states: dict[str, str]
+    """State at sigma = 0.30 by trap of the fine scan (reduced model)."""
+    checks: list[DishPoint]
+    """MuJoCo and the reduced model side by side."""
+    engines_max_rel_diff: float
+    """Largest |MuJoCo / reduced - 1| of the rotation and orbit rates over the checks (where they turn)."""
+    engines_same_state: bool
+
+
+def _point(tr, engine: str) -> DishPoint:
+    r = measure(tr)
+    p = tr.physics
+    return DishPoint(p.sigma, p.trap, engine, float(tr.t[-1]), r.dish_state, r.rotation_rate, r.orbit_rate,
+                     r.orbit_radius, r.curvature, float(r.amplitude))
+
+
+def dish_study(size: str = "quick", workers=None, progress: bool = True) -> Study:
+    """The (sigma, trap) phase diagram of N = 7 (reduced model) and both engines at the supplement's sigma = 0.30."""
+    start = time.perf_counter()
+    sigmas = pick(size, (0.3, 1.2), (0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.8, 1.0, 1.2, 1.6, 2.0),
+                  tuple(np.round(np.geomspace(0.1, 3.0, 25), 4)))
+    traps = pick(size, (0.1, 0.3), tuple(np.round(np.geomspace(0.003, 3.0, 13), 5)),
+                 tuple(np.round(np.geomspace(0.003, 3.0, 31), 5)))
+    if SUPPLEMENT_SIGMA not in sigmas:
+        sigmas = tuple(sorted(sigmas + (SUPPLEMENT_SIGMA,)))
+    checks = pick(size, ((SUPPLEMENT_SIGMA, 0.1),), tuple((SUPPLEMENT_SIGMA, k) for k in (0.01, 0.1, 0.3, 1.0)) + ((1.2, 0.3),),
+                  tuple((SUPPLEMENT_SIGMA, k) for k in (0.003, 0.01, 0.03, 0.1, 0.2, 0.3, 1.0, 3.0)) + ((1.2, 0.3), (0.5, 0.1)))
+    scan = tuple(float(k) for k in np.round(np.geomspace(0.03, 0.6, pick(size, 4, 19, 41)), 5))
+    scene = paraboloid.SCENE
+    numerics = Numerics(sample_dt=SAMPLE_DT)
+    cases = [Case(scene.physics(n=N, sigma=s, trap=k), numerics, _duration(k), "reduced") for s in sigmas for k in traps]
+    cases += [Case(scene.physics(n=N, sigma=SUPPLEMENT_SIGMA, trap=k), numerics, _duration(k), "reduced") for k in scan]
+    cases += [Case(scene.physics(n=N, sigma=s, trap=k), numerics, _duration(k), e) for s, k in checks for e in ("mujoco", "reduced")]
+    trajs = run(cases, workers, progress, "dish N=7")
+    points = [_point(tr, c.engine) for c, tr in zip(cases, trajs)]
+    cut = len(sigmas) * len(traps)
+    grid, line, check = points[:cut], points[cut : cut + len(scan)], points[cut + len(scan) :]
+    data: dict = {"sigma": np.array(sigmas), "trap": np.array(traps)}
+    shape = (len(sigmas), len(traps))
+    data["state"] = np.array([dish.STATES.index(p.state) for p in grid]).reshape(shape)
+    data["state_names"] = np.array(dish.STATES)
+    for key in ("rotation_rate", "orbit_rate", "orbit_radius", "curvature", "amplitude"):
+        data[key] = np.array([getattr(p, key) for p in grid]).reshape(shape)
+    counts = {s: int(np.count_nonzero(data["state"] == i)) for i, s in enumerate(dish.STATES)}
+    for key in ("rotation_rate", "orbit_rate", "orbit_radius"):
+        data[f"scan_{key}"] = np.array([getattr(p, key) for p in line])
+    data["scan_trap"] = np.array(scan)
+    data["scan_state"] = np.array([dish.STATES.index(p.state) for p in line])
+    at = {p.trap: p for p in line}
+    orbiting = [k for k, p in at.items() if p.state in ("orbit", "crawl")]
+    diffs, same = [], True
+    for mj, red in zip(check[0::2], check[1::2]):
+        same &= mj.state == red.state
+        for key in ("rotation_rate", "orbit_rate"):
+            a, b = getattr(mj, key), getattr(red, key)
+            if math.isfinite(a) and math.isfinite(b) and abs(b) > dish.REST_RATE:
+                diffs.append(abs(a / b - 1))
+    summary = DishSummary(
+        N, tuple(float(s) for s in sigmas), tuple(float(k) for k in traps), counts, counts["crawl"] > 0,
+        SUPPLEMENT_SIGMA, (min(orbiting), max(orbiting)) if orbiting else (math.nan, math.nan),
+        {f"{k:g}": p.state for k, p in sorted(at.items())}, check,
+        float(max(diffs)) if diffs else math.nan, bool(same))
+    return Study("dish", size, data, summary, time.perf_counter() - start)

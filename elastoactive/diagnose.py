@@ -187,9 +187,13 @@ def linear_operators(model: mujoco.MjModel, data: mujoco.MjData, eps: float = 1e
     return M, D, F
 
 
-def stability_limits(physics: Physics, numerics: Numerics, qpos: np.ndarray | None = None) -> StabilityLimits:
-    """Linear stability limits of the timestep at a state (default: the base state)."""
-    model = build_model(physics, numerics)
+def stability_limits(physics: Physics, numerics: Numerics, qpos: np.ndarray | None = None, *,
+                     model: mujoco.MjModel | None = None) -> StabilityLimits:
+    """Linear stability limits of the timestep at a state (default: the base state), for the numerics a run
+    uses (numerics.for_physics: automatic numerics of a long chain resolved). `model`: the compiled model of
+    this physics and numerics if there is one already (model.build_model's; only read), else it is built."""
+    numerics = numerics.for_physics(physics)
+    model = build_model(physics, numerics) if model is None else model
     data = mujoco.MjData(model)
     if qpos is not None:
         data.qpos[:] = qpos
@@ -212,7 +216,7 @@ def stability_limits(physics: Physics, numerics: Numerics, qpos: np.ndarray | No
     # follower-only part: remove the symmetric (conservative) part of F
     follower = np.linalg.eigvals(np.linalg.solve(D, 0.5 * (F - F.T)))
     growing = overdamped[overdamped.real > 1e-12]
-    reg = regime(physics, numerics)
+    reg = _regime(physics, numerics)
     extra = {}
     if reg.inertial:
         resolved, oscillating, growing_in = inertial_rates(M, D, F)
@@ -236,6 +240,39 @@ def regime(physics: Physics, numerics: Numerics):
     from .engines.reduced import regime as _regime  # start-up time: the reduced engine loads numba
 
     return _regime(physics, numerics)
+
+
+@dataclass(frozen=True)
+class _RegimeValues:
+    model: str
+    mass_ratio: float
+    inertia_number: float
+
+    @property
+    def inertial(self) -> bool:
+        return self.model == "inertial"
+
+
+def _regime(physics: Physics, numerics: Numerics) -> _RegimeValues:
+    """What stability_limits needs of `regime`, computed as elastoactive.engines.reduced.regime computes it (the
+    same functions of analysis.reduced on the scene's reduced system at its base state), but without importing
+    the reduced engine, whose compiled solvers (numba, scipy) cost ~0.3 s of CPU that a MuJoCo run never uses
+    (tests/test_long_chains.py checks that the two agree)."""
+    from .analysis import reduced as math_  # numpy only
+
+    m = float(numerics.mass_ratio)
+    system = physics.scene_def.reduced_system(physics)
+    theta = np.asarray(physics.scene_def.initial_angles(physics, Numerics(perturbation=0.0)), dtype=float)
+    if system.n_angles >= _EXACT_RATE_ANGLES:  # as engines.reduced.regime: a cheap bound decides first
+        bound = math_.rate_bound(system, theta)
+        if not math_.outside_overdamped_limit(m, bound):
+            return _RegimeValues("overdamped", m, m * bound)
+    rate = math_.overdamped_rate(system, theta)
+    return _RegimeValues("inertial" if math_.outside_overdamped_limit(m, rate) else "overdamped", m, m * rate)
+
+
+_EXACT_RATE_ANGLES = 50
+"""elastoactive.engines.reduced.EXACT_RATE_ANGLES (not imported from there: see _regime)."""
 
 
 def _companion(M: np.ndarray, D: np.ndarray, F: np.ndarray) -> np.ndarray:
@@ -361,10 +398,14 @@ def _suggest(limits: StabilityLimits, numerics: Numerics) -> str:
     return f" (a setting that passes every check: --dt {dt:.2g} --mass-ratio {m:.2g} --integrator {numerics.integrator})"
 
 
-def check_timestep(physics: Physics, numerics: Numerics, safety: float = 1.0, accuracy: bool = True) -> StabilityLimits:
+def check_timestep(physics: Physics, numerics: Numerics, safety: float = 1.0, accuracy: bool = True, *,
+                   model: mujoco.MjModel | None = None) -> StabilityLimits:
     """Refuse a timestep beyond the linear stability limit of the chosen integrator and, with
-    accuracy=True, settings that are stable but measured to give wrong answers (module docstring)."""
-    limits = stability_limits(physics, numerics)
+    accuracy=True, settings that are stable but measured to give wrong answers (module docstring). Numerics left
+    at their defaults are checked as a run uses them (numerics.for_physics: a long chain's automatic numerics).
+    `model`: the run's compiled model if it is built already (stability_limits)."""
+    numerics = numerics.for_physics(physics)
+    limits = stability_limits(physics, numerics, model=model)
     dt_max = limits.limit(numerics.integrator)
     if numerics.dt > safety * dt_max:
         cause = (
@@ -393,6 +434,7 @@ def check_accuracy(physics: Physics, numerics: Numerics, limits: StabilityLimits
     overdamped chain, or of the inertial one outside the overdamped limit), a pin that cannot hold,
     discrete's unconverged solve. A mass ratio outside the overdamped limit is not refused: it makes the
     run inertial (limits.model; both engines model the chain with that mass)."""
+    numerics = numerics.for_physics(physics)
     limits = stability_limits(physics, numerics) if limits is None else limits
     integrator, dt, m = numerics.integrator, numerics.dt, numerics.mass_ratio
     rate = limits.accuracy_rate(integrator)
@@ -457,6 +499,7 @@ def _describe(physics: Physics) -> str:
 
 def divergence_cause(physics: Physics, numerics: Numerics, time: float, model=None, data=None) -> str:
     """Message for a run that blew up: what happened and the likely cause."""
+    numerics = numerics.for_physics(physics)
     what = "NaN or |value| > 1e10 in the state"
     if data is not None:
         names = {mujoco.mjtWarning.mjWARN_BADQACC: "qacc", mujoco.mjtWarning.mjWARN_BADQVEL: "qvel",

@@ -214,6 +214,33 @@ class Physics:
         return {k: getattr(self, k) for k in self.scene_def.relevant(self)}
 
 
+class _Unset:
+    """Marks a Numerics default the user did not choose (Numerics.automatic). The value is an ordinary number or
+    text (float / str subclass): it compares, hashes, prints and serialises as the plain value, so a run with the
+    defaults computes, records and reads back exactly as before."""
+
+    __slots__ = ()
+
+
+class _UnsetFloat(_Unset, float):
+    __slots__ = ()
+
+    def __repr__(self) -> str:
+        return float.__repr__(self)
+
+
+class _UnsetStr(_Unset, str):
+    __slots__ = ()
+
+    def __repr__(self) -> str:
+        return str.__repr__(self)
+
+
+DEFAULT_DT = _UnsetFloat(0.0025)
+DEFAULT_MASS_RATIO = _UnsetFloat(1e-4)
+DEFAULT_INTEGRATOR = _UnsetStr("implicitfast")
+
+
 @dataclass(frozen=True)
 class Numerics:
     """Numerical settings of a MuJoCo run (times in units of tau).
@@ -223,18 +250,26 @@ class Numerics:
     integrator   MuJoCo integrator
     perturbation largest angle (rad) of the seeded initial push away from the base state
     sample_dt    spacing of the recorded trajectory
+
+    Automatic numerics for long chains: when dt, mass_ratio and integrator are all left at their defaults
+    (`automatic`), a MuJoCo run of a chain of LONG_CHAIN particles or more uses `for_physics(physics)`
+    instead: explicit drag (Euler) with a matched particle mass, several times cheaper per step than
+    implicitfast's dense drag derivatives (long_chain_numerics). Shorter chains, and any run where one of the
+    three is given, use the values as they are (a given value always wins, even one equal to the default).
     """
 
-    dt: float = field(default=0.0025, metadata={"help": "MuJoCo timestep in tau"})
-    mass_ratio: float = field(default=1e-4, metadata={"help": "particle mass m / (gamma tau); the overdamped limit is 0"})
-    integrator: str = field(default="implicitfast", metadata={"help": "MuJoCo integrator", "choices": INTEGRATORS})
+    dt: float = field(default=DEFAULT_DT, metadata={"help": "MuJoCo timestep in tau"})
+    mass_ratio: float = field(default=DEFAULT_MASS_RATIO, metadata={
+        "help": "particle mass m / (gamma tau); the overdamped limit is 0"})
+    integrator: str = field(default=DEFAULT_INTEGRATOR, metadata={"help": "MuJoCo integrator", "choices": INTEGRATORS})
     perturbation: float = field(default=1e-2, metadata={"help": "size of the random initial kick, rad"})
     sample_dt: float = field(default=0.05, metadata={"help": "spacing of the recorded trajectory, tau"})
     seed: int = field(default=0, metadata={"help": "seed of the initial perturbation and the noise"})
 
     def __post_init__(self) -> None:
         for name in ("dt", "mass_ratio", "perturbation", "sample_dt"):
-            object.__setattr__(self, name, _finite(name, getattr(self, name)))
+            if not isinstance(getattr(self, name), _Unset):  # a default stays marked as one (automatic)
+                object.__setattr__(self, name, _finite(name, getattr(self, name)))
         if not 0 < self.dt <= 0.1:
             raise ParameterError(f"dt (timestep, in tau) must lie in (0, 0.1], got {self.dt}")
         if not 1e-7 <= self.mass_ratio <= MAX_MASS_RATIO:
@@ -260,6 +295,19 @@ class Numerics:
     @property
     def steps_per_sample(self) -> int:
         return max(1, int(round(self.sample_dt / self.dt)))
+
+    @property
+    def automatic(self) -> bool:
+        """Whether dt, mass_ratio and integrator were all left at their defaults: the MuJoCo engine may then
+        choose them for the physics (for_physics)."""
+        return all(isinstance(getattr(self, name), _Unset) for name in ("dt", "mass_ratio", "integrator"))
+
+    def for_physics(self, physics) -> "Numerics":
+        """The numerics a MuJoCo run of `physics` uses: these, or, when they are `automatic` and the chain has
+        LONG_CHAIN particles or more, long_chain_numerics(physics, self) if that is expected to be cheaper."""
+        if not self.automatic or physics.n < LONG_CHAIN:
+            return self
+        return long_chain_numerics(physics, self)
 
     def sample_times(self, duration: float) -> np.ndarray:
         """Recording times k * sample_dt, k = 0 .. floor(duration / sample_dt): the same grid for
@@ -305,9 +353,64 @@ MIN_SAMPLES = 10
 """Fewest samples a run must record to be measured."""
 
 PRESETS = {
-    "accurate": dict(dt=0.0025, mass_ratio=1e-4),
+    "accurate": dict(dt=DEFAULT_DT, mass_ratio=DEFAULT_MASS_RATIO),  # the defaults (automatic for long chains)
     "fast": dict(dt=0.01, mass_ratio=1e-3),
 }
+
+LONG_CHAIN = 30
+"""Chains of this many particles or more run with long_chain_numerics when their numerics are automatic. From
+here on implicitfast's step, whose dense drag derivatives cost O(N^3), is more than twice Euler's (measured
+per step, thread time: 2.1x at N = 30, 5.4x at 100, 8.3x at 200; docs/performance.md)."""
+LONG_CHAIN_MASS = 2e-3
+"""Largest particle mass ratio long_chain_numerics picks."""
+LONG_CHAIN_RESOLUTION = 0.55
+"""long_chain_numerics keeps mass_ratio x rate^2 <= this (rate: the fastest overdamped rate at the base state).
+Calibrated on one-pinned, sigma 0.05, 20 tau, against the reduced model (largest angle error relative to the largest
+angle; it grows about linearly with the mass): 0.02% at N = 30 and 0.3% at N = 100 (mass 2e-3, rate 14.5),
+0.8% at N = 200 (rate 22.9: mass 1.05e-3) (docs/performance.md, tests/test_long_chains.py)."""
+LONG_CHAIN_DT_PER_MASS = 1.6
+"""dt / mass_ratio of long_chain_numerics (isotropic drag; over max(1, drag_ratio) otherwise): Euler's explicit drag
+is stable for dt < 2 m / gamma (the lab drag of equal point masses is gamma / m times their mass matrix), so this is
+80% of that limit. Euler's time-stepping error and the inertial lag partly cancel, the more so the closer dt / m is
+to 2: at N = 200, m = 1e-3, the angle error is 1.8%, 1.45% and 0.80% at dt / m = 1, 1.25 and 1.67."""
+LONG_CHAIN_STEP_COST = (2.0, 0.7)
+"""(c, p): Euler's step is at least c (N / LONG_CHAIN)^p times cheaper than implicitfast's (2 at N = 30, 4.6 at
+100, 7.5 at 200; measured 2.1, 5.4, 8.3: see LONG_CHAIN). long_chain_numerics keeps the defaults when its
+smaller dt would take more steps than that makes up for."""
+_RATES: dict = {}
+
+
+def _fastest_rate(physics) -> float:
+    """Fastest overdamped rate at the scene's base state (analysis.reduced.overdamped_rate, numpy), cached."""
+    rate = _RATES.get(physics)
+    if rate is None:
+        from .analysis.reduced.regime import overdamped_rate  # start-up time: only long chains need their rates
+
+        system = physics.scene_def.reduced_system(physics)
+        theta = np.asarray(physics.scene_def.initial_angles(physics, Numerics(perturbation=0.0)), dtype=float)
+        rate = _RATES[physics] = float(overdamped_rate(system, theta))
+        if len(_RATES) > 1024:
+            _RATES.pop(next(iter(_RATES)))
+    return rate
+
+
+def long_chain_numerics(physics, numerics: Numerics | None = None) -> Numerics:
+    """Explicit drag with a matched mass for a long chain: integrator Euler, mass_ratio
+    m = min(LONG_CHAIN_MASS, LONG_CHAIN_RESOLUTION / rate^2) and dt = LONG_CHAIN_DT_PER_MASS x m / max(1, drag_ratio)
+    rounded down to a whole fraction of sample_dt (the other settings of `numerics` kept). m x rate stays below
+    0.1 (the overdamped limit, analysis.reduced.regime): the run models the paper's overdamped chain, as the
+    defaults do. Returns `numerics` unchanged when the smaller dt would cost more steps than Euler's cheaper step
+    makes up for (LONG_CHAIN_STEP_COST)."""
+    numerics = Numerics() if numerics is None else numerics
+    rate = _fastest_rate(physics)
+    m = LONG_CHAIN_MASS if rate <= 0 else min(LONG_CHAIN_MASS, LONG_CHAIN_RESOLUTION / rate**2)
+    m = max(m, 1e-7)
+    target = LONG_CHAIN_DT_PER_MASS * m / max(1.0, float(physics.drag_ratio))
+    dt = numerics.sample_dt / max(1, math.ceil(numerics.sample_dt / target - 1e-9))
+    c, p = LONG_CHAIN_STEP_COST
+    if dt * c * (physics.n / LONG_CHAIN) ** p < numerics.dt:
+        return numerics
+    return dataclasses.replace(numerics, integrator="Euler", dt=dt, mass_ratio=m)
 
 
 def parameter_fields(cls) -> tuple[dataclasses.Field, ...]:

@@ -93,8 +93,9 @@ from . import registry
 from .batch import Case, default_workers, run_case
 from .engines import check_engine
 from .errors import ParameterError
-from .params import PRESETS, Numerics, Physics, parameter_fields
-from .results import OBSERVABLES
+from .outputs import write_netcdf
+from .params import LONG_CHAIN, PRESETS, Numerics, Physics, parameter_fields
+from .results import HARMONICS, OBSERVABLES
 
 PHYSICS_KEYS = tuple(f.name for f in parameter_fields(Physics))
 NUMERICS_KEYS = ("seed", "dt", "mass_ratio", "perturbation", "sample_dt")
@@ -112,6 +113,9 @@ MUST_BE_FINITE = ("amplitude", "rotation_rate", "constraint_violation")
 """Measurements that are always finite. The other known ones (OBSERVABLES: frequency, snap_amplitude,
 frequency_mismatch, ...) are NaN when they cannot be measured, never infinite; measurements this
 module does not know (plug-in scenes' observables, new fields) may be any number."""
+VECTORS = {"harmonics": ("harmonic", HARMONICS)}
+"""Measurements with several values per point (and chain): their extra dimension and its size. `harmonics`
+(results.Results.harmonics): harmonics 1 .. HARMONICS of Theta, on a dimension `harmonic` (1: the fundamental)."""
 SNAPSHOT_MARGIN = 1 << 20
 """Bytes of free space asked for beyond twice the arrays' size before writing a snapshot."""
 
@@ -148,6 +152,7 @@ COORD_ATTRS = {
     "kappa": "coupling stiffness K l^2 / C1", "rho": "stiffness ratio C2 / C1", "drag_ratio": "gamma_L / gamma_T",
     "noise": "noise amplitude a", "seed": "random seed", "dt": "timestep (tau)", "mass_ratio": "m / (gamma tau)",
     "perturbation": "initial kick (rad)", "sample_dt": "sampling interval (tau)", "chain": "chain (1: C1, 2: C2 = rho C1)",
+    "harmonic": "harmonic number (1: the fundamental)",
 }
 
 
@@ -445,7 +450,16 @@ class _TimestepChecks:
     def __init__(self):
         self._cache: dict = {}
         self._running: dict = {}  # key -> Event set when that check is done
+        self._models: dict = {}  # key -> the point's compiled model, offered by the batch (offer)
         self._lock = threading.Lock()
+
+    def offer(self, physics: Physics, numerics: Numerics, model) -> None:
+        """The compiled model of a point (as its run builds it), for its check to use instead of building it
+        again (~1.5 ms at N = 7). Kept only until the check is done."""
+        key = self.key(physics, numerics)
+        with self._lock:
+            if key not in self._cache:
+                self._models.setdefault(key, model)
 
     @staticmethod
     def key(physics: Physics, numerics: Numerics) -> tuple:
@@ -474,8 +488,12 @@ class _TimestepChecks:
         from .diagnose import check_timestep  # start-up time: diagnose loads mujoco
 
         error = None
+        with self._lock:
+            model = self._models.get(key)
         try:
-            check_timestep(physics, numerics)
+            # a point's model is the same for every point of its key when the check's outcome can depend on
+            # it (key: the seed and perturbation only where they matter, which the model does not hold)
+            check_timestep(physics, numerics, model=model)
         except Exception as err:  # refused (ParameterError) or failed: the point's error either way
             error = err
         except BaseException:  # interrupted: nothing is known
@@ -485,6 +503,7 @@ class _TimestepChecks:
             raise
         with self._lock:
             self._cache[key] = error
+            self._models.pop(key, None)
             del self._running[key]
         running.set()
         return error
@@ -555,7 +574,9 @@ def run_points(cases: Sequence[Case], timestep_check: bool = True, threads: int 
     if checker is not None:
         checker.start()
     try:
-        run_chunk(as_runs(cases), range(len(cases)), threads, done, cancel, started, drop if timestep_check else None)
+        offer = (lambda j, model: checks.offer(cases[j].physics, cases[j].numerics, model)) if timestep_check else None
+        run_chunk(as_runs(cases), range(len(cases)), threads, done, cancel, started, drop if timestep_check else None,
+                  offer)
     except Cancelled:
         raise
     except Exception as err:  # the batch itself failed: its unfinished points are errors, the sweep goes on
@@ -590,10 +611,11 @@ def _measurements(results: dict) -> dict:
     return {name: _plain(value) for name, value in results.items() if _numeric(value)}
 
 
-def _numeric(value) -> bool:
+def _numeric(value, depth: int = 2) -> bool:
+    """A number, or a non-empty list of them, or (VECTORS per chain) a list of such lists."""
     scalar = (int, float, np.integer, np.floating, np.bool_, type(None))
     if isinstance(value, (list, tuple, np.ndarray)):
-        return len(value) > 0 and all(isinstance(v, scalar) for v in value)
+        return depth > 0 and len(value) > 0 and all(_numeric(v, depth - 1) for v in value)
     return isinstance(value, scalar)
 
 
@@ -644,8 +666,8 @@ def _local_mujoco(todo: list[int], sweep: Sweep, workers: int, check: bool,
     cases, chunks = _chunks(todo, sweep, batch_size or BATCH_POINTS_PER_THREAD * workers)
     checks = _TimestepChecks()
     started, stop = threading.Event(), threading.Event()
-    # what the netCDF snapshots need (xarray, and the dask.array it loads: ~0.6 s) is loaded while the C
-    # threads step, instead of after them; the loading waits until the stepping has started (it needs
+    # what the netCDF snapshots and the returned Dataset need (h5netcdf, xarray: ~0.25 s) is loaded while
+    # the C threads step, instead of after them; the loading waits until the stepping has started (it needs
     # the GIL, which the pre-flight checks and the preparation of the models need too)
     preload = threading.Thread(target=_preload_storage, args=(started, stop), name="elastoactive-preload",
                                daemon=True)
@@ -672,12 +694,14 @@ def _preload_storage(started: threading.Event, stop: threading.Event) -> None:
     if stop.is_set():
         return
     with contextlib.suppress(Exception):
-        import xarray as xr  # start-up time: loaded in the background, see _local_mujoco
+        # start-up time: loaded in the background, see _local_mujoco. Snapshots need h5netcdf (and h5py);
+        # the Dataset run_sweep returns needs xarray (and pandas), and the index of a coordinate loads the
+        # little of dask (dask.base) xarray asks whether it is a dask array; not dask.array (Store.dataset)
+        import h5netcdf  # noqa: F401
+        import xarray
 
-        # a tiny netCDF written in memory loads all a snapshot needs: xarray's duck-array modules
-        # (dask.array), its backends and their locks (distributed), h5netcdf and h5py
-        xr.Dataset({"v": ("p", np.zeros(1)), "s": ("p", np.array([""], dtype=object)),
-                    "t": ("p", np.array(["NaT"], dtype="datetime64[ns]"))}).to_netcdf(engine="h5netcdf")
+        xarray.Dataset(coords={"p": xarray.Variable(("p",), np.zeros(1), fastpath=True)})  # as Store.dataset
+
         _version()  # reads the package's metadata
 
 
@@ -762,7 +786,8 @@ class _Store:
         self.last_snapshot = time.monotonic()
 
     def _allocate(self, name: str, per_chain: bool) -> None:
-        shape = self.sweep.shape + ((self.chains,) if per_chain else ())
+        vector = (VECTORS[name][1],) if name in VECTORS else ()
+        shape = self.sweep.shape + ((self.chains,) if per_chain else ()) + vector
         self.arrays[name] = np.full(shape, np.nan)
 
     @property
@@ -919,6 +944,8 @@ class _Store:
     def _value_problem(self, name: str, value) -> str | None:
         if name in (*TEXT_VARIABLES, "finished_at", "wall_time_s"):
             return "is not a measurement"
+        if name in VECTORS:
+            return self._vector_problem(name, value)
         if name in self.arrays:
             per_chain = self.arrays[name].ndim > len(self.sweep.shape)
         elif name in OBSERVABLES:
@@ -944,6 +971,23 @@ class _Store:
                 return f"= {value!r} is not 1, 0 or NaN"
         return None
 
+    def _vector_problem(self, name: str, value) -> str | None:
+        """A VECTORS measurement: a list of its size (one per chain for the pair), numbers or NaN."""
+        size = VECTORS[name][1]
+        per_chain = self.chains > 1 and OBSERVABLES[name].per_chain
+        rows = value if per_chain and isinstance(value, list) else [value]
+        if per_chain and len(rows) != self.chains:
+            return f"= {value!r} is not a list of {self.chains} lists (one per chain)"
+        for row in rows:
+            if not (isinstance(row, list) and len(row) == size):
+                return f"= {value!r} is not a list of {size} numbers" + (" per chain" if per_chain else "")
+            for v in row:
+                if not _is_number(v):
+                    return f"= {value!r} is not a list of numbers"
+                if math.isinf(v):
+                    return f"= {value!r} is infinite"
+        return None
+
     # -- writing
     def reset(self, flat: int) -> None:
         """Mark a point as not run (pending), with no measurements."""
@@ -962,7 +1006,8 @@ class _Store:
         index = np.unravel_index(flat, self.sweep.shape)
         for name, value in entry.get("results", {}).items():
             if name not in self.arrays:
-                self._allocate(name, per_chain=self.chains > 1 and isinstance(value, list))
+                per_chain = OBSERVABLES[name].per_chain if name in VECTORS else isinstance(value, list)
+                self._allocate(name, per_chain=self.chains > 1 and per_chain)
             self.arrays[name][index] = value
         self.arrays["status"][index] = entry["status"]
         self.arrays["error"][index] = entry.get("error", "")
@@ -1039,10 +1084,10 @@ class _Store:
             raise SweepStorageError(
                 f"not enough free space to write {self.out}: about {_megabytes(needed)} needed, {_megabytes(free)} "
                 f"free in {self.out.parent}. Nothing was written; {self._kept()}")
-        ds = self.dataset()
+        contents = self.contents()
         tmp = self.out.with_name(f".{self.out.name}.tmp-{os.getpid()}")
         try:
-            ds.to_netcdf(tmp, engine="h5netcdf")
+            write_netcdf(tmp, *contents)
             _fsync_path(tmp)
             os.replace(tmp, self.out)
             _fsync_path(self.out.parent)
@@ -1079,17 +1124,32 @@ class _Store:
         return np.isin(self.arrays["status"], STATUSES)
 
     def dataset(self):
+        """The sweep as an xarray.Dataset (what the netCDF file holds)."""
         import xarray as xr  # start-up time: the CLI imports this module for its parser
 
+        data, coords, attrs = self.contents()
+        # fastpath: the arrays are numpy arrays of the final dtypes already; the checks it skips would load
+        # dask.array (~0.3 s of CPU) to ask whether they are dask arrays
+        return xr.Dataset({k: xr.Variable(d, v, a, fastpath=True) for k, (d, v, a) in data.items()},
+                          coords={k: xr.Variable(d, v, a, fastpath=True) for k, (d, v, a) in coords.items()},
+                          attrs=attrs)
+
+    def contents(self) -> tuple[dict, dict, dict]:
+        """(data variables, coordinates, attributes) of the Dataset: {name: (dims, array, attrs)}, {...}, {...}
+        (outputs.write_netcdf writes them; `dataset` makes them an xarray.Dataset)."""
         sweep = self.sweep
         dims = tuple(sweep.grid)
-        coords = {k: (k, v, {"long_name": COORD_ATTRS[k]}) for k, v in sweep.grid.items()}
+        coords = {k: ((k,), v, {"long_name": COORD_ATTRS[k]}) for k, v in sweep.grid.items()}
         if self.chains > 1:
-            coords["chain"] = ("chain", np.arange(1, self.chains + 1), {"long_name": COORD_ATTRS["chain"]})
+            coords["chain"] = (("chain",), np.arange(1, self.chains + 1), {"long_name": COORD_ATTRS["chain"]})
         data = {}
         for name, values in self.arrays.items():
-            var_dims = dims + (("chain",) if values.ndim > len(dims) else ())
+            vector = (VECTORS[name][0],) if name in VECTORS else ()
+            var_dims = dims + (("chain",) if values.ndim > len(dims) + len(vector) else ()) + vector
             data[name] = (var_dims, values.copy(), VARIABLE_ATTRS.get(name, {}))
+            if vector:
+                dim, size = VECTORS[name]
+                coords[dim] = ((dim,), np.arange(1, size + 1), {"long_name": COORD_ATTRS[dim]})
         done = self.done()
         attrs = {
             "title": f"elastoactive sweep: {sweep.scene} over {', '.join(dims)}",
@@ -1116,7 +1176,13 @@ class _Store:
             import mujoco  # start-up time: loaded by now only for MuJoCo sweeps
 
             attrs["mujoco_version"] = mujoco.__version__
-        return xr.Dataset(data, coords=coords, attrs=attrs)
+            longest = int(np.max(sweep.grid["n"])) if "n" in sweep.grid else sweep.physics.n
+            if longest >= LONG_CHAIN and sweep.numerics.automatic and not set(sweep.grid) & {"dt", "mass_ratio"}:
+                attrs["numerics_automatic"] = (
+                    f"points with n >= {LONG_CHAIN} run with the automatic long-chain numerics (Numerics.for_physics: "
+                    "integrator Euler with a matched mass ratio and dt, where cheaper), not with the numerics_* "
+                    "values, which are the defaults they replace")
+        return data, coords, attrs
 
 
 def _header(line: str) -> dict | None:

@@ -18,6 +18,7 @@ import xarray as xr
 from elastoactive.batch import Case, run_case
 from elastoactive.cli import main
 from elastoactive.params import Numerics, ParameterError, Physics
+from elastoactive import sweep as sweep_module
 from elastoactive.sweep import SweepMismatch, make_sweep, normalize_grid, parse_grid, run_point, run_sweep
 
 FAST = Numerics.preset("fast")
@@ -62,7 +63,7 @@ def test_reduced_sweep_matches_run_case(tmp_path):
     out = tmp_path / "r.nc"
     ds = run_sweep("one-pinned", {"sigma": [0.3, 0.8], "n": [3, 4]}, numerics=FAST, duration=40, engine="reduced",
                    out=out, workers=2, progress=False)
-    assert dict(ds.sizes) == {"sigma": 2, "n": 2}
+    assert dict(ds.sizes) == {"sigma": 2, "n": 2, "harmonic": 5}  # harmonics: one value per harmonic
     check_against_run_case(ds, "one-pinned", {}, FAST, 40, "reduced")
     disk = load(out)
     xr.testing.assert_identical(disk, ds)
@@ -235,19 +236,19 @@ def test_ctrl_c_during_final_save_loses_nothing(tmp_path, monkeypatch, how):
     neither delete the journal before the netCDF is on disk; re-running resumes."""
     grid = {"sigma": [0.3, 0.6, 0.9]}
     out, journal = tmp_path / "i.nc", tmp_path / "i.nc.journal"
-    original = xr.Dataset.to_netcdf
+    original = sweep_module.write_netcdf  # every netCDF the sweep writes goes through it
     calls = []
 
-    def interrupted(self, *args, **kwargs):
-        calls.append(args)
+    def interrupted(path, *args, **kwargs):
+        calls.append(path)
         if len(calls) <= 2:
             if how == "signal":  # a real SIGINT (Ctrl-C) arriving as the write starts
                 signal.raise_signal(signal.SIGINT)
             else:  # an interrupt that cannot be deferred
                 raise KeyboardInterrupt
-        return original(self, *args, **kwargs)
+        return original(path, *args, **kwargs)
 
-    monkeypatch.setattr(xr.Dataset, "to_netcdf", interrupted)
+    monkeypatch.setattr(sweep_module, "write_netcdf", interrupted)
     with pytest.raises(KeyboardInterrupt):
         run_sweep("one-pinned", grid, out=out, snapshot_interval=1e9, **REDUCED)
     monkeypatch.undo()
@@ -350,14 +351,14 @@ def test_full_disk_is_a_clear_error_and_the_sweep_resumes(tmp_path, monkeypatch)
     writing becomes the same clear error; the journal stays and the sweep resumes."""
     grid = {"sigma": [0.3, 0.6]}
     out, journal = tmp_path / "f.nc", tmp_path / "f.nc.journal"
-    original = xr.Dataset.to_netcdf
+    original = sweep_module.write_netcdf
     writes = []
 
-    def counted(self, *args, **kwargs):
-        writes.append(args)
-        return original(self, *args, **kwargs)
+    def counted(path, *args, **kwargs):
+        writes.append(path)
+        return original(path, *args, **kwargs)
 
-    monkeypatch.setattr(xr.Dataset, "to_netcdf", counted)
+    monkeypatch.setattr(sweep_module, "write_netcdf", counted)
     monkeypatch.setattr(shutil, "disk_usage", lambda path: SimpleNamespace(total=10**12, used=10**12 - 1000, free=1000))
     with pytest.raises(ParameterError, match="not enough free space") as info:
         run_sweep("one-pinned", grid, out=out, **REDUCED)
@@ -368,11 +369,11 @@ def test_full_disk_is_a_clear_error_and_the_sweep_resumes(tmp_path, monkeypatch)
 
     monkeypatch.undo()
 
-    def full(self, path, *args, **kwargs):
+    def full(path, *args, **kwargs):
         Path(path).write_bytes(b"\x89HDF partly")
         raise OSError(errno.ENOSPC, "No space left on device", str(path))
 
-    monkeypatch.setattr(xr.Dataset, "to_netcdf", full)
+    monkeypatch.setattr(sweep_module, "write_netcdf", full)
     with pytest.raises(ParameterError, match="no space left") as info:
         run_sweep("one-pinned", grid, out=out, **REDUCED)
     assert str(out) in str(info.value) and "needed" in str(info.value)
@@ -621,3 +622,48 @@ def test_batch_size_must_be_at_least_one(tmp_path, capsys):
             "--quiet"]
     assert main(args) == 2 and "--batch-size must be >= 1" in capsys.readouterr().err
     assert not (tmp_path / "b.nc").exists()
+
+
+def test_netcdf_writer_matches_xarrays(tmp_path):
+    """outputs.write_netcdf (h5netcdf, without xarray's writer and its dask imports) writes what xarray's own
+    to_netcdf writes, as xarray.open_dataset reads it back: floats with NaN, integers, text, times with NaT, a
+    per-chain dimension, numpy and plain attributes."""
+    from elastoactive.outputs import write_netcdf
+
+    status = np.array([["ok", "error", "pending"], ["ok", "", "ok"]], dtype=object)
+    finished = np.array([["2026-11-22T17:56:44.8378", "NaT", "2026-01-01"], ["NaT", "NaT", "1970-01-01"]],
+                        dtype="datetime64[ns]")
+    amplitude = np.arange(12.0).reshape(2, 3, 2)
+    amplitude[0, 1] = np.nan
+    variables = {
+        "amplitude": (("sigma", "n", "chain"), amplitude, {"units": "rad", "long_name": "amplitude"}),
+        "periodic": (("sigma", "n"), np.array([[1.0, 0.0, np.nan], [np.nan, 1.0, 0.0]]),
+                     {"flag_values": np.array([1.0, 0.0]), "flag_meanings": "periodic irregular"}),
+        "status": (("sigma", "n"), status, {"long_name": "status"}),
+        "finished_at": (("sigma", "n"), finished, {"long_name": "when"}),
+    }
+    coords = {"sigma": (("sigma",), np.array([0.3, 1.0]), {"long_name": "sigma"}),
+              "n": (("n",), np.array([5, 7, 9], dtype=np.int64), {"long_name": "N"}),
+              "chain": (("chain",), np.arange(1, 3), {"long_name": "chain"})}
+    attrs = {"title": "t", "duration": 40.0, "points_total": 6, "complete": 0, "numerics_integrator":
+             Numerics().integrator, "numerics_dt": Numerics().dt}
+    mine, theirs = tmp_path / "mine.nc", tmp_path / "xarray.nc"
+    write_netcdf(mine, variables, coords, attrs)
+    xr.Dataset({k: (d, v, a) for k, (d, v, a) in variables.items()},
+               coords={k: (d, v, a) for k, (d, v, a) in coords.items()},
+               attrs={k: (str(v) if isinstance(v, str) else float(v) if isinstance(v, float) else v)
+                      for k, v in attrs.items()}).to_netcdf(theirs, engine="h5netcdf")
+    a, b = load(mine), load(theirs)
+    xr.testing.assert_identical(a, b)
+    assert a["finished_at"].dtype == np.dtype("datetime64[ns]") and np.isnat(a["finished_at"].values[0, 1])
+    assert type(a.attrs["numerics_integrator"]) is str and a.attrs["numerics_dt"] == 0.0025
+    with xr.open_dataset(mine) as default_engine:  # a valid netCDF-4 file for xarray's default engine too
+        assert set(default_engine.data_vars) == set(variables)
+
+
+def test_long_chain_sweep_says_its_numerics_are_automatic(tmp_path):
+    ds = run_sweep("one-pinned", {"sigma": [0.05]}, fixed={"n": 30}, duration=2, out=tmp_path / "l.nc",
+                   progress=False, workers=1)
+    assert (ds["status"] == "ok").all() and "automatic long-chain numerics" in ds.attrs["numerics_automatic"]
+    short = run_sweep("one-pinned", {"sigma": [0.8]}, duration=2, progress=False, workers=1)
+    assert "numerics_automatic" not in short.attrs

@@ -46,6 +46,15 @@ def pin_drift_message(violation: float, time: float, numerics: Numerics) -> str:
     )
 
 
+def numerics_info(given: Numerics, used: Numerics) -> dict:
+    """What a Trajectory's info records of numerics chosen automatically (Numerics.for_physics): nothing when the
+    run used the numerics it was given."""
+    if used is given:
+        return {}
+    return {"automatic_numerics": {"integrator": used.integrator, "dt": float(used.dt),
+                                   "mass_ratio": float(used.mass_ratio), "reason": "long chain (Numerics.for_physics)"}}
+
+
 def _bad_state(data: mujoco.MjData) -> bool:
     return any(data.warning[w].number for w in BAD_STATE_WARNINGS) or not np.all(np.isfinite(data.qpos))
 
@@ -68,11 +77,15 @@ def simulate_mujoco(
 ) -> Trajectory:
     """Simulate a scene for `duration` (in tau); returns angles sampled every numerics.sample_dt.
 
+    Numerics left at their defaults become numerics.for_physics(physics): for a long chain, explicit drag
+    with a matched mass (params.long_chain_numerics; info["automatic_numerics"] records what ran).
+
     on_sample(model, data) is called at every recorded sample (e.g. to render a frame); it must
     not change the state.
     """
     if not duration > 0:
         raise ParameterError(f"duration (in tau) must be a positive number, got {duration}")
+    given, numerics = numerics, numerics.for_physics(physics)  # long chains: automatic numerics (Numerics)
     t = numerics.sample_times(duration)
     steps = (t.size - 1) * numerics.steps_per_sample
     if steps > MAX_STEPS:
@@ -114,6 +127,7 @@ def simulate_mujoco(
     info["us_per_step"] = 1e6 * wall / max(info["steps"], 1)
     if pinned:
         info["constraint_violation"] = violation
+    info.update(numerics_info(given, numerics))
     return Trajectory(t=t, theta=theta, physics=physics, engine="mujoco", wall_time_s=wall, info=info, head=head)
 
 

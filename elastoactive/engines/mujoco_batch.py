@@ -50,7 +50,7 @@ from ..errors import ParameterError, SimulationDiverged
 from ..model import prepare, state_of
 from ..params import Numerics, Physics
 from ..trajectory import Trajectory
-from .mujoco import BAD_STATE_WARNINGS, CHECK_EVERY, PIN_DRIFT_LIMIT, pin_drift_message, pin_violation
+from .mujoco import BAD_STATE_WARNINGS, CHECK_EVERY, PIN_DRIFT_LIMIT, numerics_info, pin_drift_message, pin_violation
 
 RECORD_BYTES = 32 << 20
 """Bytes of records one rollout call of a batch may fill, in buffers reused from call to call. It sets
@@ -75,6 +75,11 @@ class Run:
     physics: Physics
     numerics: Numerics = field(default_factory=Numerics)
     duration: float = 200.0
+
+    @property
+    def used(self) -> Numerics:
+        """The numerics the run uses: numerics.for_physics(physics), as simulate_mujoco resolves them."""
+        return self.numerics.for_physics(self.physics)
 
 
 def as_runs(runs, numerics: Numerics | None = None, duration: float | None = None) -> list[Run]:
@@ -158,8 +163,9 @@ def _field_value(model: mujoco.MjModel, name: str) -> np.ndarray:
 
 def batch_key(run: Run) -> tuple:
     """A cheap key (no compiling) under which runs are likely to share a model: scene, N, the mass
-    ratio (stat.meaninertia), the integrator and the sampling. `signature` decides."""
-    num = run.numerics
+    ratio (stat.meaninertia), the integrator and the sampling, of the numerics the run uses (Run.used).
+    `signature` decides. `run`: a Run or anything with physics, numerics and duration (batch.Case)."""
+    num = run.numerics.for_physics(run.physics)
     return (run.physics.scene, run.physics.n, num.mass_ratio, num.integrator, num.steps_per_sample,
             num.sample_times(run.duration).size)
 
@@ -222,8 +228,8 @@ class _Count:
 def _prepare(index: int, run: Run) -> _Sim:
     if not run.duration > 0:
         raise ParameterError(f"duration (in tau) must be a positive number, got {run.duration}")
-    t = run.numerics.sample_times(run.duration)
-    model, data = prepare(run.physics, run.numerics)
+    t = run.used.sample_times(run.duration)
+    model, data = prepare(run.physics, run.used)
     violation = pin_violation(model, data) if run.physics.scene_def.pinned else 0.0
     return _Sim(index, run, t, model, data, violation)
 
@@ -244,7 +250,7 @@ def run_batch(
     simulation at once, as its outcome (e.g. a pre-flight check that failed meanwhile)."""
     ref = sims[0]
     model, nsim = ref.model, len(sims)
-    nstep, samples = ref.run.numerics.steps_per_sample, ref.t.size
+    nstep, samples = ref.run.used.steps_per_sample, ref.t.size
     nq = model.nq
     pinned = ref.run.physics.scene_def.pinned
     start = time.perf_counter()
@@ -327,13 +333,13 @@ def run_batch(
                 if bad.size:
                     s = int(bad[0])
                     t_s = float(out[_TIME][j, s * nstep + nstep - 1, 0])
-                    event = (s, divergence_cause(sims[k].run.physics, sims[k].run.numerics, t_s, None,
+                    event = (s, divergence_cause(sims[k].run.physics, sims[k].run.used, t_s, None,
                                                  _Warnings(b.warning[k, :, 1])))
             if pinned:
                 drift = _pin_drift(out["site_xpos"][j, nstep - 1 :: nstep], ends, violation, k)
                 if drift is not None and (event is None or drift < event[0]):
                     t_s = float(out[_TIME][j, drift * nstep + nstep - 1, 0])
-                    event = (drift, pin_drift_message(violation[k], t_s, sims[k].run.numerics))
+                    event = (drift, pin_drift_message(violation[k], t_s, sims[k].run.used))
             if event is not None:
                 finish(k, SimulationDiverged(event[1]))
         k0 += count
@@ -343,12 +349,13 @@ def run_batch(
     for k, s in enumerate(sims):
         if done[k]:
             continue
-        physics, numerics = s.run.physics, s.run.numerics
+        physics, numerics = s.run.physics, s.run.used
         steps = int((samples - 1) * nstep)
         info = {"steps": steps, "integrator": numerics.integrator, "us_per_step": 1e6 * share / max(steps, 1),
                 "batch": {"size": nsim, "threads": min(threads, nsim), "wall_s": wall}}
         if pinned:
             info["constraint_violation"] = float(violation[k])
+        info.update(numerics_info(s.run.numerics, numerics))
         theta, head = state_of(physics, s.qpos)
         s.qpos = None
         done[k] = True
@@ -380,7 +387,7 @@ def _replay(b: mjbatch.Batch, k: int, sim: _Sim, k0: int, count: int, nstep: int
     checks; returns its SimulationDiverged, or None if it went through."""
     ids = np.array([k], np.int32)
     samples = sim.t.size
-    physics, numerics = sim.run.physics, sim.run.numerics
+    physics, numerics = sim.run.physics, sim.run.used
     xpos = b.bind("site_xpos") if ends is not None else None
     for kk in range(k0, k0 + count):
         try:
@@ -397,7 +404,7 @@ def _replay(b: mjbatch.Batch, k: int, sim: _Sim, k0: int, count: int, nstep: int
             value = float(np.linalg.norm(xpos[k, ends[0]] - xpos[k, ends[1]]))
             violation[k] = max(violation[k], value)
             if violation[k] > PIN_DRIFT_LIMIT:
-                return SimulationDiverged(_drift_message(violation[k], float(b.time[k]), numerics))
+                return SimulationDiverged(pin_drift_message(violation[k], float(b.time[k]), numerics))
     return None
 
 
@@ -409,10 +416,12 @@ def run_chunk(
     cancel: threading.Event | None = None,
     on_start: Callable[[], None] | None = None,
     drop: Callable[[int], BaseException | None] | None = None,
+    on_prepared: Callable[[int, mujoco.MjModel], None] | None = None,
 ) -> None:
     """Prepare runs[i] for i in indices, group them by signature and run each group as one batch on
     `threads` threads; outcomes go to on_done(i, Trajectory | exception). The caller installs the
-    follower callback."""
+    follower callback. on_prepared(i, model) is given each run's compiled model (model.prepare's, built for
+    runs[i].used), e.g. for a pre-flight check that would otherwise build it again; it must only read it."""
     groups: dict[bytes, list[_Sim]] = {}
     for i in indices:
         try:
@@ -420,6 +429,8 @@ def run_chunk(
         except Exception as err:  # as simulate_mujoco would raise it
             on_done(i, err)
             continue
+        if on_prepared is not None:
+            on_prepared(i, sim.model)
         groups.setdefault(signature(sim.model), []).append(sim)
     for sims in groups.values():
         run_batch(sims, threads, on_done, cancel, on_start, drop)

@@ -666,9 +666,10 @@ def _local_mujoco(todo: list[int], sweep: Sweep, workers: int, check: bool,
     cases, chunks = _chunks(todo, sweep, batch_size or BATCH_POINTS_PER_THREAD * workers)
     checks = _TimestepChecks()
     started, stop = threading.Event(), threading.Event()
-    # what the netCDF snapshots and the returned Dataset need (h5netcdf, xarray: ~0.25 s) is loaded while
-    # the C threads step, instead of after them; the loading waits until the stepping has started (it needs
-    # the GIL, which the pre-flight checks and the preparation of the models need too)
+    # what measuring the points, the netCDF snapshots and the returned Dataset need (scipy.optimize, h5netcdf,
+    # xarray: ~0.55 s of CPU) is loaded while the C threads step, instead of after them; the loading waits until
+    # the stepping has started (it needs the GIL, which the pre-flight checks and the preparation of the models
+    # need too)
     preload = threading.Thread(target=_preload_storage, args=(started, stop), name="elastoactive-preload",
                                daemon=True)
     preload.start()
@@ -693,6 +694,10 @@ def _preload_storage(started: threading.Event, stop: threading.Event) -> None:
     started.wait()
     if stop.is_set():
         return
+    with contextlib.suppress(Exception):
+        # start-up time: measuring a point (results.measure: harmonics, analysis.spectrum) loads
+        # scipy.optimize on first use, ~0.3 s that would otherwise come after the stepping, in series
+        import scipy.optimize  # noqa: F401
     with contextlib.suppress(Exception):
         # start-up time: loaded in the background, see _local_mujoco. Snapshots need h5netcdf (and h5py);
         # the Dataset run_sweep returns needs xarray (and pandas), and the index of a coordinate loads the

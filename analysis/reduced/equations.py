@@ -207,6 +207,36 @@ from .system import ChainSystem
 __all__ = ["drag_and_forces_reference", "potential_reference", "rhs_inertial_reference", "rhs_reference"]
 
 
+def _chain_spring_gradient(th, c, clamped):
+    """dU/dth of one chain's joint springs (stiffness c; clamped: the spring at the pivot holding th_0 at 0)."""
+    grad = np.zeros(th.size)
+    if clamped:
+        grad[0] += c * th[0]
+    bend = np.diff(th)
+    grad[:-1] -= c * bend
+    grad[1:] += c * bend
+    return grad
+
+
+def _pinned_rates(D, force, theta, beta, delta):
+    """The pinned chain's rates from the overdamped Baumgarte saddle point [[D, G^T], [G, 0]] (th', lam) =
+    (f, -beta g) (no free head: D over the angles theta of the one chain)."""
+    G = pin_jacobian(theta)
+    M = np.block([[D, G.T], [G, np.zeros((2, 2))]])
+    sol = np.linalg.solve(M, np.concatenate([force, -beta * pin_residual(theta, delta)]))
+    return sol[: force.size]
+
+
+def _pinned_accelerations(M, rhs_acc, theta, omega, beta, delta):
+    """The pinned chain's accelerations from the inertial saddle point [[M, G^T], [G, 0]] (om', lam) =
+    (f - D om - c, -G' om - 2 beta G om - beta^2 g) (no free head: M over the angles theta, rates omega)."""
+    G = pin_jacobian(theta)
+    gdot_om = -np.array([np.sum(np.cos(theta) * omega**2), np.sum(np.sin(theta) * omega**2)])
+    b = -gdot_om - 2.0 * beta * (G @ omega) - beta**2 * pin_residual(theta, delta)
+    K = np.block([[M, G.T], [G, np.zeros((2, 2))]])
+    return np.linalg.solve(K, np.concatenate([rhs_acc, b]))[: rhs_acc.size]
+
+
 def rhs_reference(system: ChainSystem, *, beta: float, factor=None):
     """Plain-numpy f(t, theta), written straight from the formulas (for tests and benchmarks).
 
@@ -229,13 +259,7 @@ def rhs_reference(system: ChainSystem, *, beta: float, factor=None):
         s, co = np.sin(diff), np.cos(diff)
         D = np.einsum("ijk,ij,ik->jk", mask, gl * s, s) + np.einsum("ijk,ij,ik->jk", mask, gt * co, co)
         Q = system.sigma * np.sum(upper * a[None, :] * np.sin(th[:, None] - th[None, :]), axis=1)
-        grad = np.zeros(n)
-        if system.clamped:
-            grad[0] += c * th[0]
-        bend = np.diff(th)
-        grad[:-1] -= c * bend
-        grad[1:] += c * bend
-        return D, Q - grad
+        return D, Q - _chain_spring_gradient(th, c, system.clamped)
 
     if system.extended:  # a free head, a trap or self-contact: D and f over every coordinate
         def f_extended(t, y):
@@ -243,11 +267,7 @@ def rhs_reference(system: ChainSystem, *, beta: float, factor=None):
             D, force = drag_and_forces_reference(system, y, fac)
             if not system.pinned:
                 return np.linalg.solve(D, force)
-            theta = y[: system.n_angles]
-            G = pin_jacobian(theta)
-            M = np.block([[D, G.T], [G, np.zeros((2, 2))]])
-            sol = np.linalg.solve(M, np.concatenate([force, -beta * pin_residual(theta, system.delta)]))
-            return sol[:n]
+            return _pinned_rates(D, force, y[: system.n_angles], beta, system.delta)
 
         return f_extended
 
@@ -263,10 +283,7 @@ def rhs_reference(system: ChainSystem, *, beta: float, factor=None):
             force[n] += system.kappa * (theta[0] - theta[n])
         if not system.pinned:
             return np.linalg.solve(Dfull, force)
-        G = pin_jacobian(theta)
-        M = np.block([[Dfull, G.T], [G, np.zeros((2, 2))]])
-        sol = np.linalg.solve(M, np.concatenate([force, -beta * pin_residual(theta, system.delta)]))
-        return sol[:n]
+        return _pinned_rates(Dfull, force, theta, beta, system.delta)
 
     return f
 
@@ -306,12 +323,7 @@ def rhs_inertial_reference(system: ChainSystem, *, beta: float, factor=None):
             c[sl] = (a * np.sin(diff)) @ (w**2)
             s_, c_ = np.sin(diff), np.cos(diff)
             D[sl, sl] = np.einsum("ijk,ij,ik->jk", mask, gl * s_, s_) + np.einsum("ijk,ij,ik->jk", mask, gt * c_, c_)
-            grad = np.zeros(n)  # dU/dth
-            if system.clamped:
-                grad[0] += cs * th[0]
-            bend = np.diff(th)
-            grad[:-1] -= cs * bend
-            grad[1:] += cs * bend
+            grad = _chain_spring_gradient(th, cs, system.clamped)  # dU/dth
             Q = system.sigma * np.sum(upper * fac[sl][None, :] * np.sin(diff), axis=1)
             force[sl] = Q - grad
         if nch == 2:
@@ -320,11 +332,7 @@ def rhs_inertial_reference(system: ChainSystem, *, beta: float, factor=None):
         rhs_acc = force - D @ omega - c
         if not system.pinned:
             return np.concatenate([omega, np.linalg.solve(M, rhs_acc)])
-        G = pin_jacobian(theta)
-        gdot_om = -np.array([np.sum(np.cos(theta) * omega**2), np.sum(np.sin(theta) * omega**2)])
-        b = -gdot_om - 2.0 * beta * (G @ omega) - beta**2 * pin_residual(theta, system.delta)
-        K = np.block([[M, G.T], [G, np.zeros((2, 2))]])
-        return np.concatenate([omega, np.linalg.solve(K, np.concatenate([rhs_acc, b]))[:na]])
+        return np.concatenate([omega, _pinned_accelerations(M, rhs_acc, theta, omega, beta, system.delta)])
 
     return f
 
@@ -360,13 +368,7 @@ def _spring_gradient(system: ChainSystem, y: np.ndarray) -> np.ndarray:
     for ch in range(system.n_chains):
         c = system.stiffness(ch)
         th = y[ch * n : (ch + 1) * n]
-        g = np.zeros(n)
-        if system.clamped:
-            g[0] += c * th[0]
-        bend = np.diff(th)
-        g[:-1] -= c * bend
-        g[1:] += c * bend
-        grad[ch * n : (ch + 1) * n] = g
+        grad[ch * n : (ch + 1) * n] = _chain_spring_gradient(th, c, system.clamped)
     if system.n_chains == 2:
         grad[0] += system.kappa * (y[0] - y[n])
         grad[n] -= system.kappa * (y[0] - y[n])
@@ -456,11 +458,6 @@ def _inertial_extended_reference(system: ChainSystem, beta: float, fac: np.ndarr
         rhs_acc = force - D @ w - cgen
         if not system.pinned:
             return np.concatenate([w, np.linalg.solve(M, rhs_acc)])
-        theta = q[:n]
-        G = pin_jacobian(theta)
-        gdot_om = -np.array([np.sum(np.cos(theta) * w**2), np.sum(np.sin(theta) * w**2)])
-        b = -gdot_om - 2.0 * beta * (G @ w) - beta**2 * pin_residual(theta, system.delta)
-        K = np.block([[M, G.T], [G, np.zeros((2, 2))]])
-        return np.concatenate([w, np.linalg.solve(K, np.concatenate([rhs_acc, b]))[:nq]])
+        return np.concatenate([w, _pinned_accelerations(M, rhs_acc, q[:n], w, beta, system.delta)])
 
     return f

@@ -495,10 +495,11 @@ def _dish_claims(st: Study) -> list[Claim]:
     return [Claim(
         f"Chain in a paraboloid dish (sigma = {s.supplement_sigma:g}): goes round the centre and crawls in circles",
         f'"{P.dish_words}"', mj_txt, f"by trap: {states}",
-        _verdict(math.isfinite(lo), partly=False),
+        _verdict(math.isfinite(lo)),
         f"The dish as a harmonic trap -k r (its small-slope limit), N = {s.n}. At sigma = {s.supplement_sigma:g} the chain "
-        f"goes round the centre, its bent body crawling head first along the circle, for trap {lo:g}-{hi:g} (of the "
-        f"grid); weaker traps hold it still far out, pointing outward; stiffer ones curl it into a spin near the centre. "
+        f"goes round the centre, its bent body crawling head first along the circle, for trap {lo:g}-{hi:g} (of a "
+        f"fine scan; 'irregular' next to the threshold is a run still settling); weaker traps hold it still far out, "
+        f"pointing outward; stiffer ones curl it into a spin near the centre. "
         f"Phase diagram over {len(s.sigmas)} x {len(s.traps)} (sigma, trap) points: {counts}. "
         + ("A crawl with a body rotation different from the orbit occurs. " if s.crawl_found else
            "Nowhere does the body turn at a rate other than the orbit's: the steady crawl of the dish is a rigid orbit, "

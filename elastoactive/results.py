@@ -50,12 +50,13 @@ OBSERVABLES: dict[str, Observable] = {
                                    "capsules of non-adjacent links)", error="absolute", floor=0.0),
     "min_clearance": Observable("l", "smallest clearance between capsules of non-adjacent links over the measured "
                                 "window (negative: overlap)", error="none"),
-    "orbit_rate": Observable("rad/tau", "mean angular velocity of the centre of mass about the dish's centre",
-                             floor=1e-6),
-    "orbit_radius": Observable("l", "mean distance of the centre of mass from the dish's centre", floor=1e-3),
+    "orbit_rate": Observable("rad/tau", "mean angular velocity of the N particles' centre of mass about the dish's "
+                             "centre", floor=1e-6),
+    "orbit_radius": Observable("l", "mean distance of the N particles' centre of mass from the dish's centre",
+                               floor=1e-3),
     "curvature": Observable("1/l", "mean curvature of the chain (theta_{i+1} - theta_i per l, signed)",
                             floor=1e-4),
-    "dish_state": Observable("", "state of the chain in the dish: rest, spin, orbit, crawl or irregular",
+    "dish_state": Observable("", "state of the chain in the dish: rest, spin, orbit, crawl, beat or irregular",
                              error="none"),
 }
 """Every observable a scene can report, in one place (Scene.observables names them)."""

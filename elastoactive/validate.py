@@ -183,11 +183,15 @@ def compare(physics: Physics, numerics: Numerics = Numerics(), duration: float =
                       statistics=cycle_statistics(mj, red, transient) if irregular else None)
 
 
+_SHOWN = ("amplitude", "frequency", "rotation_rate")
+"""Observables with a column of their own in format_table (the others a scene compares share one)."""
+
+
 def format_table(rows: list[Comparison]) -> str:
     """Markdown table, one line per case."""
-    head = ("| case | MuJoCo wall s | reduced wall s | amplitude err | frequency err | rotation-rate err "
+    head = ("| case | MuJoCo wall s | reduced wall s | amplitude err | frequency err | rotation-rate err | other err "
             "| max angle diff over transient [0, T] | pin violation |")
-    lines = [head, "|" + "---|" * 8]
+    lines = [head, "|" + "---|" * 9]
     for c in rows:
         case = c.physics.scene_def.label(c.physics)
         if c.statistics is not None:
@@ -195,9 +199,11 @@ def format_table(rows: list[Comparison]) -> str:
         e = c.errors
         pct = lambda k: f"{100 * e[k]:.3f}%" if k in e else "-"
         viol = f"{c.constraint_violation:.1e}" if c.constraint_violation is not None else "-"
+        other = ", ".join(f"{k} {pct(k)}" for k in c.physics.scene_def.compared if k in e and k not in _SHOWN) or "-"
         lines.append(
             f"| {case} | {c.mujoco_wall_s:.2f} | {c.reduced_wall_s:.2f} | {pct('amplitude')} | {pct('frequency')} "
-            f"| {pct('rotation_rate')} | {e['angle_rad']:.2e} rad = {pct('angle')} of max angle, T = {e['window']:.0f} | {viol} |"
+            f"| {pct('rotation_rate')} | {other} | {e['angle_rad']:.2e} rad = {pct('angle')} of max angle, "
+            f"T = {e['window']:.0f} | {viol} |"
         )
     return "\n".join(lines)
 

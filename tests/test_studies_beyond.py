@@ -10,19 +10,13 @@ import pytest
 
 from elastoactive import claims, figures
 from elastoactive.paper import PAPER
-from elastoactive.studies import STUDIES, SUMMARIES, load_study
+from elastoactive.studies import SUMMARIES, load_study
 from elastoactive.studies.self_contact import link_crossings
 
 
 @pytest.fixture(scope="module")
-def runs(tmp_path_factory):
-    out = tmp_path_factory.mktemp("beyond")
-    done = {}
-    for name in ("long_chain", "dish"):
-        st = STUDIES[name]("tiny", workers=2, progress=False)
-        st.save(out)
-        done[name] = st
-    return out, done
+def runs(tiny_studies):
+    return tiny_studies("long_chain", "dish")
 
 
 def test_link_crossings_geometry():

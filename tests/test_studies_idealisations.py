@@ -10,20 +10,14 @@ import pytest
 from elastoactive import claims, figures
 from elastoactive.analysis import flutter as fl
 from elastoactive.paper import PAPER
-from elastoactive.studies import SUMMARIES, STUDIES, load_study
+from elastoactive.studies import SUMMARIES, load_study
 from elastoactive.studies.inertia import experiment_scales
 from elastoactive.studies.noise import experiment_noise
 
 
 @pytest.fixture(scope="module")
-def runs(tmp_path_factory):
-    out = tmp_path_factory.mktemp("idealisations")
-    done = {}
-    for name in ("inertia", "noise_readings"):
-        st = STUDIES[name]("tiny", workers=2, progress=False)
-        st.save(out)
-        done[name] = st
-    return out, done
+def runs(tiny_studies):
+    return tiny_studies("inertia", "noise_readings")
 
 
 def test_paper_literature_values():

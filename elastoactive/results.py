@@ -12,8 +12,8 @@ from pathlib import Path
 
 import numpy as np
 
+from .analysis import dish, spectrum
 from .analysis import observables as obs
-from .analysis import spectrum
 from .analysis.reduced.contact import capsule_clearance
 from .errors import ParameterError
 from .outputs import sha256, write_files
@@ -30,6 +30,7 @@ class Observable:
     per_chain: bool = False  # one value per chain for a coupled pair
     error: str = "relative"  # validate: "relative" (absolute below `floor`), "absolute", or "none" (not compared)
     floor: float = 1e-3
+    categories: tuple[str, ...] = ()  # a categorical observable's values (a sweep stores their index)
 
 
 HARMONICS = 5
@@ -56,8 +57,8 @@ OBSERVABLES: dict[str, Observable] = {
                                floor=1e-3),
     "curvature": Observable("1/l", "mean curvature of the chain (theta_{i+1} - theta_i per l, signed)",
                             floor=1e-4),
-    "dish_state": Observable("", "state of the chain in the dish: rest, spin, orbit, crawl, beat or irregular",
-                             error="none"),
+    "dish_state": Observable("1", "state of the chain in the dish (analysis.dish.dish_state)", error="none",
+                             categories=dish.STATES),
 }
 """Every observable a scene can report, in one place (Scene.observables names them)."""
 

@@ -131,6 +131,8 @@ def scene_variables(scene: str) -> tuple[str, ...]:
 
 VARIABLE_ATTRS = {
     **{name: dict(units=o.units, long_name=o.long_name) for name, o in OBSERVABLES.items()},
+    **{name: dict(units=o.units, long_name=o.long_name, flag_values=np.arange(len(o.categories), dtype=float),
+                  flag_meanings=" ".join(o.categories)) for name, o in OBSERVABLES.items() if o.categories},
     "periodic": dict(
         units="1", long_name="whether the motion is periodic (results.Results.periodic)",
         flag_values=np.array([1.0, 0.0]), flag_meanings="periodic irregular",
@@ -148,12 +150,14 @@ VARIABLE_ATTRS = {
     "error": dict(long_name="error text of a failed point (empty if ok)"),
 }
 COORD_ATTRS = {
+    **{f.name: f.metadata["help"] for cls in (Physics, Numerics) for f in parameter_fields(cls)},
     "n": "particles per chain N", "sigma": "elasto-active number F_a l / C1", "delta": "compression of the two-pinned chain",
     "kappa": "coupling stiffness K l^2 / C1", "rho": "stiffness ratio C2 / C1", "drag_ratio": "gamma_L / gamma_T",
     "noise": "noise amplitude a", "seed": "random seed", "dt": "timestep (tau)", "mass_ratio": "m / (gamma tau)",
     "perturbation": "initial kick (rad)", "sample_dt": "sampling interval (tau)", "chain": "chain (1: C1, 2: C2 = rho C1)",
     "harmonic": "harmonic number (1: the fundamental)",
 }
+"""long_name of each coordinate: every parameter's help text (params), shorter names for the paper's."""
 
 
 class SweepMismatch(ParameterError):
@@ -606,9 +610,12 @@ def run_points_task(cases: Sequence[Case], timestep_check: bool = True) -> list[
 
 def _measurements(results: dict) -> dict:
     """The numeric measurements of Results.as_dict(), as JSON-ready numbers: a number, or one per chain
-    (a list). None ("could not be measured") becomes NaN, a bool 0 or 1; text (the notes) is left out:
-    it is stored as the record's `notes`."""
-    return {name: _plain(value) for name, value in results.items() if _numeric(value)}
+    (a list). None ("could not be measured") becomes NaN, a bool 0 or 1, a categorical observable's value
+    (OBSERVABLES' categories, e.g. dish_state) its index; other text (the notes) is left out: it is stored as
+    the record's `notes`."""
+    coded = {name: float(OBSERVABLES[name].categories.index(value)) for name, value in results.items()
+             if name in OBSERVABLES and value in OBSERVABLES[name].categories}
+    return {name: _plain(value) for name, value in {**results, **coded}.items() if _numeric(value)}
 
 
 def _numeric(value, depth: int = 2) -> bool:

@@ -93,3 +93,18 @@ def test_run_writes_the_head_and_renders_it(tmp_path):
     moved = render.render_frames(ea.Trajectory(traj.t, traj.theta, traj.physics, "x", head=np.zeros_like(traj.head)),
                                  fps=2, rate=10, width=160, height=120, start=30, end=30)[0]
     assert np.abs(frame.astype(int) - moved).mean() > 1.0
+
+
+def test_sweep_stores_the_dish_state_as_flags(tmp_path):
+    """A sweep over the trap: rates as numbers, dish_state as a CF flag variable (index into its meanings)."""
+    import xarray as xr
+
+    out = tmp_path / "dish.nc"
+    assert main(["sweep", "paraboloid", "--grid", "trap=0.1,0.3", "--sigma", "0.3", "--duration", "300", "--engine",
+                 "reduced", "--out", str(out), "--quiet"]) == 0
+    with xr.open_dataset(out) as ds:
+        meanings = ds.dish_state.attrs["flag_meanings"].split()
+        states = [meanings[int(v)] for v in ds.dish_state.values]
+        assert states == ["orbit", "spin"]
+        assert abs(abs(float(ds.rotation_rate.sel(trap=0.1))) - 0.0802) < 0.002
+        assert ds.trap.attrs["long_name"].startswith("stiffness k l^2 / C1")

@@ -245,6 +245,8 @@ def summary(traj: Trajectory, numerics: Numerics, duration: float, transient: fl
     """Everything summary.json holds: parameters, numerical settings, wall time, results, solver
     information and (when given) the provenance record of elastoactive.outputs."""
     transient = check_transient(duration, transient)
+    if traj.engine == "mujoco":  # what ran: a long chain's automatic numerics (Numerics.for_physics), so --from repeats it
+        numerics = numerics.for_physics(traj.physics)
     settings = dataclasses.asdict(numerics)
     if traj.engine == "reduced":  # the reduced model uses these (dt: the Euler-Maruyama step with noise)
         keep = ("sample_dt", "perturbation", "seed") + (("dt",) if traj.physics.noise > 0 else ())

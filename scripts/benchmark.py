@@ -83,13 +83,18 @@ class TooSlow(Exception):
     pass
 
 
+def initial_state(physics: Physics, numerics: Numerics) -> np.ndarray:
+    """The reduced model's initial state: the angles, then a moving pivot's position (the dish's centre)."""
+    return np.concatenate([initial_angles(physics, numerics), np.zeros(physics.scene_def.head_coordinates)])
+
+
 def plain_run(physics: Physics, duration: float, method: str, rtol: float, deadline_s: float):
     """solve_ivp(method) on rhs_reference, as a user would write it; stops (TooSlow) past deadline_s."""
     from scipy.integrate import solve_ivp
 
     numerics = Numerics()
     t = numerics.sample_times(duration)
-    theta0 = initial_angles(physics, numerics)
+    theta0 = initial_state(physics, numerics)
     f = rhs_reference(physics)
     t0 = time.perf_counter()
     stop = t0 + deadline_s
@@ -103,7 +108,7 @@ def plain_run(physics: Physics, duration: float, method: str, rtol: float, deadl
     wall = time.perf_counter() - t0
     if not sol.success:
         raise TooSlow
-    return sol.y.T, wall
+    return sol.y.T[:, : physics.n_angles], wall  # the angles (compared with simulate_reduced's theta)
 
 
 def match_method(physics, duration, method, ref, target, best_so_far, cap_s):
@@ -142,7 +147,7 @@ def plain_baseline_runs(physics: Physics) -> bool:
     """Whether the plain-numpy rhs_reference evaluates for this physics (a scene whose reduced model has parts the
     plain twin does not cover has no plain baseline here)."""
     try:
-        value = rhs_reference(physics)(0.0, initial_angles(physics, Numerics()))
+        value = rhs_reference(physics)(0.0, initial_state(physics, Numerics()))
         return bool(np.all(np.isfinite(value)))
     except Exception as err:  # noqa: BLE001 (reported: the case is left out of part A)
         log(f"part A leaves out {physics.scene}: the plain rhs_reference fails ({type(err).__name__}: {err})")

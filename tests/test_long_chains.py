@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 from elastoactive import diagnose
+from elastoactive.cli import main
 from elastoactive.engines.mujoco import simulate_mujoco
 from elastoactive.engines.mujoco_batch import simulate_mujoco_batch
 from elastoactive.engines.reduced import regime, simulate_reduced
@@ -112,3 +113,15 @@ def test_the_checks_regime_is_the_reduced_engines(physics, numerics):
     mine, theirs = diagnose._regime(physics, numerics), regime(physics, numerics)
     assert mine.model == theirs.model and mine.inertia_number == theirs.inertia_number
     assert mine.mass_ratio == theirs.mass_ratio
+
+
+def test_summary_records_the_numerics_that_ran_and_from_repeats_them(tmp_path):
+    """A long chain's automatic numerics are what summary.json records, so `run --from` repeats the run exactly."""
+    first, again = tmp_path / "a", tmp_path / "b"
+    assert main(["run", "one-pinned", "--n", "100", "--sigma", "0.05", "--duration", "2", "--out", str(first),
+                 "--quiet"]) == 0
+    numerics = json.loads((first / "summary.json").read_text())["numerics"]
+    assert numerics["integrator"] == "Euler" and numerics["mass_ratio"] != 1e-4
+    assert main(["run", "--from", str(first), "--out", str(again), "--quiet"]) == 0
+    with np.load(first / "trajectory.npz") as a, np.load(again / "trajectory.npz") as b:
+        np.testing.assert_array_equal(a["theta"], b["theta"])

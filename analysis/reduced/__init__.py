@@ -11,6 +11,7 @@ finite mass), solved without MuJoCo: arrays and records in, arrays out.
   dop853_coefficients.py   the DOP853 tableau (copied from scipy, BSD)
   dop853.py                DOP853 compiled together with the right-hand side
   regime.py                the overdamped limit: when a particle mass needs the inertial model (numpy)
+  settings.py              solver settings read outside the solvers (Baumgarte rate, stiffness radius)
   solve.py                 the public solvers on a ChainSystem: rhs, jacobian, solve_ode, solve_sde,
                            solve_inertial, ...
 
@@ -31,16 +32,15 @@ from .regime import (
     overdamped_rate,
     rate_bound,
 )
+from .settings import DEFAULT_BETA, STIFF_RADIUS
 from .system import BEAD_INERTIA_FACTOR, CONTACT_LENGTH, ChainSystem
 
 SOLVE_NAMES = (  # the public names of solve.py (its __all__), loaded on first use
     "COMPILED_METHODS",
-    "DEFAULT_BETA",
     "IMPLICIT_METHODS",
     "RK4_STEP",
     "SCIPY_METHODS",
     "SDE_SCHEMES",
-    "STIFF_RADIUS",
     "STIFF_RATIO",
     "constraint_violation",
     "drag_matrix",
@@ -55,7 +55,7 @@ SOLVE_NAMES = (  # the public names of solve.py (its __all__), loaded on first u
 )
 
 __all__ = sorted(SOLVE_NAMES + (
-    "BEAD_INERTIA_FACTOR", "CONTACT_LENGTH", "ChainSystem", "INERTIA_RESOLUTION", "capsule_clearance",
+    "BEAD_INERTIA_FACTOR", "CONTACT_LENGTH", "ChainSystem", "DEFAULT_BETA", "INERTIA_RESOLUTION", "STIFF_RADIUS", "capsule_clearance",
     "drag_and_forces_reference", "potential_reference", "force_jacobian", "inertia_number", "needs_inertia",
     "outside_overdamped_limit", "overdamped_rate", "pin_jacobian", "rate_bound", "pin_residual", "project_on_pins",
     "rhs_inertial_reference", "rhs_reference",

@@ -63,15 +63,10 @@ import numpy as np
 
 from ...errors import ParameterError
 from . import SOLVE_NAMES, dop853, kernels
+from .settings import DEFAULT_BETA, STIFF_RADIUS
 from .system import ChainSystem
 
-__all__ = list(SOLVE_NAMES)
-
-DEFAULT_BETA = 10.0
-"""Baumgarte rate of the two-pinned constraint drift (per tau)."""
-
-STIFF_RADIUS = 2.0e3
-"""Fastest decay rate of the Jacobian at theta0 (see `stiffness`) above which method=None picks implicit Radau."""
+__all__ = list(SOLVE_NAMES) + ["DEFAULT_BETA", "STIFF_RADIUS"]
 
 SCIPY_METHODS = ("RK23", "RK45", "DOP853", "Radau", "BDF", "LSODA")
 """scipy.integrate.solve_ivp methods solve_ode accepts."""

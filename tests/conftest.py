@@ -18,3 +18,24 @@ def tiny_studies(tmp_path_factory):
         return out, done
 
     return run
+
+
+@pytest.fixture
+def round_trip(tmp_path):
+    """check(runs, name) -> the claims table: a study saved by tiny_studies reads back equal, draws its figures and
+    renders claim rows with a verdict each."""
+    from elastoactive import claims, figures  # figures load matplotlib: only the tests that use them pay
+    from elastoactive.studies import SUMMARIES, load_study
+
+    def check(runs, name):
+        out, done = runs
+        back = load_study(out, name)
+        assert isinstance(back.summary, SUMMARIES[name])
+        assert back.summary.as_dict() == done[name].summary.as_dict()  # nan-safe comparison
+        paths = figures.make_figures(back, tmp_path)
+        assert paths and all(p.stat().st_size > 5000 for p in paths)
+        rows = claims.build_claims({name: back})
+        assert rows and all(r.agree in ("yes", "no", "partly") for r in rows)
+        return claims.claims_table(rows)
+
+    return check

@@ -38,6 +38,14 @@ def rigid(rate, t=T, shape=SHAPE, head0=(1.2, -0.5)):
 # ----------------------------------------------------------------------------- geometry
 
 
+def assert_dish(theta, head, *, rotation, orbit, radius, state, tol=1e-6):
+    """The body rotation rate, orbit rate and radius, and the state of a synthetic trajectory."""
+    assert ob.rotation_rate(T, theta) == pytest.approx(rotation, abs=tol)
+    assert dish.orbit_rate(T, theta, head) == pytest.approx(orbit, abs=tol)
+    assert dish.orbit_radius(T, theta, head) == pytest.approx(radius, abs=tol)
+    assert dish.dish_state(T, theta, head) == state
+
+
 def test_positions_and_centre_of_mass_by_hand():
     theta = np.array([[0.0, math.pi / 2], [math.pi, math.pi]])
     head = np.array([[1.0, 2.0], [0.0, 0.0]])
@@ -67,11 +75,8 @@ def test_rigid_orbit():
     theta, head = rigid(0.08)
     r = np.hypot(*dish.centre_of_mass(theta, head)[0])
     assert r > dish.SPIN_RADIUS * N  # away from the centre
-    assert ob.rotation_rate(T, theta) == pytest.approx(0.08, abs=1e-6)
-    assert dish.orbit_rate(T, theta, head) == pytest.approx(0.08, abs=1e-6)
-    assert dish.orbit_radius(T, theta, head) == pytest.approx(r, abs=1e-6)
+    assert_dish(theta, head, rotation=0.08, orbit=0.08, radius=r, state="orbit")
     assert dish.mean_curvature(theta, T) == pytest.approx(0.25, abs=1e-12)
-    assert dish.dish_state(T, theta, head) == "orbit"
     theta, head = rigid(-0.08)  # clockwise
     assert dish.orbit_rate(T, theta, head) == pytest.approx(-0.08, abs=1e-6)
     assert dish.dish_state(T, theta, head) == "orbit"
@@ -89,17 +94,12 @@ def test_spin_about_its_own_centre_of_mass_at_the_centre():
 
 def test_spin_about_a_point_near_the_centre_of_mass():
     theta, head = trajectory(0.155, 0.155, 0.27)  # the issue's trap 0.3: curled, spinning about radius 0.27
-    assert dish.orbit_rate(T, theta, head) == pytest.approx(0.155, abs=1e-6)
-    assert dish.orbit_radius(T, theta, head) == pytest.approx(0.27, abs=1e-6)
-    assert dish.dish_state(T, theta, head) == "spin"
+    assert_dish(theta, head, rotation=0.155, orbit=0.155, radius=0.27, state="spin")
 
 
 def test_rest():
     theta, head = trajectory(0.0, 0.0, 2.0)
-    assert ob.rotation_rate(T, theta) == pytest.approx(0.0, abs=1e-9)
-    assert dish.orbit_rate(T, theta, head) == pytest.approx(0.0, abs=1e-9)
-    assert dish.orbit_radius(T, theta, head) == pytest.approx(2.0, abs=1e-9)
-    assert dish.dish_state(T, theta, head) == "rest"
+    assert_dish(theta, head, rotation=0.0, orbit=0.0, radius=2.0, state="rest", tol=1e-9)
     # a straight chain pointing outward, at rest with mild jitter
     rng = np.random.default_rng(0)
     theta = np.zeros((T.size, N)) + 1e-4 * rng.standard_normal((T.size, N))
@@ -133,10 +133,7 @@ def test_centre_of_mass_with_or_without_the_head():
 
 def test_crawl_body_and_orbit_at_different_rates():
     theta, head = trajectory(0.12, 0.05, 1.5)
-    assert ob.rotation_rate(T, theta) == pytest.approx(0.12, abs=1e-6)
-    assert dish.orbit_rate(T, theta, head) == pytest.approx(0.05, abs=1e-6)
-    assert dish.orbit_radius(T, theta, head) == pytest.approx(1.5, abs=1e-6)
-    assert dish.dish_state(T, theta, head) == "crawl"
+    assert_dish(theta, head, rotation=0.12, orbit=0.05, radius=1.5, state="crawl")
     theta, head = trajectory(-0.03, 0.05, 1.5)  # the body turns against its orbit
     assert dish.dish_state(T, theta, head) == "crawl"
     theta, head = trajectory(0.0, 0.05, 1.5)  # the body keeps its heading as it goes round

@@ -8,9 +8,7 @@ import math
 import numpy as np
 import pytest
 
-from elastoactive import claims, figures
 from elastoactive.paper import PAPER
-from elastoactive.studies import SUMMARIES, load_study
 from elastoactive.studies.self_contact import link_crossings
 
 
@@ -56,14 +54,6 @@ def test_dish_engines_and_states(runs):
 
 
 @pytest.mark.parametrize("name", ["long_chain", "dish"])
-def test_round_trip_figures_and_rows(runs, name, tmp_path):
-    out, done = runs
-    back = load_study(out, name)
-    assert isinstance(back.summary, SUMMARIES[name])
-    assert back.summary.as_dict() == done[name].summary.as_dict()
-    paths = figures.make_figures(back, tmp_path)
-    assert paths and all(p.stat().st_size > 5000 for p in paths)
-    rows = claims.build_claims({name: back})
-    assert rows and all(r.agree in ("yes", "no", "partly") for r in rows)
-    table = claims.claims_table(rows)
+def test_round_trip_figures_and_rows(runs, name, round_trip):
+    table = round_trip(runs, name)
     assert ("self-contact" in table) if name == "long_chain" else ("paraboloid" in table)

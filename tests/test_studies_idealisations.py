@@ -7,10 +7,8 @@ import math
 
 import pytest
 
-from elastoactive import claims, figures
 from elastoactive.analysis import flutter as fl
 from elastoactive.paper import PAPER
-from elastoactive.studies import SUMMARIES, load_study
 from elastoactive.studies.inertia import experiment_scales
 from elastoactive.studies.noise import experiment_noise
 
@@ -36,16 +34,8 @@ def test_experiment_estimates():
 
 
 @pytest.mark.parametrize("name", ["inertia", "noise_readings"])
-def test_round_trip_figures_and_rows(runs, name, tmp_path):
-    out, done = runs
-    back = load_study(out, name)
-    assert isinstance(back.summary, SUMMARIES[name])
-    assert back.summary.as_dict() == done[name].summary.as_dict()  # nan-safe comparison
-    paths = figures.make_figures(back, tmp_path)
-    assert paths and all(p.stat().st_size > 5000 for p in paths)
-    rows = claims.build_claims({name: back})
-    assert rows and all(r.agree in ("yes", "no", "partly") for r in rows)
-    table = claims.claims_table(rows)
+def test_round_trip_figures_and_rows(runs, name, round_trip):
+    table = round_trip(runs, name)
     assert ("Ziegler" in table) if name == "inertia" else ("Stratonovich" in table)
 
 

@@ -498,7 +498,7 @@ def _dish_claims(st: Study) -> list[Claim]:
         _verdict(math.isfinite(lo)),
         f"The dish as a harmonic trap -k r (its small-slope limit), N = {s.n}. At sigma = {s.supplement_sigma:g} the chain "
         f"goes round the centre, its bent body crawling head first along the circle, for trap {lo:g}-{hi:g} (of a "
-        f"fine scan; 'irregular' next to the threshold is a run still settling); weaker traps hold it still far out, "
+        f"fine scan); weaker traps hold it still far out, "
         f"pointing outward; stiffer ones curl it into a spin near the centre. "
         f"Phase diagram over {len(s.sigmas)} x {len(s.traps)} (sigma, trap) points: {counts}. "
         + ("A crawl with a body rotation different from the orbit occurs. " if s.crawl_found else

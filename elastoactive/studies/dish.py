@@ -3,6 +3,7 @@
 dish_study:
 - the phase diagram over (sigma, trap) for N = 7 in the reduced model (analysis.dish.dish_state: rest, spin,
   orbit, crawl, beat, irregular), with the body rotation rate, the orbit rate and radius, and the curvature;
+  a point still settling (irregular) next to a threshold is run longer (SETTLE_FACTOR, SETTLE_RETRIES);
 - both engines side by side at the supplement's sigma = 0.30 over the trap stiffness and at a beating point;
 - the supplement's observation ("tends to rotate around the center of the paraboloid, but ... also crawls in
   circles at the same time") located on the diagram: a fine scan of the trap stiffness at sigma = 0.30, and the
@@ -11,6 +12,7 @@ dish_study:
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import time
 from dataclasses import dataclass
@@ -32,6 +34,12 @@ SUPPLEMENT_SIGMA = PAPER.dish_sigma
 """The supplement's dish experiment (0.30)."""
 SAMPLE_DT = 0.2
 """tau between samples (the dish's motions are slow: 0.2 rad/tau at most below sigma = 1)."""
+
+
+SETTLE_FACTOR = 4.0
+"""A point classified 'irregular' is run again this many times longer (its rates may still be settling) ..."""
+SETTLE_RETRIES = 2
+"""... at most this many times; what stays irregular is reported as such."""
 
 
 def _duration(trap: float) -> float:
@@ -102,6 +110,12 @@ def dish_study(size: str = "quick", workers=None, progress: bool = True) -> Stud
     cases += [Case(scene.physics(n=N, sigma=s, trap=k), numerics, _duration(k), e) for s, k in checks for e in ("mujoco", "reduced")]
     trajs = run(cases, workers, progress, "dish N=7")
     points = [_point(tr, c.engine) for c, tr in zip(cases, trajs)]
+    unsettled = [i for i, p in enumerate(points) if p.state == "irregular"]
+    for _ in range(SETTLE_RETRIES):  # next to a threshold the motion settles slowly: run those points longer
+        longer = [dataclasses.replace(cases[i], duration=SETTLE_FACTOR * cases[i].duration) for i in unsettled]
+        for i, c, tr in zip(unsettled, longer, run(longer, workers, progress, "dish N=7, settling")):
+            cases[i], points[i] = c, _point(tr, c.engine)
+        unsettled = [i for i in unsettled if points[i].state == "irregular"]
     cut = len(sigmas) * len(traps)
     grid, line, check = points[:cut], points[cut : cut + len(scan)], points[cut + len(scan) :]
     data: dict = {"sigma": np.array(sigmas), "trap": np.array(traps)}

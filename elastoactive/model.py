@@ -25,6 +25,8 @@ coupling). Mapping (units l = C1 = gamma_T = 1, so tau = 1):
 
 from __future__ import annotations
 
+import threading
+
 import mujoco
 import numpy as np
 
@@ -105,15 +107,37 @@ def _add_chain(spec: mujoco.MjSpec, prefix: str, physics: Physics, numerics: Num
             )
 
 
+_TEMPLATES: dict[tuple, mujoco.MjSpec] = {}
+"""A scene's base file parsed, with its template chain(s) and generated elements deleted (_template), by
+(base file, chain prefixes)."""
+_TEMPLATES_LOCK = threading.Lock()
+
+
+def _template(scene) -> mujoco.MjSpec:
+    """A fresh copy of the scene's base MjSpec without its template elements (what build_spec starts from).
+    Parsing the file and deleting the elements costs ~1 ms; it is done once per process and base file, and
+    every call gets its own MjSpec.copy() (~15 us), which compiles to the same model, bit for bit
+    (tests/test_sweep.py). Thread-safe (sweeps prepare points on several threads)."""
+    path = str(mjcf_path(scene.base_file))
+    prefixes = tuple(scene.chain_prefixes())
+    key = (path, prefixes)
+    with _TEMPLATES_LOCK:
+        template = _TEMPLATES.get(key)
+        if template is None:
+            template = mujoco.MjSpec.from_file(path)
+            for element in [*template.actuators, *template.keys, *template.equalities, *template.tendons]:
+                template.delete(element)
+            for prefix in prefixes:
+                template.delete(template.body(f"{prefix}segment_0"))
+            _TEMPLATES[key] = template
+        return template.copy()
+
+
 def build_spec(physics: Physics, numerics: Numerics = Numerics()) -> mujoco.MjSpec:
     """MjSpec of a scene with these parameters (compile it with .compile())."""
     scene = physics.scene_def
-    spec = mujoco.MjSpec.from_file(str(mjcf_path(scene.base_file)))
-    for element in [*spec.actuators, *spec.keys, *spec.equalities, *spec.tendons]:
-        spec.delete(element)
+    spec = _template(scene)
     prefixes = scene.chain_prefixes()
-    for prefix in prefixes:
-        spec.delete(spec.body(f"{prefix}segment_0"))
 
     for k, (prefix, stiffness) in enumerate(zip(prefixes, scene.stiffness(physics))):
         _add_chain(spec, prefix, physics, numerics, stiffness, scene.chain_offset(physics, k), k)

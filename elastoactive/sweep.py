@@ -665,7 +665,7 @@ def _chunks(todo: list[int], sweep: Sweep, max_points: int, min_chunks: int = 1)
 
 
 def _local_mujoco(todo: list[int], sweep: Sweep, workers: int, check: bool,
-                  batch_size: int | None) -> Iterator[tuple[int, dict]]:
+                  batch_size: int | None, preload_xarray: bool = True) -> Iterator[tuple[int, dict]]:
     """MuJoCo points in mujoco.batch batches on `workers` threads of this process; each point's record is
     yielded (in this thread) as soon as it is known, so a killed sweep loses at most the running batches."""
     from .engines.mujoco_batch import run_chunks  # start-up time: loads mujoco
@@ -673,12 +673,12 @@ def _local_mujoco(todo: list[int], sweep: Sweep, workers: int, check: bool,
     cases, chunks = _chunks(todo, sweep, batch_size or BATCH_POINTS_PER_THREAD * workers)
     checks = _TimestepChecks()
     started, stop = threading.Event(), threading.Event()
-    # what measuring the points, the netCDF snapshots and the returned Dataset need (scipy.optimize, h5netcdf,
-    # xarray: ~0.55 s of CPU) is loaded while the C threads step, instead of after them; the loading waits until
-    # the stepping has started (it needs the GIL, which the pre-flight checks and the preparation of the models
-    # need too)
-    preload = threading.Thread(target=_preload_storage, args=(started, stop), name="elastoactive-preload",
-                               daemon=True)
+    # what the netCDF snapshots and the returned Dataset need (h5netcdf; xarray only if a Dataset is returned:
+    # preload_xarray) is loaded while the C threads step, instead of after them; the loading waits until the
+    # stepping has started (it needs the GIL, which the pre-flight checks and the preparation of the models need
+    # too). It shares the cores with the stepping threads, so only what will be used is loaded
+    preload = threading.Thread(target=_preload_storage, args=(started, stop, preload_xarray),
+                               name="elastoactive-preload", daemon=True)
     preload.start()
 
     def task(chunk, threads, emit, cancel):
@@ -697,24 +697,24 @@ FLUSH = object()
 """Yielded by a runner when no record is waiting: the records before it are written out together."""
 
 
-def _preload_storage(started: threading.Event, stop: threading.Event) -> None:
+def _preload_storage(started: threading.Event, stop: threading.Event, dataset: bool = True) -> None:
     started.wait()
     if stop.is_set():
         return
+    # (measuring a point, results.measure, needs nothing more: its harmonics no longer load scipy.optimize)
     with contextlib.suppress(Exception):
-        # start-up time: measuring a point (results.measure: harmonics, analysis.spectrum) loads
-        # scipy.optimize on first use, ~0.3 s that would otherwise come after the stepping, in series
-        import scipy.optimize  # noqa: F401
+        # start-up time: loaded in the background, see _local_mujoco. Snapshots need h5netcdf (and h5py)
+        import h5netcdf  # noqa: F401
+
+        _version()  # reads the package's metadata
+    if not dataset or stop.is_set():
+        return
     with contextlib.suppress(Exception):
-        # start-up time: loaded in the background, see _local_mujoco. Snapshots need h5netcdf (and h5py);
         # the Dataset run_sweep returns needs xarray (and pandas), and the index of a coordinate loads the
         # little of dask (dask.base) xarray asks whether it is a dask array; not dask.array (Store.dataset)
-        import h5netcdf  # noqa: F401
         import xarray
 
         xarray.Dataset(coords={"p": xarray.Variable(("p",), np.zeros(1), fastpath=True)})  # as Store.dataset
-
-        _version()  # reads the package's metadata
 
 
 def _die_with_parent(parent: int) -> None:
@@ -1309,6 +1309,54 @@ def run_sweep(
     another sweep or is corrupted, SweepStorageError when `out` cannot be written (full disk: the
     journal is kept, re-run to resume). A failed point is not an exception: its status is "error".
     """
+    return _run_sweep(scene, grid, fixed=fixed, numerics=numerics, duration=duration, engine=engine,
+                      transient=transient, out=out, workers=workers, scheduler=scheduler, progress=progress,
+                      retry_errors=retry_errors, timestep_check=timestep_check, snapshot_interval=snapshot_interval,
+                      on_point=on_point, batch_size=batch_size).dataset()
+
+
+@dataclasses.dataclass(frozen=True)
+class SweepOutcome:
+    """What the command line reports of a finished sweep, without building the xarray Dataset (xarray and
+    pandas are ~0.4 s of import, and ~600 modules more to tear down at exit): the flat status and error
+    texts of every point, and how many are done."""
+
+    status: np.ndarray
+    error: np.ndarray
+    points_done: int
+    points_total: int
+
+
+def run_sweep_outcome(scene: str, grid: Mapping[str, Sequence], **kwargs) -> SweepOutcome:
+    """run_sweep (same arguments), returning a SweepOutcome instead of the Dataset: the same points run,
+    the same files are written (the netCDF does not need xarray: outputs.write_netcdf)."""
+    store = _run_sweep(scene, grid, dataset=False, **kwargs)
+    status = store.arrays["status"].reshape(-1).copy()
+    return SweepOutcome(status, store.arrays["error"].reshape(-1).copy(), int(store.done().sum()), store.sweep.size)
+
+
+def _run_sweep(
+    scene: str,
+    grid: Mapping[str, Sequence],
+    *,
+    fixed: Mapping | None = None,
+    numerics: Numerics | str = "accurate",
+    duration: float = 300.0,
+    engine: str = "mujoco",
+    transient: float | None = None,
+    out: str | os.PathLike | None = None,
+    workers: int | None = None,
+    scheduler=None,
+    progress: bool = True,
+    retry_errors: bool = False,
+    timestep_check: bool = True,
+    snapshot_interval: float = 10.0,
+    on_point: Callable[[dict, dict], None] | None = None,
+    batch_size: int | None = None,
+    dataset: bool = True,
+) -> "_Store":
+    """run_sweep's work; returns the closed store. `dataset`: the caller builds the xarray Dataset from it
+    (then xarray is loaded in the background while MuJoCo points step)."""
     if workers is not None and (not isinstance(workers, (int, np.integer)) or isinstance(workers, bool) or workers < 1):
         raise ParameterError(f"workers must be an integer >= 1, got {workers!r}")
     if batch_size is not None and (not isinstance(batch_size, (int, np.integer)) or isinstance(batch_size, bool)
@@ -1346,7 +1394,7 @@ def run_sweep(
             if scheduler is not None:
                 runner = _dask(todo, sweep, scheduler, timestep_check, batch_size)
             elif engine == "mujoco":
-                runner = _local_mujoco(todo, sweep, local, timestep_check, batch_size)
+                runner = _local_mujoco(todo, sweep, local, timestep_check, batch_size, preload_xarray=dataset)
             else:
                 runner = _local(todo, sweep, local, timestep_check)
             try:
@@ -1396,7 +1444,7 @@ def run_sweep(
         raise
     finally:
         store.close(complete=False)  # keeps the journal (a no-op if already closed above)
-    return store.dataset()
+    return store
 
 
 # ----------------------------------------------------------------------------- command line

@@ -446,7 +446,8 @@ def report(red, proc, sweep, mj, rl, cb, meta, steps=(), alt=(), alt_n=100, alt_
     o = [f"# Benchmark ({meta['date']}, {meta['machine']})", "",
          f"One run of `scripts/benchmark.py{' --quick' if meta['quick'] else ''}`. Machine load (1/5/15 min): "
          f"{meta['load_start']} at the start, {meta['load_end']} at the end (2 shared cores; figures carry tens "
-         f"of percent noise). Warm timings are best of {meta['repeats']}, whole-process timings medians.", ""]
+         f"of percent noise). Warm timings are best of {meta['repeats']}, whole-process timings medians. "
+         f"{meta['bytecode']}", ""]
     o += ["## A. Reduced model, warm, at equal accuracy (target e)", "",
           f"Error = max |theta - theta_ref| (rad) over the run; theta_ref = compiled model at rtol 1e-12. Each scipy "
           f"method (solve_ivp on the plain-numpy `rhs_reference`, atol = rtol/100) at the loosest rtol whose error "
@@ -536,7 +537,10 @@ def main(argv=None) -> int:
     q = args.quick
     meta = {"date": time.strftime("%Y-%m-%d %H:%M"), "quick": q, "load_start": load(),
             "machine": f"{platform.processor() or platform.machine()}, {CORES} cores, MuJoCo {mujoco.__version__}",
-            "repeats": 2 if q else 3, "mj_repeats": 1 if q else 2, "rl_repeats": 2}
+            "repeats": 2 if q else 3, "mj_repeats": 1 if q else 2, "rl_repeats": 2,
+            "bytecode": "Bytecode caching was off (PYTHONDONTWRITEBYTECODE set): every whole-process run compiled "
+                        "the package's modules from source (about 0.04 s of a sweep's start-up)."
+                        if sys.flags.dont_write_bytecode else "Bytecode caching was on."}
     t0 = time.perf_counter()
     scale = 0.25 if q else 1.0
     cases = [(c.physics.scene_def.label(c.physics), c.physics, 600.0 * scale) for c in validation_cases()]

@@ -225,6 +225,22 @@ def test_cli(tmp_path, capsys):
     assert "holds a different sweep" in capsys.readouterr().err
 
 
+def test_sweep_outcome_is_what_the_dataset_says(tmp_path):
+    """run_sweep_outcome (the command line's path, no xarray Dataset) runs the same points and writes the same
+    file as run_sweep; its status, errors and counts are the Dataset's."""
+    kw = dict(fixed={"n": 3}, numerics=FAST, duration=5, progress=False, workers=2)
+    grid = {"sigma": [0.3, 0.8], "dt": [0.01, 0.05]}  # dt 0.05 is refused by the pre-flight check
+    ds = run_sweep("one-pinned", grid, out=tmp_path / "d.nc", **kw)
+    outcome = sweep_module.run_sweep_outcome("one-pinned", grid, out=tmp_path / "o.nc", **kw)
+    np.testing.assert_array_equal(outcome.status, ds["status"].values.reshape(-1))
+    np.testing.assert_array_equal(outcome.error, ds["error"].values.reshape(-1))
+    assert (outcome.points_done, outcome.points_total) == (ds.attrs["points_done"], ds.attrs["points_total"]) == (4, 4)
+    assert set(outcome.status) == {"ok", "error"}
+    written = load(tmp_path / "o.nc")
+    xr.testing.assert_equal(written.drop_vars(VOLATILE), ds.drop_vars(VOLATILE))
+    assert {k: str(v) for k, v in written.attrs.items()} == {k: str(v) for k, v in ds.attrs.items()}
+
+
 # ----------------------------------------------------------------------------- "Trustworthy runs"
 
 REDUCED = dict(fixed={"n": 3}, numerics=FAST, duration=20, engine="reduced", progress=False, workers=1)

@@ -95,11 +95,17 @@ def _nan_fit(count: int) -> HarmonicFit:
 
 def _lstsq(tc: np.ndarray, x: np.ndarray, f: float, k: int) -> tuple[np.ndarray, float]:
     """Least-squares coefficients [c, a_1, b_1, ..., a_k, b_k] at fundamental f, and the residual sum of squares."""
-    w = 2.0 * math.pi * f * tc
-    cols = [np.ones_like(tc)]
+    # the basis [1, cos w, sin w, ..., cos kw, sin kw] by the recurrence e^{ijw} = e^{i(j-1)w} e^{iw}: one cos and
+    # one sin per sample instead of 2k (the fit is evaluated ~50 times per run; rounding stays at 1e-15 x k)
+    a = np.empty((tc.size, 2 * k + 1))
+    a[:, 0] = 1.0
+    z1 = np.exp(2j * math.pi * f * tc)
+    z = z1
     for j in range(1, k + 1):
-        cols += [np.cos(j * w), np.sin(j * w)]
-    a = np.column_stack(cols)
+        a[:, 2 * j - 1] = z.real
+        a[:, 2 * j] = z.imag
+        if j < k:
+            z = z * z1
     # normal equations: the Gram matrix of a Fourier basis over whole periods is nearly diagonal (well
     # conditioned), and 10x faster than an SVD for n >> k; one step of iterative refinement restores
     # the accuracy that squaring the condition number costs

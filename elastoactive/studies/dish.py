@@ -26,12 +26,15 @@ from ..params import Numerics
 from ..results import measure
 from ..scenes import paraboloid
 from .base import Study, Summary, pick, run
+from .inertia import HEXBUG_MASS_KG
 
-__all__ = ["DishPoint", "DishSummary", "dish_study"]
+__all__ = ["DishPoint", "DishSummary", "dish_study", "focal_length_m"]
 
 N = 7
 SUPPLEMENT_SIGMA = PAPER.dish_sigma
 """The supplement's dish experiment (0.30)."""
+GRAVITY = 9.81
+"""m/s^2."""
 SAMPLE_DT = 0.2
 """tau between samples (the dish's motions are slow: 0.2 rad/tau at most below sigma = 1)."""
 
@@ -45,6 +48,14 @@ SETTLE_RETRIES = 2
 def _duration(trap: float) -> float:
     """Run length: long enough to settle, the slowest relaxation being the trap's (rate ~ trap / gamma)."""
     return float(min(8000.0, max(1200.0, 10.0 * math.ceil(4.0 / trap))))
+
+
+def focal_length_m(trap: float, sigma: float, mass_kg: float = HEXBUG_MASS_KG) -> float:
+    """The focal length f (m) of a satellite dish z = r^2 / (4 f) whose small-slope trap on a bug of mass `mass_kg`
+    is `trap`: gravity pushes it with -m g r / (2 f), so k = m g / (2 f), and trap = k l^2 / C1 with
+    C1 = F_a l / sigma (the paper's F_a and link pitch; the mass is ASSUMED, studies.inertia.HEXBUG_MASS_KG)."""
+    k = trap * PAPER.active_force_n / (sigma * PAPER.link_pitch_m)  # N/m
+    return mass_kg * GRAVITY / (2.0 * k)
 
 
 @dataclass(frozen=True)

@@ -99,3 +99,8 @@ def test_run_reports_contact_and_harmonics(tmp_path):
 def test_bad_contact_parameters_name_themselves(kw, name):
     with pytest.raises(ParameterError, match=name):
         Physics(**kw)
+
+
+def test_reduced_engine_refuses_friction_it_does_not_model():
+    with pytest.raises(ParameterError, match="contact_friction"):
+        ea.simulate(Physics(n=7, contact=True, contact_friction=0.3), duration=10.0, engine="reduced")

@@ -119,7 +119,11 @@ EXACT_RATE_ANGLES = 50
 
 
 def _use_inertia(physics: Physics, numerics: Numerics, inertial: bool | None) -> tuple[bool, dict]:
-    """(whether to run the inertial model, what to record in Trajectory.info) for simulate_reduced's `inertial`."""
+    """(whether to run the inertial model, what to record in Trajectory.info) for simulate_reduced's `inertial`;
+    refuses what the reduced model does not have (friction between capsules)."""
+    if physics.contact and physics.contact_friction > 0:
+        raise ParameterError(f"contact_friction = {physics.contact_friction:g}: the reduced model's self-contact is "
+                             "frictionless (a penalty along the capsules' separation); use the MuJoCo engine, or 0")
     if inertial is None:
         r = regime(physics, numerics)
         key = "inertia_number_bound" if r.rate_is_bound else "inertia_number"

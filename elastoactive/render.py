@@ -534,5 +534,6 @@ def render_trajectory(
 
 __all__ = [
     "RenderError", "gl_backend", "probe_backend", "render_frames", "render_still", "render_trajectory",
-    "default_rate", "frame_times", "particle_positions", "interpolate", "interpolate_head", "setup_ffmpeg", "INSTALL_HINT",
+    "default_rate", "frame_times", "particle_positions", "interpolate", "interpolate_head", "setup_ffmpeg",
+    "INSTALL_HINT",
 ]

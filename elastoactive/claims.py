@@ -485,8 +485,6 @@ def _long_chain_claims(st: Study) -> list[Claim]:
 
 
 def _dish_claims(st: Study) -> list[Claim]:
-    from .studies.dish import focal_length_m  # the studies load both engines (start-up time)
-
     s = st.summary
     lo, hi = s.supplement_orbit_traps
     states = ", ".join(f"{k}: {v}" for k, v in s.supplement_states.items())
@@ -503,8 +501,8 @@ def _dish_claims(st: Study) -> list[Claim]:
         f"fine scan); weaker traps hold it still far out, "
         f"pointing outward; stiffer ones curl it into a spin near the centre. "
         f"A real dish z = r^2 / (4 f) gives trap = m g l sigma / (2 f F_a): with an ASSUMED 7 g bug and the paper's F_a "
-        f"and pitch, the orbit band is a focal length of {focal_length_m(hi, s.supplement_sigma):.2f}-"
-        f"{focal_length_m(lo, s.supplement_sigma):.2f} m, comparable to a household satellite dish (f / D ~ 0.6 at "
+        f"and pitch, the orbit band is a focal length of {s.supplement_focal_length_m[0]:.2f}-"
+        f"{s.supplement_focal_length_m[1]:.2f} m, comparable to a household satellite dish (f / D ~ 0.6 at "
         "0.6-1 m across). "
         f"Phase diagram over {len(s.sigmas)} x {len(s.traps)} (sigma, trap) points: {counts}. "
         + ("A crawl with a body rotation different from the orbit occurs. " if s.crawl_found else

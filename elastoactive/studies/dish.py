@@ -86,6 +86,9 @@ class DishSummary(Summary):
     supplement_orbit_traps: tuple[float, float]
     """The smallest and largest trap of the fine scan at sigma = 0.30 where the chain goes round the centre (NaN:
     none)."""
+    supplement_focal_length_m: tuple[float, float]
+    """The focal lengths of a real satellite dish whose small-slope trap spans that band (focal_length_m; an ASSUMED
+    bug mass), shortest first."""
     supplement_states: dict[str, str]
     """State at sigma = 0.30 by trap of the fine scan (reduced model)."""
     checks: list[DishPoint]
@@ -152,6 +155,8 @@ def dish_study(size: str = "quick", workers=None, progress: bool = True) -> Stud
     summary = DishSummary(
         N, tuple(float(s) for s in sigmas), tuple(float(k) for k in traps), counts, counts["crawl"] > 0,
         SUPPLEMENT_SIGMA, (min(orbiting), max(orbiting)) if orbiting else (math.nan, math.nan),
+        (focal_length_m(max(orbiting), SUPPLEMENT_SIGMA), focal_length_m(min(orbiting), SUPPLEMENT_SIGMA))
+        if orbiting else (math.nan, math.nan),
         {f"{k:g}": p.state for k, p in sorted(at.items())}, check,
         float(max(diffs)) if diffs else math.nan, bool(same))
     return Study("dish", size, data, summary, time.perf_counter() - start)

@@ -64,6 +64,19 @@ def _rms(x):
     return math.sqrt(s / x.size)
 
 
+@njit(cache=True, inline="always")  # inlined: the step loop's cost stays what it was written out in place
+def _stages(first, last, y, h, A, K, ytmp, fac, system, beta, L, D, X, lam):
+    """The Runge-Kutta stages K[s], s = first .. last - 1, each from y + h sum_j A[s, j] K[j] (j < s): the method's
+    stages (1 .. N_STAGES - 1) and the dense output's extra stages (N_STAGES + 1 .. N_STAGES_EXTENDED - 1)."""
+    for s in range(first, last):
+        for i in range(y.size):
+            acc = 0.0
+            for j in range(s):
+                acc += A[s, j] * K[j, i]
+            ytmp[i] = y[i] + h * acc
+        eval_state(ytmp, fac, system, beta, K[s], L, D, X, lam)
+
+
 @njit(cache=True)
 def _dop853(y0, ts, system, beta, rtol, atol, A, B, C, E3, E5, DD, out, fac):
     """scipy's DOP853 (same tableau, error norm, step control and 7th-order dense output), compiled.
@@ -162,13 +175,7 @@ def _dop853(y0, ts, system, beta, rtol, atol, A, B, C, E3, E5, DD, out, fac):
             h = t_new - t
             h_abs = abs(h)
             K[0, :] = f
-            for s in range(1, ns):
-                for i in range(na):
-                    acc = 0.0
-                    for j in range(s):
-                        acc += A[s, j] * K[j, i]
-                    ytmp[i] = y[i] + h * acc
-                eval_state(ytmp, fac, system, beta, K[s], L, D, X, lam)
+            _stages(1, ns, y, h, A, K, ytmp, fac, system, beta, L, D, X, lam)
             for i in range(na):
                 acc = 0.0
                 for j in range(ns):
@@ -212,13 +219,7 @@ def _dop853(y0, ts, system, beta, rtol, atol, A, B, C, E3, E5, DD, out, fac):
         naccept += 1
         # samples in (t, t_new]
         if isamp < nsamp and ts[isamp] < t_new:
-            for s in range(ns + 1, nse):
-                for i in range(na):
-                    acc = 0.0
-                    for j in range(s):
-                        acc += A[s, j] * K[j, i]
-                    ytmp[i] = y[i] + h * acc
-                eval_state(ytmp, fac, system, beta, K[s], L, D, X, lam)
+            _stages(ns + 1, nse, y, h, A, K, ytmp, fac, system, beta, L, D, X, lam)
             nfev += nse - ns - 1
             for i in range(na):
                 dy = y_new[i] - y[i]

@@ -124,19 +124,22 @@ class LongChainSummary(Summary):
     """Largest |MuJoCo / reduced - 1| of amplitude and frequency with contact, over the compared sigmas."""
 
 
-def _run(tr, transient: float, contact: bool) -> ContactRun:
+def _run(tr, transient: float) -> ContactRun:
     r = measure(tr, transient)
     p = tr.physics
     steady = tr.t - tr.t[0] >= transient
     links, particles = link_crossings(tr.theta[steady])
-    clearance = capsule_clearance(tr.theta[steady], p.contact_radius)
+    if p.contact:  # results.measure has them, over the same window
+        fraction, clearance = r.contact_fraction, r.min_clearance
+    else:  # how deep the capsules would overlap without contact (-2R: the chain passes through itself)
+        fraction, clearance = math.nan, float(capsule_clearance(tr.theta[steady], p.contact_radius).min())
     big = obs.curvature(tr.theta)
     mid = spectrum.harmonics(tr.t, tr.theta[:, min(MID, p.n - 1)], transient, HARMONICS)
     return ContactRun(
-        p.n, p.sigma, contact, tr.engine, float(tr.t[-1]), float(r.amplitude),
+        p.n, p.sigma, p.contact, tr.engine, float(tr.t[-1]), float(r.amplitude),
         math.nan if r.frequency is None else float(r.frequency), bool(r.periodic), tuple(float(h) for h in r.harmonics),
         tuple(float(h) for h in mid), float(np.mean(links < CROSSING)), float(links.min()), float(particles.min()),
-        float(np.mean(clearance < 0)) if contact else math.nan, float(clearance.min()),
+        fraction, clearance,
         float(big.max() - big.min()), float(tr.wall_time_s))
 
 
@@ -174,7 +177,7 @@ def long_chain_study(size: str = "quick", workers=None, progress: bool = True) -
     runs, winding, conv = [], [], []
     data: dict = {}
     for (kind, contact, dur), case, tr in zip(meta, cases, trajs):
-        item = _run(tr, dur / 2, contact)
+        item = _run(tr, dur / 2)
         if kind == "sweep":
             runs.append(item)
         elif kind == "winding":

@@ -110,20 +110,14 @@ def _links(theta: np.ndarray, head) -> tuple[np.ndarray, np.ndarray]:
     return pivots, e
 
 
-def capsule_clearance(theta, radius: float, head=None) -> np.ndarray:
-    """Per sample, the smallest clearance d - 2R between the capsules of non-adjacent links (|i - j| >= 2) of one
-    chain (negative: overlap depth), in units of l.
-
-    theta: absolute angles, shape (T, N) (or (N,) for one sample); radius: the capsules' radius R (0 gives the
-    cores' smallest distance); head: the pivot's position, (T, 2) or (2,) (default: the origin). Returns shape
-    (T,) (a float for one sample); +inf where there is no such pair (N < 3). For a pair of chains call it per chain
-    (the chains do not touch each other)."""
+def _smallest_distance(theta, head, s_a: float, s_b: float) -> tuple[np.ndarray, bool]:
+    """(per sample, the smallest distance between the segments s in [s_a, s_b] of non-adjacent links of one chain;
+    whether theta was a single sample). theta, head: as capsule_clearance."""
     theta = np.asarray(theta, dtype=float)
     single = theta.ndim == 1
     theta = np.atleast_2d(theta)
     if head is not None:
         head = np.broadcast_to(np.asarray(head, dtype=float), (theta.shape[0], 2))
-    s_a, s_b = core_span(float(radius))
     pivots, e = _links(theta, head)
     starts = pivots + s_a * e
     spans = (s_b - s_a) * e
@@ -132,7 +126,27 @@ def capsule_clearance(theta, radius: float, head=None) -> np.ndarray:
         u, v = segment_closest(starts[:, i], spans[:, i], starts[:, j], spans[:, j])
         ci = starts[:, i] + u[:, None] * spans[:, i]
         cj = starts[:, j] + v[:, None] * spans[:, j]
-        best = np.minimum(best, np.hypot(*(ci - cj).T) - 2.0 * radius)
+        best = np.minimum(best, np.hypot(*(ci - cj).T))
+    return best, single
+
+
+def capsule_clearance(theta, radius: float, head=None) -> np.ndarray:
+    """Per sample, the smallest clearance d - 2R between the capsules of non-adjacent links (|i - j| >= 2) of one
+    chain (negative: overlap depth), in units of l.
+
+    theta: absolute angles, shape (T, N) (or (N,) for one sample); radius: the capsules' radius R (0 gives the
+    cores' smallest distance); head: the pivot's position, (T, 2) or (2,) (default: the origin). Returns shape
+    (T,) (a float for one sample); +inf where there is no such pair (N < 3). For a pair of chains call it per chain
+    (the chains do not touch each other)."""
+    best, single = _smallest_distance(theta, head, *core_span(float(radius)))
+    best = best - 2.0 * radius
+    return float(best[0]) if single else best
+
+
+def link_distance(theta, head=None) -> np.ndarray:
+    """Per sample, the smallest distance between non-adjacent links, whole links from particle to particle (0: two
+    links cross, the chain passes through itself). theta, head and the result's shape: as capsule_clearance."""
+    best, single = _smallest_distance(theta, head, 0.0, 1.0)
     return float(best[0]) if single else best
 
 

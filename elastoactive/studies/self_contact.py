@@ -20,7 +20,7 @@ import numpy as np
 
 from ..analysis import observables as obs
 from ..analysis import spectrum
-from ..analysis.reduced.contact import capsule_clearance, contact_pairs, segment_closest
+from ..analysis.reduced.contact import capsule_clearance, contact_pairs, link_distance
 from ..batch import Case
 from ..paper import PAPER
 from ..params import Numerics
@@ -46,14 +46,8 @@ def link_crossings(theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Per sample of a chain theta (T, N) pinned at the origin: the smallest distance between non-adjacent links
     (whole links, particle to particle) and the smallest distance between non-adjacent particles (|i - j| >= 2)."""
     theta = np.atleast_2d(np.asarray(theta, dtype=float))
-    e = np.stack([np.cos(theta), np.sin(theta)], axis=-1)
-    ends = np.cumsum(e, axis=1)
-    starts = ends - e
-    links = np.full(theta.shape[0], np.inf)
-    for i, j in contact_pairs(theta.shape[1]):
-        u, v = segment_closest(starts[:, i], e[:, i], starts[:, j], e[:, j])
-        gap = starts[:, i] + u[:, None] * e[:, i] - starts[:, j] - v[:, None] * e[:, j]
-        links = np.minimum(links, np.hypot(gap[:, 0], gap[:, 1]))
+    links = link_distance(theta)
+    ends = np.cumsum(np.stack([np.cos(theta), np.sin(theta)], axis=-1), axis=1)
     particles = np.full(theta.shape[0], np.inf)
     for i, j in contact_pairs(theta.shape[1]):
         gap = ends[:, i] - ends[:, j]

@@ -83,7 +83,7 @@ def _add_capsule(spec: mujoco.MjSpec, body, name: str, physics: Physics, numeric
 def _add_chain(spec: mujoco.MjSpec, prefix: str, physics: Physics, numerics: Numerics, stiffness: float, y: float,
                chain: int = 0):
     segment = spec.find_default("segment")
-    link, bead, drag = (spec.find_default(c) for c in ("link", "bead", "drag"))
+    link, bead = (spec.find_default(c) for c in ("link", "bead"))
     parent, pos = spec.worldbody, [0.0, y, 0.0]
     loaded = physics.load_mask()
     for i in range(physics.n):
@@ -97,14 +97,20 @@ def _add_chain(spec: mujoco.MjSpec, prefix: str, physics: Physics, numerics: Num
             _add_capsule(spec, body, f"{prefix}capsule_{i}", physics, numerics, chain)
         parent, pos = body, [1.0, 0.0, 0.0]
     for i in range(physics.n):
-        site = f"{prefix}particle_{i}"
-        for axis, name, gamma in ((0, "long", physics.drag_ratio), (1, "trans", 1.0)):
-            gear = [0.0] * 6
-            gear[axis] = 1.0
-            spec.add_actuator(
-                name=f"{prefix}drag_{name}_{i}", default=drag, target=site, trntype=mujoco.mjtTrn.mjTRN_SITE,
-                gear=gear, gainprm=[gamma] + [0] * 9, biasprm=[0, 0, -gamma] + [0] * 7,
-            )
+        add_drag(spec, f"{prefix}particle_{i}", f"{i}", physics, prefix)
+
+
+def add_drag(spec: mujoco.MjSpec, site: str, label: str, physics: Physics, prefix: str = "") -> None:
+    """One particle's lab-frame drag on `site`: velocity actuators {prefix}drag_long_{label} (along the site's x,
+    gamma_L = drag_ratio) and {prefix}drag_trans_{label} (across, gamma_T = 1)."""
+    drag = spec.find_default("drag")
+    for axis, name, gamma in ((0, "long", physics.drag_ratio), (1, "trans", 1.0)):
+        gear = [0.0] * 6
+        gear[axis] = 1.0
+        spec.add_actuator(
+            name=f"{prefix}drag_{name}_{label}", default=drag, target=site, trntype=mujoco.mjtTrn.mjTRN_SITE,
+            gear=gear, gainprm=[gamma] + [0] * 9, biasprm=[0, 0, -gamma] + [0] * 7,
+        )
 
 
 _TEMPLATES: dict[tuple, mujoco.MjSpec] = {}

@@ -70,6 +70,8 @@ class Paraboloid(Scene):
     def build(self, spec, physics: Physics, numerics: Numerics) -> None:
         import mujoco  # start-up time: mujoco is needed only to build a model
 
+        from ..model import add_drag  # start-up time: elastoactive.model imports mujoco
+
         first = spec.body("segment_0")
         hinge = spec.joint("hinge_0")
         spec.delete(hinge)  # the slides go first: qpos = (x_h, y_h, hinge angles)
@@ -80,12 +82,7 @@ class Paraboloid(Scene):
         first.add_joint(name="hinge_0", default=spec.find_default("segment"), stiffness=[0, 0, 0])
         first.add_geom(name="head_bead", default=spec.find_default("bead"), pos=[0, 0, 0], mass=numerics.mass_ratio)
         first.add_site(name="head", default=spec.find_default("segment"), pos=[0, 0, 0], userdata=[0.0])
-        drag = spec.find_default("drag")
-        for axis, kind, gamma in ((0, "long", physics.drag_ratio), (1, "trans", 1.0)):
-            gear = [0.0] * 6
-            gear[axis] = 1.0
-            spec.add_actuator(name=f"drag_{kind}_head", default=drag, target="head", trntype=mujoco.mjtTrn.mjTRN_SITE,
-                              gear=gear, gainprm=[gamma] + [0] * 9, biasprm=[0, 0, -gamma] + [0] * 7)
+        add_drag(spec, "head", "head", physics)  # one particle's drag
         trap = spec.find_default("trap")
         for site, name in [("head", "trap_head")] + [(f"particle_{i}", f"trap_{i}") for i in range(physics.n)]:
             tendon = spec.add_tendon(name=name, default=trap, stiffness=[physics.trap, 0, 0], springlength=[0, 0])

@@ -142,12 +142,20 @@ def rotating_operator(n: int, sigma: float) -> np.ndarray:
 
 def rotation_threshold(n: int = 7) -> float:
     """sigma above which the straight chain on a free pin is unstable (a real eigenvalue of
-    rotating_operator crosses zero: steady rotation)."""
+    rotating_operator crosses zero: steady rotation). N^3 sigma_r rises from 20 (N = 2) towards ~30.5 (N = 200)."""
 
     def g(s: float) -> float:
         return float(np.max(np.linalg.eigvals(rotating_operator(n, s)).real))
 
-    hi = 1e-3
+    hi = ROTATION_SCAN_START / n**3
+    while g(hi) >= 0:  # the scan must start below the threshold, whatever N
+        hi /= 4.0
+    lo = hi
     while g(hi) < 0:
-        hi *= 1.5
-    return float(brentq(g, hi / 1.5, hi, xtol=1e-12))
+        lo, hi = hi, 1.25 * hi
+    return float(brentq(g, lo, hi, xtol=1e-15, rtol=1e-12))
+
+
+ROTATION_SCAN_START = 16.0
+"""rotation_threshold scans upward from ROTATION_SCAN_START / N^3: below N^3 sigma_r for every N (20 at N = 2,
+rising to ~30.5 at N = 200), so the scan brackets the first crossing from below in a few steps."""

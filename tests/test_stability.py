@@ -61,3 +61,14 @@ def test_pair_linearisation():
     lam = np.sort_complex(S.pair_eigenvalues(n, sigma, 0.0, rho))
     expected = np.sort_complex(np.concatenate([S.eigenvalues(n, sigma), rho * S.eigenvalues(n, sigma / rho)]))
     np.testing.assert_allclose(lam, expected, atol=1e-10)
+
+
+@pytest.mark.parametrize("n", [2, 3, 7, 20, 35, 36, 37, 60, 120, 200])
+def test_rotation_threshold_is_the_first_crossing_for_every_n(n):
+    """The free-pin threshold is bracketed from below: the straight chain is stable on the whole way up to it
+    and unstable just above it, from N = 2 to 200 (N^3 sigma_r lies between 20 and ~31)."""
+    s_r = S.rotation_threshold(n)
+    growth = lambda s: np.max(np.linalg.eigvals(S.rotating_operator(n, s)).real)  # noqa: E731
+    assert 19.9 < n**3 * s_r < 31.0
+    assert all(growth(f * s_r) < 0 for f in (0.0, 0.3, 0.7, 0.99))
+    assert growth(1.01 * s_r) > 0

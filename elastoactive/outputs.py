@@ -8,12 +8,18 @@ Every writer in the package goes through here:
 - `write_files` writes a set of files that belong together (a run's summary and trajectory) the
   same way, the trajectory before the summary that names its checksum;
 - `provenance` records versions, command line, start time and wall time.
+
+Files are created with the permissions the user's umask gives (0666 & ~umask), as `open` would, not the
+0600 of a bare temporary file. A write that fails (a full disk, a file-size limit) raises an OSError
+naming the target file, which the command line reports in one line.
 """
 
 from __future__ import annotations
 
 import contextlib
 import datetime as _dt
+import errno as _errno
+import fcntl
 import hashlib
 import os
 import platform
@@ -101,20 +107,78 @@ def check_folder(path: Path, option: str = "--out") -> Path:
     return path
 
 
-def check_file(path: Path, option: str, suffixes: tuple[str, ...]) -> Path:
-    """A file we will (over)write: the right suffix, not a folder, in a writable place."""
+def check_file(path: Path, option: str, suffixes: tuple[str, ...], *, force: bool = True) -> Path:
+    """A file we will write: the right suffix, not a folder, in a writable place; with force=False, not an
+    existing file (replacing one takes --force)."""
     path = Path(path)
     if suffixes and path.suffix.lower() not in suffixes:
         raise ParameterError(f"{option} {path}: the file name must end in {' or '.join(suffixes)}")
     if path.is_dir():
         raise ParameterError(f"{option} {path} is a folder; give a file name")
+    if not force and path.exists():
+        raise ParameterError(f"{option} {path} exists already; choose another name, or pass --force to replace it")
     if path.exists() and not os.access(path, os.W_OK):
         raise ParameterError(f"{option} {path}: cannot overwrite it (permission denied)")
     _writable_ancestor(path, option, path.parent)
     return path
 
 
+@contextlib.contextmanager
+def folder_lock(folder: Path, option: str = "--out") -> Iterator[Path]:
+    """Hold an exclusive lock on `folder` (created if need be) for the duration of the block: a second writer
+    into the same folder is refused at once (ParameterError naming `option`) instead of replacing the first
+    one's files. The check that a folder may be written and the writing itself go inside one such block. A
+    folder this call created is removed again if the block fails before anything was written into it."""
+    folder = Path(folder)
+    created = not folder.exists()
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+        fd = os.open(folder, os.O_RDONLY)
+    except OSError as err:
+        raise ParameterError(f"{option} {folder}: cannot create or open it ({err.strerror or err})") from None
+    try:
+        try:  # flock on the folder itself: nothing is left behind, and the lock goes with the process
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError as err:
+            if err.errno in (_errno.EWOULDBLOCK, _errno.EAGAIN, _errno.EACCES):
+                raise ParameterError(f"{option} {folder}: another run is writing into it right now; wait for it to "
+                                     "finish or choose another folder") from None
+            raise
+        try:
+            yield folder
+        except BaseException:
+            if created:
+                with contextlib.suppress(OSError):
+                    folder.rmdir()  # only if still empty
+            raise
+    finally:
+        os.close(fd)  # releases the lock
+
+
 # ------------------------------------------------------------------------------------------------ writing
+
+
+def _umask() -> int:
+    """The process's umask (read without changing it where /proc says it)."""
+    try:
+        for line in Path("/proc/self/status").read_text().splitlines():
+            if line.startswith("Umask:"):
+                return int(line.split()[1], 8)
+    except (OSError, ValueError):
+        pass
+    mask = os.umask(0o022)
+    os.umask(mask)
+    return mask
+
+
+def _new_file_mode(path: Path) -> None:
+    """Give a temporary file (mkstemp: 0600) the mode a newly created file gets: 0666 & ~umask."""
+    os.chmod(path, 0o666 & ~_umask())
+
+
+def _naming(err: OSError, target: Path) -> OSError:
+    """err as an OSError that names the file being written (a failed write() names none)."""
+    return OSError(err.errno, f"cannot write it ({err.strerror or err})", str(target))
 
 
 def _fsync_dir(folder: Path) -> None:
@@ -132,14 +196,21 @@ def atomic_file(path: Path) -> Iterator[Path]:
     renamed onto `path`, on failure removed. The target is never seen half-written."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=path.suffix, dir=path.parent)
+    try:
+        fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=path.suffix, dir=path.parent)
+    except OSError as err:
+        raise _naming(err, path) from None
     os.close(fd)
     tmp = Path(tmp)
     try:
-        yield tmp
-        with open(tmp, "rb+") as f:
-            os.fsync(f.fileno())
-        os.replace(tmp, path)
+        try:
+            yield tmp
+            _new_file_mode(tmp)
+            with open(tmp, "rb+") as f:
+                os.fsync(f.fileno())
+            os.replace(tmp, path)
+        except OSError as err:
+            raise _naming(err, path) from None
         _fsync_dir(path.parent)
     finally:
         with contextlib.suppress(FileNotFoundError):
@@ -161,14 +232,21 @@ def write_files(folder: Path, writers: dict[str, Callable[[Path], None]]) -> lis
     temporaries: list[tuple[Path, Path]] = []
     try:
         for name, writer in writers.items():
-            fd, tmp = tempfile.mkstemp(prefix=f".{Path(name).stem}.", suffix=Path(name).suffix, dir=folder)
-            os.close(fd)
-            temporaries.append((Path(tmp), folder / name))
-            writer(Path(tmp))
-            with open(tmp, "rb+") as f:
-                os.fsync(f.fileno())
+            try:
+                fd, tmp = tempfile.mkstemp(prefix=f".{Path(name).stem}.", suffix=Path(name).suffix, dir=folder)
+                os.close(fd)
+                temporaries.append((Path(tmp), folder / name))
+                writer(Path(tmp))
+                _new_file_mode(Path(tmp))
+                with open(tmp, "rb+") as f:
+                    os.fsync(f.fileno())
+            except OSError as err:
+                raise _naming(err, folder / name) from None
         for tmp, target in temporaries:
-            os.replace(tmp, target)
+            try:
+                os.replace(tmp, target)
+            except OSError as err:
+                raise _naming(err, target) from None
         _fsync_dir(folder)
     finally:
         for tmp, _ in temporaries:

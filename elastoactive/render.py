@@ -205,11 +205,30 @@ def default_rate(traj: Trajectory) -> float:
     return DEFAULT_RATE
 
 
+MAX_FRAMES = 108_000
+"""Most frames one video may hold: an hour at 30 fps. More comes from a rate far too small for the record."""
+
+
+def frame_count(t_start: float, t_end: float, fps: float, rate: float) -> int:
+    """Frames of a video of [t_start, t_end] at `fps` frames per second and `rate` tau per second."""
+    return int(math.floor((t_end - t_start) / (rate / fps) + 1e-9)) + 1
+
+
+def check_frames(span: float, fps: float, rate: float) -> None:
+    """Refuse, naming --rate, a video of `span` tau with more than MAX_FRAMES frames (before any is made)."""
+    count = (span * fps / rate) if span > 0 else 1.0
+    if count + 1 > MAX_FRAMES:
+        raise ParameterError(
+            f"rate = {rate:g} tau per second of video at {fps:g} fps makes {count + 1:.3g} frames of the {span:g} tau "
+            f"rendered (limit {MAX_FRAMES}: an hour at 30 fps); raise --rate, or render part of the run with "
+            "--start/--end")
+
+
 def frame_times(t_start: float, t_end: float, fps: float, rate: float) -> np.ndarray:
-    """Times (tau) of the frames: t_start + k * rate / fps up to t_end."""
+    """Times (tau) of the frames: t_start + k * rate / fps up to t_end (at most MAX_FRAMES of them)."""
+    check_frames(t_end - t_start, fps, rate)
     step = rate / fps
-    count = int(math.floor((t_end - t_start) / step + 1e-9)) + 1
-    return t_start + step * np.arange(max(count, 1))
+    return t_start + step * np.arange(max(frame_count(t_start, t_end, fps, rate), 1))
 
 
 # --------------------------------------------------------------------------- the picture
@@ -405,14 +424,17 @@ def _window(traj: Trajectory, start: float | None, end: float | None) -> tuple[f
     return t0, t1
 
 
+MAX_FRAME_BYTES = 2**31
+"""Most bytes of frames render_frames returns in one array (a video streams its frames instead)."""
 MAX_SIDE = 8192
 """Largest frame width or height in pixels (off-screen GL buffers of this size work everywhere seen)."""
 MAX_FPS = 240.0
 
 
 def check_picture(*, fps: float = 30.0, rate: float | None = None, width: int = 640, height: int = 480,
-                  trail: float = 1.0) -> None:
-    """Refuse, naming the option, a picture that cannot be made (before any simulation or rendering)."""
+                  trail: float = 1.0, span: float | None = None) -> None:
+    """Refuse, naming the option, a picture that cannot be made (before any simulation or rendering); `span`: the
+    tau a video will show, when known (its number of frames is then checked too)."""
     if not (math.isfinite(fps) and 0 < fps <= MAX_FPS):
         raise ParameterError(f"fps (frames per second) must lie in (0, {MAX_FPS:g}], got {fps}")
     if rate is not None and not (math.isfinite(rate) and rate > 0):
@@ -422,6 +444,8 @@ def check_picture(*, fps: float = 30.0, rate: float | None = None, width: int = 
             raise ParameterError(f"{name} must be an even number of pixels in [16, {MAX_SIDE}], got {side}")
     if not (math.isfinite(trail) and trail >= 0):
         raise ParameterError(f"trail (seconds of video) must be >= 0, got {trail}")
+    if span is not None and rate is not None:
+        check_frames(span, fps, rate)
 
 
 def _check(fps: float, rate: float) -> None:
@@ -451,6 +475,10 @@ def render_frames(
         times = np.atleast_1d(np.asarray(times, float))
         if times.min() < traj.t[0] - 1e-9 or times.max() > traj.t[-1] + 1e-9:
             raise ParameterError(f"times must lie inside the record [{traj.t[0]}, {traj.t[-1]}]")
+    if times.size * width * height * 3 > MAX_FRAME_BYTES:
+        raise ParameterError(f"{times.size} frames of {width}x{height} pixels take {times.size * width * height * 3:.3g} "
+                             f"bytes (limit {MAX_FRAME_BYTES:.3g}); render fewer times or write a video "
+                             "(render_trajectory streams its frames)")
     painter = _Painter(traj, width=width, height=height, rate=rate, trail=trail, numerics=numerics,
                        bounds_times=np.sort(times))
     try:

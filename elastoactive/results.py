@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
+import hashlib
 import json
 import math
 import zipfile
@@ -279,22 +280,42 @@ def jsonable(value):
     return value
 
 
+SETTINGS = ("engine", "parameters", "numerics")
+"""What defines a run in its summary.json: covered by settings_sha256, recorded in the summary and in the
+trajectory file, so that an edited summary (another sigma on the same trajectory) is refused rather than used."""
+
+
+def settings_digest(summary_dict: Mapping) -> str:
+    """SHA-256 of a summary's SETTINGS as canonical JSON (the same before writing and after reading back)."""
+    settings = {k: summary_dict.get(k) for k in SETTINGS}
+    return hashlib.sha256(json.dumps(jsonable(settings), sort_keys=True, separators=(",", ":")).encode()).hexdigest()
+
+
 def write_run(out: Path, traj: Trajectory, summary_dict: dict) -> list[Path]:
     """summary.json and trajectory.npz (t in tau, theta: one column per particle; head (T, 2) for a scene whose
     pivot moves), written together:
     each into a temporary file first, the trajectory renamed into place before the summary that
-    records its SHA-256, so a summary never describes another trajectory unnoticed."""
+    records its SHA-256, so a summary never describes another trajectory unnoticed. Both record the digest of
+    the run's settings (settings_digest), so neither can be edited into describing another run unnoticed."""
     checksum = {}
+    digest = settings_digest(summary_dict)
 
     def trajectory(tmp: Path) -> None:
         head = {} if traj.head is None else {"head": traj.head}
-        np.savez_compressed(tmp, t=traj.t, theta=traj.theta, scene=traj.physics.scene, n=traj.physics.n, **head)
+        np.savez_compressed(tmp, t=traj.t, theta=traj.theta, scene=traj.physics.scene, n=traj.physics.n,
+                            settings_sha256=digest, **head)
         checksum["sha256"] = sha256(tmp)
 
     def summary_file(tmp: Path) -> None:
-        tmp.write_text(json.dumps(jsonable({**summary_dict, "trajectory_sha256": checksum["sha256"]}), indent=2) + "\n")
+        record = {**summary_dict, "settings_sha256": digest, "trajectory_sha256": checksum["sha256"]}
+        tmp.write_text(json.dumps(jsonable(record), indent=2) + "\n")
 
     return write_files(Path(out), {"trajectory.npz": trajectory, "summary.json": summary_file})
+
+
+def _edited(path: Path) -> ParameterError:
+    return ParameterError(f"{path} was changed after the run wrote it (its engine, parameters or numerics no longer "
+                          "match the checksum recorded with them); restore it, or re-run the simulation")
 
 
 def read_summary(path: Path) -> dict:
@@ -310,6 +331,9 @@ def read_summary(path: Path) -> dict:
         raise ParameterError(f"{path} is not a readable summary.json ({err})") from None
     if not isinstance(summary_dict, dict) or not isinstance(summary_dict.get("parameters"), dict):
         raise ParameterError(f"{path} is not a summary.json written by elastoactive run (no parameters)")
+    recorded = summary_dict.get("settings_sha256")
+    if recorded is not None and recorded != settings_digest(summary_dict):
+        raise _edited(path)
     return summary_dict
 
 
@@ -331,6 +355,7 @@ def load_trajectory(path: Path, physics: Physics | None = None) -> Trajectory:
         with np.load(path) as f:
             t, theta = np.asarray(f["t"], dtype=float), np.asarray(f["theta"], dtype=float)
             head = np.asarray(f["head"], dtype=float) if physics.scene_def.head_coordinates else None
+            digest = str(f["settings_sha256"]) if "settings_sha256" in f.files else None
     except FileNotFoundError:
         raise ParameterError(f"{path} not found") from None
     except KeyError as err:
@@ -352,4 +377,6 @@ def load_trajectory(path: Path, physics: Physics | None = None) -> Trajectory:
     if recorded is not None and recorded.get("trajectory_sha256") not in (None, sha256(path)):
         raise ParameterError(f"{path} is not the trajectory {summary_file.name} describes (checksum differs: an "
                              "interrupted or mixed write); re-run the simulation")
+    if recorded is not None and digest is not None and digest != settings_digest(recorded):
+        raise _edited(summary_file)
     return Trajectory(t=t, theta=theta, physics=physics, engine=(recorded or {}).get("engine", "file"), head=head)

@@ -56,11 +56,11 @@ def _render(traj, args, video: Path | None, still: Path | None, numerics=None) -
     return 0
 
 
-def check_video_options(args) -> None:
-    """Refuse bad picture options before anything is simulated or rendered."""
+def check_video_options(args, span: float | None = None) -> None:
+    """Refuse bad picture options before anything is simulated or rendered (`span`: the tau the video shows)."""
     from ..render import check_picture  # start-up time: rendering loads matplotlib, MuJoCo and GL
 
-    check_picture(fps=args.fps, rate=args.rate, width=args.width, height=args.height, trail=args.trail)
+    check_picture(fps=args.fps, rate=args.rate, width=args.width, height=args.height, trail=args.trail, span=span)
 
 
 def video_after_run(args, traj, numerics=None) -> int:
@@ -77,9 +77,9 @@ def main(args) -> int:
         raise ParameterError("give -o/--output (MP4) and/or --still (PNG)")
     check_video_options(args)
     if args.output is not None:
-        check_file(args.output, "--output", (".mp4",))
+        check_file(args.output, "--output", (".mp4",), force=args.force)
     if args.still is not None:
-        check_file(args.still, "--still", (".png",))
+        check_file(args.still, "--still", (".png",), force=args.force)
     return _render(load_trajectory(args.run), args, args.output, args.still)
 
 
@@ -92,5 +92,6 @@ def register(sub) -> None:
     p.add_argument("run", type=Path, metavar="RUN_DIR_OR_NPZ", help="folder written by `run --out`, or its trajectory.npz")
     p.add_argument("-o", "--output", type=Path, help="MP4 file to write")
     add_video_args(p, still=True)
+    p.add_argument("--force", action="store_true", help="replace an existing video or still")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=main)

@@ -33,7 +33,8 @@ def register(subparsers) -> None:
     run.add_argument("--transient", type=float, default=None, help="time discarded before measuring, tau (default: half the run)")
     run.add_argument("--engine", choices=ENGINES, default=None, help="MuJoCo scene or the reduced ODE (default mujoco)")
     run.add_argument("--out", type=Path, help="folder for summary.json and trajectory.npz")
-    run.add_argument("--force", action="store_true", help="replace a run with other settings already in --out")
+    run.add_argument("--force", action="store_true",
+                     help="replace a run with other settings already in --out, or an existing --video file")
     run.add_argument("--from", dest="source", type=Path, metavar="SUMMARY",
                      help="re-run a recorded run (its folder or summary.json) with the same scene, parameters, numerics, "
                      "engine and duration; options given beside it override the recorded ones")
@@ -98,6 +99,16 @@ def _check_destination(out: Path, physics: Physics, numerics: Numerics, engine: 
 
 def main(args) -> int:
     # start-up time: the engines and analysis load only when a command runs, not for --help
+    from ..outputs import check_folder, folder_lock
+
+    if not args.out:
+        return _run(args, None)
+    check_folder(Path(args.out))  # a file or an unwritable place is named as such, before the lock creates it
+    with folder_lock(Path(args.out)):  # the destination's check and the write, with no other run in between
+        return _run(args, Path(args.out))
+
+
+def _run(args, out: Path | None) -> int:
     from ..api import simulate
     from ..outputs import check_file, provenance, utc_now
     from ..results import jsonable, summary, write_run, check_transient
@@ -105,23 +116,23 @@ def main(args) -> int:
     started, clock = utc_now(), time.perf_counter()
     physics, numerics, engine, duration, transient = settings_from(args)
     transient = check_transient(duration, transient)
-    if args.out:
-        _check_destination(Path(args.out), physics, numerics, engine, duration, transient, args.force)
+    if out:
+        _check_destination(out, physics, numerics, engine, duration, transient, args.force)
     if args.video:
-        check_file(args.video, "--video", (".mp4",))
+        check_file(args.video, "--video", (".mp4",), force=args.force)
         from .render import check_video_options  # start-up time: rendering loads matplotlib and GL
 
-        check_video_options(args)
+        check_video_options(args, duration)
     traj = simulate(physics, numerics, duration=duration, engine=engine, progress=not args.quiet)
     s = summary(traj, numerics, duration, transient)
     s["provenance"] = provenance(started, time.perf_counter() - clock)
-    if args.out:
-        write_run(Path(args.out), traj, s)
+    if out:
+        write_run(out, traj, s)
     print(json.dumps(jsonable({"wall_time_s": round(s["wall_time_s"], 3), **s["results"]}), indent=2))
     for note in s["results"].get("notes", []):
         print(f"elastoactive: warning: {note}", file=sys.stderr)
-    if args.out:
-        print(f"wrote {Path(args.out) / 'summary.json'} and {Path(args.out) / 'trajectory.npz'}")
+    if out:
+        print(f"wrote {out / 'summary.json'} and {out / 'trajectory.npz'}")
     if args.video:  # rendered from the recorded trajectory, after the simulation
         from .render import video_after_run  # start-up time: rendering loads matplotlib and GL
 

@@ -2,10 +2,26 @@
 
 from __future__ import annotations
 
+import math
 import sys
 
 from .. import registry
+from ..errors import ParameterError
 from .options import UNITS, numerics_args, numerics_from
+
+TOLERANCE_RANGE = (1e-4, 1.0)
+"""Tolerances validate accepts: below 1e-4 (0.01%) no setting passes (the MuJoCo discretisation error alone is
+larger: docs/generated/convergence.md), above 1 (100%) the comparison says nothing."""
+
+
+def check_tolerance(tolerance: float) -> float:
+    """The largest acceptable relative error, refused (naming --tolerance) outside TOLERANCE_RANGE."""
+    low, high = TOLERANCE_RANGE
+    if not (math.isfinite(tolerance) and low <= tolerance <= high):
+        raise ParameterError(f"--tolerance (largest relative error, 0.01 = 1%) must lie in [{low:g}, {high:g}], got "
+                             f"{tolerance}: below {low:g} no setting passes (MuJoCo's discretisation error alone is "
+                             "larger), above 1 the comparison says nothing")
+    return float(tolerance)
 
 
 def register(subparsers) -> None:
@@ -13,7 +29,7 @@ def register(subparsers) -> None:
                          description="Cross-validate the MuJoCo scenes against the reduced model on the paper's cases. " + UNITS)
     val.add_argument("scene", nargs="?", choices=registry.names(), metavar="SCENE", help="only this scene (default: all)")
     numerics_args(val)
-    val.add_argument("--tolerance", type=float, default=0.01, help="largest acceptable relative error (default 0.01)")
+    val.add_argument("--tolerance", type=float, default=0.01, help="largest acceptable relative error, in [1e-4, 1] (default 0.01)")
     val.add_argument("--convergence", action="store_true", help="instead: tabulate the error as dt and the mass ratio shrink")
     val.add_argument("--inertial", action="store_true",
                      help="compare MuJoCo with the reduced model's inertial counterpart at the run's mass ratio (implied "
@@ -27,6 +43,7 @@ def main(args) -> int:
     from ..params import Numerics
     from ..validate import compare, convergence, format_convergence, format_table, inertial_cases, validation_cases
 
+    check_tolerance(args.tolerance)
     cases = validation_cases(args.scene)
     if args.convergence:
         for case in cases:

@@ -1,0 +1,155 @@
+"""Trustworthy outputs from the command line: files others can read, no run replacing another unseen, no file
+overwritten without --force, no edited record used, no fault (a full disk) ending in a traceback.
+
+One test per mechanism; the helpers `refused` and `no_simulation` are those of test_trust.py.
+"""
+
+from __future__ import annotations
+
+import fcntl
+import json
+import os
+import resource
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import elastoactive as ea
+from elastoactive import api
+from elastoactive.cli import main
+from elastoactive.results import load_trajectory
+
+RUN = ["run", "one-pinned", "--n", "4", "--sigma", "1.2", "--duration", "60", "--quiet", "--engine", "reduced"]
+
+
+def refused(capsys, argv, *words, code=2):
+    """main(argv) exits `code` with one 'elastoactive: error:' line containing every word."""
+    capsys.readouterr()
+    assert main(argv) == code
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("elastoactive: error:"), err
+    for word in words:
+        assert word in err[0], (word, err[0])
+    return err[0]
+
+
+@pytest.fixture
+def no_simulation(monkeypatch):
+    def boom(*args, **kwargs):
+        raise AssertionError("simulated before the options were checked")
+
+    monkeypatch.setattr(api, "run_engine", boom)
+
+
+@pytest.fixture(scope="module")
+def recorded(tmp_path_factory):
+    """A short reduced run written by `run --out`."""
+    out = tmp_path_factory.mktemp("recorded") / "run"
+    assert main(RUN + ["--out", str(out)]) == 0
+    return out
+
+
+def test_files_are_written_with_the_users_umask(tmp_path):
+    from elastoactive.outputs import write_text
+
+    old = os.umask(0o022)
+    try:
+        assert main(RUN + ["--out", str(tmp_path / "run")]) == 0
+        write_text(tmp_path / "report.md", "text")
+    finally:
+        os.umask(old)
+    for path in (tmp_path / "run" / "summary.json", tmp_path / "run" / "trajectory.npz", tmp_path / "report.md"):
+        assert path.stat().st_mode & 0o777 == 0o644, (path, oct(path.stat().st_mode))
+
+
+def test_a_second_run_into_a_folder_being_written_is_refused(tmp_path, capsys, no_simulation):
+    out = tmp_path / "run"
+    out.mkdir()
+    fd = os.open(out, os.O_RDONLY)  # what a first run into --out holds from its check until its files are written
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        refused(capsys, RUN + ["--out", str(out)], "--out", "another run is writing")
+    finally:
+        os.close(fd)
+    assert not list(out.iterdir())
+
+
+def test_an_existing_video_or_still_is_not_replaced_without_force(recorded, tmp_path, capsys, no_simulation):
+    video, still = tmp_path / "beat.mp4", tmp_path / "beat.png"
+    video.write_bytes(b"the video of another run")
+    still.write_bytes(b"a still")
+    refused(capsys, ["render", str(recorded), "-o", str(video)], "--output", "exists", "--force")
+    refused(capsys, ["render", str(recorded), "--still", str(still)], "--still", "exists", "--force")
+    refused(capsys, RUN + ["--video", str(video)], "--video", "exists", "--force")
+    assert video.read_bytes() == b"the video of another run" and still.read_bytes() == b"a still"
+
+
+def test_a_video_of_absurdly_many_frames_is_refused_before_rendering(recorded, tmp_path, capsys, no_simulation):
+    refused(capsys, ["render", str(recorded), "-o", str(tmp_path / "v.mp4"), "--rate", "1e-9"], "rate", "frames")
+    refused(capsys, RUN + ["--video", str(tmp_path / "v.mp4"), "--rate", "1e-9"], "rate", "frames")
+    assert not (tmp_path / "v.mp4").exists()
+
+
+@pytest.mark.parametrize("tolerance", ["nan", "-1", "1e-9", "inf", "2"])
+def test_validate_refuses_a_meaningless_tolerance(tolerance, capsys, monkeypatch):
+    import elastoactive.validate as validate
+
+    def boom(*args, **kwargs):
+        raise AssertionError("validated before --tolerance was checked")
+
+    monkeypatch.setattr(validate, "compare", boom)
+    monkeypatch.setattr(validate, "convergence", boom)
+    refused(capsys, ["validate", "--tolerance", tolerance, "--quiet"], "--tolerance")
+
+
+def test_an_edited_summary_is_refused(recorded, tmp_path, capsys, no_simulation):
+    """The record's settings are checksummed, in the summary and in the trajectory: another sigma written into
+    summary.json is not drawn, re-run or measured as if it had been simulated."""
+    edited = tmp_path / "edited"
+    edited.mkdir()
+    (edited / "trajectory.npz").write_bytes((recorded / "trajectory.npz").read_bytes())
+    summary = json.loads((recorded / "summary.json").read_text())
+    summary["parameters"]["sigma"] = 0.5
+    (edited / "summary.json").write_text(json.dumps(summary))
+    png = str(tmp_path / "s.png")
+    refused(capsys, ["render", str(edited), "--still", png], "summary.json", "changed after the run")
+    refused(capsys, ["run", "--from", str(edited), "--out", str(tmp_path / "again")], "changed after the run")
+    summary.pop("settings_sha256")  # its own checksum removed too: the trajectory still knows
+    (edited / "summary.json").write_text(json.dumps(summary))
+    with pytest.raises(ea.ParameterError, match="changed after the run"):
+        load_trajectory(edited)
+    load_trajectory(recorded)  # the untouched record loads
+
+
+def test_a_failed_write_names_the_file_and_the_cause_in_one_line(tmp_path, capsys, monkeypatch):
+    def full_disk(*args, **kwargs):
+        raise OSError(28, "No space left on device")
+
+    monkeypatch.setattr(np, "savez_compressed", full_disk)
+    line = refused(capsys, RUN + ["--out", str(tmp_path / "run")], "trajectory.npz", "No space left on device", code=1)
+    assert "Errno" not in line
+
+
+def _limited(limit_bytes: int):
+    return lambda: resource.setrlimit(resource.RLIMIT_FSIZE, (limit_bytes, resource.RLIM_INFINITY))
+
+
+def test_a_file_size_limit_gives_one_line_not_a_traceback(tmp_path):
+    """`ulimit -f`: the trajectory cannot be written; run, run --force and render each say so in one line."""
+    base = [sys.executable, "-m", "elastoactive"]
+    small = RUN[:6] + ["--duration", "20"] + RUN[8:]
+    out = tmp_path / "run"
+    assert subprocess.run(base + small + ["--out", str(out)], capture_output=True, timeout=120).returncode == 0
+    commands = (RUN + ["--duration", "2000", "--out", str(tmp_path / "big")],
+                RUN + ["--duration", "2000", "--out", str(out), "--force"],
+                ["render", str(out), "--still", str(tmp_path / "s.png"), "--width", "2048", "--height", "2048"])
+    for argv in commands:
+        if argv[0] == "render" and os.environ.get("MUJOCO_GL") == "disabled":
+            continue
+        result = subprocess.run(base + argv, capture_output=True, text=True, timeout=300, preexec_fn=_limited(20_000))
+        lines = result.stderr.strip().splitlines()
+        assert result.returncode in (1, 4) and "Traceback" not in result.stderr, (argv, result.stderr)
+        assert lines[-1].startswith("elastoactive:") and "File too large" in lines[-1], (argv, result.stderr)
+    load_trajectory(out)  # the run --force could not write: the earlier run is whole

@@ -31,7 +31,6 @@ import math
 import os
 import sys
 import time
-from concurrent.futures import ProcessPoolExecutor
 from dataclasses import asdict, dataclass
 from pathlib import Path
 
@@ -42,6 +41,7 @@ from .diagnose import check_accuracy, check_timestep
 from .engines.mujoco import simulate_mujoco
 from .engines.reduced import simulate_reduced
 from .errors import ParameterError, SimulationDiverged
+from .executor import imap
 from .params import PRESETS, Numerics, Physics
 from .outputs import atomic_file, provenance, provenance_line, utc_now, write_text
 from .progress import progress_bar
@@ -236,12 +236,10 @@ def run_study(quick: bool = False, workers: int | None = None, progress: bool = 
             if bar:
                 bar.update()
     else:
-        with ProcessPoolExecutor(max_workers=workers, initializer=_worker_init) as pool:
-            futures = {i: pool.submit(_task, tasks[i]) for i in order}
-            for i, future in futures.items():
-                rows[i] = future.result()
-                if bar:
-                    bar.update()
+        for j, row in imap(_task, [tasks[i] for i in order], workers, initializer=_worker_init):
+            rows[order[j]] = row
+            if bar:
+                bar.update()
     if bar:
         bar.close()
     meta = {"quick": quick, "workers": workers, "elapsed_s": time.perf_counter() - start, "started_utc": started,

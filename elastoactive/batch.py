@@ -2,8 +2,10 @@
 
 MuJoCo cases run together with `mujoco.batch` (engines.mujoco_batch): the cases that share one
 compiled model step in one batch on `workers` C threads of this process, bit for bit what
-`run_case` gives. Reduced-engine cases run on a process pool: their compiled kernels hold the
-GIL, so threads would not help (processes gave 1.84x on 2 cores). Results come back in input
+`run_case` gives. Reduced-engine cases run on a process pool (executor): their compiled kernels
+hold the GIL, so threads would not help (processes gave 1.84x on 2 cores); the kernels are loaded
+once in this process before the workers fork (load_engine), not again in every worker of every
+batch. Results come back in input
 order; with `on_result` each is handed over (in this thread) as soon as it is done, so a caller
 can write it out before the rest finish. A failed case (e.g. SimulationDiverged) raises, once
 the others have finished: the first failure in input order.
@@ -11,13 +13,13 @@ the others have finished: the first failure in input order.
 
 from __future__ import annotations
 
-import os
+import functools
 import time
-from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass, field
 from typing import Callable, Iterable
 
 from .engines import check_engine, run_engine
+from .executor import default_workers, imap
 from .params import Numerics, Physics
 from .progress import progress_bar
 from .results import Results, measure
@@ -54,8 +56,10 @@ def run_case(case: Case, keep_trajectory: bool = False) -> CaseResult:
     return CaseResult(measure(traj, case.transient), traj.wall_time_s, traj.info, traj if keep_trajectory else None)
 
 
-def default_workers() -> int:
-    return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
+def load_engine(case: Case) -> None:
+    """Run `case` for a few samples and discard them: loads what its engine needs (the reduced model's
+    compiled kernels), so that pool workers forked afterwards start with it."""
+    run_engine(case.engine, case.physics, case.numerics, min(case.duration, 4 * case.numerics.sample_dt))
 
 
 def run_cases(
@@ -107,10 +111,14 @@ def run_cases(
             for i in reduced:
                 finished(i, run_case(cases[i], keep_trajectory))
         elif reduced:
-            with ProcessPoolExecutor(max_workers=workers) as pool:
-                futures = {pool.submit(run_case, cases[i], keep_trajectory): i for i in reduced}
-                for future in as_completed(futures):
-                    finished(futures[future], future.result())
+            task = functools.partial(run_case, keep_trajectory=keep_trajectory)
+            runs = imap(task, [cases[i] for i in reduced], workers, completed=True, errors=True,
+                        warm=functools.partial(load_engine, cases[reduced[0]]))
+            for j, outcome in runs:
+                if isinstance(outcome, BaseException):
+                    errors[reduced[j]] = outcome
+                else:
+                    finished(reduced[j], outcome)
     finally:
         if bar:
             bar.close()

@@ -17,6 +17,7 @@ from .analysis import dish, spectrum
 from .analysis import observables as obs
 from .analysis.reduced.contact import capsule_clearance
 from .errors import ParameterError
+from .jsonio import to_jsonable
 from .outputs import sha256, write_files
 from .params import Numerics, Physics
 from .trajectory import Trajectory
@@ -266,18 +267,9 @@ def summary(traj: Trajectory, numerics: Numerics, duration: float, transient: fl
 
 
 def jsonable(value):
-    """value with numpy scalars as Python numbers and non-finite floats as None (valid JSON)."""
-    if isinstance(value, dict):
-        return {k: jsonable(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [jsonable(v) for v in value]
-    if isinstance(value, (np.floating, float)):
-        return None if not np.isfinite(value) else float(value)
-    if isinstance(value, (np.bool_, bool)):
-        return bool(value)
-    if isinstance(value, np.integer):
-        return int(value)
-    return value
+    """summary.json's JSON form of `value` (jsonio.to_jsonable): numpy scalars as Python numbers, non-finite
+    floats as null."""
+    return to_jsonable(value, nonfinite="null")
 
 
 SETTINGS = ("engine", "parameters", "numerics")

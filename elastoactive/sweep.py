@@ -69,7 +69,6 @@ rather than the single self-describing file asked for.
 from __future__ import annotations
 
 import contextlib
-import ctypes
 import dataclasses
 import errno
 import fcntl
@@ -82,7 +81,6 @@ import signal
 import threading
 import time
 import warnings
-from concurrent.futures import ProcessPoolExecutor, as_completed
 from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
 from typing import Callable, Iterator, Mapping, Sequence
@@ -93,6 +91,8 @@ from . import registry
 from .batch import Case, default_workers, run_case
 from .engines import check_engine
 from .errors import ParameterError
+from .executor import imap
+from .jsonio import to_jsonable
 from .outputs import write_netcdf
 from .params import LONG_CHAIN, PRESETS, Numerics, Physics, parameter_fields
 from .results import HARMONICS, OBSERVABLES
@@ -304,7 +304,7 @@ class Sweep:
     def case(self, flat: int) -> Case:
         point = self.coords(flat)
         try:
-            physics = dataclasses.replace(self.physics, **{k: v for k, v in point.items() if k in PHYSICS_KEYS})
+            physics = self.physics.replace(**{k: v for k, v in point.items() if k in PHYSICS_KEYS})
             numerics = dataclasses.replace(self.numerics, **{k: v for k, v in point.items() if k in NUMERICS_KEYS})
         except ParameterError as err:
             raise ParameterError(f"grid point {point}: {err}") from None
@@ -615,7 +615,8 @@ def _measurements(results: dict) -> dict:
     the record's `notes`."""
     coded = {name: float(OBSERVABLES[name].categories.index(value)) for name, value in results.items()
              if name in OBSERVABLES and value in OBSERVABLES[name].categories}
-    return {name: _plain(value) for name, value in {**results, **coded}.items() if _numeric(value)}
+    return {name: _coded(to_jsonable(value, nonfinite="keep")) for name, value in {**results, **coded}.items()
+            if _numeric(value)}
 
 
 def _numeric(value, depth: int = 2) -> bool:
@@ -626,16 +627,11 @@ def _numeric(value, depth: int = 2) -> bool:
     return isinstance(value, scalar)
 
 
-def _plain(value):
-    if isinstance(value, dict):
-        return {k: _plain(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple, np.ndarray)):
-        return [_plain(v) for v in value]
-    if value is None:
-        return float("nan")
-    if isinstance(value, (np.integer, int)) and not isinstance(value, (bool, np.bool_)):
-        return int(value)
-    return float(value)
+def _coded(value):
+    """A measurement (JSON values: a number or lists of them) as numbers: None as NaN, a bool as 0.0 or 1.0."""
+    if isinstance(value, list):
+        return [_coded(v) for v in value]
+    return math.nan if value is None else (float(value) if isinstance(value, bool) else value)
 
 
 def _local(todo: list[int], sweep: Sweep, workers: int, check: bool) -> Iterator[tuple[int, dict]]:
@@ -645,14 +641,9 @@ def _local(todo: list[int], sweep: Sweep, workers: int, check: bool) -> Iterator
             yield i, run_point(sweep.case(i), check)
         return
 
-    pool = ProcessPoolExecutor(max_workers=min(workers, len(todo)), initializer=_die_with_parent,
-                               initargs=(os.getpid(),))
-    try:
-        futures = {pool.submit(run_point, sweep.case(i), check): i for i in todo}
-        for future in as_completed(futures):
-            yield futures[future], future.result()
-    finally:
-        pool.shutdown(wait=False, cancel_futures=True)
+    task = functools.partial(run_point, timestep_check=check)
+    for j, record in imap(task, [sweep.case(i) for i in todo], workers, completed=True):
+        yield todo[j], record
 
 
 def _chunks(todo: list[int], sweep: Sweep, max_points: int, min_chunks: int = 1) -> tuple[dict, list[list[int]]]:
@@ -715,18 +706,6 @@ def _preload_storage(started: threading.Event, stop: threading.Event, dataset: b
         import xarray
 
         xarray.Dataset(coords={"p": xarray.Variable(("p",), np.zeros(1), fastpath=True)})  # as Store.dataset
-
-
-def _die_with_parent(parent: int) -> None:
-    """Pool worker initializer (Linux): end with the sweep's process, even after a kill -9 of it,
-    instead of computing points nobody will record."""
-    try:
-
-        ctypes.CDLL(None, use_errno=True).prctl(1, signal.SIGTERM)  # PR_SET_PDEATHSIG
-    except (OSError, AttributeError):
-        return
-    if os.getppid() != parent:  # the parent died before prctl took effect
-        os._exit(1)
 
 
 def _dask(todo: list[int], sweep: Sweep, scheduler, check: bool,

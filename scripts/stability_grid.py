@@ -21,12 +21,12 @@ import csv
 import math
 import sys
 import time
-from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
 import numpy as np
 
 from elastoactive import extremes as X
+from elastoactive.executor import imap
 from elastoactive.params import Numerics, Physics
 
 CODES = {"agrees": "ok", "refused": "R", "diverged": "D", "WRONG": "**WRONG**", "NaN": "**NaN**", "skipped": "-"}
@@ -85,12 +85,10 @@ def run_cells(physics_list, workers: int) -> list[dict]:
             rows += _cells_for(p)
             print(f"  cells done: {X.describe(p)}", file=sys.stderr, flush=True)
         return rows
-    with ProcessPoolExecutor(workers) as pool:
-        # the slow ones (large N) first
-        order = sorted(physics_list, key=lambda p: -p.n)
-        for p, res in zip(order, pool.map(_cells_for, order)):
-            rows += res
-            print(f"  cells done: {X.describe(p)}", file=sys.stderr, flush=True)
+    order = sorted(physics_list, key=lambda p: -p.n)  # the slow ones (large N) first
+    for j, res in imap(_cells_for, order, workers):
+        rows += res
+        print(f"  cells done: {X.describe(order[j])}", file=sys.stderr, flush=True)
     return rows
 
 
@@ -127,8 +125,7 @@ def run_limits(ns, sigmas, integrators, workers: int) -> list[dict]:
     tasks.sort(key=lambda t: -t[0].n)
     if workers <= 1:
         return [_limit_for(t) for t in tasks]
-    with ProcessPoolExecutor(workers) as pool:
-        return list(pool.map(_limit_for, tasks))
+    return [row for _, row in imap(_limit_for, tasks, workers)]
 
 
 # ------------------------------------------------------------------------------------------------

@@ -3,24 +3,21 @@ and running a batch of cases.
 
 A study's `summary` is a frozen dataclass (a `Summary`); the numbers in it are plain floats, ints,
 bools, strings, complex numbers, `analysis.fits.Fit`, lists, tuples, dicts keyed by strings and
-nested summaries. `to_jsonable` writes that as JSON (non-finite floats as the strings "nan",
-"inf", "-inf", so that a saved study reads back unchanged) and `from_jsonable` rebuilds it from
-the dataclass's type hints.
+nested summaries. `to_jsonable` (jsonio) writes that as JSON (non-finite floats as the strings
+"nan", "inf", "-inf", so that a saved study reads back unchanged) and `from_jsonable` rebuilds it
+from the dataclass's type hints.
 """
 
 from __future__ import annotations
 
-import dataclasses
 import json
-import math
-import types
-import typing
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Callable, TypeVar
+from typing import Callable, TypeVar
 
 import numpy as np
 
+from ..jsonio import from_jsonable, to_jsonable
 from ..outputs import write_files
 
 from ..analysis.fits import Fit
@@ -64,89 +61,6 @@ class EngineParts(Summary):
         if name not in ENGINES:
             raise ValueError(f"engine must be one of {', '.join(ENGINES)}; got {name!r}")
         return getattr(self, name)
-
-
-_NONFINITE = {"nan": math.nan, "inf": math.inf, "-inf": -math.inf}
-
-
-def to_jsonable(v):
-    """Nested dataclasses, containers and numpy scalars/arrays as JSON values."""
-    if isinstance(v, Fit):
-        return {"params": to_jsonable(v.params), "errors": to_jsonable(v.errors), "r2": to_jsonable(v.r2),
-                "n": int(v.n), "extra": to_jsonable(v.extra)}
-    if dataclasses.is_dataclass(v) and not isinstance(v, type):
-        return {f.name: to_jsonable(getattr(v, f.name)) for f in dataclasses.fields(v)}
-    if isinstance(v, dict):
-        return {str(k): to_jsonable(x) for k, x in v.items()}
-    if isinstance(v, (list, tuple)):
-        return [to_jsonable(x) for x in v]
-    if isinstance(v, np.ndarray):
-        return to_jsonable(v.tolist())
-    if isinstance(v, (complex, np.complexfloating)):
-        return {"re": to_jsonable(float(v.real)), "im": to_jsonable(float(v.imag))}
-    if isinstance(v, (bool, np.bool_)):
-        return bool(v)
-    if isinstance(v, np.integer):
-        return int(v)
-    if isinstance(v, (float, np.floating)):
-        v = float(v)
-        if math.isfinite(v):
-            return v
-        return "nan" if math.isnan(v) else ("inf" if v > 0 else "-inf")
-    return v
-
-
-def _untyped(v):
-    """A JSON value read without a type hint (e.g. a Fit's extra): only non-finite floats decoded."""
-    if isinstance(v, str) and v in _NONFINITE:
-        return _NONFINITE[v]
-    if isinstance(v, dict):
-        return {k: _untyped(x) for k, x in v.items()}
-    if isinstance(v, list):
-        return [_untyped(x) for x in v]
-    return v
-
-
-def from_jsonable(tp, v):
-    """Rebuild a value of type `tp` (a type hint) from its `to_jsonable` form."""
-    origin = typing.get_origin(tp)
-    if origin in (typing.Union, types.UnionType):
-        args = [a for a in typing.get_args(tp) if a is not type(None)]
-        if v is None:
-            return None
-        return from_jsonable(args[0], v) if len(args) == 1 else _untyped(v)
-    if tp is Any or tp is None:
-        return _untyped(v)
-    if v is None:
-        return math.nan if tp is float else None
-    if tp is Fit:
-        return Fit({k: from_jsonable(float, x) for k, x in v["params"].items()},
-                   {k: from_jsonable(float, x) for k, x in v["errors"].items()},
-                   from_jsonable(float, v["r2"]), int(v["n"]), _untyped(v.get("extra", {})))
-    if isinstance(tp, type) and dataclasses.is_dataclass(tp):
-        hints = typing.get_type_hints(tp)
-        return tp(**{f.name: from_jsonable(hints[f.name], v[f.name]) for f in dataclasses.fields(tp)
-                     if f.init and f.name in v})
-    if tp is float:
-        return _NONFINITE[v] if isinstance(v, str) else float(v)
-    if tp is complex:
-        return complex(from_jsonable(float, v["re"]), from_jsonable(float, v["im"]))
-    if tp in (int, bool, str):
-        return tp(v)
-    if origin is list:
-        (arg,) = typing.get_args(tp) or (Any,)
-        return [from_jsonable(arg, x) for x in v]
-    if origin is tuple:
-        args = typing.get_args(tp)
-        if len(args) == 2 and args[1] is Ellipsis:
-            return tuple(from_jsonable(args[0], x) for x in v)
-        return tuple(from_jsonable(a, x) for a, x in zip(args, v))
-    if origin is dict:
-        _, arg = typing.get_args(tp) or (str, Any)
-        return {k: from_jsonable(arg, x) for k, x in v.items()}
-    if tp in (list, tuple, dict):
-        return tp(_untyped(v))
-    return _untyped(v)
 
 
 # --------------------------------------------------------------------------------------------------

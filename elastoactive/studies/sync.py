@@ -12,7 +12,6 @@ from __future__ import annotations
 
 import math
 import time
-from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass
 
 import numpy as np
@@ -23,6 +22,7 @@ from ..analysis import measures as ms
 from ..analysis import observables as obs
 from ..analysis import synchronisation as syn
 from ..batch import Case, default_workers
+from ..executor import imap
 from ..engines.reduced import rhs
 from ..initial import initial_angles
 from ..paper import PAPER
@@ -238,8 +238,7 @@ def sync_study(size: str = "quick", workers=None, progress: bool = True) -> Stud
         force_ratio = 0.75  # sigma_2 / sigma_1 = 0.6 / 0.8, written exactly
         args = [(n, sigma, force_ratio, k, alt_dur, alt_dur / 2) for k in alt_k]
         w = default_workers() if workers is None else workers
-        with ProcessPoolExecutor(max_workers=max(1, min(w, len(args)))) as pool:
-            runs = list(pool.map(_alt_pair_run, args))
+        runs = [run for _, run in imap(_alt_pair_run, args, max(1, w))]
         data["alt_kappa"] = np.array(alt_k)
         data["alt_mismatch"] = np.array([a["mismatch"] for a in runs])
         data["alt_locked"] = np.array([a["slips"] < 0.5 for a in runs])

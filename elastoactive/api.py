@@ -1,12 +1,21 @@
-"""The front door's two verbs: simulate a scene, measure a trajectory."""
+"""The front door's two verbs: simulate a scene, measure a trajectory.
+
+Arguments are taken in their obvious forms (a scene name or a dict of fields for the physics, a preset name or a
+dict of settings for the numerics); anything else is a TypeError naming the argument, a bad value a ParameterError
+naming the parameter.
+"""
 
 from __future__ import annotations
 
 import sys
+from collections.abc import Mapping
+
+import numpy as np
 
 from .engines import check_engine, run_engine
+from .errors import ParameterError
 from .params import Numerics, Physics
-from .results import Results
+from .results import Results, check_measurable, check_transient
 from .results import measure as _measure
 from .trajectory import Trajectory
 
@@ -14,9 +23,37 @@ LONG_CHAIN = 60
 """Angles from which the pre-flight check takes long enough (a second or more) to announce itself."""
 
 
+def _record(cls, value, argument: str, name_kind: str, from_name):
+    """value as a `cls` record: the record itself, a name (from_name(name)) or a dict of its fields."""
+    if isinstance(value, cls):
+        return value
+    if isinstance(value, str):
+        return from_name(value)
+    if isinstance(value, Mapping):
+        unknown = [k for k in value if not isinstance(k, str) or k not in cls.__dataclass_fields__]
+        if unknown:
+            raise TypeError(f"{argument}: {unknown[0]!r} is not a field of ea.{cls.__name__} (fields: "
+                            f"{', '.join(cls.__dataclass_fields__)})")
+        return cls(**value)
+    raise TypeError(f"{argument} must be an ea.{cls.__name__}, {name_kind} or a dict of its fields; got "
+                    f"{type(value).__name__}")
+
+
+def as_physics(physics) -> Physics:
+    """An ea.Physics from a Physics, a scene name ("one-pinned": its defaults) or a dict of fields."""
+    return _record(Physics, physics, "physics", "a scene name", lambda name: Physics(scene=name))
+
+
+def as_numerics(numerics) -> Numerics:
+    """An ea.Numerics from None (the defaults), a Numerics, a preset name ("fast") or a dict of settings."""
+    if numerics is None:
+        return Numerics()
+    return _record(Numerics, numerics, "numerics", "a preset name", Numerics.preset)
+
+
 def simulate(
-    physics: Physics,
-    numerics: Numerics | None = None,
+    physics: Physics | str | Mapping,
+    numerics: Numerics | str | Mapping | None = None,
     *,
     duration: float,
     engine: str = "mujoco",
@@ -28,11 +65,12 @@ def simulate(
 
     Parameters
     ----------
-    physics : Physics
-        The scene (``scene=``, a name from ``ea.scenes.names()``) and its dimensionless parameters.
-    numerics : Numerics, optional
+    physics : Physics, str or dict
+        The scene (``scene=``, a name from ``ea.scenes.names()``) and its dimensionless parameters; a scene name
+        alone means its default parameters, a dict gives Physics' fields.
+    numerics : Numerics, str or dict, optional
         Timestep, particle mass ratio, integrator, seed, sampling interval; default ``Numerics()``
-        (every validate error below 1%).
+        (every validate error below 1%); a preset name ("accurate", "fast") or a dict of Numerics' fields.
     duration : float
         Simulated time in units of tau = gamma l^2 / C1.
     engine : {"mujoco", "reduced"}
@@ -54,13 +92,17 @@ def simulate(
 
     Raises
     ------
+    TypeError
+        An argument of the wrong kind; the message names it.
     ParameterError
-        An invalid or refused parameter; the message names it.
+        An invalid or refused parameter, or a scene whose observables the chain is too short to measure (checked
+        before simulating); the message names it.
     SimulationDiverged
         A MuJoCo run whose state blew up or left its pin; the message names the likely cause.
     """
-    numerics = Numerics() if numerics is None else numerics
+    physics, numerics = as_physics(physics), as_numerics(numerics)
     duration = numerics.check_duration(duration)
+    check_measurable(physics)
     options = {"theta0": theta0}
     if check_engine(engine) == "mujoco":
         if check:
@@ -91,5 +133,23 @@ def measure(trajectory: Trajectory, transient: float | None = None) -> Results:
         (f tau of Theta), one per chain for the coupled pair, plus the scene's own observables
         (``snap_amplitude``, ``rotation_rate``, ``frequency_mismatch``; None where not reported).
         ``.as_dict()`` gives them as summary.json writes them.
+
+    Raises
+    ------
+    TypeError
+        ``trajectory`` is not a Trajectory.
+    ParameterError
+        A transient outside the record, or one that leaves too few samples to measure.
     """
+    if not isinstance(trajectory, Trajectory):
+        raise TypeError(f"trajectory must be an ea.Trajectory (from ea.simulate or elastoactive.results.load_trajectory); "
+                        f"got {type(trajectory).__name__}")
+    check_measurable(trajectory.physics)
+    t = np.asarray(trajectory.t, dtype=float)
+    if transient is not None:
+        try:
+            transient = float(transient)
+        except (TypeError, ValueError):
+            raise ParameterError(f"transient must be a time in tau, got {transient!r}") from None
+    check_transient(float(t[-1] - t[0]) if t.size else 0.0, transient, t - t[0] if t.size else t)
     return _measure(trajectory, transient)

@@ -15,11 +15,11 @@ import numpy as np
 
 from .analysis import dish, spectrum
 from .analysis import observables as obs
-from .analysis.reduced.contact import capsule_clearance
 from .errors import ParameterError
 from .jsonio import to_jsonable
 from .outputs import sha256, write_files
-from .params import Numerics, Physics
+from .analysis.reduced.contact import capsule_clearance
+from .params import MIN_SAMPLES, Numerics, Physics
 from .trajectory import Trajectory
 
 
@@ -33,6 +33,7 @@ class Observable:
     error: str = "relative"  # validate: "relative" (absolute below `floor`), "absolute", or "none" (not compared)
     floor: float = 1e-3
     categories: tuple[str, ...] = ()  # a categorical observable's values (a sweep stores their index)
+    min_n: int = 1  # fewest particles per chain for which the observable is defined
 
 
 HARMONICS = 5
@@ -58,7 +59,7 @@ OBSERVABLES: dict[str, Observable] = {
     "orbit_radius": Observable("l", "mean distance of the N particles' centre of mass from the dish's centre",
                                floor=1e-3),
     "curvature": Observable("1/l", "mean curvature of the chain (theta_{i+1} - theta_i per l, signed)",
-                            floor=1e-4),
+                            floor=1e-4, min_n=2),
     "dish_state": Observable("1", "state of the chain in the dish (analysis.dish.dish_state)", error="none",
                              categories=dish.STATES),
 }
@@ -232,14 +233,31 @@ _RESULT_FIELDS = {"snap_amplitude", "rotation_rate", "frequency_mismatch", "cont
                   "orbit_rate", "orbit_radius", "curvature", "dish_state"}
 
 
-def check_transient(duration: float, transient: float | None) -> float:
-    """The transient a run will discard: default half the run; refused unless 0 <= transient < duration."""
+def check_transient(duration: float, transient: float | None, times: np.ndarray | None = None) -> float:
+    """The transient a run will discard: default half the run; refused unless 0 <= transient < duration and, given
+    the run's sample times (from its start), unless at least MIN_SAMPLES samples remain after it to be measured."""
     if transient is None:
-        return default_transient(duration)
-    if not (math.isfinite(transient) and 0 <= transient < duration):
+        transient = default_transient(duration)
+    elif not (math.isfinite(transient) and 0 <= transient < duration):
         raise ParameterError(f"transient ({transient} tau) must lie in [0, duration = {duration:g} tau): the results are "
                              "measured on the part of the run after it")
+    if times is not None:
+        kept = int(np.count_nonzero(times >= transient - 1e-12 * max(1.0, transient)))  # as observables' steady part
+        if kept < MIN_SAMPLES:
+            latest = times[-MIN_SAMPLES] if times.size >= MIN_SAMPLES else 0.0
+            raise ParameterError(
+                f"transient ({transient:g} tau) leaves {kept} recorded sample(s) of the {duration:g} tau run; at least "
+                f"{MIN_SAMPLES} are needed to measure it: use --transient <= {latest:.4g} or a longer --duration")
     return float(transient)
+
+
+def check_measurable(physics: Physics) -> None:
+    """Refuse, before simulating, a chain too short for one of its scene's observables (Observable.min_n)."""
+    for name in physics.scene_def.observables:
+        need = OBSERVABLES[name].min_n if name in OBSERVABLES else 1
+        if physics.n < need:
+            raise ParameterError(f"n = {physics.n} is too short for scene {physics.scene}: it measures {name}, which needs "
+                                 f"N >= {need} particles; use --n {need} or more")
 
 
 def summary(traj: Trajectory, numerics: Numerics, duration: float, transient: float | None = None,

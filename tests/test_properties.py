@@ -4,6 +4,7 @@ refused with one line naming the parameter; never a traceback."""
 from __future__ import annotations
 
 import contextlib
+import functools
 import io
 import math
 
@@ -91,3 +92,55 @@ def test_cli_run_runs_or_refuses_in_one_line(scene, engine, options, dt):
         lines = [line for line in stderr.splitlines() if line.strip() and not line.startswith("usage:")
                  and not line.startswith(" ")]
         assert lines and lines[-1].startswith(("elastoactive: ", "elastoactive run: error:")), (argv, stderr)
+
+
+SCENE_OR_PRESET = st.sampled_from((*ea.scenes.names(), "accurate", "fast"))
+ARGUMENT = st.one_of(
+    st.none(), st.booleans(), st.integers(-3, 10), st.floats(allow_nan=True), st.text(max_size=6), SCENE_OR_PRESET,
+    st.lists(st.integers(0, 3), max_size=2),
+    st.dictionaries(st.sampled_from(["n", "sigma", "scene", "dt", "sample_dt", "seed", "bogus"]),
+                    st.one_of(st.integers(1, 4), st.floats(0.01, 1.0), st.text(max_size=3), SCENE_OR_PRESET), max_size=2),
+)
+"""What a user may pass as the physics or the numerics of ea.simulate, or as the trajectory of ea.measure."""
+
+
+@settings(max_examples=150, deadline=None, derandomize=True, suppress_health_check=[HealthCheck.too_slow])
+@given(physics=ARGUMENT, numerics=ARGUMENT)
+def test_api_takes_its_arguments_in_obvious_forms_or_names_them(physics, numerics):
+    """A Physics, a scene name or a dict of fields; a Numerics, a preset name, a dict of settings or None: anything
+    else is a TypeError naming the argument, a bad value a ParameterError, never an AttributeError."""
+    try:
+        traj = ea.simulate(physics, numerics, duration=1.0, engine="reduced")
+    except TypeError as err:
+        assert "\n" not in str(err) and str(err).startswith(("physics", "numerics")), str(err)
+    except ea.ParameterError as err:
+        assert "\n" not in str(err), str(err)
+    else:
+        assert traj.t.size >= 2 and traj.theta.shape[1] == traj.physics.n_angles
+
+
+@settings(max_examples=60, deadline=None, derandomize=True)
+@given(trajectory=ARGUMENT, transient=st.one_of(st.none(), st.floats(allow_nan=True), st.text(max_size=3)))
+def test_api_measure_takes_a_trajectory_or_names_the_argument(trajectory, transient):
+    try:
+        ea.measure(trajectory, transient)
+    except TypeError as err:
+        assert str(err).startswith("trajectory"), str(err)
+    else:
+        raise AssertionError(f"measured {trajectory!r}")
+
+
+@settings(max_examples=40, deadline=None, derandomize=True)
+@given(transient=st.one_of(st.none(), st.floats(allow_nan=True, allow_infinity=True), st.text(max_size=3),
+                           st.integers(-5, 30)))
+def test_api_measure_takes_a_transient_or_names_it(transient):
+    trajectory = _short_run()
+    try:
+        ea.measure(trajectory, transient)
+    except ea.ParameterError as err:
+        assert "\n" not in str(err) and "transient" in str(err), str(err)
+
+
+@functools.lru_cache(maxsize=1)
+def _short_run():
+    return ea.simulate(ea.Physics(n=3), duration=20, engine="reduced")

@@ -153,3 +153,28 @@ def test_a_file_size_limit_gives_one_line_not_a_traceback(tmp_path):
         assert result.returncode in (1, 4) and "Traceback" not in result.stderr, (argv, result.stderr)
         assert lines[-1].startswith("elastoactive:") and "File too large" in lines[-1], (argv, result.stderr)
     load_trajectory(out)  # the run --force could not write: the earlier run is whole
+
+
+def test_what_cannot_be_measured_is_refused_before_simulating(capsys, no_simulation):
+    refused(capsys, ["run", "one-pinned", "--transient", "29.99", "--duration", "30", "--quiet"], "--transient", "sample(s)")
+    refused(capsys, ["run", "paraboloid", "--n", "1", "--duration", "20", "--quiet"], "n = 1", "curvature")
+    with pytest.raises(ea.ParameterError, match="curvature"):
+        ea.simulate(ea.Physics(scene="paraboloid", n=1), duration=20)
+
+
+def test_the_front_door_takes_the_obvious_forms_or_names_the_argument():
+    physics = ea.Physics(n=3)
+    fast = ea.simulate(physics, "fast", duration=2, engine="reduced")
+    assert np.array_equal(fast.theta, ea.simulate(physics, ea.Numerics.preset("fast"), duration=2, engine="reduced").theta)
+    by_dict = ea.simulate(physics, {"sample_dt": 0.1}, duration=2, engine="reduced")
+    assert by_dict.t[1] == pytest.approx(0.1)
+    by_name = ea.simulate("one-pinned", duration=2, engine="reduced")
+    assert by_name.physics == ea.Physics(scene="one-pinned")
+    for call, argument in ((lambda: ea.simulate(physics, {"dt_": 0.01}, duration=2), "numerics"),
+                           (lambda: ea.simulate(7, duration=2), "physics"),
+                           (lambda: ea.measure(None), "trajectory"),
+                           (lambda: ea.measure(np.zeros((10, 7))), "trajectory")):
+        with pytest.raises(TypeError, match=argument):
+            call()
+    with pytest.raises(ea.ParameterError, match="transient"):
+        ea.measure(fast, transient=1.99)

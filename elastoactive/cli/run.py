@@ -115,7 +115,7 @@ def _run(args, out: Path | None) -> int:
 
     started, clock = utc_now(), time.perf_counter()
     physics, numerics, engine, duration, transient = settings_from(args)
-    transient = check_transient(duration, transient)
+    transient = check_transient(duration, transient, numerics.sample_times(duration))
     if out:
         _check_destination(out, physics, numerics, engine, duration, transient, args.force)
     if args.video:

@@ -60,6 +60,7 @@ def simulate(
     check: bool = True,
     progress: bool = False,
     theta0=None,
+    method: str | None = None,
 ) -> Trajectory:
     """Simulate a scene.
 
@@ -83,6 +84,9 @@ def simulate(
         Show a progress bar (MuJoCo engine).
     theta0 : array_like, optional
         Initial absolute angles (chain 1 then chain 2); default: the scene's seeded initial state.
+    method : str, optional
+        Reduced engine only: the ODE method ("numba-DOP853", "LSODA", "Radau", ...); default: chosen from the
+        stiffness of the linearisation at the start (trajectory.info["method"] says which ran).
 
     Returns
     -------
@@ -104,6 +108,8 @@ def simulate(
     duration = numerics.check_duration(duration)
     check_measurable(physics)
     options = {"theta0": theta0}
+    if method is not None and check_engine(engine) == "mujoco":
+        raise ParameterError(f"method = {method}: the ODE method applies to the reduced engine (engine='reduced')")
     if check_engine(engine) == "mujoco":
         if check:
             from .diagnose import check_timestep  # start-up time: diagnose builds MuJoCo models
@@ -113,6 +119,8 @@ def simulate(
                       file=sys.stderr, flush=True)
             check_timestep(physics, numerics)
         options["progress"] = progress
+    elif method is not None:  # the reduced engine's ODE method (None: its automatic choice)
+        options["method"] = method
     return run_engine(engine, physics, numerics, duration, **options)
 
 

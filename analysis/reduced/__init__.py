@@ -11,7 +11,8 @@ finite mass), solved without MuJoCo: arrays and records in, arrays out.
   dop853_coefficients.py   the DOP853 tableau (copied from scipy, BSD)
   dop853.py                DOP853 compiled together with the right-hand side
   regime.py                the overdamped limit: when a particle mass needs the inertial model (numpy)
-  settings.py              solver settings read outside the solvers (Baumgarte rate, stiffness radius)
+  settings.py              solver settings read outside the solvers (Baumgarte rate, stiffness thresholds)
+  blas.py                  one BLAS thread while the implicit solvers factorise (ctypes)
   solve.py                 the public solvers on a ChainSystem: rhs, jacobian, solve_ode, solve_sde,
                            solve_inertial, ...
 
@@ -32,7 +33,7 @@ from .regime import (
     overdamped_rate,
     rate_bound,
 )
-from .settings import DEFAULT_BETA, STIFF_RADIUS
+from .settings import DEFAULT_BETA, IMPLICIT_RATIO, STIFF_RADIUS
 from .system import BEAD_INERTIA_FACTOR, CONTACT_LENGTH, ChainSystem
 
 SOLVE_NAMES = (  # the public names of solve.py (its __all__), loaded on first use
@@ -52,10 +53,11 @@ SOLVE_NAMES = (  # the public names of solve.py (its __all__), loaded on first u
     "solve_sde",
     "spectral_radius",
     "stiffness",
+    "stiffness_ratio",
 )
 
 __all__ = sorted(SOLVE_NAMES + (
-    "BEAD_INERTIA_FACTOR", "CONTACT_LENGTH", "ChainSystem", "DEFAULT_BETA", "INERTIA_RESOLUTION", "STIFF_RADIUS", "capsule_clearance",
+    "BEAD_INERTIA_FACTOR", "CONTACT_LENGTH", "ChainSystem", "DEFAULT_BETA", "IMPLICIT_RATIO", "INERTIA_RESOLUTION", "STIFF_RADIUS", "capsule_clearance",
     "drag_and_forces_reference", "potential_reference", "force_jacobian", "inertia_number", "needs_inertia",
     "outside_overdamped_limit", "overdamped_rate", "pin_jacobian", "rate_bound", "pin_residual", "project_on_pins",
     "rhs_inertial_reference", "rhs_reference",

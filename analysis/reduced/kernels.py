@@ -474,6 +474,44 @@ def eval_jacobian(th, system, beta, J, L, D, X, lam):
     reuses the dense path's Cholesky factors, so L, D, X, lam must be a dense workspace."""
     n = system.n
     nch = system.n_chains
+    fac = np.ones(n * nch)
+    w = np.empty(n * nch)
+    eval_rhs_dense(th, fac, system, beta, w, L, D, X, lam)
+    _jacobian_forces(th, w, system, J, lam)
+    for ch in range(nch):
+        chol_solve_cols(L[ch], J, ch * n)
+    _jacobian_pins(th, w, system, beta, J, X)
+
+
+@njit(cache=True)
+def eval_jacobian_recursive(th, system, beta, J, U, X, lam):
+    """The same Jacobian as eval_jacobian with D^-1 applied column by column by the O(N) articulated-drag
+    recursion (articulated_solve): O(N^2) instead of O(N^3), equal to round-off. U, X, lam: a recursive
+    workspace's D, X, lam. What makes an implicit method affordable on long chains (solve.jacobian)."""
+    n = system.n
+    nch = system.n_chains
+    fac = np.ones(n * nch)
+    w = np.empty(n * nch)
+    eval_rhs_recursive(th, fac, system, beta, w, U, X, lam)
+    _jacobian_forces(th, w, system, J, lam)
+    col = np.empty(n)
+    for ch in range(nch):
+        off = ch * n
+        for m in range(n * nch):
+            for i in range(n):
+                col[i] = J[off + i, m]
+            articulated_solve(0, n, system.gamma_l, system.gamma_t, col, U[off:off + n], X, 0)  # X untouched
+            for i in range(n):
+                J[off + i, m] = col[i]
+    _jacobian_pins(th, w, system, beta, J, X)
+
+
+@njit(cache=True)
+def _jacobian_forces(th, w, system, J, lam):
+    """J = d(f - D(th) w)/d(th) at fixed w = th' (springs, follower forces, the drag's own derivative, the
+    pair's coupling, the pins' multipliers lam): the Jacobian before D^-1 is applied."""
+    n = system.n
+    nch = system.n_chains
     clamped = system.clamped
     pinned = system.pinned
     sigma = system.sigma
@@ -481,10 +519,6 @@ def eval_jacobian(th, system, beta, J, L, D, X, lam):
     gt = system.gamma_t
     kappa = system.kappa
     rho = system.rho
-    na = n * nch
-    fac = np.ones(na)
-    w = np.empty(na)
-    eval_rhs_dense(th, fac, system, beta, w, L, D, X, lam)
     R = J
     R[:, :] = 0.0
     cs = np.cos(th)
@@ -584,8 +618,17 @@ def eval_jacobian(th, system, beta, J, L, D, X, lam):
     if pinned:
         for m in range(n):
             R[m, m] += cs[m] * lam[0] + sn[m] * lam[1]
-    for ch in range(nch):
-        chol_solve_cols(L[ch], R, ch * n)
+
+
+@njit(cache=True)
+def _jacobian_pins(th, w, system, beta, J, X):
+    """The pinned chain's part of the Jacobian (nothing without pins): J, already D^-1 times the forces' part,
+    minus D^-1 G^T (X) times the derivative of the multipliers (the saddle point's Schur complement)."""
+    n = system.n
+    pinned = system.pinned
+    R = J
+    cs = np.cos(th)
+    sn = np.sin(th)
     if pinned:
         # Schur complement of the derivative of the saddle-point system
         s00 = 0.0

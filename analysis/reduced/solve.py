@@ -6,21 +6,32 @@ The right-hand side and its analytic Jacobian are compiled with numba (kernels.p
 solves D(theta) theta' = f by dense Cholesky (O(N^3)) for chains shorter than kernels.RECURSIVE_MIN_N = 10
 particles, bit for bit as before, and by the O(N) articulated-drag recursion (derived in equations.py) from
 there on: one evaluation at N = 100 costs ~3 us instead of ~100 us, and 100 tau of Physics(n=100,
-sigma=0.05) take ~0.015 s instead of ~0.4 s. The analytic Jacobian stays dense, O(N^3) (implicit methods on
-stiff cases, and the one stiffness check of method=None). The spectral radius of the
-linearised operator D^{-1} K is bounded independently of N (D0^{-1} = B^{-1} B^{-T} with B the lower
-triangular matrix of ones, so |lambda| <~ 16 for unit springs and drag): long chains are not stiff,
-only slow (their slowest rate falls like N^-4). The default (method=None) is therefore "numba-DOP853",
-scipy's DOP853 algorithm (same tableau, error estimator, step control, dense output; dop853.py, with the
-tableau copied into dop853_coefficients.py) compiled together
-with the RHS, which avoids the per-step Python overhead of scipy.integrate.solve_ivp: for N = 7,
-sigma = 0.8, duration 400, rtol 1e-9 it takes 0.042 s against 2.1 s for solve_ivp(DOP853) on
-rhs_reference (0.37 s for solve_ivp on the compiled RHS), with the same steps (results agree to 1e-11);
-35-53x over the four scenes. When the
-linearisation at theta0 is stiff (fastest decay rate max(-Re lambda) above STIFF_RADIUS, e.g. a pair with kappa >~ 1e3, or
-near-singular anisotropic drag), the default switches to scipy's implicit "Radau" with the compiled
-analytic Jacobian. Any scipy.integrate.solve_ivp method name can be given explicitly ("DOP853",
-"RK45", "Radau", "BDF", "LSODA", ...); implicit ones get the analytic Jacobian.
+sigma=0.05) take ~0.015 s instead of ~0.4 s. The analytic Jacobian follows the same split: dense, O(N^3), below
+RECURSIVE_MIN_N; from there on D^-1 is applied column by column by the recursion, O(N^2) (kernels.
+eval_jacobian_recursive). The spectral radius of the linearised operator D^{-1} K is bounded independently of N
+(D0^{-1} = B^{-1} B^{-T} with B the lower triangular matrix of ones, so |lambda| <~ 16 for unit springs and drag),
+but the slow dynamics of a long chain are slower still: its slowest relaxation and, at the sigma ~ S / N^3 where
+it beats, its beat frequency fall like N^-4 (248.9 / N^4 per tau at S = 100). An explicit method's steps are
+bounded by the fast rate, so it takes ~ N^4 steps per beat; an implicit one takes steps of the beat's own scale.
+
+The default (method=None) therefore looks at the eigenvalues of the Jacobian at theta0 (_overdamped_method):
+- "numba-DOP853", scipy's DOP853 algorithm (same tableau, error estimator, step control, dense output; dop853.py,
+  with the tableau copied into dop853_coefficients.py) compiled together with the RHS, which avoids the per-step
+  Python overhead of scipy.integrate.solve_ivp: for N = 7, sigma = 0.8, duration 400, rtol 1e-9 it takes 0.042 s
+  against 2.1 s for solve_ivp(DOP853) on rhs_reference (0.37 s for solve_ivp on the compiled RHS), with the same
+  steps (results agree to 1e-11); 35-53x over the four scenes. Every short chain, every chain well above its
+  onset and every short run takes it.
+- "Radau" with the compiled analytic Jacobian when the fastest decay rate max(-Re lambda) alone is above
+  STIFF_RADIUS (a pair with kappa >~ 1e3, near-singular anisotropic drag).
+- "LSODA" (scipy's; its stiff branch is BDF with the analytic Jacobian) when the stiffness ratio (fastest decay
+  over the slow dynamics, stiffness_ratio) is above IMPLICIT_RATIO and the run long enough for the explicit steps
+  to add up (duration x fastest decay above IMPLICIT_WORK): the long chain near its onset. Measured at S = 100,
+  per beat period: N = 80 0.1 s (numba-DOP853: ~100 s), N = 160 0.5 s, N = 320 0.9 s; LSODA beat BDF and Radau
+  at every N (fewer steps than Radau, no failures where BDF had them at N = 320). The LU factorisations run on
+  one BLAS thread (blas.py).
+Any name of METHODS can be given explicitly ("numba-DOP853", "DOP853", "RK45", "Radau", "BDF", "LSODA", ...);
+implicit ones get the analytic Jacobian. info["method"] says what ran, with the spectral radius, the stiffness
+and the stiffness ratio for method=None.
 
 With noise > 0 the follower forces carry multiplicative white noise and the ODE becomes an Ito SDE,
 integrated by fixed-step Euler-Maruyama (solve_sde: step dt, drift at the step start) with per-step
@@ -63,17 +74,14 @@ import numpy as np
 
 from ...errors import ParameterError
 from . import SOLVE_NAMES, dop853, kernels
-from .settings import DEFAULT_BETA, STIFF_RADIUS
+from .blas import one_blas_thread
+from .settings import COMPILED_METHODS, DEFAULT_BETA, IMPLICIT_RATIO, IMPLICIT_WORK, SCIPY_METHODS, STIFF_RADIUS
 from .system import ChainSystem
 
-__all__ = list(SOLVE_NAMES) + ["DEFAULT_BETA", "STIFF_RADIUS"]
+__all__ = list(SOLVE_NAMES) + ["DEFAULT_BETA", "IMPLICIT_RATIO", "STIFF_RADIUS"]
 
-SCIPY_METHODS = ("RK23", "RK45", "DOP853", "Radau", "BDF", "LSODA")
-"""scipy.integrate.solve_ivp methods solve_ode accepts."""
 IMPLICIT_METHODS = ("Radau", "BDF", "LSODA")
 """The scipy methods that are given the analytic Jacobian."""
-COMPILED_METHODS = ("numba-DOP853",)
-"""Methods compiled with the right-hand side (dop853.py)."""
 
 _SDE_CHUNK = 20000
 """Euler-Maruyama steps per call of the compiled loop (bounds the memory of the force factors)."""
@@ -118,8 +126,9 @@ def jacobian(system: ChainSystem, *, beta: float):
     inertial model (system.mass_ratio > 0): J(t, y) = dy'/dy for y = (theta, omega) (or theta alone, at rest),
     with the accelerations' part by central differences (kernels.eval_jacobian_inertial).
 
-    O(N^3) per call (dense Cholesky of D, then D^-1 applied to an N x N matrix) at every N: it is used by
-    the implicit methods (stiff cases) and by `stiffness` once per solve_ode(method=None).
+    Below kernels.RECURSIVE_MIN_N particles O(N^3) per call (dense Cholesky of D, then D^-1 applied to an N x N
+    matrix), bit for bit as before; from there on O(N^2) (D^-1 applied column by column by the articulated-drag
+    recursion, equal to round-off), so that the implicit methods that long chains need (solve_ode) stay cheap.
 
     With a free head, a trap or self-contact (system.extended), the analytic kernel does not apply: the Jacobian
     over the whole state is taken by central differences of the compiled right-hand side (relative step 1e-7)."""
@@ -137,6 +146,16 @@ def jacobian(system: ChainSystem, *, beta: float):
             return J
 
         return jac_inertial
+    if kernels.uses_recursive(system.n):  # D^-1 by the O(N) recursion, column by column: O(N^2)
+        _, U, X, lam = kernels.workspace(system, dense=False)
+
+        def jac(t, theta):
+            th = np.ascontiguousarray(theta, dtype=float)
+            J = np.empty((th.size, th.size))
+            kernels.eval_jacobian_recursive(th, system, beta, J, U, X, lam)
+            return J
+
+        return jac
     L, D, X, lam = kernels.workspace(system, dense=True)  # the Jacobian reuses the Cholesky factors
 
     def jac(t, theta):
@@ -326,9 +345,46 @@ def solve_ode(
         eig = _eigenvalues(system, theta0, beta, loads)
         info["spectral_radius"] = float(np.max(np.abs(eig)))
         info["stiffness"] = float(max(0.0, np.max(-eig.real)))
-        method = "Radau" if info["stiffness"] > STIFF_RADIUS else "numba-DOP853"
+        info["stiffness_ratio"] = stiffness_ratio(eig)
+        method = _overdamped_method(info["stiffness"], info["stiffness_ratio"], float(t[-1]))
     info["method"] = method
     return _integrate(system, t, theta0, method, rtol, atol, beta, info, loads)
+
+
+def stiffness_ratio(eig: np.ndarray) -> float:
+    """Fastest decay rate max(-Re lambda) over the rate of the slow dynamics, from the eigenvalues of the Jacobian
+    at the start: the slow rate is the largest |lambda| of the modes that do not decay (growing or neutral: what
+    the run is about, and what any method must resolve), or, when every mode decays, |lambda| of the least stable
+    one. Exact zeros (a free pin's rigid rotation) are left out. inf when nothing but zeros is left."""
+    eig = np.asarray(eig, dtype=complex)
+    size = np.abs(eig)
+    decay = float(max(0.0, np.max(-eig.real))) if eig.size else 0.0
+    keep = size > ZERO_MODE * max(1.0, float(np.max(size, initial=0.0)))
+    eig, size = eig[keep], size[keep]
+    if eig.size == 0:
+        return 0.0 if decay == 0.0 else float("inf")
+    slow_modes = eig.real >= -1e-9 * size
+    slow = float(np.max(size[slow_modes])) if np.any(slow_modes) else float(size[np.argmax(eig.real)])
+    return decay / slow
+
+
+ZERO_MODE = 1e-9
+"""Eigenvalues with |lambda| below ZERO_MODE x max(1, spectral radius) are zero modes (stiffness_ratio): exact for
+the analytic Jacobian, ~1e-10 for the central-difference one of a free head's rotation about the dish."""
+
+
+def _overdamped_method(stiffness: float, ratio: float, duration: float) -> str:
+    """method=None for the overdamped model: "Radau" when the fastest decay rate alone is stiff (above
+    STIFF_RADIUS: a stiff pair coupling, near-singular drag); "LSODA" (implicit BDF with the analytic Jacobian
+    once stiff) when the fastest decay is more than IMPLICIT_RATIO times the slow dynamics (a long chain at the
+    small sigma ~ S / N^3 where it beats: the ratio grows like N^4, and an explicit method's steps with it) and
+    the run is long enough for the explicit steps to add up (duration x stiffness above IMPLICIT_WORK); else
+    "numba-DOP853" (short chains, any chain well above its onset, short runs)."""
+    if stiffness > STIFF_RADIUS:
+        return "Radau"
+    if ratio > IMPLICIT_RATIO and duration * stiffness > IMPLICIT_WORK:
+        return "LSODA"
+    return "numba-DOP853"
 
 
 def _integrate(system: ChainSystem, t: np.ndarray, y0: np.ndarray, method: str, rtol: float, atol: float,
@@ -351,8 +407,9 @@ def _integrate(system: ChainSystem, t: np.ndarray, y0: np.ndarray, method: str, 
     kw = {}
     if method in IMPLICIT_METHODS:
         kw["jac"] = jacobian(system, beta=beta) if loads is None else _numeric_jacobian(system, beta, loads)
-    sol = solve_ivp(rhs(system, beta=beta, factor=loads), (0.0, float(t[-1])), y0, method=method, t_eval=t, rtol=rtol, atol=atol,
-                    **kw)
+    with one_blas_thread():  # the implicit methods' LU factorisations (blas.py)
+        sol = solve_ivp(rhs(system, beta=beta, factor=loads), (0.0, float(t[-1])), y0, method=method, t_eval=t,
+                        rtol=rtol, atol=atol, **kw)
     if not sol.success:
         raise RuntimeError(f"solve_ivp ({method}) failed: {sol.message}")
     info.update(nfev=int(sol.nfev), njev=int(sol.njev), nlu=int(sol.nlu), status=int(sol.status))

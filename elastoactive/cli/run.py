@@ -13,6 +13,7 @@ import sys
 import time
 from pathlib import Path
 
+from ..analysis.reduced.settings import METHODS
 from ..engines import ENGINES
 from ..errors import ParameterError
 from ..params import Numerics, Physics, parameter_fields
@@ -32,6 +33,9 @@ def register(subparsers) -> None:
     run.add_argument("--duration", type=float, default=None, help=f"simulated time in tau (default {DEFAULT_DURATION:g})")
     run.add_argument("--transient", type=float, default=None, help="time discarded before measuring, tau (default: half the run)")
     run.add_argument("--engine", choices=ENGINES, default=None, help="MuJoCo scene or the reduced ODE (default mujoco)")
+    run.add_argument("--method", choices=METHODS, default=None,
+                     help="the reduced engine's ODE method (default: chosen from the stiffness at the start: "
+                     "numba-DOP853, or the implicit LSODA for long chains near their onset); summary.json records it")
     run.add_argument("--out", type=Path, help="folder for summary.json and trajectory.npz")
     run.add_argument("--force", action="store_true",
                      help="replace a run with other settings already in --out, or an existing --video file")
@@ -123,7 +127,7 @@ def _run(args, out: Path | None) -> int:
         from .render import check_video_options  # start-up time: rendering loads matplotlib and GL
 
         check_video_options(args, duration)
-    traj = simulate(physics, numerics, duration=duration, engine=engine, progress=not args.quiet)
+    traj = simulate(physics, numerics, duration=duration, engine=engine, progress=not args.quiet, method=args.method)
     s = summary(traj, numerics, duration, transient)
     s["provenance"] = provenance(started, time.perf_counter() - clock)
     if out:

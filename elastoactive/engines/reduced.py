@@ -26,6 +26,7 @@ import numpy as np
 
 from ..analysis import reduced as _math
 from ..analysis.reduced import DEFAULT_BETA, INERTIA_RESOLUTION, STIFF_RADIUS, ChainSystem
+from ..analysis.reduced.settings import METHODS
 from ..errors import ParameterError
 from ..initial import initial_angles
 from ..noise import ColouredNoise, force_factor
@@ -38,6 +39,7 @@ __all__ = [
     "STIFF_RADIUS",
     "Regime",
     "base_state",
+    "check_method",
     "drag_matrix",
     "jacobian",
     "regime",
@@ -216,6 +218,18 @@ def _initial(physics: Physics, numerics: Numerics, theta0) -> np.ndarray:
     return theta0
 
 
+def check_method(physics: Physics, method: str | None) -> None:
+    """Refuse, in one line, a method the reduced engine would not use: an unknown name, or any method for a run
+    with noise (its fixed-step schemes take numerics.dt)."""
+    if method is None:
+        return
+    if method not in METHODS:
+        raise ParameterError(f"method must be one of {', '.join(METHODS)} (or left out: automatic), got {method!r}")
+    if physics.noise > 0:
+        raise ParameterError(f"method = {method}: with noise the reduced engine takes fixed steps of --dt "
+                             "(Euler-Maruyama or Heun); leave --method out")
+
+
 def simulate_reduced(
     physics: Physics,
     numerics: Numerics,
@@ -232,7 +246,9 @@ def simulate_reduced(
 
     inertial: None (automatic: the inertial model, at rest at t = 0, when numerics.mass_ratio is outside the
     overdamped limit, see `regime`), True (the inertial model at numerics.mass_ratio), False (overdamped).
-    Deterministic (noise = 0): adaptive ODE solver (method: see elastoactive.analysis.reduced.solve).
+    Deterministic (noise = 0): adaptive ODE solver; method None picks it (numba-DOP853, or an implicit method
+    for stiff systems and long chains near their onset: elastoactive.analysis.reduced.solve), or one of METHODS;
+    info["method"] records what ran.
     noise > 0: Euler-Maruyama with step numerics.dt and the shared counter-based noise (seed numerics.seed)
     (inertial: the noise force constant over each step dt, as in MuJoCo, RK4 substeps); rtol, atol and
     method are then unused. White noise read as Stratonovich (physics.noise_calculus): stochastic Heun
@@ -240,6 +256,7 @@ def simulate_reduced(
     tau_c > 0): the Ornstein-Uhlenbeck realisation of elastoactive.noise.ColouredNoise, the one MuJoCo's
     callback applies, constant over each step (Euler steps of the random ODE; dt << tau_c resolves it). info records "model" ("overdamped" / "inertial") and "mass_ratio".
     """
+    check_method(physics, method)
     use_inertia, record = _use_inertia(physics, numerics, inertial)
     system = system_of(physics, numerics.mass_ratio if use_inertia else 0.0)
     t = numerics.sample_times(duration)

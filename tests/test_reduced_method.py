@@ -1,0 +1,95 @@
+"""Which ODE method the reduced engine picks by itself (explicit DOP853 for short chains, implicit LSODA where the
+stiffness ratio of a long chain near its onset makes explicit steps pile up), that both give the same answer, the
+O(N^2) Jacobian the implicit method uses on long chains, and the --method option."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from elastoactive.analysis import reduced as M
+from elastoactive.analysis.reduced import kernels as K
+from elastoactive.analysis.reduced.blas import _openblas_controls, one_blas_thread
+from elastoactive.cli import main
+from elastoactive.engines.reduced import simulate_reduced
+from elastoactive.params import Numerics, Physics
+
+FILAMENT_S = 100.0  # N^3 sigma: the clamped filament above its onset (76.1)
+
+
+def _filament(n):
+    """The N-particle chain at sigma = S / N^3 and its beat period in tau (about 2 pi N^4 / 249)."""
+    return Physics(scene="one-pinned", n=n, sigma=FILAMENT_S / n**3), 2 * np.pi * n**4 / 249.0
+
+
+def test_short_chain_keeps_the_explicit_method_bit_for_bit():
+    physics, numerics = Physics(scene="one-pinned", n=7, sigma=0.8), Numerics()
+    auto = simulate_reduced(physics, numerics, 300.0)
+    assert auto.info["method"] == "numba-DOP853"
+    assert auto.info["stiffness_ratio"] < M.IMPLICIT_RATIO
+    explicit = simulate_reduced(physics, numerics, 300.0, method="numba-DOP853")
+    np.testing.assert_array_equal(auto.theta, explicit.theta)
+    implicit = simulate_reduced(physics, numerics, 300.0, method="LSODA")
+    np.testing.assert_allclose(implicit.theta, auto.theta, atol=1e-5)
+
+
+def test_long_chain_near_onset_picks_the_implicit_method_with_the_same_answer():
+    physics, period = _filament(30)
+    auto = simulate_reduced(physics, Numerics(sample_dt=100.0, perturbation=0.3), 4 * period)
+    assert auto.info["method"] == "LSODA"
+    assert auto.info["stiffness_ratio"] > 10 * M.IMPLICIT_RATIO  # grows like N^4
+    # the same answer as the explicit method, over a window short enough for its many small steps
+    numerics = Numerics(sample_dt=5.0, perturbation=0.3)
+    explicit = simulate_reduced(physics, numerics, 3000.0, method="numba-DOP853")
+    implicit = simulate_reduced(physics, numerics, 3000.0, method="LSODA")
+    np.testing.assert_allclose(implicit.theta, explicit.theta, atol=1e-6)
+
+
+def test_short_runs_stay_explicit_whatever_the_ratio():
+    """Below IMPLICIT_WORK (duration x fastest decay) the explicit steps are few: no switch."""
+    physics, period = _filament(30)
+    run = simulate_reduced(physics, Numerics(sample_dt=5.0), 1000.0)
+    assert run.info["stiffness_ratio"] > M.IMPLICIT_RATIO
+    assert run.info["method"] == "numba-DOP853"
+
+
+@pytest.mark.parametrize("kind", [dict(), dict(gamma_l=2.5), dict(clamped=False, gamma_l=1.6),
+                                  dict(clamped=False, pinned=True, delta=0.1, gamma_l=1.7),
+                                  dict(n_chains=2, kappa=1.3, rho=1.4, gamma_l=0.6)])
+def test_recursive_jacobian_equals_the_dense_one(kind):
+    system = M.ChainSystem(n=23, sigma=0.7, **kind).typed()
+    rng = np.random.default_rng(3)
+    th = 0.6 * rng.standard_normal(system.n_angles)
+    if system.pinned:
+        th = M.project_on_pins(th * 0.5, system.delta) + 1e-3 * rng.standard_normal(system.n_angles)
+    dense = np.empty((th.size, th.size))
+    K.eval_jacobian(th, system, 3.0, dense, *K.workspace(system, dense=True))
+    recursive = np.empty((th.size, th.size))
+    _, U, X, lam = K.workspace(system, dense=False)
+    K.eval_jacobian_recursive(th, system, 3.0, recursive, U, X, lam)
+    np.testing.assert_allclose(recursive, dense, atol=1e-12 * np.abs(dense).max())
+    np.testing.assert_array_equal(M.jacobian(system, beta=3.0)(0.0, th), recursive)
+
+
+def test_one_blas_thread_sets_and_restores():
+    controls = _openblas_controls()
+    before = [get() for _, get in controls]
+    with one_blas_thread():
+        assert all(get() == 1 for _, get in controls)
+    assert [get() for _, get in controls] == before
+
+
+def test_method_option_is_recorded_and_refused_where_it_does_not_apply(tmp_path, capsys):
+    out = tmp_path / "run"
+    assert main(["run", "one-pinned", "--engine", "reduced", "--method", "Radau", "--duration", "60", "--out",
+                 str(out), "--quiet"]) == 0
+    assert json.loads((out / "summary.json").read_text())["solver"]["method"] == "Radau"
+    capsys.readouterr()
+    assert main(["run", "one-pinned", "--method", "Radau", "--duration", "60", "--quiet"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "reduced engine" in err[0]
+    assert main(["run", "one-pinned", "--engine", "reduced", "--noise", "0.1", "--method", "LSODA", "--duration",
+                 "60", "--quiet"]) == 2
+    assert "--method" in capsys.readouterr().err

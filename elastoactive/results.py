@@ -260,6 +260,20 @@ def check_measurable(physics: Physics) -> None:
                                  f"N >= {need} particles; use --n {need} or more")
 
 
+ENGINE_NUMERICS = {
+    "mujoco": ("dt", "mass_ratio", "integrator", "perturbation", "sample_dt", "seed"),
+    # the reduced model: its mass ratio decides overdamped or inertial (engines.reduced.regime); dt only with noise
+    "reduced": ("sample_dt", "perturbation", "seed", "mass_ratio"),
+}
+"""The numerical settings each engine uses, which its summary.json records (all a re-run needs)."""
+
+
+def recorded_numerics(engine: str, physics: Physics) -> tuple[str, ...]:
+    """The Numerics fields a run of `physics` with `engine` uses: what summary.json records and `run --from` needs."""
+    names = ENGINE_NUMERICS[engine]
+    return names + ("dt",) if engine == "reduced" and physics.noise > 0 else names
+
+
 def summary(traj: Trajectory, numerics: Numerics, duration: float, transient: float | None = None,
             provenance: dict | None = None) -> dict:
     """Everything summary.json holds: parameters, numerical settings, wall time, results, solver
@@ -268,9 +282,8 @@ def summary(traj: Trajectory, numerics: Numerics, duration: float, transient: fl
     if traj.engine == "mujoco":  # what ran: a long chain's automatic numerics (Numerics.for_physics), so --from repeats it
         numerics = numerics.for_physics(traj.physics)
     settings = dataclasses.asdict(numerics)
-    if traj.engine == "reduced":  # the reduced model uses these (dt: the Euler-Maruyama step with noise)
-        keep = ("sample_dt", "perturbation", "seed") + (("dt",) if traj.physics.noise > 0 else ())
-        settings = {k: settings[k] for k in keep}
+    if traj.engine in ENGINE_NUMERICS:
+        settings = {k: settings[k] for k in recorded_numerics(traj.engine, traj.physics)}
     out = {
         "engine": traj.engine,
         "parameters": traj.physics.relevant(),

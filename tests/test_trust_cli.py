@@ -178,3 +178,26 @@ def test_the_front_door_takes_the_obvious_forms_or_names_the_argument():
             call()
     with pytest.raises(ea.ParameterError, match="transient"):
         ea.measure(fast, transient=1.99)
+
+
+def test_from_reruns_every_recorded_run_or_refuses(tmp_path, capsys):
+    """The reduced engine's mass ratio is recorded (an inertial chain re-runs inertial); a record that lacks a setting
+    the re-run needs (here an older summary without its duration) is refused, not filled with a default."""
+    heavy, again = tmp_path / "heavy", tmp_path / "again"
+    assert main(["run", "one-pinned", "--n", "4", "--mass-ratio", "10", "--duration", "40", "--engine", "reduced",
+                 "--quiet", "--out", str(heavy)]) == 0
+    assert json.loads((heavy / "summary.json").read_text())["numerics"]["mass_ratio"] == 10
+    assert main(["run", "--from", str(heavy), "--out", str(again), "--quiet"]) == 0
+    with np.load(heavy / "trajectory.npz") as a, np.load(again / "trajectory.npz") as b:
+        np.testing.assert_array_equal(a["theta"], b["theta"])
+    older = json.loads((heavy / "summary.json").read_text())
+    for key in ("settings_sha256", "trajectory_sha256"):
+        older.pop(key)
+    older["numerics"]["duration"] = None
+    older["numerics"].pop("mass_ratio")
+    (heavy / "summary.json").write_text(json.dumps(older))
+    refused(capsys, ["run", "--from", str(heavy), "--quiet"], "duration", "mass_ratio", "--duration", "--mass-ratio")
+    assert main(["run", "--from", str(heavy), "--duration", "40", "--mass-ratio", "10", "--out", str(tmp_path / "given"),
+                 "--quiet"]) == 0
+    with np.load(heavy / "trajectory.npz") as a, np.load(tmp_path / "given" / "trajectory.npz") as b:
+        np.testing.assert_array_equal(a["theta"], b["theta"])

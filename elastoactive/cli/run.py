@@ -75,6 +75,26 @@ def settings_from(args) -> tuple[Physics, Numerics, str, float, float | None]:
     return physics, numerics, engine, numerics.check_duration(duration), transient
 
 
+def check_rerun(args, physics: Physics, engine: str) -> None:
+    """`--from`: refuse a record that lacks a setting the re-run needs (and no option gives it), rather than fill
+    it with a default that the recorded run may not have used."""
+    from ..results import read_summary, recorded_numerics  # start-up time: results loads the analysis
+
+    s = read_summary(args.source)
+    numerics = s.get("numerics") or {}
+    needed = {"engine": s.get("engine") is None and args.engine is None,
+              "duration": numerics.get("duration") is None and args.duration is None}
+    needed.update({name: name not in s["parameters"] and getattr(args, name, None) is None
+                   for name in physics.relevant() if name != "scene"})
+    needed.update({name: numerics.get(name) is None and getattr(args, name) is None
+                   for name in (recorded_numerics(engine, physics) if engine in ENGINES else ())})
+    missing = [name for name, lacking in needed.items() if lacking]
+    if missing:
+        options = " ".join(f"--{name.replace('_', '-')}" for name in missing)
+        raise ParameterError(f"--from {args.source}: the record has no {', '.join(missing)}, so it cannot be re-run "
+                             f"exactly; give {options}")
+
+
 def _check_destination(out: Path, physics: Physics, numerics: Numerics, engine: str, duration: float,
                        transient: float, force: bool) -> None:
     """Refuse, before simulating, an --out that cannot be written or that holds another run."""
@@ -119,6 +139,8 @@ def _run(args, out: Path | None) -> int:
 
     started, clock = utc_now(), time.perf_counter()
     physics, numerics, engine, duration, transient = settings_from(args)
+    if args.source:
+        check_rerun(args, physics, engine)
     transient = check_transient(duration, transient, numerics.sample_times(duration))
     if out:
         _check_destination(out, physics, numerics, engine, duration, transient, args.force)

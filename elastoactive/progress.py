@@ -30,7 +30,9 @@ class LineProgress:
                   file=sys.stderr, flush=True)
 
     def close(self) -> None:
-        if time.monotonic() - self.start >= LOG_INTERVAL:
+        """The closing line, only when every item finished: close also runs on an error or Ctrl-C, whose own
+        one line says what happened."""
+        if self.n >= self.total and time.monotonic() - self.start >= LOG_INTERVAL:
             print(f"{self.desc}: done ({self.n} {self.unit}s in {time.monotonic() - self.start:.0f} s)",
                   file=sys.stderr, flush=True)
 

@@ -1,63 +1,190 @@
 """`elastoactive reproduce`: regenerate every figure, its data and report.md in one folder.
 
-A thin layer: the studies are `elastoactive.studies`, the figures `figures`, the claim table
-`claims` (the command line itself is elastoactive.cli.reproduce). Also the helpers the scenario
-scripts in scripts/ share.
+A thin layer over the study registry (`elastoactive.studies.registry`): each registered study runs,
+saves its data (`<name>.npz`, `<name>.json`), draws its figures and writes its files; report.md is
+rendered by `claims` from every study of the folder (the command line itself is
+elastoactive.cli.reproduce). Also the helpers the scenario scripts in scripts/ share.
+
+A folder is reproduced in place, study by study, so that work is never lost or silently replaced:
+
+- resume: a study whose data in the folder are complete and were made at the same size by the same
+  code (`source_digest`, recorded in each study's JSON) is kept, not rerun (`force` reruns it);
+- merge: the studies of the folder that were not asked for (`only`) stay, and report.md and
+  provenance.json are rebuilt from every study present, so a partial run never shrinks the report;
+- a folder holding studies of another size is refused (one line) unless `force`: its report cannot mix
+  sizes; with `force` those studies are rerun when asked for, otherwise left out of the report;
+- on Ctrl-C the studies already finished stay saved (a rerun resumes after them); the one running is
+  dropped, and `Interrupted` says which.
 """
 
 from __future__ import annotations
 
 import argparse
-import csv
+import hashlib
 import json
 import time
+from dataclasses import dataclass, field
 from pathlib import Path
 
-from .outputs import atomic_file, provenance, utc_now, write_text
+from .errors import ParameterError
+from .outputs import provenance, utc_now, write_text
+
+CODE_KEY = "code"
+"""Key of the source digest in the provenance record a study saves with its data."""
+
+
+@dataclass(frozen=True)
+class Timing:
+    """Wall time of one study in this run: the study itself (simulations, pool start-up and compilation in its
+    workers, analysis) and drawing its figures and files; `kept` when its saved data were reused."""
+
+    study_s: float
+    figures_s: float
+    kept: bool = False
+
+
+@dataclass
+class Reproduction:
+    """What `reproduce` left in `out`: every study of the report (by name, in reproduce's order), the figures
+    each has there, report.md, the wall time, and which studies ran now and which were kept."""
+
+    out: Path
+    studies: dict = field(default_factory=dict)
+    figures: dict = field(default_factory=dict)
+    report: Path | None = None
+    wall_s: float = 0.0
+    ran: list[str] = field(default_factory=list)
+    kept: list[str] = field(default_factory=list)
+    timings: dict[str, Timing] = field(default_factory=dict)
+
+
+class Interrupted(KeyboardInterrupt):
+    """Ctrl-C during reproduce; the message says which study stopped and what stays saved."""
+
+
+def source_digest() -> str:
+    """SHA-256 (first 16 hex digits) of the package's Python sources: the code version a study's data were made
+    with (a git commit says nothing about uncommitted edits or an installed copy)."""
+    root = Path(__file__).resolve().parent
+    h = hashlib.sha256()
+    for path in sorted(root.rglob("*.py")):
+        h.update(path.relative_to(root).as_posix().encode() + b"\0" + path.read_bytes() + b"\0")
+    return h.hexdigest()[:16]
+
+
+@dataclass(frozen=True)
+class Saved:
+    """A study's data found in the folder: its size and code digest (None when unreadable or missing)."""
+
+    name: str
+    size: str | None
+    code: str | None
+    complete: bool
+
+
+def _saved(out: Path, name: str) -> Saved | None:
+    """What `out` holds of study `name` (None: nothing)."""
+    meta, data = out / f"{name}.json", out / f"{name}.npz"
+    if not meta.exists() and not data.exists():
+        return None
+    try:
+        record = json.loads(meta.read_text())
+        size, code = record.get("size"), (record.get("provenance") or {}).get(CODE_KEY)
+    except (OSError, ValueError, AttributeError):
+        return Saved(name, None, None, False)
+    return Saved(name, size, code, data.exists() and record.get("summary") is not None)
+
+
+def _plan(out: Path, names: list[str], every: tuple[str, ...], size: str, code: str, force: bool):
+    """(to run, to keep, to report) for the requested `names` among the registered `every`, or a ParameterError
+    when the folder holds another size's studies and `force` is not given."""
+    saved = {n: s for n in every if (s := _saved(out, n)) is not None}
+    other = sorted(n for n, s in saved.items() if s.complete and s.size != size)
+    if other and not force:
+        sizes = sorted({saved[n].size for n in other})
+        raise ParameterError(f"--out {out} holds {'/'.join(sizes)}-size studies ({', '.join(other)}), not {size}: "
+                             "one report cannot mix sizes; choose another --out or pass --force to rerun or drop them")
+    current = {n for n, s in saved.items() if s.complete and s.size == size}
+    keep = [n for n in names if n in current and saved[n].code == code and not force]
+    run = [n for n in names if n not in keep]
+    merged = [n for n in every if n in current and n not in names]
+    return run, keep, merged
 
 
 def reproduce(out: Path, size: str = "quick", workers: int | None = None, only: list[str] | None = None,
-              progress: bool = True, log=print) -> dict:
-    """Run the studies (all, or those in `only`), write figures, data and report.md into `out`.
+              progress: bool = True, log=print, force: bool = False) -> Reproduction:
+    """Run the studies (all, or those in `only`) into `out`: data, figures and files of each, then report.md
+    and provenance.json over every study of the folder (see the module's docstring for resume and merge)."""
+    from . import claims  # start-up time: the studies load both engines (and matplotlib when drawing)
+    from .batch import default_workers
+    from .studies import SIZES, Study, load_study, registry
 
-    Returns {"studies": {name: Study}, "figures": {name: [paths]}, "report": path, "wall_s": seconds}.
-    """
-    from . import claims, figures  # start-up time: figures loads matplotlib
-    from . import studies as st  # start-up time: the studies load both engines
-    from .batch import default_workers  # start-up time: batch loads both engines
-
+    if size not in SIZES:
+        raise ParameterError(f"size must be one of {', '.join(SIZES)}; got {size!r}")
+    every = registry.names()
+    names = list(every) if not only else list(dict.fromkeys(only))
+    unknown = [n for n in names if n not in every]
+    if unknown:
+        raise ParameterError(f"unknown studies {', '.join(map(repr, unknown))}; choose from {', '.join(every)}")
+    names = [n for n in every if n in names]  # reproduce's order
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
+    code = source_digest()
+    to_run, to_keep, merged = _plan(out, names, every, size, code, force)
     started = utc_now()
     workers = default_workers() if workers is None else workers
-    names = list(st.STUDIES) if not only else only
-    unknown = [n for n in names if n not in st.STUDIES]
-    if unknown:
-        raise ValueError(f"unknown studies {unknown}; choose from {', '.join(st.STUDIES)}")
     start = time.perf_counter()
-    done, figs = {}, {}
-    for i, name in enumerate(names, 1):
-        log(f"[{i}/{len(names)}] {name} ...")
-        study = st.STUDIES[name](size, workers=workers, progress=progress)
-        study.save(out, provenance(started, study.wall_s))
-        figs[name] = figures.make_figures(study, out)
-        done[name] = study
-        log(f"[{i}/{len(names)}] {name} done in {study.wall_s:.1f} s -> {', '.join(p.name for p in figs[name])}")
-    if "stability" in done:
-        with atomic_file(out / "stability_sigma_c.csv") as tmp, open(tmp, "w", newline="") as fh:
-            w = csv.writer(fh)
-            w.writerow(["N", "sigma_c", "omega_c", "f_c", "N3_sigma_c"])
-            for row in done["stability"].summary.table:
-                w.writerow([row.n, repr(row.sigma_c), repr(row.omega_c), repr(row.f_c), repr(row.n ** 3 * row.sigma_c)])
-    wall = time.perf_counter() - start
+    result = Reproduction(out)
+    report_names = [n for n in every if n in names or n in merged]
+    for name in [n for n in report_names if n not in to_run]:
+        result.studies[name] = load_study(out, name)
+    if to_keep:
+        log(f"kept from an earlier run at this size and code: {', '.join(to_keep)}")
+    if merged:
+        log(f"in the report from this folder (not asked for): {', '.join(merged)}")
+
+    for i, name in enumerate(to_run, 1):
+        entry = registry.get(name)
+        log(f"[{i}/{len(to_run)}] {name} ...")
+        t0 = t1 = time.perf_counter()
+        saved = False
+        try:
+            study: Study = entry.run_fn(size, workers=workers, progress=progress)
+            study.save(out, {**provenance(started, study.wall_s), CODE_KEY: code})
+            saved, t1 = True, time.perf_counter()
+            result.figures[name] = entry.draw(study, out)
+            entry.write_files(study, out)
+        except KeyboardInterrupt:
+            kept = result.ran + ([name] if saved else []) + to_keep
+            raise Interrupted(f"interrupted during {name} ({i}/{len(to_run)}): "
+                              + ("its data are saved, its figures not; " if saved else "its data were not saved; ")
+                              + f"kept in {out}: {', '.join(kept) or 'no finished study'}; "
+                              "rerun the same command to resume") from None
+        result.studies[name] = study
+        result.ran.append(name)
+        result.timings[name] = Timing(t1 - t0, time.perf_counter() - t1)
+        log(f"[{i}/{len(to_run)}] {name} done in {t1 - t0:.1f} s (figures {time.perf_counter() - t1:.1f} s) -> "
+            f"{', '.join(p.name for p in result.figures[name])}")
+
+    for name in report_names:  # the studies not run now: their figures and files, drawn again from their data
+        if name not in result.figures:
+            t1 = time.perf_counter()
+            entry = registry.get(name)
+            result.figures[name] = entry.draw(result.studies[name], out)
+            entry.write_files(result.studies[name], out)
+            result.kept.append(name)
+            result.timings[name] = Timing(0.0, time.perf_counter() - t1, kept=True)
+    result.studies = {n: result.studies[n] for n in report_names}
+    result.wall_s = time.perf_counter() - start
     command = "elastoactive reproduce" + (" --full" if size == "full" else "") + (" --tiny" if size == "tiny" else "")
-    record = provenance(started, wall)
+    record = {**provenance(started, result.wall_s), CODE_KEY: code, "studies_run": result.ran, "studies_kept": result.kept}
     write_text(out / "provenance.json", json.dumps(record, indent=2) + "\n")
-    report = out / "report.md"
-    write_text(report, claims.render_report(done, figs, {"size": size, "workers": workers, "wall_s": wall,
-                                                          "command": command, "provenance": record}))
-    log(f"wrote {report} ({wall:.0f} s)")
-    return {"studies": done, "figures": figs, "report": report, "wall_s": wall}
+    result.report = out / "report.md"
+    write_text(result.report, claims.render_report(result.studies, result.figures, {
+        "size": size, "workers": workers, "wall_s": result.wall_s, "command": command, "provenance": record,
+        "kept": result.kept}))
+    log(f"wrote {result.report} ({result.wall_s:.0f} s)")
+    return result
 
 
 # ------------------------------------------------------------------------------------------------
@@ -79,13 +206,15 @@ def scenario_size(args) -> str:
 
 
 def save_all(studies, out: Path) -> list[Path]:
-    """Save each study's data and figures into `out`; returns the figure paths."""
-    from . import figures  # start-up time: matplotlib
+    """Save each study's data, figures and files into `out` (through the study registry); returns the figure paths."""
+    from .studies import registry  # start-up time: the studies load both engines
 
     paths = []
     for study in studies:
+        entry = registry.get(study.name)
         study.save(out)
-        paths += figures.make_figures(study, out)
+        paths += entry.draw(study, out)
+        paths += entry.write_files(study, out)
     for p in paths:
         print(f"wrote {p}")
     return paths

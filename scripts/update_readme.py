@@ -1,7 +1,8 @@
 """Fill the README's generated blocks from the committed outputs, so that the README and the reports
 have one source:
 
-  <!-- generated: claims -->       the claims table of docs/reproduction/report.md (explanations left out)
+  <!-- generated: claims -->       the claims table (explanations left out), built through the study registry
+                                   from the committed study data in docs/reproduction/ (as report.md's is)
   <!-- generated: validate -->     docs/generated/validate.md       (output of `elastoactive validate`)
   <!-- generated: convergence -->  docs/generated/convergence.md    (`elastoactive validate one-pinned --convergence`)
 
@@ -23,24 +24,23 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 README = ROOT / "README.md"
 GENERATED = ROOT / "docs" / "generated"
-REPORT = ROOT / "docs" / "reproduction" / "report.md"
+REPRODUCTION = ROOT / "docs" / "reproduction"
 
 
-def claims_table(report: str) -> str:
-    """The report's claims table without its last (explanation) column."""
-    section = report.split("## Claims", 1)[1]
-    rows = [line for line in section.splitlines()[1:] if line.startswith("|")]
-    rows = rows[: next((i for i, r in enumerate(rows[1:], 1) if not r.startswith("|")), len(rows))]
-    out = []
-    for row in rows:
-        cells = re.split(r"(?<!\\)\|", row)[1:-1]  # '\|' inside a cell is not a separator
-        out.append("|" + "|".join(cells[:-1]) + "|")
-    return "\n".join(out)
+def claims_table(folder: Path = REPRODUCTION) -> str:
+    """The claims table of the studies saved in `folder`, without the explanation column: only that table (the
+    report's other tables, sigma_c(N) and run times, stay in report.md)."""
+    sys.path.insert(0, str(ROOT))
+    from elastoactive import claims
+    from elastoactive.studies import load_study, registry
+
+    studies = {name: load_study(folder, name) for name in registry.names() if (folder / f"{name}.json").exists()}
+    return claims.claims_table(claims.build_claims(studies), explanations=False)
 
 
 def blocks() -> dict[str, str]:
     return {
-        "claims": claims_table(REPORT.read_text()),
+        "claims": claims_table(),
         "validate": (GENERATED / "validate.md").read_text().strip(),
         "convergence": (GENERATED / "convergence.md").read_text().strip(),
     }

@@ -24,15 +24,15 @@ def tiny_studies(tmp_path_factory):
 def round_trip(tmp_path):
     """check(runs, name) -> the claims table: a study saved by tiny_studies reads back equal, draws its figures and
     renders claim rows with a verdict each."""
-    from elastoactive import claims, figures  # figures load matplotlib: only the tests that use them pay
-    from elastoactive.studies import SUMMARIES, load_study
+    from elastoactive import claims  # the studies load both engines: only the tests that use them pay
+    from elastoactive.studies import SUMMARIES, load_study, registry
 
     def check(runs, name):
         out, done = runs
         back = load_study(out, name)
         assert isinstance(back.summary, SUMMARIES[name])
         assert back.summary.as_dict() == done[name].summary.as_dict()  # nan-safe comparison
-        paths = figures.make_figures(back, tmp_path)
+        paths = registry.get(name).draw(back, tmp_path)
         assert paths and all(p.stat().st_size > 5000 for p in paths)
         rows = claims.build_claims({name: back})
         assert rows and all(r.agree in ("yes", "no", "partly") for r in rows)

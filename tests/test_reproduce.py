@@ -9,6 +9,7 @@ from pathlib import Path
 import pytest
 
 from elastoactive.cli import main
+from elastoactive.progress import LOG_INTERVAL, LineProgress
 from elastoactive.reproduce import reproduce
 from elastoactive.studies import STUDIES, SUMMARIES, load_study
 
@@ -57,3 +58,15 @@ def test_scenario_script_tiny(script, tmp_path):
     for name in SCRIPTS[script]:
         assert _png(tmp_path / name), name
     assert "wrote" in res.stdout
+
+
+def test_progress_says_done_only_when_every_item_finished(capsys):
+    """close() runs in a `finally` on Ctrl-C too: 30 of 44 cases must not read as 'done'."""
+    bar = LineProgress(44, "Hopf N = 7", "case")
+    bar.start -= 2 * LOG_INTERVAL  # a long batch: its closing line is due
+    bar.n = 30
+    bar.close()
+    assert "done" not in capsys.readouterr().err
+    bar.n = 44
+    bar.close()
+    assert "Hopf N = 7: done (44 cases" in capsys.readouterr().err

@@ -8,40 +8,63 @@ from pathlib import Path
 from ..errors import ParameterError
 from .options import workers_argument
 
+DESCRIPTION = (
+    "Run every study (linear stability, Hopf N = 7, N = 2 normal form, self-snapping, rotating pin, synchronisation, "
+    "noise, anisotropic drag, inertia, the long chain, the dish) with MuJoCo and the reduced model, and write PNG "
+    "figures, NPZ/JSON data and report.md into one folder. The default (quick) size takes several minutes on 2 cores.\n\n"
+    "An existing folder is reproduced in place, never silently replaced: a study whose data there are complete and "
+    "were made at the same size by the same code is kept (resume after Ctrl-C: rerun the same command); --only runs "
+    "the named studies and merges them with the others of the folder, and report.md and provenance.json are rebuilt "
+    "from every study present. A folder of another size is refused unless --force; --force also reruns studies "
+    "that would be kept."
+)
+
 
 def register(subparsers) -> None:
     p = subparsers.add_parser(
         "reproduce",
         help="regenerate the paper's figures, their data and report.md (claim by claim)",
-        description="Run every study (linear stability, Hopf N = 7, N = 2 normal form, self-snapping, rotating pin, "
-        "synchronisation, noise, anisotropic drag) with MuJoCo and the reduced model, and write PNG figures, NPZ/JSON "
-        "data and report.md into one folder. The default (quick) size takes a few minutes on 2 cores.",
+        description=DESCRIPTION,
     )
     p.add_argument("--out", type=Path, default=Path("results/reproduction"), help="output folder (default %(default)s)")
     g = p.add_mutually_exclusive_group()
     g.add_argument("--full", action="store_true", help="publication resolution (finer grids, longer runs: much slower)")
     g.add_argument("--tiny", action="store_true", help="smallest grids and runs (a smoke test; numbers are rough)")
     workers_argument(p)
-    p.add_argument("--only", default=None, help="comma-separated subset of studies, e.g. hopf,sync")
+    p.add_argument("--only", default=None,
+                   help="comma-separated subset of studies, e.g. hopf,sync (merged with the others already in --out)")
+    p.add_argument("--force", action="store_true",
+                   help="rerun studies whose data in --out would be kept, and replace a folder of another size")
     p.add_argument("--quiet", action="store_true", help="no progress output")
     p.set_defaults(func=main)
 
 
+def _only(text: str | None, known: tuple[str, ...]) -> list[str] | None:
+    """The studies named by --only (None: all)."""
+    if text is None:
+        return None
+    only = [name.strip() for name in text.split(",") if name.strip()]
+    unknown = [name for name in only if name not in known]
+    if not only or unknown:
+        raise ParameterError(f"--only: {'unknown studies ' + ', '.join(map(repr, unknown)) if unknown else 'no study named'}"
+                             f"; choose from {', '.join(known)}")
+    return only
+
+
 def main(args) -> int:
-    from ..outputs import check_folder  # start-up time: the studies load both engines, matplotlib and xarray
+    # start-up time: the studies load both engines (outputs: numpy)
+    from ..outputs import check_folder
     from ..reproduce import reproduce
-    from ..studies import STUDIES
+    from ..studies import registry
 
     size = "full" if args.full else ("tiny" if args.tiny else "quick")
-    only = None
-    if args.only is not None:
-        only = [name.strip() for name in args.only.split(",") if name.strip()]
-        unknown = [name for name in only if name not in STUDIES]
-        if not only or unknown:
-            raise ParameterError(f"--only: {'unknown studies ' + ', '.join(map(repr, unknown)) if unknown else 'no study named'}"
-                                 f"; choose from {', '.join(STUDIES)}")
+    only = _only(args.only, registry.names())
     check_folder(args.out)
-    reproduce(args.out, size, args.workers, only, progress=not args.quiet,
-              log=(lambda *a: None) if args.quiet else (lambda msg: print(msg, file=sys.stderr, flush=True)))
-    print(Path(args.out) / "report.md")
+    log = (lambda *a: None) if args.quiet else (lambda msg: print(msg, file=sys.stderr, flush=True))
+    try:
+        result = reproduce(args.out, size, args.workers, only, progress=not args.quiet, log=log, force=args.force)
+    except KeyboardInterrupt as err:  # reproduce.Interrupted says which study stopped and what stays saved
+        print(f"elastoactive: {err or 'interrupted'}", file=sys.stderr)
+        return 130
+    print(result.report)
     return 0

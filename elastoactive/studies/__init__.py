@@ -1,7 +1,9 @@
 """The studies behind the paper's figures and claims, shared by `elastoactive reproduce` and the
 scenario scripts in scripts/.
 
-Each study is one function ``name_study(size="quick", workers=None, progress=True) -> Study``: it
+Each study is one module holding its run, its typed summary, its figures and its claim rows,
+registered together in `registry` (see there for the decorators). Its run function
+``name_study(size="quick", workers=None, progress=True) -> Study``
 chooses its parameter grid and run lengths from ``size`` ("tiny" for tests, "quick" for the default
 reproduce run, "full" for publication resolution), runs its simulations through
 `elastoactive.batch.run_cases` (a process pool) and returns the arrays behind the figure
@@ -26,13 +28,14 @@ numbers they are set against in `elastoactive.paper`.
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Callable
+from typing import Callable, Mapping
 
+from . import registry
 from .base import ENGINES, SIZES, Study, Summary
 from .dish import DishSummary, dish_study
 from .hopf import HopfSummary, hopf_study
-from .linear import GrowthSummary, StabilitySummary, growth_study, stability_study
 from .inertia import InertiaSummary, inertia_study
+from .linear import GrowthSummary, StabilitySummary, growth_study, stability_study
 from .noise import AnisotropySummary, NoiseReadingsSummary, NoiseSummary, anisotropy_study, noise_readings_study, noise_study
 from .normal_form import NormalFormSummary, normal_form_study
 from .rotation import RotationSummary, rotation_study
@@ -41,53 +44,47 @@ from .snapping import SnappingSummary, snapping_study
 from .sync import SyncN2Summary, SyncSummary, TongueSummary, sync_n2_study, sync_study, tongue_study
 
 __all__ = [
-    "ENGINES", "SIZES", "STUDIES", "SUMMARIES", "Study", "Summary", "load_study",
+    "ENGINES", "SIZES", "STUDIES", "SUMMARIES", "Study", "Summary", "load_study", "registry",
     "stability_study", "growth_study", "hopf_study", "normal_form_study", "snapping_study", "rotation_study",
     "sync_study", "tongue_study", "sync_n2_study", "noise_study", "anisotropy_study",
     "inertia_study", "noise_readings_study", "long_chain_study", "dish_study",
+    "DishSummary", "HopfSummary", "InertiaSummary", "GrowthSummary", "StabilitySummary", "AnisotropySummary",
+    "NoiseReadingsSummary", "NoiseSummary", "NormalFormSummary", "RotationSummary", "LongChainSummary",
+    "SnappingSummary", "SyncN2Summary", "SyncSummary", "TongueSummary",
 ]
 
-STUDIES: dict[str, Callable[..., Study]] = {
-    "stability": stability_study,
-    "growth": growth_study,
-    "hopf": hopf_study,
-    "normal_form": normal_form_study,
-    "snapping": snapping_study,
-    "rotation": rotation_study,
-    "sync": sync_study,
-    "tongue": tongue_study,
-    "sync_n2": sync_n2_study,
-    "noise": noise_study,
-    "anisotropy": anisotropy_study,
-    "inertia": inertia_study,
-    "noise_readings": noise_readings_study,
-    "long_chain": long_chain_study,
-    "dish": dish_study,
-}
-"""Every study by name, in the order reproduce runs them."""
 
-SUMMARIES: dict[str, type[Summary]] = {
-    "stability": StabilitySummary,
-    "growth": GrowthSummary,
-    "hopf": HopfSummary,
-    "normal_form": NormalFormSummary,
-    "snapping": SnappingSummary,
-    "rotation": RotationSummary,
-    "sync": SyncSummary,
-    "tongue": TongueSummary,
-    "sync_n2": SyncN2Summary,
-    "noise": NoiseSummary,
-    "anisotropy": AnisotropySummary,
-    "inertia": InertiaSummary,
-    "noise_readings": NoiseReadingsSummary,
-    "long_chain": LongChainSummary,
-    "dish": DishSummary,
-}
-"""The summary type of each study."""
+class _View(Mapping):
+    """A read-only view of the registry: study name -> one attribute of its entry, in reproduce's order."""
+
+    def __init__(self, pick: Callable[[registry.StudyEntry], object]):
+        self._pick = pick
+
+    def __getitem__(self, name: str):
+        try:
+            return self._pick(registry.get(name))
+        except registry.UnknownStudy:
+            raise KeyError(name) from None
+
+    def __iter__(self):
+        return iter(registry.names())
+
+    def __len__(self) -> int:
+        return len(registry.names())
+
+    def __repr__(self) -> str:
+        return f"{{{', '.join(f'{k!r}: {v!r}' for k, v in self.items())}}}"
+
+
+STUDIES: Mapping[str, Callable[..., Study]] = _View(lambda e: e.run_fn)
+"""Every registered study's run function by name, in the order reproduce runs them."""
+
+SUMMARIES: Mapping[str, type[Summary]] = _View(lambda e: e.summary)
+"""The summary type of each registered study."""
 
 
 def load_study(folder: Path, name: str) -> Study:
     """Read back a study saved by Study.save (NPZ + JSON), its summary typed."""
-    if name not in SUMMARIES:
-        raise ValueError(f"unknown study {name!r}; choose from {', '.join(SUMMARIES)}")
-    return Study.load(folder, name, SUMMARIES[name])
+    if name not in registry.names():
+        raise ValueError(f"unknown study {name!r}; choose from {', '.join(registry.names())}")
+    return Study.load(folder, name, registry.get(name).summary)

@@ -7,6 +7,8 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass
+from pathlib import Path
+from typing import Mapping
 
 import numpy as np
 
@@ -17,7 +19,10 @@ from ..analysis.fits import Fit
 from ..batch import Case
 from ..paper import PAPER
 from ..scenes import one_pinned
+from . import plotting as plots
+from . import registry
 from .base import ENGINES, EngineParts, Study, Summary, downsample, fast, pick, run, try_fit
+from .claim_rows import Claim, fit_value, pm, verdict
 
 HOPF_CYCLES = (PAPER.fig2_sigmas[0], 0.3, PAPER.fig2_sigma_simulation)
 """sigma of the limit cycles and time series kept for Fig. 2 (MuJoCo)."""
@@ -75,6 +80,10 @@ def _hopf_duration(n: int, sigma: float, cap: float, min_window: float, max_wind
     return float(np.ceil(transient + window)), float(transient)
 
 
+HOPF = registry.declare("hopf", summary=HopfSummary, order=30)
+
+
+@HOPF.run
 def hopf_study(size: str = "quick", workers=None, progress: bool = True) -> Study:
     """Amplitude and f*tau against sigma for N = 7, both engines; fits of sigma_c and the exponent
     near onset; limit cycles (Omega, Theta)."""
@@ -162,3 +171,153 @@ def hopf_study(size: str = "quick", workers=None, progress: bool = True) -> Stud
     summary = HopfSummary(sigma_c_linear=s7, f_c_linear=w7 / (2 * np.pi), fit_sigma_max=fit_max,
                           fit_sigma_max_corrected=fit_max_corr, **parts)
     return Study("hopf", size, data, summary, time.perf_counter() - start)
+
+
+# --------------------------------------------------------------------------------------------------
+# figures
+# --------------------------------------------------------------------------------------------------
+def _last_period(t, *ys, f):
+    """The samples of the last period 1/f of a record (all of it if f is not a frequency or the
+    record is shorter than one period), with one sample more so that the loop closes."""
+    t = np.asarray(t)
+    if not (np.isfinite(f) and f > 0) or t[-1] - t[0] < 1.0 / f:
+        return (t, *ys)
+    dt = np.median(np.diff(t))
+    m = t >= t[-1] - 1.0 / f - 1.01 * dt
+    return (t[m], *(np.asarray(y)[m] for y in ys))
+
+
+@HOPF.figure
+@plots.styled
+def hopf_figures(study: Study, out: Path) -> list[Path]:
+    plt = plots.pyplot()
+    mpl = plots.matplotlib()
+    d, s = study.data, study.summary
+    sig = d["sigma"]
+    sc = s.sigma_c_linear
+    paths = []
+    fig, (a1, a2) = plt.subplots(1, 2, figsize=(9.5, 4.2))
+    for ax in (a1, a2):
+        ax.axvspan(0, sc, **plots.STABLE)
+        ax.set_xlim(sig.min() - 0.02, sig.max() + 0.02)
+        ax.set_xlabel(r"$\sigma$")
+    for eng in plots.engines(d, "amplitude"):
+        a1.plot(sig, d[f"amplitude_{eng}"], **plots.ENGINE_STYLE[eng])
+        a2.plot(sig, d[f"frequency_{eng}"], **plots.ENGINE_STYLE[eng])
+    pl = s.mujoco.power_law
+    plc = s.mujoco.power_law_corrected
+    if plc:
+        p = plc.params
+        xx = np.linspace(p["onset"] + 1e-7, s.fit_sigma_max_corrected, 200)
+        a1.plot(xx, p["prefactor"] * (xx - p["onset"]) ** p["beta"] * (1 + p["c"] * (xx - p["onset"])), "C0-", lw=1,
+                label="fit " r"$a\Delta^\beta(1+c\Delta)$, $\Delta=\sigma-\sigma_c$:" "\n"
+                      rf"$\sigma_c$ = {p['onset']:.5f}, $\beta$ = {p['beta']:.3f}")
+    a1.axvline(sc, color="C3", ls="--", lw=0.8, label=rf"$\sigma_c$, linear stability: {sc:.4f}")
+    a1.set_ylabel(r"amplitude of $\Theta=\theta_N-\theta_1$ (rad)")
+    plots.add_handle(a1, plots.stable_patch(), loc="upper left", bbox_to_anchor=(0.06, 1.0))
+    a1.set_ylim(-0.1, 1.7 * np.nanmax([d[f"amplitude_{e}"].max() for e in plots.engines(d, "amplitude")]))
+    a1.set_title("Fig. 3a: N = 7, amplitude of the beat")
+    if pl:
+        ins = a1.inset_axes([0.6, 0.14, 0.37, 0.3])
+        for eng in plots.engines(d, "amplitude"):
+            ok = d[f"sustained_{eng}"].astype(bool)
+            ins.loglog(sig[ok] - pl.params["onset"], d[f"amplitude_{eng}"][ok], **{**plots.ENGINE_STYLE[eng], "ms": 3})
+        xx = np.geomspace(1e-3, 1, 50)
+        ins.loglog(xx, pl.params["prefactor"] * xx**PAPER.hopf_exponent, "k--", lw=0.7)
+        ins.set_xlabel(r"$\sigma-\sigma_c$", fontsize=8, labelpad=1)
+        ins.tick_params(labelsize=7, pad=1)
+        ins.set_title(f"log-log; dashes: slope {PAPER.hopf_exponent:g} (paper)", fontsize=7.5, pad=2)
+        amax = max(d[f"amplitude_{e}"].max() for e in plots.engines(d, "amplitude"))
+        plots.log_ticks(ins, [v for v in (0.1, 0.3, 1, 3, 10) if v <= 1.5 * amax], axis="y")
+        ins.xaxis.set_major_locator(mpl.ticker.LogLocator(numticks=4))
+    lin = s.mujoco.freq_linear_all
+    if lin:
+        xx = np.linspace(sc, sig.max(), 50)
+        a2.plot(xx, lin.params["intercept"] + lin.params["slope"] * xx, "k-", lw=0.7,
+                label=f"straight-line fit (MuJoCo), R² = {lin.r2:.4f}")
+    a2.plot([sc], [s.f_c_linear], "*", color="gold", mec="k", mew=0.6, ms=13, zorder=5,
+            label=rf"onset, linear stability: $f\tau$ = {s.f_c_linear:.5f}")
+    a2.set_ylabel(r"beat frequency $f\tau$ (cycles per $\tau$)")
+    plots.add_handle(a2, plots.stable_patch(), loc="upper left")
+    a2.set_title("Fig. 3b: N = 7, frequency of the beat")
+    fig.tight_layout()
+    paths.append(plots.save(fig, out, "fig3ab_hopf.png"))
+
+    keys = sorted({k.split("_")[1] for k in d if k.startswith("cycle_") and k.endswith("_omega")}, key=float)
+    if keys:
+        fig, (a1, a2) = plt.subplots(1, 2, figsize=(9.5, 4))
+        big = keys[-1]
+        t = d[f"series_{big}_t"]
+        a1.plot(t - t[0], d[f"series_{big}_theta"], label=r"$\Theta=\theta_N-\theta_1$")
+        a1.plot(t - t[0], d[f"series_{big}_omega"], label=plots.OMEGA_DEF)
+        a1.set_xlabel(r"$t/\tau$ (last 120 $\tau$ of the run)")
+        a1.set_ylabel("angle (rad)")
+        lo = min(d[f"series_{big}_theta"].min(), d[f"series_{big}_omega"].min())
+        hi = max(d[f"series_{big}_theta"].max(), d[f"series_{big}_omega"].max())
+        a1.set_ylim(lo - 0.1 * (hi - lo), hi + 0.38 * (hi - lo))  # room for the legend above the crests
+        a1.legend(loc="upper center", ncol=2)
+        a1.set_title(rf"Fig. 2e: time series, N = 7, $\sigma$ = {big} (MuJoCo)")
+        for k in keys:
+            f = np.nan
+            i = np.flatnonzero(np.isclose(sig, float(k)))
+            if i.size and "frequency_mujoco" in d:
+                f = d["frequency_mujoco"][i[0]]
+            # one period of the steady cycle, from the full-resolution series when it holds one
+            src = "series" if (np.isfinite(f) and f > 0 and np.ptp(d[f"series_{k}_t"]) >= 1.0 / f) else "cycle"
+            _, om, th = _last_period(d[f"{src}_{k}_t"], d[f"{src}_{k}_omega"], d[f"{src}_{k}_theta"], f=f)
+            a2.plot(om, th, lw=1.3, label=rf"$\sigma$ = {k}")
+        a2.set_xlabel(plots.OMEGA_DEF + " (rad)")
+        a2.set_ylabel(r"$\Theta=\theta_N-\theta_1$ (rad)")
+        a2.legend(loc="upper left")
+        a2.set_title("Fig. 2f: limit cycles, one period each (MuJoCo)")
+        fig.tight_layout()
+        paths.append(plots.save(fig, out, "fig2_limit_cycles.png"))
+    return paths
+
+
+# --------------------------------------------------------------------------------------------------
+# claim rows
+# --------------------------------------------------------------------------------------------------
+@HOPF.claims
+def hopf_claims(h: Study, read: Mapping[str, Study]) -> list[Claim]:
+    s = h.summary
+    rows = []
+    m, r = s.mujoco, s.reduced
+    corrected = bool(m.power_law_corrected)
+    wmax = s.fit_sigma_max_corrected if corrected else s.fit_sigma_max
+    mfit, rfit = (m.power_law_corrected, r.power_law_corrected) if corrected else (m.power_law, r.power_law)
+    mo, mo_e = fit_value(mfit, "onset")
+    ro, ro_e = fit_value(rfit, "onset")
+    mb, mb_e = fit_value(mfit, "beta")
+    rb, rb_e = fit_value(rfit, "beta")
+    po, po_e = fit_value(m.power_law, "onset")
+    pb, pb_e = fit_value(m.power_law, "beta")
+    model = "A = a (sigma - sigma_c)^beta (1 + c (sigma - sigma_c))" if corrected else "A = a (sigma - sigma_c)^beta"
+    rows.append(Claim(
+        "N = 7 simulations: onset sigma_c", f"{PAPER.sigma_c_7_sim:g} ± {PAPER.sigma_c_7_sim_err:g}",
+        pm(mo, mo_e, 6), pm(ro, ro_e, 6),
+        verdict(mo is not None and abs(mo - PAPER.sigma_c_7_sim) <= PAPER.sigma_c_7_sim_err + 2 * (mo_e or 0)),
+        f"fit of {model} to the sustained beats with sigma <= {wmax} (MuJoCo fast preset); linear stability "
+        f"{s.sigma_c_linear:.6f}; last stable / first oscillating grid point: {m.last_stable_sigma} / "
+        f"{m.first_oscillating_sigma}"))
+    trend = ", ".join(f"{w.beta:.3f} (sigma <= {w.sigma_max:g})" for w in m.beta_by_window)
+    rows.append(Claim(
+        f"Amplitude grows as (sigma - sigma_c)^{PAPER.hopf_exponent:g} (supercritical Hopf)", f"{PAPER.hopf_exponent:g}",
+        pm(mb, mb_e, 3), pm(rb, rb_e, 3),
+        verdict(mb is not None and abs(mb - PAPER.hopf_exponent) <= max(3 * (mb_e or 0), 0.01)),
+        f"exponent of the same fit. Without the correction term the fitted exponent depends on the window, because the "
+        f"amplitude (~6 sqrt(sigma - sigma_c) rad) saturates early: {trend} (MuJoCo; sigma_c "
+        f"{pm(po, po_e, 5)} for sigma <= {s.fit_sigma_max})"))
+    lin_m, lin_r = m.freq_linear_all, r.freq_linear_all
+    near, far = m.freq_linear_near, m.freq_linear_far
+    if lin_m:
+        r2 = lin_m.r2
+        txt = f"R^2 = {r2:.4f} over the oscillating range"
+        note = (f"slope of f tau vs sigma: {near.params['slope']:.4f} near onset (sigma <= {s.fit_sigma_max}), "
+                f"{far.params['slope']:.4f} for sigma >= 0.4; onset f tau = {s.f_c_linear:.5f} (linear stability); "
+                f"f tau at sigma = {PAPER.fig2_sigma_simulation:g}: {m.frequency_at_fig2_sigma:.5f}" if near and far else "")
+        ok = r2 > 0.999
+        rows.append(Claim("Rescaled frequency f tau grows linearly with sigma", "linear", txt,
+                          f"R^2 = {lin_r.r2:.4f}" if lin_r else "-", verdict(ok, partly=r2 > 0.99),
+                          note + ("" if ok else ": linear above sigma ~ 0.3, but the slope near onset is less than half")))
+    return rows

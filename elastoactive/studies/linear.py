@@ -12,9 +12,12 @@ every measurement window holds several periods.
 
 from __future__ import annotations
 
+import csv
 import math
 import time
 from dataclasses import dataclass
+from pathlib import Path
+from typing import Mapping
 
 import numpy as np
 
@@ -24,9 +27,14 @@ from ..analysis import stability as stab
 from ..analysis.continuum import continuum_critical
 from ..analysis.fits import Fit
 from ..batch import Case
+from ..outputs import atomic_file
+from ..paper import PAPER
 from ..params import Numerics
 from ..scenes import one_pinned
+from . import plotting as plots
+from . import registry
 from .base import ENGINES, EngineParts, Study, Summary, fast, pick, run
+from .claim_rows import Claim, fmt, verdict
 
 
 # --------------------------------------------------------------------------------------------------
@@ -105,6 +113,10 @@ class GrowthSummary(EngineParts):
 # --------------------------------------------------------------------------------------------------
 # 1. linear stability
 # --------------------------------------------------------------------------------------------------
+STABILITY = registry.declare("stability", summary=StabilitySummary, order=10, reads=("growth",))
+
+
+@STABILITY.run
 def stability_study(size: str = "quick", workers=None, progress: bool = True) -> Study:
     """sigma_c(N), the N^-3 law, N^3 sigma_c against the continuum, eigenvalues vs sigma (N = 2, 7)."""
     start = time.perf_counter()
@@ -149,6 +161,10 @@ def stability_study(size: str = "quick", workers=None, progress: bool = True) ->
 # --------------------------------------------------------------------------------------------------
 # 2. the linear growth seen by the simulations
 # --------------------------------------------------------------------------------------------------
+GROWTH = registry.declare("growth", summary=GrowthSummary, order=20)
+
+
+@GROWTH.run
 def growth_study(size: str = "quick", workers=None, progress: bool = True) -> Study:
     """Growth/decay rate and angular frequency of a small kick at sigma = sigma_c (1 -/+ eps) for
     several N, both engines, against the eigenvalues; each engine's sigma_c(N) by interpolating its
@@ -211,3 +227,194 @@ def growth_study(size: str = "quick", workers=None, progress: bool = True) -> St
         data[f"per_n_sigma_c_{eng}"] = np.array([p.engine_sigma_c(eng) for p in per_n])
     summary = GrowthSummary(eps=eps, per_n=per_n, **parts)
     return Study("growth", size, data, summary, time.perf_counter() - start)
+
+
+# --------------------------------------------------------------------------------------------------
+# figures
+# --------------------------------------------------------------------------------------------------
+@STABILITY.figure
+@plots.styled
+def stability_figures(study: Study, out: Path) -> list[Path]:
+    plt = plots.pyplot()
+    d, s = study.data, study.summary
+    paths = []
+    fig, axes = plt.subplots(2, 2, figsize=(9, 6.5))
+    for row, (n, sc) in enumerate(((2, s.sigma_c_2), (7, s.sigma_c_7))):
+        sig = d[f"eig_sigma_{n}"]
+        for col, (part, lab) in enumerate((("re", "Re"), ("im", "Im"))):
+            ax = axes[row, col]
+            ax.axvspan(sig[0], sc, **plots.STABLE)
+            ax.plot(sig, d[f"eig_{part}_{n}"], ".", ms=1.5, color="k")
+            ax.axvline(sc, color="C3", lw=0.8, ls="--")
+            if part == "re":
+                ax.axhline(0, color="0.5", lw=0.6)
+                top = d[f"eig_re_{n}"][:, 0]
+                ax.set_ylim(-1.5 * abs(top).max(), 1.3 * max(top.max(), 0.01))
+            ax.set_xlabel(r"$\sigma$")
+            ax.set_ylabel(rf"{lab} $\lambda\,\tau$")
+            ax.set_title(rf"N = {n}: {lab} $\lambda$ ($\sigma_c$ = {sc:.4f}, red)")
+    fig.suptitle(r"Fig. 3c-d: eigenvalues $\lambda$ of the linearised chain against $\sigma$"
+                 "\n" r"(grey: stable, $\sigma<\sigma_c$; red dashes: onset $\sigma_c$)")
+    fig.tight_layout()
+    paths.append(plots.save(fig, out, "fig3cd_eigenvalues.png"))
+
+    fig, (a1, a2) = plt.subplots(1, 2, figsize=(9.5, 4))
+    n, sc = d["n"], d["sigma_c"]
+    a1.loglog(n, sc, "o", ms=3, color="C0", label=r"$\sigma_c(N)$, linear stability")
+    a1.loglog(n, s.continuum_onset / n.astype(float) ** 3, "k-", lw=1,
+              label=rf"$S_c/N^3$, $S_c$ = {s.continuum_onset:.2f} (continuum)")
+    a1.set_xlabel("N")
+    plots.log_ticks(a1, [v for v in (2, 5, 10, 20, 50, 100, 200) if n.min() <= v <= n.max()])
+    a1.set_ylabel(r"onset $\sigma_c$")
+    a1.legend()
+    a1.set_title(rf"Fig. A-size: log-log slope for N $\geq$ {s.n_fit_min}: {s.exponent_large_n:.3f}")
+    inv = 1.0 / n
+    a2.plot(inv, d["n3_sigma_c"], "o", ms=3, label=r"$N^3\sigma_c$, linear stability")
+    p = s.fit_n3.params
+    xx = np.linspace(0, 1.0 / s.n_fit_min, 100)
+    a2.plot(xx, p["limit"] + p["b1"] * xx + p["b2"] * xx**2, "C1-",
+            label=rf"fit $a+b/N+c/N^2$, $a$ = {p['limit']:.2f}")
+    a2.axhline(s.continuum_onset, color="k", lw=0.8, ls="--", label=f"continuum onset {s.continuum_onset:.2f}")
+    lo, hi = PAPER.continuum_bracket
+    a2.axhspan(lo, hi, color="C2", alpha=0.12,
+               label=f"filament literature ~{PAPER.continuum_onset:g} ({lo:g} decays, {hi:g} grows)")
+    a2.set_xlabel("1/N")
+    a2.set_ylabel(r"$N^3\sigma_c$")
+    a2.set_xlim(0, 0.52)
+    a2.set_ylim(0, 1.08 * max(hi, d["n3_sigma_c"].max()))  # room for the legend at the lower left
+    a2.legend(loc="lower left")
+    a2.set_title(r"$N^3\sigma_c$ against $1/N$, extrapolated to $N\to\infty$")
+    fig.tight_layout()
+    paths.append(plots.save(fig, out, "figA_size_effect.png"))
+    return paths
+
+
+@GROWTH.figure
+@plots.styled
+def growth_figures(study: Study, out: Path) -> list[Path]:
+    plt = plots.pyplot()
+    d = study.data
+    fig, (a1, a2) = plt.subplots(1, 2, figsize=(9.5, 4))
+    th = d["rate_theory"]
+    lim = np.abs(th).max() * 1.2
+    a1.plot([-lim, lim], [-lim, lim], "k-", lw=0.6, label="equal")
+    for eng in plots.engines(d, "rate"):
+        a1.plot(th, d[f"rate_{eng}"], **plots.ENGINE_STYLE[eng])
+    a1.set_xscale("symlog", linthresh=1e-3)
+    a1.set_yscale("symlog", linthresh=1e-3)
+    a1.set_xlabel(r"Re $\lambda$, linear stability ($1/\tau$)")
+    a1.set_ylabel(r"measured growth rate ($1/\tau$)")
+    a1.legend(loc="upper left")
+    a1.set_title(r"small kicks at $\sigma_c(1\mp\epsilon)$, N = " + ", ".join(str(int(x)) for x in d["per_n_n"])
+                 + "\n" r"(symlog axes: linear within $\pm10^{-3}$)")
+    nn = d["per_n_n"]
+    a2.loglog(nn, d["per_n_sigma_c_linear"], "k-", lw=1, label="linear stability")
+    for eng in ("mujoco", "reduced"):
+        if f"per_n_sigma_c_{eng}" in d:
+            a2.loglog(nn, d[f"per_n_sigma_c_{eng}"], **plots.ENGINE_STYLE[eng])
+    a2.set_xlabel("N")
+    plots.log_ticks(a2, nn)
+    a2.set_ylabel(r"onset $\sigma_c$")
+    a2.legend()
+    a2.set_title("onset: where the rate, interpolated\nbetween the two kicks, is 0")
+    fig.tight_layout()
+    return [plots.save(fig, out, "growth_rates.png")]
+
+
+# --------------------------------------------------------------------------------------------------
+# claim rows
+# --------------------------------------------------------------------------------------------------
+_HALF_UNIT_2DP = 0.005
+"""Rounding tolerance of a value printed with two decimals (the paper's sigma_c = 0.15)."""
+
+
+@STABILITY.claims
+def stability_claims(st: Study, read: Mapping[str, Study]) -> list[Claim]:
+    growth = read.get("growth")
+    s = st.summary
+    rows = []
+    sc7 = s.sigma_c_7
+    g = {p.n: p for p in growth.summary.per_n} if growth else {}
+    mj7 = g[7].sigma_c_mujoco if 7 in g else None
+    rd7 = g[7].sigma_c_reduced if 7 in g else None
+    rows.append(Claim(
+        "N = 7: linear stability gives the Hopf onset sigma_c", f"{PAPER.sigma_c_7_linear:g}",
+        f"{fmt(mj7)} (growth rates at ±{100 * growth.summary.eps:g}% interpolated)" if growth else "-",
+        f"{fmt(rd7)}" if growth else "-",
+        verdict(abs(sc7 - PAPER.sigma_c_7_linear) <= _HALF_UNIT_2DP),
+        f"eigenvalues of the correct linearisation: sigma_c = {sc7:.6f}, f_c tau = {s.f_c_7:.6f}. The paper's "
+        f"{PAPER.sigma_c_7_linear:g} is {sc7 - PAPER.sigma_c_7_linear:.4f} low; 0.1575 rounds to its simulated/experimental "
+        f"{PAPER.sigma_c_7_sim:g} ± {PAPER.sigma_c_7_sim_err:g}. (The misprinted matrices of Appendix C would give 0.187 or "
+        f"0.137, so they do not explain {PAPER.sigma_c_7_linear:g} either.)"))
+    rows.append(Claim(
+        f"N = 2: Hopf at sigma = {PAPER.sigma_c_2:g} with angular frequency {PAPER.omega_c_2:g}/tau",
+        f"sigma_c = {PAPER.sigma_c_2:g}, omega_c = {PAPER.omega_c_2:g}",
+        f"sigma_c = {fmt(g[2].sigma_c_mujoco if 2 in g else None, 5)}" if growth else "-",
+        f"sigma_c = {fmt(g[2].sigma_c_reduced if 2 in g else None, 5)}" if growth else "-",
+        verdict(abs(s.sigma_c_2 - PAPER.sigma_c_2) < 1e-6 and abs(s.omega_c_2 - PAPER.omega_c_2) < 1e-6),
+        f"linear stability: sigma_c = {s.sigma_c_2:.8f}, omega_c = {s.omega_c_2:.8f} (eigenvalues mu ± i sqrt(1 - mu^2)). "
+        "MuJoCo here runs at dt = 0.0025: its implicitfast step adds about +dt/2 to the growth rate of the N = 2 mode "
+        "(omega^2 dt / 2), which moves the onset down by ~0.0013 (see also the normal-form rows)"))
+    if growth:
+        per_n = growth.summary.per_n
+        errs = [abs(p.sigma_c_mujoco - p.sigma_c_linear) / p.sigma_c_linear for p in per_n]
+        errs_r = [abs(p.sigma_c_reduced - p.sigma_c_linear) / p.sigma_c_linear for p in per_n]
+        meth = [abs(p.sigma_c_interp_theory - p.sigma_c_linear) / p.sigma_c_linear for p in per_n]
+        ns = ", ".join(str(p.n) for p in per_n)
+        mj_txt = f"sigma_c(N) within {100 * max(errs):.2g}% of linear stability (N = {ns})"
+        rd_txt = f"within {100 * max(errs_r):.2g}%"
+        gnote = (f"measured growth rates vs Re lambda: MuJoCo max error {100 * growth.summary.mujoco.max_rel_err_rate:.2g}%, "
+                 f"reduced {100 * growth.summary.reduced.max_rel_err_rate:.2g}% (interpolating the exact rates linearly "
+                 f"costs up to {100 * max(meth):.2g}%)")
+    else:
+        mj_txt = rd_txt = "-"
+        gnote = ""
+    rows.append(Claim(
+        f"sigma_c falls as N^{PAPER.size_exponent:g}", f"N^{PAPER.size_exponent:g}",
+        mj_txt, rd_txt,
+        verdict(abs(s.local_exponent_at_nmax - PAPER.size_exponent) < 0.1),
+        f"linear stability N = 2..{s.n_max}: log-log slope {s.exponent_large_n:.3f} ± {s.exponent_large_n_err:.1g} "
+        f"for N >= {s.n_fit_min} (local slope at N = {s.n_max}: {s.local_exponent_at_nmax:.3f}, over all N "
+        f"{s.exponent_all_n:.2f}); {PAPER.size_exponent:g} holds asymptotically since N^3 sigma_c -> const. {gnote}"))
+    rows.append(Claim(
+        "N^3 sigma_c -> continuum onset f L^3 / B", f"~{PAPER.continuum_onset:g} (docs/model.md)",
+        "-", "-",
+        verdict(abs(s.n3_sigma_c_limit - PAPER.continuum_onset) < 1.0 and abs(s.continuum_onset - PAPER.continuum_onset) < 1.0),
+        f"fit N^3 sigma_c = a + b/N + c/N^2 (N >= {s.n_fit_min}): a = {s.n3_sigma_c_limit:.3f} ± "
+        f"{s.n3_sigma_c_limit_err:.1g}; independent continuum eigenproblem (Chebyshev): S_c = {s.continuum_onset:.4f}; "
+        f"N^4 omega_c -> {s.n4_omega_c_limit:.2f} vs continuum {s.continuum_omega:.2f}. (The supplement's continuum "
+        "equation prints +sigma (l - s) v'': a tension, which would never destabilise; the sign must be -.)"))
+    return rows
+
+
+# --------------------------------------------------------------------------------------------------
+# the sigma_c(N) table: a section of the report and a CSV file
+# --------------------------------------------------------------------------------------------------
+SIGMA_C_CSV = "stability_sigma_c.csv"
+
+
+def sigma_c_table(st: Study, every: int = 1) -> str:
+    """sigma_c(N) as a Markdown table, every `every`-th N."""
+    lines = ["| N | sigma_c | f_c tau | N^3 sigma_c |", "|---|---|---|---|"]
+    for row in st.summary.table[::every]:
+        lines.append(f"| {row.n} | {row.sigma_c:.7g} | {row.f_c:.7g} | {row.n ** 3 * row.sigma_c:.4f} |")
+    return "\n".join(lines)
+
+
+@STABILITY.section
+def sigma_c_section(st: Study) -> str:
+    """The report's sigma_c(N) section (every 4th N beyond N = 20; the CSV holds them all)."""
+    every = 1 if st.summary.n_max <= 20 else 4
+    return "\n".join(["## Linear stability: sigma_c(N)", "", f"(full table in {SIGMA_C_CSV})", "", sigma_c_table(st, every)])
+
+
+@STABILITY.file
+def sigma_c_csv(st: Study, out: Path) -> list[Path]:
+    """Every N of sigma_c(N) as CSV (N, sigma_c, omega_c, f_c, N^3 sigma_c; floats to full precision)."""
+    path = Path(out) / SIGMA_C_CSV
+    with atomic_file(path) as tmp, open(tmp, "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(["N", "sigma_c", "omega_c", "f_c", "N3_sigma_c"])
+        for row in st.summary.table:
+            w.writerow([row.n, repr(row.sigma_c), repr(row.omega_c), repr(row.f_c), repr(row.n ** 3 * row.sigma_c)])
+    return [path]

@@ -10,6 +10,8 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass
+from pathlib import Path
+from typing import Mapping
 
 import numpy as np
 
@@ -19,7 +21,10 @@ from ..batch import Case
 from ..paper import PAPER
 from ..params import Numerics
 from ..scenes import one_pinned
+from . import plotting as plots
+from . import registry
 from .base import EngineParts, Study, Summary, pick, run
+from .claim_rows import Claim, pm, verdict
 
 PRINTED = {"supplement": PAPER.landau_supplement, "main": PAPER.landau_main}
 """The paper's two printed cubic coefficients, by where they are printed."""
@@ -79,6 +84,10 @@ def _landau_fit(mu_arr: np.ndarray, z2: np.ndarray, om: np.ndarray) -> LandauFit
                      omega_at_onset=om_fit["intercept"], omega_at_onset_err=om_fit.err("intercept"))
 
 
+NORMAL_FORM = registry.declare("normal_form", summary=NormalFormSummary, order=40)
+
+
+@NORMAL_FORM.run
 def normal_form_study(size: str = "quick", workers=None, progress: bool = True) -> Study:
     """<|z|^2> and omega on the N = 2 limit cycle near onset against both printed cubic coefficients."""
     start = time.perf_counter()
@@ -115,3 +124,75 @@ def normal_form_study(size: str = "quick", workers=None, progress: bool = True) 
              for name, key in (("reduced", "reduced"), ("mujoco", "mujoco"), ("mujoco_coarse", c), ("mujoco_fine", f))}
     summary = NormalFormSummary(dts=tuple(dts), mu=list(mus), **parts)
     return Study("normal_form", size, data, summary, time.perf_counter() - start)
+
+
+# --------------------------------------------------------------------------------------------------
+# figures
+# --------------------------------------------------------------------------------------------------
+@NORMAL_FORM.figure
+@plots.styled
+def normal_form_figures(study: Study, out: Path) -> list[Path]:
+    plt = plots.pyplot()
+    d = study.data
+    mu = d["mu"]
+    fig, (a1, a2) = plt.subplots(1, 2, figsize=(9.5, 4.2))
+    mm = np.linspace(0, mu.max() * 1.1, 100)
+    for c, where, style in ((PAPER.landau_supplement, "supplement", "k-"), (PAPER.landau_main, "main text", "k--")):
+        z2, om = landau_limit_cycle(mm, c.at_onset, c.slope)
+        lab = f"{where}: c = {c.printed_at_onset}"
+        a1.plot(mm, z2, style, lw=1, label=lab)
+        a2.plot(mm, om, style, lw=1, label=lab)
+    for key, style in (("reduced", plots.ENGINE_STYLE["reduced"]), ("mujoco", {**plots.ENGINE_STYLE["mujoco"], "label": "MuJoCo (dt → 0)"})):
+        a1.plot(mu, d[f"z2_{key}"], **style)
+        a2.plot(mu, d[f"omega_{key}"], **style)
+    for ax in (a1, a2):
+        ax.set_xlabel(r"$\mu=\sigma-3$")
+        ax.legend(loc="upper left")
+    a1.set_ylabel(r"$\langle|z|^2\rangle$ (rad$^2$)")
+    a1.set_title(r"limit cycle: $\langle|z|^2\rangle \to \mu/(-\mathrm{Re}\,c)$")
+    a2.set_ylabel(r"angular frequency $\omega\tau$ (rad per $\tau$)")
+    a2.set_title(r"$\omega \to 1 + \mathrm{Im}\,c\,\langle|z|^2\rangle$")
+    fig.suptitle(r"N = 2 near onset, Landau-Stuart form $\tau\dot z=(i+\mu)z+c|z|^2z$, "
+                 r"$z=\theta_1+i\sqrt{(1+\mu)/(1-\mu)}\,\theta_2$")
+    fig.tight_layout()
+    return [plots.save(fig, out, "normal_form_n2.png")]
+
+
+# --------------------------------------------------------------------------------------------------
+# claim rows
+# --------------------------------------------------------------------------------------------------
+@NORMAL_FORM.claims
+def normal_form_claims(nf: Study, read: Mapping[str, Study]) -> list[Claim]:
+    s = nf.summary
+    m, r = s.mujoco, s.reduced
+    sup, main = PAPER.landau_supplement, PAPER.landau_main
+
+    def c_txt(e):
+        return (f"Re c = {pm(e.re_c, e.re_c_err, 3)}, Im c = {pm(e.im_c, e.im_c_err, 3)}")
+
+    c0 = sup.at_onset
+    ok_sup = (abs(r.re_c - c0.real) < 0.05 and abs(r.im_c - c0.imag) < 0.02 and abs(m.re_c - c0.real) < 0.08
+              and abs(m.im_c - c0.imag) < 0.03)
+    mus = ", ".join(f"{x:g}" for x in s.mu)
+    base = (f"from <|z|^2> and omega on the N = 2 limit cycle at mu = {mus}: -Re c = lim mu / <|z|^2>, "
+            f"Im c = lim (omega - 1) / <|z|^2> (linear fits in mu, mu -> 0). MuJoCo: dt = {s.dts[0]:g} and "
+            f"{s.dts[1]:g} Richardson-extrapolated (implicitfast shifts the onset by about +dt/2 in mu).")
+    z2_main = -1.0 / main.at_onset.real  # <|z|^2> / mu on the main text's limit cycle
+    rows = [
+        Claim("Landau-Stuart cubic coefficient (supplement)", f"c = {sup.printed_at_onset} at mu = 0", c_txt(m), c_txt(r),
+              verdict(ok_sup), base),
+        Claim("Landau-Stuart cubic coefficient (main text)", f"c = {main.printed} = {main.printed_at_onset}", c_txt(m),
+              c_txt(r), "no",
+              f"the main text's coefficient would give <|z|^2> = {z2_main:g} mu and a frequency rising as "
+              f"{PAPER.omega_c_2:g} + {main.at_onset.imag * z2_main:g} mu; the simulations "
+              "give <|z|^2> ~ mu and omega ~ 1 - mu/8 (see normal_form_n2.png): the main text is wrong, the supplement right."),
+    ]
+    if m.sigma_c is not None:
+        coarse = s.mujoco_coarse.sigma_c
+        rows.append(Claim("N = 2 onset from the limit-cycle size (<|z|^2> -> 0)", f"{PAPER.sigma_c_2:g}",
+                          f"{m.sigma_c:.4f}, omega at onset {pm(m.omega_at_onset, m.omega_at_onset_err, 4)}",
+                          f"{r.sigma_c:.4f}, omega {pm(r.omega_at_onset, r.omega_at_onset_err, 4)}",
+                          verdict(abs(m.sigma_c - PAPER.sigma_c_2) < 0.01 and abs(r.sigma_c - PAPER.sigma_c_2) < 0.01),
+                          f"single timestep (no extrapolation): MuJoCo dt = {s.dts[0]:g} gives "
+                          f"{coarse if coarse is not None else float('nan'):.4f}"))
+    return rows

@@ -6,18 +6,24 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass
+from pathlib import Path
+from typing import Mapping
 
 import numpy as np
 
 from ..analysis import fits
 from ..analysis import measures as ms
+from ..analysis.measures import chain_positions
 from ..analysis import observables as obs
 from ..analysis.fits import Fit
 from ..analysis.stability import rotating_operator, rotation_threshold
 from ..batch import Case
 from ..paper import PAPER
 from ..scenes import rotating_pin
+from . import plotting as plots
+from . import registry
 from .base import ENGINES, EngineParts, Study, Summary, fast, pick, run, try_fit
+from .claim_rows import Claim, fmt, verdict
 
 
 @dataclass(frozen=True)
@@ -45,6 +51,10 @@ class RotationSummary(EngineParts):
     reduced: RotationEngine
 
 
+ROTATION = registry.declare("rotation", summary=RotationSummary, order=60)
+
+
+@ROTATION.run
 def rotation_study(size: str = "quick", workers=None, progress: bool = True) -> Study:
     """Rotation rate and steady shape against sigma (N = 7); the sense of rotation for several seeds."""
     start = time.perf_counter()
@@ -106,3 +116,68 @@ def rotation_study(size: str = "quick", workers=None, progress: bool = True) -> 
         )
     summary = RotationSummary(sigma_r_linear=s_r, sigma_seeds=s_exp, **parts)
     return Study("rotation", size, data, summary, time.perf_counter() - start)
+
+
+# --------------------------------------------------------------------------------------------------
+# figures
+# --------------------------------------------------------------------------------------------------
+@ROTATION.figure
+@plots.styled
+def rotation_figures(study: Study, out: Path) -> list[Path]:
+    plt = plots.pyplot()
+    d, s = study.data, study.summary
+    fig, (a1, a2) = plt.subplots(1, 2, figsize=(9.5, 4.2))
+    sig = d["sigma"]
+    a1.axvspan(0, s.sigma_r_linear, **plots.STABLE)
+    for eng in ("mujoco", "reduced"):
+        a1.plot(sig, np.abs(d[f"rate_{eng}"]), **plots.ENGINE_STYLE[eng])
+        seeds = d[f"seed_rate_{eng}"]
+        x = np.full(seeds.size, s.sigma_seeds)
+        if eng == "mujoco":
+            a1.plot(x[seeds > 0] + 0.03, seeds[seeds > 0], "^", color="C2", ms=6,
+                    label=rf"{seeds.size} random starts at $\sigma$ = {s.sigma_seeds:g}: {(seeds > 0).sum()} turn ccw")
+            a1.plot(x[seeds < 0] + 0.06, -seeds[seeds < 0], "v", color="C4", ms=6,
+                    label=f"... and {(seeds < 0).sum()} turn cw (|rate| shown)")
+    a1.axvline(s.sigma_r_linear, color="C3", ls="--", lw=0.8, label=f"linear threshold {s.sigma_r_linear:.4f}")
+    a1.set_xlabel(r"$\sigma$")
+    a1.set_ylabel(r"|rotation rate| $|\dot\theta_1|$ (rad/$\tau$)")
+    plots.add_handle(a1, plots.stable_patch("still (linear stability)"), loc="upper left")
+    a1.set_ylim(-0.02, 1.6 * np.abs(d["rate_mujoco"]).max())  # room for the legend
+    a1.set_title("Freely rotating pin, N = 7: steady rotation")
+    shapes = d["shape_mujoco"]
+    turning = np.abs(d["rate_mujoco"]) > 1e-4
+    picks = [i for i in np.flatnonzero(turning)][:: max(1, int(turning.sum() // 5))]
+    for i in picks:
+        sh = shapes[i] * np.sign(d["rate_mujoco"][i])  # same sense of rotation for all
+        x, y = chain_positions(sh)
+        a2.plot(np.r_[0, x], np.r_[0, y], "-o", ms=3, label=rf"$\sigma$ = {sig[i]:g}")
+    a2.plot([0], [0], "ks", ms=6, zorder=5, label="pin")
+    a2.set_aspect("equal")
+    a2.set_xlabel("x / l (frame turning with pendulum 1)")
+    a2.set_ylabel("y / l")
+    a2.legend(loc="center left", bbox_to_anchor=(1.01, 0.5))
+    a2.set_title("steady shapes (MuJoCo),\nrotation mirrored to one sense")
+    fig.tight_layout()
+    return [plots.save(fig, out, "figA_rotating_pin.png")]
+
+
+# --------------------------------------------------------------------------------------------------
+# claim rows
+# --------------------------------------------------------------------------------------------------
+@ROTATION.claims
+def rotation_claims(ro: Study, read: Mapping[str, Study]) -> list[Claim]:
+    s = ro.summary
+    m, r = s.mujoco, s.reduced
+    return [
+        Claim("Freely rotating pin: rotation at constant speed", f"constant speed (sigma = {PAPER.rotation_sigma:g})",
+              f"|rate| = {m.rate_abs_at_seed_sigma:.5f} rad/tau at {s.sigma_seeds:g}; speed spread std/mean <= "
+              f"{fmt(m.max_uniformity, 2)}",
+              f"{r.rate_abs_at_seed_sigma:.5f}; <= {fmt(r.max_uniformity, 2)}",
+              verdict((m.max_uniformity or 1) < 1e-3),
+              f"the straight chain turns unstable through a real eigenvalue at sigma_r = {s.sigma_r_linear:.5f} "
+              f"(linear stability); above it the bent chain turns rigidly (shape spread <= {fmt(m.max_shape_spread, 2)} rad)"),
+        Claim("Rotation direction chosen spontaneously", "either sense",
+              f"{m.n_positive} counter-clockwise, {m.n_negative} clockwise of {m.n_positive + m.n_negative} seeds",
+              f"{r.n_positive} / {r.n_negative}", verdict(m.n_positive > 0 and m.n_negative > 0),
+              "seeded random initial kicks; same |rate| for both senses (mirror symmetry)"),
+    ]

@@ -1,0 +1,55 @@
+"""What the studies' claim rows share: the row record and the formatting of its numbers.
+
+A row sets one claim of the paper against both engines (paper, MuJoCo, reduced model), with a
+verdict from a stated numeric rule and a note giving the numbers behind it.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from fractions import Fraction
+
+VERDICTS = ("yes", "no", "partly")
+
+
+@dataclass
+class Claim:
+    claim: str
+    paper: str
+    mujoco: str
+    reduced: str
+    agree: str  # one of VERDICTS
+    note: str = ""
+
+
+def fmt(x, d: int = 4) -> str:
+    """x to `d` significant digits; '-' for None or a non-finite value."""
+    if x is None or (isinstance(x, float) and not math.isfinite(x)):
+        return "-"
+    return f"{x:.{d}g}"
+
+
+def pm(v, e, d: int = 4) -> str:
+    """'v ± e' (the error to one digit); v alone without a finite error, '-' without v."""
+    if v is None:
+        return "-"
+    if e is None or not math.isfinite(e):
+        return fmt(v, d)
+    return f"{v:.{d}g} ± {e:.1g}"
+
+
+def fit_value(fit, par: str):
+    """(value, error) of parameter `par` of a Fit, or (None, None) without one."""
+    if not fit:
+        return None, None
+    return fit.params[par], fit.errors[par]
+
+
+def frac(x: float) -> str:
+    """A paper's fraction as it prints it, e.g. 4/3 or 11/8."""
+    return str(Fraction(x).limit_denominator(100))
+
+
+def verdict(ok: bool, partly: bool = False) -> str:
+    return "yes" if ok else ("partly" if partly else "no")

@@ -1,0 +1,139 @@
+"""The study registry: study name -> what reproduce, the report and the README table need of it.
+
+A study module declares itself once, after its summary type, and attaches its pieces with
+decorators (as dm_control's `suite` tags its tasks)::
+
+    HOPF = registry.declare("hopf", summary=HopfSummary, order=30)
+
+    @HOPF.run
+    def hopf_study(size="quick", workers=None, progress=True) -> Study: ...
+
+    @HOPF.figure
+    def hopf_figures(study, out) -> list[Path]: ...
+
+    @HOPF.claims
+    def hopf_claims(study, read) -> list[Claim]: ...
+
+`order` places the study in reproduce and its claim rows in the table; `reads` names the other
+studies its claim rows read (they get them in `read`, a dict holding those that were run). A leaf
+module (it imports nothing of the package), so that any module can register a study; the
+built-in studies register when `elastoactive.studies` is imported.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Callable, Mapping
+
+RunFn = Callable[..., Any]
+"""run(size="quick", workers=None, progress=True) -> Study."""
+FigureFn = Callable[[Any, Path], list]
+"""figure(study, out) -> the paths written (PNG figures)."""
+FileFn = Callable[[Any, Path], list]
+"""file(study, out) -> the data files written besides the study's NPZ/JSON (e.g. a CSV table)."""
+ClaimsFn = Callable[[Any, Mapping[str, Any]], list]
+"""claims(study, read) -> claim rows (elastoactive.studies.claim_rows.Claim); `read`: the studies of `reads` that ran."""
+SectionFn = Callable[[Any], str]
+"""section(study) -> a Markdown section of report.md, after the claims table."""
+
+
+@dataclass
+class StudyEntry:
+    """One registered study. `run` and `summary` are required; the other pieces are optional."""
+
+    name: str
+    summary: type
+    order: float
+    reads: tuple[str, ...] = ()
+    run_fn: RunFn | None = None
+    figures: list[FigureFn] = field(default_factory=list)
+    files: list[FileFn] = field(default_factory=list)
+    claims_fn: ClaimsFn | None = None
+    section_fn: SectionFn | None = None
+
+    # decorators ----------------------------------------------------------------------------------
+    def run(self, fn: RunFn) -> RunFn:
+        """Register `fn` as the study's run function."""
+        self.run_fn = fn
+        return fn
+
+    def figure(self, fn: FigureFn) -> FigureFn:
+        """Register a figure function (several are drawn in registration order)."""
+        self.figures.append(fn)
+        return fn
+
+    def file(self, fn: FileFn) -> FileFn:
+        """Register a function that writes a data file from the study (reproduce writes it beside the figures)."""
+        self.files.append(fn)
+        return fn
+
+    def claims(self, fn: ClaimsFn) -> ClaimsFn:
+        """Register the function giving the study's claim rows."""
+        self.claims_fn = fn
+        return fn
+
+    def section(self, fn: SectionFn) -> SectionFn:
+        """Register a report section (Markdown) drawn from the study."""
+        self.section_fn = fn
+        return fn
+
+    # use ------------------------------------------------------------------------------------------
+    def claim_rows(self, study, studies: Mapping[str, Any]) -> list:
+        """The study's claim rows, given every study at hand (its `reads` are picked from them)."""
+        if self.claims_fn is None:
+            return []
+        return self.claims_fn(study, {name: studies[name] for name in self.reads if name in studies})
+
+    def draw(self, study, out: Path) -> list[Path]:
+        """Every figure of the study, drawn into `out`; the paths written."""
+        return [p for fn in self.figures for p in fn(study, out)]
+
+    def write_files(self, study, out: Path) -> list[Path]:
+        """The study's extra data files, written into `out`; the paths written."""
+        return [p for fn in self.files for p in fn(study, out)]
+
+
+_STUDIES: dict[str, StudyEntry] = {}
+
+
+class UnknownStudy(KeyError):
+    """Raised by `get` for a name that no study registered."""
+
+
+def declare(name: str, *, summary: type, order: float, reads: tuple[str, ...] | list[str] = (),
+            replace: bool = False) -> StudyEntry:
+    """Register a study called `name` with its summary type, its place in reproduce (`order`, ascending) and
+    the other studies its claim rows read; returns the entry whose decorators attach its pieces."""
+    if not isinstance(name, str) or not name.isidentifier():
+        raise ValueError(f"a study name must be an identifier (it names <name>.npz and <name>.json), got {name!r}")
+    if name in _STUDIES and not replace:
+        raise ValueError(f"a study named {name!r} is already registered (pass replace=True to replace it)")
+    entry = StudyEntry(name, summary, float(order), tuple(reads))
+    _STUDIES[name] = entry
+    return entry
+
+
+def unregister(name: str) -> None:
+    """Remove a study (tests that register a toy study clean up with this)."""
+    _STUDIES.pop(name, None)
+
+
+def get(name: str) -> StudyEntry:
+    """The registered study called `name` (it must have a run function)."""
+    entry = _STUDIES.get(name) if isinstance(name, str) else None
+    if entry is None:
+        raise UnknownStudy(name)
+    if entry.run_fn is None:
+        raise ValueError(f"study {name!r} was declared without a run function (decorate one with @<entry>.run)")
+    return entry
+
+
+def names() -> tuple[str, ...]:
+    """Names of the registered studies, in reproduce's order."""
+    return tuple(e.name for e in entries())
+
+
+def entries() -> tuple[StudyEntry, ...]:
+    """The registered studies, in reproduce's order (ties: registration order)."""
+    return tuple(sorted(_STUDIES.values(), key=lambda e: e.order))

@@ -59,6 +59,7 @@ classifies a run:
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from dataclasses import replace
 
@@ -386,24 +387,58 @@ def largest_dt(limits: StabilityLimits, numerics: Numerics, accuracy: bool = Tru
     return _down(dt)
 
 
-def passing_setting(limits: StabilityLimits, numerics: Numerics) -> tuple[float, float]:
-    """(dt, mass_ratio) that passes every check for this integrator: the largest dt at the run's mass ratio.
+SUGGESTION_DIGITS = 3
+"""Significant digits of a suggested dt (it must be typed back exactly: the value printed is the value checked)."""
+SUGGESTION_TRIES = 4
+"""Candidate dt values a suggestion checks, each the next whole fraction of sample_dt down, before giving up."""
+
+
+def _dividing_steps(dt_max: float, sample_dt: float):
+    """dt <= dt_max, largest first, that divide sample_dt into a whole number of steps and print exactly in
+    SUGGESTION_DIGITS digits (what Numerics accepts: sample_dt a whole multiple of dt)."""
+    if not (np.isfinite(dt_max) and dt_max > 0):
+        return
+    first = max(1, math.ceil(sample_dt / dt_max - 1e-9))
+    for k in range(first, 4 * first + 8):
+        dt = float(f"{sample_dt / k:.{SUGGESTION_DIGITS}g}")
+        ratio = sample_dt / dt
+        if dt <= dt_max and abs(ratio - round(ratio)) <= 1e-9 * ratio:
+            yield dt
+
+
+def passing_setting(physics: Physics, limits: StabilityLimits, numerics: Numerics) -> tuple[float, float] | None:
+    """(dt, mass_ratio) that passes every check for this integrator at the run's sample_dt, or None if none is found:
+    the largest dt at the run's mass ratio that divides sample_dt, checked (check_timestep) before it is offered.
     The mass is kept: it is physics (outside the overdamped limit both engines model the inertial chain)."""
-    m = numerics.mass_ratio
-    return largest_dt(limits, replace(numerics, mass_ratio=m)), m
+    tries = 0
+    for dt in _dividing_steps(largest_dt(limits, numerics), numerics.sample_dt):
+        try:
+            check_timestep(physics, replace(numerics, dt=dt), suggest=False)
+        except ParameterError:
+            tries += 1
+            if tries >= SUGGESTION_TRIES:
+                return None
+            continue
+        return dt, float(numerics.mass_ratio)
+    return None
 
 
-def _suggest(limits: StabilityLimits, numerics: Numerics) -> str:
-    dt, m = passing_setting(limits, numerics)
-    return f" (a setting that passes every check: --dt {dt:.2g} --mass-ratio {m:.2g} --integrator {numerics.integrator})"
+def _suggest(physics: Physics, limits: StabilityLimits, numerics: Numerics) -> str:
+    setting = passing_setting(physics, limits, numerics)
+    if setting is None:
+        return ""
+    dt, m = setting
+    return (f" (a setting that passes every check: --dt {dt:.{SUGGESTION_DIGITS}g} --mass-ratio {m:.6g} "
+            f"--integrator {numerics.integrator})")
 
 
 def check_timestep(physics: Physics, numerics: Numerics, safety: float = 1.0, accuracy: bool = True, *,
-                   model: mujoco.MjModel | None = None) -> StabilityLimits:
+                   model: mujoco.MjModel | None = None, suggest: bool = True) -> StabilityLimits:
     """Refuse a timestep beyond the linear stability limit of the chosen integrator and, with
     accuracy=True, settings that are stable but measured to give wrong answers (module docstring). Numerics left
     at their defaults are checked as a run uses them (numerics.for_physics: a long chain's automatic numerics).
-    `model`: the run's compiled model if it is built already (stability_limits)."""
+    `model`: the run's compiled model if it is built already (stability_limits). A refusal names a setting that
+    passes every check (passing_setting), unless suggest=False."""
     numerics = numerics.for_physics(physics)
     limits = stability_limits(physics, numerics, model=model)
     dt_max = limits.limit(numerics.integrator)
@@ -422,14 +457,15 @@ def check_timestep(physics: Physics, numerics: Numerics, safety: float = 1.0, ac
         )
         raise ParameterError(
             f"dt = {numerics.dt:g} is above the stability limit {dt_max:.3g} of integrator {numerics.integrator} "
-            f"for {_describe(physics)}: {cause}" + (_suggest(limits, numerics) if accuracy else "")
+            f"for {_describe(physics)}: {cause}" + (_suggest(physics, limits, numerics) if accuracy and suggest else "")
         )
     if accuracy:
-        check_accuracy(physics, numerics, limits)
+        check_accuracy(physics, numerics, limits, suggest=suggest)
     return limits
 
 
-def check_accuracy(physics: Physics, numerics: Numerics, limits: StabilityLimits | None = None) -> StabilityLimits:
+def check_accuracy(physics: Physics, numerics: Numerics, limits: StabilityLimits | None = None, *,
+                   suggest: bool = True) -> StabilityLimits:
     """Refuse stable settings that are known to give wrong answers: an unresolved fastest rate (of the
     overdamped chain, or of the inertial one outside the overdamped limit), a pin that cannot hold,
     discrete's unconverged solve. A mass ratio outside the overdamped limit is not refused: it makes the
@@ -455,7 +491,7 @@ def check_accuracy(physics: Physics, numerics: Numerics, limits: StabilityLimits
             f"{bound:g}); the run would be inaccurate. Use dt <= {largest_dt(limits, numerics):.2g}"
             + (" (the straight chain's active modes grow this fast at high sigma or N)"
                if limits.inertial_growing_rate >= 0.5 * rate and limits.inertial_growing_rate > 20 else "")
-            + _suggest(limits, numerics)
+            + (_suggest(physics, limits, numerics) if suggest else "")
         )
     if dt > dt_ok:
         bound = DISCRETE_RESOLUTION if integrator == "discrete" and not limits.pinned else RESOLUTION
@@ -464,7 +500,8 @@ def check_accuracy(physics: Physics, numerics: Numerics, limits: StabilityLimits
             f"dt x rate = {dt * rate:.2g} > {bound:g}); the run would be stable but inaccurate. Use dt <= "
             f"{largest_dt(limits, numerics):.2g}"
             + (" (the straight chain's active modes grow this fast at high sigma or N)"
-               if limits.growing_rate >= 0.5 * rate and limits.growing_rate > 20 else "") + _suggest(limits, numerics)
+               if limits.growing_rate >= 0.5 * rate and limits.growing_rate > 20 else "")
+            + (_suggest(physics, limits, numerics) if suggest else "")
         )
     if limits.pinned and integrator != "discrete" and dt**3 / m > PIN_DT3_PER_MASS:
         raise ParameterError(

@@ -60,16 +60,34 @@ def test_beat_regularity_is_reported():
     assert short.periodic is None and short.notes
 
 
-def test_suggested_settings_pass_the_check():
-    """A refusal's suggested setting is accepted (it used to suggest dt values that were refused next)."""
-    for physics, numerics in ((ea.Physics(scene="coupled-pair", kappa=1000), ea.Numerics(dt=0.0025)),
-                              (ea.Physics(n=30, sigma=100), ea.Numerics(dt=1e-4, sample_dt=0.05)),
-                              (ea.Physics(scene="two-pinned"), ea.Numerics(dt=0.04, sample_dt=0.04))):
-        with pytest.raises(ea.ParameterError) as err:
-            check_timestep(physics, numerics)
-        words = str(err.value).split("--dt ")[1].split()
-        dt, mass = float(words[0]), float(words[2])
-        check_timestep(physics, ea.Numerics(dt=dt, mass_ratio=mass, sample_dt=dt * max(1, round(0.05 / dt))))
+SUGGESTION_CASES = (
+    (ea.Physics(scene="coupled-pair", kappa=1000), ea.Numerics(dt=0.0025)),
+    (ea.Physics(n=30, sigma=100), ea.Numerics(dt=1e-4, sample_dt=0.05)),
+    (ea.Physics(scene="two-pinned"), ea.Numerics(dt=0.04, sample_dt=0.04)),
+    (ea.Physics(sigma=50), ea.Numerics()),
+    (ea.Physics(sigma=500), ea.Numerics()),
+    (ea.Physics(sigma=50, contact=True), ea.Numerics()),
+    (ea.Physics(n=17, sigma=10, contact=True), ea.Numerics(sample_dt=0.1)),
+)
+
+
+@pytest.mark.parametrize("physics,numerics", SUGGESTION_CASES)
+def test_suggested_settings_pass_every_check(physics, numerics):
+    """A refusal's suggested setting, typed back as printed with the run's other settings (its sample_dt), is
+    accepted: by Numerics (sample_dt a whole multiple of dt) and by the pre-flight check."""
+    with pytest.raises(ea.ParameterError) as err:
+        check_timestep(physics, numerics)
+    words = str(err.value).split("a setting that passes every check: --dt ")[1].split()
+    dt, mass, integrator = float(words[0]), float(words[2]), words[4].rstrip(")")
+    check_timestep(physics, ea.Numerics(dt=dt, mass_ratio=mass, integrator=integrator, sample_dt=numerics.sample_dt))
+
+
+def test_the_suggested_command_line_passes(capsys, no_simulation):
+    argv = ["run", "one-pinned", "--sigma", "50", "--duration", "100", "--quiet"]
+    line = refused(capsys, argv, "a setting that passes every check")
+    suggestion = line.split("a setting that passes every check: ")[1].rstrip(")").split()
+    with pytest.raises(AssertionError, match="simulated"):  # every check passed: it went on to simulate
+        main(argv + suggestion)
 
 
 # ------------------------------------------------------------------------------- nothing lost

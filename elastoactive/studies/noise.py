@@ -264,8 +264,8 @@ def noise_readings_study(size: str = "quick", workers=None, progress: bool = Tru
     for name, tc, calc, engines in readings:
         for a in amps:
             for eng in engines:
-                phys = one_pinned.SCENE.physics(n=2, sigma=PAPER.noise_sigma, noise=a,
-                                                noise_correlation=tc if a > 0 else 0.0, noise_calculus=calc)
+                reading = {"noise_correlation": tc, "noise_calculus": calc} if a > 0 else {}  # a = 0: no noise to read
+                phys = one_pinned.SCENE.physics(n=2, sigma=PAPER.noise_sigma, noise=a, **reading)
                 cases.append(Case(phys, fast(perturbation=0.5, sample_dt=0.05, seed=seed), dur, eng, transient))
                 meta.append((name, a, eng))
     trajs = run(cases, workers, progress, "noise readings N=2")

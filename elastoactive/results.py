@@ -77,6 +77,9 @@ PERIODIC_SPREAD = 0.01
 A limit cycle gives ~1e-5; noise, chaos, or a beat still growing in the window give more."""
 MIN_CYCLES = 2
 """Whole cycles the measured window must hold to judge whether the beat is periodic."""
+RIGID_ROTATION_RATE = 1e-4
+"""rad/tau: a chain whose Theta is steady while it turns at least this fast (rotation_rate) rotates rigidly: it has
+no beat, so no frequency (slower, it turns by less than 0.03 rad over a 300 tau window: at rest)."""
 
 
 @dataclass(frozen=True)
@@ -161,6 +164,7 @@ def measure(traj: Trajectory, transient: float | None = None) -> Results:
     if physics.contact:
         extra.update(_contact(traj, transient))
     known = {k: extra.pop(k) for k in list(extra) if k in _RESULT_FIELDS}
+    beats = [_rigid(b, known.get("rotation_rate")) for b in beats]
     verdicts = [b.periodic for b in beats]
     periodic = False if False in verdicts else (None if None in verdicts else True)
     notes = []
@@ -227,6 +231,16 @@ def _beat(t: np.ndarray, theta_diff: np.ndarray, transient: float) -> _Beat:
             f"<= {PERIODIC_SPREAD:g}); amplitude and frequency are averages over an irregular motion (noise, "
             "chaos, or a beat still growing: run longer)",))
     return _Beat(amplitude, frequency, True, cycles.period_spread, ())
+
+
+def _rigid(beat: _Beat, rotation_rate: float | None) -> _Beat:
+    """A steady Theta of a chain that turns (rotation_rate) is a rigid rotation: no beat, so the frequency is null
+    (not 0.0, which would say the chain is at rest) and a note says why."""
+    if beat.frequency != 0.0 or rotation_rate is None or not abs(rotation_rate) >= RIGID_ROTATION_RATE:
+        return beat
+    return _Beat(beat.amplitude, None, beat.periodic, beat.period_spread, (
+        f"no beat: Theta is steady (amplitude {beat.amplitude:.2g} rad) while the chain turns as a rigid body at "
+        f"{rotation_rate:.3g} rad/tau; frequency is null, rotation_rate describes the motion",))
 
 
 _RESULT_FIELDS = {"snap_amplitude", "rotation_rate", "frequency_mismatch", "contact_fraction", "min_clearance",

@@ -60,6 +60,22 @@ def test_beat_regularity_is_reported():
     assert short.periodic is None and short.notes
 
 
+def test_a_rigid_rotation_has_no_beat_frequency():
+    """A chain that turns without bending (a rotating pin, an orbit in the dish) has a steady Theta: no beat, so its
+    frequency is null with a note saying why, not 0.0 (which says the chain is at rest)."""
+    from elastoactive.trajectory import Trajectory
+
+    t = np.arange(0.0, 200.0, 0.05)
+    shape = np.array([0.0, 0.3, 0.5])
+    turning = Trajectory(t=t, theta=shape + 0.08 * t[:, None], physics=ea.Physics(scene="rotating-pin", n=3), engine="x")
+    res = ea.measure(turning)
+    assert res.frequency is None and res.rotation_rate == pytest.approx(0.08)
+    assert len(res.notes) == 1 and "no beat" in res.notes[0] and "rotation_rate" in res.notes[0]
+    still = Trajectory(t=t, theta=np.broadcast_to(shape, (t.size, 3)), physics=turning.physics, engine="x")
+    res = ea.measure(still)
+    assert res.frequency == 0.0 and not res.notes
+
+
 SUGGESTION_CASES = (
     (ea.Physics(scene="coupled-pair", kappa=1000), ea.Numerics(dt=0.0025)),
     (ea.Physics(n=30, sigma=100), ea.Numerics(dt=1e-4, sample_dt=0.05)),

@@ -16,6 +16,14 @@ distributed follower force.
 
 On a freely rotating pin (no clamp spring: K_11 = 1) the straight chain instead loses stability through
 a real eigenvalue, a steady rotation (rotating_operator, rotation_threshold).
+
+Long chains (onset, slow_eigenvalues): the onset's eigenvalues are the slowest of A, |lambda| ~ 200 / N^4 against
+|A| ~ 16, so a dense eigensolver gets them to ~1e-16 x 16 N^4 / 200 (1e-4 relative at N = 100) at O(N^3) per
+sigma. Instead, D0 = B^T B with B the lower triangular matrix of ones, and B^-T (K - sigma S) is banded (five
+diagonals; B^-T S = B^-T diag(N - k) - the superdiagonal of ones), so A^-1 = -(K - sigma S)^-1 D0 is applied in
+O(N): D0 x by two cumulative sums, then a banded LU solve. The slowest eigenvalues of A are the largest of A^-1
+(Arnoldi, scipy.sparse.linalg.eigs), to ~1e-10 relative at N = 1000, and the onset at N = 1000 takes ~0.3 s
+(banded_operator, slow_eigenvalues, onset).
 """
 
 from __future__ import annotations
@@ -34,6 +42,9 @@ __all__ = [
     "subdominant_rate",
     "rotating_operator",
     "rotation_threshold",
+    "banded_operator",
+    "slow_eigenvalues",
+    "onset",
 ]
 
 
@@ -159,3 +170,61 @@ def rotation_threshold(n: int = 7) -> float:
 ROTATION_SCAN_START = 16.0
 """rotation_threshold scans upward from ROTATION_SCAN_START / N^3: below N^3 sigma_r for every N (20 at N = 2,
 rising to ~30.5 at N = 200), so the scan brackets the first crossing from below in a few steps."""
+
+
+SLOW_MODES = 4
+"""Eigenvalues slow_eigenvalues computes by default: the flutter pair and the next two."""
+ONSET_BRACKET = (20.0, 80.0)
+"""N^3 sigma_c lies in this range for every N >= 2 (24 at N = 2, rising to the continuum's 76.10): onset's bracket."""
+
+
+def banded_operator(n: int, sigma: float):
+    """B^-T (K - sigma S) as a sparse (CSC) matrix of five diagonals (B: the lower triangular matrix of ones, so
+    that D0 = B^T B and A = -B^-1 B^-T (K - sigma S))."""
+    import scipy.sparse as sp  # start-up time: only the long-chain path needs scipy.sparse
+
+    n = int(n)
+    upper = sp.identity(n, format="csr") - sp.eye(n, k=1, format="csr")  # B^-T
+    k = sp.diags([-np.ones(n - 1), 2.0 * np.ones(n), -np.ones(n - 1)], [-1, 0, 1], format="lil")
+    k[n - 1, n - 1] = 1.0
+    follower = upper @ sp.diags((n - np.arange(1, n + 1)).astype(float)) - sp.eye(n, k=1)  # B^-T S
+    return (upper @ k.tocsr() - sigma * follower).tocsc()
+
+
+def slow_eigenvalues(n: int, sigma: float, count: int = SLOW_MODES) -> np.ndarray:
+    """The `count` eigenvalues of A(sigma, N) smallest in magnitude (the slowest modes, among them the flutter pair
+    near the onset), sorted by decreasing real part; O(N) per Arnoldi step (see the module docstring). N must
+    exceed count + 1."""
+    from scipy.sparse.linalg import LinearOperator, eigs, splu  # start-up time: only the long-chain path
+
+    n = int(n)
+    if n <= count + 1:
+        raise ValueError(f"slow_eigenvalues needs N > count + 1 = {count + 1}, got N = {n}")
+    lu = splu(banded_operator(n, sigma))
+
+    def inverse(x: np.ndarray) -> np.ndarray:  # A^-1 x = -(K - sigma S)^-1 B^T (B^T B x) ... via B^-T
+        y = np.cumsum(np.cumsum(x)[::-1])[::-1]  # D0 x = B^T (B x)
+        y[:-1] -= y[1:].copy()  # B^-T y
+        return -lu.solve(y)
+
+    nu = eigs(LinearOperator((n, n), matvec=inverse, dtype=float), k=count, which="LM", return_eigenvectors=False,
+              tol=1e-14)
+    lam = 1.0 / nu
+    return lam[np.lexsort((-lam.imag, -lam.real))]
+
+
+def onset(n: int) -> tuple[float, float]:
+    """(sigma_c, omega_c) of the straight one-pinned chain as critical_sigma gives them, for any N: below
+    SLOW_MODES + 2 particles by critical_sigma, from there on by brentq on the leading slow eigenvalue in
+    ONSET_BRACKET / N^3 (~0.05 s at N = 200, ~0.3 s at N = 1000; more accurate than the dense eigensolver for
+    N >~ 50, see the module docstring)."""
+    n = int(n)
+    if n <= SLOW_MODES + 1:
+        return critical_sigma(n)
+
+    def growth(s: float) -> float:
+        return float(slow_eigenvalues(n, s)[0].real)
+
+    lo, hi = (v / n**3 for v in ONSET_BRACKET)
+    sigma_c = brentq(growth, lo, hi, xtol=1e-300, rtol=1e-13, maxiter=200)
+    return float(sigma_c), float(abs(slow_eigenvalues(n, sigma_c)[0].imag))

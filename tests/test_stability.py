@@ -72,3 +72,39 @@ def test_rotation_threshold_is_the_first_crossing_for_every_n(n):
     assert 19.9 < n**3 * s_r < 31.0
     assert all(growth(f * s_r) < 0 for f in (0.0, 0.3, 0.7, 0.99))
     assert growth(1.01 * s_r) > 0
+
+
+@pytest.mark.parametrize("n", [2, 5, 6, 7, 12, 30, 60])
+def test_onset_agrees_with_the_dense_critical_sigma(n):
+    sigma_c, omega_c = S.onset(n)
+    ref_sigma, ref_omega = S.critical_sigma(n, tol=1e-14)
+    assert sigma_c == pytest.approx(ref_sigma, rel=1e-8)
+    assert omega_c == pytest.approx(ref_omega, rel=1e-7)
+
+
+def test_onset_of_long_chains_tends_to_the_continuum():
+    """The banded O(N) path at N = 1000: N^3 sigma_c and N^4 omega_c between N = 200 and the continuum
+    (76.10, 196.59), approached like 1/N."""
+    s200, w200 = S.onset(200)
+    s1000, w1000 = S.onset(1000)
+    assert 75.3 < 200**3 * s200 < 1000**3 * s1000 < 76.102
+    assert 192.7 < 200**4 * w200 < 1000**4 * w1000 < 196.591
+    gap = (76.102 - 200**3 * s200) / (76.102 - 1000**3 * s1000)
+    assert 4.0 < gap < 6.0  # 1/N convergence: the gap shrinks 5x from N = 200 to 1000
+    lam = S.slow_eigenvalues(1000, s1000)
+    assert abs(lam[0].real) < 1e-9 * abs(lam[0])
+
+
+def test_stability_command(capsys):
+    from elastoactive.cli import main
+
+    assert main(["stability", "one-pinned", "--n", "7", "--sigma", "0.8"]) == 0
+    out = capsys.readouterr().out
+    assert "sigma_c = 0.15746950" in out and "S_c = f L^3 / B = 76.10" in out and "growth rate +" in out
+    assert main(["stability", "rotating-pin", "--n", "40"]) == 0
+    assert f"sigma_c = {S.rotation_threshold(40):.10g}" in capsys.readouterr().out
+    assert main(["stability", "coupled-pair", "--n", "7", "--kappa", "0", "--rho", "1"]) == 0
+    assert "sigma_c = 0.15746950" in capsys.readouterr().out  # two uncoupled equal chains: one chain's onset
+    assert main(["stability", "two-pinned"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "two-pinned has no linear operator" in err[0]

@@ -11,10 +11,10 @@ import argparse
 import sys
 
 from ..errors import ParameterError, SimulationDiverged
-from . import accuracy, render, reproduce, run, sweep, validate
+from . import accuracy, render, reproduce, run, stability, sweep, validate
 from .options import UNITS, scene_help
 
-COMMANDS = (run, validate, sweep, render, accuracy, reproduce)
+COMMANDS = (run, validate, sweep, render, accuracy, reproduce, stability)
 """The subcommands, in the order --help lists them."""
 
 

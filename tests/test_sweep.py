@@ -19,6 +19,7 @@ from elastoactive.batch import Case, run_case
 from elastoactive.cli import main
 from elastoactive.params import Numerics, ParameterError, Physics
 from elastoactive import sweep as sweep_module
+from elastoactive import sweep_netcdf
 from elastoactive.sweep import SweepMismatch, make_sweep, normalize_grid, parse_grid, run_point, run_sweep
 
 FAST = Numerics.preset("fast")
@@ -252,7 +253,7 @@ def test_ctrl_c_during_final_save_loses_nothing(tmp_path, monkeypatch, how):
     neither delete the journal before the netCDF is on disk; re-running resumes."""
     grid = {"sigma": [0.3, 0.6, 0.9]}
     out, journal = tmp_path / "i.nc", tmp_path / "i.nc.journal"
-    original = sweep_module.write_netcdf  # every netCDF the sweep writes goes through it
+    original = sweep_netcdf.write_netcdf  # every netCDF the sweep writes goes through it
     calls = []
 
     def interrupted(path, *args, **kwargs):
@@ -264,7 +265,7 @@ def test_ctrl_c_during_final_save_loses_nothing(tmp_path, monkeypatch, how):
                 raise KeyboardInterrupt
         return original(path, *args, **kwargs)
 
-    monkeypatch.setattr(sweep_module, "write_netcdf", interrupted)
+    monkeypatch.setattr(sweep_netcdf, "write_netcdf", interrupted)
     with pytest.raises(KeyboardInterrupt):
         run_sweep("one-pinned", grid, out=out, snapshot_interval=1e9, **REDUCED)
     monkeypatch.undo()
@@ -367,14 +368,14 @@ def test_full_disk_is_a_clear_error_and_the_sweep_resumes(tmp_path, monkeypatch)
     writing becomes the same clear error; the journal stays and the sweep resumes."""
     grid = {"sigma": [0.3, 0.6]}
     out, journal = tmp_path / "f.nc", tmp_path / "f.nc.journal"
-    original = sweep_module.write_netcdf
+    original = sweep_netcdf.write_netcdf
     writes = []
 
     def counted(path, *args, **kwargs):
         writes.append(path)
         return original(path, *args, **kwargs)
 
-    monkeypatch.setattr(sweep_module, "write_netcdf", counted)
+    monkeypatch.setattr(sweep_netcdf, "write_netcdf", counted)
     monkeypatch.setattr(shutil, "disk_usage", lambda path: SimpleNamespace(total=10**12, used=10**12 - 1000, free=1000))
     with pytest.raises(ParameterError, match="not enough free space") as info:
         run_sweep("one-pinned", grid, out=out, **REDUCED)
@@ -389,7 +390,7 @@ def test_full_disk_is_a_clear_error_and_the_sweep_resumes(tmp_path, monkeypatch)
         Path(path).write_bytes(b"\x89HDF partly")
         raise OSError(errno.ENOSPC, "No space left on device", str(path))
 
-    monkeypatch.setattr(sweep_module, "write_netcdf", full)
+    monkeypatch.setattr(sweep_netcdf, "write_netcdf", full)
     with pytest.raises(ParameterError, match="no space left") as info:
         run_sweep("one-pinned", grid, out=out, **REDUCED)
     assert str(out) in str(info.value) and "needed" in str(info.value)

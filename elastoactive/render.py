@@ -25,6 +25,7 @@ subprocess (a failing back end cannot poison this process), and the first that r
 
 from __future__ import annotations
 
+import errno
 import importlib
 import math
 import os
@@ -512,6 +513,21 @@ def setup_ffmpeg() -> str:
     return exe
 
 
+def _encoder_stopped(tmp: Path, err: BaseException) -> str:
+    """Why the video encoder (an ffmpeg process) stopped writing `tmp`: a file-size limit, a full disk, or what it
+    said."""
+    import resource
+    import shutil
+
+    limit = resource.getrlimit(resource.RLIMIT_FSIZE)[0]
+    if limit != resource.RLIM_INFINITY and tmp.exists() and tmp.stat().st_size >= limit - (1 << 16):
+        return f"File too large: the video reached the file-size limit (ulimit -f) of {limit} bytes"
+    if shutil.disk_usage(tmp.parent).free < (1 << 20):
+        return "No space left on device"
+    said = [line for line in str(err).splitlines() if line.strip()]
+    return f"the video encoder ffmpeg stopped{': ' + said[-1] if said else ''}"
+
+
 def render_trajectory(
     traj: Trajectory,
     path,
@@ -545,11 +561,15 @@ def render_trajectory(
     if progress and times.size > 60:
         bar = progress_bar(times.size, f"render {traj.physics.scene}", "frame")
     try:
-        with atomic_file(path) as tmp, mediapy.VideoWriter(tmp, shape=(height, width), fps=fps) as writer:
-            for t in times:
-                writer.add_image(painter.frame(float(t)))
-                if bar is not None:
-                    bar.update(1)
+        with atomic_file(path) as tmp:
+            try:
+                with mediapy.VideoWriter(tmp, shape=(height, width), fps=fps) as writer:
+                    for t in times:
+                        writer.add_image(painter.frame(float(t)))
+                        if bar is not None:
+                            bar.update(1)
+            except (RuntimeError, BrokenPipeError) as err:  # the encoder died: atomic_file names the file
+                raise OSError(errno.EIO, _encoder_stopped(tmp, err)) from None
     finally:
         painter.close()
         if bar is not None:

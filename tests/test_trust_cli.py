@@ -137,14 +137,16 @@ def _limited(limit_bytes: int):
 
 
 def test_a_file_size_limit_gives_one_line_not_a_traceback(tmp_path):
-    """`ulimit -f`: the trajectory cannot be written; run, run --force and render each say so in one line."""
+    """`ulimit -f`: the trajectory cannot be written; run, run --force and render (a still, a video: its encoder is
+    a separate process) each say so in one line."""
     base = [sys.executable, "-m", "elastoactive"]
     small = RUN[:6] + ["--duration", "20"] + RUN[8:]
     out = tmp_path / "run"
     assert subprocess.run(base + small + ["--out", str(out)], capture_output=True, timeout=120).returncode == 0
     commands = (RUN + ["--duration", "2000", "--out", str(tmp_path / "big")],
                 RUN + ["--duration", "2000", "--out", str(out), "--force"],
-                ["render", str(out), "--still", str(tmp_path / "s.png"), "--width", "2048", "--height", "2048"])
+                ["render", str(out), "--still", str(tmp_path / "s.png"), "--width", "2048", "--height", "2048"],
+                ["render", str(out), "-o", str(tmp_path / "v.mp4"), "--width", "512", "--height", "512", "--quiet"])
     for argv in commands:
         if argv[0] == "render" and os.environ.get("MUJOCO_GL") == "disabled":
             continue

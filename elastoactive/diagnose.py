@@ -73,6 +73,20 @@ from .model import build_model, prepare
 from .params import Numerics, Physics
 
 
+def no_log_file() -> None:
+    """Stop MuJoCo writing its warnings to MUJOCO_LOG.TXT in the working directory (its default): a run that goes
+    bad is detected from data.warning and stopped with the cause (SimulationDiverged), so the file only litters the
+    user's folder. Every path that steps a MuJoCo model imports this module (the engines, the pre-flight probe)."""
+    config = getattr(mujoco, "MjLogConfig", None)  # MuJoCo >= 4: a process-wide log configuration
+    if config is not None:
+        settings = config.get()
+        if settings.logto_file:
+            settings.logto_file = False
+            settings.set()
+
+
+no_log_file()
+
 RK4_STABILITY = 2.785  # real-axis stability interval of classical RK4
 EXPLICIT_SPRINGS = {"implicitfast", "implicit", "Euler", "RK4"}
 EXPLICIT_DRAG = {"Euler": 2.0, "RK4": RK4_STABILITY}

@@ -10,6 +10,19 @@ import elastoactive as ea
 from elastoactive.validate import angle_errors, observable_errors
 
 
+def test_the_tutorial_points_to_every_scene():
+    """The notebook's "Where next" names every registered scene (a new one is not left out of the tour)."""
+    import json
+    from pathlib import Path
+
+    notebook = Path(__file__).resolve().parents[1] / "examples" / "tutorial.ipynb"
+    cells = ["".join(c["source"]) for c in json.loads(notebook.read_text())["cells"] if c["cell_type"] == "markdown"]
+    where_next = [c for c in cells if c.startswith("## Where next")]
+    assert len(where_next) == 1
+    missing = [name for name in ea.scenes.names() if name not in where_next[0]]
+    assert not missing, missing
+
+
 def test_front_door_names():
     for name in ("Physics", "Numerics", "simulate", "measure", "scenes", "ParameterError", "SimulationDiverged",
                  "Trajectory", "Results"):

@@ -74,10 +74,13 @@ def test_autoreset_is_off(scene):
     assert model.opt.disableflags & mujoco.mjtDisableBit.mjDSBL_AUTORESET
 
 
-def test_divergence_stops_with_cause():
-    """Euler with a dt far beyond 2 m / gamma blows up: the error names the mass and dt."""
+def test_divergence_stops_with_cause(tmp_path, monkeypatch):
+    """Euler with a dt far beyond 2 m / gamma blows up: the error names the mass and dt, and MuJoCo's own log file
+    is not left in the working directory."""
+    monkeypatch.chdir(tmp_path)
     with pytest.raises(SimulationDiverged, match=r"(?s)diverged.*mass_ratio too small.*implicitfast"):
         simulate_mujoco(Physics(n=7, sigma=0.8), Numerics(dt=0.01, integrator="Euler"), 5.0)
+    assert not (tmp_path / "MUJOCO_LOG.TXT").exists()
 
 
 def test_preflight_refuses_unstable_timestep():

@@ -21,8 +21,6 @@ NO_OPERATOR = {
     "two-pinned": "its base state, the buckled arch, is held by the pins and moves with the load",
     "paraboloid": "a free chain in a dish has no fixed base state (it drifts and turns as a whole)",
 }
-CONTINUUM_MODES = 48
-"""Chebyshev collocation points of the continuum onset (converged to 1e-10 from 32 on)."""
 DENSE_GROWTH_MAX = 400
 """Up to this many angles the growth rate at --sigma comes from every eigenvalue (dense); beyond, from the
 slowest modes (stability.slow_eigenvalues), which hold the least stable one near the onset."""
@@ -87,7 +85,7 @@ def main(args) -> int:
             print(f"  at sigma = {args.sigma:g}: growth rate {lam.real:+.6g} /tau, angular frequency "
                   f"{abs(lam.imag):.6g} rad/tau ({state}; sigma / sigma_c = {args.sigma / sigma_c:.4g})")
     if physics.scene == "one-pinned":
-        s_c, w_c = continuum_critical(m=CONTINUUM_MODES)
+        s_c, w_c = continuum_critical()
         print(f"  continuum filament (clamped, distributed follower load f, drag zeta): S_c = f L^3 / B = {s_c:.4f}, "
               f"omega_c = {w_c:.4f} B / (zeta L^4); at N = {n} (sigma = S / N^3, omega in 1 / (N^4 tau)): "
               f"sigma = {s_c / n**3:.6g}, omega = {w_c / n**4:.6g} rad/tau; the chain's N^3 sigma_c is "

@@ -1,0 +1,190 @@
+"""`elastoactive filament --S S`: the clamped filament's beat as the limit of a ladder of chains.
+
+The chain of N particles at sigma = S / N^3 discretises the clamped filament under a distributed follower load
+S = f L^3 / B (docs/filament.md). This command runs the reduced engine on a ladder of N (default 20, 40, 80, 160),
+each rung started from the previous rung's last shape (analysis.filament.resample) and run in chunks of a few
+beats until its beat is steady to SETTLE_TOLERANCE, measures the angular frequency omega N^4 (units
+B / (zeta L^4)) and the amplitude of Theta = theta_N - theta_1, and extrapolates both to N -> infinity in 1/N
+(analysis.filament.richardson, with error estimates). The onset N^3 sigma_c(N) is extrapolated the same way
+from the linear operator (analysis.stability.onset) and set beside the continuum's own (analysis.continuum).
+
+A separate command rather than an option of `run`: it runs several chains and writes no trajectory; `run`
+is one chain, one trajectory, one summary.json.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import sys
+import time
+from dataclasses import asdict, dataclass
+
+from ..errors import ParameterError
+
+DEFAULT_LADDER = (20, 40, 80, 160)
+"""The ladder of N: halving 1/N, the finest rung the costliest (~0.5 s per beat at N = 160)."""
+SAMPLES_PER_PERIOD = 400
+"""Samples per beat period of each rung (analysis.filament.beat's extrema then err by ~1e-10)."""
+CHUNK_PERIODS = 4
+"""Beat periods per chunk: a rung runs chunk after chunk until two successive chunks agree."""
+SETTLE_TOLERANCE = 1e-7
+"""Two successive chunks whose period and amplitude agree to this (relative) end a rung."""
+MAX_CHUNKS = 12
+"""Chunks a rung may take before it is reported as not settled."""
+START_AMPLITUDE = 0.5
+"""Theta (rad) of the first rung's start: its most unstable mode, scaled to this."""
+
+
+@dataclass(frozen=True)
+class Rung:
+    """One chain of the ladder."""
+
+    n: int
+    sigma: float
+    omega: float
+    """Angular frequency of the beat in units of B / (zeta L^4) = 1 / (N^4 tau)."""
+    amplitude: float
+    """Half the peak-to-peak of Theta = theta_N - theta_1, rad."""
+    onset: float
+    """N^3 sigma_c(N)."""
+    chunks: int
+    settled: bool
+    method: str
+    wall_time_s: float
+
+
+def register(subparsers) -> None:
+    p = subparsers.add_parser(
+        "filament", help="the clamped filament's beat and onset, extrapolated from a ladder of chains",
+        description="Run the reduced engine on chains of N particles at sigma = S / N^3 and extrapolate the beat "
+        "(omega in B / (zeta L^4), amplitude of Theta) and the onset to the continuum filament in 1/N "
+        "(docs/filament.md).", formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--S", dest="S", type=float, required=True, help="follower load f L^3 / B (onset 76.10)")
+    p.add_argument("--ns", type=_ladder, default=DEFAULT_LADDER,
+                   help=f"the ladder of N, comma separated (default {','.join(map(str, DEFAULT_LADDER))})")
+    p.add_argument("--json", action="store_true", help="print the result as JSON instead of a table")
+    p.add_argument("--quiet", action="store_true", help="no progress lines")
+    p.set_defaults(func=main)
+
+
+def _ladder(text: str) -> tuple[int, ...]:
+    try:
+        ns = tuple(sorted({int(v) for v in text.split(",") if v.strip()}))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a comma list of whole numbers, got {text!r}") from None
+    if len(ns) < 2 or ns[0] < 4:
+        raise argparse.ArgumentTypeError(f"expected at least two distinct N >= 4, got {text!r}")
+    return ns
+
+
+def _first_shape(n: int, sigma: float):
+    """The most unstable mode of the straight chain (real part), scaled to Theta = START_AMPLITUDE."""
+    import numpy as np
+
+    from ..analysis import stability as stab
+
+    lam, vec = np.linalg.eig(stab.linear_operator(n, sigma))
+    mode = vec[:, int(np.argmax(lam.real))]
+    mode = (mode * np.exp(-1j * np.angle(mode[-1]))).real
+    return START_AMPLITUDE * mode / (mode[-1] - mode[0])
+
+
+def _rung(n: int, S: float, start, progress: bool) -> tuple[Rung, object]:
+    """Run the chain of n particles at sigma = S / n^3 from the angles `start` until its beat is steady; returns the
+    rung and its last angles."""
+    import numpy as np
+
+    from ..analysis import stability as stab
+    from ..analysis.filament import beat
+    from ..engines.reduced import simulate_reduced
+    from ..params import DEFAULT_DT, Numerics, Physics
+
+    sigma = S / n**3
+    physics = Physics(scene="one-pinned", n=n, sigma=sigma)
+    onset, omega_c = stab.onset(n)
+    period = 2 * math.pi / (omega_c if omega_c > 0 else 1.0 / n**4)
+    theta, previous, clock, method = np.asarray(start, dtype=float), None, time.perf_counter(), ""
+    settled, chunks = False, 0
+    while chunks < MAX_CHUNKS and not settled:
+        chunks += 1
+        numerics = Numerics(sample_dt=DEFAULT_DT * max(1, round(period / SAMPLES_PER_PERIOD / DEFAULT_DT)))
+        traj = simulate_reduced(physics, numerics, CHUNK_PERIODS * period, theta0=theta)
+        method = traj.info["method"]
+        b = beat(traj.t, traj.theta[:, -1] - traj.theta[:, 0])
+        theta, period = traj.theta[-1].copy(), b.period
+        if previous is not None:
+            settled = (abs(b.period / previous.period - 1) < SETTLE_TOLERANCE
+                       and abs(b.amplitude / previous.amplitude - 1) < SETTLE_TOLERANCE)
+        previous = b
+    rung = Rung(n=n, sigma=sigma, omega=2 * math.pi / previous.period * n**4, amplitude=previous.amplitude,
+                onset=n**3 * onset, chunks=chunks, settled=settled, method=method,
+                wall_time_s=time.perf_counter() - clock)
+    if progress:
+        print(f"elastoactive: N = {n}: omega = {rung.omega:.6f}, amplitude = {rung.amplitude:.7f} rad "
+              f"({chunks} x {CHUNK_PERIODS} beats, {method}, {rung.wall_time_s:.1f} s)", file=sys.stderr, flush=True)
+    return rung, theta
+
+
+def ladder(S: float, ns=DEFAULT_LADDER, progress: bool = False) -> list[Rung]:
+    """The rungs of the ladder at follower load S, each started from the previous one's last shape."""
+    from ..analysis import stability as stab
+    from ..analysis.filament import resample
+    from ..analysis.reduced.blas import one_blas_thread
+
+    ns = tuple(sorted(ns))
+    below = [n for n in ns if S <= n**3 * stab.onset(n)[0]]
+    if below:
+        raise ParameterError(f"S = {S:g} is at or below the onset of the chain with N = {below[0]} (N^3 sigma_c = "
+                             f"{below[0]**3 * stab.onset(below[0])[0]:.4g}): it does not beat; raise --S (the "
+                             "filament's onset is 76.10) or drop that N from --ns")
+    rungs, shape = [], None
+    with one_blas_thread():
+        for n in ns:
+            start = _first_shape(n, S / n**3) if shape is None else resample(shape, n)
+            rung, shape = _rung(n, S, start, progress)
+            rungs.append(rung)
+    return rungs
+
+
+def main(args) -> int:
+    from ..analysis.continuum import continuum_critical
+    from ..analysis.filament import richardson
+
+    if not (math.isfinite(args.S) and args.S > 0):
+        raise ParameterError(f"S (follower load f L^3 / B) must be a positive number, got {args.S}")
+    clock = time.perf_counter()
+    s_c, w_c = continuum_critical()
+    if args.S <= s_c:
+        raise ParameterError(f"S = {args.S:g} is at or below the filament's onset S_c = {s_c:.2f}: the filament does not "
+                             "beat (short chains still may, below their own onset N^3 sigma_c: `elastoactive stability "
+                             "one-pinned --n N`); give --S above it")
+    rungs = ladder(args.S, args.ns, progress=not args.quiet)
+    ns = [r.n for r in rungs]
+    omega = richardson(ns, [r.omega for r in rungs])
+    amplitude = richardson(ns, [r.amplitude for r in rungs])
+    onset = richardson(ns, [r.onset for r in rungs])
+    wall = time.perf_counter() - clock
+    if args.json:
+        print(json.dumps({"S": args.S, "rungs": [asdict(r) for r in rungs], "omega": omega._asdict(),
+                          "amplitude": amplitude._asdict(), "onset": onset._asdict(),
+                          "continuum_onset": {"S_c": s_c, "omega_c": w_c}, "wall_time_s": wall}, indent=2))
+        return 0
+    print(f"clamped filament at S = f L^3 / B = {args.S:g}: chains of N at sigma = S / N^3 (reduced engine)")
+    print(f"{'N':>6} {'sigma':>12} {'omega N^4':>12} {'amplitude':>11} {'N^3 sigma_c':>12} {'method':>13} {'wall s':>7}")
+    for r in rungs:
+        flag = "" if r.settled else "  (not settled)"
+        print(f"{r.n:>6} {r.sigma:>12.6g} {r.omega:>12.6f} {r.amplitude:>11.7f} {r.onset:>12.6f} {r.method:>13} "
+              f"{r.wall_time_s:>7.2f}{flag}")
+    print(f"continuum (Richardson in 1/N over N = {', '.join(map(str, ns))}):")
+    print(f"  omega     = {omega.value:.4f} +- {omega.error:.2g} B / (zeta L^4)  ({_rel(omega)})")
+    print(f"  amplitude = {amplitude.value:.5f} +- {amplitude.error:.2g} rad  ({_rel(amplitude)})")
+    print(f"  onset S_c = {onset.value:.4f} +- {onset.error:.2g}  (the continuum eigenproblem: {s_c:.4f}, "
+          f"omega_c = {w_c:.4f})")
+    print(f"wall time {wall:.1f} s")
+    return 0
+
+
+def _rel(x) -> str:
+    return f"{100 * x.error / abs(x.value):.2g}%" if x.value else "n/a"

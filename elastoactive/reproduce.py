@@ -140,6 +140,9 @@ def reproduce(out: Path, size: str = "quick", workers: int | None = None, only: 
         result.studies[name] = load_study(out, name)
     if to_keep:
         log(f"kept from an earlier run at this size and code: {', '.join(to_keep)}")
+    redo = [n for n in to_run if (s := _saved(out, n)) is not None and s.complete and s.size == size and not force]
+    if redo:
+        log(f"run again (their data in the folder were made by other code): {', '.join(redo)}")
     if merged:
         log(f"in the report from this folder (not asked for): {', '.join(merged)}")
 

@@ -176,3 +176,23 @@ def test_noise_and_anisotropy_studies():
         assert np.all(np.abs(an.data[f"onset_{eng}"] - 3.0) < 0.005)
         amp = an.data[f"amplitude_{eng}"]
         assert amp[1] < 0.7 * amp[0]  # ratio 4 vs 1
+
+
+def test_every_bisection_step_shows_its_progress(monkeypatch):
+    """sync_n2's bisection runs one batch per step: each must show (it hid all but the first, so a quick reproduce's
+    progress lines accounted for a sixth of the study's time)."""
+    from elastoactive.studies import sync
+
+    shown = []
+
+    def fake_run(cases, workers, progress, desc):
+        shown.append((progress, desc))
+        return [None] * len(cases)
+
+    monkeypatch.setattr(sync, "run", fake_run)
+    monkeypatch.setattr(sync, "_pair_measures", lambda tr, transient: {"locked": True})
+    make = lambda c, k: type("FakeCase", (), {"physics": type("P", (), {"kappa": k})(), "duration": 10.0})()  # noqa: E731
+    lo, hi = sync._bisect_locking([(0.1, 0.98)], make, {(0.1, 0.98): 0.0}, {(0.1, 0.98): 1.0}, 4, 1, True, "kappa_c N=2",
+                                  lambda case: 5.0)
+    assert hi[(0.1, 0.98)] == 0.0625
+    assert [p for p, _ in shown] == [True] * 4 and len({d for _, d in shown}) == 4 and "step 4/4" in shown[-1][1]

@@ -146,10 +146,10 @@ def snapping_study(size: str = "quick", workers=None, progress: bool = True) -> 
     lo = {eng: 0.1 for eng in ENGINES}
     hi = {eng: 0.3 for eng in ENGINES}
     dur_thr = pick(size, 400.0, 2000.0, 6000.0)
-    for _ in range(steps):
+    for step in range(steps):
         cs = [Case(two_pinned.SCENE.physics(n=n9, sigma=0.5 * (lo[e] + hi[e]), delta=d_thr),
                    fast(perturbation=0.05, sample_dt=0.1), dur_thr, e, dur_thr / 2) for e in ENGINES]
-        for e, tr in zip(ENGINES, run(cs, workers, False, "snap threshold")):
+        for e, tr in zip(ENGINES, run(cs, workers, progress, f"snap threshold (bisection step {step + 1}/{steps})")):
             mid = 0.5 * (lo[e] + hi[e])
             if _snap_measures(tr, dur_thr / 2)[0] > SNAP_THRESHOLD:
                 hi[e] = mid

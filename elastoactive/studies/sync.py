@@ -311,11 +311,12 @@ def tongue_study(size: str = "quick", workers=None, progress: bool = True) -> St
 # N = 2 near onset
 # --------------------------------------------------------------------------------------------------
 def _bisect_locking(combos, make_case, lo0, hi0, steps, workers, progress, desc, transient_of):
-    """Bisection on kappa for every combo at once (one batch per step)."""
+    """Bisection on kappa for every combo at once (one batch per step, each with its own progress line, so that
+    every step's time shows)."""
     lo, hi = dict(lo0), dict(hi0)
     for step in range(steps):
         cases = [make_case(c, 0.5 * (lo[c] + hi[c])) for c in combos]
-        trajs = run(cases, workers, progress and step == 0, desc)
+        trajs = run(cases, workers, progress, f"{desc} (bisection step {step + 1}/{steps})")
         for c, tr, case in zip(combos, trajs, cases):
             if _pair_measures(tr, transient_of(case))["locked"]:
                 hi[c] = case.physics.kappa

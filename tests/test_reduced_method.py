@@ -93,3 +93,17 @@ def test_method_option_is_recorded_and_refused_where_it_does_not_apply(tmp_path,
     assert main(["run", "one-pinned", "--engine", "reduced", "--noise", "0.1", "--method", "LSODA", "--duration",
                  "60", "--quiet"]) == 2
     assert "--method" in capsys.readouterr().err
+
+
+def test_a_solver_that_gives_up_says_what_to_change_in_one_line(monkeypatch, capsys):
+    """numba-DOP853 giving up (as at sigma = 500 with contact, where its step fell below round-off after ~8 s)
+    is a SimulationDiverged naming the settings and the fix, printed by the CLI as one line (exit 3)."""
+    from elastoactive.analysis.reduced import dop853
+
+    def gives_up(system, t, y0, **kw):
+        return np.zeros((t.size, y0.size)), -1, 10, 1, 0
+
+    monkeypatch.setattr(dop853, "integrate", gives_up)
+    assert main(["run", "one-pinned", "--sigma", "5", "--engine", "reduced", "--duration", "20", "--quiet"]) == 3
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "numba-DOP853 gave up" in err[0] and "sigma = 5" in err[0] and "--method LSODA" in err[0]

@@ -72,7 +72,7 @@ from typing import Callable
 
 import numpy as np
 
-from ...errors import ParameterError
+from ...errors import ParameterError, SimulationDiverged
 from . import SOLVE_NAMES, dop853, kernels
 from .blas import one_blas_thread
 from .settings import COMPILED_METHODS, DEFAULT_BETA, IMPLICIT_RATIO, IMPLICIT_WORK, SCIPY_METHODS, STIFF_RADIUS
@@ -325,7 +325,7 @@ def solve_ode(
     method: None (automatic: "numba-DOP853", or "Radau" when the linearisation at theta0 is stiff, see
     the module docstring), "numba-DOP853", or any name in SCIPY_METHODS. info holds rtol, atol, method,
     the solver's counts (nfev, njev, nsteps/nlu, status) and, for method=None, spectral_radius and
-    stiffness at theta0. Raises RuntimeError when the solver gives up.
+    stiffness at theta0. Raises SimulationDiverged (one line: what to change) when the solver gives up.
 
     loads: optional per-particle load factors (n_angles entries: 1 where the particle carries the follower
     force, 0 where it does not; particles of chain 1, then chain 2), the constant force factors of the run.
@@ -398,7 +398,7 @@ def _integrate(system: ChainSystem, t: np.ndarray, y0: np.ndarray, method: str, 
     if method == "numba-DOP853":
         out, status, nfev, nacc, nrej = dop853.integrate(system, t, y0, rtol=rtol, atol=atol, beta=beta, loads=loads)
         if status != 0:
-            raise RuntimeError(f"numba-DOP853 failed: step size became too small ({system})")
+            raise SimulationDiverged(_gave_up(system, method, "its step size fell below round-off"))
         info.update(nfev=nfev, njev=0, nsteps=nacc, nreject=nrej, status=0)
         return out, info
     # start-up time: scipy.integrate costs ~0.4 s to import; the compiled default does not need it
@@ -411,9 +411,21 @@ def _integrate(system: ChainSystem, t: np.ndarray, y0: np.ndarray, method: str, 
         sol = solve_ivp(rhs(system, beta=beta, factor=loads), (0.0, float(t[-1])), y0, method=method, t_eval=t,
                         rtol=rtol, atol=atol, **kw)
     if not sol.success:
-        raise RuntimeError(f"solve_ivp ({method}) failed: {sol.message}")
+        raise SimulationDiverged(_gave_up(system, method, sol.message.rstrip(".").lower()))
     info.update(nfev=int(sol.nfev), njev=int(sol.njev), nlu=int(sol.nlu), status=int(sol.status))
     return sol.y.T.copy(), info
+
+
+def _gave_up(system: ChainSystem, method: str, why: str) -> str:
+    """One line for a solver that gave up: which, why, at which settings, and what to change."""
+    terms = [f"N = {system.n}", f"sigma = {system.sigma:g}"]
+    if system.contact_radius > 0:
+        terms.append("self-contact")
+    if system.inertial:
+        terms.append(f"inertial model, mass_ratio = {system.mass_ratio:g}")
+    others = [m for m in ("LSODA", "Radau", "numba-DOP853") if m != method]
+    return (f"the reduced engine's solver {method} gave up ({why}) at {', '.join(terms)}: the motion is too stiff or "
+            f"singular for it; try --method {others[0]} (or {others[1]}), a smaller --sigma, or the MuJoCo engine")
 
 
 STIFF_RATIO = 10.0

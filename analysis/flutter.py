@@ -60,6 +60,7 @@ import numpy as np
 import scipy.linalg
 from scipy.optimize import brentq
 
+from elastoactive.constants import BEAD_INERTIA_FACTOR, BEAD_RADIUS
 from elastoactive.errors import ParameterError
 
 __all__ = [
@@ -87,11 +88,6 @@ __all__ = [
     "ziegler_drag_load",
 ]
 
-BEAD_RADIUS = 0.14
-"""Radius of the sphere geom on each particle in the MuJoCo scenes (mjcf/common.xml)."""
-
-BEAD_INERTIA_FACTOR = 0.4 * BEAD_RADIUS**2
-"""I / m of a solid sphere of radius BEAD_RADIUS about an axis through its centre: (2/5) r^2 = 0.00784."""
 
 ZIEGLER_UNDAMPED = 3.5 - math.sqrt(2.0)
 """Ziegler's flutter load of the undamped double pendulum, in C / l: 7/2 - sqrt 2 = 2.0857864."""

@@ -30,7 +30,7 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 
 import mujoco
 import numpy as np
@@ -41,7 +41,7 @@ from .diagnose import INERTIA_RESOLUTION, PIN_DT3_PER_MASS, check_timestep, stab
 from .engines.mujoco import simulate_mujoco
 from .engines.reduced import simulate_reduced
 from .errors import ParameterError, SimulationDiverged
-from .params import Numerics, Physics
+from .params import Numerics, Physics, replace
 from .results import measure
 from .trajectory import Trajectory
 from .validate import comparison_window

@@ -11,7 +11,8 @@ coupling). Mapping (units l = C1 = gamma_T = 1, so tau = 1):
                         which the C callback skips)
   lab-frame drag        two velocity actuators per particle site, x (along the pendulum) with
                         kv = gamma_L = drag_ratio and y (across) with kv = gamma_T = 1
-  particle mass         bead geom mass = mass_ratio (inertial time m / gamma in units of tau)
+  particle mass         bead geom mass = mass_ratio (inertial time m / gamma in units of tau), a sphere of radius
+                        constants.BEAD_RADIUS
   callback marker       custom numeric elastoactive_follower = (noise amplitude a, seed, correlation
                         time tau_c): the C callback acts only on models that carry it
   noise state           coloured noise (tau_c > 0): nuserdata = 1 + number of particles; mjData.userdata
@@ -31,6 +32,7 @@ import mujoco
 import numpy as np
 
 from .analysis.reduced.contact import core_span
+from .constants import BEAD_RADIUS
 from .errors import ParameterError
 from .initial import initial_angles
 from .mjcf import mjcf_path
@@ -91,7 +93,7 @@ def _add_chain(spec: mujoco.MjSpec, prefix: str, physics: Physics, numerics: Num
         clamp_spring = 0.0 if (i == 0 and not physics.clamped) else stiffness
         body.add_joint(name=f"{prefix}hinge_{i}", default=segment, stiffness=[clamp_spring, 0, 0])
         body.add_geom(name=f"{prefix}link_{i}", default=link)
-        body.add_geom(name=f"{prefix}bead_{i}", default=bead, mass=numerics.mass_ratio)
+        body.add_geom(name=f"{prefix}bead_{i}", default=bead, mass=numerics.mass_ratio, size=[BEAD_RADIUS, 0, 0])
         body.add_site(name=f"{prefix}particle_{i}", default=segment, userdata=[physics.sigma if loaded[i] else 0.0])
         if physics.contact:
             _add_capsule(spec, body, f"{prefix}capsule_{i}", physics, numerics, chain)
@@ -156,6 +158,8 @@ def build_spec(physics: Physics, numerics: Numerics = Numerics()) -> mujoco.MjSp
     spec.option.integrator = INTEGRATOR[numerics.integrator]
     spec.modelname = scene.name
     scene.build(spec, physics, numerics)
+    for term in physics.active_terms():  # a plug-in term's elements (the built-in ones are the chain's, above)
+        term.build(spec, physics, numerics)
     if physics.noise > 0 and physics.noise_correlation == 0 and physics.noise_calculus != "ito":
         raise ParameterError(
             "MuJoCo applies white noise in the Ito reading only (constant over each step); for the Stratonovich "

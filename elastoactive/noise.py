@@ -16,9 +16,6 @@ import math
 
 import numpy as np
 
-_MASK = np.uint64(0xFFFFFFFFFFFFFFFF)
-
-
 def splitmix64(x: np.ndarray) -> np.ndarray:
     x = np.asarray(x, dtype=np.uint64)
     with np.errstate(over="ignore"):

@@ -16,14 +16,23 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from . import parameters as _parameters
 from . import registry
-from .analysis.reduced.system import CONTACT_LENGTH
+from . import terms as _terms
+from .constants import MAX_PARTICLES
 from .errors import ParameterError
+from .parameters import Parameter
+from .terms.follower import load_mask
 
-NOISE_CALCULI = ("ito", "stratonovich")
 INTEGRATORS = ("implicitfast", "implicit", "discrete", "Euler", "RK4")
 DEFAULT_SCENE = "one-pinned"
 """The scene a Physics() without a scene describes: the paper's flagellar beating."""
+
+N = _parameters.register(Parameter(
+    "n", 7, "particles per chain N", kind=int, low=1, high=MAX_PARTICLES, title="number of particles N"), "the chain")
+"""The one parameter of the chain itself; every other belongs to a term (elastoactive.terms) or a scene."""
+LEADING = ("n", "sigma", "drag_ratio", "noise")
+"""The parameters every summary reports first, in this order; then the scene's own, then the terms' others."""
 
 
 def _finite(name: str, value: float) -> float:
@@ -36,52 +45,22 @@ def _finite(name: str, value: float) -> float:
     return value
 
 
-def _loaded_indices(text: str, n: int) -> list[int]:
-    """The 1-based particle indices of a `loaded` value other than "all" and "tip" (checked)."""
-    parts = [p.strip() for p in text.split(",")]
-    try:
-        idx = [int(p) for p in parts]
-    except ValueError:
-        raise ParameterError(
-            f"loaded must be all, tip, or comma-separated 1-based particle indices like 1,3,7; got {text!r}") from None
-    bad = [i for i in idx if not 1 <= i <= n]
-    if bad:
-        raise ParameterError(f"loaded: particle indices must lie in 1..{n} (N = {n}), got {bad[0]} in {text!r}")
-    dup = sorted({i for i in idx if idx.count(i) > 1})
-    if dup:
-        raise ParameterError(f"loaded: particle index {dup[0]} appears more than once in {text!r}")
-    return idx
+def scene_parameters(scene) -> tuple[str, ...]:
+    """Every parameter a scene has, in reporting order: LEADING, the scene's own, then the terms' others."""
+    names = LEADING + tuple(scene.own_parameter_names()) + _terms.parameter_names()
+    return tuple(dict.fromkeys(names))
 
 
-def _loaded(value, n: int) -> str:
-    """The checked, normalised `loaded` value: "all", "tip", or sorted indices "1,3,7"."""
-    if not isinstance(value, str):
-        if isinstance(value, (list, tuple)) and all(isinstance(i, int) and not isinstance(i, bool) for i in value):
-            value = ",".join(str(i) for i in value)
-        else:
-            raise ParameterError(f"loaded must be a string (all, tip, or indices like 1,3,7), got {value!r}")
-    text = value.strip().lower()
-    if text in ("all", "tip"):
-        return text
-    if not text:
-        raise ParameterError("loaded must be all, tip, or comma-separated 1-based particle indices like 1,3,7; got ''")
-    return ",".join(str(i) for i in sorted(_loaded_indices(text, n)))
-
-
-def _load_mask(loaded: str, n: int) -> np.ndarray:
-    mask = np.zeros(n, dtype=bool)
-    if loaded == "all":
-        mask[:] = True
-    elif loaded == "tip":
-        mask[-1] = True
-    else:
-        mask[np.array(_loaded_indices(loaded, n)) - 1] = True
-    return mask
-
-
-@dataclass(frozen=True)
 class Physics:
-    """The model in the paper's dimensionless numbers.
+    """The model in the paper's dimensionless numbers: a scene and the values of its parameters.
+
+    Physics(scene=name, n=7, sigma=0.8, delta=0.1) for the two-pinned scene. Every parameter is declared once by its owner
+    (elastoactive.parameters): n by the chain; sigma and loaded by the follower force, drag_ratio by the drag, noise,
+    noise_correlation and noise_calculus by the noise, contact, contact_radius and contact_friction by self-contact
+    (elastoactive.terms); delta, kappa, rho, trap by their scenes. Each value is checked by its spec (one rule, one
+    message naming it). A value given where it does not act is refused: a parameter the scene does not have
+    (delta on one-pinned), or one whose switch is off (contact_radius without contact, noise_correlation with
+    noise 0) unless it is the default it would take anyway. Parameters not given take their defaults; reading one the scene does not have gives its default.
 
     scene       name of a registered scene (elastoactive.scenes.names())
     n           particles per chain (N >= 1; N >= 2 when both ends are pinned)
@@ -95,91 +74,105 @@ class Physics:
                 process, <eta(t) eta(t')> = a^2 / (2 tau_c) exp(-|t - t'| / tau_c), of the same intensity
                 as the white noise of amplitude a (its limit as tau_c -> 0)
     noise_calculus  reading of white noise: "ito" or "stratonovich" (the white limit of coloured noise,
-                Wong-Zakai); unused for coloured noise. Reported only when noise > 0
+                Wong-Zakai); unused for coloured noise. Acts only when noise > 0
     loaded      particles carrying the follower force: "all" (the paper), "tip" (the last particle: the
                 tip-loaded column) or 1-based indices "1,3,7"; the same particles on both chains of a pair.
                 Reported only when not "all" (load_mask: the boolean mask per particle)
     contact     self-contact (off by default): each link carries a capsule of radius contact_radius and length
                 CONTACT_LENGTH that collides with the capsules of non-adjacent links of its own chain (never
-                neighbours, never the other chain of a pair); contact_radius and contact_friction are reported
-                only with contact on
+                neighbours, never the other chain of a pair); contact_radius and contact_friction act only with
+                contact on
     trap        the paraboloid dish's harmonic trap: force -k r on every particle and on the head, k l^2 / C1
     """
 
-    scene: str = DEFAULT_SCENE
-    n: int = field(default=7, metadata={"help": "particles per chain N"})
-    sigma: float = field(default=0.8, metadata={"help": "elasto-active number F_a l / C1"})
-    delta: float = field(default=0.1, metadata={"help": "compression of the two-pinned chain, in [0, 1)"})
-    kappa: float = field(default=1.0, metadata={"help": "coupling stiffness K l^2 / C1 of the pair's first pendula"})
-    rho: float = field(default=4.0 / 3.0, metadata={"help": "stiffness ratio C2 / C1 of the pair; chain 2 has sigma/rho"})
-    drag_ratio: float = field(default=1.0, metadata={"help": "anisotropy gamma_L / gamma_T of the drag (1: isotropic)"})
-    noise: float = field(default=0.0, metadata={"help": "amplitude a of multiplicative white noise on F_a"})
-    noise_correlation: float = field(default=0.0, metadata={
-        "help": "correlation time tau_c of the noise, in tau (0: white; > 0: Ornstein-Uhlenbeck of variance "
-                "a^2 / (2 tau_c))"})
-    noise_calculus: str = field(default="ito", metadata={
-        "help": "reading of white noise (reduced engine; MuJoCo: ito, or stratonovich as small tau_c)",
-        "choices": NOISE_CALCULI})
-    loaded: str = field(default="all", metadata={
-        "help": "particles carrying the follower force: all, tip, or 1-based indices like 1,3,7"})
-    contact: bool = field(default=False, metadata={
-        "help": "self-contact: the links' capsules collide with non-adjacent links of the same chain"})
-    contact_radius: float = field(default=0.1, metadata={
-        "help": "radius of each link's capsule, in l (with --contact; the capsule is 0.7 l long)"})
-    contact_friction: float = field(default=0.0, metadata={
-        "help": "friction coefficient between capsules (with --contact; 0: frictionless)"})
-    trap: float = field(default=0.1, metadata={
-        "help": "stiffness k l^2 / C1 of the dish's harmonic trap -k r on every particle and the head"})
+    __slots__ = ("scene", "_values")
 
-    def __post_init__(self) -> None:
+    def __init__(self, scene: str = DEFAULT_SCENE, **values) -> None:
         try:
-            scene = registry.get(self.scene)
+            definition = registry.get(scene)
         except registry.UnknownScene:
-            raise ParameterError(f"scene must be one of {', '.join(registry.names())}; got {self.scene!r}") from None
-        if isinstance(self.n, bool) or not isinstance(self.n, int) and not (
-            isinstance(self.n, float) and self.n.is_integer()
-        ):
-            raise ParameterError(f"n (number of particles N) must be an integer, got {self.n!r}")
-        object.__setattr__(self, "n", int(self.n))
-        if self.n < 1:
-            raise ParameterError(f"n (number of particles N) must be >= 1, got {self.n}")
-        if self.n > 1000:
-            raise ParameterError(f"n (number of particles N) must be <= 1000, got {self.n}")
-        if not isinstance(self.contact, (bool, np.bool_)):
-            raise ParameterError(f"contact must be true or false, got {self.contact!r}")
-        object.__setattr__(self, "contact", bool(self.contact))
-        for name in ("sigma", "delta", "kappa", "rho", "drag_ratio", "noise", "noise_correlation", "contact_radius",
-                     "contact_friction", "trap"):
-            object.__setattr__(self, name, _finite(name, getattr(self, name)))
-        if self.sigma < 0:
-            raise ParameterError(f"sigma (elasto-active number) must be >= 0, got {self.sigma}")
-        if not 0 <= self.delta < 1:
-            raise ParameterError(f"delta (compression) must lie in [0, 1), got {self.delta}")
-        if self.kappa < 0:
-            raise ParameterError(f"kappa (coupling stiffness) must be >= 0, got {self.kappa}")
-        if self.rho <= 0:
-            raise ParameterError(f"rho (stiffness ratio C2/C1) must be > 0, got {self.rho}")
-        if self.drag_ratio <= 0:
-            raise ParameterError(f"drag_ratio (gamma_L/gamma_T) must be > 0, got {self.drag_ratio}")
-        if self.noise < 0:
-            raise ParameterError(f"noise (amplitude a) must be >= 0, got {self.noise}")
-        if self.noise_correlation < 0:
-            raise ParameterError(f"noise_correlation (tau_c, 0: white) must be >= 0, got {self.noise_correlation}")
-        if self.noise_calculus not in NOISE_CALCULI:
-            raise ParameterError(f"noise_calculus must be one of {', '.join(NOISE_CALCULI)}, got {self.noise_calculus!r}")
-        if not 0 < self.contact_radius < CONTACT_LENGTH / 2:
-            raise ParameterError(f"contact_radius (capsule radius, in l) must lie in (0, {CONTACT_LENGTH / 2:g}) (the "
-                                 f"capsule is {CONTACT_LENGTH:g} l long), got {self.contact_radius}")
-        if self.contact_friction < 0:
-            raise ParameterError(f"contact_friction (friction coefficient) must be >= 0, got {self.contact_friction}")
-        if self.trap < 0:
-            raise ParameterError(f"trap (trap stiffness k l^2 / C1) must be >= 0, got {self.trap}")
-        object.__setattr__(self, "loaded", _loaded(self.loaded, self.n))
-        scene.check(self)
+            raise ParameterError(f"scene must be one of {', '.join(registry.names())}; got {scene!r}") from None
+        usable = scene_parameters(definition)
+        for name in values:
+            if name not in usable:
+                if _parameters.known(name):
+                    raise ParameterError(f"{name} has no effect on scene {scene} (its parameters: "
+                                         f"{', '.join(usable)})")
+                raise ParameterError(f"unknown parameter {name!r}; the parameters of scene {scene}: {', '.join(usable)}")
+        resolved = {}
+        for name in usable:
+            spec = _parameters.get(name)
+            resolved[name] = spec.check(values[name]) if name in values else spec.default
+        for term in _terms.terms():
+            term.prepare(resolved)
+        for name in values:  # a value its switch leaves unused is refused, unless it is the default it takes anyway
+            switch = _parameters.get(name).needs
+            if switch is not None and not _parameters.get(switch).is_on(resolved[switch]) \
+                    and resolved[name] != _parameters.get(name).default:
+                raise ParameterError(f"{name} has no effect without {switch} ({switch} = {resolved[switch]}); "
+                                     f"set {switch} too, or leave {name} out")
+        object.__setattr__(self, "scene", scene)
+        object.__setattr__(self, "_values", resolved)
+        definition.check(self)
 
+    # ------------------------------------------------------------------ a frozen record
+    def __getattr__(self, name: str):
+        if name.startswith("_"):
+            raise AttributeError(name)
+        values = object.__getattribute__(self, "_values")
+        if name in values:
+            return values[name]
+        if _parameters.known(name):
+            return _parameters.get(name).default
+        raise AttributeError(f"Physics has no parameter {name!r}")
+
+    def __setattr__(self, name, value):
+        raise AttributeError("Physics is frozen: use physics.replace(...)")
+
+    def __delattr__(self, name):
+        raise AttributeError("Physics is frozen")
+
+    def _key(self) -> tuple:
+        return (self.scene, tuple(self._values.items()))
+
+    def __eq__(self, other) -> bool:
+        return isinstance(other, Physics) and self._key() == other._key()
+
+    def __hash__(self) -> int:
+        return hash(self._key())
+
+    def __reduce__(self):
+        return (_restore, (self.scene, self.given()))
+
+    def __repr__(self) -> str:
+        return f"Physics(scene={self.scene!r}, " + ", ".join(f"{k}={v!r}" for k, v in self.relevant().items()
+                                                            if k != "scene") + ")"
+
+    def given(self) -> dict:
+        """The values that act (the scene's parameters, less those whose switch is off): what rebuilds this."""
+        return {k: v for k, v in self._values.items() if self._acts(k)}
+
+    def _acts(self, name: str) -> bool:
+        switch = _parameters.get(name).needs
+        return switch is None or _parameters.get(switch).is_on(self._values[switch])
+
+    def replace(self, **changes) -> "Physics":
+        """This physics with some values changed (and checked); values that stop acting (a switch turned off, a
+        scene without them) are dropped."""
+        scene = changes.pop("scene", self.scene)
+        usable = scene_parameters(registry.get(scene)) if scene in registry.names() else ()
+        kept = {k: v for k, v in self.given().items() if k in usable and k not in changes}
+        values = {**kept, **changes}
+        for name in list(kept):
+            switch = _parameters.get(name).needs
+            if switch is not None and switch in values and not _parameters.get(switch).is_on(values[switch]):
+                del values[name]
+        return Physics(scene=scene, **values)
+
+    # ------------------------------------------------------------------ derived
     def load_mask(self) -> np.ndarray:
         """Boolean mask of the particles of one chain that carry the follower force (all True for "all")."""
-        return _load_mask(self.loaded, self.n)
+        return load_mask(self.loaded, self.n)
 
     @property
     def all_loaded(self) -> bool:
@@ -208,10 +201,25 @@ class Physics:
         """Whether the first pendulum has a spring against the clamp."""
         return self.scene_def.clamped
 
+    def active_terms(self) -> tuple:
+        """The registered terms that act in this physics (elastoactive.terms)."""
+        return tuple(t for t in _terms.terms() if t.active(self))
+
     def relevant(self) -> dict:
-        """The parameters this scene uses (the others are ignored and not reported); the noise's correlation time
-        and calculus only when noise > 0 (so that noise-free summaries are what they were before they existed)."""
-        return {k: getattr(self, k) for k in self.scene_def.relevant(self)}
+        """The parameters this run reports (summary.json, labels): the scene and every value that acts, less the
+        quiet ones at their default (contact off, loaded "all", a plug-in term at rest), so that a summary records
+        what it recorded before those parameters existed."""
+        out = {"scene": self.scene}
+        for name, value in self._values.items():
+            spec = _parameters.get(name)
+            if not self._acts(name) or (spec.quiet_default and value == spec.default):
+                continue
+            out[name] = value
+        return out
+
+
+def _restore(scene: str, values: dict) -> Physics:
+    return Physics(scene=scene, **values)
 
 
 class _Unset:
@@ -413,11 +421,18 @@ def long_chain_numerics(physics, numerics: Numerics | None = None) -> Numerics:
     return dataclasses.replace(numerics, integrator="Euler", dt=dt, mass_ratio=m)
 
 
-def parameter_fields(cls) -> tuple[dataclasses.Field, ...]:
-    """The fields of Physics (less `scene`) or Numerics that a user sets, with their help text."""
+def parameter_fields(cls) -> tuple:
+    """What a user sets, with its help text (`.name`, `.metadata["help"]`): the Parameter specs of every declared
+    physics parameter (elastoactive.parameters, in declaration order) for Physics; the dataclass fields of
+    Numerics."""
+    if cls is Physics:
+        names = LEADING + _parameters.names()
+        return tuple(_parameters.get(name) for name in dict.fromkeys(names))
     return tuple(f for f in dataclasses.fields(cls) if "help" in f.metadata)
 
 
 def replace(obj, **changes):
-    """dataclasses.replace that re-validates."""
+    """A Physics or Numerics with some values changed, re-validated."""
+    if isinstance(obj, Physics):
+        return obj.replace(**changes)
     return dataclasses.replace(obj, **changes)

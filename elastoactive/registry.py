@@ -1,6 +1,6 @@
 """The scene registry's table: scene name -> Scene object.
 
-A leaf module (it imports nothing of the package), so that `params` can look a scene up while
+A leaf module (it imports nothing of the package but the parameter table), so that `params` can look a scene up while
 the scene modules themselves import `params`. Scenes enter the table through `register`; the
 built-in ones when `elastoactive.scenes` is imported, which `import elastoactive` does first.
 `elastoactive.scenes` is the public face of this table.
@@ -9,6 +9,8 @@ built-in ones when `elastoactive.scenes` is imported, which `import elastoactive
 from __future__ import annotations
 
 from typing import Protocol
+
+from . import parameters as _parameters
 
 
 class Scene(Protocol):
@@ -31,13 +33,23 @@ def register(scene: Scene, *, replace: bool = False) -> Scene:
         raise ValueError(f"a scene needs a non-empty string `name`, got {name!r}")
     if name in _SCENES and not replace and _SCENES[name] is not scene:
         raise ValueError(f"a scene named {name!r} is already registered (pass replace=True to replace it)")
+    for spec in getattr(scene, "parameters", ()):  # the scene's own parameter specs (names refer to declared ones)
+        if isinstance(spec, _parameters.Parameter):
+            _parameters.register(spec, f"scene {name}")
+        elif not _parameters.known(spec):
+            raise ValueError(f"scene {name!r} names the parameter {spec!r}, which nothing declares "
+                             "(declare it as an elastoactive.parameters.Parameter in the scene's parameters)")
     _SCENES[name] = scene
     return scene
 
 
 def unregister(name: str) -> None:
-    """Remove a scene (tests that register a toy scene clean up with this)."""
-    _SCENES.pop(name, None)
+    """Remove a scene and the parameter specs it declared (tests that register a toy scene clean up with this)."""
+    scene = _SCENES.pop(name, None)
+    for spec in getattr(scene, "parameters", ()):
+        if isinstance(spec, _parameters.Parameter) and _parameters.known(spec.name) \
+                and _parameters.owner(spec.name) == f"scene {name}":
+            _parameters.unregister(spec.name)
 
 
 def get(name: str) -> Scene:

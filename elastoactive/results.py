@@ -18,7 +18,6 @@ from .analysis import observables as obs
 from .errors import ParameterError
 from .jsonio import to_jsonable
 from .outputs import sha256, write_files
-from .analysis.reduced.contact import capsule_clearance
 from .params import MIN_SAMPLES, Numerics, Physics
 from .trajectory import Trajectory
 
@@ -161,8 +160,8 @@ def measure(traj: Trajectory, transient: float | None = None) -> Results:
     beats = [_beat(t, x, transient) for x in thetas]
     spectra = [tuple(float(a) for a in spectrum.harmonics(t, x, transient, HARMONICS)) for x in thetas]
     extra = scene.measure_extra(traj, transient)
-    if physics.contact:
-        extra.update(_contact(traj, transient))
+    for term in physics.active_terms():  # the terms' own observables (self-contact's clearance, a plug-in's)
+        extra.update(term.measure(traj, transient))
     known = {k: extra.pop(k) for k in list(extra) if k in _RESULT_FIELDS}
     beats = [_rigid(b, known.get("rotation_rate")) for b in beats]
     verdicts = [b.periodic for b in beats]
@@ -178,15 +177,6 @@ def measure(traj: Trajectory, transient: float | None = None) -> Results:
         amplitude, frequency, spread = (tuple(c) for c in columns)
     harmonics = spectra[0] if physics.n_chains == 1 else tuple(spectra)
     return Results(amplitude, frequency, periodic, spread, tuple(notes), harmonics, **known, extra=extra)
-
-
-def _contact(traj: Trajectory, transient: float) -> dict[str, float]:
-    """contact_fraction and min_clearance of a run with self-contact, from the capsules' geometry (every chain)."""
-    steady = traj.t - traj.t[0] >= transient
-    head = None if traj.head is None else traj.head[steady]
-    clearance = np.min([capsule_clearance(traj.chain(k)[steady], traj.physics.contact_radius, head)
-                        for k in range(traj.physics.n_chains)], axis=0)
-    return {"contact_fraction": float(np.mean(clearance < 0.0)), "min_clearance": float(np.min(clearance))}
 
 
 @dataclass(frozen=True)

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import registry
+from . import registry, terms
 from .analysis import observables as obs
 from .diagnose import PIN_DT3_PER_MASS
 from .engines.mujoco import simulate_mujoco
@@ -25,9 +25,12 @@ from .scenes.base import ValidationCase
 
 
 def validation_cases(scene: str | None = None) -> list[ValidationCase]:
-    """The registered scenes' validation cases (the paper's cases), or one scene's."""
+    """The registered scenes' validation cases (the paper's cases) and the registered terms' (elastoactive.terms), or
+    one scene's."""
     chosen = registry.scenes() if scene is None else (registry.get(scene),)
-    return [case for s in chosen for case in s.validation_cases()]
+    cases = [case for s in chosen for case in s.validation_cases()]
+    return cases + [case for t in terms.terms() for case in t.validation_cases()
+                    if scene is None or case.physics.scene == scene]
 
 
 INERTIAL_MASS_RATIOS = (0.01, 0.5, 10.0)

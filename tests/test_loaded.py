@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import argparse
 
 import numpy as np
 import pytest
@@ -10,7 +9,8 @@ import pytest
 from elastoactive import registry
 from elastoactive.analysis import reduced as M
 from elastoactive.analysis.flutter import critical_sigma
-from elastoactive.cli.options import physics_args, physics_from
+from elastoactive.cli import build_parser
+from elastoactive.cli.run import settings_from
 from elastoactive.engines.mujoco import simulate_mujoco
 from elastoactive.engines.reduced import load_factors, rhs, simulate_reduced, system_of
 from elastoactive.errors import ParameterError
@@ -57,11 +57,11 @@ def test_summaries_unchanged_for_all():
 
 
 def test_cli_option():
-    parser = argparse.ArgumentParser()
-    physics_args(parser)
-    args = parser.parse_args(["--n", "5", "--loaded", "tip"])
-    assert physics_from(args, "one-pinned").loaded == "tip"
-    assert physics_from(parser.parse_args([]), "one-pinned").loaded == "all"
+    parser = build_parser()
+    physics, *_ = settings_from(parser.parse_args(["run", "one-pinned", "--n", "5", "--loaded", "tip"]))
+    assert physics.loaded == "tip"
+    physics, *_ = settings_from(parser.parse_args(["run", "one-pinned"]))
+    assert physics.loaded == "all"
 
 
 # ---------------------------------------------------------------------------------------------- MuJoCo model

@@ -9,16 +9,18 @@ from elastoactive.engines import reduced as R
 from elastoactive.analysis import stability
 from elastoactive.initial import initial_angles, pin_residual
 from elastoactive.noise import force_factor
-from elastoactive.params import Numerics, ParameterError, Physics
+from elastoactive import registry
+from elastoactive.params import Numerics, ParameterError, Physics, scene_parameters
 
 SCENES = ("one-pinned", "two-pinned", "rotating-pin", "coupled-pair")
 DRAG_RATIOS = (1.0, 2.5, 0.4)
 
 
 def _physics(scene, drag_ratio=1.0, n=5, **kw):
-    base = dict(scene=scene, n=n, sigma=0.7, drag_ratio=drag_ratio, kappa=1.3, rho=1.4, delta=0.1)
+    base = dict(n=n, sigma=0.7, drag_ratio=drag_ratio, kappa=1.3, rho=1.4, delta=0.1)
     base.update(kw)
-    return Physics(**base)
+    own = scene_parameters(registry.get(scene))  # the values the scene has (kappa and rho on the pair, ...)
+    return Physics(scene=scene, **{k: v for k, v in base.items() if k in own})
 
 
 def _state(physics, rng, spread=0.8):

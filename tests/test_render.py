@@ -72,7 +72,7 @@ def _green(frame):  # the coupling spring
 
 @pytest.mark.parametrize("scene", ["one-pinned", "two-pinned", "rotating-pin", "coupled-pair"])
 def test_every_scene_shows_chain_forces_and_caption(backend, scene):
-    physics = Physics(scene=scene, n=5, delta=0.1)
+    physics = Physics(scene=scene, n=5)  # delta at its default 0.1 on two-pinned
     numerics = Numerics(perturbation=0.3)
     traj = simulate_mujoco(physics, numerics, 4.0)
     frame = render.render_frames(traj, [traj.t[-1]], width=192, height=144, rate=2.0)[0]

@@ -38,7 +38,7 @@ def test_base_file_opens_on_its_own(scene):
 def test_builder_reproduces_base_file(scene):
     """The generator at the paper's defaults gives the model the base file describes."""
     base = mujoco.MjModel.from_xml_path(str(scene_path(scene)))
-    built = build_model(Physics(scene=scene, n=7, sigma=0.8, kappa=1.0, rho=4 / 3, delta=0.1))
+    built = build_model(Physics(scene=scene, n=7, sigma=0.8))  # kappa, rho, delta at their defaults
     for field in ("nq", "nv", "nu", "neq", "ntendon", "nbody", "nsite", "nkey"):
         assert getattr(built, field) == getattr(base, field), field
     for field in ("jnt_stiffness", "body_mass", "site_user", "actuator_gear", "actuator_biasprm",

@@ -13,15 +13,7 @@ import numpy as np
 
 from ...errors import ParameterError
 
-BEAD_INERTIA_FACTOR = 0.4 * 0.14**2
-"""I / m of the MuJoCo scenes' bead, a solid sphere of radius 0.14 l on each particle: (2/5) r^2 = 0.00784
-(the same number as analysis.flutter.BEAD_INERTIA_FACTOR, which imports scipy; this package must not)."""
-
-CONTACT_LENGTH = 0.7
-"""Length of each link's contact capsule, caps included, in units of the link length l: a Hexbug Nano is about
-5 cm long on a link pitch of about 7 cm (N = 7 over L = 500 mm), so 5 / 7 ~ 0.7. The capsule of link i is
-centred on the link; its core (the segment whose points within the radius R make the capsule) runs over the
-fractions s in [(1 - CONTACT_LENGTH) / 2 + R, (1 + CONTACT_LENGTH) / 2 - R] of the link (contact.py)."""
+from ...constants import BEAD_INERTIA_FACTOR, CONTACT_LENGTH  # the models' constants, one place for each
 
 
 class ChainSystem(NamedTuple):

@@ -6,7 +6,6 @@ import argparse
 
 from .. import registry
 from ..params import Numerics, Physics, parameter_fields
-from ..scenes.base import COMMON_PARAMETERS
 
 UNITS = "Units: l = C1 = gamma = 1, so times are in tau = gamma l^2 / C1 and frequencies are f*tau."
 
@@ -17,9 +16,8 @@ def scene_help() -> str:
 
 
 def _used_by(name: str) -> str:
-    if name in COMMON_PARAMETERS:
-        return ""
-    users = [s.name for s in registry.scenes() if name in s.parameters]
+    """'; two-pinned only' for a scene's own parameter (the chain's and the terms' act in every scene)."""
+    users = [s.name for s in registry.scenes() if name in s.own_parameter_names()]
     return f"; {', '.join(users)} only" if users else ""
 
 
@@ -41,10 +39,6 @@ def add_fields(group, cls, *, defaults: bool = True) -> None:
                            help=f"{f.metadata['help']} (default {shown}{_used_by(f.name) if cls is Physics else ''})")
 
 
-def physics_args(p: argparse.ArgumentParser) -> None:
-    add_fields(p.add_argument_group("physics (the paper's dimensionless numbers)"), Physics)
-
-
 def numerics_args(p: argparse.ArgumentParser) -> None:
     add_fields(p.add_argument_group("numerics"), Numerics)
 
@@ -52,10 +46,6 @@ def numerics_args(p: argparse.ArgumentParser) -> None:
 def scene_argument(p: argparse.ArgumentParser, **kw) -> None:
     """The positional SCENE, one of the registered scenes."""
     p.add_argument("scene", choices=registry.names(), metavar="SCENE", help="one of: " + ", ".join(registry.names()), **kw)
-
-
-def physics_from(args, scene: str) -> Physics:
-    return Physics(scene=scene, **{f.name: getattr(args, f.name) for f in parameter_fields(Physics)})
 
 
 def numerics_from(args) -> Numerics:

@@ -62,12 +62,14 @@ def settings_from(args) -> tuple[Physics, Numerics, str, float, float | None]:
     """physics, numerics, engine, duration, transient: the recorded run's (--from), overridden by options given."""
     base = _recorded(args.source) if args.source else {"physics": {}, "numerics": {}, "engine": None, "duration": None,
                                                          "transient": None}
-    scene = args.scene or base["physics"].pop("scene", None)
-    base["physics"].pop("scene", None)
+    recorded_scene = base["physics"].pop("scene", None)
+    scene = args.scene or recorded_scene
     if scene is None:
         raise ParameterError("give a SCENE (or --from a recorded run)")
     given = lambda cls: {f.name: getattr(args, f.name) for f in parameter_fields(cls) if getattr(args, f.name) is not None}
-    physics = Physics(scene=scene, **{**base["physics"], **given(Physics)})
+    # the recorded physics, then the options given (a value that stops acting, like contact_radius once --no-contact
+    # is given, is dropped; one given where it does not act is refused)
+    physics = Physics(scene=recorded_scene or scene, **base["physics"]).replace(scene=scene, **given(Physics))
     numerics = Numerics(**{**base["numerics"], **given(Numerics)})
     engine = args.engine or base["engine"] or "mujoco"
     duration = args.duration if args.duration is not None else (base["duration"] or DEFAULT_DURATION)

@@ -32,6 +32,7 @@ from ..initial import initial_angles
 from ..noise import ColouredNoise, force_factor
 from ..params import Numerics, Physics
 from ..trajectory import Trajectory
+from . import node_forces
 
 __all__ = [
     "DEFAULT_BETA",
@@ -263,6 +264,9 @@ def simulate_reduced(
     theta0 = _initial(physics, numerics, theta0)
     loads = load_factors(physics)
     count = physics.n_angles if loads is None else int(np.count_nonzero(loads))  # particles with a force
+    laws = [law for law in (term.node_forces(physics) for term in physics.active_terms()) if law is not None]
+    if laws:
+        node_forces.check(physics, system, physics.noise > 0)
     start = time.perf_counter()
     if physics.noise > 0:
         dt = numerics.dt
@@ -283,6 +287,8 @@ def simulate_reduced(
             info["noise_correlation"] = physics.noise_correlation
         else:
             info["noise_calculus"] = physics.noise_calculus
+    elif laws:  # plug-in terms' forces on the particles (engines.node_forces)
+        theta, info = node_forces.solve(physics, system, t, theta0, laws, rtol=rtol, atol=atol, beta=beta, loads=loads)
     else:
         theta, info = _math.solve_ode(system, t, theta0, rtol=rtol, atol=atol, method=method, beta=beta,
                                       loads=loads)

@@ -4,8 +4,10 @@ A scene module defines one subclass of `Scene` and registers one instance of it.
 knows everything specific to the scene; the rest of the package asks it (through the registry,
 `elastoactive.scenes`) and never compares against a scene's name:
 
-  parameters          which physics parameters the scene uses, beyond n, sigma, drag_ratio, noise,
-                      and `check` for constraints on them (e.g. N >= 2 with both ends pinned)
+  parameters          the scene's own physics parameters (elastoactive.parameters.Parameter specs it declares, or
+                      names of parameters declared elsewhere), beyond the chain's n and the terms' (sigma, drag,
+                      noise, contact: elastoactive.terms), and `check` for constraints on them (e.g. N >= 2 with both
+                      ends pinned)
   MJCF                `base_file` (in mjcf/) and `build`, which adds the scene's own elements (pins,
                       coupling, keyframes) to the chain(s) that elastoactive.model generates
   reduced model       `reduced_system`: the typed record the reduced solver integrates
@@ -26,24 +28,15 @@ from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 
-from ..analysis.reduced.system import BEAD_INERTIA_FACTOR, ChainSystem
+from ..analysis.reduced.system import ChainSystem
+from ..constants import BEAD_INERTIA_FACTOR
 from ..errors import ParameterError
+from ..parameters import Parameter
+from ..parameters import get as parameter_spec
 
 if TYPE_CHECKING:  # typing only: these modules import the registry that holds scenes
     from ..params import Numerics, Physics
     from ..trajectory import Trajectory
-
-CONTACT_STIFFNESS = 1.0e3
-"""The reduced model's self-contact penalty K (force K x overlap, units C1 / l^2): overlaps ~ force / K ~ 1e-3 l.
-MuJoCo's contact is nearly hard instead (elastoactive.model.contact_solref); the two agree as K grows and dt
-shrinks (docs/model.md, "Self-contact")."""
-COMMON_PARAMETERS = ("n", "sigma", "drag_ratio", "noise")
-"""Physics parameters every chain scene uses."""
-NOISE_PARAMETERS = ("noise_correlation", "noise_calculus")
-"""Physics parameters of the noise, used (and reported) when noise > 0."""
-CONTACT_PARAMETERS = ("contact", "contact_radius", "contact_friction")
-"""Physics parameters of self-contact, used (and reported) when contact is on."""
-
 
 @dataclass(frozen=True)
 class ValidationCase:
@@ -66,8 +59,8 @@ class Scene:
     """One line for the CLI's help."""
     base_file: ClassVar[str] = ""
     """MJCF file in mjcf/ with the scene's options, defaults and markers (opens in MuJoCo's viewer)."""
-    parameters: ClassVar[tuple[str, ...]] = ()
-    """Physics parameters of this scene beyond COMMON_PARAMETERS."""
+    parameters: ClassVar[tuple[Parameter | str, ...]] = ()
+    """The scene's own physics parameters: specs it declares (registered with the scene), or names of declared ones."""
     min_n: ClassVar[int] = 1
     n_chains: ClassVar[int] = 1
     clamped: ClassVar[bool] = True
@@ -83,18 +76,10 @@ class Scene:
     """Observables that validate holds to its tolerance (relative error)."""
 
     # ------------------------------------------------------------------ parameters
-    def relevant(self, physics: "Physics | None" = None) -> tuple[str, ...]:
-        """Names of the physics parameters this scene uses (the others are ignored and not reported). Given a
-        physics, NOISE_PARAMETERS are among them only when its noise is > 0, `loaded` only when it is not
-        "all", and CONTACT_PARAMETERS only with contact on."""
-        names = ("scene",) + COMMON_PARAMETERS + self.parameters
-        if physics is not None and physics.noise > 0:
-            names += NOISE_PARAMETERS
-        if physics is not None and getattr(physics, "loaded", "all") != "all":
-            names += ("loaded",)
-        if physics is not None and getattr(physics, "contact", False):
-            names += CONTACT_PARAMETERS
-        return names
+    @classmethod
+    def own_parameter_names(cls) -> tuple[str, ...]:
+        """Names of the scene's own parameters (`parameters`)."""
+        return tuple(p.name if isinstance(p, Parameter) else p for p in cls.parameters)
 
     def check(self, physics: "Physics") -> None:
         """Scene-specific checks of the parameters (the generic ranges are checked by Physics)."""
@@ -114,9 +99,12 @@ class Scene:
     def label(self, physics: "Physics") -> str:
         """Short description of a case, e.g. 'two-pinned N=7 sigma=0.8 delta=0.1'."""
         text = f"{self.name} N={physics.n} sigma={physics.sigma:g}"
-        for key in self.parameters:
+        for key in self.own_parameter_names():
             value = getattr(physics, key)
             text += f" {key}={value:.4g}"
+        for term in physics.active_terms():
+            if term.labelled:
+                text += "".join(f" {p.name}={getattr(physics, p.name):.4g}" for p in term.parameters)
         return text
 
     # ------------------------------------------------------------------ MJCF
@@ -136,12 +124,12 @@ class Scene:
         """The reduced model of this scene: overdamped (mass_ratio 0); the engine sets the particle mass for the
         inertial model (engines.reduced.system_of), whose beads have MuJoCo's rotational inertia (mjcf/common.xml)."""
         system = ChainSystem(
-            n=physics.n, n_chains=self.n_chains, clamped=self.clamped, pinned=self.pinned, sigma=physics.sigma,
-            gamma_l=physics.drag_ratio, gamma_t=1.0, kappa=0.0, rho=1.0, delta=0.0,
+            n=physics.n, n_chains=self.n_chains, clamped=self.clamped, pinned=self.pinned, sigma=0.0,
+            gamma_l=1.0, gamma_t=1.0, kappa=0.0, rho=1.0, delta=0.0,
             mass_ratio=0.0, inertia_factor=BEAD_INERTIA_FACTOR,
         )
-        if physics.contact:  # MuJoCo's near-hard contact becomes a steep penalty (docs/model.md, "Self-contact")
-            system = system._replace(contact_radius=physics.contact_radius, contact_stiffness=CONTACT_STIFFNESS)
+        for term in physics.active_terms():  # the follower's sigma, the drag's gamma_l, the contact's penalty, ...
+            system = term.reduced_system(system, physics)
         return system
 
     # ------------------------------------------------------------------ initial state
@@ -168,8 +156,7 @@ class Scene:
     # ------------------------------------------------------------------ drawing
     def caption(self, physics: "Physics") -> list[str]:
         """Parameter parts of a video caption, after scene, N and sigma."""
-        symbols = {"delta": "δ", "kappa": "κ", "rho": "ρ"}
-        parts = [f"{symbols.get(k, k)} = {getattr(physics, k):.3g}" for k in self.parameters]
+        parts = [f"{parameter_spec(k).symbol or k} = {getattr(physics, k):.3g}" for k in self.own_parameter_names()]
         if physics.contact:
             parts.append(f"contact R = {physics.contact_radius:.3g}"
                          + (f" μ = {physics.contact_friction:.3g}" if physics.contact_friction > 0 else ""))

@@ -26,7 +26,7 @@ import numpy as np
 from ..analysis import dish
 from ..analysis import observables as obs
 from ..analysis.reduced.system import ChainSystem
-from ..errors import ParameterError
+from ..parameters import Parameter
 from ..params import Numerics, Physics
 from ..trajectory import Trajectory
 from .base import Scene, ValidationCase
@@ -51,17 +51,13 @@ class Paraboloid(Scene):
     name = "paraboloid"
     summary = "free chain in a dish: sliding head, harmonic trap -k r (the supplement's satellite dish)"
     base_file = "paraboloid.xml"
-    parameters = ("trap",)
+    parameters = (Parameter("trap", 0.1, "stiffness k l^2 / C1 of the dish's harmonic trap -k r on every particle and "
+                            "the head", low=0.0, low_open=True, title="the dish's stiffness k l^2 / C1; without it the "
+                            "chain swims away"),)
     clamped = False
     head_coordinates = HEAD_COORDINATES
     observables = ("rotation_rate", "orbit_rate", "orbit_radius", "curvature", "dish_state")
     compared = ("rotation_rate", "orbit_rate")
-
-    def check(self, physics: Physics) -> None:
-        super().check(physics)
-        if physics.trap <= 0:
-            raise ParameterError(f"trap (the dish's stiffness k l^2 / C1) must be > 0 for {self.name}: without it "
-                                 f"the chain swims away; got {physics.trap}")
 
     def label(self, physics: Physics) -> str:
         return f"{self.name} N={physics.n} sigma={physics.sigma:g} trap={physics.trap:.4g}"

@@ -15,6 +15,7 @@ from ..analysis import observables as obs
 from ..analysis.reduced.system import ChainSystem
 from ..errors import ParameterError
 from ..initial import buckled_arch, project_on_pins, pushed_chains
+from ..parameters import Parameter
 from ..params import Numerics, Physics
 from ..trajectory import Trajectory
 from .base import Scene, ValidationCase
@@ -29,7 +30,8 @@ class TwoPinned(Scene):
     name = "two-pinned"
     summary = "last particle also pinned at (N l (1-delta), 0): self-snapping"
     base_file = "two-pinned.xml"
-    parameters = ("delta",)
+    parameters = (Parameter("delta", 0.1, "compression of the two-pinned chain, in [0, 1)", low=0.0, high=1.0,
+                            high_open=True, title="compression", symbol="δ"),)
     min_n = 2
     pinned = True
     observables = ("snap_amplitude",)

@@ -1,0 +1,76 @@
+"""The reduced model with forces from plug-in terms: a force on every particle, from their positions.
+
+A term the compiled kernels do not know (elastoactive.terms.base.Term.node_forces) gives the force F_i on every
+particle as a function of the particles' positions. Its generalised force on the absolute angle theta_j of a chain
+is the virtual work of moving every particle beyond joint j:
+
+    Q_j = sum_{i >= j} F_i . (-sin theta_j, cos theta_j)
+
+and the overdamped model becomes D(theta) theta' = f(theta) + Q(theta), with D and f those of the compiled kernels
+(the drag matrix and the chain's own forces). The right-hand side is the compiled one plus D^-1 Q, integrated by
+scipy's DOP853 at the engine's tolerances: Python runs once per evaluation (about 30 us at N = 7), so a term that
+the kernels know (its fields in the record) stays the fast path. The chains' pivots are where MuJoCo puts them
+(Scene.chain_offset), so both engines see the same positions.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..analysis import reduced as _math
+from ..errors import ParameterError
+from ..params import Physics
+
+
+def positions(physics: Physics, theta: np.ndarray) -> np.ndarray:
+    """Positions (particles, 2) of every particle, chain 1 then chain 2, from the absolute angles."""
+    n = physics.n
+    out = np.empty((physics.n_angles, 2))
+    for k in range(physics.n_chains):
+        th = theta[k * n:(k + 1) * n]
+        out[k * n:(k + 1) * n, 0] = np.cumsum(np.cos(th))
+        out[k * n:(k + 1) * n, 1] = np.cumsum(np.sin(th)) + physics.scene_def.chain_offset(physics, k)
+    return out
+
+
+def generalised(physics: Physics, theta: np.ndarray, forces: np.ndarray) -> np.ndarray:
+    """Q_j = sum_{i >= j} F_i . (-sin theta_j, cos theta_j), chain by chain."""
+    n = physics.n
+    q = np.empty(physics.n_angles)
+    for k in range(physics.n_chains):
+        part = slice(k * n, (k + 1) * n)
+        beyond = np.cumsum(forces[part][::-1], axis=0)[::-1]  # sum over i >= j
+        q[part] = -np.sin(theta[part]) * beyond[:, 0] + np.cos(theta[part]) * beyond[:, 1]
+    return q
+
+
+def check(physics: Physics, system, noisy: bool) -> None:
+    """Refuse, in one line, what this path does not cover."""
+    names = ", ".join(t.name for t in physics.active_terms() if t.node_forces(physics) is not None)
+    if noisy:
+        raise ParameterError(f"the reduced engine adds the forces of {names} to noise-free runs only; set noise 0 or "
+                             "use the MuJoCo engine")
+    if system.inertial or system.pinned or system.head_free:
+        raise ParameterError(f"the reduced engine adds the forces of {names} to the overdamped model of a chain "
+                             f"without pins or a sliding head; scene {physics.scene} needs the MuJoCo engine for them")
+
+
+def solve(physics: Physics, system, t: np.ndarray, theta0: np.ndarray, laws, *, rtol: float, atol: float,
+          beta: float, loads) -> tuple[np.ndarray, dict]:
+    """Sampled angles (len(t), n_angles) and solver info, the node forces `laws` (callables) added."""
+    # start-up time: scipy.integrate costs ~0.4 s to import; only runs with such a term need it
+    from scipy.integrate import solve_ivp
+
+    own = _math.rhs(system, beta=beta, factor=loads)
+
+    def f(time, theta):
+        total = np.zeros((physics.n_angles, 2))
+        where = positions(physics, theta)
+        for law in laws:
+            total += law(where)
+        return own(time, theta) + np.linalg.solve(_math.drag_matrix(system, theta), generalised(physics, theta, total))
+
+    sol = solve_ivp(f, (0.0, float(t[-1])), theta0, method="DOP853", t_eval=t, rtol=rtol, atol=atol)
+    if not sol.success:
+        raise ParameterError(f"the reduced engine could not integrate the node forces: {sol.message}")
+    return sol.y.T.copy(), {"method": "DOP853 (scipy, node forces)", "rtol": rtol, "atol": atol, "nfev": int(sol.nfev)}

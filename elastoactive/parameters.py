@@ -1,0 +1,175 @@
+"""Parameter specs: each physical parameter's name, default, kind, range and help, written once.
+
+A `Parameter` is declared by whatever owns it: the chain itself (n), a physical term (sigma and loaded by the
+follower force, drag_ratio by the drag, the noise's three, self-contact's three: elastoactive.terms), or a scene
+(delta by two-pinned, kappa and rho by coupled-pair, trap by paraboloid). Its owner registers it here; the rest of
+the package asks this table:
+
+  Physics            checks every value by its spec (`Parameter.check`: one rule, one message naming it) and
+                     refuses a value given where it does not act (a scene without it, or a switch that is off:
+                     `Parameter.needs`)
+  the CLI            one option per spec (elastoactive.cli.options), its help and choices from here
+  sweeps             which names can be swept, and each coordinate's long name and units in the netCDF
+
+A leaf module: it imports nothing of the package but its errors.
+"""
+
+from __future__ import annotations
+
+import math
+import numbers
+from dataclasses import dataclass
+from typing import Any
+
+from .errors import ParameterError
+
+KINDS = (float, int, bool, str)
+
+
+@dataclass(frozen=True)
+class Parameter:
+    """One physical parameter.
+
+    name        the keyword (Physics(name=...)), the CLI option (--name with '-' for '_'), the sweep coordinate
+    default     its value when not given
+    help        one line for the CLI's help and the netCDF coordinate's long name
+    kind        float, int, bool or str
+    low, high   the range (None: unbounded); low_open / high_open exclude the bound
+    choices     the allowed values of a str parameter
+    title       what it is, in messages: "n (number of particles N) must be ..."
+    symbol      short symbol for captions and labels (e.g. "δ"); default the name
+    units       units of the value for the netCDF ("1": dimensionless, "tau", "l")
+    needs       name of a switch parameter that must be on (True or > 0) for this one to act: a value given while
+                it is off is refused (contact_radius needs contact, noise_correlation needs noise)
+    quiet_default  reported in summaries only when it differs from its default (contact, loaded, and any
+                parameter a plug-in term adds, so that runs without it record what they recorded before it existed)
+    """
+
+    name: str
+    default: Any
+    help: str
+    kind: type = float
+    low: float | None = None
+    high: float | None = None
+    low_open: bool = False
+    high_open: bool = False
+    choices: tuple[str, ...] | None = None
+    title: str = ""
+    symbol: str = ""
+    units: str = "1"
+    needs: str | None = None
+    quiet_default: bool = False
+
+    def __post_init__(self) -> None:
+        if not self.name.isidentifier():
+            raise ValueError(f"a parameter's name must be an identifier, got {self.name!r}")
+        if self.kind not in KINDS:
+            raise ValueError(f"parameter {self.name}: kind must be one of float, int, bool, str, got {self.kind!r}")
+        self.check(self.default)
+
+    @property
+    def label(self) -> str:
+        """How messages name it: 'delta (compression)'."""
+        return f"{self.name} ({self.title})" if self.title else self.name
+
+    @property
+    def option(self) -> str:
+        """The command-line option: --contact-radius."""
+        return "--" + self.name.replace("_", "-")
+
+    @property
+    def metadata(self) -> dict:
+        """The help and choices as dataclass field metadata reads (the CLI and sweeps read Numerics' fields so)."""
+        return {"help": self.help, "choices": self.choices}
+
+    def range_text(self) -> str:
+        """The allowed range, e.g. '[0, 1)' or '>= 0'."""
+        if self.low is not None and self.high is not None:
+            return f"{'(' if self.low_open else '['}{self.low:g}, {self.high:g}{')' if self.high_open else ']'}"
+        if self.low is not None:
+            return f"{'>' if self.low_open else '>='} {self.low:g}"
+        if self.high is not None:
+            return f"{'<' if self.high_open else '<='} {self.high:g}"
+        return "any finite number"
+
+    def check(self, value) -> Any:
+        """The value as its kind (a numpy integer or float is its Python number), checked against the range and
+        choices; a ParameterError naming the parameter otherwise."""
+        if self.kind is bool:
+            if isinstance(value, bool) or type(value).__name__ == "bool_":
+                return bool(value)
+            raise ParameterError(f"{self.label} must be true or false, got {value!r}")
+        if self.kind is str:
+            if not isinstance(value, str):
+                raise ParameterError(f"{self.label} must be a string, got {value!r}")
+            if self.choices is not None and value not in self.choices:
+                raise ParameterError(f"{self.name} must be one of {', '.join(self.choices)}, got {value!r}")
+            return value
+        if isinstance(value, bool) or type(value).__name__ == "bool_":
+            raise ParameterError(f"{self.label} must be a number, got {value!r}")
+        if self.kind is int:
+            if isinstance(value, numbers.Integral):
+                value = int(value)
+            elif isinstance(value, numbers.Real) and float(value).is_integer():
+                value = int(value)
+            else:
+                raise ParameterError(f"{self.label} must be an integer, got {value!r}")
+        else:
+            try:
+                value = float(value)
+            except (TypeError, ValueError):
+                raise ParameterError(f"{self.name} must be a number, got {value!r}") from None
+            if not math.isfinite(value):
+                raise ParameterError(f"{self.name} must be finite, got {value}")
+        low_bad = self.low is not None and (value <= self.low if self.low_open else value < self.low)
+        high_bad = self.high is not None and (value >= self.high if self.high_open else value > self.high)
+        if low_bad or high_bad:
+            if self.low is not None and self.high is not None:
+                raise ParameterError(f"{self.label} must lie in {self.range_text()}, got {value}")
+            raise ParameterError(f"{self.label} must be {self.range_text()}, got {value}")
+        return value
+
+    def is_on(self, value) -> bool:
+        """Whether a switch is on (for `needs`): True, or a number > 0."""
+        return bool(value) if self.kind is bool else (value > 0 if self.kind in (int, float) else bool(value))
+
+
+_TABLE: dict[str, tuple[Parameter, str]] = {}
+
+
+def register(spec: Parameter, owner: str) -> Parameter:
+    """Add a spec to the table under its name; `owner` names who declares it (a term or a scene). Registering the
+    same spec again is a no-op; another spec under a taken name is refused."""
+    known = _TABLE.get(spec.name)
+    if known is not None and known[0] != spec:
+        raise ValueError(f"a parameter named {spec.name!r} is already declared by {known[1]}")
+    _TABLE[spec.name] = (spec, known[1] if known else owner)
+    return spec
+
+
+def unregister(name: str) -> None:
+    """Remove a spec (tests that add a plug-in term clean up with this)."""
+    _TABLE.pop(name, None)
+
+
+def get(name: str) -> Parameter:
+    """The spec called `name` (KeyError if none)."""
+    return _TABLE[name][0]
+
+
+def owner(name: str) -> str:
+    """Who declared the parameter `name`."""
+    return _TABLE[name][1]
+
+
+def known(name: str) -> bool:
+    return name in _TABLE
+
+
+def names() -> tuple[str, ...]:
+    """Every declared parameter, in declaration order."""
+    return tuple(_TABLE)
+
+
+def specs() -> tuple[Parameter, ...]:
+    return tuple(spec for spec, _ in _TABLE.values())

@@ -1,0 +1,72 @@
+"""The term registry: every physical term is one module here, registered under its name.
+
+    import elastoactive as ea
+    ea.terms.names()                  # ('follower', 'drag', 'noise', 'contact')
+    ea.terms.get("contact").parameters
+
+A new term is a subclass of `Term` (elastoactive.terms.base) registered with `register`: its parameters join every
+scene's (Physics, the CLI's options, sweeps), its `build` adds MJCF elements, its `reduced_system` or
+`node_forces` its reduced-model contribution, its `measure` its observables. See docs/terms.md for the contract
+and the diff a new term needs.
+"""
+
+from __future__ import annotations
+
+from .. import parameters as _parameters
+from .base import NodeForces, Term
+
+_TERMS: dict[str, Term] = {}
+
+
+def register(term: Term, *, replace: bool = False) -> Term:
+    """Add a term (and its parameter specs) under `term.name`; returns it."""
+    name = getattr(term, "name", None)
+    if not isinstance(name, str) or not name:
+        raise ValueError(f"a term needs a non-empty string `name`, got {name!r}")
+    if name in _TERMS and not replace and _TERMS[name] is not term:
+        raise ValueError(f"a term named {name!r} is already registered (pass replace=True to replace it)")
+    for spec in term.parameters:
+        _parameters.register(spec, f"term {name}")
+    _TERMS[name] = term
+    return term
+
+
+def unregister(name: str) -> None:
+    """Remove a term and its parameters (tests that register a plug-in term clean up with this)."""
+    term = _TERMS.pop(name, None)
+    for spec in getattr(term, "parameters", ()):
+        _parameters.unregister(spec.name)
+
+
+def get(name: str) -> Term:
+    return _TERMS[name]
+
+
+def names() -> tuple[str, ...]:
+    """Names of the registered terms, in registration order."""
+    return tuple(_TERMS)
+
+
+def terms() -> tuple[Term, ...]:
+    return tuple(_TERMS.values())
+
+
+def parameter_names() -> tuple[str, ...]:
+    """The parameters of every registered term, in registration order."""
+    return tuple(p.name for t in _TERMS.values() for p in t.parameters)
+
+
+def owner_of(parameter: str) -> Term | None:
+    """The term that declares `parameter` (None: a scene's own, or the chain's)."""
+    for term in _TERMS.values():
+        if any(p.name == parameter for p in term.parameters):
+            return term
+    return None
+
+
+from . import contact, drag, follower, noise  # noqa: E402  (the built-in terms register into the table above)
+
+for _module in (drag, noise, follower, contact):  # this order: the summaries list noise before loaded
+    register(_module.TERM)
+
+__all__ = ["NodeForces", "Term", "get", "names", "owner_of", "parameter_names", "register", "terms", "unregister"]

@@ -1,0 +1,85 @@
+"""What a physical term is: the plug-in contract of a force law, a field or an interaction.
+
+A term module defines one subclass of `Term` and registers one instance of it (elastoactive.terms.register).
+The instance holds everything the term adds, and the rest of the package asks it:
+
+  parameters      its `Parameter` specs (elastoactive.parameters): name, default, range, help, units, and which
+                  switch must be on for each to act; Physics checks them, the CLI offers them, sweeps sweep them
+  prepare         normalises its values once the others are known (e.g. `loaded`'s indices against N)
+  active          whether it acts in a given Physics (a term whose parameters are all at rest does nothing, so a
+                  run without it is bit for bit what it was before the term existed)
+  MJCF            `build`: the elements it adds to the scene's MjSpec (a tendon, an option, a site)
+  reduced model   `reduced_system`: the fields it sets on the scene's ChainSystem record, read by the compiled
+                  kernels; or, for a term the kernels do not know, `node_forces`: a force on every particle as a
+                  function of their positions, added to the reduced model's generalised forces
+  observables     `observables` (names) and `measure` (their values from a trajectory)
+  validation      `validation_cases`: runs `validate` holds both engines to with the term on
+
+A term is universal: once registered, every scene has its parameters (a scene's own parameters are the scene's:
+elastoactive.scenes.base.Scene.parameters).
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Callable, ClassVar
+
+import numpy as np
+
+from ..parameters import Parameter
+
+if TYPE_CHECKING:  # typing only: params imports the term registry
+    from ..analysis.reduced.system import ChainSystem
+    from ..params import Numerics, Physics
+    from ..trajectory import Trajectory
+
+
+NodeForces = Callable[[np.ndarray], np.ndarray]
+"""positions (particles, 2) -> forces (particles, 2), in units C1 / l: the particles of chain 1, then chain 2."""
+
+
+class Term:
+    """A physical term: its parameters, MJCF element, reduced-model contribution and observables."""
+
+    name: ClassVar[str] = ""
+    """Registry key, e.g. 'contact'."""
+    summary: ClassVar[str] = ""
+    """One line: what it adds."""
+    parameters: ClassVar[tuple[Parameter, ...]] = ()
+    observables: ClassVar[tuple[str, ...]] = ()
+    """Results it adds (their values: `measure`)."""
+    labelled: ClassVar[bool] = True
+    """Whether a case's label (Scene.label) names its parameters when it is active (the built-in terms' are named by
+    the scenes' own labels and captions)."""
+
+    def prepare(self, values: dict) -> None:
+        """Normalise this term's values in `values` (every parameter of the physics, checked one by one) in place;
+        raise ParameterError for a combination the specs cannot check alone."""
+
+    def active(self, physics: "Physics") -> bool:
+        """Whether the term acts: by default, whether any of its parameters differs from its default."""
+        return any(getattr(physics, p.name) != p.default for p in self.parameters)
+
+    def build(self, spec, physics: "Physics", numerics: "Numerics") -> None:
+        """Add the term's MJCF elements to `spec` (an mujoco.MjSpec holding the scene's chains); only called when
+        the term is active."""
+
+    def reduced_system(self, system: "ChainSystem", physics: "Physics") -> "ChainSystem":
+        """The scene's reduced-model record with this term's fields set (only called when the term is active)."""
+        return system
+
+    def node_forces(self, physics: "Physics") -> NodeForces | None:
+        """For a term the compiled kernels do not know: the force on every particle from their positions, which the
+        reduced engine adds to the generalised forces (None: the term's reduced contribution is in the record)."""
+        return None
+
+    def measure(self, traj: "Trajectory", transient: float) -> dict[str, float | str]:
+        """Values of `observables`."""
+        return {}
+
+    def validation_cases(self) -> tuple:
+        """Cases (elastoactive.scenes.base.ValidationCase) that `validate` runs through both engines with this term
+        on, besides the scenes' own."""
+        return ()
+
+    def __repr__(self) -> str:
+        return f"<term {self.name!r}>"

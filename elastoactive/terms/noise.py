@@ -1,0 +1,34 @@
+"""Multiplicative noise on the active force: F_a (1 + eta), white or coloured (Ornstein-Uhlenbeck).
+
+Both engines draw the same counter-based realisation (elastoactive.noise); MuJoCo's callback applies it, the
+reduced engine integrates the SDE (Euler-Maruyama, Heun for Stratonovich) or the random ODE of coloured noise.
+Its correlation time and calculus act only when the amplitude is > 0.
+"""
+
+from __future__ import annotations
+
+from ..parameters import Parameter
+from .base import Term
+
+NOISE_CALCULI = ("ito", "stratonovich")
+NOISE = Parameter("noise", 0.0, "amplitude a of multiplicative white noise on F_a", low=0.0, title="amplitude a")
+NOISE_CORRELATION = Parameter(
+    "noise_correlation", 0.0,
+    "correlation time tau_c of the noise, in tau (0: white; > 0: Ornstein-Uhlenbeck of variance a^2 / (2 tau_c))",
+    low=0.0, title="tau_c, 0: white", units="tau", needs="noise")
+NOISE_CALCULUS = Parameter(
+    "noise_calculus", "ito", "reading of white noise (reduced engine; MuJoCo: ito, or stratonovich as small tau_c)",
+    kind=str, choices=NOISE_CALCULI, needs="noise")
+
+
+class Noise(Term):
+    name = "noise"
+    summary = "multiplicative noise on the active force, white (Ito or Stratonovich) or coloured"
+    labelled = False
+    parameters = (NOISE, NOISE_CORRELATION, NOISE_CALCULUS)
+
+    def active(self, physics) -> bool:
+        return physics.noise > 0
+
+
+TERM = Noise()

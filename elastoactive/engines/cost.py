@@ -1,0 +1,97 @@
+"""What a run will cost before it runs: MuJoCo's wall time from its step cost, the reduced engine's from a pilot.
+
+MuJoCo's cost is close to linear in the number of steps: `sample_cost` times a few recorded samples of the
+compiled model (the follower-force callback on, as in the run) on a copy of the run's state, so the run itself is
+untouched (bit-identical). The reduced engine's cost depends on the adaptive solver's steps, which follow the
+dynamics rather than a fixed dt: `reduced_cost` times a short pilot run after one untimed call (the first one
+compiles the kernels). When the MuJoCo run would take far longer than the reduced engine for the same observables,
+`cost_note` says so in one line with both estimates; the run still goes.
+"""
+
+from __future__ import annotations
+
+import copy
+import time
+from typing import NamedTuple
+
+import mujoco
+
+from ..controllers import follower_forces
+from ..errors import ParameterError
+from ..params import Numerics, Physics
+
+PROBE_SECONDS = 0.02
+"""Wall time spent timing MuJoCo's samples (at least PROBE_MIN_SAMPLES samples)."""
+PROBE_MIN_SAMPLES = 2
+PROBE_SHARE = 0.05
+"""Most of a run's samples the probe steps (a short run is not made much longer by its own estimate)."""
+NOTE_SECONDS = 60.0
+"""A MuJoCo run estimated to take longer than this is compared with the reduced engine."""
+FAR_BEYOND = 10.0
+"""The note is shown when the MuJoCo estimate is more than this many times the reduced engine's."""
+PILOT_SHARE = 0.02
+"""Share of the run's duration the reduced engine's pilot simulates (at least PILOT_MIN_TAU)."""
+PILOT_MIN_TAU = 5.0
+
+
+class MujocoCost(NamedTuple):
+    """A MuJoCo run's estimated wall time and what it comes from."""
+
+    wall_s: float
+    steps: int
+    us_per_step: float
+    probed_samples: int
+
+
+def sample_cost(model: mujoco.MjModel, data: mujoco.MjData, steps_per_sample: int, samples: int) -> tuple[float, int]:
+    """(seconds per recorded sample, samples timed): a few samples of the run, stepped on a copy of its state."""
+    probe = copy.copy(data)
+    limit = max(PROBE_MIN_SAMPLES, min(samples, int(PROBE_SHARE * samples)))
+    timed = 0
+    with follower_forces():
+        mujoco.mj_step(model, probe, nstep=1)  # the first step pays one-off costs (caches, the callback's set-up)
+        start = time.perf_counter()
+        while timed < limit and (timed < PROBE_MIN_SAMPLES or time.perf_counter() - start < PROBE_SECONDS):
+            mujoco.mj_step(model, probe, nstep=steps_per_sample)
+            timed += 1
+        elapsed = time.perf_counter() - start
+    return elapsed / max(timed, 1), timed
+
+
+def mujoco_cost(model: mujoco.MjModel, data: mujoco.MjData, numerics: Numerics, samples: int) -> MujocoCost:
+    """Estimated wall time of `samples` recorded samples (numerics.steps_per_sample steps each) of this model."""
+    per_sample, timed = sample_cost(model, data, numerics.steps_per_sample, samples)
+    steps = samples * numerics.steps_per_sample
+    return MujocoCost(per_sample * samples, steps, 1e6 * per_sample / numerics.steps_per_sample, timed)
+
+
+def reduced_cost(physics: Physics, numerics: Numerics, duration: float) -> float | None:
+    """Estimated wall time (s) of the reduced engine over `duration`, from a pilot of a few percent of it; None
+    when the reduced engine cannot run this case."""
+    from .reduced import simulate_reduced  # start-up time: numba's kernels load only when a pilot runs
+
+    pilot = min(duration, max(PILOT_MIN_TAU, PILOT_SHARE * duration))
+    try:
+        simulate_reduced(physics, numerics, min(pilot, 10 * numerics.sample_dt))  # compiles the kernels: untimed
+        start = time.perf_counter()
+        simulate_reduced(physics, numerics, pilot)
+    except (ParameterError, RuntimeError):
+        return None
+    return (time.perf_counter() - start) * duration / pilot
+
+
+def _duration_text(seconds: float) -> str:
+    if seconds < 120:
+        return f"{seconds:.0f} s"
+    if seconds < 7200:
+        return f"{seconds / 60:.0f} min"
+    return f"{seconds / 3600:.1f} h"
+
+
+def cost_note(mujoco_estimate: MujocoCost, reduced_s: float | None) -> str | None:
+    """One line when MuJoCo would take far longer than the reduced engine (None otherwise)."""
+    if reduced_s is None or mujoco_estimate.wall_s < NOTE_SECONDS or mujoco_estimate.wall_s < FAR_BEYOND * reduced_s:
+        return None
+    return (f"this MuJoCo run will take about {_duration_text(mujoco_estimate.wall_s)} ({mujoco_estimate.steps:.3g} "
+            f"steps at {mujoco_estimate.us_per_step:.3g} us); the reduced engine gives the same observables in about "
+            f"{_duration_text(reduced_s)} (--engine reduced, or engine='reduced'). Running it anyway")

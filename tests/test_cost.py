@@ -1,0 +1,40 @@
+"""A MuJoCo run says what it will cost before it runs (engines.cost): the estimate holds to the measured wall time,
+the run is untouched by it, and a run far slower than the reduced engine would be is named in one line."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import elastoactive as ea
+from elastoactive.engines import cost
+from elastoactive.engines import mujoco as engine
+
+
+@pytest.mark.parametrize("n,duration", [(4, 200.0), (15, 60.0), (40, 20.0)])  # each about half a second
+def test_the_estimate_is_within_a_factor_two_of_the_wall_time(n, duration):
+    physics = ea.Physics(n=n, sigma=0.8 if n < 10 else 130 / n**3)
+    traj = engine.simulate_mujoco(physics, ea.Numerics(), duration, progress=True)
+    estimate, measured = traj.info["estimated_wall_s"], traj.wall_time_s
+    assert 0.5 <= estimate / measured <= 2.0, (estimate, measured)
+
+
+def test_the_estimate_leaves_the_run_bit_identical():
+    physics, numerics = ea.Physics(n=5, sigma=0.9, noise=0.1, noise_correlation=0.5), ea.Numerics(seed=3)
+    timed = engine.simulate_mujoco(physics, numerics, 10.0, progress=True)
+    plain = engine.simulate_mujoco(physics, numerics, 10.0)
+    np.testing.assert_array_equal(timed.theta, plain.theta)
+
+
+def test_a_run_far_slower_than_the_reduced_engine_is_named_in_one_line(monkeypatch, capsys):
+    line = cost.cost_note(cost.MujocoCost(3.0 * 3600, 10**9, 10.8, 5), 40.0)
+    assert "3.0 h" in line and "40 s" in line and "--engine reduced" in line and "\n" not in line
+    assert cost.cost_note(cost.MujocoCost(3.0 * 3600, 10**9, 10.8, 5), 3600.0) is None  # not far beyond
+    assert cost.cost_note(cost.MujocoCost(20.0, 10**6, 20.0, 5), 0.1) is None  # short: not worth a word
+    assert cost.cost_note(cost.MujocoCost(3.0 * 3600, 10**9, 10.8, 5), None) is None  # no reduced estimate
+    monkeypatch.setattr(engine, "NOTE_SECONDS", 0.0)
+    monkeypatch.setattr(cost, "NOTE_SECONDS", 0.0)
+    monkeypatch.setattr(cost, "FAR_BEYOND", 0.0)
+    engine.simulate_mujoco(ea.Physics(n=4), ea.Numerics(), 5.0, progress=True)
+    notes = [line for line in capsys.readouterr().err.splitlines() if line.startswith("elastoactive: note:")]
+    assert len(notes) == 1 and "MuJoCo run will take about" in notes[0] and "reduced engine" in notes[0]

@@ -40,7 +40,7 @@ def _record(cls, value, argument: str, name_kind: str, from_name):
 
 
 def as_physics(physics) -> Physics:
-    """An ea.Physics from a Physics, a scene name ("one-pinned": its defaults) or a dict of fields."""
+    """An ea.Physics from a Physics, a scene name (the scene with its default parameters) or a dict of fields."""
     return _record(Physics, physics, "physics", "a scene name", lambda name: Physics(scene=name))
 
 

@@ -29,6 +29,8 @@ import errno
 import importlib
 import math
 import os
+import resource
+import shutil
 import subprocess
 import sys
 import time
@@ -516,9 +518,6 @@ def setup_ffmpeg() -> str:
 def _encoder_stopped(tmp: Path, err: BaseException) -> str:
     """Why the video encoder (an ffmpeg process) stopped writing `tmp`: a file-size limit, a full disk, or what it
     said."""
-    import resource
-    import shutil
-
     limit = resource.getrlimit(resource.RLIMIT_FSIZE)[0]
     if limit != resource.RLIM_INFINITY and tmp.exists() and tmp.stat().st_size >= limit - (1 << 16):
         return f"File too large: the video reached the file-size limit (ulimit -f) of {limit} bytes"

@@ -135,6 +135,7 @@ def main(args) -> int:
 
 
 def _run(args, out: Path | None) -> int:
+    # start-up time: the engines and analysis load only when a command runs, not for --help
     from ..api import simulate
     from ..outputs import check_file, provenance, utc_now
     from ..results import jsonable, summary, write_run, check_transient

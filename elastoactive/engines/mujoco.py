@@ -8,6 +8,7 @@ likely cause, instead of silently restarting from qpos0.
 
 from __future__ import annotations
 
+import sys
 import time
 from typing import Callable
 
@@ -21,6 +22,7 @@ from ..model import prepare, state_of
 from ..params import Numerics, Physics
 from ..progress import progress_bar
 from ..trajectory import Trajectory
+from .cost import NOTE_SECONDS, cost_note, mujoco_cost, reduced_cost
 
 CHECK_EVERY = 100  # samples between divergence checks
 MAX_STEPS = 1_000_000_000  # steps one run may take: ~1 h at N = 7, far more for long chains
@@ -82,6 +84,10 @@ def simulate_mujoco(
 
     on_sample(model, data) is called at every recorded sample (e.g. to render a frame); it must
     not change the state.
+
+    progress=True also estimates the run's wall time first (engines.cost: a few samples stepped on a copy of the
+    state; info["estimated_wall_s"]) and, for a long run far slower than the reduced engine would be, says so in
+    one line on stderr before it starts.
     """
     if not duration > 0:
         raise ParameterError(f"duration (in tau) must be a positive number, got {duration}")
@@ -97,6 +103,13 @@ def simulate_mujoco(
     if on_sample is not None:
         on_sample(model, data)
 
+    estimate = None
+    if progress:
+        estimate = mujoco_cost(model, data, numerics, t.size - 1)
+        if estimate.wall_s >= NOTE_SECONDS:
+            note = cost_note(estimate, reduced_cost(physics, given, duration))
+            if note:
+                print(f"elastoactive: note: {note}", file=sys.stderr, flush=True)
     bar = progress_bar(t.size - 1, f"mujoco {physics.scene}", "sample") if progress else None
     shown = 0
     nstep = numerics.steps_per_sample
@@ -125,6 +138,8 @@ def simulate_mujoco(
         bar.close()
     info = {"steps": int((t.size - 1) * nstep), "integrator": numerics.integrator}
     info["us_per_step"] = 1e6 * wall / max(info["steps"], 1)
+    if estimate is not None:
+        info["estimated_wall_s"] = estimate.wall_s
     if pinned:
         info["constraint_violation"] = violation
     info.update(numerics_info(given, numerics))

@@ -43,6 +43,9 @@ def main(argv: list[str] | None = None) -> int:
     except SimulationDiverged as err:
         print(f"elastoactive: {err}", file=sys.stderr)
         return 3
+    except KeyboardInterrupt as err:  # Ctrl-C: one line saying where it stopped, no traceback
+        print(f"elastoactive: interrupted{f': {err}' if str(err) else ''}", file=sys.stderr)
+        return 130
     except OSError as err:  # a write that failed (full disk, file-size limit): the file and the cause, one line
         where = f"{err.filename}: " if err.filename else ""
         print(f"elastoactive: error: {where}{err.strerror or err}", file=sys.stderr)

@@ -38,6 +38,7 @@ __all__ = [
     "DEFAULT_BETA",
     "INERTIA_RESOLUTION",
     "STIFF_RADIUS",
+    "Interrupted",
     "Regime",
     "base_state",
     "check_method",
@@ -290,8 +291,11 @@ def simulate_reduced(
     elif laws:  # plug-in terms' forces on the particles (engines.node_forces)
         theta, info = node_forces.solve(physics, system, t, theta0, laws, rtol=rtol, atol=atol, beta=beta, loads=loads)
     else:
-        theta, info = _math.solve_ode(system, t, theta0, rtol=rtol, atol=atol, method=method, beta=beta,
-                                      loads=loads)
+        try:
+            theta, info = _math.solve_ode(system, t, theta0, rtol=rtol, atol=atol, method=method, beta=beta,
+                                          loads=loads)
+        except KeyboardInterrupt as err:  # Ctrl-C (numba-DOP853 sees it within ~0.1 s): keep the samples computed
+            raise _interrupted(err, system, t, physics, time.perf_counter() - start) from None
     wall = time.perf_counter() - start
     info.update(model="inertial" if use_inertia else "overdamped", mass_ratio=float(numerics.mass_ratio), **record)
     if system.pinned:
@@ -299,6 +303,29 @@ def simulate_reduced(
         info["constraint_violation"] = _math.constraint_violation(system, theta)
     theta, head = _split_head(system, theta)
     return Trajectory(t=t, theta=theta, physics=physics, engine="reduced", wall_time_s=wall, info=info, head=head)
+
+
+class Interrupted(KeyboardInterrupt):
+    """Ctrl-C during simulate_reduced. `trajectory`: the samples computed so far (a Trajectory over the times
+    reached; None when the solver does not report them, or none were reached), for a caller that keeps them."""
+
+    def __init__(self, message: str, trajectory: Trajectory | None):
+        super().__init__(message)
+        self.trajectory = trajectory
+
+
+def _interrupted(err: KeyboardInterrupt, system: ChainSystem, t: np.ndarray, physics: Physics,
+                 wall: float) -> Interrupted:
+    """The Interrupted of a Ctrl-C during the deterministic solve (numba-DOP853's Interrupted carries its samples)."""
+    samples = getattr(err, "samples", None)
+    if samples is None or len(samples) < 2:
+        return Interrupted(f"the reduced run was interrupted after {wall:.1f} s, before its first samples", None)
+    theta, head = _split_head(system, np.asarray(samples))
+    reached = t[: len(theta)]
+    partial = Trajectory(t=reached, theta=theta, physics=physics, engine="reduced", wall_time_s=wall,
+                         info={"interrupted": True}, head=head)
+    return Interrupted(f"the reduced run was interrupted at t = {reached[-1]:.6g} of {t[-1]:.6g} tau "
+                       f"({len(reached)} samples computed)", partial)
 
 
 def _split_head(system: ChainSystem, state: np.ndarray) -> tuple[np.ndarray, np.ndarray | None]:

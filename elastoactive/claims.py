@@ -47,7 +47,8 @@ def claims_table(rows: list[Claim], explanations: bool = True) -> str:
 
 def render_report(studies: Mapping[str, Study], figures: Mapping[str, list], meta: dict) -> str:
     """report.md from the studies (by name), the figures each wrote and the run's record (`meta`: command, size,
-    workers, wall_s, provenance, and `kept`: the studies whose saved data were reused)."""
+    workers, wall_s, provenance, `kept`: the studies whose saved data were reused, `unreadable`: those left
+    out because their saved data cannot be read)."""
     rows = build_claims(studies)
     n_yes = sum(c.agree == "yes" for c in rows)
     out = [
@@ -77,6 +78,9 @@ def render_report(studies: Mapping[str, Study], figures: Mapping[str, list], met
     if meta.get("kept"):
         out += ["", f"Kept from earlier runs into this folder (same size; data reused, figures redrawn; wall s as "
                     f"recorded then): {', '.join(meta['kept'])}."]
+    if meta.get("unreadable"):
+        out += ["", f"Left out: the data of {', '.join(meta['unreadable'])} in this folder cannot be read by this code; "
+                    "rerun them with --only."]
     out += ["", "Data: one `<study>.npz` (arrays behind each figure) and `<study>.json` (the numbers above) per study.", ""]
     if meta.get("provenance"):
         out += ["## Provenance", "", provenance_line(meta["provenance"]), ""]

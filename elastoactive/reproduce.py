@@ -135,14 +135,23 @@ def reproduce(out: Path, size: str = "quick", workers: int | None = None, only: 
     workers = default_workers() if workers is None else workers
     start = time.perf_counter()
     result = Reproduction(out)
+    unreadable = []
+    for name in to_keep + merged:
+        try:
+            result.studies[name] = load_study(out, name)
+        except (OSError, ValueError, KeyError, TypeError) as err:  # a torn file, or a summary this code cannot read
+            if name in merged:
+                unreadable.append(name)
+                log(f"left out of the report: {name} ({out / name}.json/.npz cannot be read by this code: {err})")
+    to_keep = [n for n in to_keep if n in result.studies]
+    to_run = [n for n in names if n not in to_keep]
+    merged = [n for n in merged if n in result.studies]
     report_names = [n for n in every if n in names or n in merged]
-    for name in [n for n in report_names if n not in to_run]:
-        result.studies[name] = load_study(out, name)
     if to_keep:
         log(f"kept from an earlier run at this size and code: {', '.join(to_keep)}")
     redo = [n for n in to_run if (s := _saved(out, n)) is not None and s.complete and s.size == size and not force]
     if redo:
-        log(f"run again (their data in the folder were made by other code): {', '.join(redo)}")
+        log(f"run again, their data in the folder made by other code: {', '.join(redo)}")
     if merged:
         log(f"in the report from this folder (not asked for): {', '.join(merged)}")
 
@@ -185,7 +194,7 @@ def reproduce(out: Path, size: str = "quick", workers: int | None = None, only: 
     result.report = out / "report.md"
     write_text(result.report, claims.render_report(result.studies, result.figures, {
         "size": size, "workers": workers, "wall_s": result.wall_s, "command": command, "provenance": record,
-        "kept": result.kept}))
+        "kept": result.kept, "unreadable": unreadable}))
     log(f"wrote {result.report} ({result.wall_s:.0f} s)")
     return result
 

@@ -16,6 +16,7 @@ import pytest
 from elastoactive.analysis import stability as stab
 from elastoactive.cli import main
 from elastoactive.errors import ParameterError
+from elastoactive import reproduce as reproduce_module
 from elastoactive.reproduce import Interrupted, reproduce
 from elastoactive.studies import STUDIES, SUMMARIES, Study, Summary, load_study, registry
 from elastoactive.studies import plotting as plots
@@ -65,8 +66,10 @@ def _claims(study: Study, read: Mapping[str, Study]) -> list[Claim]:
 
 
 @pytest.fixture
-def toys():
-    """toy_short (N = 2, 3) and toy_long (N = 3, 4; its claims read toy_short), registered for one test."""
+def toys(monkeypatch):
+    """toy_short (N = 2, 3) and toy_long (N = 3, 4; its claims read toy_short), registered for one test; the code
+    digest held fixed (the package's sources may change under a test run in a shared checkout)."""
+    monkeypatch.setattr(reproduce_module, "source_digest", lambda: "code-1")
     CALLS.clear()
     STOP.clear()
     for name, ns, order, reads in (("toy_short", (2, 3), 1001, ()), ("toy_long", (3, 4), 1002, ("toy_short",))):
@@ -131,3 +134,25 @@ def test_ctrl_c_keeps_the_finished_studies_and_a_rerun_resumes(toys, tmp_path, c
     CALLS.clear()
     result = reproduce(tmp_path, "tiny", 1, only=list(toys), progress=False, log=_quiet)
     assert CALLS == ["toy_long"] and result.kept == ["toy_short"]
+
+
+def test_data_this_code_cannot_read_are_rerun_or_named(toys, tmp_path):
+    reproduce(tmp_path, "tiny", 1, only=list(toys), progress=False, log=_quiet)
+    (tmp_path / "toy_short.npz").write_bytes(b"torn")
+    lines = []
+    partial = reproduce(tmp_path, "tiny", 1, only=["toy_long"], progress=False, log=lines.append)
+    assert "toy_short" not in partial.studies and any("left out of the report: toy_short" in x for x in lines)
+    assert "Left out: the data of toy_short" in partial.report.read_text()
+    CALLS.clear()
+    whole = reproduce(tmp_path, "tiny", 1, only=list(toys), progress=False, log=_quiet)
+    assert CALLS == ["toy_short"] and whole.kept == ["toy_long"]  # asked for: run again
+
+
+def test_data_made_by_other_code_are_run_again(toys, tmp_path, monkeypatch):
+    reproduce(tmp_path, "tiny", 1, only=list(toys), progress=False, log=_quiet)
+    monkeypatch.setattr(reproduce_module, "source_digest", lambda: "code-2")
+    lines = []
+    result = reproduce(tmp_path, "tiny", 1, only=["toy_short"], progress=False, log=lines.append)
+    assert CALLS == ["toy_short", "toy_long", "toy_short"] and result.kept == ["toy_long"]  # toy_long merged, as recorded
+    assert any("made by other code: toy_short" in x for x in lines)
+    assert json.loads((tmp_path / "toy_short.json").read_text())["provenance"]["code"] == "code-2"

@@ -70,7 +70,7 @@ from .analysis.reduced import INERTIA_RESOLUTION  # noqa: F401  (re-exported: th
 from .controllers import follower_forces
 from .errors import ParameterError
 from .model import build_model, prepare
-from .params import Numerics, Physics
+from .params import RESOLUTION, Numerics, Physics  # noqa: F401  (RESOLUTION: the one dt x rate bound, read here)
 
 
 def no_log_file() -> None:
@@ -94,7 +94,6 @@ EXPLICIT_DRAG = {"Euler": 2.0, "RK4": RK4_STABILITY}
 # Accuracy guards (see the module docstring), calibrated on scripts/stability_grid.py and
 # `elastoactive accuracy`: at these bounds the paper's cases stay within ~5% (amplitude, frequency)
 # and ~10% (transient angles); the project's defaults and the 'fast' preset pass with margin.
-RESOLUTION = 0.2
 DISCRETE_RESOLUTION = 0.03
 PIN_DT3_PER_MASS = 0.01
 # INERTIA_RESOLUTION (0.1, the overdamped limit) lives with its criterion in analysis/reduced/regime.py

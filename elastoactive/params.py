@@ -261,9 +261,11 @@ class Numerics:
 
     Automatic numerics for long chains: when dt, mass_ratio and integrator are all left at their defaults
     (`automatic`), a MuJoCo run of a chain of LONG_CHAIN particles or more uses `for_physics(physics)`
-    instead: explicit drag (Euler) with a matched particle mass, several times cheaper per step than
-    implicitfast's dense drag derivatives (long_chain_numerics). Shorter chains, and any run where one of the
-    three is given, use the values as they are (a given value always wins, even one equal to the default).
+    instead: the cheaper of explicit drag (Euler) with a matched particle mass, several times cheaper per step than
+    implicitfast's dense drag derivatives, and implicitfast with a dt that resolves the chain's fastest rate (the
+    defaults where they do: long_chain_numerics). Either passes the pre-flight check. Shorter chains, and any run
+    where one of the three is given, use the values as they are (a given value always wins, even one equal to the
+    default).
     """
 
     dt: float = field(default=DEFAULT_DT, metadata={"help": "MuJoCo timestep in tau"})
@@ -369,6 +371,12 @@ LONG_CHAIN = 30
 """Chains of this many particles or more run with long_chain_numerics when their numerics are automatic. From
 here on implicitfast's step, whose dense drag derivatives cost O(N^3), is more than twice Euler's (measured
 per step, thread time: 2.1x at N = 30, 5.4x at 100, 8.3x at 200; docs/performance.md)."""
+RESOLUTION = 0.2
+"""dt x rate below which an integrator resolves a mode of that rate (implicitfast, Euler, RK4, implicit; the pre-flight
+check, elastoactive.diagnose, holds every run to it; docs/performance.md)."""
+RESOLVED_INERTIA = 0.05
+"""mass_ratio x rate that the automatic numerics keep below: half the overdamped limit (analysis.reduced.regime's 0.1),
+so that the inertial lag stays a small error."""
 LONG_CHAIN_MASS = 2e-3
 """Largest particle mass ratio long_chain_numerics picks."""
 LONG_CHAIN_RESOLUTION = 0.55
@@ -402,22 +410,45 @@ def _fastest_rate(physics) -> float:
     return rate
 
 
+def _whole_fraction(sample_dt: float, target: float) -> float:
+    """The largest dt <= target that divides sample_dt into whole steps."""
+    return sample_dt / max(1, math.ceil(sample_dt / target - 1e-9))
+
+
+def resolving_numerics(physics, numerics: Numerics) -> Numerics:
+    """`numerics` (implicitfast's implicit drag) with dt and mass_ratio small enough to resolve the chain's fastest
+    overdamped rate: dt x rate <= RESOLUTION (dt a whole fraction of sample_dt) and mass_ratio x rate <=
+    RESOLVED_INERTIA; unchanged where they already do."""
+    rate = _fastest_rate(physics)
+    if rate <= 0:
+        return numerics
+    dt = min(numerics.dt, _whole_fraction(numerics.sample_dt, RESOLUTION / rate))
+    m = min(numerics.mass_ratio, RESOLVED_INERTIA / rate)
+    if dt == numerics.dt and m == numerics.mass_ratio:
+        return numerics
+    return dataclasses.replace(numerics, dt=dt, mass_ratio=max(m, 1e-7))
+
+
 def long_chain_numerics(physics, numerics: Numerics | None = None) -> Numerics:
-    """Explicit drag with a matched mass for a long chain: integrator Euler, mass_ratio
-    m = min(LONG_CHAIN_MASS, LONG_CHAIN_RESOLUTION / rate^2) and dt = LONG_CHAIN_DT_PER_MASS x m / max(1, drag_ratio)
-    rounded down to a whole fraction of sample_dt (the other settings of `numerics` kept). m x rate stays below
-    0.1 (the overdamped limit, analysis.reduced.regime): the run models the paper's overdamped chain, as the
-    defaults do. Returns `numerics` unchanged when the smaller dt would cost more steps than Euler's cheaper step
-    makes up for (LONG_CHAIN_STEP_COST)."""
+    """The cheaper of two settings that resolve a long chain (the other settings of `numerics` kept):
+
+    * explicit drag with a matched mass: integrator Euler, mass_ratio m = min(LONG_CHAIN_MASS,
+      LONG_CHAIN_RESOLUTION / rate^2) and dt = LONG_CHAIN_DT_PER_MASS x m / max(1, drag_ratio) rounded down to a
+      whole fraction of sample_dt; m x rate stays below 0.1 (the overdamped limit, analysis.reduced.regime): the
+      run models the paper's overdamped chain, as the defaults do;
+    * implicitfast at `numerics`' dt and mass, made smaller where they do not resolve the fastest rate
+      (resolving_numerics): the defaults themselves for moderate rates, a smaller dt at high sigma or N.
+
+    Euler's step is cheaper by LONG_CHAIN_STEP_COST; it is chosen when that makes up for its smaller dt."""
     numerics = Numerics() if numerics is None else numerics
     rate = _fastest_rate(physics)
     m = LONG_CHAIN_MASS if rate <= 0 else min(LONG_CHAIN_MASS, LONG_CHAIN_RESOLUTION / rate**2)
     m = max(m, 1e-7)
-    target = LONG_CHAIN_DT_PER_MASS * m / max(1.0, float(physics.drag_ratio))
-    dt = numerics.sample_dt / max(1, math.ceil(numerics.sample_dt / target - 1e-9))
+    dt = _whole_fraction(numerics.sample_dt, LONG_CHAIN_DT_PER_MASS * m / max(1.0, float(physics.drag_ratio)))
+    implicit = resolving_numerics(physics, numerics)
     c, p = LONG_CHAIN_STEP_COST
-    if dt * c * (physics.n / LONG_CHAIN) ** p < numerics.dt:
-        return numerics
+    if dt * c * (physics.n / LONG_CHAIN) ** p < implicit.dt:
+        return implicit
     return dataclasses.replace(numerics, integrator="Euler", dt=dt, mass_ratio=m)
 
 

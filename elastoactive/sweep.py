@@ -33,24 +33,25 @@ import numpy as np
 
 from .batch import default_workers
 from .errors import ParameterError
+from .outputs import check_file
 from .params import Numerics
 from .sweep_grid import (
-    COORD_ATTRS, FORMAT, GRID_KEYS, INTEGER_KEYS, MUJOCO_ONLY, NUMERICS_KEYS, PHYSICS_KEYS, VARIABLE_ATTRS,
-    VECTORS, Sweep, SweepMismatch, SweepStorageError, check_engine_numerics, make_sweep, normalize_grid,
-    parse_grid, parse_values, scene_variables,
+    DIMENSION_ATTRS, FORMAT, MUJOCO_ONLY, NUMERICS_KEYS, VARIABLE_ATTRS, VECTORS, Sweep, SweepMismatch,
+    SweepStorageError, check_engine_numerics, coordinate_attrs, grid_keys, make_sweep, normalize_grid,
+    parse_grid, parse_values, physics_keys, scene_variables,
 )
 from .sweep_netcdf import SNAPSHOT_MARGIN
 from .sweep_points import BATCH_POINTS_PER_THREAD, run_point, run_points, run_points_task
-from .sweep_runners import FLUSH, run_dask, run_local, run_local_mujoco
+from .sweep_runners import FLUSH, connect, run_dask, run_local, run_local_mujoco
 from .sweep_store import MUST_BE_FINITE, STATUSES, TEXT_VARIABLES, Store, SweepJournalWarning, sigint_deferred
 
 __all__ = [
-    "BATCH_POINTS_PER_THREAD", "COORD_ATTRS", "FLUSH", "FORMAT", "GRID_KEYS", "INTEGER_KEYS", "MUJOCO_ONLY",
-    "MUST_BE_FINITE", "NUMERICS_KEYS", "PHYSICS_KEYS", "SNAPSHOT_MARGIN", "STATUSES", "Sweep",
-    "SweepJournalWarning", "SweepMismatch", "SweepOutcome", "SweepStorageError", "TEXT_VARIABLES",
-    "VARIABLE_ATTRS", "VECTORS", "check_engine_numerics", "make_sweep", "normalize_grid", "parse_grid",
-    "parse_values", "run_point", "run_points", "run_points_task", "run_sweep", "run_sweep_outcome",
-    "scene_variables",
+    "BATCH_POINTS_PER_THREAD", "DIMENSION_ATTRS", "FLUSH", "FORMAT", "MUJOCO_ONLY", "MUST_BE_FINITE",
+    "NUMERICS_KEYS", "SNAPSHOT_MARGIN", "STATUSES", "Sweep", "SweepJournalWarning", "SweepMismatch",
+    "SweepOutcome", "SweepStorageError", "TEXT_VARIABLES", "VARIABLE_ATTRS", "VECTORS",
+    "check_engine_numerics", "coordinate_attrs", "grid_keys", "make_sweep", "normalize_grid", "parse_grid",
+    "parse_values", "physics_keys", "run_point", "run_points", "run_points_task", "run_sweep",
+    "run_sweep_outcome", "scene_variables",
 ]
 
 
@@ -73,7 +74,7 @@ def run_sweep(
     on_point: Callable[[dict, dict], None] | None = None,
     batch_size: int | None = None,
 ):
-    """Run `scene` at every point of `grid` ({name: values}; names from GRID_KEYS) and return an
+    """Run `scene` at every point of `grid` ({name: values}; names from grid_keys()) and return an
     xarray.Dataset (dims: the grid parameters in the given order, plus `chain` for the pair).
 
     fixed      physics values off the grid (others: Physics defaults)
@@ -151,9 +152,11 @@ def _run_sweep(
                        transient=transient)
     for i in range(sweep.size):  # refuse an invalid point before starting
         sweep.case(i)
-    out_path = Path(out) if out is not None else None
+    # a file in a writable folder (created if need be), not under a file: one clear line, as for `run --out`
+    out_path = None if out is None else check_file(Path(out), "out", ())
     if out_path is not None:
         out_path.parent.mkdir(parents=True, exist_ok=True)
+    client = None if scheduler is None else connect(scheduler)
     # import what a point needs here (not at the top: the CLI imports this module for its parser):
     # forked pool workers then start with it loaded (saves ~1 s each)
     from . import diagnose  # noqa: F401
@@ -163,7 +166,14 @@ def _run_sweep(
     else:
         from .engines import reduced  # noqa: F401
     store = Store(sweep, out_path)
-    store.open()
+    try:
+        store.open()
+        store.check_file_size()  # before any point runs: the limit does not change while this process runs
+    except BaseException:
+        store.close(complete=False)
+        if client is not None and client is not scheduler:
+            client.close()
+        raise
     saved = False  # the final netCDF is on disk
     try:
         status = store.arrays["status"].reshape(-1)
@@ -177,7 +187,7 @@ def _run_sweep(
             local = default_workers() if workers is None else int(workers)
             runner_flushes = scheduler is None and engine == "mujoco"  # yields FLUSH between groups of records
             if scheduler is not None:
-                runner = run_dask(todo, sweep, scheduler, timestep_check, batch_size)
+                runner = run_dask(todo, sweep, client, timestep_check, batch_size)
             elif engine == "mujoco":
                 runner = run_local_mujoco(todo, sweep, local, timestep_check, batch_size, preload_xarray=dataset)
             else:
@@ -229,4 +239,6 @@ def _run_sweep(
         raise
     finally:
         store.close(complete=False)  # keeps the journal (a no-op if already closed above)
+        if client is not None and client is not scheduler:
+            client.close()
     return store

@@ -21,20 +21,28 @@ from . import registry
 from .batch import Case
 from .engines import check_engine
 from .errors import ParameterError
-from .params import Numerics, Physics, parameter_fields
+from .parameters import get as parameter_spec
+from .params import Numerics, Physics, parameter_fields, scene_parameters
 from .results import HARMONICS, OBSERVABLES
-
-
-PHYSICS_KEYS = tuple(f.name for f in parameter_fields(Physics))
 
 
 NUMERICS_KEYS = ("seed", "dt", "mass_ratio", "perturbation", "sample_dt")
 
 
-GRID_KEYS = PHYSICS_KEYS + NUMERICS_KEYS
+def physics_keys() -> tuple[str, ...]:
+    """Every declared physics parameter (elastoactive.parameters: the chain's, the terms', the scenes'), read when
+    asked, so that a term or scene registered later is there too."""
+    return tuple(f.name for f in parameter_fields(Physics))
 
 
-INTEGER_KEYS = ("n", "seed")
+def grid_keys() -> tuple[str, ...]:
+    """What a grid can sweep: the numeric physics parameters and the numerical settings (a switch or a text value,
+    like contact or loaded, is given as a fixed value instead)."""
+    return tuple(f.name for f in parameter_fields(Physics) if f.kind in (int, float)) + NUMERICS_KEYS
+
+
+def _integer(name: str) -> bool:
+    return name == "seed" or (name in physics_keys() and parameter_spec(name).kind is int)
 
 
 MUJOCO_ONLY = ("dt", "integrator")
@@ -81,15 +89,23 @@ VARIABLE_ATTRS = {
 }
 
 
-COORD_ATTRS = {
-    **{f.name: f.metadata["help"] for cls in (Physics, Numerics) for f in parameter_fields(cls)},
-    "n": "particles per chain N", "sigma": "elasto-active number F_a l / C1", "delta": "compression of the two-pinned chain",
-    "kappa": "coupling stiffness K l^2 / C1", "rho": "stiffness ratio C2 / C1", "drag_ratio": "gamma_L / gamma_T",
-    "noise": "noise amplitude a", "seed": "random seed", "dt": "timestep (tau)", "mass_ratio": "m / (gamma tau)",
-    "perturbation": "initial kick (rad)", "sample_dt": "sampling interval (tau)", "chain": "chain (1: C1, 2: C2 = rho C1)",
-    "harmonic": "harmonic number (1: the fundamental)",
+DIMENSION_ATTRS = {
+    "chain": dict(long_name="chain (1: C1, 2: C2 = rho C1)"),
+    "harmonic": dict(long_name="harmonic number (1: the fundamental)"),
 }
-"""long_name of each coordinate: every parameter's help text (params), shorter names for the paper's."""
+"""Attributes of the dimensions that are not parameters."""
+
+
+def coordinate_attrs(name: str) -> dict:
+    """netCDF attributes of a grid coordinate: a physics parameter's help text and units from its spec
+    (elastoactive.parameters), a numerical setting's help text (Numerics' fields), or a dimension's."""
+    if name in DIMENSION_ATTRS:
+        return dict(DIMENSION_ATTRS[name])
+    if name in physics_keys():
+        spec = parameter_spec(name)
+        return {"long_name": spec.help, "units": spec.units}
+    (field,) = [f for f in parameter_fields(Numerics) if f.name == name]
+    return {"long_name": field.metadata["help"]}
 
 
 class SweepMismatch(ParameterError):
@@ -133,7 +149,7 @@ def _axis(name: str, values) -> np.ndarray:
         raise ParameterError(f"grid {name}: needs at least one value")
     if not np.all(np.isfinite(values)):
         raise ParameterError(f"grid {name}: values must be finite, got {values.tolist()}")
-    if name in INTEGER_KEYS:
+    if _integer(name):
         if not np.all(values == np.round(values)):
             raise ParameterError(f"grid {name}: values must be integers, got {values.tolist()}")
         values = values.astype(np.int64)
@@ -144,8 +160,11 @@ def _axis(name: str, values) -> np.ndarray:
 
 def _key(name: str) -> str:
     key = name.strip().replace("-", "_")
-    if key not in GRID_KEYS:
-        raise ParameterError(f"grid: unknown parameter {name!r}; choose from {', '.join(GRID_KEYS)}")
+    if key not in grid_keys():
+        if key in physics_keys():
+            raise ParameterError(f"grid: {key} is not a number and cannot be swept; give it as a fixed value "
+                                 f"({parameter_spec(key).option}) and run one sweep per value")
+        raise ParameterError(f"grid: unknown parameter {name!r}; choose from {', '.join(grid_keys())}")
     return key
 
 
@@ -226,7 +245,7 @@ class Sweep:
     def case(self, flat: int) -> Case:
         point = self.coords(flat)
         try:
-            physics = dataclasses.replace(self.physics, **{k: v for k, v in point.items() if k in PHYSICS_KEYS})
+            physics = self.physics.replace(**{k: v for k, v in point.items() if k in physics_keys()})
             numerics = dataclasses.replace(self.numerics, **{k: v for k, v in point.items() if k in NUMERICS_KEYS})
         except ParameterError as err:
             raise ParameterError(f"grid point {point}: {err}") from None
@@ -255,21 +274,21 @@ def make_sweep(
     fixed = dict(fixed or {})
     if isinstance(numerics, str):
         numerics = Numerics.preset(numerics)
-    bad = sorted(set(fixed) - set(PHYSICS_KEYS))
+    bad = sorted(set(fixed) - set(physics_keys()))
     if bad:
-        raise ParameterError(f"fixed: unknown physics parameter(s) {', '.join(bad)}; choose from {', '.join(PHYSICS_KEYS)} "
+        raise ParameterError(f"fixed: unknown physics parameter(s) {', '.join(bad)}; choose from {', '.join(physics_keys())} "
                              "(numerical settings go in numerics)")
     both = [k for k in grid if k in fixed]
     if both:
         raise ParameterError(f"{', '.join(both)} given both as a fixed value and on the grid")
-    used = set(Physics(scene=scene).relevant())
-    unused = [k for k in grid if k in PHYSICS_KEYS and k not in used]
+    used = set(scene_parameters(registry.get(scene))) | {"scene"}
+    unused = [k for k in grid if k in physics_keys() and k not in used]
     if unused:
         raise ParameterError(f"grid: {', '.join(unused)} has no effect on scene {scene} "
                              f"(its parameters: {', '.join(sorted(used - {'scene'}))})")
     first = {k: v[0].item() for k, v in grid.items()}
     try:
-        physics = Physics(scene=scene, **fixed, **{k: v for k, v in first.items() if k in PHYSICS_KEYS})
+        physics = Physics(scene=scene, **fixed, **{k: v for k, v in first.items() if k in physics_keys()})
         numerics = dataclasses.replace(numerics, **{k: v for k, v in first.items() if k in NUMERICS_KEYS})
     except ParameterError as err:
         raise ParameterError(f"grid point {first}: {err}") from None

@@ -13,6 +13,7 @@ import errno
 import functools
 import json
 import os
+import resource
 import shutil
 from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
@@ -23,7 +24,7 @@ import numpy as np
 from . import registry
 from .outputs import write_netcdf
 from .params import LONG_CHAIN
-from .sweep_grid import COORD_ATTRS, VARIABLE_ATTRS, VECTORS, SweepStorageError, spec_text
+from .sweep_grid import VARIABLE_ATTRS, VECTORS, SweepStorageError, coordinate_attrs, spec_text
 
 
 SNAPSHOT_MARGIN = 1 << 20
@@ -71,14 +72,34 @@ def bytes_needed(grid: dict, arrays: dict) -> int:
     return 2 * size + SNAPSHOT_MARGIN
 
 
+def file_size_limit() -> int | None:
+    """The largest file this process may write, in bytes (RLIMIT_FSIZE: `ulimit -f`), or None if unlimited."""
+    soft, _ = resource.getrlimit(resource.RLIMIT_FSIZE)
+    return None if soft == resource.RLIM_INFINITY else int(soft)
+
+
+def check_file_size(out: Path, needed: int, kept: str) -> None:
+    """Refuse (SweepStorageError) a netCDF file for which `needed` bytes are asked when this process may not
+    write a file that large (`ulimit -f`): h5py, stopped by the limit part-way, fails over and over and can
+    crash the process. The limit does not change while the process runs, so a sweep checks it before any
+    point runs, and again before every write."""
+    limit = file_size_limit()
+    if limit is not None and limit < needed:
+        raise SweepStorageError(
+            f"cannot write {out}: this process may not write files over {limit} bytes (the file-size limit, "
+            f"ulimit -f), and about {megabytes(needed)} are asked for to write it. Nothing was written; raise the "
+            f"limit (ulimit -f unlimited); {kept}")
+
+
 def write(out: Path, contents: Callable[[], tuple[dict, dict, dict]], needed: int, kept: str) -> None:
     """Write the netCDF file `out` atomically and durably from `contents()`, asking for `needed` bytes of free
-    space first; `kept` (what the journal keeps) ends every error message.
+    space (and of file-size limit) first; `kept` (what the journal keeps) ends every error message.
 
     The new file is written beside the old one, fsync'ed, renamed over it (os.replace) and the
     directory fsync'ed: after a crash either the old or the new file is there, complete. No write
-    starts without enough free space (SweepStorageError, before h5py is called: a full disk
-    can crash it)."""
+    starts without enough free space or below the file-size limit (SweepStorageError, before h5py is
+    called: a full disk or a file cut by the limit can crash it)."""
+    check_file_size(out, needed, kept)
     try:
         free = shutil.disk_usage(out.parent).free
     except OSError:
@@ -110,9 +131,9 @@ def contents(sweep, arrays: dict, spec: dict, done: np.ndarray) -> tuple[dict, d
     xarray.Dataset)."""
     chains = registry.get(sweep.scene).n_chains
     dims = tuple(sweep.grid)
-    coords = {k: ((k,), v, {"long_name": COORD_ATTRS[k]}) for k, v in sweep.grid.items()}
+    coords = {k: ((k,), v, coordinate_attrs(k)) for k, v in sweep.grid.items()}
     if chains > 1:
-        coords["chain"] = (("chain",), np.arange(1, chains + 1), {"long_name": COORD_ATTRS["chain"]})
+        coords["chain"] = (("chain",), np.arange(1, chains + 1), coordinate_attrs("chain"))
     data = {}
     for name, values in arrays.items():
         vector = (VECTORS[name][0],) if name in VECTORS else ()
@@ -120,7 +141,7 @@ def contents(sweep, arrays: dict, spec: dict, done: np.ndarray) -> tuple[dict, d
         data[name] = (var_dims, values.copy(), VARIABLE_ATTRS.get(name, {}))
         if vector:
             dim, size = VECTORS[name]
-            coords[dim] = ((dim,), np.arange(1, size + 1), {"long_name": COORD_ATTRS[dim]})
+            coords[dim] = ((dim,), np.arange(1, size + 1), coordinate_attrs(dim))
         attrs = {
         "title": f"elastoactive sweep: {sweep.scene} over {', '.join(dims)}",
         "scene": sweep.scene,

@@ -26,6 +26,7 @@ from typing import Iterator
 
 import numpy as np
 
+from .errors import ParameterError
 from .executor import imap
 from .sweep_grid import Sweep
 from .sweep_netcdf import package_version
@@ -108,15 +109,32 @@ def _preload_storage(started: threading.Event, stop: threading.Event, dataset: b
         xarray.Dataset(coords={"p": xarray.Variable(("p",), np.zeros(1), fastpath=True)})  # as Store.dataset
 
 
-def run_dask(todo: list[int], sweep: Sweep, scheduler, check: bool,
-          batch_size: int | None = None) -> Iterator[tuple[int, dict]]:
-    """Points on a Dask cluster: MuJoCo points one batch per task (run_points_task, on all the threads of
-    the worker that runs it), at least one batch per worker; reduced-engine points one per task."""
-    from dask.distributed import Client  # start-up time: dask (~1 s) loads only for --scheduler
-    from dask.distributed import as_completed as dask_completed
+DASK_CONNECT_S = 10.0
+"""How long to try to reach a Dask scheduler before giving up (Dask's own default waits 30 s)."""
 
-    own = not isinstance(scheduler, Client)
-    client = Client(scheduler) if own else scheduler
+
+def connect(scheduler):
+    """A dask.distributed.Client of `scheduler` (an address such as 'tcp://host:8786', or a Client, returned as
+    it is). An address that cannot be reached within DASK_CONNECT_S is one ParameterError naming it."""
+    from dask.distributed import Client  # start-up time: dask (~1 s) loads only for --scheduler
+
+    if isinstance(scheduler, Client):
+        return scheduler
+    try:
+        return Client(scheduler, timeout=DASK_CONNECT_S)
+    except (OSError, TimeoutError, ValueError, TypeError) as err:
+        reason = str(err).splitlines()[0] if str(err) else type(err).__name__
+        raise ParameterError(f"cannot reach the Dask scheduler at {scheduler} ({reason}); check the address and "
+                             "that the scheduler is running") from None
+
+
+def run_dask(todo: list[int], sweep: Sweep, client, check: bool,
+             batch_size: int | None = None) -> Iterator[tuple[int, dict]]:
+    """Points on a Dask cluster (`client`, from `connect`): MuJoCo points one batch per task (run_points_task,
+    on all the threads of the worker that runs it), at least one batch per worker; reduced-engine points one
+    per task."""
+    from dask.distributed import as_completed as dask_completed  # start-up time: dask loads only for --scheduler
+
     futures = {}
     try:
         if sweep.engine == "mujoco":
@@ -143,5 +161,3 @@ def run_dask(todo: list[int], sweep: Sweep, scheduler, check: bool,
     finally:
         if futures:
             client.cancel(list(futures))
-        if own:
-            client.close()

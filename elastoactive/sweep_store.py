@@ -106,8 +106,11 @@ class Store:
         if self.out.exists():
             self._read_netcdf()
         path = self.journal_path
-        # errors="replace": a damaged byte makes its line fail validation instead of the whole read
-        self.journal = open(path, "a+", encoding="utf-8", errors="replace")
+        try:
+            # errors="replace": a damaged byte makes its line fail validation instead of the whole read
+            self.journal = open(path, "a+", encoding="utf-8", errors="replace")
+        except OSError as err:
+            raise SweepStorageError(f"cannot write the journal {path}: {os_reason(err)}") from None
         try:
             # a POSIX record lock: unlike flock, not inherited by the forked pool workers, so
             # workers orphaned by a kill -9 of this process do not block the resume
@@ -363,6 +366,11 @@ class Store:
     def bytes_needed(self) -> int:
         """Free space asked for before writing a snapshot: twice the arrays' size, plus a margin."""
         return sweep_netcdf.bytes_needed(self.sweep.grid, self.arrays)
+
+    def check_file_size(self) -> None:
+        """Refuse a sweep whose netCDF this process may not write (the file-size limit, sweep_netcdf)."""
+        if self.out is not None:
+            sweep_netcdf.check_file_size(self.out, self.bytes_needed(), self._kept())
 
     def snapshot(self, interval: float | None) -> None:
         """Rewrite the netCDF (sweep_netcdf.write: atomically and durably, refused before h5py is called when

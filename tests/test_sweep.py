@@ -540,7 +540,8 @@ def test_preflight_check_once_per_distinct_model(tmp_path, monkeypatch):
     original = diagnose.check_timestep
 
     def counted(physics, numerics, *args, **kwargs):
-        calls.append((physics.sigma, numerics.seed))
+        if kwargs.get("suggest", True):  # not the checks of the setting a refusal suggests (suggest=False)
+            calls.append((physics.sigma, numerics.seed))
         return original(physics, numerics, *args, **kwargs)
 
     monkeypatch.setattr(diagnose, "check_timestep", counted)
@@ -684,3 +685,59 @@ def test_long_chain_sweep_says_its_numerics_are_automatic(tmp_path):
     assert (ds["status"] == "ok").all() and "automatic long-chain numerics" in ds.attrs["numerics_automatic"]
     short = run_sweep("one-pinned", {"sigma": [0.8]}, duration=2, progress=False, workers=1)
     assert "numerics_automatic" not in short.attrs
+
+
+# ----------------------------------------------------------------------------- where the output cannot go
+
+
+def test_out_under_a_file_is_one_line(tmp_path, capsys):
+    """An --out whose folder is a file (or cannot be written) is refused before anything runs, naming --out, as
+    `run` does (it was a FileExistsError / PermissionError traceback)."""
+    afile = tmp_path / "afile"
+    afile.write_text("not a folder")
+    args = ["sweep", "one-pinned", "--grid", "sigma=0.3", "--n", "3", "--engine", "reduced", "--preset", "fast",
+            "--duration", "20", "--workers", "1", "--quiet", "--out", str(afile / "x.nc")]
+    assert main(args) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.count("\n") == 0 and "--out" in err and "is a file" in err
+    with pytest.raises(ParameterError, match="is a file"):
+        run_sweep("one-pinned", {"sigma": [0.3]}, out=afile / "deeper" / "x.nc", **REDUCED)
+
+
+def test_file_size_limit_is_one_line_before_h5py_writes(tmp_path):
+    """Under a file-size limit (ulimit -f) too small for the netCDF, h5py failed write after write and the process
+    crashed (exit 139). The limit is checked before any point runs and before any write: one line, the journal
+    kept, no partial file."""
+    import resource
+
+    limit = 8 * 1024  # ulimit -f 8
+
+    def limited():
+        resource.setrlimit(resource.RLIMIT_FSIZE, (limit, limit))
+
+    out = tmp_path / "x.nc"
+    args = [sys.executable, "-m", "elastoactive", "sweep", "one-pinned", "--grid", "sigma=0.3:1.0:8", "--n", "3",
+            "--engine", "reduced", "--preset", "fast", "--duration", "20", "--workers", "1", "--quiet", "--out", str(out)]
+    done = subprocess.run(args, capture_output=True, text=True, preexec_fn=limited, timeout=120)
+    assert done.returncode == 2, done.stderr[-2000:]
+    assert done.stderr.count("\n") == 1 and "file-size limit" in done.stderr and str(out) in done.stderr
+    assert not out.exists() and (tmp_path / "x.nc.journal").exists()
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["x.nc.journal"]
+
+
+def test_unreachable_dask_scheduler_is_one_line(tmp_path, capsys, monkeypatch):
+    """A scheduler address nobody answers at: one line naming it after a short wait (it was Dask's 30 s, then a
+    69-line traceback), and nothing is written."""
+    pytest.importorskip("dask.distributed")
+    from elastoactive import sweep_runners
+
+    monkeypatch.setattr(sweep_runners, "DASK_CONNECT_S", 1.0, raising=False)
+    out = tmp_path / "d.nc"
+    args = ["sweep", "two-pinned", "--grid", "delta=0:0.3:7", "--out", str(out), "--quiet",
+            "--scheduler", "tcp://127.0.0.1:9"]
+    start = time.monotonic()
+    assert main(args) == 2
+    assert time.monotonic() - start < 15
+    err = capsys.readouterr().err.strip()
+    assert err.count("\n") == 0 and "cannot reach the Dask scheduler at tcp://127.0.0.1:9" in err
+    assert list(tmp_path.iterdir()) == []

@@ -17,7 +17,7 @@ from pathlib import Path
 from ..engines import ENGINES
 from ..errors import ParameterError
 from ..params import PRESETS, Numerics, Physics, parameter_fields
-from ..sweep import GRID_KEYS
+from ..sweep import grid_keys
 from .options import add_fields, scene_argument
 
 EXAMPLES = """examples:
@@ -44,7 +44,7 @@ def register(subparsers) -> None:
         epilog=EXAMPLES, formatter_class=argparse.RawDescriptionHelpFormatter)
     scene_argument(p)
     p.add_argument("--grid", action="append", required=True, metavar="NAME=VALUES",
-                   help=f"a grid axis (repeat for more); NAME one of {', '.join(GRID_KEYS)}")
+                   help=f"a grid axis (repeat for more); NAME one of {', '.join(grid_keys())}")
     add_fields(p.add_argument_group("fixed physics (off the grid; defaults as in `run`)"), Physics, defaults=False)
     g = p.add_argument_group("numerics (default: the preset's; a given option overrides it)")
     g.add_argument("--preset", choices=tuple(PRESETS), default="accurate",
@@ -82,12 +82,14 @@ def _import_mujoco_headless() -> None:
 
 def main(args) -> int:
     # start-up time: xarray, h5py and the engines load only when a sweep runs
+    from ..outputs import check_file  # start-up time: only when a sweep runs
     from ..sweep import MUJOCO_ONLY, check_engine_numerics, parse_grid, run_sweep_outcome
 
     if args.workers is not None and args.workers < 1:
         raise ParameterError(f"--workers must be >= 1, got {args.workers}")
     if args.batch_size is not None and args.batch_size < 1:
         raise ParameterError(f"--batch-size must be >= 1, got {args.batch_size}")
+    check_file(args.out, "--out", ())  # a writable place, not under a file: one line naming --out
     grid = parse_grid(args.grid)
     fixed = {f.name: getattr(args, f.name) for f in parameter_fields(Physics) if getattr(args, f.name) is not None}
     overrides = {f.name: getattr(args, f.name) for f in parameter_fields(Numerics) if getattr(args, f.name) is not None}

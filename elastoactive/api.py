@@ -19,7 +19,7 @@ from .results import Results, check_measurable, check_transient
 from .results import measure as _measure
 from .trajectory import Trajectory
 
-LONG_CHAIN = 60
+ANNOUNCED_CHECK_ANGLES = 60
 """Angles from which the pre-flight check takes long enough (a second or more) to announce itself."""
 
 
@@ -114,7 +114,7 @@ def simulate(
         if check:
             from .diagnose import check_timestep  # start-up time: diagnose builds MuJoCo models
 
-            if progress and physics.n_angles >= LONG_CHAIN:  # the check linearises the model: seconds at N ~ 200
+            if progress and physics.n_angles >= ANNOUNCED_CHECK_ANGLES:  # the check linearises the model: seconds at N ~ 200
                 print(f"elastoactive: checking dt against the stability limits of the N = {physics.n} model...",
                       file=sys.stderr, flush=True)
             check_timestep(physics, numerics)

@@ -31,7 +31,7 @@ stable but measured to be wrong (docs/performance.md, scripts/stability_grid.py)
   fails to converge from N ~ 30-50 on (mjWARN_INERTIA, residuals up to 1e2) and the run is then
   silently wrong.
 
-The mass ratio is physics, not a numerical setting to refuse. `regime` (elastoactive.engines.reduced.regime,
+The mass ratio is physics, not a numerical setting to refuse. `regime` (elastoactive.regime,
 the one criterion: mass_ratio x fastest overdamped rate at the base state vs INERTIA_RESOLUTION = 0.1)
 classifies a run:
 
@@ -70,7 +70,8 @@ from .analysis.reduced import INERTIA_RESOLUTION  # noqa: F401  (re-exported: th
 from .controllers import follower_forces
 from .errors import ParameterError
 from .model import build_model, prepare
-from .params import RESOLUTION, Numerics, Physics  # noqa: F401  (RESOLUTION: the one dt x rate bound, read here)
+from .params import RESOLUTION, Numerics, Physics
+from .regime import regime  # noqa: F401  (re-exported: which physics a mass ratio gives)
 
 
 def no_log_file() -> None:
@@ -88,7 +89,6 @@ def no_log_file() -> None:
 no_log_file()
 
 RK4_STABILITY = 2.785  # real-axis stability interval of classical RK4
-EXPLICIT_SPRINGS = {"implicitfast", "implicit", "Euler", "RK4"}
 EXPLICIT_DRAG = {"Euler": 2.0, "RK4": RK4_STABILITY}
 
 # Accuracy guards (see the module docstring), calibrated on scripts/stability_grid.py and
@@ -230,7 +230,7 @@ def stability_limits(physics: Physics, numerics: Numerics, qpos: np.ndarray | No
     # follower-only part: remove the symmetric (conservative) part of F
     follower = np.linalg.eigvals(np.linalg.solve(D, 0.5 * (F - F.T)))
     growing = overdamped[overdamped.real > 1e-12]
-    reg = _regime(physics, numerics)
+    reg = regime(physics, numerics)
     extra = {}
     if reg.inertial:
         resolved, oscillating, growing_in = inertial_rates(M, D, F)
@@ -246,47 +246,6 @@ def stability_limits(physics: Physics, numerics: Numerics, qpos: np.ndarray | No
         pinned=bool(model.neq),
         model=reg.model, mass_ratio=reg.mass_ratio, inertia_number=reg.inertia_number, **extra,
     )
-
-
-def regime(physics: Physics, numerics: Numerics):
-    """Which physics this mass ratio gives: elastoactive.engines.reduced.regime (the one criterion), a Regime
-    with model "overdamped" or "inertial" (module docstring)."""
-    from .engines.reduced import regime as _regime  # start-up time: the reduced engine loads numba
-
-    return _regime(physics, numerics)
-
-
-@dataclass(frozen=True)
-class _RegimeValues:
-    model: str
-    mass_ratio: float
-    inertia_number: float
-
-    @property
-    def inertial(self) -> bool:
-        return self.model == "inertial"
-
-
-def _regime(physics: Physics, numerics: Numerics) -> _RegimeValues:
-    """What stability_limits needs of `regime`, computed as elastoactive.engines.reduced.regime computes it (the
-    same functions of analysis.reduced on the scene's reduced system at its base state), but without importing
-    the reduced engine, whose compiled solvers (numba, scipy) cost ~0.3 s of CPU that a MuJoCo run never uses
-    (tests/test_long_chains.py checks that the two agree)."""
-    from .analysis import reduced as math_  # numpy only
-
-    m = float(numerics.mass_ratio)
-    system = physics.scene_def.reduced_system(physics)
-    theta = np.asarray(physics.scene_def.initial_angles(physics, Numerics(perturbation=0.0)), dtype=float)
-    if system.n_angles >= _EXACT_RATE_ANGLES:  # as engines.reduced.regime: a cheap bound decides first
-        bound = math_.rate_bound(system, theta)
-        if not math_.outside_overdamped_limit(m, bound):
-            return _RegimeValues("overdamped", m, m * bound)
-    rate = math_.overdamped_rate(system, theta)
-    return _RegimeValues("inertial" if math_.outside_overdamped_limit(m, rate) else "overdamped", m, m * rate)
-
-
-_EXACT_RATE_ANGLES = 50
-"""elastoactive.engines.reduced.EXACT_RATE_ANGLES (not imported from there: see _regime)."""
 
 
 def _companion(M: np.ndarray, D: np.ndarray, F: np.ndarray) -> np.ndarray:

@@ -274,7 +274,6 @@ def provenance_line(record: dict, sidecar: str = "provenance.json") -> str:
 # ------------------------------------------------------------------------------------------------ netCDF
 
 NETCDF_TIME_UNITS = "nanoseconds since 1970-01-01"
-_NAT = np.iinfo(np.int64).min
 
 
 def write_netcdf(path: Path, variables: dict, coords: dict, attrs: dict) -> None:

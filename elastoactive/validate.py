@@ -33,9 +33,6 @@ def validation_cases(scene: str | None = None) -> list[ValidationCase]:
                     if scene is None or case.physics.scene == scene]
 
 
-INERTIAL_MASS_RATIOS = (0.01, 0.5, 10.0)
-"""The mass ratios of the inertial validation (docs: light, moderate, heavy)."""
-
 
 def inertial_duration(duration: float, mass_ratio: float) -> float:
     """Run length at a finite mass: the case's own duration, times sqrt(mass_ratio) above 1, rounded up to 10 tau

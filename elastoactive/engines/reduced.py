@@ -20,7 +20,6 @@ system_of(physics) (overdamped; mass_ratio > 0: the inertial model's, on the sta
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass
 
 import numpy as np
 
@@ -31,6 +30,7 @@ from ..errors import ParameterError
 from ..initial import initial_angles
 from ..noise import ColouredNoise, force_factor
 from ..params import Numerics, Physics
+from ..regime import Regime, base_state, regime  # re-exported: the engine runs the model these choose
 from ..trajectory import Trajectory
 from . import node_forces
 
@@ -65,63 +65,6 @@ def system_of(physics: Physics, mass_ratio: float = 0.0) -> ChainSystem:
 # ----------------------------------------------------------------------------------------------
 # which model: the overdamped limit
 # ----------------------------------------------------------------------------------------------
-def base_state(physics: Physics) -> np.ndarray:
-    """The scene's base state (its initial state without the seeded push): the straight chain(s), or the
-    two-pinned chain's arch (MuJoCo's keyframe)."""
-    return np.asarray(physics.scene_def.initial_angles(physics, Numerics(perturbation=0.0)), dtype=float)
-
-
-@dataclass(frozen=True)
-class Regime:
-    """Which physics a mass ratio gives (see the module docstring).
-
-    model           "overdamped" or "inertial"
-    mass_ratio      the particle mass m / (gamma tau)
-    rate            fastest overdamped rate at the base state, 1/tau (analysis.reduced.overdamped_rate); for
-                    systems of EXACT_RATE_ANGLES angles or more, its upper bound (analysis.reduced.rate_bound)
-                    when that already places the mass inside the limit (rate_is_bound)
-    inertia_number  mass_ratio x rate: the inertial time over the fastest overdamped time
-    """
-
-    model: str
-    mass_ratio: float
-    rate: float
-    inertia_number: float
-    rate_is_bound: bool = False
-
-    @property
-    def inertial(self) -> bool:
-        return self.model == "inertial"
-
-    @property
-    def mass_limit(self) -> float:
-        """Largest mass ratio inside the overdamped limit (INERTIA_RESOLUTION / rate)."""
-        return INERTIA_RESOLUTION / self.rate if self.rate > 0 else np.inf
-
-    def describe(self) -> str:
-        where = "outside" if self.inertial else "inside"
-        return (f"mass_ratio = {self.mass_ratio:g} is {where} the overdamped limit (m x fastest overdamped rate = "
-                f"{self.mass_ratio:g} x {self.rate:.3g} = {self.inertia_number:.2g}, limit {INERTIA_RESOLUTION:g}): "
-                f"both engines model the {self.model} chain")
-
-
-def regime(physics: Physics, numerics: Numerics) -> Regime:
-    """The one criterion: inertial iff numerics.mass_ratio x (fastest overdamped rate at the base state)
-    > INERTIA_RESOLUTION (analysis.reduced.regime). Used by simulate_reduced and by elastoactive.diagnose."""
-    m = float(numerics.mass_ratio)
-    system, theta = system_of(physics), base_state(physics)
-    if system.n_angles >= EXACT_RATE_ANGLES:  # the eigenvalues cost ~1 s at N = 400: a norm bound decides first
-        bound = _math.rate_bound(system, theta)
-        if not _math.outside_overdamped_limit(m, bound):
-            return Regime("overdamped", m, bound, m * bound, rate_is_bound=True)
-    rate = _math.overdamped_rate(system, theta)
-    return Regime("inertial" if _math.outside_overdamped_limit(m, rate) else "overdamped", m, rate, m * rate)
-
-
-EXACT_RATE_ANGLES = 50
-"""From this many angles on, regime tries the cheap upper bound of the rate before its eigenvalues."""
-
-
 def _use_inertia(physics: Physics, numerics: Numerics, inertial: bool | None) -> tuple[bool, dict]:
     """(whether to run the inertial model, what to record in Trajectory.info) for simulate_reduced's `inertial`;
     refuses what the reduced model does not have (friction between capsules)."""

@@ -10,7 +10,6 @@ frequency_mismatch f_2 - f_1 from the Hilbert phases.
 
 from __future__ import annotations
 
-import numpy as np
 
 from ..analysis import observables as obs
 from ..analysis.reduced.system import ChainSystem

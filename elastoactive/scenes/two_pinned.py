@@ -13,7 +13,6 @@ import numpy as np
 
 from ..analysis import observables as obs
 from ..analysis.reduced.system import ChainSystem
-from ..errors import ParameterError
 from ..initial import buckled_arch, project_on_pins, pushed_chains
 from ..parameters import Parameter
 from ..params import Numerics, Physics

@@ -70,3 +70,25 @@ def test_progress_says_done_only_when_every_item_finished(capsys):
     bar.n = 44
     bar.close()
     assert "Hopf N = 7: done (44 cases" in capsys.readouterr().err
+
+
+def test_readme_claims_block_holds_only_the_claims_table():
+    """The generated README block is the claims table alone (it also carried report.md's sigma_c(N) table, untitled,
+    and its run-time table), one row per claim the committed study data make."""
+    import importlib.util
+
+    from elastoactive import claims
+    from elastoactive.studies import load_study, registry
+
+    spec = importlib.util.spec_from_file_location("update_readme", ROOT / "scripts" / "update_readme.py")
+    update_readme = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(update_readme)
+    block = update_readme.claims_table()
+    lines = block.splitlines()
+    folder = ROOT / "docs" / "reproduction"
+    rows = claims.build_claims({name: load_study(folder, name) for name in registry.names()
+                                if (folder / f"{name}.json").exists()})
+    assert lines[0] == "| # | claim | paper | MuJoCo | reduced model | agree |" and len(lines) == 2 + len(rows)
+    assert all(line.startswith(f"| {i} | ") for i, line in enumerate(lines[2:], 1))
+    readme = (ROOT / "README.md").read_text()
+    assert f"<!-- generated: claims -->\n{block}\n<!-- end -->" in readme

@@ -19,7 +19,7 @@ fractions s in [(1 - CONTACT_LENGTH) / 2 + R, (1 + CONTACT_LENGTH) / 2 - R] of t
 (elastoactive.analysis.reduced.contact)."""
 CONTACT_STIFFNESS = 1.0e3
 """The reduced model's self-contact penalty K (force K x overlap, units C1 / l^2): overlaps ~ force / K ~ 1e-3 l.
-MuJoCo's contact is nearly hard instead (elastoactive.model.contact_solref); the two agree as K grows and dt
+MuJoCo's contact is nearly hard instead (elastoactive.terms.contact.contact_solref); the two agree as K grows and dt
 shrinks (docs/model.md, "Self-contact")."""
 
 MAX_PARTICLES = 1000

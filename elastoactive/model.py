@@ -14,14 +14,10 @@ coupling). Mapping (units l = C1 = gamma_T = 1, so tau = 1):
   particle mass         bead geom mass = mass_ratio (inertial time m / gamma in units of tau), a sphere of radius
                         constants.BEAD_RADIUS
   callback marker       custom numeric elastoactive_follower = (noise amplitude a, seed, correlation
-                        time tau_c): the C callback acts only on models that carry it
-  noise state           coloured noise (tau_c > 0): nuserdata = 1 + number of particles; mjData.userdata
-                        holds (held step + 1, eta of each particle), see controllers/follower.c
-  self-contact          (physics.contact) a capsule geom on each link, radius contact_radius, length
-                        CONTACT_LENGTH centred on the link; chain k collides only with itself (contype =
-                        conaffinity = 2^k), parent-child filtering keeps neighbours apart; frictionless
-                        (condim 1) or condim 3 with contact_friction. Softness for the overdamped limit:
-                        see contact_solref
+                        time tau_c): the C callback acts only on models that carry it; a and tau_c 0 here, the
+                        noise term's (elastoactive.terms.noise) when it acts
+  terms                 each active term adds its own elements (Term.build, after the scene's): self-contact
+                        its capsules (elastoactive.terms.contact)
 """
 
 from __future__ import annotations
@@ -31,35 +27,11 @@ import threading
 import mujoco
 import numpy as np
 
-from .analysis.reduced.contact import core_span
 from .constants import BEAD_RADIUS
 from .errors import ParameterError
 from .initial import initial_angles
 from .mjcf import mjcf_path
 from .params import Numerics, Physics
-
-CONTACT_IMPEDANCE = 0.99
-"""MuJoCo's constraint impedance d of a self-contact (solimp d0 = d_width = d): the share of the pushing force
-the contact cancels within the step; the rest, (1 - d), is left to the contact's reference spring."""
-CONTACT_RATE = 0.25
-"""Contact spring K_c in units of gamma / dt: the overlap relaxes by about this fraction of itself per step."""
-
-
-def contact_solref(numerics: Numerics) -> list[float]:
-    """solref (-stiffness, -damping) of a self-contact, made for the overdamped limit.
-
-    MuJoCo's soft constraints ask for a reference acceleration a_ref = -b v - k r and produce a force of the
-    contact's effective mass times it; with implicit drag that force is then divided by (m + dt gamma), so a
-    standard solref (time constant, damping ratio) holds a particle of mass m -> 0 with a force ~ m / dt^2:
-    at mass_ratio 1e-4 and dt 0.0025 the capsules pass through each other (overlap ~ 2R, measured). Scaled
-    by 1/m, b = gamma / m and k = K_c / m with K_c = CONTACT_RATE gamma / dt, the normal motion of an
-    overdamped particle in contact obeys gamma v = (1 - d) F_n - d K_c r: the contact cancels a share d of
-    the force pushing in and pulls the overlap r back at rate ~ d K_c / gamma, independently of the mass.
-    The overlap then falls like dt (a hard contact in the limit): N = 17, sigma = 0.8, largest overlap
-    0.0027 l at dt 0.0025, 0.0010 l at dt 0.00125, the same at mass ratio 1e-4 and 1e-5 (docs/mujoco.md)."""
-    mass = numerics.mass_ratio
-    return [-CONTACT_RATE / numerics.dt / mass, -1.0 / mass]
-
 
 INTEGRATOR = {
     "Euler": mujoco.mjtIntegrator.mjINT_EULER,
@@ -68,18 +40,6 @@ INTEGRATOR = {
     "implicitfast": mujoco.mjtIntegrator.mjINT_IMPLICITFAST,
     "discrete": mujoco.mjtIntegrator.mjINT_DISCRETE,
 }
-
-
-def _add_capsule(spec: mujoco.MjSpec, body, name: str, physics: Physics, numerics: Numerics, chain: int) -> None:
-    """The link's contact capsule (physics.contact): see the module docstring and contact_solref."""
-    radius = physics.contact_radius
-    start, end = core_span(radius)  # the reduced model's capsule: CONTACT_LENGTH long, centred on the link
-    bits = 1 << chain
-    d = CONTACT_IMPEDANCE
-    friction = physics.contact_friction
-    body.add_geom(name=name, default=spec.find_default("capsule"), fromto=[start, 0, 0, end, 0, 0],
-                  size=[radius, 0, 0], contype=bits, conaffinity=bits, condim=3 if friction > 0 else 1,
-                  friction=[friction, 0.005, 0.0001], solref=contact_solref(numerics), solimp=[d, d, 0.001, 0.5, 2])
 
 
 def _add_chain(spec: mujoco.MjSpec, prefix: str, physics: Physics, numerics: Numerics, stiffness: float, y: float,
@@ -95,8 +55,6 @@ def _add_chain(spec: mujoco.MjSpec, prefix: str, physics: Physics, numerics: Num
         body.add_geom(name=f"{prefix}link_{i}", default=link)
         body.add_geom(name=f"{prefix}bead_{i}", default=bead, mass=numerics.mass_ratio, size=[BEAD_RADIUS, 0, 0])
         body.add_site(name=f"{prefix}particle_{i}", default=segment, userdata=[physics.sigma if loaded[i] else 0.0])
-        if physics.contact:
-            _add_capsule(spec, body, f"{prefix}capsule_{i}", physics, numerics, chain)
         parent, pos = body, [1.0, 0.0, 0.0]
     for i in range(physics.n):
         add_drag(spec, f"{prefix}particle_{i}", f"{i}", physics, prefix)
@@ -149,27 +107,16 @@ def build_spec(physics: Physics, numerics: Numerics = Numerics()) -> mujoco.MjSp
 
     for k, (prefix, stiffness) in enumerate(zip(prefixes, scene.stiffness(physics))):
         _add_chain(spec, prefix, physics, numerics, stiffness, scene.chain_offset(physics, k), k)
-    if physics.contact:  # the scenes switch these off (mjcf/common.xml): self-contact needs them
-        for flag in (mujoco.mjtDisableBit.mjDSBL_CONTACT, mujoco.mjtDisableBit.mjDSBL_FILTERPARENT,
-                     mujoco.mjtDisableBit.mjDSBL_CONSTRAINT):
-            spec.option.disableflags &= ~int(flag)
 
     spec.option.timestep = numerics.dt
     spec.option.integrator = INTEGRATOR[numerics.integrator]
     spec.modelname = scene.name
-    scene.build(spec, physics, numerics)
-    for term in physics.active_terms():  # a plug-in term's elements (the built-in ones are the chain's, above)
-        term.build(spec, physics, numerics)
-    if physics.noise > 0 and physics.noise_correlation == 0 and physics.noise_calculus != "ito":
-        raise ParameterError(
-            "MuJoCo applies white noise in the Ito reading only (constant over each step); for the Stratonovich "
-            "reading give the noise a short correlation time (--noise-correlation, its Wong-Zakai limit), or use "
-            "the reduced engine")
     marker = spec.numeric("elastoactive_follower")  # mjcf/common.xml declares (a, seed); tau_c goes after them
     marker.size = 3
-    marker.data = [physics.noise, float(numerics.seed), physics.noise_correlation]
-    if physics.noise_correlation > 0:
-        spec.nuserdata = 1 + physics.n_angles  # the coloured noise's state (follower.c)
+    marker.data = [0.0, float(numerics.seed), 0.0]  # no noise (the noise term sets a and tau_c)
+    for term in physics.active_terms():  # the terms' elements on the chains (noise, self-contact, a plug-in's)
+        term.build(spec, physics, numerics)
+    scene.build(spec, physics, numerics)
     return spec
 
 

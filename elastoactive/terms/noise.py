@@ -1,12 +1,14 @@
 """Multiplicative noise on the active force: F_a (1 + eta), white or coloured (Ornstein-Uhlenbeck).
 
-Both engines draw the same counter-based realisation (elastoactive.noise); MuJoCo's callback applies it, the
+Both engines draw the same counter-based realisation (elastoactive.noise); MuJoCo's callback applies it (`build`
+gives it the amplitude, seed and correlation time), the
 reduced engine integrates the SDE (Euler-Maruyama, Heun for Stratonovich) or the random ODE of coloured noise.
 Its correlation time and calculus act only when the amplitude is > 0.
 """
 
 from __future__ import annotations
 
+from ..errors import ParameterError
 from ..parameters import Parameter
 from .base import Term
 
@@ -29,6 +31,18 @@ class Noise(Term):
 
     def active(self, physics) -> bool:
         return physics.noise > 0
+
+    def build(self, spec, physics, numerics):
+        """The callback's marker carries (a, seed, tau_c); coloured noise keeps its state in mjData.userdata: the
+        held step + 1 and eta of each particle (controllers/follower.c)."""
+        if physics.noise_correlation == 0 and physics.noise_calculus != "ito":
+            raise ParameterError(
+                "MuJoCo applies white noise in the Ito reading only (constant over each step); for the Stratonovich "
+                "reading give the noise a short correlation time (--noise-correlation, its Wong-Zakai limit), or "
+                "use the reduced engine")
+        spec.numeric("elastoactive_follower").data = [physics.noise, float(numerics.seed), physics.noise_correlation]
+        if physics.noise_correlation > 0:
+            spec.nuserdata = 1 + physics.n_angles
 
 
 TERM = Noise()

@@ -48,7 +48,7 @@ def claims_table(rows: list[Claim], explanations: bool = True) -> str:
 def render_report(studies: Mapping[str, Study], figures: Mapping[str, list], meta: dict) -> str:
     """report.md from the studies (by name), the figures each wrote and the run's record (`meta`: command, size,
     workers, wall_s, provenance, `kept`: the studies whose saved data were reused, `unreadable`: those left
-    out because their saved data cannot be read)."""
+    out because their saved data cannot be read, `other_size`: those left out as of another size)."""
     rows = build_claims(studies)
     n_yes = sum(c.agree == "yes" for c in rows)
     out = [
@@ -78,6 +78,8 @@ def render_report(studies: Mapping[str, Study], figures: Mapping[str, list], met
     if meta.get("kept"):
         out += ["", f"Kept from earlier runs into this folder (same size; data reused, figures redrawn; wall s as "
                     f"recorded then): {', '.join(meta['kept'])}."]
+    if meta.get("other_size"):
+        out += ["", f"Left out: {', '.join(meta['other_size'])}, whose data in this folder are of another size."]
     if meta.get("unreadable"):
         out += ["", f"Left out: the data of {', '.join(meta['unreadable'])} in this folder cannot be read by this code; "
                     "rerun them with --only."]

@@ -25,6 +25,7 @@ import json
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import NamedTuple
 
 from .errors import ParameterError
 from .outputs import provenance, utc_now, write_text
@@ -95,20 +96,29 @@ def _saved(out: Path, name: str) -> Saved | None:
     return Saved(name, size, code, data.exists() and record.get("summary") is not None)
 
 
-def _plan(out: Path, names: list[str], every: tuple[str, ...], size: str, code: str, force: bool):
-    """(to run, to keep, to report) for the requested `names` among the registered `every`, or a ParameterError
-    when the folder holds another size's studies and `force` is not given."""
+class Plan(NamedTuple):
+    """What reproduce does with each study: run it, keep its saved data (asked for, same size and code), merge it
+    into the report (not asked for, same size), or leave it out of the report (another size, with `force`)."""
+
+    run: list[str]
+    keep: list[str]
+    merge: list[str]
+    other_size: list[str]
+
+
+def _plan(out: Path, names: list[str], every: tuple[str, ...], size: str, code: str, force: bool) -> Plan:
+    """The plan for the requested `names` among the registered `every`, or a ParameterError when the folder holds
+    another size's studies and `force` is not given."""
     saved = {n: s for n in every if (s := _saved(out, n)) is not None}
-    other = sorted(n for n, s in saved.items() if s.complete and s.size != size)
+    other = [n for n in every if n in saved and saved[n].complete and saved[n].size != size]
     if other and not force:
         sizes = sorted({saved[n].size for n in other})
         raise ParameterError(f"--out {out} holds {'/'.join(sizes)}-size studies ({', '.join(other)}), not {size}: "
                              "one report cannot mix sizes; choose another --out or pass --force to rerun or drop them")
     current = {n for n, s in saved.items() if s.complete and s.size == size}
     keep = [n for n in names if n in current and saved[n].code == code and not force]
-    run = [n for n in names if n not in keep]
-    merged = [n for n in every if n in current and n not in names]
-    return run, keep, merged
+    return Plan([n for n in names if n not in keep], keep, [n for n in every if n in current and n not in names],
+                [n for n in other if n not in names])
 
 
 def reproduce(out: Path, size: str = "quick", workers: int | None = None, only: list[str] | None = None,
@@ -130,7 +140,7 @@ def reproduce(out: Path, size: str = "quick", workers: int | None = None, only: 
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     code = source_digest()
-    to_run, to_keep, merged = _plan(out, names, every, size, code, force)
+    to_run, to_keep, merged, dropped = _plan(out, names, every, size, code, force)
     started = utc_now()
     workers = default_workers() if workers is None else workers
     start = time.perf_counter()
@@ -154,6 +164,8 @@ def reproduce(out: Path, size: str = "quick", workers: int | None = None, only: 
         log(f"run again, their data in the folder made by other code: {', '.join(redo)}")
     if merged:
         log(f"in the report from this folder (not asked for): {', '.join(merged)}")
+    if dropped:
+        log(f"left out of the report (another size; --force): {', '.join(dropped)}")
 
     for i, name in enumerate(to_run, 1):
         entry = registry.get(name)
@@ -194,7 +206,7 @@ def reproduce(out: Path, size: str = "quick", workers: int | None = None, only: 
     result.report = out / "report.md"
     write_text(result.report, claims.render_report(result.studies, result.figures, {
         "size": size, "workers": workers, "wall_s": result.wall_s, "command": command, "provenance": record,
-        "kept": result.kept, "unreadable": unreadable}))
+        "kept": result.kept, "unreadable": unreadable, "other_size": dropped}))
     log(f"wrote {result.report} ({result.wall_s:.0f} s)")
     return result
 

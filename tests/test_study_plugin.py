@@ -120,6 +120,9 @@ def test_another_size_is_refused_in_one_line(toys, tmp_path, capsys):
     err = capsys.readouterr().err.strip()
     assert err.count("\n") == 0 and "--force" in err
     assert CALLS == ["toy_short"]
+    forced = reproduce(tmp_path, "quick", 1, only=["toy_long"], progress=False, log=_quiet, force=True)
+    assert CALLS == ["toy_short", "toy_long"] and list(forced.studies) == ["toy_long"]  # the tiny one left out, and said
+    assert "Left out: toy_short, whose data in this folder are of another size." in forced.report.read_text()
 
 
 def test_ctrl_c_keeps_the_finished_studies_and_a_rerun_resumes(toys, tmp_path, capsys):

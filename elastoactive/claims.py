@@ -47,7 +47,7 @@ def claims_table(rows: list[Claim], explanations: bool = True) -> str:
 
 def render_report(studies: Mapping[str, Study], figures: Mapping[str, list], meta: dict) -> str:
     """report.md from the studies (by name), the figures each wrote and the run's record (`meta`: command, size,
-    workers, wall_s, provenance, `kept`: the studies whose saved data were reused, `unreadable`: those left
+    workers, wall_s, provenance, `timings`: {name: reproduce.Timing}, `kept`: the studies whose saved data were reused, `unreadable`: those left
     out because their saved data cannot be read, `other_size`: those left out as of another size)."""
     rows = build_claims(studies)
     n_yes = sum(c.agree == "yes" for c in rows)
@@ -71,10 +71,14 @@ def render_report(studies: Mapping[str, Study], figures: Mapping[str, list], met
     for entry in registry.entries():
         for p in figures.get(entry.name, []):
             out.append(f"- `{p.name}` ({entry.name})")
-    out += ["", "## Run times", "", "| study | wall s |", "|---|---|"]
+    timings = meta.get("timings") or {}
+    out += ["", "## Run times", "", "| study | wall s | figures s |", "|---|---|---|"]
     for entry in registry.entries():
         if entry.name in studies:
-            out.append(f"| {entry.name} | {studies[entry.name].wall_s:.1f} |")
+            t = timings.get(entry.name)
+            out.append(f"| {entry.name} | {studies[entry.name].wall_s:.1f} | {'-' if t is None else f'{t.figures_s:.1f}'} |")
+    out += ["", "wall s: the study itself (its simulations, with the pools' start-up, and its analysis); figures s: "
+                "drawing its figures and files in this run. The rest of the total is loading the package."]
     if meta.get("kept"):
         out += ["", f"Kept from earlier runs into this folder (same size; data reused, figures redrawn; wall s as "
                     f"recorded then): {', '.join(meta['kept'])}."]

@@ -206,7 +206,7 @@ def reproduce(out: Path, size: str = "quick", workers: int | None = None, only: 
     result.report = out / "report.md"
     write_text(result.report, claims.render_report(result.studies, result.figures, {
         "size": size, "workers": workers, "wall_s": result.wall_s, "command": command, "provenance": record,
-        "kept": result.kept, "unreadable": unreadable, "other_size": dropped}))
+        "timings": result.timings, "kept": result.kept, "unreadable": unreadable, "other_size": dropped}))
     log(f"wrote {result.report} ({result.wall_s:.0f} s)")
     return result
 

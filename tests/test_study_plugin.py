@@ -96,6 +96,7 @@ def test_a_study_registered_in_a_test_file_reaches_the_report(toys, tmp_path):
     assert "| 1 | toy_short: sigma_c falls as N^-3 at small N |" in report
     assert "| 2 | toy_long: sigma_c falls as N^-3 at small N |" in report and "with toy_short:" in report
     assert "## Claims (2 of 2 agree)" in report
+    assert "| study | wall s | figures s |" in report and "| toy_long | " in report  # each study's time, figures apart
     assert isinstance(load_study(tmp_path, "toy_long").summary, OnsetSummary)
 
 

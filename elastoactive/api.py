@@ -12,7 +12,7 @@ from collections.abc import Mapping
 
 import numpy as np
 
-from .engines import check_engine, run_engine
+from .engines import check_engine, check_engine_numerics, run_engine
 from .errors import ParameterError
 from .params import Numerics, Physics
 from .results import Results, check_measurable, check_transient
@@ -110,6 +110,7 @@ def simulate(
     options = {"theta0": theta0}
     if method is not None and check_engine(engine) == "mujoco":
         raise ParameterError(f"method = {method}: the ODE method applies to the reduced engine (engine='reduced')")
+    check_engine_numerics(engine, numerics.given(), physics.noise > 0, lambda k: f"numerics.{k}")  # as sweep
     if check_engine(engine) == "mujoco":
         if check:
             from .diagnose import check_timestep  # start-up time: diagnose builds MuJoCo models

@@ -21,6 +21,8 @@ import numbers
 from dataclasses import dataclass
 from typing import Any
 
+import numpy as np
+
 from .errors import ParameterError
 
 KINDS = (float, int, bool, str)
@@ -96,7 +98,7 @@ class Parameter:
         """The value as its kind (a numpy integer or float is its Python number), checked against the range and
         choices; a ParameterError naming the parameter otherwise."""
         if self.kind is bool:
-            if isinstance(value, bool) or type(value).__name__ == "bool_":
+            if isinstance(value, (bool, np.bool_)):
                 return bool(value)
             raise ParameterError(f"{self.label} must be true or false, got {value!r}")
         if self.kind is str:
@@ -105,7 +107,7 @@ class Parameter:
             if self.choices is not None and value not in self.choices:
                 raise ParameterError(f"{self.name} must be one of {', '.join(self.choices)}, got {value!r}")
             return value
-        if isinstance(value, bool) or type(value).__name__ == "bool_":
+        if isinstance(value, (bool, np.bool_)):
             raise ParameterError(f"{self.label} must be a number, got {value!r}")
         if self.kind is int:
             if isinstance(value, numbers.Integral):

@@ -306,6 +306,10 @@ class Numerics:
     def steps_per_sample(self) -> int:
         return max(1, int(round(self.sample_dt / self.dt)))
 
+    def given(self) -> tuple[str, ...]:
+        """Which of dt, mass_ratio and integrator were chosen (not left at their defaults)."""
+        return tuple(name for name in ("dt", "mass_ratio", "integrator") if not isinstance(getattr(self, name), _Unset))
+
     @property
     def automatic(self) -> bool:
         """Whether dt, mass_ratio and integrator were all left at their defaults: the MuJoCo engine may then

@@ -13,13 +13,13 @@ import dataclasses
 import json
 import math
 from pathlib import Path
-from typing import Callable, Mapping, Sequence
+from typing import Mapping, Sequence
 
 import numpy as np
 
 from . import registry
 from .batch import Case
-from .engines import check_engine
+from .engines import MUJOCO_ONLY, check_engine, check_engine_numerics  # noqa: F401  (re-exported)
 from .errors import ParameterError
 from .parameters import get as parameter_spec
 from .params import Numerics, Physics, parameter_fields, scene_parameters
@@ -45,9 +45,7 @@ def _integer(name: str) -> bool:
     return name == "seed" or (name in physics_keys() and parameter_spec(name).kind is int)
 
 
-MUJOCO_ONLY = ("dt", "integrator")
-"""Numerical settings only the MuJoCo engine reads (the reduced engine uses dt only when noise > 0; it does use
-mass_ratio, which decides whether a run is overdamped or inertial: docs/mujoco.md section 5)."""
+
 
 
 FORMAT = 1
@@ -295,21 +293,6 @@ def make_sweep(
     noisy = bool(np.any(grid["noise"] > 0)) if "noise" in grid else physics.noise > 0
     check_engine_numerics(engine, [k for k in grid if k in MUJOCO_ONLY], noisy, lambda k: f"grid {k}")
     return Sweep(scene, grid, physics, numerics, duration, engine, None if transient is None else float(transient))
-
-
-def check_engine_numerics(engine: str, names: Sequence[str], noisy: bool, label: Callable[[str], str] = str) -> None:
-    """Refuse MuJoCo-only numerical settings (`names`, swept or given) with the reduced engine, where
-    they change nothing: integrator always, dt unless some point has noise > 0 (dt is then the noise
-    step). `label(name)` is how the message names the setting."""
-    if engine != "reduced":
-        return
-    for name in names:
-        if name not in MUJOCO_ONLY or (name == "dt" and noisy):
-            continue
-        why = " (the reduced engine integrates noise-free runs adaptively; it uses dt only when noise > 0)" \
-            if name == "dt" else ""
-        raise ParameterError(f"{label(name)}: {name} only affects the MuJoCo engine and changes nothing with "
-                             f"engine reduced{why}; remove it or use engine mujoco")
 
 
 def spec_text(spec: dict) -> str:

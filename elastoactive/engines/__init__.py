@@ -9,6 +9,24 @@ from ..params import Numerics, Physics
 from ..trajectory import Trajectory
 
 ENGINES = ("mujoco", "reduced")
+MUJOCO_ONLY = ("dt", "integrator")
+"""Numerical settings only the MuJoCo engine reads (the reduced engine uses dt only when noise > 0; it does use
+mass_ratio, which decides whether a run is overdamped or inertial: docs/mujoco.md section 5)."""
+
+
+def check_engine_numerics(engine: str, names, noisy: bool, label=str) -> None:
+    """Refuse MuJoCo-only numerical settings (`names`: those a user gave, or swept) with the reduced engine, where
+    they change nothing: integrator always, dt unless the run (some point of a sweep) has noise > 0 (dt is then the
+    noise step). `label(name)` is how the message names the setting. The one rule for run, sweep and the API."""
+    if engine != "reduced":
+        return
+    for name in names:
+        if name not in MUJOCO_ONLY or (name == "dt" and noisy):
+            continue
+        why = " (the reduced engine integrates noise-free runs adaptively; it uses dt only when noise > 0)" \
+            if name == "dt" else ""
+        raise ParameterError(f"{label(name)}: {name} only affects the MuJoCo engine and changes nothing with "
+                             f"engine reduced{why}; remove it or use engine mujoco")
 
 
 def check_engine(engine: str) -> str:

@@ -43,6 +43,20 @@ except KeyboardInterrupt:
 """
 
 
+def _children(pid: int) -> list[str]:
+    try:
+        return Path(f"/proc/{pid}/task/{pid}/children").read_text().split()
+    except OSError:
+        return []
+
+
+def _alive(pid: str) -> bool:
+    try:
+        return "\nState:\tZ" not in Path(f"/proc/{pid}/status").read_text()
+    except OSError:
+        return False
+
+
 def test_ctrl_c_stops_a_pool_at_once_without_worker_tracebacks():
     """Ctrl-C at a terminal goes to the whole process group: the workers must not print KeyboardInterrupt
     tracebacks, and the parent must not wait for their running tasks (minutes here) before it stops."""
@@ -50,8 +64,12 @@ def test_ctrl_c_stops_a_pool_at_once_without_worker_tracebacks():
                             stderr=subprocess.PIPE, text=True, start_new_session=True)
     try:
         assert proc.stdout.readline().strip() == "started"
-        time.sleep(4.0)  # the pool is running its tasks by now
-        assert proc.poll() is None
+        deadline = time.monotonic() + 60
+        while len(_children(proc.pid)) < 2 and time.monotonic() < deadline:  # the pool's two workers
+            time.sleep(0.1)
+        time.sleep(1.0)  # running their tasks
+        workers = _children(proc.pid)
+        assert proc.poll() is None and len(workers) == 2
         os.killpg(proc.pid, signal.SIGINT)
         sent = time.monotonic()
         out, err = proc.communicate(timeout=20)
@@ -63,3 +81,5 @@ def test_ctrl_c_stops_a_pool_at_once_without_worker_tracebacks():
     assert "interrupted" in out
     assert "Traceback" not in err and "KeyboardInterrupt" not in err, err
     assert waited < 3.0, f"stopped {waited:.1f} s after Ctrl-C"
+    time.sleep(0.5)
+    assert not [w for w in workers if _alive(w)], "pool workers outlived the interrupted parent"

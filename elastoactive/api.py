@@ -14,13 +14,19 @@ import numpy as np
 
 from .engines import check_engine, check_engine_numerics, run_engine
 from .errors import ParameterError
-from .params import Numerics, Physics
+from .params import Numerics, Physics, parameter_fields
 from .results import Results, check_measurable, check_transient
 from .results import measure as _measure
 from .trajectory import Trajectory
 
 ANNOUNCED_CHECK_ANGLES = 60
 """Angles from which the pre-flight check takes long enough (a second or more) to announce itself."""
+
+
+def _field_names(cls) -> tuple[str, ...]:
+    """The keyword arguments a Physics (scene and its parameters) or a Numerics takes."""
+    names = tuple(f.name for f in parameter_fields(cls))
+    return ("scene", *names) if cls is Physics else names
 
 
 def _record(cls, value, argument: str, name_kind: str, from_name):
@@ -30,10 +36,10 @@ def _record(cls, value, argument: str, name_kind: str, from_name):
     if isinstance(value, str):
         return from_name(value)
     if isinstance(value, Mapping):
-        unknown = [k for k in value if not isinstance(k, str) or k not in cls.__dataclass_fields__]
+        known = _field_names(cls)
+        unknown = [k for k in value if not isinstance(k, str) or k not in known]
         if unknown:
-            raise TypeError(f"{argument}: {unknown[0]!r} is not a field of ea.{cls.__name__} (fields: "
-                            f"{', '.join(cls.__dataclass_fields__)})")
+            raise TypeError(f"{argument}: {unknown[0]!r} is not a field of ea.{cls.__name__} (fields: {', '.join(known)})")
         return cls(**value)
     raise TypeError(f"{argument} must be an ea.{cls.__name__}, {name_kind} or a dict of its fields; got "
                     f"{type(value).__name__}")

@@ -19,6 +19,8 @@ from .errors import ParameterError
 from .jsonio import to_jsonable
 from .outputs import sha256, write_files
 from .params import MIN_SAMPLES, Numerics, Physics
+from .sensitivity import estimate as estimate_sensitivity
+from .sensitivity import needs_estimate
 from .trajectory import Trajectory
 
 
@@ -279,21 +281,29 @@ def recorded_numerics(engine: str, physics: Physics) -> tuple[str, ...]:
 
 
 def summary(traj: Trajectory, numerics: Numerics, duration: float, transient: float | None = None,
-            provenance: dict | None = None) -> dict:
+            provenance: dict | None = None, sensitivity: bool = True) -> dict:
     """Everything summary.json holds: parameters, numerical settings, wall time, results, solver
-    information and (when given) the provenance record of elastoactive.outputs."""
+    information and (when given) the provenance record of elastoactive.outputs. An irregular run's results also
+    carry `sensitivity` (elastoactive.sensitivity: errors of its numbers, whether its dynamics is sensitive) unless
+    sensitivity=False."""
     transient = check_transient(duration, transient)
     if traj.engine == "mujoco":  # what ran: a long chain's automatic numerics (Numerics.for_physics), so --from repeats it
         numerics = numerics.for_physics(traj.physics)
     settings = dataclasses.asdict(numerics)
     if traj.engine in ENGINE_NUMERICS:
         settings = {k: settings[k] for k in recorded_numerics(traj.engine, traj.physics)}
+    results = measure(traj, transient)
+    recorded = results.as_dict()
+    if sensitivity and needs_estimate(traj, results.periodic):  # an irregular run: its numbers with their errors
+        estimate = estimate_sensitivity(traj, transient, numerics)
+        recorded["sensitivity"] = estimate.as_dict()
+        recorded["notes"] = [*recorded["notes"], estimate.note(results.amplitude, results.frequency)]
     out = {
         "engine": traj.engine,
         "parameters": traj.physics.relevant(),
         "numerics": {**settings, "duration": duration, "transient": transient},
         "wall_time_s": traj.wall_time_s,
-        "results": measure(traj, transient).as_dict(),
+        "results": recorded,
         "solver": traj.info,
     }
     if provenance is not None:

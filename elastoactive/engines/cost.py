@@ -15,6 +15,7 @@ import time
 from typing import NamedTuple
 
 import mujoco
+import numpy as np
 
 from ..controllers import follower_forces
 from ..errors import ParameterError
@@ -46,6 +47,7 @@ class MujocoCost(NamedTuple):
 def sample_cost(model: mujoco.MjModel, data: mujoco.MjData, steps_per_sample: int, samples: int) -> tuple[float, int]:
     """(seconds per recorded sample, samples timed): a few samples of the run, stepped on a copy of its state."""
     probe = copy.copy(data)
+    record = np.empty(model.nq)  # each sample is copied out, as the run records it
     limit = max(PROBE_MIN_SAMPLES, min(samples, int(PROBE_SHARE * samples)))
     timed = 0
     with follower_forces():
@@ -53,6 +55,7 @@ def sample_cost(model: mujoco.MjModel, data: mujoco.MjData, steps_per_sample: in
         start = time.perf_counter()
         while timed < limit and (timed < PROBE_MIN_SAMPLES or time.perf_counter() - start < PROBE_SECONDS):
             mujoco.mj_step(model, probe, nstep=steps_per_sample)
+            record[:] = probe.qpos
             timed += 1
         elapsed = time.perf_counter() - start
     return elapsed / max(timed, 1), timed

@@ -166,8 +166,8 @@ def test_what_cannot_be_measured_is_refused_before_simulating(capsys, no_simulat
 
 def test_the_front_door_takes_the_obvious_forms_or_names_the_argument():
     physics = ea.Physics(n=3)
-    fast = ea.simulate(physics, "fast", duration=2, engine="reduced")
-    assert np.array_equal(fast.theta, ea.simulate(physics, ea.Numerics.preset("fast"), duration=2, engine="reduced").theta)
+    fast = ea.simulate(physics, "fast", duration=2)
+    assert np.array_equal(fast.theta, ea.simulate(physics, ea.Numerics.preset("fast"), duration=2).theta)
     by_dict = ea.simulate(physics, {"sample_dt": 0.1}, duration=2, engine="reduced")
     assert by_dict.t[1] == pytest.approx(0.1)
     by_name = ea.simulate("one-pinned", duration=2, engine="reduced")

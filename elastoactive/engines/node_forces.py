@@ -1,7 +1,9 @@
-"""The reduced model with forces from plug-in terms: a force on every particle, from their positions.
+"""The reduced model with forces from plug-in terms: a force on every particle, from their positions and the time.
 
 A term the compiled kernels do not know (elastoactive.terms.base.Term.node_forces) gives the force F_i on every
-particle as a function of the particles' positions. Its generalised force on the absolute angle theta_j of a chain
+particle as a function of the particles' positions, law(positions), or of the time and the positions,
+law(t, positions) for a force that changes in time (a drive): the law's number of parameters tells which
+(time_law). Its generalised force on the absolute angle theta_j of a chain
 is the virtual work of moving every particle beyond joint j:
 
     Q_j = sum_{i >= j} F_i . (-sin theta_j, cos theta_j)
@@ -14,6 +16,8 @@ the kernels know (its fields in the record) stays the fast path. The chains' piv
 """
 
 from __future__ import annotations
+
+import inspect
 
 import numpy as np
 
@@ -44,6 +48,18 @@ def generalised(physics: Physics, theta: np.ndarray, forces: np.ndarray) -> np.n
     return q
 
 
+def time_law(law):
+    """law as a function of (t, positions): a law of the positions alone (one parameter) is wrapped, a law of two
+    parameters is taken to be law(t, positions) already."""
+    try:
+        count = len(inspect.signature(law).parameters)
+    except (TypeError, ValueError):  # a callable without a signature (a builtin): a law of the positions
+        count = 1
+    if count >= 2:
+        return law
+    return lambda time, positions: law(positions)
+
+
 def check(physics: Physics, system, noisy: bool) -> None:
     """Refuse, in one line, what this path does not cover."""
     names = ", ".join(t.name for t in physics.active_terms() if t.node_forces(physics) is not None)
@@ -62,12 +78,13 @@ def solve(physics: Physics, system, t: np.ndarray, theta0: np.ndarray, laws, *, 
     from scipy.integrate import solve_ivp
 
     own = _math.rhs(system, beta=beta, factor=loads)
+    laws = [time_law(law) for law in laws]
 
     def f(time, theta):
         total = np.zeros((physics.n_angles, 2))
         where = positions(physics, theta)
         for law in laws:
-            total += law(where)
+            total += law(time, where)
         return own(time, theta) + np.linalg.solve(_math.drag_matrix(system, theta), generalised(physics, theta, total))
 
     sol = solve_ivp(f, (0.0, float(t[-1])), theta0, method="DOP853", t_eval=t, rtol=rtol, atol=atol)

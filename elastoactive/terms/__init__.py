@@ -64,9 +64,9 @@ def owner_of(parameter: str) -> Term | None:
     return None
 
 
-from . import contact, drag, follower, noise  # noqa: E402  (the built-in terms register into the table above)
+from . import contact, drag, follower, noise, tip_drive  # noqa: E402  (the built-in terms register into the table above)
 
-for _module in (drag, noise, follower, contact):  # this order: the summaries list noise before loaded
+for _module in (drag, noise, follower, contact, tip_drive):  # this order: the summaries list noise before loaded
     register(_module.TERM)
 
 __all__ = ["NodeForces", "Term", "get", "names", "owner_of", "parameter_names", "register", "terms", "unregister"]

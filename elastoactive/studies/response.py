@@ -1,0 +1,217 @@
+"""The paper's outlook: the mechanical response to a small periodic tip force below onset (docs/outlook.md,
+section 2).
+
+Gain and phase of the tip's displacement against the drive's frequency, from the reduced engine with the tip-drive
+term against the linear transfer function G(omega) (analysis.response); the resonance's half width against
+sigma_c - sigma from G. The tip drive runs in the reduced engine only (the MuJoCo callback has no drive yet).
+"""
+
+from __future__ import annotations
+
+import cmath
+import math
+import time
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Mapping
+
+import numpy as np
+
+from ..analysis import fits
+from ..analysis import response as rs
+from ..analysis import stability as stab
+from ..batch import Case
+from ..params import Numerics
+from ..scenes import one_pinned
+from . import plotting as plots
+from . import registry
+from .base import Study, Summary, pick, run
+from .claim_rows import Claim, verdict
+
+TARGET = 1e-3
+"""Tip displacement (l) the drive aims at: its amplitude is TARGET / |G(omega)| (linear, well above the solver's
+tolerance)."""
+SETTLE = 10.0
+"""Transient discarded, in units of 1 / gamma (the least stable mode's decay time): its remains are ~e^-10."""
+WINDOW = 4
+"""Drive periods fitted after the transient."""
+AGREEMENT = 0.02
+"""Simulation against transfer function: |G_sim / G - 1| within this."""
+FREQUENCIES = (0.25, 0.5, "low", 0.9, 1.0, 1.1, "high", 1.5, 2.0)
+"""Drive frequencies in units of the resonance's peak omega, and its two half-power points."""
+
+
+@dataclass(frozen=True)
+class ResponseSummary(Summary):
+    n: int
+    ratio: float
+    """sigma / sigma_c of the simulated drives."""
+    sigma: float
+    peak_omega: float
+    peak_gain: float
+    half_width: float
+    gamma: float
+    """-Re lambda of the least stable pair."""
+    max_gain_error: float
+    """Largest |(|G_sim| / |G|) - 1| over the drive frequencies."""
+    max_phase_error: float
+    """Largest |arg G_sim - arg G| (rad)."""
+    max_complex_error: float
+    """Largest |G_sim / G - 1|."""
+    sim_half_power: list[float]
+    """|G_sim|^2 / |G_sim(peak)|^2 at the two half-power points of G (0.5 if the simulation resonates as G does)."""
+    width_exponent: float
+    """Slope of log(half width) against log(sigma_c - sigma) (1: linear)."""
+    width_per_distance: float
+    """half width / (sigma_c - sigma) at the smallest distance."""
+    gamma_per_distance: float
+    """-d Re lambda / d sigma at the onset (the width's limiting slope)."""
+    peak_exponent: float
+    """Slope of log(peak gain) against log(sigma_c - sigma) (-1: the gain diverges as 1 / distance)."""
+    longitudinal_gain: float
+    """Longitudinal drive at the peak frequency: the tip's longitudinal displacement at the drive's frequency over
+    the force (no linear response: second order in the small angles)."""
+
+
+RESPONSE = registry.declare("response", summary=ResponseSummary, order=170)
+
+
+def _omegas(res: rs.Resonance) -> list[float]:
+    named = {"low": res.low, "high": res.high}
+    return [float(named[f]) if isinstance(f, str) else f * res.omega for f in FREQUENCIES
+            if not (isinstance(f, str) and not math.isfinite(named[f]))]
+
+
+def _case(n: int, sigma: float, omega: float, amplitude: float, gamma: float, sample_dt: float,
+          direction: str = "transverse") -> tuple[Case, float]:
+    period = 2 * math.pi / omega
+    settle = SETTLE / gamma
+    duration = math.ceil((settle + WINDOW * period) / sample_dt) * sample_dt
+    physics = one_pinned.SCENE.physics(n=n, sigma=sigma, drive_amplitude=amplitude,
+                                       drive_frequency=omega / (2 * math.pi), drive_direction=direction)
+    return Case(physics, Numerics(sample_dt=sample_dt, perturbation=1e-4), duration, "reduced"), duration - WINDOW * period
+
+
+def _fit(traj, start: float, omega: float, amplitude: float, direction: str = "transverse") -> complex:
+    keep = traj.t >= start - 1e-9
+    n = traj.physics.n
+    x = rs.tip_displacement(traj.theta[keep, :n], direction)
+    return rs.harmonic_response(traj.t[keep], x, omega, amplitude).gain
+
+
+@RESPONSE.run
+def response_study(size: str = "quick", workers=None, progress: bool = True) -> Study:
+    """Gain and phase of the tip against the drive frequency (reduced engine vs G(omega)), the resonance's width
+    against sigma_c - sigma (G), and a longitudinal drive."""
+    start = time.perf_counter()
+    n = pick(size, 2, 7, 7)
+    ratio = 0.9
+    sample_dt = pick(size, 0.05, 0.5, 0.25)
+    sigma_c, _ = stab.critical_sigma(n)
+    sigma = ratio * sigma_c
+    res = rs.resonance(n, sigma)
+    lam = stab.eigenvalues(n, sigma)[0]
+    gamma = -lam.real
+    omegas = _omegas(res)
+    theory = rs.tip_transfer(n, sigma, omegas)
+    cases, starts, amps = [], [], []
+    for w, g in zip(omegas, theory):
+        amp = TARGET / abs(g)
+        case, begin = _case(n, sigma, w, amp, gamma, sample_dt)
+        cases.append(case)
+        starts.append(begin)
+        amps.append(amp)
+    long_amp = TARGET / res.gain
+    case, long_start = _case(n, sigma, res.omega, long_amp, gamma, sample_dt, "longitudinal")
+    trajs = run(cases + [case], workers, progress, "tip drive")
+    sim = np.array([_fit(tr, b, w, a) for tr, b, w, a in zip(trajs, starts, omegas, amps)])
+    longitudinal = abs(_fit(trajs[-1], long_start, res.omega, long_amp, "longitudinal"))
+
+    fine = np.geomspace(omegas[0] / 2, omegas[-1] * 1.5, pick(size, 200, 600, 1200))
+    curve = rs.tip_transfer(n, sigma, fine)
+    distances = np.geomspace(pick(size, 0.02, 0.005, 0.002), 0.15, pick(size, 6, 14, 24))
+    widths, peaks, gammas = [], [], []
+    for d in distances:
+        r = rs.resonance(n, (1 - d) * sigma_c)
+        widths.append(r.half_width)
+        peaks.append(r.gain)
+        gammas.append(-stab.eigenvalues(n, (1 - d) * sigma_c)[0].real)
+    widths, peaks, gammas = np.array(widths), np.array(peaks), np.array(gammas)
+    small = distances <= 0.05
+    width_law = fits.power_law_fit(distances[small] * sigma_c, widths[small])
+    peak_law = fits.power_law_fit(distances[small] * sigma_c, peaks[small])
+    eps = 1e-6
+    slope = (stab.eigenvalues(n, sigma_c * (1 - eps))[0].real - stab.eigenvalues(n, sigma_c)[0].real) / (-eps * sigma_c)
+    i_peak = omegas.index(res.omega) if res.omega in omegas else int(np.argmax(np.abs(theory)))
+    half = [float(abs(sim[omegas.index(w)]) ** 2 / abs(sim[i_peak]) ** 2) for w in (res.low, res.high) if w in omegas]
+    data = {"omega": np.array(omegas), "gain_theory": np.abs(theory), "phase_theory": np.angle(theory),
+            "gain_sim": np.abs(sim), "phase_sim": np.angle(sim), "fine_omega": fine, "fine_gain": np.abs(curve),
+            "fine_phase": np.angle(curve), "distance": distances, "half_width": widths, "peak_gain": peaks,
+            "gamma": gammas}
+    summary = ResponseSummary(
+        n=int(n), ratio=ratio, sigma=float(sigma), peak_omega=res.omega, peak_gain=res.gain, half_width=res.half_width,
+        gamma=float(gamma), max_gain_error=float(np.max(np.abs(np.abs(sim) / np.abs(theory) - 1))),
+        max_phase_error=float(np.max(np.abs(np.angle(sim / theory)))),
+        max_complex_error=float(np.max(np.abs(sim / theory - 1))), sim_half_power=half,
+        width_exponent=width_law["exponent"], width_per_distance=float(widths[0] / (distances[0] * sigma_c)),
+        gamma_per_distance=float(slope), peak_exponent=peak_law["exponent"], longitudinal_gain=float(longitudinal))
+    return Study("response", size, data, summary, time.perf_counter() - start)
+
+
+@RESPONSE.figure
+@plots.styled
+def response_figure(study: Study, out: Path) -> list[Path]:
+    plt = plots.pyplot()
+    d, s = study.data, study.summary
+    fig, (a1, a2, a3) = plt.subplots(1, 3, figsize=(13, 4))
+    a1.loglog(d["fine_omega"], d["fine_gain"], "k-", lw=1, label=r"transfer function $|G(\omega)|$")
+    a1.loglog(d["omega"], d["gain_sim"], **plots.ENGINE_STYLE["reduced"])
+    a1.axvspan(s.peak_omega - s.half_width, s.peak_omega + s.half_width, color="C0", alpha=0.12,
+               label=rf"half width {s.half_width:.3g}/$\tau$")
+    a1.set_xlabel(r"drive $\omega\,\tau$")
+    a1.set_ylabel(r"gain $|y_N| / |F_y|$ ($l^2/C_1$)")
+    a1.legend(fontsize=8)
+    a1.set_title(rf"N = {s.n}, $\sigma$ = {s.ratio:g} $\sigma_c$: gain")
+    a2.semilogx(d["fine_omega"], d["fine_phase"], "k-", lw=1, label="transfer function")
+    a2.semilogx(d["omega"], d["phase_sim"], **plots.ENGINE_STYLE["reduced"])
+    a2.set_xlabel(r"drive $\omega\,\tau$")
+    a2.set_ylabel("phase lead of the tip (rad)")
+    a2.legend(fontsize=8)
+    a2.set_title(f"phase (largest error {s.max_phase_error:.1e} rad)")
+    sc = d["distance"]
+    a3.loglog(sc, d["half_width"], "o-", ms=3, label="half width of $|G|^2$")
+    a3.loglog(sc, d["gamma"], "k--", lw=1, label=r"$-$Re $\lambda$ (least stable pair)")
+    a3.set_xlabel(r"$(\sigma_c - \sigma) / \sigma_c$")
+    a3.set_ylabel(r"$\omega\,\tau$")
+    a3.legend(fontsize=8)
+    a3.set_title(f"resonance width: slope {s.width_exponent:.3f}")
+    fig.suptitle("Linear response to a transverse tip force below onset: reduced engine against G(omega)")
+    fig.tight_layout()
+    return [plots.save(fig, out, "response_tip.png")]
+
+
+@RESPONSE.claims
+def response_claims(study: Study, read: Mapping[str, Study]) -> list[Claim]:
+    s = study.summary
+    outlook = "outlook: 'mechanical responses such as longitudinal or transverse excitations'"
+    ok = s.max_complex_error < AGREEMENT
+    rows = [Claim(
+        "Below onset a transverse tip force gets the linear operator's response (gain and phase)", outlook, "-",
+        f"|G_sim / G - 1| <= {s.max_complex_error:.1e} over {len(FREQUENCIES)} frequencies",
+        verdict(ok),
+        f"N = {s.n}, sigma = {s.ratio:g} sigma_c: gain within {100 * s.max_gain_error:.2g}%, phase within "
+        f"{s.max_phase_error:.1e} rad of G(omega) = e_N^T (i omega - M)^-1 e_N (tip displacement over tip force) from "
+        f"0.25 to 2 times the peak at omega = {s.peak_omega:.4g}/tau (|G| = {s.peak_gain:.4g}); the simulated gain at G's "
+        "half-power points is " + " and ".join(f"{h:.4f}" for h in s.sim_half_power) + " of its peak squared. A "
+        f"longitudinal force of the same size at the peak frequency moves the tip along the chain by "
+        f"{s.longitudinal_gain:.1e} l per unit force at the drive's frequency: no linear response (it enters as "
+        "-F_x theta_j, a parametric drive, and the straight chain stays straight).")]
+    rows.append(Claim(
+        "The resonance sharpens as sigma -> sigma_c: its width vanishes linearly in sigma_c - sigma", outlook, "-",
+        f"width ~ (sigma_c - sigma)^{s.width_exponent:.3f}",
+        verdict(abs(s.width_exponent - 1) < 0.05 and abs(s.width_per_distance / s.gamma_per_distance - 1) < 0.05),
+        f"half width at half maximum of |G|^2 against sigma_c - sigma (N = {s.n}, from G): exponent "
+        f"{s.width_exponent:.3f}, width / (sigma_c - sigma) = {s.width_per_distance:.4g} at the closest point against "
+        f"-d Re lambda / d sigma = {s.gamma_per_distance:.4g} at the onset; at {s.ratio:g} sigma_c the width "
+        f"{s.half_width:.4g} against gamma = {s.gamma:.4g}; the peak gain grows as (sigma_c - sigma)^{s.peak_exponent:.3f}."))
+    return rows

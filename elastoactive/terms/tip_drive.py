@@ -1,0 +1,76 @@
+"""A periodic force on the tip: F(t) = drive_amplitude sin(2 pi drive_frequency t) along drive_direction, on the
+last particle of chain 1 (transverse: the lab's y, across the straight chain; longitudinal: the lab's x, along it).
+
+The reduced model only, as a node force (elastoactive.engines.node_forces, a law of the time and the positions);
+MuJoCo refuses it in one line. Observables: drive_gain and drive_phase, the tip's displacement along the drive at
+the drive's frequency over the drive's amplitude and its phase lead (analysis.response.harmonic_response, over
+the whole drive periods of the steady window), which below onset the linear transfer function G(omega) predicts
+for the transverse drive (docs/outlook.md, section 2).
+"""
+
+from __future__ import annotations
+
+import cmath
+import math
+
+import numpy as np
+
+from ..analysis.response import harmonic_response, tip_displacement
+from ..errors import ParameterError
+from ..parameters import Parameter
+from .base import Term
+
+DIRECTIONS = ("transverse", "longitudinal")
+DIRECTION_VECTORS = {"transverse": (0.0, 1.0), "longitudinal": (1.0, 0.0)}
+
+DRIVE_AMPLITUDE = Parameter("drive_amplitude", 0.0, "amplitude of a periodic force on the tip (C1 / l; 0: no drive)",
+                            low=0.0, title="tip force amplitude, C1 / l", units="C1/l", quiet_default=True)
+DRIVE_FREQUENCY = Parameter("drive_frequency", 0.01, "frequency f tau of the tip force (cycles per tau; with "
+                            "--drive-amplitude)", low=0.0, low_open=True, title="tip force frequency f tau",
+                            units="1/tau", needs="drive_amplitude", quiet_default=True)
+DRIVE_DIRECTION = Parameter("drive_direction", "transverse", "direction of the tip force: transverse (lab y, across "
+                            "the straight chain) or longitudinal (lab x, along it; with --drive-amplitude)", kind=str,
+                            choices=DIRECTIONS, title="tip force direction", needs="drive_amplitude", quiet_default=True)
+
+
+class TipDrive(Term):
+    name = "tip-drive"
+    summary = "a periodic force on the tip of chain 1"
+    parameters = (DRIVE_AMPLITUDE, DRIVE_FREQUENCY, DRIVE_DIRECTION)
+    observables = ("drive_gain", "drive_phase")
+
+    def active(self, physics) -> bool:
+        return physics.drive_amplitude > 0
+
+    def build(self, spec, physics, numerics):
+        raise ParameterError("the tip drive (drive_amplitude) is not built for the MuJoCo engine yet; run it with "
+                             "--engine reduced")
+
+    def node_forces(self, physics):
+        tip = physics.n - 1  # chain 1's last particle
+        omega = 2.0 * math.pi * physics.drive_frequency
+        along = np.array(DIRECTION_VECTORS[physics.drive_direction]) * physics.drive_amplitude
+
+        def law(t, positions):
+            force = np.zeros_like(positions)
+            force[tip] = along * math.sin(omega * t)
+            return force
+
+        return law
+
+    def measure(self, traj, transient):
+        """drive_gain and drive_phase (rad, the response's lead) over the whole drive periods of the steady window;
+        null when the window holds less than one period."""
+        physics = traj.physics
+        omega = 2.0 * math.pi * physics.drive_frequency
+        start = traj.t[0] + transient
+        periods = math.floor((traj.t[-1] - start) * physics.drive_frequency)
+        if periods < 1:
+            return {"drive_gain": None, "drive_phase": None}
+        keep = (traj.t >= start) & (traj.t <= start + periods / physics.drive_frequency + 1e-9)
+        x = tip_displacement(traj.theta[keep, : physics.n], physics.drive_direction)
+        fit = harmonic_response(traj.t[keep], x, omega, physics.drive_amplitude)
+        return {"drive_gain": abs(fit.gain), "drive_phase": cmath.phase(fit.gain)}
+
+
+TERM = TipDrive()

@@ -1,0 +1,109 @@
+"""The tip's linear response (analysis.response), the tip-drive term and its time-dependent node forces, and the
+response study."""
+
+import cmath
+import math
+
+import numpy as np
+import pytest
+
+import elastoactive as ea
+from elastoactive.analysis import response as rs
+from elastoactive.analysis import stability as stab
+from elastoactive.engines import node_forces
+from elastoactive.errors import ParameterError
+
+
+def test_transfer_function_of_n2_in_closed_form():
+    """N = 2: G = e_2^T (i w - M)^-1 e_2 by hand, and at w = 0 the static compliance (K - sigma S)^-1 seen at the tip."""
+    sigma = 2.0
+    m = np.array([[-5.0 + 2 * sigma, 2.0 - sigma], [2.0, -1.0]])  # M of N = 2: trace 2 (sigma - 3), det 1
+    for w in (0.0, 0.3, 1.0, 4.0):
+        a = 1j * w * np.eye(2) - m
+        assert rs.tip_transfer(2, sigma, w)[0] == pytest.approx(a[0, 0] / np.linalg.det(a), rel=1e-12)
+    k = np.array([[2.0, -1, 0], [-1, 2, -1], [0, -1, 1]])
+    s = np.array([[2.0, -1, -1], [0, 1, -1], [0, 0, 0]])
+    ones = np.ones(3)
+    static = ones @ np.linalg.solve(k - 0.1 * s, ones)  # theta = (K - sigma S)^-1 Q with Q = F (1, 1, 1)
+    assert rs.tip_transfer(3, 0.1, 0.0)[0].real == pytest.approx(static, rel=1e-12)
+
+
+def test_resonance_width_is_the_decay_rate_near_onset():
+    n = 7
+    sigma_c, omega_c = stab.critical_sigma(n)
+    res = rs.resonance(n, 0.98 * sigma_c)
+    lam = stab.eigenvalues(n, 0.98 * sigma_c)[0]
+    assert res.half_width == pytest.approx(-lam.real, rel=0.02)
+    assert res.omega == pytest.approx(abs(lam.imag), rel=0.005) and res.omega < omega_c
+    assert abs(rs.tip_transfer(n, 0.98 * sigma_c, res.low)[0]) ** 2 == pytest.approx(res.gain**2 / 2, rel=1e-8)
+    with pytest.raises(ParameterError, match="not below the onset"):
+        rs.resonance(n, 1.1 * sigma_c)
+    with pytest.raises(ParameterError, match="real"):
+        rs.resonance(n, 0.3 * sigma_c)
+
+
+def test_harmonic_response_reads_gain_and_phase():
+    t = np.linspace(0, 4 * 2 * math.pi / 0.7, 801)
+    g = 2.5 * cmath.exp(0.4j)
+    x = 0.1 + abs(g) * 0.01 * np.sin(0.7 * t + cmath.phase(g))
+    fit = rs.harmonic_response(t, x, 0.7, 0.01)
+    assert fit.gain == pytest.approx(g, rel=1e-10) and fit.offset == pytest.approx(0.1) and fit.residual < 1e-10
+    with pytest.raises(ParameterError, match="whole drive period"):
+        rs.harmonic_response(t[:10], x[:10], 0.7, 0.01)
+    with pytest.raises(ParameterError, match="amplitude"):
+        rs.harmonic_response(t, x, 0.7, 0.0)
+    with pytest.raises(ParameterError, match="direction"):
+        rs.tip_displacement(np.zeros((3, 4)), "sideways")
+
+
+def test_node_force_laws_of_positions_alone_still_work():
+    law = node_forces.time_law(lambda positions: positions * 2)
+    assert np.array_equal(law(3.0, np.ones((2, 2))), 2 * np.ones((2, 2)))
+    both = node_forces.time_law(lambda t, positions: positions * t)
+    assert np.array_equal(both(3.0, np.ones((2, 2))), 3 * np.ones((2, 2)))
+
+
+def test_tip_drive_parameters_and_mujoco_refusal():
+    assert "tip-drive" in ea.terms.names()
+    p = ea.Physics(n=3, sigma=0.5, drive_amplitude=1e-3, drive_frequency=0.1)
+    assert p.relevant()["drive_amplitude"] == 1e-3 and "drive_amplitude" not in ea.Physics(n=3).relevant()
+    with pytest.raises(ParameterError, match="drive_frequency"):
+        ea.Physics(n=3, drive_frequency=0.1)  # no effect without a drive
+    with pytest.raises(ParameterError, match="drive_direction"):
+        ea.Physics(n=3, drive_amplitude=1e-3, drive_direction="sideways")
+    with pytest.raises(ParameterError, match="drive_amplitude"):
+        ea.Physics(n=3, drive_amplitude=-1.0)
+    with pytest.raises(ParameterError, match="not built for the MuJoCo engine"):
+        ea.simulate(p, duration=1.0, engine="mujoco")
+
+
+def test_tip_drive_in_the_reduced_engine_matches_the_transfer_function():
+    n, sigma = 2, 2.7
+    omega = 1.2
+    g = rs.tip_transfer(n, sigma, omega)[0]
+    amp = 1e-3 / abs(g)
+    physics = ea.Physics(n=n, sigma=sigma, drive_amplitude=amp, drive_frequency=omega / (2 * math.pi))
+    period = 2 * math.pi / omega
+    duration = round((40.0 + 3 * period) / 0.05) * 0.05
+    traj = ea.simulate(physics, ea.Numerics(sample_dt=0.05, perturbation=0.0), duration=duration, engine="reduced")
+    res = ea.measure(traj, transient=duration - 3 * period)
+    assert res.extra["drive_gain"] == pytest.approx(abs(g), rel=1e-3)
+    assert res.extra["drive_phase"] == pytest.approx(cmath.phase(g), abs=1e-3)
+    still = ea.simulate(ea.Physics(n=n, sigma=sigma), ea.Numerics(sample_dt=0.05, perturbation=0.0), duration=10.0,
+                        engine="reduced")
+    assert np.abs(still.theta).max() == 0.0  # without the drive the straight chain stays put: the drive moved it
+
+
+@pytest.fixture(scope="module")
+def runs(tiny_studies):
+    return tiny_studies("response")
+
+
+def test_response_study_tiny(runs, round_trip):
+    s = runs[1]["response"].summary
+    assert s.max_complex_error < 1e-3
+    assert all(h == pytest.approx(0.5, abs=1e-3) for h in s.sim_half_power) and len(s.sim_half_power) == 2
+    assert s.width_exponent == pytest.approx(1.0, abs=0.05)
+    assert s.width_per_distance == pytest.approx(s.gamma_per_distance, rel=0.05)
+    table = round_trip(runs, "response")
+    assert "tip force" in table and table.count("| **yes** |") == 2

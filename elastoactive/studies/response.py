@@ -31,8 +31,8 @@ from .claim_rows import Claim, verdict
 TARGET = 1e-3
 """Tip displacement (l) the drive aims at: its amplitude is TARGET / |G(omega)| (linear, well above the solver's
 tolerance)."""
-SETTLE = 10.0
-"""Transient discarded, in units of 1 / gamma (the least stable mode's decay time): its remains are ~e^-10."""
+SETTLE = 8.0
+"""Transient discarded, in units of 1 / gamma (the least stable mode's decay time): its remains are ~e^-8 = 3e-4 of it."""
 WINDOW = 4
 """Drive periods fitted after the transient."""
 AGREEMENT = 0.02

@@ -48,7 +48,7 @@ def test_builder_reproduces_base_file(scene):
 
 
 @pytest.mark.parametrize(
-    "scene,n", [(s, n) for s in SCENES for n in (1, 2, 7, 40) if not (s == "two-pinned" and n < 2)]
+    "scene,n", [(s, n) for s in SCENES for n in (1, 2, 7, 40) if n >= scenes.get(s).min_n]
 )
 def test_each_scene_holds_only_what_it_needs(scene, n):
     physics = Physics(scene=scene, n=n)
@@ -63,16 +63,17 @@ def test_each_scene_holds_only_what_it_needs(scene, n):
     assert model.ngeom and not np.any(model.geom_contype) and not np.any(model.geom_conaffinity)
     off = flags(model)
     assert ALWAYS_OFF <= off
-    assert model.neq == (1 if scene == "two-pinned" else 0)
-    assert model.ntendon == {"coupled-pair": 1, "paraboloid": n + 1}.get(scene, 0)  # coupling; trap springs
-    if scene != "two-pinned":
+    pinned = physics.scene_def.pinned  # the two-pinned chain's end, the ring's closing particle
+    assert model.neq == (1 if pinned else 0)
+    assert model.ntendon == {"coupled-pair": 1, "paraboloid": n + 1, "ring": 1}.get(scene, 0)  # coupling; trap; closure
+    if not pinned:
         assert {"mjDSBL_CONSTRAINT", "mjDSBL_EQUALITY", "mjDSBL_WARMSTART"} <= off
     else:
         assert "mjDSBL_CONSTRAINT" not in off and "mjDSBL_EQUALITY" not in off
     data = mujoco.MjData(model)
     mujoco.mj_forward(model, data)
     assert data.ncon == 0
-    assert data.nefc == (3 if scene == "two-pinned" else 0)
+    assert data.nefc == (3 if pinned else 0)
     # mass sits on the particles only: the visual capsules weigh nothing
     links = [i for i in range(model.ngeom) if "link_" in model.geom(i).name]
     assert len(links) == n * chains and not np.any(model.geom_size[links, 0] == 0)

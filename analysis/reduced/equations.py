@@ -281,6 +281,10 @@ def rhs_reference(system: ChainSystem, *, beta: float, factor=None):
         if nch == 2:
             force[0] -= system.kappa * (theta[0] - theta[n])
             force[n] += system.kappa * (theta[0] - theta[n])
+        if system.closed:  # the ring's last joint (ChainSystem.closed)
+            bend = theta[0] + 2.0 * np.pi - theta[n - 1]
+            force[0] -= bend
+            force[n - 1] += bend
         if not system.pinned:
             return np.linalg.solve(Dfull, force)
         return _pinned_rates(Dfull, force, theta, beta, system.delta)
@@ -329,6 +333,10 @@ def rhs_inertial_reference(system: ChainSystem, *, beta: float, factor=None):
         if nch == 2:
             force[0] -= system.kappa * (theta[0] - theta[n])
             force[n] += system.kappa * (theta[0] - theta[n])
+        if system.closed:  # the ring's last joint (ChainSystem.closed)
+            bend = theta[0] + 2.0 * np.pi - theta[n - 1]
+            force[0] -= bend
+            force[n - 1] += bend
         rhs_acc = force - D @ omega - c
         if not system.pinned:
             return np.concatenate([omega, np.linalg.solve(M, rhs_acc)])

@@ -5,7 +5,7 @@ RK4 steps.
 Every kernel that needs the model's parameters takes the `ChainSystem` record itself (numba compiles a
 NamedTuple as a typed record; fields are read by name) and the Baumgarte rate `beta` as a float
 argument. The record must come through `ChainSystem.typed()` (the functions of solve.py do that), so
-that the field types are always (int64, int64, bool, bool, float64 x 8, bool, float64 x 3) and each kernel is compiled,
+that the field types are always (int64, int64, bool, bool, float64 x 8, bool, float64 x 3, bool) and each kernel is compiled,
 and cached on disk, once. The formulas are those of equations.py; rhs_reference there is the
 plain-numpy twin that tests hold these kernels to.
 
@@ -59,6 +59,8 @@ from numba import njit
 from .contact import CROSSING_DISTANCE as _CROSSING_DISTANCE
 from .system import CONTACT_LENGTH as _CONTACT_LENGTH
 from .system import ChainSystem
+
+_TWO_PI = 2.0 * math.pi
 
 __all__ = [
     "RECURSIVE_MIN_N",
@@ -262,6 +264,17 @@ def _chain_forces(th, fac, system, out):
         d = system.kappa * (th[0] - th[n])
         out[0] -= d
         out[n] += d
+    if system.closed:
+        _closure(th, n, out)
+
+
+@njit(cache=True, inline="always")
+def _closure(th, n, out):
+    """A closed chain's last joint: the spring (stiffness 1) between the last link and the first, bent by
+    th_0 + 2 pi - th_{n-1} (zero for the straight continuation once round the ring)."""
+    d = th[0] + _TWO_PI - th[n - 1]
+    out[0] -= d
+    out[n - 1] += d
 
 
 @njit(cache=True)
@@ -461,6 +474,8 @@ def eval_rhs_recursive(th, fac, system, beta, out, U, X, lam):
         d = system.kappa * (th[0] - th[n])
         out[0] -= d
         out[n] += d
+    if system.closed:
+        _closure(th, n, out)
     for ch in range(nch):
         ncols = 2 if (system.pinned and ch == 0) else 0
         articulated_solve(ch * n, n, system.gamma_l, system.gamma_t, out, U, X, ncols)
@@ -615,6 +630,11 @@ def _jacobian_forces(th, w, system, J, lam):
         R[0, n] += kappa
         R[n, n] -= kappa
         R[n, 0] += kappa
+    if system.closed:
+        R[0, 0] -= 1.0
+        R[0, n - 1] += 1.0
+        R[n - 1, n - 1] -= 1.0
+        R[n - 1, 0] += 1.0
     if pinned:
         for m in range(n):
             R[m, m] += cs[m] * lam[0] + sn[m] * lam[1]

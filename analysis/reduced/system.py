@@ -50,6 +50,9 @@ class ChainSystem(NamedTuple):
                        each core end of a link against the core of every non-adjacent link (|i - j| >= 2) of the
                        same chain (contact.py: for a single contact, exactly K/2 max(0, 2R - d)^2 of the cores'
                        distance d); must be > 0 when contact_radius > 0
+    closed             the chain closes on itself (a ring): a spring of stiffness 1 joins the last link to the first,
+                       bent by th_0 + 2 pi - th_{N-1}; with pinned and delta = 1 the last particle is held at the
+                       first pendulum's pivot. Only for one chain on a free pin (n_chains = 1, clamped = False)
     The inertial model (mass_ratio > 0) has them too (kernels.eval_rhs_inertial_general); its free head is a bead
     like the particles' (mass m at the pivot, turning with the first pendulum), as MuJoCo's paraboloid scene builds it.
     """
@@ -70,6 +73,7 @@ class ChainSystem(NamedTuple):
     trap: float = 0.0
     contact_radius: float = 0.0
     contact_stiffness: float = 0.0
+    closed: bool = False
 
     @property
     def n_angles(self) -> int:
@@ -133,13 +137,20 @@ class ChainSystem(NamedTuple):
             raise ParameterError(f"contact_stiffness must be finite and >= 0, got {self.contact_stiffness!r}")
         if self.contact_radius > 0 and not self.contact_stiffness > 0:
             raise ParameterError("contact_radius > 0 needs contact_stiffness > 0 (the penalty of an overlap)")
+        if self.closed and (self.n_chains != 1 or self.clamped or self.head_free or self.n < 3
+                            or self.trap > 0 or self.contact_radius > 0):
+            raise ParameterError(
+                "closed: the reduced model's ring is one chain of N >= 3 on a free pin (n_chains = 1, clamped = False, "
+                f"head_free = False) without a trap or self-contact (use the MuJoCo engine for those); got n={self.n!r}, "
+                f"n_chains={self.n_chains!r}, clamped={self.clamped!r}, head_free={self.head_free!r}, trap={self.trap!r}, "
+                f"contact_radius={self.contact_radius!r}")
         return ChainSystem(
             n=int(self.n), n_chains=int(self.n_chains), clamped=bool(self.clamped), pinned=bool(self.pinned),
             sigma=float(self.sigma), gamma_l=float(self.gamma_l), gamma_t=float(self.gamma_t),
             kappa=float(self.kappa), rho=float(self.rho), delta=float(self.delta),
             mass_ratio=float(self.mass_ratio), inertia_factor=float(self.inertia_factor),
             head_free=bool(self.head_free), trap=float(self.trap), contact_radius=float(self.contact_radius),
-            contact_stiffness=float(self.contact_stiffness),
+            contact_stiffness=float(self.contact_stiffness), closed=bool(self.closed),
         )
 
     def force_factors(self, factor=None) -> np.ndarray:

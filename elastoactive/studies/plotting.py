@@ -13,6 +13,8 @@ from pathlib import Path
 
 import numpy as np
 
+from ..outputs import atomic_file
+
 STYLE = {
     "font.size": 11,
     "axes.titlesize": 11,
@@ -66,8 +68,11 @@ def save(fig, out: Path, name: str) -> Path:
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     path = out / name
-    fig.savefig(path, dpi=130, bbox_inches="tight")
-    pyplot().close(fig)
+    try:
+        with atomic_file(path) as tmp:  # a failed write (full disk) names the file; the umask gives the mode
+            fig.savefig(tmp, dpi=130, bbox_inches="tight", format=path.suffix.lstrip(".") or "png")
+    finally:
+        pyplot().close(fig)
     return path
 
 

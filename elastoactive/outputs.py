@@ -49,15 +49,19 @@ def _version(name: str) -> str | None:
         return None
 
 
-def git_commit() -> str | None:
-    """The checkout's commit (with '+dirty' if it has uncommitted changes), when run from a git checkout."""
-    root = Path(__file__).resolve().parents[1]
+def git_commit(root: Path | None = None) -> str | None:
+    """The checkout's commit (with '+dirty' if it has uncommitted changes), when run from a git checkout (default:
+    the package's own)."""
+    root = Path(__file__).resolve().parents[1] if root is None else Path(root)
     if not (root / ".git").exists():
         return None
     try:
         head = subprocess.run(["git", "-C", str(root), "rev-parse", "HEAD"], capture_output=True, text=True,
                               timeout=5, check=True).stdout.strip()
-        dirty = subprocess.run(["git", "-C", str(root), "status", "--porcelain", "--untracked-files=no"],
+        # --no-optional-locks: reading the state must not write the index (a full disk or a file-size limit would
+        # leave .git/index.lock behind, and a concurrent git command in the checkout would find it locked)
+        dirty = subprocess.run(["git", "-C", str(root), "--no-optional-locks", "status", "--porcelain",
+                                "--untracked-files=no"],
                                capture_output=True, text=True, timeout=5).stdout.strip()
     except (OSError, subprocess.SubprocessError):
         return None

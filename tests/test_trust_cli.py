@@ -203,3 +203,22 @@ def test_from_reruns_every_recorded_run_or_refuses(tmp_path, capsys):
                  "--quiet"]) == 0
     with np.load(heavy / "trajectory.npz") as a, np.load(tmp_path / "given" / "trajectory.npz") as b:
         np.testing.assert_array_equal(a["theta"], b["theta"])
+
+
+def test_reading_the_git_commit_writes_nothing_into_the_checkout(tmp_path):
+    """The provenance's git state is read without refreshing the index: under a full disk or a file-size limit a
+    refresh would leave .git/index.lock behind, and it would race with the user's own git commands."""
+    from elastoactive.outputs import git_commit
+
+    def git(*args):
+        subprocess.run(["git", "-C", str(tmp_path), *args], check=True, capture_output=True)
+
+    git("init", "-q")
+    (tmp_path / "a.txt").write_text("a")
+    git("add", "a.txt")
+    git("-c", "user.name=t", "-c", "user.email=t@t", "commit", "-q", "-m", "a")
+    index = tmp_path / ".git" / "index"
+    os.utime(tmp_path / "a.txt", (1e9, 1e9))  # the index's stat data is stale: a refresh would rewrite it
+    before = (index.read_bytes(), index.stat().st_mtime_ns)
+    assert git_commit(tmp_path) and not git_commit(tmp_path).endswith("+dirty")
+    assert (index.read_bytes(), index.stat().st_mtime_ns) == before

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import argparse
 import hashlib
+import importlib.util
 import json
 import time
 from dataclasses import dataclass, field
@@ -63,13 +64,31 @@ class Interrupted(KeyboardInterrupt):
     """Ctrl-C during reproduce; the message says which study stopped and what stays saved."""
 
 
+SOURCE_PACKAGES = ("elastoactive", "elastoactive.analysis", "elastoactive.controllers", "elastoactive.mjcf")
+"""The packages whose files make the results: in a checkout the last three are top-level folders mapped into the
+package (pyproject's package-dir), in an installed copy they sit inside it."""
+SOURCE_SUFFIXES = (".py", ".xml", ".c")
+"""The files that count: Python, the MJCF templates, the follower-force callback's C source."""
+
+
+def source_files() -> dict[str, Path]:
+    """The files of SOURCE_PACKAGES with SOURCE_SUFFIXES, by '<package>:<path inside it>' (an installed copy, whose
+    sub-packages sit inside the package's folder, lists theirs twice: harmless)."""
+    out = {}
+    for name in SOURCE_PACKAGES:
+        spec = importlib.util.find_spec(name)
+        for root in (Path(p).resolve() for p in ((spec.submodule_search_locations or []) if spec else [])):
+            out.update({f"{name}:{f.relative_to(root).as_posix()}": f for f in root.rglob("*")
+                        if f.suffix in SOURCE_SUFFIXES and f.is_file()})
+    return out
+
+
 def source_digest() -> str:
-    """SHA-256 (first 16 hex digits) of the package's Python sources: the code version a study's data were made
-    with (a git commit says nothing about uncommitted edits or an installed copy)."""
-    root = Path(__file__).resolve().parent
+    """SHA-256 (first 16 hex digits) of `source_files`: the code version a study's data were made with (a git commit
+    says nothing about uncommitted edits or an installed copy)."""
     h = hashlib.sha256()
-    for path in sorted(root.rglob("*.py")):
-        h.update(path.relative_to(root).as_posix().encode() + b"\0" + path.read_bytes() + b"\0")
+    for rel, path in sorted(source_files().items()):
+        h.update(rel.encode() + b"\0" + path.read_bytes() + b"\0")
     return h.hexdigest()[:16]
 
 

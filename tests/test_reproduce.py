@@ -92,3 +92,16 @@ def test_readme_claims_block_holds_only_the_claims_table():
     assert all(line.startswith(f"| {i} | ") for i, line in enumerate(lines[2:], 1))
     readme = (ROOT / "README.md").read_text()
     assert f"<!-- generated: claims -->\n{block}\n<!-- end -->" in readme
+
+
+def test_the_code_digest_covers_every_source_that_makes_results():
+    """Resume keeps a study only when the code that made it is today's: the digest must see the reduced engine,
+    the MJCF templates and the callback's C source, which a checkout keeps in top-level folders."""
+    from elastoactive.reproduce import source_digest, source_files
+
+    files = source_files()
+    for rel in ("reproduce.py", "studies/registry.py", "reduced/kernels.py", "stability.py", "common.xml", "follower.c"):
+        assert any(k.endswith(":" + rel) or k.endswith("/" + rel) for k in files), rel
+    inits = {p.parent.name for p in files.values() if p.name == "__init__.py"}
+    assert {"elastoactive", "analysis", "reduced", "studies"} <= inits  # same names in different folders all count
+    assert len(source_digest()) == 16 and source_digest() == source_digest()

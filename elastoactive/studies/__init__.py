@@ -45,6 +45,7 @@ from .normal_form import NormalFormSummary, normal_form_study
 from .rotation import RotationSummary, rotation_study
 from .self_contact import LongChainSummary, long_chain_study
 from .response import ResponseSummary, response_study
+from .ring import RingSummary, ring_study
 from .skin import SkinSummary, skin_study
 from .snapping import SnappingSummary, snapping_study
 from .sync import SyncN2Summary, SyncSummary, TongueSummary, sync_n2_study, sync_study, tongue_study

@@ -1,0 +1,135 @@
+"""The ring: what a chain closed on itself and held at one particle does against sigma, in both engines.
+
+Beyond the paper (its outlook's "more intricate geometrical connections between active particles"). Two ring
+sizes: N = 7, which turns as a rigid regular polygon about the pin at every sigma tried, and N = 24, which beats
+while it turns at small sigma and turns rigidly again at large sigma. Each point runs in MuJoCo and in the reduced
+model from the same start; the claim rows compare the two.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Mapping
+
+import numpy as np
+
+from ..batch import Case, run_cases
+from ..params import Numerics
+from ..scenes import ring
+from . import plotting as plots
+from . import registry
+from .base import ENGINES, Study, Summary, pick
+from .claim_rows import Claim, fmt, verdict
+
+SIZES_N = (7, 24)
+"""The ring sizes: the paper's chain length, and a ring long enough to deform while it turns."""
+BEATING = 0.1
+"""Theta amplitude (rad) above which a ring is said to beat (a rigid ring's Theta is constant: ~1e-6 or less)."""
+
+
+@dataclass(frozen=True)
+class RingSummary(Summary):
+    sigma_small: list[float]
+    """The sigmas of the N = 7 ring."""
+    sigma_large: list[float]
+    """The sigmas of the N = 24 ring."""
+    rigid_amplitude_mujoco: float
+    """Largest Theta amplitude of the N = 7 ring over its sigmas (rad), MuJoCo."""
+    rigid_amplitude_reduced: float
+    rate_per_sigma_mujoco: float
+    """N = 7: rotation rate / sigma at the smallest sigma (rad / tau per unit sigma)."""
+    rate_per_sigma_reduced: float
+    rate_difference: float
+    """Largest relative difference of the rotation rates between the engines, over every point."""
+    beating_mujoco: list[float]
+    """Sigmas at which the N = 24 ring beats (Theta amplitude > BEATING), MuJoCo."""
+    beating_reduced: list[float]
+
+
+RING = registry.declare("ring", summary=RingSummary, order=180)
+
+
+@RING.run
+def ring_study(size: str = "quick", workers=None, progress: bool = True) -> Study:
+    """Rotation rate and Theta's beat against sigma for rings of N = 7 and 24, both engines."""
+    start = time.perf_counter()
+    small = pick(size, (0.8, 3.0), (0.2, 0.8, 3.0, 10.0, 30.0), (0.1, 0.2, 0.4, 0.8, 1.5, 3.0, 6.0, 10.0, 20.0, 40.0, 80.0))
+    large = pick(size, (0.5, 8.0), (0.25, 0.5, 1.0, 2.0, 4.0, 8.0), (0.1, 0.25, 0.5, 0.75, 1.0, 1.5, 2.0, 3.0, 4.0, 6.0, 8.0))
+    duration = pick(size, 120.0, 400.0, 800.0)
+    transient = duration / 2
+    numerics = Numerics(dt=0.001, sample_dt=0.1)  # resolves the N = 24 ring's fastest rate up to sigma = 8 (~120/tau)
+    grid = [(n, s) for n, sigmas in zip(SIZES_N, (small, large)) for s in sigmas]
+    cases = [Case(ring.SCENE.physics(n=n, sigma=s), numerics, duration, eng, transient) for n, s in grid for eng in ENGINES]
+    results = [r.results for r in run_cases(cases, workers=workers, progress=progress, desc="ring")]
+    data = {"sigma_small": np.array(small), "sigma_large": np.array(large)}
+    for k, eng in enumerate(ENGINES):
+        mine = results[k::len(ENGINES)]
+        for n, count, offset in ((SIZES_N[0], len(small), 0), (SIZES_N[1], len(large), len(small))):
+            part = mine[offset: offset + count]
+            data[f"rate_{n}_{eng}"] = np.array([r.rotation_rate for r in part])
+            data[f"amplitude_{n}_{eng}"] = np.array([r.amplitude for r in part])
+            data[f"frequency_{n}_{eng}"] = np.array([np.nan if r.frequency is None else r.frequency for r in part])
+    rates = {eng: np.r_[data[f"rate_7_{eng}"], data[f"rate_24_{eng}"]] for eng in ENGINES}
+    summary = RingSummary(
+        sigma_small=[float(s) for s in small], sigma_large=[float(s) for s in large],
+        rigid_amplitude_mujoco=float(np.max(data["amplitude_7_mujoco"])),
+        rigid_amplitude_reduced=float(np.max(data["amplitude_7_reduced"])),
+        rate_per_sigma_mujoco=float(data["rate_7_mujoco"][0] / small[0]),
+        rate_per_sigma_reduced=float(data["rate_7_reduced"][0] / small[0]),
+        rate_difference=float(np.max(np.abs(rates["mujoco"] - rates["reduced"]) / np.abs(rates["reduced"]))),
+        beating_mujoco=[float(s) for s, a in zip(large, data["amplitude_24_mujoco"]) if a > BEATING],
+        beating_reduced=[float(s) for s, a in zip(large, data["amplitude_24_reduced"]) if a > BEATING],
+    )
+    return Study("ring", size, data, summary, time.perf_counter() - start)
+
+
+@RING.figure
+@plots.styled
+def ring_figures(study: Study, out: Path) -> list[Path]:
+    plt = plots.pyplot()
+    from matplotlib.ticker import NullFormatter  # start-up time: matplotlib loads only to draw
+
+    d = study.data
+    fig, (a1, a2) = plt.subplots(1, 2, figsize=(9.5, 4.0))
+    for n, key, colour in zip(SIZES_N, ("sigma_small", "sigma_large"), ("C0", "C1")):
+        for eng in ENGINES:
+            style = dict(plots.ENGINE_STYLE[eng], color=colour, label=f"N = {n}, {plots.ENGINE_STYLE[eng]['label']}")
+            a1.loglog(d[key], np.abs(d[f"rate_{n}_{eng}"]), **style)
+            a2.semilogx(d[key], d[f"amplitude_{n}_{eng}"], **style)
+        a1.loglog(d[key], np.abs(d[f"rate_{n}_reduced"]), "-", color=colour, lw=0.6)
+        a2.semilogx(d[key], d[f"amplitude_{n}_reduced"], "-", color=colour, lw=0.6)
+    for ax in (a1, a2):
+        ax.xaxis.set_minor_formatter(NullFormatter())
+    a1.set_xlabel(r"$\sigma$")
+    a1.set_ylabel(r"|rotation rate| $|\dot\theta_1|$ (rad/$\tau$)")
+    a1.set_title("The ring turns about its pin")
+    a1.legend(fontsize=7)
+    a2.axhline(BEATING, color="0.6", ls=":", lw=0.8, label=f"beat threshold {BEATING:g} rad")
+    a2.set_xlabel(r"$\sigma$")
+    a2.set_ylabel(r"amplitude of $\Theta = \theta_N - \theta_1$ (rad)")
+    a2.set_title("... rigidly (N = 7), or beating (N = 24)")
+    a2.legend(fontsize=7)
+    fig.tight_layout()
+    return [plots.save(fig, out, "figB_ring.png")]
+
+
+@RING.claims
+def ring_claims(study: Study, read: Mapping[str, Study]) -> list[Claim]:
+    s = study.summary
+    outlook = "outlook: more intricate connections (not simulated)"
+    return [
+        Claim("A ring held at one particle turns about it as a rigid polygon (N = 7)", outlook,
+              f"Theta amplitude <= {fmt(s.rigid_amplitude_mujoco, 2)} rad for sigma {fmt(min(s.sigma_small))}-"
+              f"{fmt(max(s.sigma_small))}; rate / sigma = {s.rate_per_sigma_mujoco:.4f}",
+              f"<= {fmt(s.rigid_amplitude_reduced, 2)} rad; {s.rate_per_sigma_reduced:.4f}",
+              verdict(max(s.rigid_amplitude_mujoco, s.rigid_amplitude_reduced) < 1e-3 and s.rate_difference < 0.01),
+              f"the follower forces sum to zero round a closed ring, their torque does not; rates of the two engines "
+              f"within {100 * s.rate_difference:.2g}% at every point (N = 7 and 24)"),
+        Claim("A longer ring deforms and beats while it turns (N = 24)", outlook,
+              f"beats at sigma = {', '.join(fmt(x) for x in s.beating_mujoco) or 'none'}",
+              f"{', '.join(fmt(x) for x in s.beating_reduced) or 'none'}",
+              verdict(bool(s.beating_mujoco) and s.beating_mujoco == s.beating_reduced),
+              f"Theta amplitude > {BEATING:g} rad; at the largest sigma it turns rigidly again"),
+    ]

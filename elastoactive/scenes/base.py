@@ -104,7 +104,8 @@ class Scene:
             text += f" {key}={value:.4g}"
         for term in physics.active_terms():
             if term.labelled:
-                text += "".join(f" {p.name}={getattr(physics, p.name):.4g}" for p in term.parameters)
+                values = ((p.name, getattr(physics, p.name)) for p in term.parameters)
+                text += "".join(f" {k}={v:.4g}" if isinstance(v, float) else f" {k}={v}" for k, v in values)
         return text
 
     # ------------------------------------------------------------------ MJCF

@@ -24,6 +24,10 @@
    therefore a function of (seed, k) alone, and copies of mjData (mj_copyData, mjSTATE_INTEGRATION,
    which holds userdata) continue the same realisation.
 
+   A periodic drive (the tip-drive term): with the custom numeric "elastoactive_drive" = (A, omega,
+   d_x, d_y), every site whose second user value s->user[1] is non-zero also carries the force
+   A sin(omega t) (d_x, d_y, 0), t = mjData.time of the call.
+
    The forces are turned into generalised forces in one pass from the leaves to the root:
    each body collects the total force F_b and moment M_b (about the world origin) of the
    sites in its subtree; a hinge joint with anchor a and axis e then receives
@@ -154,6 +158,22 @@ static void follower_passive(const mjModel* m, mjData* d) {
     for (int k = 0; k < 3; k++) {
       force[3 * b + k] += f[k];
       moment[3 * b + k] += mo[k];
+    }
+  }
+  const mjtNum* drive = find_numeric(m, "elastoactive_drive", 4);
+  if (drive && drive[0] != 0 && m->nuser_site >= 2) {
+    mjtNum now = drive[0] * sin(drive[1] * d->time);
+    mjtNum f[3] = {now * drive[2], now * drive[3], 0};
+    for (int s = 0; s < m->nsite; s++) {
+      if (m->site_user[s * m->nuser_site + 1] == 0) continue;
+      mjtNum mo[3];
+      cross3(mo, d->site_xpos + 3 * s, f);
+      int b = m->site_bodyid[s];
+      for (int k = 0; k < 3; k++) {
+        force[3 * b + k] += f[k];
+        moment[3 * b + k] += mo[k];
+      }
+      any = 1;
     }
   }
   if (!any) return;

@@ -3,7 +3,8 @@
 Kept as the specification the compiled callback is tested against. For every site s with
 user value F: force f = -F (1 + eta) x_s at the site, added to qfrc_passive as J_s^T f.
 Coloured noise (the marker's third entry tau_c > 0): eta held in data.userdata and advanced exactly as
-follower.c does (see there and elastoactive.noise.ColouredNoise).
+follower.c does (see there and elastoactive.noise.ColouredNoise). The tip drive (numeric elastoactive_drive =
+(A, omega, d_x, d_y)): the force A sin(omega t) (d_x, d_y, 0) on every site whose second user value is non-zero.
 """
 
 from __future__ import annotations
@@ -34,6 +35,12 @@ def reference_passive(model: mujoco.MjModel, data: mujoco.MjData) -> None:
         force = -magnitudes[s] * factor[k] * data.site_xmat[s].reshape(3, 3)[:, 0]
         mujoco.mj_jacSite(model, data, jacp, None, s)
         data.qfrc_passive += jacp.T @ force
+    if mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_NUMERIC, "elastoactive_drive") >= 0 and model.nuser_site >= 2:
+        amplitude, omega, dx, dy = model.numeric("elastoactive_drive").data[:4]
+        force = amplitude * np.sin(omega * data.time) * np.array([dx, dy, 0.0])
+        for s in np.flatnonzero(model.site_user[:, 1]):
+            mujoco.mj_jacSite(model, data, jacp, None, s)
+            data.qfrc_passive += jacp.T @ force
 
 
 def _has_marker(model: mujoco.MjModel) -> bool:

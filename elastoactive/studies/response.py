@@ -1,9 +1,9 @@
 """The paper's outlook: the mechanical response to a small periodic tip force below onset (docs/outlook.md,
 section 2).
 
-Gain and phase of the tip's displacement against the drive's frequency, from the reduced engine with the tip-drive
-term against the linear transfer function G(omega) (analysis.response); the resonance's half width against
-sigma_c - sigma from G. The tip drive runs in the reduced engine only (the MuJoCo callback has no drive yet).
+Gain and phase of the tip's displacement against the drive's frequency, from both engines with the tip-drive term
+against the linear transfer function G(omega) (analysis.response); the resonance's half width against
+sigma_c - sigma from G.
 """
 
 from __future__ import annotations
@@ -25,7 +25,7 @@ from ..params import Numerics
 from ..scenes import one_pinned
 from . import plotting as plots
 from . import registry
-from .base import Study, Summary, pick, run
+from .base import ENGINES, EngineParts, Study, Summary, pick, run
 from .claim_rows import Claim, verdict
 
 TARGET = 1e-3
@@ -37,12 +37,30 @@ WINDOW = 4
 """Drive periods fitted after the transient."""
 AGREEMENT = 0.02
 """Simulation against transfer function: |G_sim / G - 1| within this."""
+ENGINE_NAMES = {"mujoco": "MuJoCo", "reduced": "reduced"}
 FREQUENCIES = (0.25, 0.5, "low", 0.9, 1.0, 1.1, "high", 1.5, 2.0)
 """Drive frequencies in units of the resonance's peak omega, and its two half-power points."""
 
 
 @dataclass(frozen=True)
-class ResponseSummary(Summary):
+class ResponseEngine(Summary):
+    """One engine's driven runs against G."""
+
+    max_gain_error: float
+    """Largest |(|G_sim| / |G|) - 1| over the drive frequencies."""
+    max_phase_error: float
+    """Largest |arg G_sim - arg G| (rad)."""
+    max_complex_error: float
+    """Largest |G_sim / G - 1|."""
+    sim_half_power: list[float]
+    """|G_sim|^2 / |G_sim(peak)|^2 at the two half-power points of G (0.5 if the simulation resonates as G does)."""
+    longitudinal_gain: float
+    """Longitudinal drive at the peak frequency: the tip's longitudinal displacement at the drive's frequency over
+    the force (no linear response: second order in the small angles)."""
+
+
+@dataclass(frozen=True)
+class ResponseSummary(EngineParts):
     n: int
     ratio: float
     """sigma / sigma_c of the simulated drives."""
@@ -52,14 +70,6 @@ class ResponseSummary(Summary):
     half_width: float
     gamma: float
     """-Re lambda of the least stable pair."""
-    max_gain_error: float
-    """Largest |(|G_sim| / |G|) - 1| over the drive frequencies."""
-    max_phase_error: float
-    """Largest |arg G_sim - arg G| (rad)."""
-    max_complex_error: float
-    """Largest |G_sim / G - 1|."""
-    sim_half_power: list[float]
-    """|G_sim|^2 / |G_sim(peak)|^2 at the two half-power points of G (0.5 if the simulation resonates as G does)."""
     width_exponent: float
     """Slope of log(half width) against log(sigma_c - sigma) (1: linear)."""
     width_per_distance: float
@@ -68,9 +78,8 @@ class ResponseSummary(Summary):
     """-d Re lambda / d sigma at the onset (the width's limiting slope)."""
     peak_exponent: float
     """Slope of log(peak gain) against log(sigma_c - sigma) (-1: the gain diverges as 1 / distance)."""
-    longitudinal_gain: float
-    """Longitudinal drive at the peak frequency: the tip's longitudinal displacement at the drive's frequency over
-    the force (no linear response: second order in the small angles)."""
+    mujoco: ResponseEngine
+    reduced: ResponseEngine
 
 
 RESPONSE = registry.declare("response", summary=ResponseSummary, order=170)
@@ -82,14 +91,14 @@ def _omegas(res: rs.Resonance) -> list[float]:
             if not (isinstance(f, str) and not math.isfinite(named[f]))]
 
 
-def _case(n: int, sigma: float, omega: float, amplitude: float, gamma: float, sample_dt: float,
+def _case(n: int, sigma: float, omega: float, amplitude: float, gamma: float, sample_dt: float, engine: str,
           direction: str = "transverse") -> tuple[Case, float]:
     period = 2 * math.pi / omega
     settle = SETTLE / gamma
     duration = math.ceil((settle + WINDOW * period) / sample_dt) * sample_dt
     physics = one_pinned.SCENE.physics(n=n, sigma=sigma, drive_amplitude=amplitude,
                                        drive_frequency=omega / (2 * math.pi), drive_direction=direction)
-    return Case(physics, Numerics(sample_dt=sample_dt, perturbation=1e-4), duration, "reduced"), duration - WINDOW * period
+    return Case(physics, Numerics(sample_dt=sample_dt, perturbation=1e-4), duration, engine), duration - WINDOW * period
 
 
 def _fit(traj, start: float, omega: float, amplitude: float, direction: str = "transverse") -> complex:
@@ -101,7 +110,7 @@ def _fit(traj, start: float, omega: float, amplitude: float, direction: str = "t
 
 @RESPONSE.run
 def response_study(size: str = "quick", workers=None, progress: bool = True) -> Study:
-    """Gain and phase of the tip against the drive frequency (reduced engine vs G(omega)), the resonance's width
+    """Gain and phase of the tip against the drive frequency (both engines vs G(omega)), the resonance's width
     against sigma_c - sigma (G), and a longitudinal drive."""
     start = time.perf_counter()
     n = pick(size, 2, 7, 7)
@@ -114,18 +123,24 @@ def response_study(size: str = "quick", workers=None, progress: bool = True) -> 
     gamma = -lam.real
     omegas = _omegas(res)
     theory = rs.tip_transfer(n, sigma, omegas)
-    cases, starts, amps = [], [], []
-    for w, g in zip(omegas, theory):
-        amp = TARGET / abs(g)
-        case, begin = _case(n, sigma, w, amp, gamma, sample_dt)
+    amps = [TARGET / abs(g) for g in theory]
+    long_amp = TARGET / res.gain
+    cases, starts = [], []
+    for eng in ENGINES:
+        for w, amp in zip(omegas, amps):
+            case, begin = _case(n, sigma, w, amp, gamma, sample_dt, eng)
+            cases.append(case)
+            starts.append(begin)
+        case, begin = _case(n, sigma, res.omega, long_amp, gamma, sample_dt, eng, "longitudinal")
         cases.append(case)
         starts.append(begin)
-        amps.append(amp)
-    long_amp = TARGET / res.gain
-    case, long_start = _case(n, sigma, res.omega, long_amp, gamma, sample_dt, "longitudinal")
-    trajs = run(cases + [case], workers, progress, "tip drive")
-    sim = np.array([_fit(tr, b, w, a) for tr, b, w, a in zip(trajs, starts, omegas, amps)])
-    longitudinal = abs(_fit(trajs[-1], long_start, res.omega, long_amp, "longitudinal"))
+    trajs = run(cases, workers, progress, "tip drive")
+    per = len(omegas) + 1
+    sims, longitudinal = {}, {}
+    for k, eng in enumerate(ENGINES):
+        part, begins = trajs[k * per:(k + 1) * per], starts[k * per:(k + 1) * per]
+        sims[eng] = np.array([_fit(tr, b, w, a) for tr, b, w, a in zip(part, begins, omegas, amps)])
+        longitudinal[eng] = abs(_fit(part[-1], begins[-1], res.omega, long_amp, "longitudinal"))
 
     fine = np.geomspace(omegas[0] / 2, omegas[-1] * 1.5, pick(size, 200, 600, 1200))
     curve = rs.tip_transfer(n, sigma, fine)
@@ -142,19 +157,25 @@ def response_study(size: str = "quick", workers=None, progress: bool = True) -> 
     peak_law = fits.power_law_fit(distances[small] * sigma_c, peaks[small])
     eps = 1e-6
     slope = (stab.eigenvalues(n, sigma_c * (1 - eps))[0].real - stab.eigenvalues(n, sigma_c)[0].real) / (-eps * sigma_c)
-    i_peak = omegas.index(res.omega) if res.omega in omegas else int(np.argmax(np.abs(theory)))
-    half = [float(abs(sim[omegas.index(w)]) ** 2 / abs(sim[i_peak]) ** 2) for w in (res.low, res.high) if w in omegas]
+    i_peak = omegas.index(res.omega)
     data = {"omega": np.array(omegas), "gain_theory": np.abs(theory), "phase_theory": np.angle(theory),
-            "gain_sim": np.abs(sim), "phase_sim": np.angle(sim), "fine_omega": fine, "fine_gain": np.abs(curve),
-            "fine_phase": np.angle(curve), "distance": distances, "half_width": widths, "peak_gain": peaks,
-            "gamma": gammas}
+            "fine_omega": fine, "fine_gain": np.abs(curve), "fine_phase": np.angle(curve), "distance": distances,
+            "half_width": widths, "peak_gain": peaks, "gamma": gammas}
+    parts = {}
+    for eng, sim in sims.items():
+        data[f"gain_{eng}"], data[f"phase_{eng}"] = np.abs(sim), np.angle(sim)
+        parts[eng] = ResponseEngine(
+            max_gain_error=float(np.max(np.abs(np.abs(sim) / np.abs(theory) - 1))),
+            max_phase_error=float(np.max(np.abs(np.angle(sim / theory)))),
+            max_complex_error=float(np.max(np.abs(sim / theory - 1))),
+            sim_half_power=[float(abs(sim[omegas.index(w)]) ** 2 / abs(sim[i_peak]) ** 2)
+                            for w in (res.low, res.high) if w in omegas],
+            longitudinal_gain=float(longitudinal[eng]))
     summary = ResponseSummary(
         n=int(n), ratio=ratio, sigma=float(sigma), peak_omega=res.omega, peak_gain=res.gain, half_width=res.half_width,
-        gamma=float(gamma), max_gain_error=float(np.max(np.abs(np.abs(sim) / np.abs(theory) - 1))),
-        max_phase_error=float(np.max(np.abs(np.angle(sim / theory)))),
-        max_complex_error=float(np.max(np.abs(sim / theory - 1))), sim_half_power=half,
-        width_exponent=width_law["exponent"], width_per_distance=float(widths[0] / (distances[0] * sigma_c)),
-        gamma_per_distance=float(slope), peak_exponent=peak_law["exponent"], longitudinal_gain=float(longitudinal))
+        gamma=float(gamma), width_exponent=width_law["exponent"],
+        width_per_distance=float(widths[0] / (distances[0] * sigma_c)), gamma_per_distance=float(slope),
+        peak_exponent=peak_law["exponent"], **parts)
     return Study("response", size, data, summary, time.perf_counter() - start)
 
 
@@ -165,7 +186,8 @@ def response_figure(study: Study, out: Path) -> list[Path]:
     d, s = study.data, study.summary
     fig, (a1, a2, a3) = plt.subplots(1, 3, figsize=(13, 4))
     a1.loglog(d["fine_omega"], d["fine_gain"], "k-", lw=1, label=r"transfer function $|G(\omega)|$")
-    a1.loglog(d["omega"], d["gain_sim"], **plots.ENGINE_STYLE["reduced"])
+    for eng in plots.engines(d, "gain"):
+        a1.loglog(d["omega"], d[f"gain_{eng}"], **plots.ENGINE_STYLE[eng])
     a1.axvspan(s.peak_omega - s.half_width, s.peak_omega + s.half_width, color="C0", alpha=0.12,
                label=rf"half width {s.half_width:.3g}/$\tau$")
     a1.set_xlabel(r"drive $\omega\,\tau$")
@@ -173,11 +195,12 @@ def response_figure(study: Study, out: Path) -> list[Path]:
     a1.legend(fontsize=8)
     a1.set_title(rf"N = {s.n}, $\sigma$ = {s.ratio:g} $\sigma_c$: gain")
     a2.semilogx(d["fine_omega"], d["fine_phase"], "k-", lw=1, label="transfer function")
-    a2.semilogx(d["omega"], d["phase_sim"], **plots.ENGINE_STYLE["reduced"])
+    for eng in plots.engines(d, "phase"):
+        a2.semilogx(d["omega"], d[f"phase_{eng}"], **plots.ENGINE_STYLE[eng])
     a2.set_xlabel(r"drive $\omega\,\tau$")
     a2.set_ylabel("phase lead of the tip (rad)")
     a2.legend(fontsize=8)
-    a2.set_title(f"phase (largest error {s.max_phase_error:.1e} rad)")
+    a2.set_title(f"phase (largest error {max(s.mujoco.max_phase_error, s.reduced.max_phase_error):.1e} rad)")
     sc = d["distance"]
     a3.loglog(sc, d["half_width"], "o-", ms=3, label="half width of $|G|^2$")
     a3.loglog(sc, d["gamma"], "k--", lw=1, label=r"$-$Re $\lambda$ (least stable pair)")
@@ -185,7 +208,7 @@ def response_figure(study: Study, out: Path) -> list[Path]:
     a3.set_ylabel(r"$\omega\,\tau$")
     a3.legend(fontsize=8)
     a3.set_title(f"resonance width: slope {s.width_exponent:.3f}")
-    fig.suptitle("Linear response to a transverse tip force below onset: reduced engine against G(omega)")
+    fig.suptitle("Linear response to a transverse tip force below onset: both engines against G(omega)")
     fig.tight_layout()
     return [plots.save(fig, out, "response_tip.png")]
 
@@ -194,17 +217,22 @@ def response_figure(study: Study, out: Path) -> list[Path]:
 def response_claims(study: Study, read: Mapping[str, Study]) -> list[Claim]:
     s = study.summary
     outlook = "outlook: 'mechanical responses such as longitudinal or transverse excitations'"
-    ok = s.max_complex_error < AGREEMENT
+
+    def column(e: ResponseEngine) -> str:
+        return (f"|G_sim / G - 1| <= {e.max_complex_error:.1e} over {len(FREQUENCIES)} frequencies; |G|^2 at G's "
+                "half-power points " + ", ".join(f"{h:.4f}" for h in e.sim_half_power) + " of the peak's")
+
+    ok = all(s.engine(e).max_complex_error < AGREEMENT for e in ENGINES)
     rows = [Claim(
-        "Below onset a transverse tip force gets the linear operator's response (gain and phase)", outlook, "-",
-        f"|G_sim / G - 1| <= {s.max_complex_error:.1e} over {len(FREQUENCIES)} frequencies",
-        verdict(ok),
-        f"N = {s.n}, sigma = {s.ratio:g} sigma_c: gain within {100 * s.max_gain_error:.2g}%, phase within "
-        f"{s.max_phase_error:.1e} rad of G(omega) = e_N^T (i omega - M)^-1 e_N (tip displacement over tip force) from "
-        f"0.25 to 2 times the peak at omega = {s.peak_omega:.4g}/tau (|G| = {s.peak_gain:.4g}); the simulated gain at G's "
-        "half-power points is " + " and ".join(f"{h:.4f}" for h in s.sim_half_power) + " of its peak squared. A "
-        f"longitudinal force of the same size at the peak frequency moves the tip along the chain by "
-        f"{s.longitudinal_gain:.1e} l per unit force at the drive's frequency: no linear response (it enters as "
+        "Below onset a transverse tip force gets the linear operator's response (gain and phase)", outlook,
+        column(s.mujoco), column(s.reduced), verdict(ok),
+        f"N = {s.n}, sigma = {s.ratio:g} sigma_c, drives from 0.25 to 2 times the peak at omega = {s.peak_omega:.4g}/tau "
+        f"(|G| = {s.peak_gain:.4g}) against G(omega) = e_N^T (i omega - M)^-1 e_N (tip displacement over tip force): "
+        + "; ".join(f"{ENGINE_NAMES[e]} gain within {100 * s.engine(e).max_gain_error:.2g}%, phase within "
+                    f"{s.engine(e).max_phase_error:.1e} rad" for e in ENGINES)
+        + ". A longitudinal force of the same size at the peak frequency moves the tip along the chain by "
+        + " and ".join(f"{s.engine(e).longitudinal_gain:.1e}" for e in ENGINES)
+        + " l per unit force (MuJoCo, reduced) at the drive's frequency: no linear response (it enters as "
         "-F_x theta_j, a parametric drive, and the straight chain stays straight).")]
     rows.append(Claim(
         "The resonance sharpens as sigma -> sigma_c: its width vanishes linearly in sigma_c - sigma", outlook, "-",

@@ -1,8 +1,9 @@
 """A periodic force on the tip: F(t) = drive_amplitude sin(2 pi drive_frequency t) along drive_direction, on the
 last particle of chain 1 (transverse: the lab's y, across the straight chain; longitudinal: the lab's x, along it).
 
-The reduced model only, as a node force (elastoactive.engines.node_forces, a law of the time and the positions);
-MuJoCo refuses it in one line. Observables: drive_gain and drive_phase, the tip's displacement along the drive at
+The reduced model adds it as a node force (elastoactive.engines.node_forces, a law of the time and the positions);
+MuJoCo's compiled callback applies it to the tip's site (controllers/follower.c: the site's second user value marks
+it, the numeric elastoactive_drive holds (A, omega, d_x, d_y)). Observables: drive_gain and drive_phase, the tip's displacement along the drive at
 the drive's frequency over the drive's amplitude and its phase lead (analysis.response.harmonic_response, over
 the whole drive periods of the steady window), which below onset the linear transfer function G(omega) predicts
 for the transverse drive (docs/outlook.md, section 2).
@@ -43,8 +44,15 @@ class TipDrive(Term):
         return physics.drive_amplitude > 0
 
     def build(self, spec, physics, numerics):
-        raise ParameterError("the tip drive (drive_amplitude) is not built for the MuJoCo engine yet; run it with "
-                             "--engine reduced")
+        """The tip's site gets a second user value (1: driven) and the model the numeric elastoactive_drive
+        = (A, omega, d_x, d_y) that the compiled callback reads (controllers/follower.c)."""
+        prefix = physics.scene_def.chain_prefixes()[0]
+        spec.nuser_site = max(spec.nuser_site, 2)
+        tip = spec.site(f"{prefix}particle_{physics.n - 1}")
+        tip.userdata = [tip.userdata[0], 1.0]
+        marker = spec.add_numeric(name="elastoactive_drive")
+        marker.data = [physics.drive_amplitude, 2.0 * math.pi * physics.drive_frequency,
+                       *DIRECTION_VECTORS[physics.drive_direction]]
 
     def node_forces(self, physics):
         tip = physics.n - 1  # chain 1's last particle
@@ -57,6 +65,14 @@ class TipDrive(Term):
             return force
 
         return law
+
+    def validation_cases(self):
+        """N = 2 at 0.9 sigma_c driven across the chain near its resonance (omega ~ 0.99 / tau; decay time 3.3 tau)."""
+        from ..params import Physics  # import cycle: params imports the term registry, which imports this module
+        from ..scenes.base import ValidationCase  # import cycle: the scenes import params
+
+        return (ValidationCase(Physics(n=2, sigma=2.7, drive_amplitude=5e-4, drive_frequency=0.157), 80.0,
+                               convergence=False),)
 
     def measure(self, traj, transient):
         """drive_gain and drive_phase (rad, the response's lead) over the whole drive periods of the steady window;

@@ -141,3 +141,22 @@ def test_ctrl_c_stops_a_long_reduced_run_within_a_second(tmp_path):
     assert proc.returncode == 130
     lines = err.strip().splitlines()
     assert len(lines) == 1 and "interrupted at t = " in lines[0] and "Traceback" not in err
+
+
+def test_every_allowed_chain_length_finishes_or_is_refused_at_once():
+    """N = 1000, the largest allowed: the overdamped chain runs (its O(N) path, ~1 s); the dense paths (the
+    inertial model that the default mass ratio needs at sigma = 0.8, self-contact) are refused in one line
+    before any work (they sat in their stiffness check for over 300 s)."""
+    import time
+
+    from elastoactive.errors import ParameterError
+
+    physics = Physics(scene="one-pinned", n=1000)
+    clock = time.perf_counter()
+    with pytest.raises(ParameterError, match="limited to 100 angles.*smaller --mass-ratio"):
+        simulate_reduced(physics, Numerics(), 10.0)
+    with pytest.raises(ParameterError, match="self-contact .*limited to 100 angles"):
+        simulate_reduced(physics.replace(contact=True), Numerics(mass_ratio=1e-7), 10.0)
+    assert time.perf_counter() - clock < 10.0
+    run = simulate_reduced(physics, Numerics(mass_ratio=1e-5), 10.0)
+    assert run.info["model"] == "overdamped" and np.all(np.isfinite(run.theta))

@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .blas import one_blas_thread
 from .equations import drag_and_forces_reference
 from .system import ChainSystem
 
@@ -124,7 +125,8 @@ def rate_bound(system: ChainSystem, theta) -> float:
     ops = _operators(system, theta)
     if ops is None:
         return 0.0
-    A = np.linalg.solve(*ops)
+    with one_blas_thread():
+        A = np.linalg.solve(*ops)
     return float(min(np.abs(A).sum(axis=0).max(), np.abs(A).sum(axis=1).max()))
 
 
@@ -136,7 +138,8 @@ def overdamped_rate(system: ChainSystem, theta) -> float:
     ops = _operators(system, theta)
     if ops is None:
         return 0.0
-    return float(np.max(np.abs(np.linalg.eigvals(np.linalg.solve(*ops)))))
+    with one_blas_thread():  # N = 1000: 0.75 s on one thread, 3-9 s threaded on a busy machine (blas.py)
+        return float(np.max(np.abs(np.linalg.eigvals(np.linalg.solve(*ops)))))
 
 
 def inertia_number(system: ChainSystem, theta, mass_ratio: float) -> float:

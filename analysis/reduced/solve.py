@@ -342,7 +342,8 @@ def solve_ode(
     loads = _loads(system, loads)
     info = {"rtol": rtol, "atol": atol}
     if method is None:
-        eig = _eigenvalues(system, theta0, beta, loads)
+        with one_blas_thread():  # a dense eigenproblem: O(N^3), on a busy machine far slower threaded
+            eig = _eigenvalues(system, theta0, beta, loads)
         info["spectral_radius"] = float(np.max(np.abs(eig)))
         info["stiffness"] = float(max(0.0, np.max(-eig.real)))
         info["stiffness_ratio"] = stiffness_ratio(eig)
@@ -470,7 +471,8 @@ def solve_inertial(
     loads = _loads(system, loads)
     info = {"rtol": rtol, "atol": atol, "model": "inertial", "mass_ratio": system.mass_ratio}
     if method is None:
-        eig = _eigenvalues(system, y0, beta, loads)
+        with one_blas_thread():  # a dense eigenproblem: O(N^3), on a busy machine far slower threaded
+            eig = _eigenvalues(system, y0, beta, loads)
         info["spectral_radius"] = float(np.max(np.abs(eig)))
         info["stiffness"] = float(max(0.0, np.max(-eig.real)))
         method = _inertial_method(eig)

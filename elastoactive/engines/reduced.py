@@ -71,13 +71,38 @@ def _use_inertia(physics: Physics, numerics: Numerics, inertial: bool | None) ->
     if physics.contact and physics.contact_friction > 0:
         raise ParameterError(f"contact_friction = {physics.contact_friction:g}: the reduced model's self-contact is "
                              "frictionless (a penalty along the capsules' separation); use the MuJoCo engine, or 0")
+    if system_of(physics).extended:
+        _check_dense_size(physics, "a free head, a trap or self-contact makes the reduced model dense (O(N^3) per "
+                          "evaluation, its Jacobian by central differences: 10 tau took 8 s at N = 50, 170 s at 150)",
+                          "run it with the MuJoCo engine, or on a shorter chain")
     if inertial is None:
         r = regime(physics, numerics)
+        if r.inertial:
+            _check_dense_size(physics, r.describe() + f"; its largest mass inside the limit is {r.mass_limit:.2g}; "
+                              "the reduced engine's inertial model solves a dense mass matrix at every evaluation",
+                              "give a smaller --mass-ratio (the overdamped chain), a smaller --sigma, or use MuJoCo")
         key = "inertia_number_bound" if r.rate_is_bound else "inertia_number"
         return r.inertial, {key: r.inertia_number}
     if inertial not in (True, False):
         raise ParameterError(f"inertial must be True, False or None (automatic), got {inertial!r}")
+    if inertial:
+        _check_dense_size(physics, "the reduced engine's inertial model solves a dense mass matrix at every evaluation",
+                          "leave the model to the overdamped limit (inertial=None), or use MuJoCo")
     return bool(inertial), {"inertial_override": bool(inertial)}
+
+
+DENSE_MAX_ANGLES = 100
+"""Most angles the reduced engine integrates on its dense paths: the inertial model (a mass matrix solved at every
+evaluation, O(N^3), its Jacobian by 4N evaluations: 10 tau at mass_ratio 1e-4 took 2.9 s at N = 50, 40 s at 100)
+and a free head, trap or self-contact (10 tau: 8 s at N = 50, 170 s at 150). Past it a run would not finish in
+reasonable time (at N = 1000, over 300 s in the stiffness check alone). The overdamped chain has no such limit
+(its O(N) path: N = 1000, 10 tau in ~1 s)."""
+
+
+def _check_dense_size(physics: Physics, why: str, fix: str) -> None:
+    """Refuse, in one line, a dense-path run of more than DENSE_MAX_ANGLES angles: why it is dense, what to do."""
+    if physics.n_angles > DENSE_MAX_ANGLES:
+        raise ParameterError(f"{why}; it is limited to {DENSE_MAX_ANGLES} angles, here {physics.n_angles}: {fix}")
 
 
 # ----------------------------------------------------------------------------------------------

@@ -14,6 +14,13 @@ parametric drive with no linear response about the straight chain.
 
 Below onset the least stable pair lambda = -gamma +- i omega_0 makes |G| resonate at omega ~ omega_0 with a half
 width at half maximum (of |G|^2) ~ gamma, which vanishes linearly as sigma -> sigma_c.
+
+Above onset the chain beats, and a weak tip force entrains it. Near the pair lambda, G ~ R / (i omega - lambda) +
+c.c. with the residue R = (e_N^T v)(w^T e_N) / (w^T v) (v, w: right and left eigenvectors of M): the pair's
+complex amplitude zeta, y_N = zeta + conj(zeta), obeys zeta' = lambda zeta + R F(t) + (nonlinear terms). On the
+beat zeta = (a / 2) exp(i phi) (tip amplitude a), and the part of F = A sin(Omega t) that turns with it pushes the
+phase at most by |R| A / a per unit time: Adler's locking range, |Omega - omega_beat| <= |R| A / a in angular
+frequency (adler_half_width; the beat's non-isochronicity, which widens it by sqrt(1 + alpha^2), is left out).
 """
 
 from __future__ import annotations
@@ -26,7 +33,8 @@ import numpy as np
 from ..errors import ParameterError
 from .skin import displacement_operator
 
-__all__ = ["Resonance", "Harmonic", "tip_transfer", "resonance", "harmonic_response", "tip_displacement"]
+__all__ = ["Resonance", "Harmonic", "tip_transfer", "resonance", "harmonic_response", "tip_displacement",
+           "tip_residue", "adler_half_width"]
 
 
 def tip_transfer(n: int, sigma: float, omega) -> np.ndarray:
@@ -123,3 +131,23 @@ def tip_displacement(theta: np.ndarray, direction: str = "transverse") -> np.nda
     if direction == "longitudinal":
         return (np.cos(theta) - 1.0).sum(axis=-1)
     raise ParameterError(f"direction must be transverse or longitudinal, got {direction!r}")
+
+
+def tip_residue(n: int, sigma: float) -> complex:
+    """R = (e_N^T v)(w^T e_N) / (w^T v) of the eigenvalue pair with the largest real part (its member with positive
+    imaginary part): G(omega) ~ R / (i omega - lambda) near it. Refused when that mode is real."""
+    m = displacement_operator(n, sigma)
+    lam, right = np.linalg.eig(m)
+    left = np.linalg.inv(right)  # rows: left eigenvectors with w_k^T v_k = 1
+    k = int(np.argmax(lam.real + 1e-12 * np.sign(lam.imag)))
+    if lam[k].imag <= 0:
+        raise ParameterError(f"the leading mode of N = {n} at sigma = {sigma:g} is real: no beat to entrain")
+    return complex(right[-1, k] * left[k, -1])
+
+
+def adler_half_width(n: int, sigma: float, amplitude: float, tip_amplitude: float) -> float:
+    """Adler's locking half width |R| A / a (rad / tau) of a beat with tip amplitude a (half its peak-to-peak, l)
+    under the tip force A sin(Omega t)."""
+    if not tip_amplitude > 0:
+        raise ParameterError(f"tip_amplitude must be > 0, got {tip_amplitude!r}")
+    return abs(tip_residue(n, sigma)) * abs(amplitude) / tip_amplitude

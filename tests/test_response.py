@@ -148,3 +148,36 @@ def test_response_study_tiny(runs, round_trip):
     assert s.width_per_distance == pytest.approx(s.gamma_per_distance, rel=0.05)
     table = round_trip(runs, "response")
     assert "tip force" in table and table.count("| **yes** |") == 2
+
+
+def test_residue_is_the_pole_of_the_transfer_function():
+    """G(omega) = sum_k R_k / (i omega - lambda_k) over the eigenvalues of M; tip_residue is R of the leading pair."""
+    from elastoactive.analysis.skin import displacement_operator  # the operator G is built from
+
+    n, sigma = 7, 0.1
+    lam, right = np.linalg.eig(displacement_operator(n, sigma))
+    residues = right[-1, :] * np.linalg.inv(right)[:, -1]
+    for w in (0.0, 0.02, 0.3):
+        assert np.sum(residues / (1j * w - lam)) == pytest.approx(rs.tip_transfer(n, sigma, w)[0], rel=1e-9)
+    lead = stab.eigenvalues(n, sigma)[0]
+    k = int(np.argmin(np.abs(lam - (lead.real + 1j * abs(lead.imag)))))
+    assert rs.tip_residue(n, sigma) == pytest.approx(residues[k], rel=1e-9)
+    assert rs.adler_half_width(2, 3.3, 0.05, 0.8663569) == pytest.approx(abs(rs.tip_residue(2, 3.3)) * 0.05 / 0.8663569)
+    with pytest.raises(ParameterError, match="real"):
+        rs.tip_residue(7, 0.3 * stab.critical_sigma(7)[0])
+    with pytest.raises(ParameterError, match="tip_amplitude"):
+        rs.adler_half_width(2, 3.3, 0.05, 0.0)
+
+
+@pytest.fixture(scope="module")
+def entrained(tiny_studies):
+    return tiny_studies("entrainment")
+
+
+def test_entrainment_study_tiny(entrained, round_trip):
+    s = entrained[1]["entrainment"].summary
+    (edge,) = s.edges
+    assert edge.engines_agree and edge.unlocked_low < -edge.adler < edge.locked_low < 0 < edge.locked_high < edge.adler
+    assert s.free_frequency == pytest.approx(0.1528, rel=1e-3)
+    table = round_trip(entrained, "entrainment")
+    assert "Arnold tongue" in table and "| **yes** |" in table

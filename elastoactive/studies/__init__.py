@@ -44,7 +44,7 @@ from .noise import AnisotropySummary, NoiseReadingsSummary, NoiseSummary, anisot
 from .normal_form import NormalFormSummary, normal_form_study
 from .rotation import RotationSummary, rotation_study
 from .self_contact import LongChainSummary, long_chain_study
-from .response import ResponseSummary, response_study
+from .response import EntrainmentSummary, ResponseSummary, entrainment_study, response_study
 from .ring import RingSummary, ring_study
 from .skin import SkinSummary, skin_study
 from .snapping import SnappingSummary, snapping_study

@@ -3,12 +3,12 @@ section 2).
 
 Gain and phase of the tip's displacement against the drive's frequency, from both engines with the tip-drive term
 against the linear transfer function G(omega) (analysis.response); the resonance's half width against
-sigma_c - sigma from G.
+sigma_c - sigma from G. Above onset (entrainment): the beat's frequency under the tip force against the drive's
+detuning, in both engines, against Adler's locking range from G's residue.
 """
 
 from __future__ import annotations
 
-import cmath
 import math
 import time
 from dataclasses import dataclass
@@ -18,6 +18,7 @@ from typing import Mapping
 import numpy as np
 
 from ..analysis import fits
+from ..analysis import observables as obs
 from ..analysis import response as rs
 from ..analysis import stability as stab
 from ..batch import Case
@@ -243,3 +244,155 @@ def response_claims(study: Study, read: Mapping[str, Study]) -> list[Claim]:
         f"-d Re lambda / d sigma = {s.gamma_per_distance:.4g} at the onset; at {s.ratio:g} sigma_c the width "
         f"{s.half_width:.4g} against gamma = {s.gamma:.4g}; the peak gain grows as (sigma_c - sigma)^{s.peak_exponent:.3f}."))
     return rows
+
+
+# --------------------------------------------------------------------------------------------------
+# above onset: entrainment by the tip force
+# --------------------------------------------------------------------------------------------------
+ENTRAIN_N = 2
+ENTRAIN_SIGMA = 3.3
+"""N = 2 at 1.1 sigma_c: a beat at f tau ~ 0.153 (6.5 tau a period), so that a tongue needs seconds, not hours."""
+ENTRAIN_FREE = 400.0
+"""Duration of the free beat that gives its frequency and tip amplitude (tau; the transient is its first half)."""
+ENTRAIN_RUN = {"tiny": (400.0, 150.0), "quick": (800.0, 300.0), "full": (1600.0, 400.0)}
+"""Duration of a driven run and the transient before the beat's frequency is measured (tau), by size."""
+LOCKED = 1e-4
+"""|f_beat / f_drive - 1| below this over the window: locked (one phase slip in a window of 38 periods or more
+shifts it by 2.6e-2 or less, but by more than 1e-3)."""
+
+
+@dataclass(frozen=True)
+class TongueEdge(Summary):
+    """One drive amplitude: the locked detunings against Adler's estimate (detunings relative to the free beat's f)."""
+
+    amplitude: float
+    adler: float
+    """|R| A / a over the free beat's angular frequency."""
+    locked_low: float
+    """The most negative detuning of the scan that locks, and the next one out, which does not."""
+    unlocked_low: float
+    locked_high: float
+    unlocked_high: float
+    engines_agree: bool
+    """Both engines lock at the same detunings."""
+
+
+@dataclass(frozen=True)
+class EntrainmentSummary(Summary):
+    n: int
+    sigma: float
+    free_frequency: float
+    """f tau of the free beat (reduced engine)."""
+    tip_amplitude: float
+    duration: float
+    transient: float
+    residue: float
+    """|R| of G's leading pair."""
+    edges: list[TongueEdge]
+
+
+ENTRAINMENT = registry.declare("entrainment", summary=EntrainmentSummary, order=175)
+
+
+def _beat_mismatch(traj, drive_frequency: float, transient: float) -> float:
+    keep = traj.t >= transient
+    beat = obs.frequency(traj.t[keep], obs.curvature(traj.theta[keep]))
+    return float(beat / drive_frequency - 1.0)
+
+
+@ENTRAINMENT.run
+def entrainment_study(size: str = "quick", workers=None, progress: bool = True) -> Study:
+    """Above onset (N = 2 at 1.1 sigma_c): the beat's frequency under a tip force of several amplitudes against the
+    drive's detuning, in both engines; the locked band against Adler's estimate |R| A / a."""
+    start = time.perf_counter()
+    n, sigma = ENTRAIN_N, ENTRAIN_SIGMA
+    numerics = Numerics(sample_dt=0.05)
+    duration, transient = pick(size, *(ENTRAIN_RUN[k] for k in ("tiny", "quick", "full")))
+    free = run([Case(one_pinned.SCENE.physics(n=n, sigma=sigma), numerics, ENTRAIN_FREE, "reduced")], workers,
+               progress, "free beat")[0]
+    steady = free.t >= ENTRAIN_FREE / 2
+    tip = rs.tip_displacement(free.theta[steady])
+    a = float(0.5 * (tip.max() - tip.min()))
+    f0 = float(obs.frequency(free.t[steady], obs.curvature(free.theta[steady])))
+    amplitudes = pick(size, (0.05,), (0.05, 0.1), (0.025, 0.05, 0.1))
+    scan = np.array(pick(size, (0.8, 1.25), (0.9, 1.1, 1.25, 1.5), (0.6, 0.8, 0.9, 0.95, 1.05, 1.1, 1.25, 1.5)))
+    fractions = np.concatenate([-scan[::-1], [0.0], scan])
+    cases, meta = [], []
+    for amp in amplitudes:
+        adler = rs.adler_half_width(n, sigma, amp, a) / (2 * math.pi * f0)
+        for frac in fractions:
+            fd = f0 * (1 + frac * adler)
+            for eng in ENGINES:
+                physics = one_pinned.SCENE.physics(n=n, sigma=sigma, drive_amplitude=amp, drive_frequency=fd)
+                cases.append(Case(physics, numerics, duration, eng))
+                meta.append((amp, adler, frac, fd, eng))
+    trajs = run(cases, workers, progress, "entrainment")
+    mismatch = {(amp, frac, eng): _beat_mismatch(tr, fd, transient) for (amp, _, frac, fd, eng), tr in zip(meta, trajs)}
+    data = {"fractions": fractions, "amplitudes": np.array(amplitudes)}
+    edges = []
+    for amp in amplitudes:
+        adler = rs.adler_half_width(n, sigma, amp, a) / (2 * math.pi * f0)
+        locked = {}
+        for eng in ENGINES:
+            mm = np.array([mismatch[(amp, frac, eng)] for frac in fractions])
+            data[f"mismatch_{eng}_{amp:g}"] = mm
+            locked[eng] = np.abs(mm) < LOCKED
+        lock = locked["reduced"]
+        inside = fractions[lock]
+        low_out = fractions[(~lock) & (fractions < 0)]
+        high_out = fractions[(~lock) & (fractions > 0)]
+        edges.append(TongueEdge(
+            amplitude=float(amp), adler=float(adler),
+            locked_low=float(inside.min() * adler) if inside.size else math.nan,
+            unlocked_low=float(low_out.max() * adler) if low_out.size else math.nan,
+            locked_high=float(inside.max() * adler) if inside.size else math.nan,
+            unlocked_high=float(high_out.min() * adler) if high_out.size else math.nan,
+            engines_agree=bool(np.array_equal(locked["mujoco"], locked["reduced"]))))
+    summary = EntrainmentSummary(n=n, sigma=sigma, free_frequency=f0, tip_amplitude=a, duration=duration,
+                                 transient=transient, residue=abs(rs.tip_residue(n, sigma)), edges=edges)
+    return Study("entrainment", size, data, summary, time.perf_counter() - start)
+
+
+@ENTRAINMENT.figure
+@plots.styled
+def entrainment_figure(study: Study, out: Path) -> list[Path]:
+    plt = plots.pyplot()
+    d, s = study.data, study.summary
+    fig, ax = plt.subplots(figsize=(6.5, 4.2))
+    for i, e in enumerate(s.edges):
+        x = d["fractions"] * e.adler
+        for eng in ENGINES:
+            y = d[f"mismatch_{eng}_{e.amplitude:g}"]
+            style = dict(plots.ENGINE_STYLE[eng], color=f"C{i}")
+            style["label"] = f"A = {e.amplitude:g}, {style['label']}"
+            ax.plot(x, y, **style)
+        ax.axvspan(-e.adler, e.adler, color=f"C{i}", alpha=0.1, label=f"Adler |R| A / a, A = {e.amplitude:g}")
+    ax.axhline(0, color="k", lw=0.6)
+    ax.set_xlabel(r"detuning $f_{drive} / f_0 - 1$")
+    ax.set_ylabel(r"$f_{beat} / f_{drive} - 1$")
+    ax.legend(fontsize=8)
+    ax.set_title(rf"N = {s.n}, $\sigma$ = {s.sigma:g} (above onset): entrainment by a tip force")
+    fig.tight_layout()
+    return [plots.save(fig, out, "entrainment_tongue.png")]
+
+
+@ENTRAINMENT.claims
+def entrainment_claims(study: Study, read: Mapping[str, Study]) -> list[Claim]:
+    s = study.summary
+    outlook = "outlook: 'mechanical responses such as longitudinal or transverse excitations'"
+
+    def bracketed(e: TongueEdge) -> bool:  # Adler's edges lie between the last locked and first unlocked detunings
+        return (e.unlocked_low <= -e.adler <= e.locked_low) and (e.locked_high <= e.adler <= e.unlocked_high)
+
+    ok = all(bracketed(e) for e in s.edges)
+    agree = all(e.engines_agree for e in s.edges)
+    text = "; ".join(f"A = {e.amplitude:g}: locked from {e.locked_low:+.4f} to {e.locked_high:+.4f} (unlocked at "
+                     f"{e.unlocked_low:+.4f}, {e.unlocked_high:+.4f}) against Adler +-{e.adler:.4f}" for e in s.edges)
+    return [Claim(
+        "Above onset a tip force entrains the beat inside an Arnold tongue (Adler's width from the linear residue)",
+        outlook, "locks at the same detunings" if agree else "locks at other detunings", text, verdict(ok and agree),
+        f"N = {s.n}, sigma = {s.sigma:g} (sigma_c = 3): free beat f tau = {s.free_frequency:.5f}, tip amplitude "
+        f"a = {s.tip_amplitude:.4f} l; detunings relative to f tau. Adler: |Omega - omega_beat| <= |R| A / a with "
+        f"|R| = {s.residue:.4f} the residue of G at its leading pair (the non-isochronicity, which widens the tongue by "
+        f"sqrt(1 + alpha^2), left out). Locked: |f_beat / f_drive - 1| < {LOCKED:g} after {s.transient:g} tau of "
+        f"{s.duration:g}.")]

@@ -286,8 +286,8 @@ def _interrupted(err: KeyboardInterrupt, system: ChainSystem, t: np.ndarray, phy
                  wall: float) -> Interrupted:
     """The Interrupted of a Ctrl-C during the deterministic solve (numba-DOP853's Interrupted carries its samples)."""
     samples = getattr(err, "samples", None)
-    if samples is None or len(samples) < 2:
-        return Interrupted(f"the reduced run was interrupted after {wall:.1f} s, before its first samples", None)
+    if samples is None or len(samples) < 2:  # scipy's solvers keep no partial samples; or none was reached yet
+        return Interrupted(f"the reduced run was interrupted after {wall:.1f} s, with no samples kept", None)
     theta, head = _split_head(system, np.asarray(samples))
     reached = t[: len(theta)]
     partial = Trajectory(t=reached, theta=theta, physics=physics, engine="reduced", wall_time_s=wall,

@@ -23,6 +23,8 @@ numbers they are set against in `elastoactive.paper`.
     noise_readings  claim 21 under Ito, Stratonovich and coloured noise; the experiment's noise regime
     long_chain    the supplement's N = 17 chain with and without self-contact; contact convergence; winding
     dish          the supplement's chain in a paraboloid dish: the (sigma, trap) phase diagram of N = 7
+    skin          the outlook: mode localisation, spectral winding and transient gain of the non-Hermitian chain
+    response      the outlook: a periodic tip force below onset (gain, phase, resonance width) and entrainment above
 
 and what they share: `registry` (the studies by name), `base` (sizes, the Study container, running a
 batch of cases), `plotting` (figure style and helpers), `claim_rows` (the claim row and its number

@@ -31,6 +31,8 @@ from __future__ import annotations
 import numpy as np
 from scipy.optimize import brentq
 
+from elastoactive.errors import ParameterError
+
 __all__ = [
     "linear_operator",
     "eigenvalues",
@@ -228,3 +230,23 @@ def onset(n: int) -> tuple[float, float]:
     lo, hi = (v / n**3 for v in ONSET_BRACKET)
     sigma_c = brentq(growth, lo, hi, xtol=1e-300, rtol=1e-13, maxiter=200)
     return float(sigma_c), float(abs(slow_eigenvalues(n, sigma_c)[0].imag))
+
+
+def pair_onset(n: int, kappa: float, rho: float) -> tuple[float, float]:
+    """(sigma_c, omega_c) of the coupled pair: the first sigma where the pair's least stable eigenvalue crosses 0,
+    bracketed from below by a geometric scan from a quarter of the softer chain's onset."""
+
+    def growth(s: float) -> float:
+        return float(np.max(np.linalg.eigvals(pair_linear_operator(n, s, kappa, rho)).real))
+
+    lo = 0.25 * min(1.0, rho) * onset(n)[0]
+    while growth(lo) >= 0:
+        lo /= 4.0
+    hi = lo
+    while growth(hi) < 0:
+        lo, hi = hi, 1.25 * hi
+        if hi > 1e6:
+            raise ParameterError(f"the pair (kappa = {kappa:g}, rho = {rho:g}) is stable up to sigma = 1e6")
+    sigma_c = brentq(growth, lo, hi, xtol=1e-300, rtol=1e-12)
+    lam = pair_eigenvalues(n, sigma_c, kappa, rho)
+    return float(sigma_c), float(abs(lam[0].imag))

@@ -51,9 +51,9 @@ def test_refusals_are_one_line():
 
 def test_ring_study_round_trip_and_claims(tiny_studies, round_trip):
     """The study (tiny): N = 7 turns rigidly and both engines agree; N = 24 beats at sigma = 0.5 in both."""
-    runs = tiny_studies("ring")
-    s = runs[1]["ring"].summary
+    runs = tiny_studies("rings")
+    s = runs[1]["rings"].summary
     assert max(s.rigid_amplitude_mujoco, s.rigid_amplitude_reduced) < 1e-3 and s.rate_difference < 0.01
     assert s.beating_mujoco == s.beating_reduced == [0.5]
-    table = round_trip(runs, "ring")
+    table = round_trip(runs, "rings")
     assert table.count("**yes**") == 2

@@ -15,6 +15,9 @@ knows everything specific to the scene; the rest of the package asks it (through
   observables         `observables` (names) and `measure_extra` (their values); `compared`, the
                       ones `validate` holds to its tolerance
   validation          `validation_cases` (paper cases), `extreme_cases` (stability grid)
+  linear stability    `onset` and `leading_eigenvalue` of the linear operator about the base state (or
+                      `no_linear_operator`: why there is none), `filament`: whether the continuum filament is its
+                      limit (elastoactive stability)
   drawing             `caption`, `extent_points`, `decorate`, `video_period`
 
 Defaults describe a single clamped chain (the one-pinned scene needs to override nothing but its
@@ -37,6 +40,16 @@ from ..parameters import get as parameter_spec
 if TYPE_CHECKING:  # typing only: these modules import the registry that holds scenes
     from ..params import Numerics, Physics
     from ..trajectory import Trajectory
+
+@dataclass(frozen=True)
+class Onset:
+    """Where a scene's base state loses stability (Scene.onset): at sigma_c, with the unstable mode's angular
+    frequency omega_c (rad / tau; 0 for a real eigenvalue), and how (`kind`, in words)."""
+
+    sigma_c: float
+    omega_c: float
+    kind: str
+
 
 @dataclass(frozen=True)
 class ValidationCase:
@@ -74,6 +87,11 @@ class Scene:
     """Results beyond amplitude and frequency (their meaning: elastoactive.results.OBSERVABLES)."""
     compared: ClassVar[tuple[str, ...]] = ("amplitude", "frequency")
     """Observables that validate holds to its tolerance (relative error)."""
+    no_linear_operator: ClassVar[str] = "no linear operator is written for it"
+    """Why the scene has no linear operator about a base state that does not move with sigma (empty when it has one:
+    `onset` and `leading_eigenvalue` are then overridden)."""
+    filament: ClassVar[bool] = False
+    """Whether the clamped continuum filament under a distributed follower load is the scene's large-N limit."""
 
     # ------------------------------------------------------------------ parameters
     @classmethod
@@ -153,6 +171,15 @@ class Scene:
     def extreme_cases(self, quick: bool = False) -> tuple["Physics", ...]:
         """Stiff and extreme parameter sets of the stability grid (scripts/stability_grid.py)."""
         return ()
+
+    # ------------------------------------------------------------------ linear stability
+    def onset(self, physics: "Physics") -> Onset:
+        """Where the base state loses stability (sigma_c, omega_c) for these parameters (sigma aside)."""
+        raise ParameterError(f"stability: {self.name} has no linear operator here ({self.no_linear_operator})")
+
+    def leading_eigenvalue(self, physics: "Physics", sigma: float) -> complex:
+        """The least stable eigenvalue of the linear operator about the base state at sigma."""
+        raise ParameterError(f"stability: {self.name} has no linear operator here ({self.no_linear_operator})")
 
     # ------------------------------------------------------------------ drawing
     def caption(self, physics: "Physics") -> list[str]:

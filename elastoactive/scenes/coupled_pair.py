@@ -16,7 +16,7 @@ from ..analysis.reduced.system import ChainSystem
 from ..parameters import Parameter
 from ..params import Numerics, Physics
 from ..trajectory import Trajectory
-from .base import Scene, ValidationCase
+from .base import Onset, Scene, ValidationCase
 
 
 class CoupledPair(Scene):
@@ -32,6 +32,7 @@ class CoupledPair(Scene):
     )
     n_chains = 2
     observables = ("frequency_mismatch",)
+    no_linear_operator = ""
 
     def stiffness(self, physics: Physics) -> tuple[float, ...]:
         return (1.0, physics.rho)
@@ -52,6 +53,19 @@ class CoupledPair(Scene):
         oscillating = all(obs.amplitude(t, x, transient) > 1e-3 for x in curvatures)
         mismatch = obs.frequency_mismatch(t, *curvatures, transient) if oscillating else float("nan")
         return {"frequency_mismatch": mismatch}
+
+    def onset(self, physics: Physics) -> Onset:
+        from ..analysis import stability  # start-up time: scipy
+
+        return Onset(*stability.pair_onset(physics.n, physics.kappa, physics.rho), "flutter (Hopf) of the pair")
+
+    def leading_eigenvalue(self, physics: Physics, sigma: float) -> complex:
+        import numpy as np  # the eigenvalues' array
+
+        from ..analysis import stability  # start-up time: scipy
+
+        lam = stability.pair_eigenvalues(physics.n, sigma, physics.kappa, physics.rho)
+        return complex(lam[np.argmax(lam.real)])
 
     def validation_cases(self) -> tuple[ValidationCase, ...]:
         return (

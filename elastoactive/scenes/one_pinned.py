@@ -7,14 +7,38 @@ other end is free. sigma_c = 0.1575 for N = 7 from the linear stability of the r
 
 from __future__ import annotations
 
+import numpy as np
+
 from ..params import Physics
-from .base import Scene, ValidationCase
+from .base import Onset, Scene, ValidationCase
+
+DENSE_GROWTH_MAX = 400
+"""Up to this many angles the growth rate at a given sigma comes from every eigenvalue (dense); beyond, from the
+slowest modes (analysis.stability.slow_eigenvalues), which hold the least stable one near the onset."""
+SLOW_GROWTH_MODES = 16
+"""Slowest modes searched for the least stable one beyond DENSE_GROWTH_MAX."""
 
 
 class OnePinned(Scene):
     name = "one-pinned"
     summary = "chain clamped at one end: flagellar beating above sigma_c (N=7: 0.1575 [paper: 0.15])"
     base_file = "one-pinned.xml"
+    no_linear_operator = ""
+    filament = True
+
+    def onset(self, physics: Physics) -> Onset:
+        from ..analysis import stability  # start-up time: scipy
+
+        sigma_c, omega_c = stability.onset(physics.n)  # O(N) per sigma: banded operator, slowest modes
+        return Onset(sigma_c, omega_c, "flutter (Hopf)")
+
+    def leading_eigenvalue(self, physics: Physics, sigma: float) -> complex:
+        from ..analysis import stability  # start-up time: scipy
+
+        n = physics.n
+        lam = stability.eigenvalues(n, sigma) if n <= DENSE_GROWTH_MAX else \
+            stability.slow_eigenvalues(n, sigma, SLOW_GROWTH_MODES)
+        return complex(lam[np.argmax(lam.real)])
 
     def validation_cases(self) -> tuple[ValidationCase, ...]:
         return (ValidationCase(self.physics(n=7, sigma=0.8), 300.0),)

@@ -57,6 +57,7 @@ class Paraboloid(Scene):
     clamped = False
     head_coordinates = HEAD_COORDINATES
     observables = ("rotation_rate", "orbit_rate", "orbit_radius", "curvature", "dish_state")
+    no_linear_operator = "a free chain in a dish has no fixed base state (it drifts and turns as a whole)"
     compared = ("rotation_rate", "orbit_rate")
 
     def label(self, physics: Physics) -> str:

@@ -46,6 +46,7 @@ class Ring(Scene):
     pinned = True
     observables = ("rotation_rate",)
     compared = ("rotation_rate",)
+    no_linear_operator = "the ring turns about its pin at any sigma > 0: its steady state is a rotation, not a rest"
 
     def build(self, spec, physics: Physics, numerics: Numerics) -> None:
         import mujoco  # start-up time: mujoco is needed only to build a model

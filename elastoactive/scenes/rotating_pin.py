@@ -13,7 +13,7 @@ import math
 from ..analysis import observables as obs
 from ..params import Physics
 from ..trajectory import Trajectory
-from .base import Scene, ValidationCase
+from .base import Onset, Scene, ValidationCase
 
 
 class RotatingPin(Scene):
@@ -23,9 +23,23 @@ class RotatingPin(Scene):
     clamped = False
     observables = ("rotation_rate",)
     compared = ("rotation_rate",)
+    no_linear_operator = ""
 
     def measure_extra(self, traj: Trajectory, transient: float) -> dict[str, float]:
         return {"rotation_rate": obs.rotation_rate(traj.t, traj.theta, transient)}
+
+    def onset(self, physics: Physics) -> Onset:
+        from ..analysis import stability  # start-up time: scipy
+
+        return Onset(stability.rotation_threshold(physics.n), 0.0, "steady rotation (a real eigenvalue crosses 0)")
+
+    def leading_eigenvalue(self, physics: Physics, sigma: float) -> complex:
+        import numpy as np  # the eigenvalues' array
+
+        from ..analysis import stability  # start-up time: scipy
+
+        lam = np.linalg.eigvals(stability.rotating_operator(physics.n, sigma))
+        return complex(lam[np.argmax(lam.real)])
 
     def validation_cases(self) -> tuple[ValidationCase, ...]:
         return (ValidationCase(self.physics(n=7, sigma=0.8), 300.0),)

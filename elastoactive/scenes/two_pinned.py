@@ -33,6 +33,7 @@ class TwoPinned(Scene):
                             high_open=True, title="compression", symbol="δ"),)
     min_n = 2
     pinned = True
+    no_linear_operator = "its base state, the buckled arch, is held by the pins and moves with the load"
     observables = ("snap_amplitude",)
 
     def pin_position(self, physics: Physics) -> tuple[float, float]:

@@ -48,10 +48,10 @@ class RingSummary(Summary):
     beating_reduced: list[float]
 
 
-RING = registry.declare("ring", summary=RingSummary, order=180)
+RINGS = registry.declare("rings", summary=RingSummary, order=180)
 
 
-@RING.run
+@RINGS.run
 def ring_study(size: str = "quick", workers=None, progress: bool = True) -> Study:
     """Rotation rate and Theta's beat against sigma for rings of N = 7 and 24, both engines."""
     start = time.perf_counter()
@@ -62,7 +62,7 @@ def ring_study(size: str = "quick", workers=None, progress: bool = True) -> Stud
     numerics = Numerics(dt=0.001, sample_dt=0.1)  # resolves the N = 24 ring's fastest rate up to sigma = 8 (~120/tau)
     grid = [(n, s) for n, sigmas in zip(SIZES_N, (small, large)) for s in sigmas]
     cases = [Case(ring.SCENE.physics(n=n, sigma=s), numerics, duration, eng, transient) for n, s in grid for eng in ENGINES]
-    results = [r.results for r in run_cases(cases, workers=workers, progress=progress, desc="ring")]
+    results = [r.results for r in run_cases(cases, workers=workers, progress=progress, desc="rings")]
     data = {"sigma_small": np.array(small), "sigma_large": np.array(large)}
     for k, eng in enumerate(ENGINES):
         mine = results[k::len(ENGINES)]
@@ -82,10 +82,10 @@ def ring_study(size: str = "quick", workers=None, progress: bool = True) -> Stud
         beating_mujoco=[float(s) for s, a in zip(large, data["amplitude_24_mujoco"]) if a > BEATING],
         beating_reduced=[float(s) for s, a in zip(large, data["amplitude_24_reduced"]) if a > BEATING],
     )
-    return Study("ring", size, data, summary, time.perf_counter() - start)
+    return Study("rings", size, data, summary, time.perf_counter() - start)
 
 
-@RING.figure
+@RINGS.figure
 @plots.styled
 def ring_figures(study: Study, out: Path) -> list[Path]:
     plt = plots.pyplot()
@@ -115,7 +115,7 @@ def ring_figures(study: Study, out: Path) -> list[Path]:
     return [plots.save(fig, out, "figB_ring.png")]
 
 
-@RING.claims
+@RINGS.claims
 def ring_claims(study: Study, read: Mapping[str, Study]) -> list[Claim]:
     s = study.summary
     outlook = "outlook: more intricate connections (not simulated)"

@@ -21,16 +21,11 @@ elastoactive.scenes.base.Scene.parameters).
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Callable, ClassVar
+from typing import Callable, ClassVar
 
 import numpy as np
 
 from ..parameters import Parameter
-
-if TYPE_CHECKING:  # typing only: params imports the term registry
-    from ..analysis.reduced.system import ChainSystem
-    from ..params import Numerics, Physics
-    from ..trajectory import Trajectory
 
 
 NodeForces = Callable[[np.ndarray], np.ndarray]
@@ -38,7 +33,11 @@ NodeForces = Callable[[np.ndarray], np.ndarray]
 
 
 class Term:
-    """A physical term: its parameters, MJCF element, reduced-model contribution and observables."""
+    """A physical term: its parameters, MJCF element, reduced-model contribution and observables.
+
+    The hooks take a `physics` (elastoactive.params.Physics), `numerics` (elastoactive.params.Numerics), `system`
+    (the reduced model's elastoactive.analysis.reduced.ChainSystem) and `traj` (elastoactive.trajectory.Trajectory);
+    they are not imported here, since Physics reads the terms' parameters from this registry."""
 
     name: ClassVar[str] = ""
     """Registry key, e.g. 'contact'."""
@@ -55,24 +54,24 @@ class Term:
         """Normalise this term's values in `values` (every parameter of the physics, checked one by one) in place;
         raise ParameterError for a combination the specs cannot check alone."""
 
-    def active(self, physics: "Physics") -> bool:
+    def active(self, physics) -> bool:
         """Whether the term acts: by default, whether any of its parameters differs from its default."""
         return any(getattr(physics, p.name) != p.default for p in self.parameters)
 
-    def build(self, spec, physics: "Physics", numerics: "Numerics") -> None:
+    def build(self, spec, physics, numerics) -> None:
         """Add the term's MJCF elements to `spec` (an mujoco.MjSpec holding the scene's chains); only called when
         the term is active."""
 
-    def reduced_system(self, system: "ChainSystem", physics: "Physics") -> "ChainSystem":
+    def reduced_system(self, system, physics):
         """The scene's reduced-model record with this term's fields set (only called when the term is active)."""
         return system
 
-    def node_forces(self, physics: "Physics") -> NodeForces | None:
+    def node_forces(self, physics) -> NodeForces | None:
         """For a term the compiled kernels do not know: the force on every particle from their positions, which the
         reduced engine adds to the generalised forces (None: the term's reduced contribution is in the record)."""
         return None
 
-    def measure(self, traj: "Trajectory", transient: float) -> dict[str, float | str]:
+    def measure(self, traj, transient: float) -> dict[str, float | str]:
         """Values of `observables`."""
         return {}
 

@@ -81,9 +81,9 @@ def _ladder(text: str) -> tuple[int, ...]:
 
 def _first_shape(n: int, sigma: float):
     """The most unstable mode of the straight chain (real part), scaled to Theta = START_AMPLITUDE."""
-    import numpy as np
+    import numpy as np  # start-up time: numpy, scipy and the engines load only when the command runs
 
-    from ..analysis import stability as stab
+    from ..analysis import stability as stab  # the linear operator (scipy)
 
     lam, vec = np.linalg.eig(stab.linear_operator(n, sigma))
     mode = vec[:, int(np.argmax(lam.real))]
@@ -94,15 +94,16 @@ def _first_shape(n: int, sigma: float):
 def _rung(n: int, S: float, start, progress: bool) -> tuple[Rung, object]:
     """Run the chain of n particles at sigma = S / n^3 from the angles `start` until its beat is steady; returns the
     rung and its last angles."""
-    import numpy as np
+    import numpy as np  # start-up time: numpy, scipy and the engines load only when the command runs
 
-    from ..analysis import stability as stab
+    from ..analysis import stability as stab  # the operator, the engine, the beat measures
     from ..analysis.filament import beat
     from ..engines.reduced import simulate_reduced
-    from ..params import DEFAULT_DT, Numerics, Physics
+    from ..params import DEFAULT_DT, Numerics
+    from ..scenes import one_pinned
 
     sigma = S / n**3
-    physics = Physics(scene="one-pinned", n=n, sigma=sigma)
+    physics = one_pinned.SCENE.physics(n=n, sigma=sigma)  # the clamped chain: the filament's discretisation
     onset, omega_c = stab.onset(n)
     period = 2 * math.pi / (omega_c if omega_c > 0 else 1.0 / n**4)
     theta, previous, clock, method = np.asarray(start, dtype=float), None, time.perf_counter(), ""
@@ -129,7 +130,7 @@ def _rung(n: int, S: float, start, progress: bool) -> tuple[Rung, object]:
 
 def ladder(S: float, ns=DEFAULT_LADDER, progress: bool = False) -> list[Rung]:
     """The rungs of the ladder at follower load S, each started from the previous one's last shape."""
-    from ..analysis import stability as stab
+    from ..analysis import stability as stab  # start-up time: scipy loads only when the command runs
     from ..analysis.filament import resample
     from ..analysis.reduced.blas import one_blas_thread
 
@@ -149,7 +150,7 @@ def ladder(S: float, ns=DEFAULT_LADDER, progress: bool = False) -> list[Rung]:
 
 
 def main(args) -> int:
-    from ..analysis.continuum import continuum_critical
+    from ..analysis.continuum import continuum_critical  # start-up time: scipy loads only when the command runs
     from ..analysis.filament import richardson
 
     if not (math.isfinite(args.S) and args.S > 0):

@@ -45,13 +45,23 @@ class MujocoCost(NamedTuple):
 
 
 def sample_cost(model: mujoco.MjModel, data: mujoco.MjData, steps_per_sample: int, samples: int) -> tuple[float, int]:
-    """(seconds per recorded sample, samples timed): a few samples of the run, stepped on a copy of its state."""
+    """(seconds per recorded sample, samples timed): a few samples of the run, stepped on a copy of its state; where
+    one sample takes longer than the probe's budget (a long chain's slow steps), single steps (samples timed 0)."""
     probe = copy.copy(data)
     record = np.empty(model.nq)  # each sample is copied out, as the run records it
     limit = max(PROBE_MIN_SAMPLES, min(samples, int(PROBE_SHARE * samples)))
     timed = 0
     with follower_forces():
         mujoco.mj_step(model, probe, nstep=1)  # the first step pays one-off costs (caches, the callback's set-up)
+        start = time.perf_counter()
+        mujoco.mj_step(model, probe, nstep=1)
+        step = time.perf_counter() - start
+        if step * steps_per_sample * PROBE_MIN_SAMPLES > PROBE_SECONDS:  # slow steps (long chains): time steps alone
+            count = 1
+            while time.perf_counter() - start < PROBE_SECONDS:
+                mujoco.mj_step(model, probe, nstep=1)
+                count += 1
+            return (time.perf_counter() - start) / count * steps_per_sample, 0
         start = time.perf_counter()
         while timed < limit and (timed < PROBE_MIN_SAMPLES or time.perf_counter() - start < PROBE_SECONDS):
             mujoco.mj_step(model, probe, nstep=steps_per_sample)

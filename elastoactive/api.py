@@ -12,7 +12,7 @@ from collections.abc import Mapping
 
 import numpy as np
 
-from .engines import check_engine, check_engine_numerics, run_engine
+from .engines import check_engine, check_engine_numerics, check_steps, run_engine
 from .errors import ParameterError
 from .params import Numerics, Physics, parameter_fields
 from .results import Results, check_measurable, check_transient
@@ -111,6 +111,7 @@ def simulate(
         A MuJoCo run whose state blew up or left its pin; the message names the likely cause.
     """
     physics, numerics = as_physics(physics), as_numerics(numerics)
+    numerics = numerics.for_duration(duration)  # a long run's automatic sample_dt
     duration = numerics.check_duration(duration)
     check_measurable(physics)
     options = {"theta0": theta0}
@@ -118,6 +119,7 @@ def simulate(
         raise ParameterError(f"method = {method}: the ODE method applies to the reduced engine (engine='reduced')")
     check_engine_numerics(engine, numerics.given(), physics.noise > 0, lambda k: f"numerics.{k}")  # as sweep
     if check_engine(engine) == "mujoco":
+        check_steps(numerics.for_physics(physics), duration)  # before the pre-flight check's linearisation
         if check:
             from .diagnose import check_timestep  # start-up time: diagnose builds MuJoCo models
 

@@ -247,6 +247,10 @@ class _UnsetStr(_Unset, str):
 DEFAULT_DT = _UnsetFloat(0.0025)
 DEFAULT_MASS_RATIO = _UnsetFloat(1e-4)
 DEFAULT_INTEGRATOR = _UnsetStr("implicitfast")
+DEFAULT_SAMPLE_DT = _UnsetFloat(0.05)
+AUTO_SAMPLES = 100_000
+"""Most samples a run records when its sample_dt is left at the default (Numerics.for_duration): a long chain's beat
+period grows like N^4 (about 1e6 tau at N = 80), and 0.05 would record millions of samples per beat."""
 
 
 @dataclass(frozen=True)
@@ -273,7 +277,9 @@ class Numerics:
         "help": "particle mass m / (gamma tau); the overdamped limit is 0"})
     integrator: str = field(default=DEFAULT_INTEGRATOR, metadata={"help": "MuJoCo integrator", "choices": INTEGRATORS})
     perturbation: float = field(default=1e-2, metadata={"help": "size of the random initial kick, rad"})
-    sample_dt: float = field(default=0.05, metadata={"help": "spacing of the recorded trajectory, tau"})
+    sample_dt: float = field(default=DEFAULT_SAMPLE_DT, metadata={
+        "help": "spacing of the recorded trajectory, tau (default 0.05, coarser for runs that would record more than "
+                "100000 samples)"})
     seed: int = field(default=0, metadata={"help": "seed of the initial perturbation and the noise"})
 
     def __post_init__(self) -> None:
@@ -322,6 +328,15 @@ class Numerics:
         if not self.automatic or physics.n < LONG_CHAIN:
             return self
         return long_chain_numerics(physics, self)
+
+    def for_duration(self, duration: float) -> "Numerics":
+        """These numerics, or, where sample_dt was left at its default and the run would record more than AUTO_SAMPLES
+        samples, a coarser sample_dt: the fewest whole steps of dt that keep the count at most AUTO_SAMPLES. A given
+        sample_dt is kept as it is."""
+        duration = _finite("duration", duration)
+        if not isinstance(self.sample_dt, _Unset) or duration / self.sample_dt <= AUTO_SAMPLES:
+            return self
+        return dataclasses.replace(self, sample_dt=self.dt * math.ceil(duration / AUTO_SAMPLES / self.dt - 1e-9))
 
     def sample_times(self, duration: float) -> np.ndarray:
         """Recording times k * sample_dt, k = 0 .. floor(duration / sample_dt): the same grid for

@@ -29,3 +29,20 @@ def test_long_chain_runs_with_the_defaults_and_records_what_ran(tmp_path):
     numerics = json.loads((out / "summary.json").read_text())["numerics"]
     used = Numerics().for_physics(ea.Physics(n=100))
     assert numerics["dt"] == pytest.approx(used.dt) and used.dt < 0.0025
+
+
+def test_a_long_run_records_a_bounded_number_of_samples(tmp_path):
+    """sample_dt left at its default is coarsened (whole steps of dt) so that a long run records at most
+    AUTO_SAMPLES samples: a long chain's beat lasts ~1e6 tau. A given sample_dt is kept."""
+    from elastoactive.params import AUTO_SAMPLES
+
+    numerics = Numerics().for_duration(3e6)
+    assert numerics.sample_times(3e6).size <= AUTO_SAMPLES + 1
+    assert numerics.steps_per_sample * numerics.dt == pytest.approx(numerics.sample_dt)
+    assert Numerics().for_duration(300.0) is not None and Numerics().for_duration(300.0).sample_dt == 0.05
+    with pytest.raises(ea.ParameterError, match="samples"):
+        Numerics(sample_dt=0.05).for_duration(3e6).check_duration(3e6)
+    out = tmp_path / "n40"
+    assert main(["run", "one-pinned", "--engine", "reduced", "--n", "40", "--sigma", "0.0015625", "--duration", "2e5",
+                 "--out", str(out), "--quiet"]) == 0
+    assert json.loads((out / "summary.json").read_text())["numerics"]["sample_dt"] == pytest.approx(2.0)

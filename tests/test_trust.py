@@ -117,7 +117,8 @@ def test_outputs_are_checked_before_simulating(tmp_path, capsys, no_simulation):
     refused(capsys, RUN + ["--transient", "60"], "transient")
     refused(capsys, RUN + ["--video", str(tmp_path / "v.gif")], "--video", ".mp4")
     refused(capsys, RUN + ["--video", str(tmp_path / "v.mp4"), "--width", "100000"], "width")
-    refused(capsys, RUN[:-5] + ["--duration", "1e9", "--quiet"], "duration", "--sample-dt")
+    refused(capsys, RUN[:-5] + ["--duration", "1e9", "--quiet"], "duration", "MuJoCo steps")
+    refused(capsys, RUN[:-5] + ["--duration", "1e9", "--sample-dt", "0.05", "--quiet"], "duration", "--sample-dt")
     refused(capsys, RUN[:-5] + ["--duration", "0.01", "--quiet"], "duration")
     refused(capsys, RUN + ["--sample-dt", "1e9"], "--sample-dt")
 

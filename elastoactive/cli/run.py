@@ -74,6 +74,7 @@ def settings_from(args) -> tuple[Physics, Numerics, str, float, float | None]:
     engine = args.engine or base["engine"] or "mujoco"
     duration = args.duration if args.duration is not None else (base["duration"] or DEFAULT_DURATION)
     transient = args.transient if args.transient is not None else (base["transient"] if args.duration is None else None)
+    numerics = numerics.for_duration(duration)  # a long run's automatic sample_dt, recorded as it ran
     return physics, numerics, engine, numerics.check_duration(duration), transient
 
 

@@ -9,6 +9,17 @@ from ..params import Numerics, Physics
 from ..trajectory import Trajectory
 
 ENGINES = ("mujoco", "reduced")
+MAX_STEPS = 1_000_000_000
+"""Steps one MuJoCo run may take: ~1 h at N = 7, far more for long chains."""
+
+
+def check_steps(numerics: Numerics, duration: float) -> int:
+    """The MuJoCo steps of a run (numerics as they run: a long chain's automatic ones), refused beyond MAX_STEPS."""
+    steps = (numerics.sample_times(duration).size - 1) * numerics.steps_per_sample
+    if steps > MAX_STEPS:
+        raise ParameterError(f"dt = {numerics.dt:g} over duration = {duration:g} tau is {steps:.2g} MuJoCo steps (limit "
+                             f"{MAX_STEPS:.0e}, hours of computing); raise --dt or shorten --duration")
+    return steps
 MUJOCO_ONLY = ("dt", "integrator")
 """Numerical settings only the MuJoCo engine reads (the reduced engine uses dt only when noise > 0; it does use
 mass_ratio, which decides whether a run is overdamped or inertial: docs/mujoco.md section 5)."""

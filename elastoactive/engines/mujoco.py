@@ -22,10 +22,10 @@ from ..model import prepare, state_of
 from ..params import Numerics, Physics
 from ..progress import progress_bar
 from ..trajectory import Trajectory
+from . import check_steps
 from .cost import NOTE_SECONDS, cost_note, mujoco_cost, reduced_cost
 
 CHECK_EVERY = 100  # samples between divergence checks
-MAX_STEPS = 1_000_000_000  # steps one run may take: ~1 h at N = 7, far more for long chains
 PROGRESS_EVERY = 0.25  # seconds between progress updates (a long chain's sample can take seconds)
 
 BAD_STATE_WARNINGS = (
@@ -93,10 +93,7 @@ def simulate_mujoco(
         raise ParameterError(f"duration (in tau) must be a positive number, got {duration}")
     given, numerics = numerics, numerics.for_physics(physics)  # long chains: automatic numerics (Numerics)
     t = numerics.sample_times(duration)
-    steps = (t.size - 1) * numerics.steps_per_sample
-    if steps > MAX_STEPS:
-        raise ParameterError(f"dt = {numerics.dt:g} over duration = {duration:g} tau is {steps:.2g} MuJoCo steps (limit "
-                             f"{MAX_STEPS:.0e}, hours of computing); raise --dt or shorten --duration")
+    check_steps(numerics, duration)
     model, data = prepare(physics, numerics, theta0)
     pinned = physics.scene_def.pinned
     violation = pin_violation(model, data) if pinned else 0.0

@@ -46,6 +46,9 @@ def main(argv: list[str] | None = None) -> int:
     except KeyboardInterrupt as err:  # Ctrl-C: one line saying where it stopped, no traceback
         print(f"elastoactive: interrupted{f': {err}' if str(err) else ''}", file=sys.stderr)
         return 130
+    except BrokenPipeError:  # the reader went away (| head): stop quietly, as command-line tools do
+        sys.stderr.close()
+        return 141
     except OSError as err:  # a write that failed (full disk, file-size limit): the file and the cause, one line
         where = f"{err.filename}: " if err.filename else ""
         print(f"elastoactive: error: {where}{err.strerror or err}", file=sys.stderr)

@@ -119,7 +119,7 @@ def runs(tiny_studies):
 def test_skin_study_tiny(runs, round_trip):
     s = runs[1]["skin"].summary
     assert s.winding == -1 and s.winding_hermitian == 0
-    assert s.kick_max_deviation < 1e-6 and min(s.kick_peak_sim) > 1.1
+    assert s.kick_max_deviation < 1e-6 and min(s.kick_peak_sim) > 1.1 and s.kick_mujoco_deviation < 1e-3
     assert all(c.condition_max < 3 for c in s.chains)
     table = round_trip(runs, "skin")
     assert "Skin effect" in table and "| **partly** |" in table

@@ -29,7 +29,7 @@ def validation_cases(scene: str | None = None) -> list[ValidationCase]:
     one scene's."""
     chosen = registry.scenes() if scene is None else (registry.get(scene),)
     cases = [case for s in chosen for case in s.validation_cases()]
-    return cases + [case for t in terms.terms() for case in t.validation_cases()
+    return cases + [case for t in terms.terms() for case in t.validation_cases(Physics)
                     if scene is None or case.physics.scene == scene]
 
 

@@ -127,7 +127,7 @@ def test_tip_drive_in_the_reduced_engine_matches_the_transfer_function():
 def test_validate_holds_both_engines_to_one_percent():
     from elastoactive import validate  # validate loads both engines
 
-    case = ea.terms.get("tip-drive").validation_cases()[0]
+    case = ea.terms.get("tip-drive").validation_cases(ea.Physics)[0]
     row = validate.compare(case.physics, ea.Numerics(), case.duration)
     assert row.errors["amplitude"] < 0.01 and row.errors["frequency"] < 0.01
     gains = [row.mujoco.extra["drive_gain"], row.reduced.extra["drive_gain"]]

@@ -41,8 +41,8 @@ class UniformField(Term):
         keep = traj.t >= transient
         return {"tip_y": float(np.sin(traj.theta[keep, : traj.physics.n]).sum(axis=1).mean())}
 
-    def validation_cases(self):
-        return (ValidationCase(ea.Physics(n=5, sigma=0.8, field_x=-0.02, field_y=0.02), 200.0, convergence=False),)
+    def validation_cases(self, physics):
+        return (ValidationCase(physics(n=5, sigma=0.8, field_x=-0.02, field_y=0.02), 200.0, convergence=False),)
 
 
 @pytest.fixture

@@ -32,6 +32,7 @@ from typing import TYPE_CHECKING, Any, ClassVar
 import numpy as np
 
 from ..analysis.reduced.system import ChainSystem
+from ..cases import ValidationCase
 from ..constants import BEAD_INERTIA_FACTOR
 from ..errors import ParameterError
 from ..parameters import Parameter
@@ -49,18 +50,6 @@ class Onset:
     sigma_c: float
     omega_c: float
     kind: str
-
-
-@dataclass(frozen=True)
-class ValidationCase:
-    """A case `validate` runs through both engines (and `accuracy` measures error against cost).
-
-    convergence: also part of `validate --convergence` (one case per scene is enough there).
-    """
-
-    physics: "Physics"
-    duration: float
-    convergence: bool = True
 
 
 class Scene:

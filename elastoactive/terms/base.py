@@ -75,9 +75,10 @@ class Term:
         """Values of `observables`."""
         return {}
 
-    def validation_cases(self) -> tuple:
-        """Cases (elastoactive.scenes.base.ValidationCase) that `validate` runs through both engines with this term
-        on, besides the scenes' own."""
+    def validation_cases(self, physics) -> tuple:
+        """Cases (elastoactive.cases.ValidationCase) that `validate` runs through both engines with this term on,
+        besides the scenes' own; `physics` is the Physics class (passed in: it reads the terms' parameters from this
+        registry, so a term module does not import it)."""
         return ()
 
     def __repr__(self) -> str:

@@ -16,9 +16,8 @@ import math
 
 import numpy as np
 
-from ..analysis.response import harmonic_response, tip_displacement
-from ..errors import ParameterError
 from ..parameters import Parameter
+from ..cases import ValidationCase
 from .base import Term
 
 DIRECTIONS = ("transverse", "longitudinal")
@@ -66,12 +65,9 @@ class TipDrive(Term):
 
         return law
 
-    def validation_cases(self):
+    def validation_cases(self, physics):
         """N = 2 at 0.9 sigma_c driven across the chain near its resonance (omega ~ 0.99 / tau; decay time 3.3 tau)."""
-        from ..params import Physics  # import cycle: params imports the term registry, which imports this module
-        from ..scenes.base import ValidationCase  # import cycle: the scenes import params
-
-        return (ValidationCase(Physics(n=2, sigma=2.7, drive_amplitude=5e-4, drive_frequency=0.157), 80.0,
+        return (ValidationCase(physics(n=2, sigma=2.7, drive_amplitude=5e-4, drive_frequency=0.157), 80.0,
                                convergence=False),)
 
     def measure(self, traj, transient):
@@ -84,6 +80,8 @@ class TipDrive(Term):
         if periods < 1:
             return {"drive_gain": None, "drive_phase": None}
         keep = (traj.t >= start) & (traj.t <= start + periods / physics.drive_frequency + 1e-9)
+        from ..analysis.response import harmonic_response, tip_displacement  # start-up time: scipy (the CLI imports the terms)
+
         x = tip_displacement(traj.theta[keep, : physics.n], physics.drive_direction)
         fit = harmonic_response(traj.t[keep], x, omega, physics.drive_amplitude)
         return {"drive_gain": abs(fit.gain), "drive_phase": cmath.phase(fit.gain)}

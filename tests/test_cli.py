@@ -58,3 +58,18 @@ def test_validate_one_scene(capsys):
     assert main(["validate", "rotating-pin", "--quiet"]) == 0
     out = capsys.readouterr().out
     assert "rotating-pin N=7" in out and "PASS" in out
+
+
+def test_help_loads_no_heavy_library():
+    """`elastoactive --help` (and the import of the CLI and every registered scene and term) must stay fast: none of
+    scipy, numba, mujoco, matplotlib or xarray is loaded until a command runs. A plug-in that imports one at module
+    level slows every command by tenths of a second (scipy.optimize alone is ~0.3 s)."""
+    import subprocess
+    import sys
+
+    code = ("import sys, runpy; sys.argv = ['elastoactive', '--help']\n"
+            "try:\n    runpy.run_module('elastoactive', run_name='__main__')\nexcept SystemExit:\n    pass\n"
+            "heavy = [m for m in ('scipy', 'numba', 'mujoco', 'matplotlib', 'xarray') if m in sys.modules]\n"
+            "print(','.join(heavy), file=sys.stderr)")
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert result.stderr.strip().splitlines()[-1:] in ([], [""]), result.stderr

@@ -38,3 +38,16 @@ def test_a_run_far_slower_than_the_reduced_engine_is_named_in_one_line(monkeypat
     engine.simulate_mujoco(ea.Physics(n=4), ea.Numerics(), 5.0, progress=True)
     notes = [line for line in capsys.readouterr().err.splitlines() if line.startswith("elastoactive: note:")]
     assert len(notes) == 1 and "MuJoCo run will take about" in notes[0] and "reduced engine" in notes[0]
+
+
+def test_a_sample_longer_than_the_probe_budget_is_timed_by_single_steps():
+    """A long chain's sample can hold thousands of slow steps (N = 1000: ~0.8 s each): the probe then times single
+    steps within its budget instead of stepping whole samples (it sat for minutes), and still scales to a sample."""
+    from elastoactive.model import prepare
+
+    physics, numerics = ea.Physics(n=7), ea.Numerics()
+    model, data = prepare(physics, numerics)[:2]
+    per_sample, timed = cost.sample_cost(model, data, 10**7, 10)  # a sample of 1e7 steps: ~30 s if stepped whole
+    assert timed == 0
+    per_step = per_sample / 10**7
+    assert 1e-8 < per_step < 1e-3  # a real step time (N = 7: a few microseconds), not a whole sample's

@@ -10,9 +10,10 @@ from .options import workers_argument
 
 DESCRIPTION = (
     "Run every study (linear stability, Hopf N = 7, N = 2 normal form, self-snapping, rotating pin, synchronisation, "
-    "noise, anisotropic drag, inertia, the long chain, the dish) with MuJoCo and the reduced model, and write PNG "
-    "figures, NPZ/JSON data and report.md into one folder. The default (quick) size takes about 15 min on 2 cores "
-    "(874 s for the committed docs/reproduction; --tiny about 1.5 min). "
+    "noise, anisotropic drag, inertia, the long chain, the dish; beyond the paper the skin effect, the response to a "
+    "tip force, entrainment and the ring) with MuJoCo and the reduced model, and write PNG figures, NPZ/JSON data "
+    "and report.md into one folder. The default (quick) size takes about 8 min on 2 idle cores (461 s for the "
+    "committed docs/reproduction, of which the paper's studies 300 s; --tiny about 1.5 min). "
     "An existing folder is reproduced in place, never silently replaced: a study whose data there are complete and "
     "were made at the same size by the same code is kept (resume after Ctrl-C: rerun the same command); --only runs "
     "the named studies and merges them with the others of the folder, and report.md and provenance.json are rebuilt "

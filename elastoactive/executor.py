@@ -17,12 +17,12 @@ not help). Every pool made here behaves the same way:
 from __future__ import annotations
 
 import contextlib
-import ctypes
-import multiprocessing
 import os
 import signal
-from concurrent.futures import Future, ProcessPoolExecutor, as_completed
-from typing import Callable, Iterable, Iterator
+from typing import TYPE_CHECKING, Callable, Iterable, Iterator
+
+if TYPE_CHECKING:  # typing only: the pools' modules load when a pool starts (every command imports this one)
+    from concurrent.futures import Future, ProcessPoolExecutor
 
 __all__ = ["default_workers", "process_pool", "imap"]
 
@@ -34,6 +34,8 @@ def default_workers() -> int:
 
 def forks() -> bool:
     """Whether pool workers are forked from the parent (and so inherit what it has loaded)."""
+    import multiprocessing  # start-up time: only a pool needs it
+
     return multiprocessing.get_start_method() == "fork"
 
 
@@ -43,6 +45,8 @@ def process_pool(workers: int, initializer: Callable | None = None, initargs: tu
     """A ProcessPoolExecutor of `workers` processes (see the module docstring). `initializer(*initargs)`
     runs in every worker as it starts; `warm()` once in the parent before the workers fork (a failure
     of it only means the workers load what it would have)."""
+    from concurrent.futures import ProcessPoolExecutor  # start-up time: only a pool needs it
+
     if warm is not None and forks():
         with contextlib.suppress(Exception):
             warm()
@@ -62,6 +66,8 @@ def imap(fn: Callable, items: Iterable, workers: int, *, completed: bool = False
     """(index, fn(item)) for every item, computed on a process_pool of `workers` processes: in input order,
     or with `completed=True` as each finishes. `errors=True`: a task's exception is yielded as its result
     (the others go on) instead of raised. Closing the iterator early stops the pool at once."""
+    from concurrent.futures import as_completed  # start-up time: only a pool needs it
+
     items = list(items)
     with process_pool(min(workers, max(1, len(items))), initializer, initargs, warm) as pool:
         futures = {pool.submit(fn, item): i for i, item in enumerate(items)}
@@ -91,6 +97,8 @@ def _die_with_parent(parent: int) -> None:
     """End this worker when the parent process ends (Linux: PR_SET_PDEATHSIG), even after a kill -9 of it,
     instead of computing what nobody will receive."""
     try:
+        import ctypes  # in the worker only
+
         ctypes.CDLL(None, use_errno=True).prctl(1, signal.SIGTERM)  # PR_SET_PDEATHSIG
     except (OSError, AttributeError):
         return

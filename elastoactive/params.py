@@ -54,13 +54,14 @@ def scene_parameters(scene) -> tuple[str, ...]:
 class Physics:
     """The model in the paper's dimensionless numbers: a scene and the values of its parameters.
 
-    Physics(scene=name, n=7, sigma=0.8, delta=0.1) for the two-pinned scene. Every parameter is declared once by its owner
-    (elastoactive.parameters): n by the chain; sigma and loaded by the follower force, drag_ratio by the drag, noise,
-    noise_correlation and noise_calculus by the noise, contact, contact_radius and contact_friction by self-contact
-    (elastoactive.terms); delta, kappa, rho, trap by their scenes. Each value is checked by its spec (one rule, one
-    message naming it). A value given where it does not act is refused: a parameter the scene does not have
-    (delta on one-pinned), or one whose switch is off (contact_radius without contact, noise_correlation with
-    noise 0) unless it is the default it would take anyway. Parameters not given take their defaults; reading one the scene does not have gives its default.
+    Physics(scene=name, n=7, sigma=0.8, delta=0.1) for the two-pinned scene. Every parameter is declared once by
+    its owner (elastoactive.parameters): n by the chain; sigma and loaded by the follower force, drag_ratio by the
+    drag, noise, noise_correlation and noise_calculus by the noise, contact, contact_radius and contact_friction by
+    self-contact (elastoactive.terms); delta, kappa, rho, trap by their scenes. Each value is checked by its spec
+    (one rule, one message naming it). A value given where it does not act is refused: a parameter the scene does
+    not have (delta on one-pinned), or one whose switch is off (contact_radius without contact, noise_correlation
+    with noise 0) unless it is the default it would take anyway. Parameters not given take their defaults; reading
+    one the scene does not have gives its default.
 
     scene       name of a registered scene (elastoactive.scenes.names())
     n           particles per chain (N >= 1; N >= 2 when both ends are pinned)

@@ -1,8 +1,8 @@
 """The compiled (numba) kernels of the reduced model, in three modules: kernels_chain (drag, forces, pins, the dense
 and recursive right-hand sides and their Jacobian), kernels_extended (a free head, a trap, self-contact) and this
-one (which path runs, the SDE steppers, the inertial model), which re-exports them all: drag matrix, forces, right-hand side, Jacobian,
-Euler-Maruyama steps and the projection onto the pins; the inertial model's right-hand side, Jacobian and
-RK4 steps.
+one (which path runs, the SDE steppers, the inertial model), which re-exports them all: drag matrix, forces,
+right-hand side, Jacobian, Euler-Maruyama steps and the projection onto the pins; the inertial model's right-hand
+side, Jacobian and RK4 steps.
 
 Every kernel that needs the model's parameters takes the `ChainSystem` record itself (numba compiles a
 NamedTuple as a typed record; fields are read by name) and the Baumgarte rate `beta` as a float

@@ -160,3 +160,19 @@ def test_every_allowed_chain_length_finishes_or_is_refused_at_once():
     assert time.perf_counter() - clock < 10.0
     run = simulate_reduced(physics, Numerics(mass_ratio=1e-5), 10.0)
     assert run.info["model"] == "overdamped" and np.all(np.isfinite(run.theta))
+
+
+def test_run_from_repeats_the_recorded_method(tmp_path):
+    """`run --from` re-runs a reduced run with the ODE method it ran with (a --method given, or the automatic
+    choice), so the trajectory is the same bit for bit."""
+    import json
+
+    from elastoactive.cli import main
+
+    first, again = tmp_path / "first", tmp_path / "again"
+    assert main(["run", "one-pinned", "--engine", "reduced", "--method", "Radau", "--duration", "30", "--out",
+                 str(first), "--quiet"]) == 0
+    assert main(["run", "--from", str(first), "--out", str(again), "--quiet"]) == 0
+    a, b = (json.loads((p / "summary.json").read_text()) for p in (first, again))
+    assert a["solver"]["method"] == b["solver"]["method"] == "Radau"
+    assert a["trajectory_sha256"] == b["trajectory_sha256"]

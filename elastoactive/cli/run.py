@@ -54,8 +54,10 @@ def _recorded(path: Path) -> dict:
 
     s = read_summary(path)
     numerics = dict(s.get("numerics", {}))
+    method = (s.get("solver") or {}).get("method")  # the reduced engine's ODE method, as it ran
     return {"physics": dict(s["parameters"]), "duration": numerics.pop("duration", None),
-            "transient": numerics.pop("transient", None), "numerics": numerics, "engine": s.get("engine", "mujoco")}
+            "transient": numerics.pop("transient", None), "numerics": numerics, "engine": s.get("engine", "mujoco"),
+            "method": method if method in METHODS else None}
 
 
 def settings_from(args) -> tuple[Physics, Numerics, str, float, float | None]:
@@ -153,7 +155,9 @@ def _run(args, out: Path | None) -> int:
         from .render import check_video_options  # start-up time: rendering loads matplotlib and GL
 
         check_video_options(args, duration)
-    traj = simulate(physics, numerics, duration=duration, engine=engine, progress=not args.quiet, method=args.method)
+    # --from repeats the reduced engine's recorded method (the automatic choice would pick it again; a given one too)
+    method = args.method or (_recorded(args.source)["method"] if args.source and engine == "reduced" else None)
+    traj = simulate(physics, numerics, duration=duration, engine=engine, progress=not args.quiet, method=method)
     s = summary(traj, numerics, duration, transient)
     s["provenance"] = provenance(started, time.perf_counter() - clock)
     if out:

@@ -165,10 +165,6 @@ def test_every_allowed_chain_length_finishes_or_is_refused_at_once():
 def test_run_from_repeats_the_recorded_method(tmp_path):
     """`run --from` re-runs a reduced run with the ODE method it ran with (a --method given, or the automatic
     choice), so the trajectory is the same bit for bit."""
-    import json
-
-    from elastoactive.cli import main
-
     first, again = tmp_path / "first", tmp_path / "again"
     assert main(["run", "one-pinned", "--engine", "reduced", "--method", "Radau", "--duration", "30", "--out",
                  str(first), "--quiet"]) == 0

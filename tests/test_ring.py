@@ -45,8 +45,10 @@ def test_both_engines_turn_the_ring_alike():
 def test_refusals_are_one_line():
     with pytest.raises(ea.ParameterError, match="must be >= 3 for ring"):
         ea.Physics(scene="ring", n=2)
+    with pytest.raises(ea.ParameterError, match="self-contact is not built for the ring"):
+        ea.Physics(scene="ring", contact=True)
     with pytest.raises(ea.ParameterError, match="reduced model's ring .* without a trap or self-contact"):
-        ea.simulate(ea.Physics(scene="ring", contact=True), duration=5.0, engine="reduced")
+        system_of(ea.Physics(scene="ring")).typed()._replace(contact_radius=0.1, contact_stiffness=1e3).typed()
 
 
 def test_ring_study_round_trip_and_claims(tiny_studies, round_trip):

@@ -22,6 +22,7 @@ import numpy as np
 from ..analysis import observables as obs
 from ..analysis.reduced.constraints import project_on_pins
 from ..analysis.reduced.system import ChainSystem
+from ..errors import ParameterError
 from ..initial import pushed_chains
 from ..params import Numerics, Physics
 from ..trajectory import Trajectory
@@ -47,6 +48,12 @@ class Ring(Scene):
     observables = ("rotation_rate",)
     compared = ("rotation_rate",)
     no_linear_operator = "the ring turns about its pin at any sigma > 0: its steady state is a rotation, not a rest"
+
+    def check(self, physics: Physics) -> None:
+        super().check(physics)
+        if physics.contact:  # the reduced model's contact path has no closing spring (ChainSystem.typed refuses it)
+            raise ParameterError("contact: self-contact is not built for the ring (the reduced model that checks its "
+                                 "numerics and cross-validates it has no closing spring with contact)")
 
     def build(self, spec, physics: Physics, numerics: Numerics) -> None:
         import mujoco  # start-up time: mujoco is needed only to build a model

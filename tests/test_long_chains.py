@@ -78,8 +78,8 @@ def test_stiff_long_chains_keep_the_defaults_when_explicit_drag_would_cost_more(
 
 
 def test_n100_agrees_with_the_reduced_model_within_one_percent():
-    """Target (c) of issue 11: N = 100, sigma = 0.05, 20 tau: the largest angle difference against the reduced
-    (overdamped, the paper's) model, relative to the largest angle, within 1%."""
+    """The long-chain accuracy target: N = 100, sigma = 0.05, 20 tau: the largest angle difference against the
+    reduced (overdamped, the paper's) model, relative to the largest angle, within 1%."""
     physics = Physics(n=100, sigma=0.05)
     mj = simulate_mujoco(physics, Numerics(), 20.0)
     ref = simulate_reduced(physics, Numerics(), 20.0)

@@ -172,6 +172,3 @@ def names() -> tuple[str, ...]:
     """Every declared parameter, in declaration order."""
     return tuple(_TABLE)
 
-
-def specs() -> tuple[Parameter, ...]:
-    return tuple(spec for spec, _ in _TABLE.values())

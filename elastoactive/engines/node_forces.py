@@ -28,12 +28,14 @@ from ..params import Physics
 
 def positions(physics: Physics, theta: np.ndarray) -> np.ndarray:
     """Positions (particles, 2) of every particle, chain 1 then chain 2, from the absolute angles."""
+    from ..analysis.measures import chain_positions  # start-up time: measures loads scipy.signal
+
     n = physics.n
     out = np.empty((physics.n_angles, 2))
     for k in range(physics.n_chains):
-        th = theta[k * n:(k + 1) * n]
-        out[k * n:(k + 1) * n, 0] = np.cumsum(np.cos(th))
-        out[k * n:(k + 1) * n, 1] = np.cumsum(np.sin(th)) + physics.scene_def.chain_offset(physics, k)
+        x, y = chain_positions(theta[k * n:(k + 1) * n])
+        out[k * n:(k + 1) * n, 0] = x
+        out[k * n:(k + 1) * n, 1] = y + physics.scene_def.chain_offset(physics, k)
     return out
 
 

@@ -56,17 +56,9 @@ def parameter_names() -> tuple[str, ...]:
     return tuple(p.name for t in _TERMS.values() for p in t.parameters)
 
 
-def owner_of(parameter: str) -> Term | None:
-    """The term that declares `parameter` (None: a scene's own, or the chain's)."""
-    for term in _TERMS.values():
-        if any(p.name == parameter for p in term.parameters):
-            return term
-    return None
-
-
 from . import contact, drag, follower, noise, tip_drive  # noqa: E402  (the built-in terms register into the table above)
 
 for _module in (drag, noise, follower, contact, tip_drive):  # this order: the summaries list noise before loaded
     register(_module.TERM)
 
-__all__ = ["NodeForces", "Term", "get", "names", "owner_of", "parameter_names", "register", "terms", "unregister"]
+__all__ = ["NodeForces", "Term", "get", "names", "parameter_names", "register", "terms", "unregister"]

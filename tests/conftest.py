@@ -3,6 +3,31 @@
 import pytest
 
 
+def refused(capsys, argv, *words, code=2):
+    """The command line `argv` exits `code` with one 'elastoactive: error:' line containing every word (the tests
+    import this: `from conftest import refused`)."""
+    from elastoactive.cli import main  # the CLI loads only in the tests that use it
+
+    capsys.readouterr()  # what earlier calls printed
+    assert main(argv) == code
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("elastoactive: error:"), err
+    for word in words:
+        assert word in err[0], (word, err[0])
+    return err[0]
+
+
+@pytest.fixture
+def no_simulation(monkeypatch):
+    """Fail the test if anything is simulated: the checks must come first."""
+    from elastoactive import api  # the API loads only in the tests that use it
+
+    def boom(*args, **kwargs):
+        raise AssertionError("simulated before the options were checked")
+
+    monkeypatch.setattr(api, "run_engine", boom)
+
+
 @pytest.fixture(scope="module")
 def tiny_studies(tmp_path_factory):
     """run(*names) -> (folder, {name: Study}): the named studies at the tiny size, saved into a fresh folder."""

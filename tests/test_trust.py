@@ -12,32 +12,14 @@ import numpy as np
 import pytest
 
 import elastoactive as ea
-from elastoactive import api, progress
+from elastoactive import progress
 from elastoactive.cli import main
 from elastoactive.diagnose import check_timestep
 from elastoactive.results import load_trajectory
 
+from conftest import refused  # the shared one-line-refusal check
+
 RUN = ["run", "one-pinned", "--n", "4", "--sigma", "1.2", "--duration", "60", "--quiet"]
-
-
-def refused(capsys, argv, *words):
-    """main(argv) exits 2 with one 'elastoactive: error:' line containing every word."""
-    capsys.readouterr()  # what earlier calls printed
-    assert main(argv) == 2
-    err = capsys.readouterr().err.strip().splitlines()
-    assert len(err) == 1 and err[0].startswith("elastoactive: error:"), err
-    for word in words:
-        assert word in err[0], (word, err[0])
-    return err[0]
-
-
-@pytest.fixture
-def no_simulation(monkeypatch):
-    """Fail the test if anything is simulated: the checks must come first."""
-    def boom(*args, **kwargs):
-        raise AssertionError("simulated before the options were checked")
-
-    monkeypatch.setattr(api, "run_engine", boom)
 
 
 # ------------------------------------------------------------------------------- silently wrong

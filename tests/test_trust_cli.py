@@ -17,30 +17,12 @@ import numpy as np
 import pytest
 
 import elastoactive as ea
-from elastoactive import api
 from elastoactive.cli import main
 from elastoactive.results import load_trajectory
 
+from conftest import refused  # the shared one-line-refusal check
+
 RUN = ["run", "one-pinned", "--n", "4", "--sigma", "1.2", "--duration", "60", "--quiet", "--engine", "reduced"]
-
-
-def refused(capsys, argv, *words, code=2):
-    """main(argv) exits `code` with one 'elastoactive: error:' line containing every word."""
-    capsys.readouterr()
-    assert main(argv) == code
-    err = capsys.readouterr().err.strip().splitlines()
-    assert len(err) == 1 and err[0].startswith("elastoactive: error:"), err
-    for word in words:
-        assert word in err[0], (word, err[0])
-    return err[0]
-
-
-@pytest.fixture
-def no_simulation(monkeypatch):
-    def boom(*args, **kwargs):
-        raise AssertionError("simulated before the options were checked")
-
-    monkeypatch.setattr(api, "run_engine", boom)
 
 
 @pytest.fixture(scope="module")

@@ -339,9 +339,9 @@ class Numerics:
             return self
         return dataclasses.replace(self, sample_dt=self.dt * math.ceil(duration / AUTO_SAMPLES / self.dt - 1e-9))
 
-    def sample_times(self, duration: float) -> np.ndarray:
-        """Recording times k * sample_dt, k = 0 .. floor(duration / sample_dt): the same grid for
-        both engines (sample_dt is a whole number of MuJoCo steps)."""
+    def sample_count(self, duration: float) -> int:
+        """How many samples a run of `duration` records (sample_times' size), checked against MAX_SAMPLES without
+        allocating them."""
         duration = _finite("duration", duration)
         if duration < 0:
             raise ParameterError(f"duration (in tau) must be >= 0, got {duration}")
@@ -351,14 +351,19 @@ class Numerics:
             raise ParameterError(
                 f"duration ({duration:g} tau) at sample_dt = {spacing:g} would record {count:.3g} samples "
                 f"(limit {MAX_SAMPLES:.0e}); shorten --duration or raise --sample-dt")
-        return spacing * np.arange(count)
+        return count
+
+    def sample_times(self, duration: float) -> np.ndarray:
+        """Recording times k * sample_dt, k = 0 .. floor(duration / sample_dt): the same grid for
+        both engines (sample_dt is a whole number of MuJoCo steps)."""
+        return self.steps_per_sample * self.dt * np.arange(self.sample_count(duration))
 
     def check_duration(self, duration: float) -> float:
         """A run length the engines can record and measure: at least MIN_SAMPLES samples."""
         duration = _finite("duration", duration)
         if duration <= 0:
             raise ParameterError(f"duration (in tau) must be > 0, got {duration:g}")
-        count = self.sample_times(duration).size
+        count = self.sample_count(duration)
         if count < MIN_SAMPLES:
             raise ParameterError(
                 f"duration ({duration:g} tau) holds {count} sample(s) at sample_dt = {self.sample_dt:g}; at least "

@@ -15,7 +15,7 @@ MAX_STEPS = 1_000_000_000
 
 def check_steps(numerics: Numerics, duration: float) -> int:
     """The MuJoCo steps of a run (numerics as they run: a long chain's automatic ones), refused beyond MAX_STEPS."""
-    steps = (numerics.sample_times(duration).size - 1) * numerics.steps_per_sample
+    steps = (numerics.sample_count(duration) - 1) * numerics.steps_per_sample
     if steps > MAX_STEPS:
         raise ParameterError(f"dt = {numerics.dt:g} over duration = {duration:g} tau is {steps:.2g} MuJoCo steps (limit "
                              f"{MAX_STEPS:.0e}, hours of computing); raise --dt or shorten --duration")

@@ -167,7 +167,7 @@ def batch_key(run: Run) -> tuple:
     `signature` decides. `run`: a Run or anything with physics, numerics and duration (batch.Case)."""
     num = run.numerics.for_physics(run.physics)
     return (run.physics.scene, run.physics.n, num.mass_ratio, num.integrator, num.steps_per_sample,
-            num.sample_times(run.duration).size)
+            num.sample_count(run.duration))
 
 
 def plan(runs: Sequence[Run], max_points: int | None = None, min_chunks: int = 1) -> list[list[int]]:

@@ -14,12 +14,23 @@ import math
 
 from .. import registry
 from ..errors import ParameterError
+from ..parameters import get as parameter_spec
 from .options import UNITS
 
 
 def _with_operator() -> tuple[str, ...]:
     """The registered scenes with a linear operator about their base state (Scene.no_linear_operator empty)."""
     return tuple(s.name for s in registry.scenes() if not s.no_linear_operator)
+
+
+def _own_parameters() -> dict[str, list[str]]:
+    """The own parameters of the scenes with a linear operator, each with the scenes that have it."""
+    owners: dict[str, list[str]] = {}
+    for scene in registry.scenes():
+        if not scene.no_linear_operator:
+            for name in scene.own_parameter_names():
+                owners.setdefault(name, []).append(scene.name)
+    return owners
 
 def register(subparsers) -> None:
     p = subparsers.add_parser(
@@ -29,8 +40,10 @@ def register(subparsers) -> None:
     p.add_argument("scene", metavar="SCENE", help=f"one of: {', '.join(_with_operator())}")
     p.add_argument("--n", type=int, default=7, help="particles per chain N (default 7)")
     p.add_argument("--sigma", type=float, default=None, help="also the growth rate of the least stable mode here")
-    p.add_argument("--kappa", type=float, default=None, help="coupled-pair: coupling stiffness (default the scene's)")
-    p.add_argument("--rho", type=float, default=None, help="coupled-pair: stiffness ratio C2 / C1 (default the scene's)")
+    for name, owners in _own_parameters().items():  # the scenes' own parameters (the pair's kappa, rho), from specs
+        spec = parameter_spec(name)
+        p.add_argument(spec.option, type=spec.kind, default=None,
+                       help=f"{', '.join(owners)}: {spec.help} (default {spec.default:.4g})")
     p.set_defaults(func=main)
 
 
@@ -47,7 +60,7 @@ def _physics(args):
         raise ParameterError(f"stability: {args.scene} has no linear operator here ({scene.no_linear_operator}); "
                              f"scenes: {', '.join(_with_operator())}")
     own = scene.own_parameter_names()
-    given = {k: getattr(args, k) for k in ("kappa", "rho") if getattr(args, k) is not None}
+    given = {k: getattr(args, k) for k in _own_parameters() if getattr(args, k) is not None}
     refused = [k for k in given if k not in own]
     if refused:
         raise ParameterError(f"stability: {refused[0]} has no effect on scene {args.scene}")

@@ -71,6 +71,18 @@ static mjtNum dot3(const mjtNum a[3], const mjtNum b[3]) {
 }
 
 /* per-thread scratch: 6 numbers per body */
+/* a force f at site s: onto its body's force, and its moment about the origin onto the body's moment */
+static inline void add_site_force(const mjModel* m, const mjData* d, int s, const mjtNum f[3], mjtNum* force,
+                                  mjtNum* moment) {
+  mjtNum mo[3];
+  cross3(mo, d->site_xpos + 3 * s, f);
+  int b = m->site_bodyid[s];
+  for (int k = 0; k < 3; k++) {
+    force[3 * b + k] += f[k];
+    moment[3 * b + k] += mo[k];
+  }
+}
+
 static _Thread_local mjtNum* scratch = NULL;
 static _Thread_local int scratch_bodies = 0;
 
@@ -152,13 +164,7 @@ static void follower_passive(const mjModel* m, mjData* d) {
     any = 1;
     const mjtNum* R = d->site_xmat + 9 * s;
     mjtNum f[3] = {-magnitude * R[0], -magnitude * R[3], -magnitude * R[6]};
-    mjtNum mo[3];
-    cross3(mo, d->site_xpos + 3 * s, f);
-    int b = m->site_bodyid[s];
-    for (int k = 0; k < 3; k++) {
-      force[3 * b + k] += f[k];
-      moment[3 * b + k] += mo[k];
-    }
+    add_site_force(m, d, s, f, force, moment);
   }
   const mjtNum* drive = find_numeric(m, "elastoactive_drive", 4);
   if (drive && drive[0] != 0 && m->nuser_site >= 2) {
@@ -166,13 +172,7 @@ static void follower_passive(const mjModel* m, mjData* d) {
     mjtNum f[3] = {now * drive[2], now * drive[3], 0};
     for (int s = 0; s < m->nsite; s++) {
       if (m->site_user[s * m->nuser_site + 1] == 0) continue;
-      mjtNum mo[3];
-      cross3(mo, d->site_xpos + 3 * s, f);
-      int b = m->site_bodyid[s];
-      for (int k = 0; k < 3; k++) {
-        force[3 * b + k] += f[k];
-        moment[3 * b + k] += mo[k];
-      }
+      add_site_force(m, d, s, f, force, moment);
       any = 1;
     }
   }

@@ -1,0 +1,6 @@
+"""Elastic networks of self-aligning active units (Baconnier et al., Nature Physics 2022): geometry (`geometry`),
+the reduced overdamped model, its linear stability and observables. Pure functions on numpy arrays."""
+
+from .geometry import BOUNDARIES, MAX_RINGS, Network, hexagonal_patch, ring_index, trap_unit
+
+__all__ = ["BOUNDARIES", "MAX_RINGS", "Network", "hexagonal_patch", "ring_index", "trap_unit"]

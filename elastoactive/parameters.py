@@ -43,6 +43,8 @@ class Parameter:
     units       units of the value for the netCDF ("1": dimensionless, "tau", "l")
     needs       name of a switch parameter that must be on (True or > 0) for this one to act: a value given while
                 it is off is refused (contact_radius needs contact, noise_correlation needs noise)
+    needs_value with `needs`: the choice the (str) switch must have instead (alignment_length needs
+                active = self-aligning)
     quiet_default  reported in summaries only when it differs from its default (contact, loaded, and any
                 parameter a plug-in term adds, so that runs without it record what they recorded before it existed)
     """
@@ -60,6 +62,7 @@ class Parameter:
     symbol: str = ""
     units: str = "1"
     needs: str | None = None
+    needs_value: str | None = None
     quiet_default: bool = False
 
     def __post_init__(self) -> None:
@@ -67,6 +70,8 @@ class Parameter:
             raise ValueError(f"a parameter's name must be an identifier, got {self.name!r}")
         if self.kind not in KINDS:
             raise ValueError(f"parameter {self.name}: kind must be one of float, int, bool, str, got {self.kind!r}")
+        if self.needs_value is not None and self.needs is None:
+            raise ValueError(f"parameter {self.name}: needs_value without needs")
         self.check(self.default)
 
     @property
@@ -134,6 +139,20 @@ class Parameter:
     def is_on(self, value) -> bool:
         """Whether a switch is on (for `needs`): True, or a number > 0."""
         return bool(value) if self.kind is bool else (value > 0 if self.kind in (int, float) else bool(value))
+
+    def need_met(self, switch_value) -> bool:
+        """Whether this parameter acts when its switch (`needs`) has `switch_value`: the switch is on, or has the
+        choice `needs_value`. True for a parameter without a switch."""
+        if self.needs is None:
+            return True
+        if self.needs_value is not None:
+            return switch_value == self.needs_value
+        return get(self.needs).is_on(switch_value)
+
+    @property
+    def need_text(self) -> str:
+        """What this parameter needs, in messages: 'contact', 'active = self-aligning'."""
+        return self.needs if self.needs_value is None else f"{self.needs} = {self.needs_value}"
 
 
 _TABLE: dict[str, tuple[Parameter, str]] = {}

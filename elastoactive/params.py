@@ -107,10 +107,10 @@ class Physics:
         for term in _terms.terms():
             term.prepare(resolved)
         for name in values:  # a value its switch leaves unused is refused, unless it is the default it takes anyway
-            switch = _parameters.get(name).needs
-            if switch is not None and not _parameters.get(switch).is_on(resolved[switch]) \
-                    and resolved[name] != _parameters.get(name).default:
-                raise ParameterError(f"{name} has no effect without {switch} ({switch} = {resolved[switch]}); "
+            spec = _parameters.get(name)
+            switch = spec.needs
+            if switch is not None and not spec.need_met(resolved[switch]) and resolved[name] != spec.default:
+                raise ParameterError(f"{name} has no effect without {spec.need_text} ({switch} = {resolved[switch]}); "
                                      f"set {switch} too, or leave {name} out")
         object.__setattr__(self, "scene", scene)
         object.__setattr__(self, "_values", resolved)
@@ -154,8 +154,8 @@ class Physics:
         return {k: v for k, v in self._values.items() if self._acts(k)}
 
     def _acts(self, name: str) -> bool:
-        switch = _parameters.get(name).needs
-        return switch is None or _parameters.get(switch).is_on(self._values[switch])
+        spec = _parameters.get(name)
+        return spec.needs is None or spec.need_met(self._values[spec.needs])
 
     def replace(self, **changes) -> "Physics":
         """This physics with some values changed (and checked); values that stop acting (a switch turned off, a
@@ -166,7 +166,7 @@ class Physics:
         values = {**kept, **changes}
         for name in list(kept):
             switch = _parameters.get(name).needs
-            if switch is not None and switch in values and not _parameters.get(switch).is_on(values[switch]):
+            if switch is not None and switch in values and not _parameters.get(name).need_met(values[switch]):
                 del values[name]
         return Physics(scene=scene, **values)
 

@@ -339,6 +339,8 @@ def write_run(out: Path, traj: Trajectory, summary_dict: dict) -> list[Path]:
 
     def trajectory(tmp: Path) -> None:
         head = {} if traj.head is None else {"head": traj.head}
+        if traj.polarity is not None:
+            head["polarity"] = traj.polarity
         np.savez_compressed(tmp, t=traj.t, theta=traj.theta, scene=traj.physics.scene, n=traj.physics.n,
                             settings_sha256=digest, **head)
         checksum["sha256"] = sha256(tmp)
@@ -393,6 +395,7 @@ def load_trajectory(path: Path, physics: Physics | None = None) -> Trajectory:
             t, theta = np.asarray(f["t"], dtype=float), np.asarray(f["theta"], dtype=float)
             head = np.asarray(f["head"], dtype=float) if physics.scene_def.head_coordinates else None
             digest = str(f["settings_sha256"]) if "settings_sha256" in f.files else None
+            polarity = np.asarray(f["polarity"], dtype=float) if "polarity" in f.files else None
     except FileNotFoundError:
         raise ParameterError(f"{path} not found") from None
     except KeyError as err:
@@ -407,6 +410,8 @@ def load_trajectory(path: Path, physics: Physics | None = None) -> Trajectory:
     if head is not None and head.shape != (t.size, physics.scene_def.head_coordinates):
         raise ParameterError(f"{path}: expected head of shape ({t.size}, {physics.scene_def.head_coordinates}), got "
                              f"{head.shape}")
+    if polarity is not None and (polarity.ndim != 2 or polarity.shape[0] != t.size):
+        raise ParameterError(f"{path}: expected polarity of shape ({t.size}, units), got {polarity.shape}")
     state = theta if head is None else np.hstack([theta, head])
     if not np.all(np.isfinite(state)):
         bad = t[~np.all(np.isfinite(state), axis=1)][0]
@@ -416,4 +421,5 @@ def load_trajectory(path: Path, physics: Physics | None = None) -> Trajectory:
                              "interrupted or mixed write); re-run the simulation")
     if recorded is not None and digest is not None and digest != settings_digest(recorded):
         raise _edited(summary_file)
-    return Trajectory(t=t, theta=theta, physics=physics, engine=(recorded or {}).get("engine", "file"), head=head)
+    return Trajectory(t=t, theta=theta, physics=physics, engine=(recorded or {}).get("engine", "file"), head=head,
+                      polarity=polarity)

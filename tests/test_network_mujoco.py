@@ -1,0 +1,135 @@
+"""Elastic networks of active units in MuJoCo: the model (elastoactive.network_model) and the engine's branch.
+
+Checked: every network compiles and steps with no MuJoCo warning; pinned nodes never move; the springs, the trap and
+the drag are the exact forces (against a numpy sum over the bonds); the passive lattice relaxes mode by mode at the
+dynamical matrix's eigenvalues (within 1%).
+"""
+
+import mujoco
+import numpy as np
+import pytest
+
+import elastoactive as ea
+from elastoactive.analysis.network import hexagonal_patch, trap_unit
+from elastoactive.errors import ParameterError
+from elastoactive.network_model import build_network_model, free_nodes, node_positions, qpos_of_positions
+
+PHYSICS = ea.Physics()  # the model reads only the scene's name from it for a passive network
+NETWORKS = [(f"R={r} {b}", hexagonal_patch(r, b)) for r in range(1, 7) for b in ("pinned", "free", "centre")]
+NETWORKS.append(("trap unit", trap_unit(1.0)))
+
+
+def _state(network, rng, size=0.05):
+    positions = np.asarray(network.positions, dtype=float).copy()
+    free = free_nodes(network)
+    positions[free] += size * rng.standard_normal((free.size, 2))
+    return positions
+
+
+def dynamical_matrix(network) -> np.ndarray:
+    """The Hessian of the spring and trap energy at rest over the free nodes' coordinates (x0, y0, x1, y1, ...):
+    sum over bonds of k e e^T blocks, plus trap x identity."""
+    count = len(network.positions)
+    K = np.zeros((2 * count, 2 * count))
+    for (i, j), k in zip(network.bonds, network.stiffness):
+        e = network.positions[j] - network.positions[i]
+        block = k * np.outer(e, e) / (e @ e)
+        for a, b, s in ((i, i, 1), (j, j, 1), (i, j, -1), (j, i, -1)):
+            K[2 * a:2 * a + 2, 2 * b:2 * b + 2] += s * block
+    dofs = np.ravel([[2 * i, 2 * i + 1] for i in free_nodes(network)])
+    return K[np.ix_(dofs, dofs)] + network.trap * np.eye(dofs.size)
+
+
+def spring_forces(network, positions) -> np.ndarray:
+    """(P, 2) the springs' and the trap's forces on every node, summed in numpy."""
+    force = np.zeros_like(positions)
+    for (i, j), k, a in zip(network.bonds, network.stiffness, network.rest_lengths):
+        r = positions[j] - positions[i]
+        length = np.linalg.norm(r)
+        f = k * (length - a) * r / length
+        force[i] += f
+        force[j] -= f
+    force -= network.trap * (positions - network.anchors)
+    return force
+
+
+@pytest.mark.parametrize("label,network", NETWORKS, ids=[n for n, _ in NETWORKS])
+def test_every_network_compiles_and_steps_without_a_warning(label, network):
+    model = build_network_model(network, PHYSICS)
+    data = mujoco.MjData(model)
+    data.qpos[:] = qpos_of_positions(network, _state(network, np.random.default_rng(0)))
+    mujoco.mj_step(model, data, nstep=200)
+    assert all(w.number == 0 for w in data.warning), [mujoco.mjtWarning(i).name for i, w in enumerate(data.warning)
+                                                     if w.number]
+    assert model.nq == model.nv == 2 * free_nodes(network).size
+    assert model.ntendon == sum(not (network.pinned[i] and network.pinned[j]) for i, j in network.bonds)
+    assert model.nu == 0 and model.neq == 0 and np.isfinite(data.qpos).all()
+    disabled = mujoco.mjtDisableBit
+    for flag in (disabled.mjDSBL_CONTACT, disabled.mjDSBL_GRAVITY, disabled.mjDSBL_CONSTRAINT,
+                 disabled.mjDSBL_AUTORESET):
+        assert model.opt.disableflags & flag
+    assert not model.opt.disableflags & disabled.mjDSBL_DAMPER  # the drag is the slide joints' damping
+
+
+def test_forces_are_the_exact_springs_trap_and_drag():
+    network = hexagonal_patch(3, "pinned")._replace(trap=0.7)
+    network = network._replace(anchors=network.positions + 0.1)
+    rng = np.random.default_rng(3)
+    model = build_network_model(network, PHYSICS)
+    data = mujoco.MjData(model)
+    positions = _state(network, rng, 0.2)
+    data.qpos[:] = qpos_of_positions(network, positions)
+    data.qvel[:] = rng.standard_normal(model.nv)
+    mujoco.mj_forward(model, data)
+    expected = spring_forces(network, positions)[free_nodes(network)].ravel() - data.qvel
+    np.testing.assert_allclose(data.qfrc_passive, expected, atol=1e-12)
+    np.testing.assert_allclose(node_positions(network, data.qpos), positions, atol=1e-15)
+    sites = np.array([data.site(f"node_{i}").xpos[:2] for i in range(len(positions))])
+    np.testing.assert_allclose(sites, positions, atol=1e-15)
+
+
+def test_pinned_nodes_do_not_move():
+    network = hexagonal_patch(4, "pinned")
+    model = build_network_model(network, PHYSICS)
+    data = mujoco.MjData(model)
+    data.qpos[:] = qpos_of_positions(network, _state(network, np.random.default_rng(1), 0.3))
+    pinned = np.flatnonzero(network.pinned)
+    for _ in range(20):
+        mujoco.mj_step(model, data, nstep=50)
+        xpos = np.array([data.site(f"node_{i}").xpos[:2] for i in pinned])
+        np.testing.assert_array_equal(xpos, network.positions[pinned])
+    assert np.abs(data.qpos).max() > 1e-3  # the free nodes did move
+
+
+@pytest.mark.parametrize("rings,boundary", [(3, "pinned"), (2, "centre")])
+def test_passive_lattice_relaxes_at_the_dynamical_matrix_eigenvalues(rings, boundary):
+    """A single mode of the dynamical matrix K, started alone, stays alone and decays at its eigenvalue lambda
+    (gamma = 1): the slowest modes, one in the middle and the fastest, within 1%."""
+    network = hexagonal_patch(rings, boundary)
+    eigenvalues, modes = np.linalg.eigh(dynamical_matrix(network))
+    positive = np.flatnonzero(eigenvalues > 1e-9)  # the centre-pinned patch may turn rigidly: lambda = 0
+    numerics = ea.Numerics(dt=0.001, mass_ratio=1e-5)
+    model = build_network_model(network, PHYSICS, numerics)
+    for k in (positive[0], positive[1], positive[positive.size // 2], positive[-1]):
+        data = mujoco.MjData(model)
+        data.qpos[:] = 1e-4 * modes[:, k]
+        span = 2.0 / eigenvalues[k]  # two relaxation times
+        steps = int(round(span / numerics.dt))
+        t0 = 0.1 * span  # past the inertial start (m / gamma = 1e-5)
+        mujoco.mj_step(model, data, nstep=int(round(t0 / numerics.dt)))
+        a0 = modes[:, k] @ data.qpos
+        mujoco.mj_step(model, data, nstep=steps)
+        a1 = modes[:, k] @ data.qpos
+        rate = np.log(a0 / a1) / (steps * numerics.dt)
+        assert rate == pytest.approx(eigenvalues[k], rel=0.01), (k, eigenvalues[k])
+        assert np.linalg.norm(data.qpos - a1 * modes[:, k]) < 1e-3 * abs(a1)  # no other mode took over
+
+
+def test_node_positions_refuse_a_moved_pin():
+    network = hexagonal_patch(1, "pinned")
+    moved = network.positions.copy()
+    moved[1] += 0.1
+    with pytest.raises(ParameterError, match="pinned node"):
+        qpos_of_positions(network, moved)
+    with pytest.raises(ParameterError, match="network.stiffness"):
+        build_network_model(network._replace(stiffness=-network.stiffness), PHYSICS)

@@ -17,6 +17,7 @@ from . import _follower
 from .reference import reference_passive
 
 _CALLBACK_TYPE = ctypes.CFUNCTYPE(None, ctypes.c_void_p, ctypes.c_void_p)
+_ACT_DYN_TYPE = ctypes.CFUNCTYPE(ctypes.c_double, ctypes.c_void_p, ctypes.c_void_p, ctypes.c_int)
 
 
 def _check_version() -> None:
@@ -31,17 +32,22 @@ def _check_version() -> None:
 _check_version()
 compiled_passive = _CALLBACK_TYPE(_follower.passive_address())
 """The compiled passive callback, as a ctypes function pointer MuJoCo accepts."""
+compiled_act_dyn = _ACT_DYN_TYPE(_follower.act_dyn_address())
+"""The compiled activation dynamics of self-aligning units (dpsi/dt of each marked actuator: follower.c)."""
 
 
 @contextlib.contextmanager
 def follower_forces(callback=compiled_passive):
-    """Install a passive callback (default: the compiled one) and restore the previous one after."""
-    previous = mujoco.get_mjcb_passive()
+    """Install a passive callback (default: the compiled one) and the compiled act_dyn callback of self-aligning
+    units, and restore the previous ones after."""
+    previous, previous_act = mujoco.get_mjcb_passive(), mujoco.get_mjcb_act_dyn()
     mujoco.set_mjcb_passive(callback)
+    mujoco.set_mjcb_act_dyn(compiled_act_dyn)
     try:
         yield
     finally:
         mujoco.set_mjcb_passive(previous)
+        mujoco.set_mjcb_act_dyn(previous_act)
 
 
-__all__ = ["compiled_passive", "follower_forces", "reference_passive"]
+__all__ = ["compiled_act_dyn", "compiled_passive", "follower_forces", "reference_passive"]

@@ -28,6 +28,20 @@
    d_x, d_y), every site whose second user value s->user[1] is non-zero also carries the force
    A sin(omega t) (d_x, d_y, 0), t = mjData.time of the call.
 
+   Self-aligning active units (the self-aligning term; generic over sites: a particle on a chain's link or a
+   lattice node that is a body on two slide joints). A site carrying a force (user[0] = F != 0) is a
+   self-aligning unit when an actuator marks it:
+       dyntype user (mjDYN_USER), one activation; transmission on the site (trntype site, target = the site);
+       dynprm[0] = l_a > 0, the alignment length; gain and bias 0 (gaintype fixed, gainprm[0] = 0, biastype none),
+       so the actuator applies no force of its own; by convention named "<site name>_polarity".
+   Its activation act = psi is the unit's polarity, an absolute angle in the lab's xy plane, integrated by MuJoCo
+   (state: mjData.act, part of mjSTATE_INTEGRATION, so rollout and copies carry it). The act_dyn callback
+   (self_aligning_act_dyn, installed as mjcb_act_dyn) returns
+       dpsi/dt = (v . n_perp) / l_a,   n_perp = (-sin psi, cos psi, 0),
+   v the site's lab-frame velocity (from mjData.cvel about the subtree centre of mass); the passive callback applies
+   the unit's force F (1 + eta) (cos psi, sin psi, 0) at the site instead of -F (1 + eta) x_site. Actuators
+   without the mark get act_dot = 0 from the callback; it acts only on models that carry elastoactive_follower.
+
    The forces are turned into generalised forces in one pass from the leaves to the root:
    each body collects the total force F_b and moment M_b (about the world origin) of the
    sites in its subtree; a hinge joint with anchor a and axis e then receives
@@ -119,6 +133,70 @@ static const mjtNum* coloured_noise(const mjModel* m, mjData* d, const mjtNum* p
   return eta;
 }
 
+/* ---- self-aligning units (see the top of the file) ---- */
+
+static int is_self_aligning_unit(const mjModel* m, int a) {
+  return m->actuator_dyntype[a] == mjDYN_USER && m->actuator_trntype[a] == mjTRN_SITE &&
+         m->actuator_dynprm[a * mjNDYN] > 0 && m->actuator_actadr[a] >= 0 && m->actuator_trnid[2 * a] >= 0;
+}
+
+/* the lab-frame linear velocity of site s: cvel's linear part (at the subtree centre of mass of the body's root)
+   moved to the site */
+static void site_velocity(const mjModel* m, const mjData* d, int s, mjtNum v[3]) {
+  int b = m->site_bodyid[s];
+  const mjtNum* c = d->subtree_com + 3 * m->body_rootid[b];
+  const mjtNum* cv = d->cvel + 6 * b;
+  const mjtNum* p = d->site_xpos + 3 * s;
+  mjtNum r[3] = {p[0] - c[0], p[1] - c[1], p[2] - c[2]}, wr[3];
+  cross3(wr, cv, r);
+  for (int k = 0; k < 3; k++) v[k] = cv[3 + k] + wr[k];
+}
+
+static mjtNum self_aligning_act_dyn(const mjModel* m, const mjData* d, int id) {
+  if (!is_self_aligning_unit(m, id) || !find_numeric(m, "elastoactive_follower", 2)) return 0;
+  mjtNum v[3];
+  site_velocity(m, d, m->actuator_trnid[2 * id], v);
+  mjtNum psi = d->act[m->actuator_actadr[id]];
+  return (-v[0] * sin(psi) + v[1] * cos(psi)) / m->actuator_dynprm[id * mjNDYN];
+}
+
+static _Thread_local int* unit_of_site = NULL;
+static _Thread_local int unit_sites = 0;
+
+/* per site, the activation address of the self-aligning unit that marks it (-1: none); NULL when the model has
+   no unit */
+static const int* self_aligning_units(const mjModel* m) {
+  int any = 0;
+  for (int a = 0; a < m->nu && !any; a++) any = is_self_aligning_unit(m, a);
+  if (!any) return NULL;
+  if (unit_sites < m->nsite) {
+    int* grown = (int*)realloc(unit_of_site, sizeof(int) * m->nsite);
+    if (!grown) return NULL;
+    unit_of_site = grown;
+    unit_sites = m->nsite;
+  }
+  for (int s = 0; s < m->nsite; s++) unit_of_site[s] = -1;
+  for (int a = 0; a < m->nu; a++) {
+    if (is_self_aligning_unit(m, a)) unit_of_site[m->actuator_trnid[2 * a]] = m->actuator_actadr[a];
+  }
+  return unit_of_site;
+}
+
+/* the active force of magnitude F at site s: along the unit's polarity, or the follower's -F x_site */
+static inline void active_force(const mjData* d, const int* units, int s, mjtNum magnitude, mjtNum f[3]) {
+  if (units && units[s] >= 0) {
+    mjtNum psi = d->act[units[s]];
+    f[0] = magnitude * cos(psi);
+    f[1] = magnitude * sin(psi);
+    f[2] = 0;
+    return;
+  }
+  const mjtNum* R = d->site_xmat + 9 * s;
+  f[0] = -magnitude * R[0];
+  f[1] = -magnitude * R[3];
+  f[2] = -magnitude * R[6];
+}
+
 static void follower_passive(const mjModel* m, mjData* d) {
   if (m->nuser_site < 1) return;
   const mjtNum* params = find_numeric(m, "elastoactive_follower", 2);
@@ -151,6 +229,7 @@ static void follower_passive(const mjModel* m, mjData* d) {
     step = (uint64_t)llround(d->time / m->opt.timestep);
   }
 
+  const int* units = self_aligning_units(m);
   int particle = 0, any = 0;
   for (int s = 0; s < m->nsite; s++) {
     mjtNum magnitude = m->site_user[s * m->nuser_site];
@@ -162,8 +241,8 @@ static void follower_passive(const mjModel* m, mjData* d) {
     }
     particle++;
     any = 1;
-    const mjtNum* R = d->site_xmat + 9 * s;
-    mjtNum f[3] = {-magnitude * R[0], -magnitude * R[3], -magnitude * R[6]};
+    mjtNum f[3];
+    active_force(d, units, s, magnitude, f);
     add_site_force(m, d, s, f, force, moment);
   }
   const mjtNum* drive = find_numeric(m, "elastoactive_drive", 4);
@@ -207,6 +286,10 @@ static PyObject* passive_address(PyObject* self, PyObject* args) {
   return PyLong_FromVoidPtr((void*)&follower_passive);
 }
 
+static PyObject* act_dyn_address(PyObject* self, PyObject* args) {
+  return PyLong_FromVoidPtr((void*)&self_aligning_act_dyn);
+}
+
 static PyObject* header_version(PyObject* self, PyObject* args) {
   return PyLong_FromLong(mjVERSION_HEADER);
 }
@@ -219,6 +302,7 @@ static PyObject* py_standard_normal(PyObject* self, PyObject* args) {
 
 static PyMethodDef methods[] = {
     {"passive_address", passive_address, METH_NOARGS, "Address of the C passive callback."},
+    {"act_dyn_address", act_dyn_address, METH_NOARGS, "Address of the C act_dyn callback (self-aligning units)."},
     {"header_version", header_version, METH_NOARGS, "mjVERSION_HEADER this module was built with."},
     {"standard_normal", py_standard_normal, METH_VARARGS, "The callback's noise draw (seed, step, particle)."},
     {NULL, NULL, 0, NULL}};

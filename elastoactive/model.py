@@ -32,6 +32,7 @@ from .errors import ParameterError
 from .initial import initial_angles
 from .mjcf import mjcf_path
 from .params import Numerics, Physics
+from .terms.self_aligning import align_with_sites
 
 INTEGRATOR = {
     "Euler": mujoco.mjtIntegrator.mjINT_EULER,
@@ -168,4 +169,7 @@ def prepare(physics: Physics, numerics: Numerics, theta0: np.ndarray | None = No
         raise ParameterError(f"theta0 must have {physics.n_angles} angles, got shape {theta0.shape}")
     data.qpos[:] = qpos_of(physics, theta0, head0)
     mujoco.mj_forward(model, data)
+    if model.na:  # self-aligning units: polarity along the follower direction of the initial shape
+        align_with_sites(model, data)
+        mujoco.mj_forward(model, data)
     return model, data

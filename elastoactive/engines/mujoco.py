@@ -21,6 +21,7 @@ from ..errors import ParameterError, SimulationDiverged
 from ..model import prepare, state_of
 from ..params import Numerics, Physics
 from ..progress import progress_bar
+from ..terms.self_aligning import polarity_addresses
 from ..trajectory import Trajectory
 from . import check_steps
 from .cost import NOTE_SECONDS, cost_note, mujoco_cost, reduced_cost
@@ -112,11 +113,17 @@ def simulate_mujoco(
     nstep = numerics.steps_per_sample
     qpos = np.empty((t.size, model.nq))
     qpos[0] = data.qpos
+    units = polarity_addresses(model) if model.na else None  # self-aligning units' polarity psi (mjData.act)
+    polarity = None if units is None else np.empty((t.size, units.size))
+    if polarity is not None:
+        polarity[0] = data.act[units]
     start = last_shown = time.perf_counter()
     with follower_forces():
         for k in range(1, t.size):
             mujoco.mj_step(model, data, nstep=nstep)
             qpos[k] = data.qpos
+            if polarity is not None:
+                polarity[k] = data.act[units]
             # a diverged state stays NaN (auto-reset is off), so a periodic check loses nothing
             if (k % CHECK_EVERY == 0 or k == t.size - 1) and _bad_state(data):
                 raise SimulationDiverged(divergence_cause(physics, numerics, float(data.time), model, data))
@@ -140,7 +147,8 @@ def simulate_mujoco(
     if pinned:
         info["constraint_violation"] = violation
     info.update(numerics_info(given, numerics))
-    return Trajectory(t=t, theta=theta, physics=physics, engine="mujoco", wall_time_s=wall, info=info, head=head)
+    return Trajectory(t=t, theta=theta, physics=physics, engine="mujoco", wall_time_s=wall, info=info, head=head,
+                      polarity=polarity)
 
 
 __all__ = ["simulate_mujoco", "prepare", "SimulationDiverged"]

@@ -16,6 +16,10 @@ only with active = self-aligning). The polarity angles (absolute, lab frame) are
 
 from __future__ import annotations
 
+import math
+
+import numpy as np
+
 from ..parameters import Parameter
 from .base import Term
 
@@ -31,6 +35,50 @@ ALIGNMENT_LENGTH = Parameter("alignment_length", 1.0, "alignment length l_a / l 
                              symbol="l_a", units="l", needs="active", needs_value=SELF_ALIGNING)
 
 
+POLARITY_SUFFIX = "_polarity"
+"""A unit's actuator in MuJoCo is named after its site: '<site name>_polarity' (controllers/follower.c)."""
+
+
+def add_unit(spec, site: str, alignment_length: float) -> None:
+    """Mark the site `site` (which carries a force magnitude in its first user value) as a self-aligning unit: an
+    actuator with user dynamics, on the site, l_a in dynprm[0], no gain or bias; its activation is the polarity psi
+    (controllers/follower.c). Generic over sites: a chain's particle or a lattice node."""
+    import mujoco  # start-up time: the CLI imports the terms
+
+    spec.add_actuator(name=site + POLARITY_SUFFIX, target=site, trntype=mujoco.mjtTrn.mjTRN_SITE,
+                      dyntype=mujoco.mjtDyn.mjDYN_USER, gaintype=mujoco.mjtGain.mjGAIN_FIXED,
+                      biastype=mujoco.mjtBias.mjBIAS_NONE, gainprm=[0.0] * 10,
+                      dynprm=[float(alignment_length)] + [0.0] * 9, actdim=1)
+
+
+def unit_actuators(model) -> np.ndarray:
+    """Indices of the actuators that mark self-aligning units (follower.c's rule), in model order."""
+    import mujoco  # start-up time: the CLI imports the terms
+
+    return np.flatnonzero((model.actuator_dyntype == mujoco.mjtDyn.mjDYN_USER)
+                          & (model.actuator_trntype == mujoco.mjtTrn.mjTRN_SITE)
+                          & (model.actuator_dynprm[:, 0] > 0) & (model.actuator_actadr >= 0))
+
+
+def polarity_addresses(model) -> np.ndarray:
+    """Where each unit's polarity lives in mjData.act (units in model order: chain 1's particles, then chain 2's)."""
+    return model.actuator_actadr[unit_actuators(model)].astype(int)
+
+
+def align_with_sites(model, data) -> None:
+    """Set every unit's polarity along the follower direction of its site, -x_site (after mj_forward: site_xmat):
+    at t = 0 the two laws exert the same force."""
+    for a in unit_actuators(model):
+        R = data.site_xmat[model.actuator_trnid[a, 0]]
+        data.act[model.actuator_actadr[a]] = math.atan2(-R[3], -R[0])
+
+
+def initial_polarity(theta: np.ndarray, mask: np.ndarray) -> np.ndarray:
+    """The polarity of the loaded particles of chains with absolute angles theta (the follower direction, toward
+    the clamp: theta + pi); mask: the load mask over theta's columns."""
+    return np.asarray(theta, dtype=float)[np.asarray(mask, dtype=bool)] + math.pi
+
+
 class SelfAligning(Term):
     name = "self-aligning"
     summary = "self-aligning active units: the force's direction turns toward the particle's velocity"
@@ -38,6 +86,13 @@ class SelfAligning(Term):
 
     def active(self, physics) -> bool:
         return physics.active == SELF_ALIGNING
+
+    def build(self, spec, physics, numerics):
+        """One unit actuator per loaded particle (add_unit), chain 1's then chain 2's."""
+        mask = physics.load_mask()
+        for prefix in physics.scene_def.chain_prefixes():
+            for i in np.flatnonzero(mask):
+                add_unit(spec, f"{prefix}particle_{i}", physics.alignment_length)
 
 
 TERM = SelfAligning()

@@ -47,7 +47,11 @@ def _finite(name: str, value: float) -> float:
 
 def scene_parameters(scene) -> tuple[str, ...]:
     """Every parameter a scene has, in reporting order: LEADING, the scene's own, then the terms' others."""
-    names = LEADING + tuple(scene.own_parameter_names()) + _terms.parameter_names()
+    if scene.term_parameters is not None:  # a network scene: only the terms' parameters that act on its units
+        acting = tuple(scene.term_parameters)
+        names = tuple(k for k in LEADING if k in acting) + tuple(scene.own_parameter_names()) + acting
+    else:
+        names = LEADING + tuple(scene.own_parameter_names()) + _terms.parameter_names()
     return tuple(dict.fromkeys(names))
 
 
@@ -104,6 +108,10 @@ class Physics:
         for name in usable:
             spec = _parameters.get(name)
             resolved[name] = spec.check(values[name]) if name in values else spec.default
+        for name, value, why in definition.fixed:  # values the scene holds (a network's units are self-aligning)
+            if name in values and resolved[name] != value:
+                raise ParameterError(f"{name} must be {value} on scene {scene} ({why}), got {resolved[name]!r}")
+            resolved[name] = value
         for term in _terms.terms():
             term.prepare(resolved)
         for name in values:  # a value its switch leaves unused is refused, unless it is the default it takes anyway
@@ -190,7 +198,8 @@ class Physics:
 
     @property
     def n_angles(self) -> int:
-        return self.n * self.n_chains
+        """Columns of a trajectory's theta: N per chain (0 for a network scene)."""
+        return self.scene_def.angle_count(self)
 
     @property
     def stiffness(self) -> tuple[float, ...]:

@@ -158,7 +158,7 @@ def measure(traj: Trajectory, transient: float | None = None) -> Results:
     transient = default_transient(t[-1] - t[0]) if transient is None else transient
     physics = traj.physics
     scene = physics.scene_def
-    thetas = [obs.curvature(traj.chain(k)) for k in range(physics.n_chains)]
+    thetas = scene.beat_signals(traj)  # Theta = theta_N - theta_1 per chain; a network scene's own signal
     beats = [_beat(t, x, transient) for x in thetas]
     spectra = [tuple(float(a) for a in spectrum.harmonics(t, x, transient, HARMONICS)) for x in thetas]
     extra = scene.measure_extra(traj, transient)
@@ -341,6 +341,8 @@ def write_run(out: Path, traj: Trajectory, summary_dict: dict) -> list[Path]:
         head = {} if traj.head is None else {"head": traj.head}
         if traj.polarity is not None:
             head["polarity"] = traj.polarity
+        if traj.nodes is not None:
+            head["nodes"] = traj.nodes
         np.savez_compressed(tmp, t=traj.t, theta=traj.theta, scene=traj.physics.scene, n=traj.physics.n,
                             settings_sha256=digest, **head)
         checksum["sha256"] = sha256(tmp)
@@ -396,6 +398,7 @@ def load_trajectory(path: Path, physics: Physics | None = None) -> Trajectory:
             head = np.asarray(f["head"], dtype=float) if physics.scene_def.head_coordinates else None
             digest = str(f["settings_sha256"]) if "settings_sha256" in f.files else None
             polarity = np.asarray(f["polarity"], dtype=float) if "polarity" in f.files else None
+            nodes = np.asarray(f["nodes"], dtype=float) if "nodes" in f.files else None
     except FileNotFoundError:
         raise ParameterError(f"{path} not found") from None
     except KeyError as err:
@@ -412,7 +415,11 @@ def load_trajectory(path: Path, physics: Physics | None = None) -> Trajectory:
                              f"{head.shape}")
     if polarity is not None and (polarity.ndim != 2 or polarity.shape[0] != t.size):
         raise ParameterError(f"{path}: expected polarity of shape ({t.size}, units), got {polarity.shape}")
+    if nodes is not None and (nodes.ndim != 3 or nodes.shape[0] != t.size or nodes.shape[2] != 2):
+        raise ParameterError(f"{path}: expected nodes of shape ({t.size}, nodes, 2), got {nodes.shape}")
     state = theta if head is None else np.hstack([theta, head])
+    if nodes is not None:
+        state = np.hstack([state, nodes.reshape(t.size, -1)])
     if not np.all(np.isfinite(state)):
         bad = t[~np.all(np.isfinite(state), axis=1)][0]
         raise ParameterError(f"{path}: the angles are not finite from t = {bad:g} tau on (a diverged run?)")
@@ -422,4 +429,4 @@ def load_trajectory(path: Path, physics: Physics | None = None) -> Trajectory:
     if recorded is not None and digest is not None and digest != settings_digest(recorded):
         raise _edited(summary_file)
     return Trajectory(t=t, theta=theta, physics=physics, engine=(recorded or {}).get("engine", "file"), head=head,
-                      polarity=polarity)
+                      polarity=polarity, nodes=nodes)

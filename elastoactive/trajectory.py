@@ -14,7 +14,9 @@ class Trajectory:
     """t: (T,) times in tau; theta: (T, n_angles) absolute angles (chain 1 then chain 2); head: (T, 2) position
     of the first pendulum's pivot for scenes whose pivot moves (Scene.head_coordinates: the paraboloid), else
     None (the pivot sits at the origin); polarity: (T, units) absolute angles psi of the self-aligning active units
-    (elastoactive.terms.self_aligning: one per loaded particle, chain 1 then chain 2), else None."""
+    (elastoactive.terms.self_aligning: one per loaded particle, chain 1 then chain 2; a network scene's: one per
+    active unit, in node order), else None; nodes: (T, P, 2) lab positions of every node of a network scene
+    (Scene.network; its theta has shape (T, 0)), else None."""
 
     t: np.ndarray
     theta: np.ndarray
@@ -24,6 +26,7 @@ class Trajectory:
     info: dict = field(default_factory=dict)
     head: np.ndarray | None = None
     polarity: np.ndarray | None = None
+    nodes: np.ndarray | None = None
 
     def chain(self, k: int) -> np.ndarray:
         """Angles of chain k (0 or 1), shape (T, N)."""

@@ -59,3 +59,16 @@ def test_trap_unit():
 def test_refusals_name_the_parameter(call, name):
     with pytest.raises(ParameterError, match=name):
         call()
+
+
+def test_initial_state_is_seeded_and_holds_the_pins():
+    from elastoactive.analysis.network import initial_state
+
+    net = hexagonal_patch(2)
+    a, b, c = initial_state(net, 0.01, 3), initial_state(net, 0.01, 3), initial_state(net, 0.01, 4)
+    np.testing.assert_array_equal(a.positions, b.positions)
+    np.testing.assert_array_equal(a.polarity, b.polarity)
+    assert not np.array_equal(a.polarity, c.polarity)
+    push = np.linalg.norm(a.positions - net.positions, axis=1)
+    assert np.all(push[net.pinned] == 0) and 0 < push[~net.pinned].max() <= 0.01
+    assert a.polarity.shape == (7,) and np.all((a.polarity >= 0) & (a.polarity < 2 * np.pi))

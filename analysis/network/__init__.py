@@ -2,5 +2,7 @@
 the reduced overdamped model, its linear stability and observables. Pure functions on numpy arrays."""
 
 from .geometry import BOUNDARIES, MAX_RINGS, Network, hexagonal_patch, ring_index, trap_unit
+from .initial import NetworkState, initial_state
 
-__all__ = ["BOUNDARIES", "MAX_RINGS", "Network", "hexagonal_patch", "ring_index", "trap_unit"]
+__all__ = ["BOUNDARIES", "MAX_RINGS", "Network", "NetworkState", "hexagonal_patch", "initial_state", "ring_index",
+           "trap_unit"]

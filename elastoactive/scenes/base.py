@@ -19,6 +19,10 @@ knows everything specific to the scene; the rest of the package asks it (through
                       `no_linear_operator`: why there is none), `filament`: whether the continuum filament is its
                       limit (elastoactive stability)
   drawing             `caption`, `extent_points`, `decorate`, `video_period`
+  networks            `network` (None for chains): the elastic network of self-aligning active units a network scene
+                      simulates (elastoactive.analysis.network.Network), which the engines dispatch on;
+                      `initial_network` its state at t = 0; `term_parameters` and `fixed`: which of the chain's and
+                      terms' parameters act on it; `beat_signal`: the scalar whose beat amplitude and frequency measure
 
 Defaults describe a single clamped chain (the one-pinned scene needs to override nothing but its
 name); a new scene overrides what differs.
@@ -31,6 +35,8 @@ from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 
+from ..analysis import observables as obs
+from ..analysis.network import Network, NetworkState, initial_state
 from ..analysis.reduced.system import ChainSystem
 from ..cases import ValidationCase
 from ..constants import BEAD_INERTIA_FACTOR
@@ -81,6 +87,13 @@ class Scene:
     `onset` and `leading_eigenvalue` are then overridden)."""
     filament: ClassVar[bool] = False
     """Whether the clamped continuum filament under a distributed follower load is the scene's large-N limit."""
+    term_parameters: ClassVar[tuple[str, ...] | None] = None
+    """The chain's and the terms' parameters that act on the scene (None: all of them, n included: a chain scene). A
+    network scene names the few that act on its units (sigma, active, alignment_length): n, the drag ratio, noise,
+    contact and the other terms' parameters are then refused as having no effect on it."""
+    fixed: ClassVar[tuple[tuple[str, Any, str], ...]] = ()
+    """(parameter, value, why) the scene holds fixed (a network's units are self-aligning): Physics sets the value
+    and refuses another one in one line, giving the reason."""
 
     # ------------------------------------------------------------------ parameters
     @classmethod
@@ -190,6 +203,29 @@ class Scene:
     def video_period(self, traj: "Trajectory") -> float | None:
         """Time (tau) one second of video shows when the chain does not beat (None: the default)."""
         return None
+
+    # ------------------------------------------------------------------ networks
+    def network(self, physics: "Physics") -> Network | None:
+        """The elastic network of active units this scene simulates, or None for a chain scene (the default); both
+        engines dispatch on it."""
+        return None
+
+    def initial_network(self, physics: "Physics", numerics: "Numerics") -> NetworkState:
+        """A network scene's state at t = 0, read by both engines: nodes at rest plus seeded pushes of up to
+        numerics.perturbation (units a), polarities seeded uniformly on the circle (numerics.seed)."""
+        network = self.network(physics)
+        if network is None:
+            raise ParameterError(f"{self.name} is a chain scene: it has no network")
+        return initial_state(network, numerics.perturbation, numerics.seed)
+
+    def angle_count(self, physics: "Physics") -> int:
+        """Columns of Trajectory.theta: N per chain (a network scene: 0, its state is Trajectory.nodes)."""
+        return 0 if self.network(physics) is not None else physics.n * self.n_chains
+
+    def beat_signals(self, traj: "Trajectory") -> list[np.ndarray]:
+        """The scalar signals whose beat (amplitude, frequency, periodicity) results.measure reports, one per chain:
+        Theta = theta_N - theta_1 of each chain."""
+        return [obs.curvature(traj.chain(k)) for k in range(self.n_chains)]
 
     def __repr__(self) -> str:
         return f"<scene {self.name!r}>"

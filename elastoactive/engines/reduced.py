@@ -32,7 +32,9 @@ from ..noise import ColouredNoise, force_factor
 from ..params import Numerics, Physics
 from ..regime import Regime, base_state, regime  # re-exported: the engine runs the model these choose
 from ..trajectory import Trajectory
+from ..terms.self_aligning import SELF_ALIGNING
 from . import node_forces
+from . import polarity as polarity_engine
 
 __all__ = [
     "DEFAULT_BETA",
@@ -236,8 +238,14 @@ def simulate_reduced(
     laws = [law for law in (term.node_forces(physics) for term in physics.active_terms()) if law is not None]
     if laws:
         node_forces.check(physics, system, physics.noise > 0)
+    polarity = None
+    if physics.active == SELF_ALIGNING:  # self-aligning units (engines.polarity): before any other path
+        polarity_engine.check(physics, system, physics.noise > 0)
     start = time.perf_counter()
-    if physics.noise > 0:
+    if physics.active == SELF_ALIGNING:  # the state (theta, psi)
+        theta, polarity, info = polarity_engine.solve(physics, system, t, theta0, laws, rtol=rtol, atol=atol,
+                                                      beta=beta)
+    elif physics.noise > 0:
         dt = numerics.dt
         scheme = "euler"
         if physics.noise_correlation > 0:  # the shared Ornstein-Uhlenbeck realisation, constant over each step
@@ -270,7 +278,8 @@ def simulate_reduced(
         info["beta"] = beta
         info["constraint_violation"] = _math.constraint_violation(system, theta)
     theta, head = _split_head(system, theta)
-    return Trajectory(t=t, theta=theta, physics=physics, engine="reduced", wall_time_s=wall, info=info, head=head)
+    return Trajectory(t=t, theta=theta, physics=physics, engine="reduced", wall_time_s=wall, info=info, head=head,
+                      polarity=polarity)
 
 
 class Interrupted(KeyboardInterrupt):

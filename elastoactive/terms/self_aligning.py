@@ -74,9 +74,11 @@ def align_with_sites(model, data) -> None:
 
 
 def initial_polarity(theta: np.ndarray, mask: np.ndarray) -> np.ndarray:
-    """The polarity of the loaded particles of chains with absolute angles theta (the follower direction, toward
-    the clamp: theta + pi); mask: the load mask over theta's columns."""
-    return np.asarray(theta, dtype=float)[np.asarray(mask, dtype=bool)] + math.pi
+    """The polarity of the loaded particles of chains with absolute angles theta: the follower direction, toward
+    the clamp, -(cos theta, sin theta), as an angle in (-pi, pi] (the one align_with_sites gives MuJoCo's units);
+    mask: the load mask over theta's columns."""
+    theta = np.asarray(theta, dtype=float)[np.asarray(mask, dtype=bool)]
+    return np.arctan2(-np.sin(theta), -np.cos(theta))
 
 
 class SelfAligning(Term):

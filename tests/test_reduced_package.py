@@ -61,15 +61,16 @@ def test_kernels_compile_once_for_chain_systems():
     for dispatcher in (kernels.eval_rhs, kernels.eval_jacobian, kernels.euler_maruyama, dop853._dop853):
         assert len(dispatcher.signatures) == 1, (dispatcher, dispatcher.signatures)
         (record,) = _record_types(dispatcher)
-        # n, n_chains; clamped, pinned; sigma .. inertia_factor; head_free; trap, contact_radius, contact_stiffness; closed
+        # n, n_chains; clamped, pinned; sigma .. inertia_factor; head_free; trap, contact_radius, contact_stiffness; closed;
+        # star, hub_free; hub_stiffness, hub_drag
         assert [str(ty) for ty in record.types] == (["int64"] * 2 + ["bool"] * 2 + ["float64"] * 8 + ["bool"] + ["float64"] * 3
-                                                    + ["bool"])
+                                                    + ["bool"] * 3 + ["float64"] * 2)
 
 
 def test_typed_coerces_and_checks():
     a, b = _systems()
     ta = a.typed()
-    assert [type(v) for v in ta] == [int, int, bool, bool] + [float] * 8 + [bool] + [float] * 3 + [bool]
+    assert [type(v) for v in ta] == [int, int, bool, bool] + [float] * 8 + [bool] + [float] * 3 + [bool] * 3 + [float] * 2
     assert ta == a and b.typed() == b
     with pytest.raises(ParameterError):
         M.ChainSystem(n=0).typed()

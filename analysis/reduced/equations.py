@@ -285,6 +285,7 @@ def rhs_reference(system: ChainSystem, *, beta: float, factor=None):
             bend = theta[0] + 2.0 * np.pi - theta[n - 1]
             force[0] -= bend
             force[n - 1] += bend
+        force -= _star_spring_gradient(system, theta)  # a star's arms on a clamped hub
         if not system.pinned:
             return np.linalg.solve(Dfull, force)
         return _pinned_rates(Dfull, force, theta, beta, system.delta)
@@ -337,12 +338,34 @@ def rhs_inertial_reference(system: ChainSystem, *, beta: float, factor=None):
             bend = theta[0] + 2.0 * np.pi - theta[n - 1]
             force[0] -= bend
             force[n - 1] += bend
+        force -= _star_spring_gradient(system, theta)  # a star's arms on a clamped hub
         rhs_acc = force - D @ omega - c
         if not system.pinned:
             return np.concatenate([omega, np.linalg.solve(M, rhs_acc)])
         return np.concatenate([omega, _pinned_accelerations(M, rhs_acc, theta, omega, beta, system.delta)])
 
     return f
+
+
+def _star_spring_gradient(system: ChainSystem, y: np.ndarray) -> np.ndarray:
+    """What a star (ChainSystem.star) adds to dU/dq: its arms' clamp springs refer to alpha_ch + phi (alpha_ch =
+    2 pi ch / n_chains, phi = y[n_angles] the hub's angle when hub_free, else 0) instead of 0, and the hub's spring
+    hub_stiffness phi^2 / 2: U_star = sum_ch c/2 (th_{ch,0} - alpha_ch - phi)^2 + hub_stiffness phi^2 / 2, less the
+    c/2 th_{ch,0}^2 that _chain_spring_gradient already counts. Over n_angles + n_head coordinates."""
+    n, nch = system.n, system.n_chains
+    grad = np.zeros(system.n_angles + system.n_head)
+    if not system.star:
+        return grad
+    phi = y[system.n_angles] if system.hub_free else 0.0
+    for ch in range(nch):
+        c = system.stiffness(ch)
+        ref = 2.0 * np.pi * ch / nch + phi
+        grad[ch * n] -= c * ref
+        if system.hub_free:
+            grad[system.n_angles] -= c * (y[ch * n] - ref)
+    if system.hub_free:
+        grad[system.n_angles] += system.hub_stiffness * phi
+    return grad
 
 
 def _chain_geometry(system: ChainSystem, y: np.ndarray, ch: int):
@@ -380,7 +403,7 @@ def _spring_gradient(system: ChainSystem, y: np.ndarray) -> np.ndarray:
     if system.n_chains == 2:
         grad[0] += system.kappa * (y[0] - y[n])
         grad[n] -= system.kappa * (y[0] - y[n])
-    return grad
+    return grad + _star_spring_gradient(system, y)
 
 
 def drag_and_forces_reference(system: ChainSystem, y, factor=None) -> tuple[np.ndarray, np.ndarray]:
@@ -413,6 +436,8 @@ def drag_and_forces_reference(system: ChainSystem, y, factor=None) -> tuple[np.n
             points, _ = contact_forces(pivots, e, system.contact_radius, system.contact_stiffness)
             for i, s, F in points:
                 force += ((1.0 - s) * J[i] + s * J[i + 1]).T @ F
+    if system.hub_free:  # a star's hub: its own rotational drag
+        D[system.n_angles, system.n_angles] += system.hub_drag
     return D, force
 
 
@@ -433,6 +458,12 @@ def potential_reference(system: ChainSystem, y) -> float:
             energy += contact_forces(pivots, e, system.contact_radius, system.contact_stiffness)[1]
     if system.n_chains == 2:
         energy += 0.5 * system.kappa * (y[0] - y[n]) ** 2
+    if system.star:  # the arms' clamp springs refer to alpha_ch + phi; the hub's spring
+        phi = y[system.n_angles] if system.hub_free else 0.0
+        for ch in range(system.n_chains):
+            ref = 2.0 * np.pi * ch / system.n_chains + phi
+            energy += 0.5 * system.stiffness(ch) * ((y[ch * n] - ref) ** 2 - y[ch * n] ** 2)
+        energy += 0.5 * system.hub_stiffness * phi ** 2
     return float(energy)
 
 
@@ -450,6 +481,8 @@ def _inertial_extended_reference(system: ChainSystem, beta: float, fac: np.ndarr
         q, w = y[:nq], y[nq:]
         D, force = drag_and_forces_reference(system, q, fac)
         M = m * system.inertia_factor * np.diag(np.r_[np.ones(system.n_angles), np.zeros(system.n_head)])
+        if system.hub_free:  # a star's hub: a bead's rotational inertia
+            M[system.n_angles, system.n_angles] = m * system.inertia_factor
         cgen = np.zeros(nq)
         for ch in range(system.n_chains):
             th, om = q[ch * n : (ch + 1) * n], w[ch * n : (ch + 1) * n]

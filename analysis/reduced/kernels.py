@@ -7,7 +7,7 @@ side, Jacobian and RK4 steps.
 Every kernel that needs the model's parameters takes the `ChainSystem` record itself (numba compiles a
 NamedTuple as a typed record; fields are read by name) and the Baumgarte rate `beta` as a float
 argument. The record must come through `ChainSystem.typed()` (the functions of solve.py do that), so
-that the field types are always (int64, int64, bool, bool, float64 x 8, bool, float64 x 3, bool) and each kernel is compiled,
+that the field types are always (int64, int64, bool, bool, float64 x 8, bool, float64 x 3, bool, bool, bool, float64 x 2) and each kernel is compiled,
 and cached on disk, once. The formulas are those of equations.py; rhs_reference there is the
 plain-numpy twin that tests hold these kernels to.
 

@@ -174,6 +174,28 @@ def _chain_forces(th, fac, system, out):
         out[n] += d
     if system.closed:
         _closure(th, n, out)
+    if system.star:
+        _star_clamps(th, system, out)
+
+
+@njit(cache=True)
+def _star_clamps(th, system, out):
+    """A star's arms (ChainSystem.star): chain ch's clamp spring refers to alpha_ch + phi (alpha_ch = 2 pi ch /
+    n_chains, phi = th[n_angles] the hub's angle when hub_free, else 0) instead of 0: add c (alpha_ch + phi) to the
+    clamp force -c th_{ch,0} that forces() wrote (adds exactly 0 for arm 0 on a clamped hub). hub_free: set
+    out[n_angles] = -hub_stiffness phi + sum_ch c (th_{ch,0} - alpha_ch - phi), the torque on the hub."""
+    n = system.n
+    nch = system.n_chains
+    na = n * nch
+    phi = th[na] if system.hub_free else 0.0
+    torque = -system.hub_stiffness * phi
+    for ch in range(nch):
+        c = 1.0 if ch == 0 else system.rho
+        ref = _TWO_PI * ch / nch + phi
+        out[ch * n] += c * ref
+        torque += c * (th[ch * n] - ref)
+    if system.hub_free:
+        out[na] = torque
 
 
 @njit(cache=True, inline="always")
@@ -369,6 +391,8 @@ def eval_rhs_recursive(th, fac, system, beta, out, U, X, lam):
         out[n] += d
     if system.closed:
         _closure(th, n, out)
+    if system.star:
+        _star_clamps(th, system, out)
     for ch in range(nch):
         ncols = 2 if (system.pinned and ch == 0) else 0
         articulated_solve(ch * n, n, system.gamma_l, system.gamma_t, out, U, X, ncols)

@@ -26,8 +26,14 @@ CROSSING_DISTANCE = _CROSSING_DISTANCE
 
 @njit(cache=True)
 def is_extended(system):
-    """Whether any extended term is on (ChainSystem.extended): head_free, trap > 0 or contact_radius > 0."""
-    return system.head_free or system.trap > 0.0 or system.contact_radius > 0.0
+    """Whether any extended term is on (ChainSystem.extended): head_free, trap > 0, contact_radius > 0 or hub_free."""
+    return system.head_free or system.trap > 0.0 or system.contact_radius > 0.0 or system.hub_free
+
+
+@njit(cache=True)
+def _n_after(system):
+    """Coordinates after the angles (ChainSystem.n_head): 2 for a free head, 1 for a star's turning hub, else 0."""
+    return 2 if system.head_free else (1 if system.hub_free else 0)
 
 
 @njit(cache=True)
@@ -249,6 +255,8 @@ def general_mass(system, C, A):
             A[na, na] = m * (n + 1)
             A[na + 1, na + 1] = m * (n + 1)
             A[off, off] += m * ifac
+    if system.hub_free:  # a star's hub: a bead's rotational inertia at the origin (MuJoCo's hub body)
+        A[na, na] = m * ifac
 
 
 @njit(cache=True, inline="always")
@@ -343,7 +351,7 @@ def eval_rhs_inertial_general(y, fac, system, beta, out, L, C, X, lam):
     n = system.n
     nch = system.n_chains
     na = n * nch
-    nq = na + (2 if system.head_free else 0)
+    nq = na + _n_after(system)
     m = system.mass_ratio
     gl = system.gamma_l
     gt = system.gamma_t
@@ -372,6 +380,8 @@ def eval_rhs_inertial_general(y, fac, system, beta, out, L, C, X, lam):
             C[off, 7] -= gl * el * s + gt * et * c
         _particle_forces(C, off, 0, 1, y, nq + off, n, vx, vy, gl, gt, m, C, 4, True)
     _project_node_forces(fac, system, C, acc)
+    if system.hub_free:  # the hub's drag on its rate
+        acc[na] -= system.hub_drag * y[nq + na]
     general_mass(system, C, L[1])
     cholesky(L[1], L[0])
     chol_solve(L[0], out, nq)
@@ -422,6 +432,8 @@ def general_drag(system, C, A):
             A[na, na + 1] = v
             A[na + 1, na] = v
             A[na + 1, na + 1] = syy + gl * s0 * s0 + gt * c0 * c0
+    if system.hub_free:  # a star's hub: its own rotational drag, no particle (the arms' drag does not move it)
+        A[na, na] = system.hub_drag
 
 
 @njit(cache=True)
@@ -432,12 +444,12 @@ def eval_rhs_general(y, fac, system, beta, out, L, C, X, lam):
     multipliers in lam). L, C, X, lam: make_general_workspace."""
     n = system.n
     na = n * system.n_chains
-    nq = na + (2 if system.head_free else 0)
+    nq = na + _n_after(system)
     if (L.shape[0] < 2 or L.shape[1] != nq or L.shape[2] != nq or C.shape[0] < na or C.shape[1] < 8
             or X.shape[0] < nq):
         raise ValueError("eval_rhs_general needs make_general_workspace's arrays: L (2, nq, nq), C (n_angles, 8), X (nq, 2)")
     if y.size < nq or out.size < nq:
-        raise ValueError("eval_rhs_general: the state holds n_angles numbers, plus 2 with a free head")
+        raise ValueError("eval_rhs_general: the state holds n_angles numbers, plus 2 with a free head (1 with a hub)")
     general_forces(y, fac, system, C, out)
     general_drag(system, C, L[1])
     cholesky(L[1], L[0])

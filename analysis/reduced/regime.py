@@ -86,8 +86,8 @@ def _extended_operators(system: ChainSystem, theta) -> tuple[np.ndarray, np.ndar
     df/dq by central differences): theta is the state (the angles, then the head) or the angles alone (the head
     at the origin)."""
     y = np.asarray(theta, dtype=float).reshape(-1)
-    if system.head_free and y.size == system.n_angles:
-        y = np.concatenate([y, np.zeros(2)])
+    if system.n_head and y.size == system.n_angles:  # the head at the origin, a star's hub at phi = 0
+        y = np.concatenate([y, np.zeros(system.n_head)])
     y = y[: system.state_size]
     D, _ = drag_and_forces_reference(system, y)
     F = np.empty((y.size, y.size))

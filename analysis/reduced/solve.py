@@ -183,7 +183,7 @@ def drag_matrix(system: ChainSystem, theta) -> np.ndarray:
     over the whole state (the angles, then the head; theta of n_angles or state_size numbers), from
     kernels.general_drag, including the head's drag."""
     system = system.typed()
-    if system.head_free:
+    if system.n_head:  # a free head or a star's hub: over the whole state
         y = _state(system, theta)
         L, C, _, _ = kernels.make_general_workspace(system.n_chains, system.n, y.size)
         kernels._general_geometry(y, system, C)
@@ -199,9 +199,10 @@ def mass_matrix(system: ChainSystem, theta) -> np.ndarray:
     + I delta_jk with m = system.mass_ratio and I = m system.inertia_factor (zero for the overdamped model). With a
     free head: over the angles then the head (theta: the positions, or the angles with the head at the origin)."""
     system = system.typed()
-    if system.head_free:  # over the angles and the head (kernels.general_mass: the head's bead included)
+    if system.n_head:  # over the angles and the head or hub (kernels.general_mass: the head's bead, the hub included)
         y = np.ascontiguousarray(theta, dtype=float).reshape(-1)
-        y = np.concatenate([y[: system.n_angles], np.zeros(2)]) if y.size == system.n_angles else y[: system.n_angles + 2]
+        nq = system.n_angles + system.n_head
+        y = np.concatenate([y[: system.n_angles], np.zeros(system.n_head)]) if y.size == system.n_angles else y[:nq]
         L, C, _, _ = kernels.make_general_workspace(system.n_chains, system.n, y.size)
         kernels._general_geometry(y, system, C)
         kernels.general_mass(system, C, L[1])
@@ -216,8 +217,8 @@ def _state(system: ChainSystem, y) -> np.ndarray:
     state of n_angles numbers is taken as angles at rest; with a free head, the angles then the head (then,
     inertial, their rates), where n_angles numbers are the angles with the head at the origin."""
     y = np.ascontiguousarray(y, dtype=float).reshape(-1)
-    if system.head_free and y.size == system.n_angles:
-        y = np.concatenate([y, np.zeros(2)])
+    if system.n_head and y.size == system.n_angles:  # the head at the origin, a star's hub at phi = 0
+        y = np.concatenate([y, np.zeros(system.n_head)])
     nq = system.n_angles + system.n_head
     if system.mass_ratio > 0 and y.size == nq:
         return np.concatenate([y, np.zeros(nq)])
@@ -304,6 +305,15 @@ def _samples_and_state(system: ChainSystem, t, theta0, head0=None) -> tuple[np.n
             return t, np.concatenate([theta0, head])
         raise ParameterError(f"theta0 must have {system.n_angles} angles (plus head0), or {system.n_angles + 2} "
                              f"numbers (the angles, then the head), got {theta0.size}")
+    if system.hub_free:  # a star's turning hub: its angle phi after the arms' angles (head0: (phi,), default 0)
+        if theta0.size == system.n_angles + 1 and head0 is None:
+            return t, theta0
+        phi = np.zeros(1) if head0 is None else np.array(head0, dtype=float).reshape(-1)
+        if theta0.size != system.n_angles or phi.size != 1 or not np.all(np.isfinite(phi)):
+            raise ParameterError(f"theta0 must have {system.n_angles} angles (plus head0 = (phi,), the hub's angle), "
+                                 f"or {system.n_angles + 1} numbers (the angles, then phi), got {theta0.size} and "
+                                 f"head0 = {head0!r}")
+        return t, np.concatenate([theta0, phi])
     if head0 is not None:
         raise ParameterError("head0: only a system with a free head (head_free) has a head position")
     if theta0.size != system.n_angles:

@@ -53,6 +53,17 @@ class ChainSystem(NamedTuple):
     closed             the chain closes on itself (a ring): a spring of stiffness 1 joins the last link to the first,
                        bent by th_0 + 2 pi - th_{N-1}; with pinned and delta = 1 the last particle is held at the
                        first pendulum's pivot. Only for one chain on a free pin (n_chains = 1, clamped = False)
+    star               the chains are the arms of a star on one hub at the origin (the star scene): chain ch's clamp
+                       points at alpha_ch = 2 pi ch / n_chains from the hub, its clamp spring is
+                       c (th_{ch,0} - alpha_ch - phi) (phi: the hub's angle, 0 unless hub_free); any number of chains
+                       >= 1 (no coupling kappa: the arms interact through the hub only). With a clamped hub the arms are
+                       n_chains independent one-pinned chains turned by alpha_ch
+    hub_free           the hub turns about the origin: its angle phi is one more coordinate after the angles, with
+                       hub_drag phi' = -hub_stiffness phi + sum_ch c (th_{ch,0} - alpha_ch - phi) (overdamped); the
+                       hub has no particle. Only with star
+    hub_stiffness      the hub's torsional spring to the lab, units C1 (>= 0)
+    hub_drag           the hub's rotational drag, units gamma_T l^2 (> 0 with hub_free: phi then has a finite rate);
+                       in the inertial model the hub is a bead's rotational inertia m inertia_factor
     The inertial model (mass_ratio > 0) has them too (kernels.eval_rhs_inertial_general); its free head is a bead
     like the particles' (mass m at the pivot, turning with the first pendulum), as MuJoCo's paraboloid scene builds it.
     """
@@ -74,6 +85,10 @@ class ChainSystem(NamedTuple):
     contact_radius: float = 0.0
     contact_stiffness: float = 0.0
     closed: bool = False
+    star: bool = False
+    hub_free: bool = False
+    hub_stiffness: float = 0.0
+    hub_drag: float = 0.0
 
     @property
     def n_angles(self) -> int:
@@ -81,14 +96,15 @@ class ChainSystem(NamedTuple):
 
     @property
     def n_head(self) -> int:
-        """Head coordinates in the state: 2 (x_h, y_h, after the angles) when head_free, else 0."""
-        return 2 if self.head_free else 0
+        """Coordinates in the state after the angles: 2 (x_h, y_h) when head_free, 1 (the hub's angle phi) when
+        hub_free, else 0."""
+        return 2 if self.head_free else (1 if self.hub_free else 0)
 
     @property
     def extended(self) -> bool:
-        """Whether any extended term is on (head_free, trap > 0, contact_radius > 0): the overdamped right-hand
-        side is then kernels.eval_rhs_general, the Jacobian a finite-difference one."""
-        return bool(self.head_free) or self.trap > 0 or self.contact_radius > 0
+        """Whether any extended term is on (head_free, trap > 0, contact_radius > 0, hub_free): the overdamped
+        right-hand side is then kernels.eval_rhs_general, the Jacobian a finite-difference one."""
+        return bool(self.head_free) or self.trap > 0 or self.contact_radius > 0 or bool(self.hub_free)
 
     @property
     def inertial(self) -> bool:
@@ -103,7 +119,7 @@ class ChainSystem(NamedTuple):
         return 2 * positions if self.mass_ratio > 0 else positions
 
     def stiffness(self, chain: int) -> float:
-        """Joint stiffness of chain `chain` (0 or 1) in units of C1."""
+        """Joint stiffness of chain `chain` (0 or 1; every arm of a star: 1) in units of C1."""
         return 1.0 if chain == 0 else self.rho
 
     def typed(self) -> "ChainSystem":
@@ -113,8 +129,21 @@ class ChainSystem(NamedTuple):
         ParameterError for a record the kernels cannot solve."""
         if int(self.n) != self.n or self.n < 1:
             raise ParameterError(f"n (particles per chain) must be an integer >= 1, got {self.n!r}")
-        if self.n_chains not in (1, 2):
-            raise ParameterError(f"n_chains must be 1 or 2, got {self.n_chains!r}")
+        if self.n_chains not in (1, 2) and not (self.star and int(self.n_chains) == self.n_chains >= 1):
+            raise ParameterError(f"n_chains must be 1 or 2 (any number >= 1 for a star), got {self.n_chains!r}")
+        if self.star and (not self.clamped or self.pinned or self.head_free or self.closed or self.kappa != 0
+                          or self.rho != 1 or self.trap > 0 or self.contact_radius > 0):
+            raise ParameterError(
+                "star: the arms are clamped to the hub, unpinned, unit stiffness, without coupling kappa, trap or "
+                f"self-contact; got clamped={self.clamped!r}, pinned={self.pinned!r}, head_free={self.head_free!r}, "
+                f"closed={self.closed!r}, kappa={self.kappa!r}, rho={self.rho!r}, trap={self.trap!r}, "
+                f"contact_radius={self.contact_radius!r}")
+        if self.hub_free and not self.star:
+            raise ParameterError("hub_free: only the arms of a star (star = True) have a hub")
+        if not (self.hub_stiffness >= 0 and np.isfinite(self.hub_stiffness)):
+            raise ParameterError(f"hub_stiffness (C1) must be finite and >= 0, got {self.hub_stiffness!r}")
+        if self.hub_free and not (self.hub_drag > 0 and np.isfinite(self.hub_drag)):
+            raise ParameterError(f"hub_drag (gamma l^2) must be finite and > 0 for a turning hub, got {self.hub_drag!r}")
         if self.pinned and self.n_chains != 1:
             raise ParameterError("pinned: only a single chain can be held at both ends")
         if not (self.mass_ratio >= 0 and np.isfinite(self.mass_ratio)):
@@ -151,6 +180,8 @@ class ChainSystem(NamedTuple):
             mass_ratio=float(self.mass_ratio), inertia_factor=float(self.inertia_factor),
             head_free=bool(self.head_free), trap=float(self.trap), contact_radius=float(self.contact_radius),
             contact_stiffness=float(self.contact_stiffness), closed=bool(self.closed),
+            star=bool(self.star), hub_free=bool(self.hub_free), hub_stiffness=float(self.hub_stiffness),
+            hub_drag=float(self.hub_drag),
         )
 
     def force_factors(self, factor=None) -> np.ndarray:

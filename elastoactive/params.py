@@ -194,7 +194,7 @@ class Physics:
 
     @property
     def n_chains(self) -> int:
-        return self.scene_def.n_chains
+        return self.scene_def.chain_count(self)
 
     @property
     def n_angles(self) -> int:

@@ -71,11 +71,13 @@ class Scene:
     """The scene's own physics parameters: specs it declares (registered with the scene), or names of declared ones."""
     min_n: ClassVar[int] = 1
     n_chains: ClassVar[int] = 1
+    """Chains of the scene (the most, for a scene whose number of chains is a parameter: `chain_count`)."""
     clamped: ClassVar[bool] = True
     """Whether a spring holds the first pendulum against the clamp (False: a free pin)."""
     head_coordinates: ClassVar[int] = 0
     """Coordinates of a moving pivot (the head) before the angles: 0 (pinned at the origin) or 2 (x_h, y_h; MuJoCo's
-    slide joints, the reduced model's last two state variables, Trajectory.head)."""
+    slide joints, the reduced model's last two state variables, Trajectory.head); 1: the angle phi of a hub the chains
+    hang on (the star: MuJoCo's hub hinge, the reduced model's last state variable, Trajectory.head[:, 0])."""
     pinned: ClassVar[bool] = False
     """Whether the last particle is held by a pin (a MuJoCo equality; monitored for drift)."""
     observables: ClassVar[tuple[str, ...]] = ()
@@ -106,9 +108,13 @@ class Scene:
         if physics.n < self.min_n:
             raise ParameterError(f"n (number of particles N) must be >= {self.min_n} for {self.name}, got {physics.n}")
 
+    def chain_count(self, physics: "Physics") -> int:
+        """Number of chains of this physics (Physics.n_chains): n_chains, or a parameter's value (the star's arms)."""
+        return self.n_chains
+
     def stiffness(self, physics: "Physics") -> tuple[float, ...]:
-        """Joint stiffness of each chain in units of C1."""
-        return (1.0,) * self.n_chains
+        """Joint stiffness of each chain in units of C1 (one per chain that elastoactive.model builds)."""
+        return (1.0,) * self.chain_count(physics)
 
     def physics(self, **values: Any) -> "Physics":
         """Physics of this scene with the given parameters (the others at their defaults)."""
@@ -145,7 +151,7 @@ class Scene:
         """The reduced model of this scene: overdamped (mass_ratio 0); the engine sets the particle mass for the
         inertial model (engines.reduced.system_of), whose beads have MuJoCo's rotational inertia (mjcf/common.xml)."""
         system = ChainSystem(
-            n=physics.n, n_chains=self.n_chains, clamped=self.clamped, pinned=self.pinned, sigma=0.0,
+            n=physics.n, n_chains=self.chain_count(physics), clamped=self.clamped, pinned=self.pinned, sigma=0.0,
             gamma_l=1.0, gamma_t=1.0, kappa=0.0, rho=1.0, delta=0.0,
             mass_ratio=0.0, inertia_factor=BEAD_INERTIA_FACTOR,
         )
@@ -158,7 +164,7 @@ class Scene:
         """Absolute angles at t = 0: each chain's static shape under seeded small pushes."""
         from ..initial import pushed_chains  # initial imports scipy (start-up time)
 
-        return pushed_chains(physics.n, self.n_chains, numerics.perturbation, numerics.seed)
+        return pushed_chains(physics.n, self.chain_count(physics), numerics.perturbation, numerics.seed)
 
     # ------------------------------------------------------------------ observables
     def measure_extra(self, traj: "Trajectory", transient: float) -> dict[str, float | str]:

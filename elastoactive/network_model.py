@@ -16,6 +16,11 @@ is in gamma / k):
   lab-frame drag        the slide joints' damping gamma = 1: exactly -gamma v along each world axis, taken implicitly
                         by implicitfast (and implicit, discrete) at no cost beyond the diagonal it adds
   node mass             bead geom mass = mass_ratio (inertial time m / gamma in units of gamma / k)
+  active unit on node i the site's first user value F_a = sigma and a self-aligning unit on the site
+                        (terms.self_aligning.add_unit: an actuator node_{i}_polarity with user dynamics whose
+                        activation is the polarity psi_i; controllers/follower.c turns psi at (v . n_perp) / l_a and
+                        applies F_a (cos psi, sin psi)); every active node has one, also at sigma = 0 (its
+                        polarity then turns without a force), so that the state has the same shape at every sigma
   callback marker       custom numeric elastoactive_follower (noise amplitude 0, seed): the compiled callback acts
                         only on models that carry it
 """
@@ -31,6 +36,7 @@ from .errors import ParameterError
 from .mjcf import mjcf_path
 from .model import INTEGRATOR
 from .params import Numerics, Physics
+from .terms.self_aligning import add_unit, polarity_addresses
 
 BASE_FILE = "network.xml"
 
@@ -91,10 +97,12 @@ def build_network_spec(network, physics: Physics, numerics: Numerics = Numerics(
     positions = np.asarray(network.positions, dtype=float)
     anchors = np.asarray(network.anchors, dtype=float)
     pinned = np.asarray(network.pinned, dtype=bool)
+    active = np.asarray(network.active, dtype=bool)
     trap = float(network.trap)
     for i, (x, y) in enumerate(positions):
+        force = [float(physics.sigma) if active[i] else 0.0]
         if pinned[i]:
-            spec.worldbody.add_site(name=f"node_{i}", default=pinned_node, pos=[x, y, 0.0])
+            spec.worldbody.add_site(name=f"node_{i}", default=pinned_node, pos=[x, y, 0.0], userdata=force)
             continue
         body = spec.worldbody.add_body(name=f"node_{i}", pos=[x, y, 0.0], childclass="node")
         for axis, label in ((0, "x"), (1, "y")):
@@ -103,7 +111,7 @@ def build_network_spec(network, physics: Physics, numerics: Numerics = Numerics(
             body.add_joint(name=f"node_{i}_{label}", default=node, axis=direction, stiffness=[trap, 0, 0],
                            springref=float(anchors[i, axis] - positions[i, axis]))
         body.add_geom(name=f"bead_{i}", default=node, mass=numerics.mass_ratio)
-        body.add_site(name=f"node_{i}", default=node)
+        body.add_site(name=f"node_{i}", default=node, userdata=force)
     for b, (i, j) in enumerate(np.asarray(network.bonds, dtype=int).reshape(-1, 2)):
         if pinned[i] and pinned[j]:
             continue
@@ -111,6 +119,8 @@ def build_network_spec(network, physics: Physics, numerics: Numerics = Numerics(
                                  springlength=[float(network.rest_lengths[b])] * 2)
         tendon.wrap_site(f"node_{i}")
         tendon.wrap_site(f"node_{j}")
+    for i in np.flatnonzero(active):
+        add_unit(spec, f"node_{i}", physics.alignment_length)
 
     spec.option.timestep = numerics.dt
     spec.option.integrator = INTEGRATOR[numerics.integrator]
@@ -145,3 +155,18 @@ def qpos_of_positions(network, positions: np.ndarray) -> np.ndarray:
     if np.any(np.abs(positions[pinned] - rest[pinned]) > 1e-12):
         raise ParameterError("node positions: a pinned node must sit at its rest position")
     return (positions - rest)[free_nodes(network)].ravel()
+
+
+def polarity_of_units(model: mujoco.MjModel, data: mujoco.MjData) -> np.ndarray:
+    """The active units' polarities psi (A,), in node order (the units are built in node order)."""
+    return data.act[polarity_addresses(model)].copy()
+
+
+def set_polarity(model: mujoco.MjModel, data: mujoco.MjData, polarity: np.ndarray) -> None:
+    """Write the active units' polarities psi (A,), in node order, into data.act."""
+    addresses = polarity_addresses(model)
+    polarity = np.asarray(polarity, dtype=float)
+    if polarity.shape != addresses.shape:
+        raise ParameterError(f"polarity must have one angle per active unit, shape {addresses.shape}, "
+                             f"got {polarity.shape}")
+    data.act[addresses] = polarity

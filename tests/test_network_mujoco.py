@@ -11,10 +11,14 @@ import pytest
 
 import elastoactive as ea
 from elastoactive.analysis.network import hexagonal_patch, trap_unit
+from elastoactive.engines.network_mujoco import simulate_network_mujoco
 from elastoactive.errors import ParameterError
-from elastoactive.network_model import build_network_model, free_nodes, node_positions, qpos_of_positions
+from elastoactive.controllers import follower_forces
+from elastoactive.network_model import (build_network_model, free_nodes, node_positions, polarity_of_units,
+                                        qpos_of_positions, set_polarity)
 
-PHYSICS = ea.Physics()  # the model reads only the scene's name from it for a passive network
+PHYSICS = ea.Physics(sigma=0.0)  # a passive network: the builder reads the scene's name and sigma = 0
+ACTIVE = ea.Physics(sigma=1.5, active="self-aligning", alignment_length=0.7)  # the units' F_a and l_a
 NETWORKS = [(f"R={r} {b}", hexagonal_patch(r, b)) for r in range(1, 7) for b in ("pinned", "free", "centre")]
 NETWORKS.append(("trap unit", trap_unit(1.0)))
 
@@ -55,15 +59,19 @@ def spring_forces(network, positions) -> np.ndarray:
 
 @pytest.mark.parametrize("label,network", NETWORKS, ids=[n for n, _ in NETWORKS])
 def test_every_network_compiles_and_steps_without_a_warning(label, network):
-    model = build_network_model(network, PHYSICS)
+    model = build_network_model(network, ACTIVE)
     data = mujoco.MjData(model)
     data.qpos[:] = qpos_of_positions(network, _state(network, np.random.default_rng(0)))
-    mujoco.mj_step(model, data, nstep=200)
+    units = np.count_nonzero(network.active)
+    set_polarity(model, data, np.linspace(0, 6, units))
+    with follower_forces():
+        mujoco.mj_step(model, data, nstep=200)
     assert all(w.number == 0 for w in data.warning), [mujoco.mjtWarning(i).name for i, w in enumerate(data.warning)
                                                      if w.number]
     assert model.nq == model.nv == 2 * free_nodes(network).size
     assert model.ntendon == sum(not (network.pinned[i] and network.pinned[j]) for i, j in network.bonds)
-    assert model.nu == 0 and model.neq == 0 and np.isfinite(data.qpos).all()
+    assert model.nu == model.na == units and model.neq == 0 and np.isfinite(data.qpos).all()
+    assert not np.array_equal(polarity_of_units(model, data), np.linspace(0, 6, units))  # the units turned
     disabled = mujoco.mjtDisableBit
     for flag in (disabled.mjDSBL_CONTACT, disabled.mjDSBL_GRAVITY, disabled.mjDSBL_CONSTRAINT,
                  disabled.mjDSBL_AUTORESET):
@@ -133,3 +141,50 @@ def test_node_positions_refuse_a_moved_pin():
         qpos_of_positions(network, moved)
     with pytest.raises(ParameterError, match="network.stiffness"):
         build_network_model(network._replace(stiffness=-network.stiffness), PHYSICS)
+
+
+def test_active_units_push_along_their_polarity_and_turn_toward_the_velocity():
+    """The force F_a (cos psi, sin psi) on every active node and dpsi/dt = (v . n_perp) / l_a (controllers/follower.c
+    reached through the network's sites), against numpy."""
+    network = hexagonal_patch(2, "pinned")
+    rng = np.random.default_rng(5)
+    model = build_network_model(network, ACTIVE)
+    data = mujoco.MjData(model)
+    positions = _state(network, rng, 0.1)
+    data.qpos[:] = qpos_of_positions(network, positions)
+    data.qvel[:] = rng.standard_normal(model.nv)
+    psi = rng.uniform(0, 2 * np.pi, np.count_nonzero(network.active))
+    set_polarity(model, data, psi)
+    with follower_forces():
+        mujoco.mj_forward(model, data)
+    free = free_nodes(network)
+    velocity = np.zeros_like(positions)
+    velocity[free] = data.qvel.reshape(-1, 2)
+    active_force = np.zeros_like(positions)
+    active_force[network.active] = ACTIVE.sigma * np.column_stack([np.cos(psi), np.sin(psi)])
+    expected = (spring_forces(network, positions) + active_force)[free].ravel() - data.qvel
+    np.testing.assert_allclose(data.qfrc_passive, expected, atol=1e-12)
+    v = velocity[network.active]
+    turning = (-v[:, 0] * np.sin(psi) + v[:, 1] * np.cos(psi)) / ACTIVE.alignment_length
+    np.testing.assert_allclose(data.act_dot, turning, atol=1e-12)
+
+
+@pytest.mark.parametrize("sigma,alignment_length,trap", [(2.0, 1.0, 1.0), (3.0, 2.0, 0.5)])
+def test_trapped_unit_orbits_on_the_self_aligning_circle(sigma, alignment_length, trap):
+    """A self-aligning unit in a harmonic trap k beyond F_a > k l_a circles at radius R = sqrt(F_a l_a / k) with
+    angular rate omega = sqrt(k (F_a / l_a - k)) / gamma (steady orbit: F_a n = gamma v + k x, and psi turns with
+    the orbit only if k R^2 = F_a l_a); MuJoCo within 0.3% (first order in dt: 0.13% at dt = 0.0025)."""
+    physics = ea.Physics(sigma=sigma, active="self-aligning", alignment_length=alignment_length)
+    traj = simulate_network_mujoco(physics, ea.Numerics(), 60.0, network=trap_unit(trap),
+                                   positions0=np.array([[0.1, 0.0]]), polarity0=np.array([0.3]))
+    assert traj.theta.shape == (traj.t.size, 0) and traj.nodes.shape == (traj.t.size, 1, 2)
+    assert traj.polarity.shape == (traj.t.size, 1)
+    x = traj.nodes[:, 0]
+    late = traj.t > 30.0
+    radius = np.linalg.norm(x[late], axis=1)
+    rate = np.polyfit(traj.t[late], np.unwrap(np.arctan2(x[late, 1], x[late, 0])), 1)[0]
+    assert radius.mean() == pytest.approx(np.sqrt(sigma * alignment_length / trap), rel=3e-3)
+    assert radius.std() < 1e-3 * radius.mean()
+    assert abs(rate) == pytest.approx(np.sqrt(trap * (sigma / alignment_length - trap)), rel=3e-3)
+    heading = np.unwrap(traj.polarity[late, 0])  # the polarity turns with the orbit
+    assert np.polyfit(traj.t[late], heading, 1)[0] == pytest.approx(rate, rel=1e-3)

@@ -25,17 +25,9 @@ from ..terms.self_aligning import polarity_addresses
 from ..trajectory import Trajectory
 from . import check_steps
 from .cost import NOTE_SECONDS, cost_note, mujoco_cost, reduced_cost
+from .monitor import BAD_STATE_WARNINGS, CHECK_EVERY, PROGRESS_EVERY  # noqa: F401 (the batch engine imports them here)
+from .monitor import bad_state as _bad_state
 
-CHECK_EVERY = 100  # samples between divergence checks
-PROGRESS_EVERY = 0.25  # seconds between progress updates (a long chain's sample can take seconds)
-
-BAD_STATE_WARNINGS = (
-    mujoco.mjtWarning.mjWARN_BADQPOS,
-    mujoco.mjtWarning.mjWARN_BADQVEL,
-    mujoco.mjtWarning.mjWARN_BADQACC,
-    # the implicit solve failed (seen with `discrete` on long chains): the state goes on, wrong
-    mujoco.mjtWarning.mjWARN_INERTIA,
-)
 PIN_DRIFT_LIMIT = 0.05  # l: beyond this the two-pinned end has left its pin (the exact model: 0)
 
 
@@ -56,10 +48,6 @@ def numerics_info(given: Numerics, used: Numerics) -> dict:
         return {}
     return {"automatic_numerics": {"integrator": used.integrator, "dt": float(used.dt),
                                    "mass_ratio": float(used.mass_ratio), "reason": "long chain (Numerics.for_physics)"}}
-
-
-def _bad_state(data: mujoco.MjData) -> bool:
-    return any(data.warning[w].number for w in BAD_STATE_WARNINGS) or not np.all(np.isfinite(data.qpos))
 
 
 def pin_violation(model: mujoco.MjModel, data: mujoco.MjData) -> float:
@@ -92,6 +80,14 @@ def simulate_mujoco(
     """
     if not duration > 0:
         raise ParameterError(f"duration (in tau) must be a positive number, got {duration}")
+    network = physics.scene_def.network(physics)
+    if network is not None:  # a network scene: its own model and record (engines.network_mujoco)
+        from .network_mujoco import simulate_network_mujoco  # start-up time: chains never load it
+
+        if theta0 is not None:
+            raise ParameterError(f"theta0: {physics.scene} is a network (its initial state: Scene.initial_network)")
+        return simulate_network_mujoco(physics, numerics, duration, network=network, progress=progress,
+                                       on_sample=on_sample)
     given, numerics = numerics, numerics.for_physics(physics)  # long chains: automatic numerics (Numerics)
     t = numerics.sample_times(duration)
     check_steps(numerics, duration)

@@ -1,0 +1,117 @@
+"""Run a network scene (Scene.network(physics) is not None) in MuJoCo.
+
+The model comes from elastoactive.network_model; between two recorded samples MuJoCo runs steps_per_sample steps in
+C, with the compiled callback installed for the active units, so no Python runs per step. The Trajectory it returns
+has the shape of the reduced engine's: `nodes` (T, P, 2), the lab positions of every node (pinned ones at rest),
+`polarity` (T, A), the active units' polarities in node order (None without units), and `theta` of shape
+(T, 0) (a network has no chain angles).
+Auto-reset is off (mjcf/common.xml): a state that blows up stops the run with SimulationDiverged.
+"""
+
+from __future__ import annotations
+
+import sys
+import time
+from typing import Callable
+
+import mujoco
+import numpy as np
+
+from ..controllers import follower_forces
+from ..errors import ParameterError, SimulationDiverged
+from ..network_model import build_network_model, node_positions, qpos_of_positions, set_polarity
+from ..terms.self_aligning import polarity_addresses
+from ..params import Numerics, Physics
+from ..progress import progress_bar
+from ..trajectory import Trajectory
+from . import check_steps
+from .cost import NOTE_SECONDS, mujoco_cost
+from .monitor import CHECK_EVERY, PROGRESS_EVERY, bad_state
+
+
+def prepare_network(physics: Physics, numerics: Numerics, network=None, positions0: np.ndarray | None = None,
+                    polarity0: np.ndarray | None = None):
+    """(network, model, data) at the initial state: node positions (P, 2) and the active units' polarities (A,),
+    in node order, as given, else the scene's (Scene.initial_network: what both engines start from)."""
+    scene = physics.scene_def
+    network = scene.network(physics) if network is None else network
+    if positions0 is None or polarity0 is None:
+        state = scene.initial_network(physics, numerics)
+        positions0 = state.positions if positions0 is None else positions0
+        polarity0 = state.polarity if polarity0 is None else polarity0
+    model = build_network_model(network, physics, numerics)
+    data = mujoco.MjData(model)
+    data.qpos[:] = qpos_of_positions(network, positions0)
+    set_polarity(model, data, polarity0)
+    mujoco.mj_forward(model, data)
+    return network, model, data
+
+
+def _divergence_message(physics: Physics, numerics: Numerics, time_now: float) -> str:
+    return (f"the {physics.scene} network's state became non-finite or exceeded MuJoCo's limits at t = {time_now:.4g} "
+            f"(dt = {numerics.dt:g}, mass_ratio = {numerics.mass_ratio:g}, integrator {numerics.integrator}): the "
+            "springs and the trap are explicit, stable for dt x (fastest relaxation rate) < 2; reduce dt")
+
+
+def simulate_network_mujoco(
+    physics: Physics,
+    numerics: Numerics = Numerics(),
+    duration: float = 200.0,
+    *,
+    network=None,
+    positions0: np.ndarray | None = None,
+    polarity0: np.ndarray | None = None,
+    progress: bool = False,
+    on_sample: Callable[[mujoco.MjModel, mujoco.MjData], None] | None = None,
+) -> Trajectory:
+    """Simulate a network scene for `duration` (gamma / k); node positions sampled every numerics.sample_dt.
+
+    network: the scene's (Scene.network) unless given; positions0 (P, 2), polarity0 (A,): the scene's initial
+    state unless given. on_sample(model, data) is called at every recorded sample; it must not change the state."""
+    if not duration > 0:
+        raise ParameterError(f"duration (in tau) must be a positive number, got {duration}")
+    t = numerics.sample_times(duration)
+    check_steps(numerics, duration)
+    network, model, data = prepare_network(physics, numerics, network, positions0, polarity0)
+    if on_sample is not None:
+        on_sample(model, data)
+    estimate = None
+    if progress:
+        estimate = mujoco_cost(model, data, numerics, t.size - 1)
+        if estimate.wall_s >= NOTE_SECONDS:
+            print(f"elastoactive: note: this MuJoCo run should take about {estimate.wall_s:.0f} s", file=sys.stderr,
+                  flush=True)
+    bar = progress_bar(t.size - 1, f"mujoco {physics.scene}", "sample") if progress else None
+    shown = 0
+    nstep = numerics.steps_per_sample
+    qpos = np.empty((t.size, model.nq))
+    qpos[0] = data.qpos
+    units = polarity_addresses(model)
+    polarity = np.empty((t.size, units.size))
+    polarity[0] = data.act[units]
+    start = last_shown = time.perf_counter()
+    with follower_forces():
+        for k in range(1, t.size):
+            mujoco.mj_step(model, data, nstep=nstep)
+            qpos[k] = data.qpos
+            polarity[k] = data.act[units]
+            if (k % CHECK_EVERY == 0 or k == t.size - 1) and bad_state(data):
+                raise SimulationDiverged(_divergence_message(physics, numerics, float(data.time)))
+            if bar is not None and (k == t.size - 1 or time.perf_counter() - last_shown >= PROGRESS_EVERY):
+                bar.update(k - shown)
+                shown, last_shown = k, time.perf_counter()
+            if on_sample is not None:
+                on_sample(model, data)
+    wall = time.perf_counter() - start
+    if bar is not None:
+        bar.close()
+    steps = int((t.size - 1) * nstep)
+    info = {"steps": steps, "integrator": numerics.integrator, "us_per_step": 1e6 * wall / max(steps, 1)}
+    if estimate is not None:
+        info["estimated_wall_s"] = estimate.wall_s
+    return Trajectory(t=t, theta=np.empty((t.size, 0)), physics=physics, engine="mujoco", wall_time_s=wall,
+                      info=info, nodes=node_positions(network, qpos),
+                      polarity=polarity if units.size else None)
+
+
+__all__ = ["simulate_network_mujoco", "prepare_network"]

@@ -48,6 +48,7 @@ from ..controllers import follower_forces
 from ..diagnose import divergence_cause
 from ..errors import ParameterError, SimulationDiverged
 from ..model import prepare, state_of
+from ..terms.self_aligning import polarity_addresses
 from ..params import Numerics, Physics
 from ..trajectory import Trajectory
 from .mujoco import BAD_STATE_WARNINGS, CHECK_EVERY, PIN_DRIFT_LIMIT, numerics_info, pin_drift_message, pin_violation
@@ -203,6 +204,7 @@ class _Sim:
     data: mujoco.MjData
     violation: float
     qpos: np.ndarray = None  # (T, nq)
+    polarity: np.ndarray = None  # (T, units): self-aligning units' activations (mjData.act)
 
 
 class _Warnings:
@@ -259,10 +261,14 @@ def run_batch(
         values = b.expand(name)
         for k, s in enumerate(sims):
             values[k] = _field_value(s.model, name)
+    units = polarity_addresses(model) if model.na else None  # self-aligning units' polarity psi (mjData.act)
     for k, s in enumerate(sims):
         mujoco.mj_getState(s.model, s.data, b.state[k], _INTEGRATION)
         s.qpos = np.empty((samples, nq))
         s.qpos[0] = s.data.qpos
+        if units is not None:
+            s.polarity = np.empty((samples, units.size))
+            s.polarity[0] = s.data.act[units]
         s.model = s.data = None  # the batch holds what it needs
     ends = (int(model.eq_obj1id[0]), int(model.eq_obj2id[0])) if pinned else None
     violation = np.array([s.violation for s in sims])
@@ -277,10 +283,11 @@ def run_batch(
 
     per_step = nq * 8 + 8 + (nsite * 24 if pinned else 0)
     chunk = int(max(1, min(MAX_CHUNK_SAMPLES, RECORD_BYTES // max(1, nsim * nstep * per_step))))
-    record = ["qpos", _TIME] + (["site_xpos"] if pinned else [])
+    record = ["qpos", _TIME] + (["site_xpos"] if pinned else []) + (["act"] if units is not None else [])
     # one buffer per recorded field, for the largest call, reused by every call (fresh arrays would
     # cost their page faults and zeroing at every call, ~2% of the stepping)
-    shapes = {"qpos": (nq,), _TIME: (1,), **({"site_xpos": (nsite, 3)} if pinned else {})}
+    shapes = {"qpos": (nq,), _TIME: (1,), **({"site_xpos": (nsite, 3)} if pinned else {}),
+              **({"act": (model.na,)} if units is not None else {})}
     buffers = {name: (np.empty(nsim * chunk * nstep * math.prod(shape)), math.prod(shape), shape)
                for name, shape in shapes.items()}
     k0 = 1  # the first sample of the chunk
@@ -317,13 +324,15 @@ def run_batch(
             if rose[j]:  # rollout stopped it: redo this chunk as simulate_mujoco steps
                 b.state[k] = saved_state[j]
                 b.warning[k] = saved_warning[j]
-                outcome = _replay(b, k, sims[k], k0, count, nstep, ends, violation)
+                outcome = _replay(b, k, sims[k], k0, count, nstep, ends, violation, units)
                 if outcome is not None:
                     finish(k, outcome)
                 continue
             q = out["qpos"][j, nstep - 1 :: nstep]
             sample_ks = np.arange(k0, k0 + count)
             sims[k].qpos[k0 : k0 + count] = q
+            if units is not None:
+                sims[k].polarity[k0 : k0 + count] = out["act"][j, nstep - 1 :: nstep][:, units]
             event = None  # (sample offset, message)
             checks = np.flatnonzero((sample_ks % CHECK_EVERY == 0) | (sample_ks == samples - 1))
             if checks.size:
@@ -360,7 +369,7 @@ def run_batch(
         s.qpos = None
         done[k] = True
         on_done(s.index, Trajectory(t=s.t, theta=theta, physics=physics, engine="mujoco", wall_time_s=share,
-                                    info=info, head=head))
+                                    info=info, head=head, polarity=s.polarity))
 
 
 def _pin_drift(xpos: np.ndarray, ends: tuple[int, int], violation: np.ndarray, k: int) -> int | None:
@@ -382,7 +391,8 @@ def _pin_drift(xpos: np.ndarray, ends: tuple[int, int], violation: np.ndarray, k
     return None
 
 
-def _replay(b: mjbatch.Batch, k: int, sim: _Sim, k0: int, count: int, nstep: int, ends, violation: np.ndarray):
+def _replay(b: mjbatch.Batch, k: int, sim: _Sim, k0: int, count: int, nstep: int, ends, violation: np.ndarray,
+            units: np.ndarray | None = None):
     """Step simulation k sample by sample over samples k0 .. k0 + count - 1 with simulate_mujoco's
     checks; returns its SimulationDiverged, or None if it went through."""
     ids = np.array([k], np.int32)
@@ -396,6 +406,8 @@ def _replay(b: mjbatch.Batch, k: int, sim: _Sim, k0: int, count: int, nstep: int
             return mujoco.FatalError(f"MuJoCo error: {b.error(k) or err}")
         qpos = b.qpos[k]
         sim.qpos[kk] = qpos
+        if units is not None:
+            sim.polarity[kk] = b.act[k][units]
         if kk % CHECK_EVERY == 0 or kk == samples - 1:
             counts = b.warning[k, :, 1]
             if counts[_BAD].any() or not np.all(np.isfinite(qpos)):

@@ -197,10 +197,47 @@ static inline void active_force(const mjData* d, const int* units, int s, mjtNum
   f[2] = -magnitude * R[6];
 }
 
+/* A moving clamp (the moving-clamp term): with the custom numeric "elastoactive_clamp" = (A, omega, a_x, a_y,
+   A_phi, K, B), chain 1's clamp follows x_c(t) = (a_x, a_y) sin(omega t) and its angle phi_c(t) = A_phi sin(omega t).
+   The point: the slide joints clamp_x and clamp_y (damped by -B q' from two velocity actuators on the clamp's site,
+   integrated implicitly by MuJoCo) receive the servo force B u(t) + K (x_c(t) - q), u = x_c'; with the damping,
+   -B (q' - u) + K (x_c - q) holds the clamp on its path. The angle: the hinge named by the custom text "elastoactive_clamp_hinge" receives
+   C1 phi_c(t) (C1 = its stiffness), so its spring acts as C1 (theta_1 - phi_c). */
+static int find_joint(const mjModel* m, const char* name) {
+  for (int j = 0; j < m->njnt; j++) {
+    if (strcmp(m->names + m->name_jntadr[j], name) == 0) return j;
+  }
+  return -1;
+}
+
+static const char* find_text(const mjModel* m, const char* name) {
+  for (int i = 0; i < m->ntext; i++) {
+    if (strcmp(m->names + m->name_textadr[i], name) == 0) return m->text_data + m->text_adr[i];
+  }
+  return NULL;
+}
+
+static void clamp_servo(const mjModel* m, mjData* d) {
+  const mjtNum* c = find_numeric(m, "elastoactive_clamp", 7);
+  if (!c || c[0] == 0) return;
+  mjtNum s = sin(c[1] * d->time), u = c[1] * cos(c[1] * d->time);
+  static const char* slides[2] = {"clamp_x", "clamp_y"};
+  for (int k = 0; k < 2; k++) {
+    int j = find_joint(m, slides[k]);
+    if (j < 0) continue;
+    int dof = m->jnt_dofadr[j];
+    d->qfrc_passive[dof] += c[6] * c[2 + k] * u + c[5] * (c[2 + k] * s - d->qpos[m->jnt_qposadr[j]]);
+  }
+  const char* hinge = find_text(m, "elastoactive_clamp_hinge");
+  int j = (hinge && c[4] != 0) ? find_joint(m, hinge) : -1;
+  if (j >= 0) d->qfrc_passive[m->jnt_dofadr[j]] += m->jnt_stiffness[j] * c[4] * s;
+}
+
 static void follower_passive(const mjModel* m, mjData* d) {
   if (m->nuser_site < 1) return;
   const mjtNum* params = find_numeric(m, "elastoactive_follower", 2);
   if (!params) return;
+  clamp_servo(m, d);
   int coloured = 0;
   for (int i = 0; i < m->nnumeric; i++) {
     if (m->numeric_data + m->numeric_adr[i] == params) coloured = m->numeric_size[i] >= 3 && params[2] > 0;

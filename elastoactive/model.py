@@ -139,11 +139,21 @@ def absolute_angles(physics: Physics, qpos: np.ndarray) -> np.ndarray:
     return np.cumsum(q.reshape(shape), axis=-1).reshape(q.shape)
 
 
+def head_coordinates(physics: Physics) -> int:
+    """Coordinates of qpos before the hinge angles: the scene's moving pivot (the paraboloid's head), or the two
+    slides of a term that moves chain 1's clamp point (Term.clamp_motion); 0 when the pivot is fixed."""
+    count = physics.scene_def.head_coordinates
+    if count:
+        return count
+    moving = (term.clamp_motion(physics) for term in physics.active_terms())
+    return 2 if any(m is not None and m.translates for m in moving) else 0
+
+
 def qpos_of(physics: Physics, theta: np.ndarray, head: np.ndarray | None = None) -> np.ndarray:
     """MuJoCo's qpos of a state: the head's position first for a scene with a moving pivot (default: the origin),
     then the hinge angles."""
     q = relative_angles(physics, theta)
-    count = physics.scene_def.head_coordinates
+    count = head_coordinates(physics)
     if not count:
         return q
     head = np.zeros(count) if head is None else np.asarray(head, dtype=float).reshape(count)
@@ -153,7 +163,7 @@ def qpos_of(physics: Physics, theta: np.ndarray, head: np.ndarray | None = None)
 def state_of(physics: Physics, qpos: np.ndarray) -> tuple[np.ndarray, np.ndarray | None]:
     """(absolute angles, head position or None) of qpos (works on (..., nq) arrays)."""
     q = np.asarray(qpos, dtype=float)
-    count = physics.scene_def.head_coordinates
+    count = head_coordinates(physics)
     if not count:
         return absolute_angles(physics, q), None
     return absolute_angles(physics, q[..., count:]), q[..., :count].copy()

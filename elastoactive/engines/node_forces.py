@@ -13,6 +13,13 @@ and the overdamped model becomes D(theta) theta' = f(theta) + Q(theta), with D a
 scipy's DOP853 at the engine's tolerances: Python runs once per evaluation (about 30 us at N = 7), so a term that
 the kernels know (its fields in the record) stays the fast path. The chains' pivots are where MuJoCo puts them
 (Scene.chain_offset), so both engines see the same positions.
+
+A term may also move chain 1's clamp (Term.clamp_motion: its point by d(t) with velocity u(t), its spring's rest
+angle to phi(t)). The lab-frame drag then acts on the particles' lab velocities u + J_k theta', so every particle
+gains the force -Gamma_k(theta) u (Gamma_k = gamma_L e_k e_k^T + gamma_T n_k n_k^T, clamp_drag), the clamp spring
+C1 (theta_1 - phi) adds C1 phi to Q_1, and the particles' positions (for the node forces) are shifted by d(t):
+
+    D(theta) theta' = f(theta) + Q(theta) - sum_k J_k^T Gamma_k u(t) + C1 phi(t) e_1     (docs/clamp.md).
 """
 
 from __future__ import annotations
@@ -64,7 +71,8 @@ def time_law(law):
 
 def check(physics: Physics, system, noisy: bool) -> None:
     """Refuse, in one line, what this path does not cover."""
-    names = ", ".join(t.name for t in physics.active_terms() if t.node_forces(physics) is not None)
+    names = ", ".join(t.name for t in physics.active_terms()
+                      if t.node_forces(physics) is not None or t.clamp_motion(physics) is not None)
     if noisy:
         raise ParameterError(f"the reduced engine adds the forces of {names} to noise-free runs only; set noise 0 or "
                              "use the MuJoCo engine")
@@ -73,21 +81,56 @@ def check(physics: Physics, system, noisy: bool) -> None:
                              f"without pins or a sliding head; scene {physics.scene} needs the MuJoCo engine for them")
 
 
+def clamp_of(physics: Physics):
+    """The prescribed motion of chain 1's clamp (elastoactive.terms.base.ClampMotion) of the active terms, or None;
+    two terms moving it are refused."""
+    motions = [(t.name, m) for t in physics.active_terms() if (m := t.clamp_motion(physics)) is not None]
+    if len(motions) > 1:
+        raise ParameterError(f"the terms {', '.join(name for name, _ in motions)} all move the clamp; keep one")
+    return motions[0][1] if motions else None
+
+
+def clamp_drag(physics: Physics, system, theta: np.ndarray, velocity) -> np.ndarray:
+    """Forces (particles, 2) -Gamma_k(theta) u of the lab-frame drag on chain 1's particles when its clamp moves with
+    velocity u (Gamma_k = gamma_L e_k e_k^T + gamma_T n_k n_k^T about particle k's pendulum); 0 on chain 2."""
+    n = physics.n
+    c, s = np.cos(theta[:n]), np.sin(theta[:n])
+    ux, uy = velocity
+    along = system.gamma_l * (c * ux + s * uy)
+    across = system.gamma_t * (-s * ux + c * uy)
+    forces = np.zeros((physics.n_angles, 2))
+    forces[:n, 0] = -(along * c - across * s)
+    forces[:n, 1] = -(along * s + across * c)
+    return forces
+
+
 def solve(physics: Physics, system, t: np.ndarray, theta0: np.ndarray, laws, *, rtol: float, atol: float,
-          beta: float, loads) -> tuple[np.ndarray, dict]:
-    """Sampled angles (len(t), n_angles) and solver info, the node forces `laws` (callables) added."""
+          beta: float, loads, clamp=None) -> tuple[np.ndarray, dict]:
+    """Sampled angles (len(t), n_angles) and solver info, the node forces `laws` (callables) added, and the drag
+    and clamp-spring terms of a moving clamp (`clamp`: elastoactive.terms.base.ClampMotion, or None)."""
     # start-up time: scipy.integrate costs ~0.4 s to import; only runs with such a term need it
     from scipy.integrate import solve_ivp
 
     own = _math.rhs(system, beta=beta, factor=loads)
     laws = [time_law(law) for law in laws]
 
+    moving = clamp is not None and clamp.translates
+    n, spring = physics.n, physics.stiffness[0]
+
     def f(time, theta):
         total = np.zeros((physics.n_angles, 2))
-        where = positions(physics, theta)
+        if laws:  # the particles' positions, for the laws (a moving clamp's point shifts chain 1)
+            where = positions(physics, theta)
+            if moving:
+                where[:n] += clamp.displacement(time)
+        if moving:
+            total += clamp_drag(physics, system, theta, clamp.velocity(time))
         for law in laws:
             total += law(time, where)
-        return own(time, theta) + np.linalg.solve(_math.drag_matrix(system, theta), generalised(physics, theta, total))
+        q = generalised(physics, theta, total)
+        if clamp is not None:
+            q[0] += spring * clamp.angle(time)
+        return own(time, theta) + np.linalg.solve(_math.drag_matrix(system, theta), q)
 
     sol = solve_ivp(f, (0.0, float(t[-1])), theta0, method="DOP853", t_eval=t, rtol=rtol, atol=atol)
     if not sol.success:

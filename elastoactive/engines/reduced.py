@@ -236,7 +236,8 @@ def simulate_reduced(
     loads = load_factors(physics)
     count = physics.n_angles if loads is None else int(np.count_nonzero(loads))  # particles with a force
     laws = [law for law in (term.node_forces(physics) for term in physics.active_terms()) if law is not None]
-    if laws:
+    clamp = node_forces.clamp_of(physics)  # a moving clamp (Term.clamp_motion), or None
+    if laws or clamp is not None:
         node_forces.check(physics, system, physics.noise > 0)
     polarity = None
     if physics.active == SELF_ALIGNING:  # self-aligning units (engines.polarity): before any other path
@@ -264,8 +265,9 @@ def simulate_reduced(
             info["noise_correlation"] = physics.noise_correlation
         else:
             info["noise_calculus"] = physics.noise_calculus
-    elif laws:  # plug-in terms' forces on the particles (engines.node_forces)
-        theta, info = node_forces.solve(physics, system, t, theta0, laws, rtol=rtol, atol=atol, beta=beta, loads=loads)
+    elif laws or clamp is not None:  # plug-in terms' forces on the particles, a moving clamp (engines.node_forces)
+        theta, info = node_forces.solve(physics, system, t, theta0, laws, rtol=rtol, atol=atol, beta=beta, loads=loads,
+                                        clamp=clamp)
     else:
         try:
             theta, info = _math.solve_ode(system, t, theta0, rtol=rtol, atol=atol, method=method, beta=beta,
@@ -278,6 +280,8 @@ def simulate_reduced(
         info["beta"] = beta
         info["constraint_violation"] = _math.constraint_violation(system, theta)
     theta, head = _split_head(system, theta)
+    if clamp is not None and clamp.translates:  # the moving clamp's position at every sample
+        head = np.asarray(clamp.displacement(t), dtype=float).reshape(t.size, 2)
     return Trajectory(t=t, theta=theta, physics=physics, engine="reduced", wall_time_s=wall, info=info, head=head,
                       polarity=polarity)
 

@@ -56,9 +56,9 @@ def parameter_names() -> tuple[str, ...]:
     return tuple(p.name for t in _TERMS.values() for p in t.parameters)
 
 
-from . import contact, drag, follower, noise, self_aligning, tip_drive  # noqa: E402  (the built-in terms register into the table above)
+from . import contact, drag, follower, moving_clamp, noise, self_aligning, tip_drive  # noqa: E402  (the built-in terms register into the table above)
 
-for _module in (drag, noise, follower, contact, tip_drive, self_aligning):  # this order: the summaries list noise before loaded
+for _module in (drag, noise, follower, contact, tip_drive, self_aligning, moving_clamp):  # this order: the summaries list noise before loaded
     register(_module.TERM)
 
 __all__ = ["NodeForces", "Term", "get", "names", "parameter_names", "register", "terms", "unregister"]

@@ -11,7 +11,8 @@ The instance holds everything the term adds, and the rest of the package asks it
   MJCF            `build`: the elements it adds to the scene's MjSpec (a tendon, an option, a site)
   reduced model   `reduced_system`: the fields it sets on the scene's ChainSystem record, read by the compiled
                   kernels; or, for a term the kernels do not know, `node_forces`: a force on every particle as a
-                  function of their positions, added to the reduced model's generalised forces
+                  function of their positions, added to the reduced model's generalised forces; or `clamp_motion`:
+                  a prescribed motion of chain 1's clamp (its point and its angle), which both engines apply
   observables     `observables` (names) and `measure` (their values from a trajectory)
   validation      `validation_cases`: runs `validate` holds both engines to with the term on
 
@@ -21,7 +22,7 @@ elastoactive.scenes.base.Scene.parameters).
 
 from __future__ import annotations
 
-from typing import Callable, ClassVar
+from typing import Callable, ClassVar, NamedTuple
 
 import numpy as np
 
@@ -30,6 +31,18 @@ from ..parameters import Parameter
 
 NodeForces = Callable[[np.ndarray], np.ndarray]
 """positions (particles, 2) -> forces (particles, 2), in units C1 / l: the particles of chain 1, then chain 2."""
+
+
+class ClampMotion(NamedTuple):
+    """A prescribed motion of chain 1's clamp: its point moves by displacement(t) (lab x, y in l) with velocity(t),
+    and its spring's rest angle turns to angle(t) (rad: the clamp spring acts as C1 (theta_1 - angle(t))).
+    Each function takes a time (tau) or an array of times and returns (..., 2) or (...) numbers."""
+
+    displacement: Callable
+    velocity: Callable
+    angle: Callable
+    translates: bool
+    """Whether the point moves (False: only the angle turns; the pivot stays put)."""
 
 
 class Term:
@@ -69,6 +82,11 @@ class Term:
     def node_forces(self, physics) -> NodeForces | None:
         """For a term the compiled kernels do not know: the force on every particle from their positions, which the
         reduced engine adds to the generalised forces (None: the term's reduced contribution is in the record)."""
+        return None
+
+    def clamp_motion(self, physics) -> ClampMotion | None:
+        """A prescribed motion of chain 1's clamp (elastoactive.engines.node_forces adds its drag and spring terms
+        to the reduced model; the term's `build` moves the clamp in MuJoCo); None: the clamp stays put."""
         return None
 
     def measure(self, traj, transient: float) -> dict[str, float | str]:

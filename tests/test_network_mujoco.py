@@ -14,6 +14,7 @@ from elastoactive.analysis.network import hexagonal_patch, trap_unit
 from elastoactive.engines.network_mujoco import simulate_network_mujoco
 from elastoactive.errors import ParameterError
 from elastoactive.controllers import follower_forces
+from elastoactive.scenes.base import Scene
 from elastoactive.network_model import (build_network_model, free_nodes, node_positions, polarity_of_units,
                                         qpos_of_positions, set_polarity)
 
@@ -188,3 +189,54 @@ def test_trapped_unit_orbits_on_the_self_aligning_circle(sigma, alignment_length
     assert abs(rate) == pytest.approx(np.sqrt(trap * (sigma / alignment_length - trap)), rel=3e-3)
     heading = np.unwrap(traj.polarity[late, 0])  # the polarity turns with the orbit
     assert np.polyfit(traj.t[late], heading, 1)[0] == pytest.approx(rate, rel=1e-3)
+
+
+class _Patch(Scene):
+    """A network scene of this test alone: the pinned hexagon of two rings (7 active nodes)."""
+
+    name = "test-network-patch"
+    summary = "a pinned hexagon of two rings (tests)"
+    base_file = "network.xml"
+    term_parameters = ("n", "sigma", "loaded", "active", "alignment_length")
+    fixed = (("active", "self-aligning", "a network's units are self-aligning"),)
+
+    def network(self, physics):
+        return hexagonal_patch(2, "pinned")
+
+
+@pytest.fixture
+def patch_scene():
+    scene = ea.scenes.register(_Patch())
+    yield scene
+    ea.scenes.unregister(scene.name)
+
+
+def test_simulate_dispatches_a_network_scene_to_the_network_engine(patch_scene):
+    physics = ea.Physics(scene=patch_scene.name, sigma=0.5, alignment_length=0.8)
+    numerics = ea.Numerics(perturbation=0.05, seed=3)
+    traj = ea.simulate(physics, numerics, duration=5.0, check=False)
+    network = patch_scene.network(physics)
+    start = patch_scene.initial_network(physics, numerics)
+    assert traj.engine == "mujoco" and traj.theta.shape == (traj.t.size, 0)
+    assert traj.nodes.shape == (traj.t.size, 19, 2) and traj.polarity.shape == (traj.t.size, 7)
+    np.testing.assert_allclose(traj.nodes[0], start.positions, atol=1e-15)
+    np.testing.assert_allclose(traj.polarity[0], start.polarity, atol=1e-15)
+    np.testing.assert_array_equal(traj.nodes[:, network.pinned], np.broadcast_to(
+        network.positions[network.pinned], (traj.t.size, 12, 2)))
+    assert np.abs(traj.nodes[-1] - traj.nodes[0]).max() > 1e-3  # the active units moved the free nodes
+
+
+def test_network_frames_render_off_screen(patch_scene):
+    render = pytest.importorskip("elastoactive.render")
+    try:
+        render.gl_backend()
+    except render.RenderError as err:
+        pytest.skip(f"no OpenGL back end can be made to work on this machine, so nothing can be rendered: {err}")
+    physics = ea.Physics(scene=patch_scene.name, sigma=1.0)
+    traj = ea.simulate(physics, ea.Numerics(perturbation=0.1), duration=2.0, check=False)
+    frames = render.render_frames(traj, np.array([0.0, 1.0, 2.0]), width=160, height=120)
+    assert frames.shape == (3, 120, 160, 3) and frames.dtype == np.uint8
+    assert frames.std() > 10  # drawn, not blank
+    assert np.abs(frames[2].astype(int) - frames[0]).max() > 50  # the nodes moved between the frames
+    red = (frames[..., 0] > 180) & (frames[..., 1] < 110) & (frames[..., 2] < 110)  # the units' arrows
+    assert red[0].sum() > 10

@@ -240,3 +240,16 @@ def test_network_frames_render_off_screen(patch_scene):
     assert np.abs(frames[2].astype(int) - frames[0]).max() > 50  # the nodes moved between the frames
     red = (frames[..., 0] > 180) & (frames[..., 1] < 110) & (frames[..., 2] < 110)  # the units' arrows
     assert red[0].sum() > 10
+
+
+def test_batched_network_runs_are_the_single_runs(patch_scene):
+    from elastoactive.engines.mujoco import simulate_mujoco
+    from elastoactive.engines.mujoco_batch import simulate_mujoco_batch
+
+    runs = [ea.Physics(scene=patch_scene.name, sigma=s) for s in (0.3, 0.9)]
+    numerics = ea.Numerics(perturbation=0.05)
+    batched = simulate_mujoco_batch(runs, numerics, 2.0, threads=2)
+    for physics, traj in zip(runs, batched):
+        single = simulate_mujoco(physics, numerics, 2.0)
+        np.testing.assert_array_equal(traj.nodes, single.nodes)
+        np.testing.assert_array_equal(traj.polarity, single.polarity)

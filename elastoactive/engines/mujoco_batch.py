@@ -436,6 +436,11 @@ def run_chunk(
     runs[i].used), e.g. for a pre-flight check that would otherwise build it again; it must only read it."""
     groups: dict[bytes, list[_Sim]] = {}
     for i in indices:
+        if _is_network(runs[i]):  # a network scene: its own engine, run alone on this thread
+            if on_start is not None:
+                on_start()
+            on_done(i, _network_outcome(runs[i]))
+            continue
         try:
             sim = _prepare(i, runs[i])
         except Exception as err:  # as simulate_mujoco would raise it
@@ -446,6 +451,24 @@ def run_chunk(
         groups.setdefault(signature(sim.model), []).append(sim)
     for sims in groups.values():
         run_batch(sims, threads, on_done, cancel, on_start, drop)
+
+
+def _is_network(run: Run) -> bool:
+    try:
+        return run.physics.scene_def.network(run.physics) is not None
+    except Exception:  # noqa: BLE001 (an invalid run: preparing it records the error)
+        return False
+
+
+def _network_outcome(run: Run):
+    """A network scene's outcome, as simulate_mujoco gives it (engines.network_mujoco; the caller has installed the
+    callbacks). Network runs do not go through mujoco.batch: each runs alone on one thread of its chunk."""
+    from .network_mujoco import simulate_network_mujoco  # start-up time: chains never load it
+
+    try:
+        return simulate_network_mujoco(run.physics, run.used, run.duration, install_callbacks=False)
+    except Exception as err:  # noqa: BLE001 (as simulate_mujoco would raise it)
+        return err
 
 
 # ----------------------------------------------------------------------------- scheduling

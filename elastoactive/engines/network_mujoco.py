@@ -10,6 +10,7 @@ Auto-reset is off (mjcf/common.xml): a state that blows up stops the run with Si
 
 from __future__ import annotations
 
+import contextlib
 import sys
 import time
 from typing import Callable
@@ -63,11 +64,14 @@ def simulate_network_mujoco(
     polarity0: np.ndarray | None = None,
     progress: bool = False,
     on_sample: Callable[[mujoco.MjModel, mujoco.MjData], None] | None = None,
+    install_callbacks: bool = True,
 ) -> Trajectory:
     """Simulate a network scene for `duration` (gamma / k); node positions sampled every numerics.sample_dt.
 
     network: the scene's (Scene.network) unless given; positions0 (P, 2), polarity0 (A,): the scene's initial
-    state unless given. on_sample(model, data) is called at every recorded sample; it must not change the state."""
+    state unless given. on_sample(model, data) is called at every recorded sample; it must not change the state.
+    install_callbacks=False: the caller has installed the compiled callbacks for the whole call (a batch's worker
+    thread, engines.mujoco_batch: callbacks are global to the process)."""
     if not duration > 0:
         raise ParameterError(f"duration (in tau) must be a positive number, got {duration}")
     t = numerics.sample_times(duration)
@@ -90,7 +94,7 @@ def simulate_network_mujoco(
     polarity = np.empty((t.size, units.size))
     polarity[0] = data.act[units]
     start = last_shown = time.perf_counter()
-    with follower_forces():
+    with follower_forces() if install_callbacks else contextlib.nullcontext():
         for k in range(1, t.size):
             mujoco.mj_step(model, data, nstep=nstep)
             qpos[k] = data.qpos

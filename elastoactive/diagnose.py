@@ -180,6 +180,10 @@ def linear_operators(model: mujoco.MjModel, data: mujoco.MjData, eps: float = 1e
     D = np.zeros((nv, nv))
     jac = np.zeros((3, nv))
     for a in range(model.nu):
+        if model.actuator_trntype[a] == mujoco.mjtTrn.mjTRN_JOINT:  # a joint's own drag (the star's turning hub)
+            dof = model.jnt_dofadr[model.actuator_trnid[a, 0]]
+            D[dof, dof] += -model.actuator_biasprm[a, 2] * model.actuator_gear[a, 0] ** 2
+            continue
         site = model.actuator_trnid[a, 0]
         mujoco.mj_jacSite(model, work, jac, None, site)
         axis = work.site_xmat[site].reshape(3, 3) @ model.actuator_gear[a, :3]

@@ -226,12 +226,12 @@ class Scene:
 
     def angle_count(self, physics: "Physics") -> int:
         """Columns of Trajectory.theta: N per chain (a network scene: 0, its state is Trajectory.nodes)."""
-        return 0 if self.network(physics) is not None else physics.n * self.n_chains
+        return 0 if self.network(physics) is not None else physics.n * self.chain_count(physics)
 
     def beat_signals(self, traj: "Trajectory") -> list[np.ndarray]:
         """The scalar signals whose beat (amplitude, frequency, periodicity) results.measure reports, one per chain:
         Theta = theta_N - theta_1 of each chain."""
-        return [obs.curvature(traj.chain(k)) for k in range(self.n_chains)]
+        return [obs.curvature(traj.chain(k)) for k in range(self.chain_count(traj.physics))]
 
     def __repr__(self) -> str:
         return f"<scene {self.name!r}>"

@@ -48,6 +48,7 @@ from .rotation import RotationSummary, rotation_study
 from .self_contact import LongChainSummary, long_chain_study
 from .response import EntrainmentSummary, ResponseSummary, entrainment_study, response_study
 from .ring import RingSummary, ring_study
+from .self_aligning import SelfAligningSummary, self_aligning_study
 from .skin import SkinSummary, skin_study
 from .snapping import SnappingSummary, snapping_study
 from .sync import SyncN2Summary, SyncSummary, TongueSummary, sync_n2_study, sync_study, tongue_study

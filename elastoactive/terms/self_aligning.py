@@ -95,7 +95,9 @@ class SelfAligning(Term):
         buckles and settles into a steady rigid rotation at -0.219 rad/tau (engines within 0.004%). The one-pinned
         chain with self-aligning units winds irregularly at these parameters (no periodic beat to hold to 1%; its
         Theta amplitude agrees to 0.02% over 100 tau at l_a = 2: docs/terms.md)."""
-        return (ValidationCase(physics(scene="rotating-pin", n=7, sigma=0.8, active=SELF_ALIGNING,
+        from ..scenes import rotating_pin  # the scenes load after the terms (they read the terms' parameters)
+
+        return (ValidationCase(physics(scene=rotating_pin.SCENE.name, n=7, sigma=0.8, active=SELF_ALIGNING,
                                        alignment_length=0.5), 100.0, convergence=False),)
 
     def build(self, spec, physics, numerics):

@@ -38,7 +38,7 @@ class Locking(NamedTuple):
 
 def phase_spread(psi: np.ndarray) -> float:
     """sqrt(-2 ln R), R = |mean exp(i psi)|: the circular standard deviation of psi (rad)."""
-    r = float(abs(np.mean(np.exp(1j * np.asarray(psi, dtype=float)))))
+    r = min(1.0, float(abs(np.mean(np.exp(1j * np.asarray(psi, dtype=float))))))  # rounding can pass 1
     return math.sqrt(-2.0 * math.log(r)) if r > 0 else math.inf
 
 

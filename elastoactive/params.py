@@ -113,7 +113,8 @@ class Physics:
                 raise ParameterError(f"{name} must be {value} on scene {scene} ({why}), got {resolved[name]!r}")
             resolved[name] = value
         for term in _terms.terms():
-            term.prepare(resolved)
+            if all(p.name in resolved for p in term.parameters):  # a network scene lacks the chain terms' ones
+                term.prepare(resolved)
         for name in values:  # a value its switch leaves unused is refused, unless it is the default it takes anyway
             spec = _parameters.get(name)
             switch = spec.needs
@@ -123,6 +124,8 @@ class Physics:
         object.__setattr__(self, "scene", scene)
         object.__setattr__(self, "_values", resolved)
         definition.check(self)
+        for term in self.active_terms():  # a term that cannot act on this scene refuses it (Term.check)
+            term.check(self)
 
     # ------------------------------------------------------------------ a frozen record
     def __getattr__(self, name: str):

@@ -67,6 +67,10 @@ class Term:
         """Normalise this term's values in `values` (every parameter of the physics, checked one by one) in place;
         raise ParameterError for a combination the specs cannot check alone."""
 
+    def check(self, physics) -> None:
+        """Raise ParameterError for a scene or combination the term cannot act on (called by Physics once the scene
+        is known, only when the term is active)."""
+
     def active(self, physics) -> bool:
         """Whether the term acts: by default, whether any of its parameters differs from its default."""
         return any(getattr(physics, p.name) != p.default for p in self.parameters)

@@ -117,6 +117,9 @@ class MovingClamp(Term):
     def active(self, physics) -> bool:
         return physics.clamp_amplitude > 0
 
+    def check(self, physics) -> None:
+        check_scene(physics)
+
     def clamp_motion(self, physics) -> ClampMotion:
         check_scene(physics)
         return clamp_path(physics.clamp_amplitude, physics.clamp_frequency, physics.clamp_motion)

@@ -253,3 +253,14 @@ def test_batched_network_runs_are_the_single_runs(patch_scene):
         single = simulate_mujoco(physics, numerics, 2.0)
         np.testing.assert_array_equal(traj.nodes, single.nodes)
         np.testing.assert_array_equal(traj.polarity, single.polarity)
+
+
+def test_automatic_euler_is_implicitfast_bit_for_bit(patch_scene):
+    """A network's drag is joint damping, implicit in Euler (eulerdamp) as in implicitfast: the same step, so the
+    automatic choice (Euler, cheaper) changes no bit of the trajectory."""
+    physics = ea.Physics(scene=patch_scene.name, sigma=0.6, alignment_length=0.3)
+    automatic = simulate_network_mujoco(physics, ea.Numerics(perturbation=0.05), 3.0)
+    implicit = simulate_network_mujoco(physics, ea.Numerics(perturbation=0.05, integrator="implicitfast"), 3.0)
+    assert automatic.info["automatic_numerics"]["integrator"] == "Euler" and "automatic_numerics" not in implicit.info
+    np.testing.assert_array_equal(automatic.nodes, implicit.nodes)
+    np.testing.assert_array_equal(automatic.polarity, implicit.polarity)

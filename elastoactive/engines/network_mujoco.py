@@ -11,6 +11,7 @@ Auto-reset is off (mjcf/common.xml): a state that blows up stops the run with Si
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 import sys
 import time
 from typing import Callable
@@ -28,6 +29,22 @@ from ..trajectory import Trajectory
 from . import check_steps
 from .cost import NOTE_SECONDS, mujoco_cost
 from .monitor import CHECK_EVERY, PROGRESS_EVERY, bad_state
+
+
+AUTOMATIC_INTEGRATOR = "Euler"
+"""The integrator a network run uses when dt, mass_ratio and integrator are all left at their defaults
+(Numerics.automatic). The network's drag is the slide joints' damping, which MuJoCo's Euler integrates implicitly
+(its eulerdamp, on by default), exactly as implicitfast does: with no other velocity-dependent force in the model the
+two steps are the same, and the trajectories are bit for bit equal (tests/test_network_mujoco.py), but Euler skips
+assembling and factoring implicitfast's velocity derivatives: about 30% less per step on the R = 6 lattice
+(docs/performance.md)."""
+
+
+def network_numerics(numerics: Numerics) -> Numerics:
+    """The numerics a network run uses: these, with AUTOMATIC_INTEGRATOR when they are `automatic`."""
+    if not numerics.automatic:
+        return numerics
+    return dataclasses.replace(numerics, integrator=AUTOMATIC_INTEGRATOR)
 
 
 def prepare_network(physics: Physics, numerics: Numerics, network=None, positions0: np.ndarray | None = None,
@@ -74,6 +91,7 @@ def simulate_network_mujoco(
     thread, engines.mujoco_batch: callbacks are global to the process)."""
     if not duration > 0:
         raise ParameterError(f"duration (in tau) must be a positive number, got {duration}")
+    given, numerics = numerics, network_numerics(numerics)
     t = numerics.sample_times(duration)
     check_steps(numerics, duration)
     network, model, data = prepare_network(physics, numerics, network, positions0, polarity0)
@@ -113,6 +131,10 @@ def simulate_network_mujoco(
     info = {"steps": steps, "integrator": numerics.integrator, "us_per_step": 1e6 * wall / max(steps, 1)}
     if estimate is not None:
         info["estimated_wall_s"] = estimate.wall_s
+    if numerics is not given:
+        info["automatic_numerics"] = {"integrator": numerics.integrator, "dt": float(numerics.dt),
+                                      "mass_ratio": float(numerics.mass_ratio),
+                                      "reason": "network: the drag is implicit in Euler too (network_numerics)"}
     return Trajectory(t=t, theta=np.empty((t.size, 0)), physics=physics, engine="mujoco", wall_time_s=wall,
                       info=info, nodes=node_positions(network, qpos),
                       polarity=polarity if units.size else None)

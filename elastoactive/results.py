@@ -63,6 +63,17 @@ OBSERVABLES: dict[str, Observable] = {
                             floor=1e-4, min_n=2),
     "dish_state": Observable("1", "state of the chain in the dish (analysis.dish.dish_state)", error="none",
                              categories=dish.STATES),
+    # network scenes (analysis.network.observables)
+    "polarization": Observable("1", "time mean of the active units' polar order |<n_i>|", error="absolute", floor=0.0),
+    "polarity_rate": Observable("rad/tau", "mean turning rate d psi / dt of the active units (signed)", floor=1e-4),
+    "actuation": Observable("1", "coherence of the units' turning |<d psi/dt>| / <|d psi/dt|> (1: collective "
+                            "actuation, 0: still)", error="absolute", floor=0.0),
+    "condensation": Observable("1", "share of the elastic energy on the two most energetic normal modes",
+                               error="absolute", floor=0.0),
+    "dominant_mode": Observable("1", "rank by stiffness (1: softest) of the most energetic normal mode", error="none"),
+    "second_mode": Observable("1", "rank by stiffness of the second most energetic normal mode", error="none"),
+    "patch_rotation_rate": Observable("rad/tau", "mean rate of the patch's rigid rotation (least squares)",
+                                      floor=1e-4),
 }
 """Every observable a scene can report, in one place (Scene.observables names them)."""
 

@@ -228,6 +228,11 @@ def simulate_reduced(
     tau_c > 0): the Ornstein-Uhlenbeck realisation of elastoactive.noise.ColouredNoise, the one MuJoCo's
     callback applies, constant over each step (Euler steps of the random ODE; dt << tau_c resolves it). info records "model" ("overdamped" / "inertial") and "mass_ratio".
     """
+    if physics.scene_def.network(physics) is not None:  # a network scene: its own model (engines.network_reduced)
+        from .network_reduced import simulate_network_reduced  # start-up time: chain runs never load it
+
+        return simulate_network_reduced(physics, numerics, duration, theta0=theta0, rtol=rtol, atol=atol,
+                                        method=method)
     check_method(physics, method)
     use_inertia, record = _use_inertia(physics, numerics, inertial)
     system = system_of(physics, numerics.mass_ratio if use_inertia else 0.0)

@@ -1,0 +1,141 @@
+"""A hexagonal patch of triangular lattice carrying self-aligning active units: an active solid.
+
+Beyond the paper (its outlook's two-dimensional structures and non-follower forces): the active solid of Baconnier et
+al., "Selective and collective actuation in active solids", Nature Physics 18, 1234 (2022). Nodes on a triangular
+lattice of spacing a, cut to a hexagon of R rings (`rings`, 1 + 3R(R+1) nodes), joined by springs of stiffness k and
+rest length a; `boundary` holds it: the outer ring pinned (the experiment's), nothing, or only the centre node (the
+patch can turn about it). Every free node carries a self-aligning unit: force F_a n_i = sigma n_i, polarity turning
+toward the node's velocity over the alignment length l_a (`alignment_length`):
+
+    dx_i/dt = sigma n_i + F_i,        dpsi_i/dt = (1 / l_a) (dx_i/dt) . n_perp_i
+
+Units: k = 1, gamma = 1, a = 1 (time in gamma / k); sigma = F_a / (k a) = l_e / a, so the elasto-active coupling is
+Pi = l_e / l_a = sigma / alignment_length. The chain's n and the chain terms' parameters (drag ratio, noise,
+contact, loaded) do not act on a network (refused as such); its units are always self-aligning (`--active follower`
+is refused in one line).
+
+Observables: the beat of the patch's mean displacement along x (pinned, free) or of its rotation rate (centre-pinned),
+the units' polarization, their common turning rate and coherence (actuation), the share of elastic energy on the
+two most energetic normal modes and which modes those are (analysis.network.observables), and the patch's rotation
+rate where it can turn. docs/network.md has the physics, the linear stability and the transition.
+"""
+
+from __future__ import annotations
+
+from typing import Any, ClassVar
+
+import numpy as np
+
+from ..analysis.network import BOUNDARIES, MAX_RINGS, Network, hexagonal_patch
+from ..analysis.network import observables as nobs
+from ..analysis.network.model import normal_modes
+from ..errors import ParameterError
+from ..parameters import Parameter
+from ..params import Numerics, Physics
+from ..terms.self_aligning import SELF_ALIGNING
+from ..trajectory import Trajectory
+from .base import Scene, ValidationCase
+
+RINGS = Parameter("rings", 2, f"rings R of the hexagonal patch (1 + 3R(R+1) nodes, R = 1..{MAX_RINGS})", kind=int,
+                  low=1, high=MAX_RINGS, title="rings of the hexagonal patch R", symbol="R")
+BOUNDARY = Parameter("boundary", "pinned", "how the patch is held: pinned (its outer ring), free, or centre (only its "
+                     "centre node, so it can turn)", kind=str, choices=BOUNDARIES, title="the patch's boundary")
+
+NETWORK_TERMS = ("sigma", "active", "alignment_length")
+"""The terms' parameters that act on a network: the active force and the units' direction law and length."""
+SELF_ALIGNING_ONLY = (("active", SELF_ALIGNING, "a network's active units are self-aligning"),)
+
+NETWORK_OBSERVABLES = ("polarization", "polarity_rate", "actuation", "condensation", "dominant_mode", "second_mode")
+
+
+class NetworkScene(Scene):
+    """What the network scenes share: the parameters that act on them, the self-aligning units, the observables."""
+
+    base_file = "network.xml"
+    term_parameters: ClassVar[tuple[str, ...]] = NETWORK_TERMS
+    fixed: ClassVar[tuple[tuple[str, Any, str], ...]] = SELF_ALIGNING_ONLY
+    observables: ClassVar[tuple[str, ...]] = NETWORK_OBSERVABLES
+    compared: ClassVar[tuple[str, ...]] = ("amplitude", "frequency", "polarity_rate")
+    no_linear_operator = ("its fixed points form a family (one per choice of the polarities): "
+                          "elastoactive.analysis.network.stability gives the coupling where the last one loses "
+                          "stability (docs/network.md)")
+
+    def check(self, physics: Physics) -> None:
+        network = self.network(physics)
+        if network is not None and network.pinned.all():
+            raise ParameterError(f"boundary: every node of the {self.name} network is pinned; nothing can move")
+
+    def label(self, physics: Physics) -> str:
+        own = " ".join(f"{k}={getattr(physics, k):.4g}" if isinstance(getattr(physics, k), float)
+                       else f"{k}={getattr(physics, k)}" for k in self.own_parameter_names())
+        return f"{self.name} {own} sigma={physics.sigma:g} l_a={physics.alignment_length:g}".replace("  ", " ")
+
+    def caption(self, physics: Physics) -> list[str]:
+        return [f"l_a = {physics.alignment_length:.3g}", f"Π = σ / l_a = {physics.sigma / physics.alignment_length:.3g}"]
+
+    def extent_points(self, physics: Physics) -> np.ndarray:
+        return self.network(physics).positions
+
+    def initial_angles(self, physics: Physics, numerics: Numerics) -> np.ndarray:
+        return np.empty(0)
+
+    # ------------------------------------------------------------------ observables
+    def free_displacements(self, traj: Trajectory) -> np.ndarray:
+        """(T, 2F) the free nodes' displacements from rest, node-interleaved (the normal modes' coordinates)."""
+        network = self.network(traj.physics)
+        u = traj.nodes[:, ~network.pinned, :] - network.positions[~network.pinned]
+        return u.reshape(len(traj.t), -1)
+
+    def beat_signals(self, traj: Trajectory) -> list[np.ndarray]:
+        """The mean displacement along x of the free nodes (units a)."""
+        network = self.network(traj.physics)
+        return [traj.nodes[:, ~network.pinned, 0].mean(axis=1) - network.positions[~network.pinned, 0].mean()]
+
+    def measure_extra(self, traj: Trajectory, transient: float) -> dict[str, float]:
+        keep = nobs.window(traj.t, transient)
+        t, psi = traj.t[keep], traj.polarity[keep]
+        values, vectors = normal_modes(self.network(traj.physics))
+        modes = nobs.mode_energies(self.free_displacements(traj)[keep], values, vectors)
+        return {
+            "polarization": nobs.polarization(psi),
+            "polarity_rate": nobs.polarity_rate(t, psi),
+            "actuation": nobs.actuation(t, psi),
+            "condensation": modes.condensation,
+            "dominant_mode": float(modes.dominant_modes[0]),
+            "second_mode": float(modes.dominant_modes[1]),
+        }
+
+
+class Lattice(NetworkScene):
+    name = "lattice"
+    summary = "a hexagonal patch of triangular lattice with self-aligning active units (Baconnier et al.'s active solid)"
+    parameters = (RINGS, BOUNDARY)
+    observables = NETWORK_OBSERVABLES + ("patch_rotation_rate",)
+
+    def network(self, physics: Physics) -> Network:
+        return hexagonal_patch(physics.rings, physics.boundary)
+
+    def beat_signals(self, traj: Trajectory) -> list[np.ndarray]:
+        """Centre-pinned: the patch's rotation rate (alternating rotation beats; a steady turn does not); else the
+        free nodes' mean displacement along x."""
+        if traj.physics.boundary != "centre":
+            return super().beat_signals(traj)
+        return [np.gradient(self._rotation(traj), traj.t)]
+
+    def _rotation(self, traj: Trajectory) -> np.ndarray:
+        network = self.network(traj.physics)
+        centre = network.positions[0] if traj.physics.boundary == "centre" else None  # the pinned centre node
+        return nobs.rotation_angle(traj.nodes, network.positions, centre)
+
+    def measure_extra(self, traj: Trajectory, transient: float) -> dict[str, float]:
+        out = super().measure_extra(traj, transient)
+        keep = nobs.window(traj.t, transient)
+        angle, t = self._rotation(traj)[keep], traj.t[keep]
+        out["patch_rotation_rate"] = float((angle[-1] - angle[0]) / (t[-1] - t[0]))
+        return out
+
+    def validation_cases(self) -> tuple[ValidationCase, ...]:
+        return (ValidationCase(self.physics(rings=2, boundary="pinned", sigma=0.2, alignment_length=0.1), 300.0),)
+
+
+SCENE = Lattice()

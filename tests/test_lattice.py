@@ -1,0 +1,77 @@
+"""The network scenes `lattice` and `trapped-unit` in the reduced engine: their parameters (what acts, what is refused in
+one line), the trapped unit's transition against its derivation (docs/network.md), collective actuation of the
+pinned hexagon, the record's nodes saved and loaded."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import elastoactive as ea
+from elastoactive.errors import ParameterError
+from elastoactive.results import load_trajectory, summary, write_run
+from elastoactive.scenes.trap import orbit
+
+
+@pytest.mark.parametrize("values, name", [
+    (dict(n=7), "n"), (dict(active="follower"), "active"), (dict(rings=0), "rings"), (dict(rings=7), "rings"),
+    (dict(alignment_length=-0.5), "alignment_length"), (dict(boundary="clamped"), "boundary"), (dict(noise=0.1), "noise"),
+    (dict(drag_ratio=2.0), "drag_ratio"), (dict(loaded="tip"), "loaded")])
+def test_lattice_refuses_in_one_line_naming_the_parameter(values, name):
+    with pytest.raises(ParameterError, match=rf"^{name}\b") as err:
+        ea.Physics(scene="lattice", **values)
+    assert "\n" not in str(err.value)
+
+
+def test_network_parameters():
+    physics = ea.Physics(scene="lattice", rings=3, boundary="centre", sigma=0.1)
+    assert physics.active == "self-aligning" and physics.n_angles == 0
+    assert physics.scene_def.network(physics).positions.shape == (37, 2)
+    assert ea.Physics(scene="lattice", active="self-aligning") == ea.Physics(scene="lattice")
+    assert ea.scenes.get("trapped-unit").own_parameter_names() == ("trap",)
+    assert ea.scenes.get("one-pinned").network(ea.Physics()) is None
+
+
+@pytest.mark.parametrize("sigma, trap, la", [(0.2, 1.0, 0.4), (0.8, 0.1, 1.0), (0.5, 1.0, 0.1), (2.0, 2.0, 0.25)])
+def test_trapped_unit_against_the_derivation(sigma, trap, la):
+    """Pi = sigma / (trap l_a) <= 1: rest at l_e = sigma / trap; above: a circle of radius sqrt(l_e l_a) at angular
+    frequency trap sqrt(Pi - 1)."""
+    physics = ea.Physics(scene="trapped-unit", sigma=sigma, trap=trap, alignment_length=la)
+    traj = ea.simulate(physics, duration=400 / trap, engine="reduced")
+    res = ea.measure(traj)
+    radius, rate = orbit(sigma, trap, la)
+    assert res.orbit_radius == pytest.approx(radius, rel=1e-3)
+    assert abs(res.orbit_rate) == pytest.approx(rate, rel=1e-3, abs=1e-6)
+    assert abs(res.extra["polarity_rate"]) == pytest.approx(rate, rel=1e-3, abs=1e-6)
+    if rate > 0:
+        assert res.frequency == pytest.approx(rate / (2 * math.pi), rel=1e-3) and res.periodic
+
+
+def test_pinned_hexagon_actuates_collectively_above_threshold_and_rests_below():
+    """R = 2, pinned, l_a = 0.1: at Pi = 2 every unit turns together (actuation 1, polarization ~1), the nodes beat
+    at the units' turning rate, and the elastic energy condenses on the two softest (degenerate) modes; at Pi = 1
+    (below the softest mode's eigenvalue, 1.136) every fixed point is stable and the patch comes to rest."""
+    moving = ea.measure(ea.simulate(ea.Physics(scene="lattice", sigma=0.2, alignment_length=0.1), duration=300,
+                                    engine="reduced"))
+    assert moving.extra["actuation"] > 0.999 and moving.extra["polarization"] > 0.95
+    assert moving.frequency == pytest.approx(abs(moving.extra["polarity_rate"]) / (2 * math.pi), rel=1e-3)
+    assert moving.extra["condensation"] > 0.9
+    assert {moving.extra["dominant_mode"], moving.extra["second_mode"]} == {1.0, 2.0}
+    still = ea.measure(ea.simulate(ea.Physics(scene="lattice", sigma=0.1, alignment_length=0.1), duration=300,
+                                   engine="reduced"))
+    assert still.extra["actuation"] == 0.0 and still.amplitude < 1e-6 and still.frequency == 0.0
+
+
+def test_nodes_are_saved_and_loaded(tmp_path):
+    physics = ea.Physics(scene="lattice", rings=1, boundary="centre", sigma=0.3, alignment_length=0.2)
+    traj = ea.simulate(physics, duration=20, engine="reduced")
+    assert traj.nodes.shape == (traj.t.size, 7, 2) and traj.theta.shape == (traj.t.size, 0)
+    assert traj.polarity.shape == (traj.t.size, 6)
+    np.testing.assert_array_equal(traj.nodes[:, 0], 0.0)  # the pinned centre
+    write_run(tmp_path, traj, summary(traj, ea.Numerics(), 20.0, sensitivity=False))
+    back = load_trajectory(tmp_path)
+    np.testing.assert_array_equal(back.nodes, traj.nodes)
+    np.testing.assert_array_equal(back.polarity, traj.polarity)
+    assert back.physics == physics

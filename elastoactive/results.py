@@ -14,6 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from .analysis import dish, spectrum
+from .analysis import star as star_sync
 from .analysis import observables as obs
 from .errors import ParameterError
 from .jsonio import to_jsonable
@@ -74,6 +75,18 @@ OBSERVABLES: dict[str, Observable] = {
     "second_mode": Observable("1", "rank by stiffness of the second most energetic normal mode", error="none"),
     "patch_rotation_rate": Observable("rad/tau", "mean rate of the patch's rigid rotation (least squares)",
                                       floor=1e-4),
+    "sync_order": Observable("1", "the star's Kuramoto order parameter R_1 of the arms' beat phases (1: in phase; NaN "
+                             "unless every arm beats)", error="absolute"),
+    "splay_order": Observable("1", "R_k of the star's arms' phases (1 with R_1 = 0: a k-fold splay state)",
+                              error="absolute"),
+    "phase_locking": Observable("1", "smallest phase-locking value of the star's arms against arm 1 (1: steady "
+                                "phase differences)", error="absolute"),
+    "phase_lag": Observable("rad", "mean phase of each of the star's arms behind arm 1, in (-pi, pi]", per_chain=True,
+                            error="none"),
+    "sync_state": Observable("1", "state of the star's arms (analysis.star.sync_state)", error="none",
+                             categories=star_sync.SYNC_STATES),
+    "hub_amplitude": Observable("rad", "half peak-to-peak of the star's hub angle phi (0 for a clamped hub)"),
+    "hub_rate": Observable("rad/tau", "mean d phi / dt of the star's hub (a star spinning as a whole)", floor=1e-6),
 }
 """Every observable a scene can report, in one place (Scene.observables names them)."""
 

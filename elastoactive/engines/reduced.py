@@ -287,6 +287,8 @@ def simulate_reduced(
     theta, head = _split_head(system, theta)
     if clamp is not None and clamp.translates:  # the moving clamp's position at every sample
         head = np.asarray(clamp.displacement(t), dtype=float).reshape(t.size, 2)
+    if head is None and physics.scene_def.head_coordinates:  # a star's clamped hub: phi = 0, as MuJoCo's idle hinge
+        head = np.zeros((t.size, physics.scene_def.head_coordinates))
     return Trajectory(t=t, theta=theta, physics=physics, engine="reduced", wall_time_s=wall, info=info, head=head,
                       polarity=polarity)
 
@@ -315,8 +317,9 @@ def _interrupted(err: KeyboardInterrupt, system: ChainSystem, t: np.ndarray, phy
 
 
 def _split_head(system: ChainSystem, state: np.ndarray) -> tuple[np.ndarray, np.ndarray | None]:
-    """(angles, head position or None) of the solvers' states (a free head's two coordinates come last)."""
-    if not system.head_free:
+    """(angles, head or None) of the solvers' states: a free head's two coordinates, or a star's turning hub's angle,
+    come last (ChainSystem.n_head)."""
+    if not system.n_head:
         return state, None
     return state[:, : system.n_angles].copy(), state[:, system.n_angles :].copy()
 

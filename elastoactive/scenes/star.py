@@ -26,7 +26,8 @@ hub). Reduced model: ChainSystem.star (and hub_free with a turning hub: phi the 
 
 Observables: per-arm amplitude and frequency (as for the pair), sync_order R_1 and splay_order R_k (Kuramoto order
 parameters of the arms' Hilbert phases), phase_locking, phase_lag (each arm's mean phase behind arm 1),
-sync_state (analysis.star: in-phase, antiphase, splay, locked, unlocked, rest) and hub_amplitude.
+sync_state (analysis.star: in-phase, antiphase, splay, locked, unlocked, rest), hub_amplitude and hub_rate (a star
+spinning as a whole: with a free hub, hub_stiffness = 0, three or more arms turn rigidly with it).
 """
 
 from __future__ import annotations
@@ -84,7 +85,7 @@ class Star(Scene):
                   needs_value=HUB_TURNING),
     )
     n_chains = MAX_ARMS
-    observables = ("sync_order", "splay_order", "phase_locking", "phase_lag", "sync_state", "hub_amplitude")
+    observables = ("sync_order", "splay_order", "phase_locking", "phase_lag", "sync_state", "hub_amplitude", "hub_rate")
     compared = ("amplitude", "frequency", "hub_amplitude")
     head_coordinates = 1
     no_linear_operator = "the star's linear operator is not written (k arms and the hub's angle)"
@@ -155,11 +156,12 @@ class Star(Scene):
         t = traj.t
         head = traj.head if traj.head is not None else np.zeros((t.size, 1))
         hub = obs.amplitude(t, head[:, 0], transient)
+        rate = obs.rotation_rate(t, head[:, :1], transient)
         curvatures = np.stack([obs.curvature(traj.chain(j)) for j in range(physics.arms)])
         nan = math.nan
         if min(obs.amplitude(t, x, transient) for x in curvatures) <= BEATING:
             return {"sync_order": nan, "splay_order": nan, "phase_locking": nan, "phase_lag": (nan,) * physics.arms,
-                    "sync_state": "rest", "hub_amplitude": hub}
+                    "sync_state": "rest", "hub_amplitude": hub, "hub_rate": rate}
         _, phases = sync.arm_phases(t, curvatures, transient)
         lags = (0.0, *(float(-d) for d in sync.phase_differences(phases)))
         return {
@@ -169,6 +171,7 @@ class Star(Scene):
             "phase_lag": lags,
             "sync_state": sync.sync_state(phases),
             "hub_amplitude": hub,
+            "hub_rate": rate,
         }
 
     # ------------------------------------------------------------------ validation

@@ -66,7 +66,7 @@ def particle_positions(physics: Physics, theta: np.ndarray, head: np.ndarray | N
     xy = np.stack([np.cumsum(np.cos(a), axis=-1), np.cumsum(np.sin(a), axis=-1)], axis=-1)
     for k in range(physics.n_chains):
         xy[..., k, :, 1] += physics.scene_def.chain_offset(physics, k)
-    if head is not None:
+    if head is not None and np.shape(head)[-1] == 2:  # a moving pivot; a star's head is its hub's angle
         xy[..., 0, :, :] += np.asarray(head, dtype=float)[..., None, :]
     return xy
 
@@ -195,7 +195,7 @@ class _Painter:
         self.data = mujoco.MjData(self.model)  # the render's own state: never the simulating one
         self._scene = None  # the mjvScene of the frame being made (for spring)
         self.sites = [[self.model.site(f"{p}particle_{i}").id for i in range(physics.n)]
-                      for p in physics.scene_def.chain_prefixes()]
+                      for p in physics.scene_def.chain_prefixes()[: physics.n_chains]]  # the star: k of its arms
         self.trail_tau = trail * rate
         self.line_px = max(1.5, height / 160)  # trails are GL lines (width in pixels): capsules cost 5x more
         stride = max(1, math.ceil(physics.n / MAX_TRAILS))

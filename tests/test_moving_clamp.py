@@ -158,3 +158,23 @@ def test_phase_spread_and_coupling_amplitude():
     phases = np.linspace(0, 2 * math.pi, 12, endpoint=False)
     assert locking.coupling_amplitude(phases, 0.4 + 2 * np.cos(phases + 0.3)) == pytest.approx(1.0)
     assert locking.adler_half_width(0.1, 0.5, 1.0) == pytest.approx(0.05)
+
+
+@pytest.fixture(scope="module")
+def tongue(tiny_studies):
+    return tiny_studies("clamp_tongue")
+
+
+def test_clamp_tongue_study_tiny(tongue, round_trip):
+    """The tiny study: the phase response is nearly one harmonic, Adler's edges lie between the locked and the unlocked
+    detunings, MuJoCo's clamp stays on its path; it saves, reads back, draws and writes its claims."""
+    s = tongue[1]["clamp_tongue"].summary
+    assert s.coupling == pytest.approx(0.85, rel=0.03) and s.harmonic_fraction > 0.98
+    (row,) = s.rows
+    assert row.unlocked_low < -row.adler < row.locked_low and row.locked_high < row.adler < row.unlocked_high
+    assert s.tracking_error < 1e-4
+    assert "clamp" in round_trip(tongue, "clamp_tongue")
+    from elastoactive.studies import registry  # the studies load both engines: only this test pays
+
+    rows = registry.get("clamp_tongue").claims_fn(tongue[1]["clamp_tongue"], {})
+    assert [c.agree for c in rows] == ["yes", "yes"]

@@ -38,6 +38,7 @@ from typing import Callable, Mapping
 
 from . import registry
 from .base import ENGINES, SIZES, Study, Summary
+from .clamp_tongue import ClampTongueSummary, clamp_tongue_study
 from .dish import DishSummary, dish_study
 from .hopf import HopfSummary, hopf_study
 from .inertia import InertiaSummary, inertia_study

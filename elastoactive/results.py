@@ -419,7 +419,8 @@ def load_trajectory(path: Path, physics: Physics | None = None) -> Trajectory:
     try:
         with np.load(path) as f:
             t, theta = np.asarray(f["t"], dtype=float), np.asarray(f["theta"], dtype=float)
-            head = np.asarray(f["head"], dtype=float) if physics.scene_def.head_coordinates else None
+            moving = physics.scene_def.head_coordinates or "head" in f.files  # a moving pivot, or a moving clamp
+            head = np.asarray(f["head"], dtype=float) if moving else None
             digest = str(f["settings_sha256"]) if "settings_sha256" in f.files else None
             polarity = np.asarray(f["polarity"], dtype=float) if "polarity" in f.files else None
             nodes = np.asarray(f["nodes"], dtype=float) if "nodes" in f.files else None
@@ -434,8 +435,8 @@ def load_trajectory(path: Path, physics: Physics | None = None) -> Trajectory:
                              f"for {physics.scene_def.label(physics)}; got {t.shape} and {theta.shape}")
     if not (np.all(np.isfinite(t)) and np.all(np.diff(t) > 0)):
         raise ParameterError(f"{path}: the sample times t are not finite and increasing")
-    if head is not None and head.shape != (t.size, physics.scene_def.head_coordinates):
-        raise ParameterError(f"{path}: expected head of shape ({t.size}, {physics.scene_def.head_coordinates}), got "
+    if head is not None and head.shape != (t.size, 2):
+        raise ParameterError(f"{path}: expected head of shape ({t.size}, 2), got "
                              f"{head.shape}")
     if polarity is not None and (polarity.ndim != 2 or polarity.shape[0] != t.size):
         raise ParameterError(f"{path}: expected polarity of shape ({t.size}, units), got {polarity.shape}")

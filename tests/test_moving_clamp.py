@@ -178,3 +178,15 @@ def test_clamp_tongue_study_tiny(tongue, round_trip):
 
     rows = registry.get("clamp_tongue").claims_fn(tongue[1]["clamp_tongue"], {})
     assert [c.agree for c in rows] == ["yes", "yes"]
+
+
+def test_a_saved_run_keeps_the_clamps_path(tmp_path):
+    """run --out writes the clamp's position as the trajectory's head, and reading the run back keeps it."""
+    from elastoactive.cli import main  # the CLI loads only in the tests that use it
+    from elastoactive.results import load_trajectory
+
+    out = tmp_path / "clamp"
+    assert main(["run", "one-pinned", "--n", "3", "--sigma", "1.28", "--clamp-amplitude", "0.1", "--clamp-frequency",
+                 "0.07", "--engine", "reduced", "--duration", "30", "--out", str(out), "--quiet"]) == 0
+    back = load_trajectory(out)
+    assert np.allclose(back.head, clamp_path(0.1, 0.07, "transverse").displacement(back.t))

@@ -1,0 +1,61 @@
+"""Linear stability of the network's fixed points (analysis.network.stability) against the full Jacobian and the
+trapped unit's exact threshold."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from scipy.optimize import fsolve
+
+from elastoactive.analysis.network import NetworkState, hexagonal_patch, trap_unit
+from elastoactive.analysis.network import model as m
+from elastoactive.analysis.network import stability as st
+
+
+def test_trap_threshold_is_one_in_the_traps_units():
+    for k in (0.3, 1.0, 2.5):
+        for psi in (0.0, 1.3, 4.0):
+            assert st.critical_coupling(trap_unit(k), np.array([psi])) == pytest.approx(k, rel=1e-12)
+
+
+def test_single_free_node_of_the_pinned_hexagon():
+    """R = 1 pinned: D = 3 I, so Pi_c = 3 whatever the polarity."""
+    th = st.threshold(hexagonal_patch(1), starts=2, samples=20)
+    assert th.softest == pytest.approx(3.0) and th.coupling == pytest.approx(3.0) and th.typical == pytest.approx(3.0)
+
+
+def test_growth_rates_are_those_of_the_full_jacobian_at_a_fixed_point():
+    """At a fixed point of the nonlinear model (springs balancing sigma n), model.jacobian's non-zero eigenvalues
+    are those of H + Pi Q, and there are A zero ones; in the linear-elastic limit H -> -D."""
+    network = hexagonal_patch(2)
+    sigma, la = 0.02, 0.01  # Pi = 2, displacements ~ sigma << a
+    system = m.network_system(network, sigma, la)
+    psi = np.random.default_rng(1).uniform(0, 2 * np.pi, 7)
+    free = ~network.pinned
+
+    def residual(q):
+        pos = network.positions.copy()
+        pos[free] = q.reshape(-1, 2)
+        return m.velocities(system, pos, psi)[free].reshape(-1)
+
+    q = fsolve(residual, network.positions[free].reshape(-1), xtol=1e-14)
+    y = m.pack(system, NetworkState(np.where(free[:, None], 0, network.positions), psi))
+    y[: q.size] = q
+    assert np.abs(m.rhs(system)(0, y)).max() < 1e-12
+    full = np.sort_complex(np.linalg.eigvals(m.jacobian(system, y)))
+    nonzero = full[np.abs(full) > 1e-9]
+    assert len(full) - len(nonzero) == 7
+    pos = m.unpack(system, y).positions
+    h = m.force_jacobian(system, pos)[np.ix_(m.free_dofs(system), m.free_dofs(system))]
+    n = st.perpendiculars(psi, st.unit_slots(network), 7)
+    np.testing.assert_allclose(nonzero, np.sort_complex(np.linalg.eigvals(h + (sigma / la) * n @ n.T)), atol=1e-9)
+    linear = np.linalg.eigvalsh(st.coupling_operator(network, psi, sigma / la))
+    np.testing.assert_allclose(np.sort(nonzero.real), linear, atol=0.05)  # geometric corrections O(sigma / a)
+
+
+@pytest.mark.slow
+def test_pinned_hexagon_threshold_lies_between_the_softest_mode_and_every_random_polarity():
+    th = st.threshold(hexagonal_patch(2), starts=2, samples=100)
+    assert th.softest == pytest.approx(1.1358, abs=1e-4)
+    assert th.softest < th.typical < th.coupling < 1.9
+    assert st.critical_coupling(hexagonal_patch(2), th.polarities) == pytest.approx(th.coupling)

@@ -52,6 +52,7 @@ from .ring import RingSummary, ring_study
 from .self_aligning import SelfAligningSummary, self_aligning_study
 from .skin import SkinSummary, skin_study
 from .snapping import SnappingSummary, snapping_study
+from .star import StarSummary, star_study
 from .sync import SyncN2Summary, SyncSummary, TongueSummary, sync_n2_study, sync_study, tongue_study
 
 __all__ = [

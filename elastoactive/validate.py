@@ -46,11 +46,12 @@ def inertial_duration(duration: float, mass_ratio: float) -> float:
 def inertial_cases(mass_ratio: float, scene: str | None = None) -> list[ValidationCase]:
     """The validation cases (validation_cases) at a finite mass: their durations lengthened for heavy chains
     (inertial_duration). Run them with compare(..., numerics at that mass, inertial=True). Cases with a plug-in
-    term's node forces are left out: the reduced engine adds those to the overdamped model only
+    term's node forces or a moving clamp are left out: the reduced engine adds those to the overdamped model only
     (elastoactive.engines.node_forces)."""
     return [ValidationCase(c.physics, inertial_duration(c.duration, mass_ratio), c.convergence)
             for c in validation_cases(scene)
-            if not any(t.node_forces(c.physics) is not None for t in c.physics.active_terms())]
+            if not any(t.node_forces(c.physics) is not None or t.clamp_motion(c.physics) is not None
+                       for t in c.physics.active_terms())]
 
 
 REFERENCE_TOLERANCE = dict(rtol=1e-10, atol=1e-12)

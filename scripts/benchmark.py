@@ -26,6 +26,10 @@ F. the filament (--filament runs this part alone; docs/generated/benchmark_filam
    S = 100 in PyElastica (the optional extra `bench`; its rows are skipped with a note without it) at 50 and 100
    elements, beside `elastoactive run --engine reduced` at N = 40, 80, 160 and the ladder `elastoactive filament`,
    every error against the ladder's extrapolated continuum, wall time per beat period (about 3 min).
+G. the active lattice (--network runs this part alone; docs/generated/benchmark_network.md): the R = 6 patch (127
+   nodes, 91 self-aligning units) for 1000 gamma / k in MuJoCo (default and 'fast' numerics), the reduced engine and a
+   plain scipy solve_ivp script, the ODE solvers at the loosest rtol matching MuJoCo's error (about 3 min;
+   scripts/benchmark_network.py).
 
 Timings are best of a few repeats unless said (the 2 cores are shared; the best is the least disturbed run);
 whole-process figures are medians. --quick shortens every part (about 1 min).
@@ -55,6 +59,7 @@ from elastoactive.validate import validation_cases
 
 from bench_common import CLI, CORES, load, log  # scripts/ is on sys.path when a script runs
 from benchmark_filament import bench_filament, filament_report
+from benchmark_network import bench_network, network_report
 
 PLAIN_METHODS = ("LSODA", "DOP853", "RK45", "BDF", "Radau")  # LSODA first: the usual winner prunes the rest
 MATCH = 2.0  # a plain method matches when its error is <= MATCH x the compiled run's error
@@ -520,10 +525,18 @@ def main(argv=None) -> int:
     ap.add_argument("--quick", action="store_true", help="shorter runs, fewer repeats (about 1 min)")
     ap.add_argument("--filament", action="store_true", help="only section F (the filament against PyElastica)")
     ap.add_argument("--filament-out", type=Path, default=Path("docs/generated/benchmark_filament.md"))
+    ap.add_argument("--network", action="store_true", help="only section G (the active lattice)")
+    ap.add_argument("--network-out", type=Path, default=Path("docs/generated/benchmark_network.md"))
     args = ap.parse_args(argv)
     q = args.quick
     if args.filament:
         return write_filament(args.filament_out, q)
+    if args.network:
+        text = network_report(bench_network(q))
+        args.network_out.parent.mkdir(parents=True, exist_ok=True)
+        args.network_out.write_text(text)
+        print(text)
+        return 0
     meta = {"date": time.strftime("%Y-%m-%d %H:%M"), "quick": q, "load_start": load(),
             "machine": f"{platform.processor() or platform.machine()}, {CORES} cores, MuJoCo {mujoco.__version__}",
             "repeats": 2 if q else 3, "mj_repeats": 1 if q else 2, "rl_repeats": 2,

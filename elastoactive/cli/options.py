@@ -21,6 +21,11 @@ def _used_by(name: str) -> str:
     return f"; {', '.join(users)} only" if users else ""
 
 
+def _text(text: str) -> str:
+    """A text option's value as given (argparse also passes the default through it, which stays what it is)."""
+    return text
+
+
 def add_fields(group, cls, *, defaults: bool = True) -> None:
     """One option per user-set field of Physics or Numerics, named and explained by the field itself."""
     """defaults=False: options left out are None (the caller fills them, e.g. from a preset)."""
@@ -34,7 +39,8 @@ def add_fields(group, cls, *, defaults: bool = True) -> None:
             continue
         kind = int if isinstance(value, int) else (str if isinstance(value, str) else float)
         shown = f"{value:.4g}" if kind is float else value
-        group.add_argument(option, type=kind, default=value if defaults else None,
+        # argparse passes a str default through `type`: str() would drop a Numerics default's mark (automatic)
+        group.add_argument(option, type=_text if kind is str else kind, default=value if defaults else None,
                            choices=f.metadata.get("choices"),
                            help=f"{f.metadata['help']} (default {shown}{_used_by(f.name) if cls is Physics else ''})")
 

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import contextlib
 import dataclasses
+import math
 import sys
 import time
 from typing import Callable
@@ -38,13 +39,23 @@ AUTOMATIC_INTEGRATOR = "Euler"
 two steps are the same, and the trajectories are bit for bit equal (tests/test_network_mujoco.py), but Euler skips
 assembling and factoring implicitfast's velocity derivatives: about 30% less per step on the R = 6 lattice
 (docs/performance.md)."""
+TURN_RESOLUTION = 0.00125
+"""dt x Pi that automatic numerics keep below, Pi = sigma / l_a (units k / gamma): the rate at which a unit moving at
+its free speed F_a / gamma turns. Both MuJoCo steps are first order; the units' turning sets the error: on the
+lattice and trapped-unit validation cases (Pi = 2) the node positions over the first 20 gamma / k are 3.1% and 2.6%
+off at dt = 0.0025, 0.77% and 0.66% at dt = 0.000625, halving with dt (docs/performance.md)."""
 
 
-def network_numerics(numerics: Numerics) -> Numerics:
-    """The numerics a network run uses: these, with AUTOMATIC_INTEGRATOR when they are `automatic`."""
+def network_numerics(physics: Physics, numerics: Numerics) -> Numerics:
+    """The numerics a network run uses: these, or, when they are `automatic`, AUTOMATIC_INTEGRATOR with dt at most
+    TURN_RESOLUTION / Pi (a whole fraction of sample_dt; the default dt where that is larger)."""
     if not numerics.automatic:
         return numerics
-    return dataclasses.replace(numerics, integrator=AUTOMATIC_INTEGRATOR)
+    turning = physics.sigma / physics.alignment_length
+    dt = numerics.dt
+    if turning > 0:
+        dt = min(dt, numerics.sample_dt / math.ceil(numerics.sample_dt * turning / TURN_RESOLUTION - 1e-9))
+    return dataclasses.replace(numerics, integrator=AUTOMATIC_INTEGRATOR, dt=dt)
 
 
 def prepare_network(physics: Physics, numerics: Numerics, network=None, positions0: np.ndarray | None = None,
@@ -91,7 +102,7 @@ def simulate_network_mujoco(
     thread, engines.mujoco_batch: callbacks are global to the process)."""
     if not duration > 0:
         raise ParameterError(f"duration (in tau) must be a positive number, got {duration}")
-    given, numerics = numerics, network_numerics(numerics)
+    given, numerics = numerics, network_numerics(physics, numerics)
     t = numerics.sample_times(duration)
     check_steps(numerics, duration)
     network, model, data = prepare_network(physics, numerics, network, positions0, polarity0)
@@ -134,7 +145,8 @@ def simulate_network_mujoco(
     if numerics is not given:
         info["automatic_numerics"] = {"integrator": numerics.integrator, "dt": float(numerics.dt),
                                       "mass_ratio": float(numerics.mass_ratio),
-                                      "reason": "network: the drag is implicit in Euler too (network_numerics)"}
+                                      "reason": "network: Euler's implicit drag, dt resolving the units' turning "
+                                                "(network_numerics)"}
     return Trajectory(t=t, theta=np.empty((t.size, 0)), physics=physics, engine="mujoco", wall_time_s=wall,
                       info=info, nodes=node_positions(network, qpos),
                       polarity=polarity if units.size else None)

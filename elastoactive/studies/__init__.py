@@ -42,6 +42,7 @@ from .clamp_tongue import ClampTongueSummary, clamp_tongue_study
 from .dish import DishSummary, dish_study
 from .hopf import HopfSummary, hopf_study
 from .inertia import InertiaSummary, inertia_study
+from .lattice import ActiveSolidSummary, active_solid_study
 from .linear import GrowthSummary, StabilitySummary, growth_study, stability_study
 from .noise import AnisotropySummary, NoiseReadingsSummary, NoiseSummary, anisotropy_study, noise_readings_study, noise_study
 from .normal_form import NormalFormSummary, normal_form_study

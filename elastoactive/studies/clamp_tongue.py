@@ -141,8 +141,10 @@ def _edges(fractions: np.ndarray, locked: np.ndarray, adler: float) -> tuple[flo
     inside = fractions[locked]
     low_out, high_out = fractions[(~locked) & (fractions < 0)], fractions[(~locked) & (fractions > 0)]
     nan = math.nan
-    return (float(inside.min() * adler) if inside.size else nan, float(low_out.max() * adler) if low_out.size else nan,
-            float(inside.max() * adler) if inside.size else nan, float(high_out.min() * adler) if high_out.size else nan)
+    def scaled(values: np.ndarray, pick_one) -> float:
+        return float(pick_one(values) * adler) if values.size else nan
+
+    return scaled(inside, np.min), scaled(low_out, np.max), scaled(inside, np.max), scaled(high_out, np.min)
 
 
 def _is_locked(traj, drive: float, transient: float) -> tuple[bool, float, float]:
@@ -206,7 +208,8 @@ def clamp_tongue_study(size: str = "quick", workers=None, progress: bool = True)
                               float(transient), bool(agree)))
     summary = ClampTongueSummary(
         n=N, sigma=sigma, free_frequency=float(f0), mujoco_free_frequency=f_mj, phases=int(phases.size),
-        coupling=float(coupling), harmonic_fraction=float(harmonic), adler_per_amplitude=float(per_amplitude), rows=rows,
+        coupling=float(coupling), harmonic_fraction=float(harmonic), adler_per_amplitude=float(per_amplitude),
+        rows=rows,
         tracking_error=track, reduced_checked="reduced" in engines, prc_wall_s=float(prc_wall),
         scan_wall_s=float(scan_wall))
     return Study("clamp_tongue", size, data, summary, time.perf_counter() - start)
@@ -227,9 +230,10 @@ def clamp_tongue_figure(study: Study, out: Path) -> list[Path]:
     for r in s.rows:
         f = 1 + d["fractions"] * r.adler
         mask = d[f"locked_mujoco_{r.amplitude:g}"]
-        a1.plot(f[mask], np.full(mask.sum(), r.amplitude), "o", color="C0", label="locked (MuJoCo)" if r is s.rows[0] else None)
+        first = r is s.rows[0]
+        a1.plot(f[mask], np.full(mask.sum(), r.amplitude), "o", color="C0", label="locked (MuJoCo)" if first else None)
         a1.plot(f[~mask], np.full((~mask).sum(), r.amplitude), "o", mfc="none", color="C3",
-                label="not locked (MuJoCo)" if r is s.rows[0] else None)
+                label="not locked (MuJoCo)" if first else None)
     a1.set_xlabel(r"drive frequency $f / f_0$")
     a1.set_ylabel(r"clamp amplitude $A$ ($l$)")
     a1.set_ylim(0, top)
@@ -271,19 +275,20 @@ def clamp_tongue_claims(study: Study, read: Mapping[str, Study]) -> list[Claim]:
               outlook, text, reduced,
               verdict(bool(weak) and all(bracketed(r) for r in weak) and all(r.engines_agree for r in s.rows)),
               f"N = {s.n}, sigma = {s.sigma:g} ({RATIO:g} sigma_c), y_c = A sin(2 pi f t); detunings f / f_0 - 1 "
-              f"(f_0 tau = {s.mujoco_free_frequency:.5f} in MuJoCo's fast preset, {s.free_frequency:.5f} reduced), weak "
-              f"drives (Adler's half width <= {WEAK:g} f_0). "
-              f"Adler: |f / f_0 - 1| <= A max|H| / (2 pi f_0) = {s.adler_per_amplitude:.4f} A/l, from the phase response "
-              f"Z(phi) measured by +-{KICK:g} l clamp jumps at {s.phases} phases (reduced model): max|H| / Omega = "
+              f"(f_0 tau = {s.mujoco_free_frequency:.5f} in MuJoCo's fast preset, {s.free_frequency:.5f} reduced), "
+              f"weak drives (Adler's half width <= {WEAK:g} f_0). "
+              f"Adler: |f / f_0 - 1| <= A max|H| / (2 pi f_0) = {s.adler_per_amplitude:.4f} A/l, from the phase "
+              f"response Z(phi) measured by +-{KICK:g} l clamp jumps at {s.phases} phases (reduced model): "
+              f"max|H| / Omega = "
               f"{s.coupling:.4f} rad/l, Z's first harmonic {100 * s.harmonic_fraction:.1f}% of its RMS. Locked: "
               f"|f_beat / f - 1| < {LOCKED:g} and phase spread < {SPREAD:g} rad over the window after the transient."),
-        *([Claim("A strong clamp drive bends the tongue toward higher frequencies (beyond Adler's first order)", outlook,
-                 edges(strong), "-" if not s.reduced_checked else reduced,
+        *([Claim("A strong clamp drive bends the tongue toward higher frequencies (beyond Adler's first order)",
+                 outlook, edges(strong), "-" if not s.reduced_checked else reduced,
                  verdict(all(r.locked_high > r.adler or r.unlocked_low > -r.adler for r in strong)),
                  f"Adler's half width above {WEAK:g} f_0: the drive is no longer weak. The locked band is no longer "
-                 "symmetric about f_0: it reaches beyond Adler's upper edge and stops short of its lower one (the drive "
-                 "changes the beat's amplitude, on which its frequency depends). docs/clamp.md quotes the reduced "
-                 "engine at the two outer points.")] if strong else []),
+                 "symmetric about f_0: it reaches beyond Adler's upper edge and stops short of its lower one (the "
+                 "drive changes the beat's amplitude, on which its frequency depends). docs/clamp.md quotes the "
+                 "reduced engine at the two outer points.")] if strong else []),
         Claim("MuJoCo's servo moves the clamp along its prescribed path", "-",
               f"within {s.tracking_error:.1e} l over the tongue's runs", "prescribed exactly",
               verdict(s.tracking_error < 1e-3 * max(r.amplitude for r in s.rows)),

@@ -15,10 +15,11 @@ spring alone. The reduced engine adds these through elastoactive.engines.node_fo
 
 MuJoCo moves the clamp physically, so its lab-frame drag sees the motion: chain 1's root body gets two slide joints
 (clamp_x, clamp_y) before its hinge, held on the prescribed path by a servo: a damping -B v of the clamp point (two
-velocity actuators on its site, integrated implicitly) and, from the compiled passive callback (controllers/follower.c, clamp_servo), the force
-B u(t) + K (x_c(t) - q) with K = SERVO_RATE B / dt. The angle drive is exact there: the callback adds
-C1 phi_c(t) to the clamp hinge's generalised force. Trajectory.head holds the clamp point's position (x_c, y_c)
-of a moving point (MuJoCo: the slides' measured position; reduced: the prescribed one).
+velocity actuators on its site, integrated implicitly) and, from the compiled passive callback (controllers/follower.c,
+clamp_servo), the force B u(t) + K (x_c(t) - q) with K = SERVO_RATE B / dt. The angle drive is exact there: the
+callback adds C1 phi_c(t) to the clamp hinge's generalised force. Trajectory.head holds the clamp point's position
+(x_c, y_c) when the point moves (MuJoCo: the slides' measured position; reduced: the prescribed one). Drawings keep
+the clamp's box at its rest position.
 
 Observables (analysis.locking): clamp_frequency_ratio (the beat's frequency over the drive's) and
 clamp_phase_spread (the circular spread of the beat's phase against the drive's over the steady window: 0 locked,
@@ -149,14 +150,13 @@ class MovingClamp(Term):
             for axis in range(2):  # isotropic damping -B v of the clamp point (its site turns with theta_1)
                 gear = [0.0] * 6
                 gear[axis] = 1.0
-                spec.add_actuator(name=f"clamp_servo_{'xy'[axis]}", default=spec.find_default("drag"), target=CLAMP_SITE,
-                                  trntype=mujoco.mjtTrn.mjTRN_SITE, gear=gear, gainprm=[SERVO_DAMPING] + [0] * 9,
-                                  biasprm=[0, 0, -SERVO_DAMPING] + [0] * 7)
+                spec.add_actuator(name=f"clamp_servo_{'xy'[axis]}", default=spec.find_default("drag"),
+                                  target=CLAMP_SITE, trntype=mujoco.mjtTrn.mjTRN_SITE, gear=gear,
+                                  gainprm=[SERVO_DAMPING] + [0] * 9, biasprm=[0, 0, -SERVO_DAMPING] + [0] * 7)
         spec.add_text(name=HINGE_TEXT, data=f"{prefix}hinge_0")
         marker = spec.add_numeric(name="elastoactive_clamp")
-        marker.data = [amplitude, 2.0 * math.pi * physics.clamp_frequency, d_x * amplitude if motion != "angle" else 0.0,
-                       d_y * amplitude if motion != "angle" else 0.0, angle, SERVO_RATE * SERVO_DAMPING / numerics.dt,
-                       SERVO_DAMPING]
+        marker.data = [amplitude, 2.0 * math.pi * physics.clamp_frequency, d_x * amplitude, d_y * amplitude, angle,
+                       SERVO_RATE * SERVO_DAMPING / numerics.dt, SERVO_DAMPING]
 
     def validation_cases(self, physics):
         """N = 3 at 1.1 sigma_c (f tau ~ 0.072) with the clamp moving across the chain near the beat's frequency,

@@ -435,9 +435,9 @@ def load_trajectory(path: Path, physics: Physics | None = None) -> Trajectory:
                              f"for {physics.scene_def.label(physics)}; got {t.shape} and {theta.shape}")
     if not (np.all(np.isfinite(t)) and np.all(np.diff(t) > 0)):
         raise ParameterError(f"{path}: the sample times t are not finite and increasing")
-    if head is not None and head.shape != (t.size, 2):
-        raise ParameterError(f"{path}: expected head of shape ({t.size}, 2), got "
-                             f"{head.shape}")
+    columns = physics.scene_def.head_coordinates or 2  # the scene's moving pivot, or a moving clamp's (x_c, y_c)
+    if head is not None and head.shape != (t.size, columns):
+        raise ParameterError(f"{path}: expected head of shape ({t.size}, {columns}), got {head.shape}")
     if polarity is not None and (polarity.ndim != 2 or polarity.shape[0] != t.size):
         raise ParameterError(f"{path}: expected polarity of shape ({t.size}, units), got {polarity.shape}")
     if nodes is not None and (nodes.ndim != 3 or nodes.shape[0] != t.size or nodes.shape[2] != 2):

@@ -43,17 +43,19 @@ class CaseResult:
     """One finished case: its measurements, the simulation's wall time and solver info, and (if
     kept) the trajectory. batch_wall_s is the wall time of the whole batch it ran in."""
 
-    results: Results
+    results: Results | None
+    """None when the batch ran with measured=False (the caller measures the trajectory itself)."""
     wall_time_s: float
     info: dict
     trajectory: Trajectory | None = None
     batch_wall_s: float = 0.0
 
 
-def run_case(case: Case, keep_trajectory: bool = False) -> CaseResult:
-    """Simulate one case and measure it (results.measure)."""
+def run_case(case: Case, keep_trajectory: bool = False, measured: bool = True) -> CaseResult:
+    """Simulate one case and measure it (results.measure; not with measured=False)."""
     traj = run_engine(case.engine, case.physics, case.numerics, case.duration)
-    return CaseResult(measure(traj, case.transient), traj.wall_time_s, traj.info, traj if keep_trajectory else None)
+    return CaseResult(measure(traj, case.transient) if measured else None, traj.wall_time_s, traj.info,
+                      traj if keep_trajectory else None)
 
 
 def load_engine(case: Case) -> None:
@@ -69,9 +71,11 @@ def run_cases(
     keep_trajectory: bool = False,
     on_result: Callable[[int, CaseResult], None] | None = None,
     desc: str = "cases",
+    measured: bool = True,
 ) -> list[CaseResult]:
     """Run the cases on `workers` threads (MuJoCo) or processes (reduced; default: every core);
-    results in input order."""
+    results in input order. measured=False skips results.measure (its harmonic fits cost several times a
+    short reduced run): for a caller that keeps the trajectories and measures them its own way."""
     cases = list(cases)
     workers = default_workers() if workers is None else workers
     results: list[CaseResult | None] = [None] * len(cases)
@@ -100,7 +104,7 @@ def run_cases(
                     errors[i] = outcome
                     continue
                 try:
-                    res = measure(outcome, cases[i].transient)
+                    res = measure(outcome, cases[i].transient) if measured else None
                 except Exception as err:  # noqa: BLE001 (raised below, as run_case would)
                     errors[i] = err
                     continue
@@ -109,9 +113,9 @@ def run_cases(
         reduced = [i for i, case in enumerate(cases) if case.engine != "mujoco"]
         if workers <= 1 or len(reduced) <= 1:
             for i in reduced:
-                finished(i, run_case(cases[i], keep_trajectory))
+                finished(i, run_case(cases[i], keep_trajectory, measured))
         elif reduced:
-            task = functools.partial(run_case, keep_trajectory=keep_trajectory)
+            task = functools.partial(run_case, keep_trajectory=keep_trajectory, measured=measured)
             runs = imap(task, [cases[i] for i in reduced], workers, completed=True, errors=True,
                         warm=functools.partial(load_engine, cases[reduced[0]]))
             for j, outcome in runs:

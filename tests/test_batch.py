@@ -154,6 +154,15 @@ def test_run_cases_matches_run_case():
                                                             sample_dt=0.05), 10)], workers=1, progress=False)
 
 
+def test_run_cases_unmeasured_gives_the_same_trajectories_without_results():
+    cases = [Case(Physics(n=3, sigma=0.9), FAST, 20, engine=e) for e in ("mujoco", "reduced", "reduced")]
+    measured = run_cases(cases, workers=2, progress=False, keep_trajectory=True)
+    bare = run_cases(cases, workers=2, progress=False, keep_trajectory=True, measured=False)
+    for m, b in zip(measured, bare):
+        assert m.results is not None and b.results is None
+        np.testing.assert_array_equal(m.trajectory.theta, b.trajectory.theta)
+
+
 @pytest.mark.parametrize("integrator", ["implicitfast", "implicit", "discrete", "Euler", "RK4"])
 def test_every_integrator(integrator):
     num = Numerics(integrator=integrator, dt=0.005, mass_ratio=1e-2, sample_dt=0.05)

@@ -21,7 +21,7 @@ from ..jsonio import from_jsonable, to_jsonable
 from ..outputs import write_files
 
 from ..analysis.fits import Fit
-from ..batch import Case, run_cases
+from ..batch import Case, CaseResult, run_cases
 from ..engines import ENGINES
 from ..params import Numerics
 from ..trajectory import Trajectory
@@ -115,11 +115,21 @@ def pick(size: str, tiny, quick, full):
 
 
 def run(cases: list[Case], workers, progress: bool, desc: str) -> list[Trajectory]:
-    """Trajectories of the cases (input order), on `workers` processes (None: every core)."""
+    """Trajectories of the cases (input order), on `workers` processes (None: every core). Not measured by
+    results.measure: a study measures its trajectories itself."""
     if not cases:
         return []
-    res = run_cases(cases, workers=workers, progress=progress, keep_trajectory=True, desc=desc)
+    res = run_cases(cases, workers=workers, progress=progress, keep_trajectory=True, desc=desc, measured=False)
     return [r.trajectory for r in res]
+
+
+def run_measured(cases: list[Case], workers, progress: bool, desc: str, keep_trajectory: bool = False) -> list[CaseResult]:
+    """The cases run and measured by results.measure (over each case's transient) in the workers, in input order;
+    their trajectories too with keep_trajectory (a study that needs measure's numbers gets them computed in
+    parallel, not one after the other in this process)."""
+    if not cases:
+        return []
+    return run_cases(cases, workers=workers, progress=progress, keep_trajectory=keep_trajectory, desc=desc)
 
 
 def fast(**kw) -> Numerics:

@@ -25,11 +25,11 @@ from ..analysis import dish
 from ..batch import Case
 from ..paper import PAPER
 from ..params import Numerics
-from ..results import measure
+from ..results import Results
 from ..scenes import paraboloid
 from . import plotting as plots
 from . import registry
-from .base import Study, Summary, pick, run
+from .base import Study, Summary, pick, run_measured
 from .inertia import HEXBUG_MASS_KG
 from .claim_rows import Claim, verdict
 
@@ -103,10 +103,11 @@ class DishSummary(Summary):
     engines_same_state: bool
 
 
-def _point(tr, engine: str) -> DishPoint:
-    r = measure(tr)
-    p = tr.physics
-    return DishPoint(p.sigma, p.trap, engine, float(tr.t[-1]), r.dish_state, r.rotation_rate, r.orbit_rate,
+def _point(case: Case, r: Results) -> DishPoint:
+    """The point of a case measured (by results.measure) in the workers."""
+    p = case.physics
+    end = float(case.numerics.sample_times(case.duration)[-1])
+    return DishPoint(p.sigma, p.trap, case.engine, end, r.dish_state, r.rotation_rate, r.orbit_rate,
                      r.orbit_radius, r.curvature, float(r.amplitude))
 
 
@@ -131,13 +132,12 @@ def dish_study(size: str = "quick", workers=None, progress: bool = True) -> Stud
     cases = [Case(scene.physics(n=N, sigma=s, trap=k), numerics, _duration(k), "reduced") for s in sigmas for k in traps]
     cases += [Case(scene.physics(n=N, sigma=SUPPLEMENT_SIGMA, trap=k), numerics, _duration(k), "reduced") for k in scan]
     cases += [Case(scene.physics(n=N, sigma=s, trap=k), numerics, _duration(k), e) for s, k in checks for e in ("mujoco", "reduced")]
-    trajs = run(cases, workers, progress, "dish N=7")
-    points = [_point(tr, c.engine) for c, tr in zip(cases, trajs)]
+    points = [_point(c, r.results) for c, r in zip(cases, run_measured(cases, workers, progress, "dish N=7"))]
     unsettled = [i for i, p in enumerate(points) if p.state == "irregular"]
     for _ in range(SETTLE_RETRIES):  # next to a threshold the motion settles slowly: run those points longer
         longer = [dataclasses.replace(cases[i], duration=SETTLE_FACTOR * cases[i].duration) for i in unsettled]
-        for i, c, tr in zip(unsettled, longer, run(longer, workers, progress, "dish N=7, settling")):
-            cases[i], points[i] = c, _point(tr, c.engine)
+        for i, c, r in zip(unsettled, longer, run_measured(longer, workers, progress, "dish N=7, settling")):
+            cases[i], points[i] = c, _point(c, r.results)
         unsettled = [i for i in unsettled if points[i].state == "irregular"]
     cut = len(sigmas) * len(traps)
     grid, line, check = points[:cut], points[cut : cut + len(scan)], points[cut + len(scan) :]

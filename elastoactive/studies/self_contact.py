@@ -26,11 +26,11 @@ from ..analysis.reduced.contact import capsule_clearance, contact_pairs, link_di
 from ..batch import Case
 from ..paper import PAPER
 from ..params import Numerics
-from ..results import HARMONICS, measure
+from ..results import HARMONICS, Results
 from ..scenes import one_pinned
 from . import plotting as plots
 from . import registry
-from .base import Study, Summary, pick, run
+from .base import Study, Summary, pick, run_measured
 from .claim_rows import Claim, fmt, verdict
 
 __all__ = ["ContactRun", "ConvergenceRow", "LongChainSummary", "link_crossings", "long_chain_study"]
@@ -123,8 +123,8 @@ class LongChainSummary(Summary):
     """Largest |MuJoCo / reduced - 1| of amplitude and frequency with contact, over the compared sigmas."""
 
 
-def _run(tr, transient: float) -> ContactRun:
-    r = measure(tr, transient)
+def _run(tr, r: Results, transient: float) -> ContactRun:
+    """The run of trajectory `tr`, measured by results.measure over the same transient (`r`, from the workers)."""
     p = tr.physics
     steady = tr.t - tr.t[0] >= transient
     links, particles = link_crossings(tr.theta[steady])
@@ -162,25 +162,27 @@ def long_chain_study(size: str = "quick", workers=None, progress: bool = True) -
     cases, meta = [], []
     for s in sigmas:
         for contact in (False, True):
-            cases.append(Case(scene.physics(n=LONG_N, sigma=s, contact=contact), Numerics(), duration, "mujoco"))
+            cases.append(Case(scene.physics(n=LONG_N, sigma=s, contact=contact), Numerics(), duration, "mujoco",
+                              duration / 2))
             meta.append(("sweep", contact, duration))
     for s in compared:
-        cases.append(Case(scene.physics(n=LONG_N, sigma=s, contact=True), Numerics(), duration, "reduced"))
+        cases.append(Case(scene.physics(n=LONG_N, sigma=s, contact=True), Numerics(), duration, "reduced", duration / 2))
         meta.append(("sweep", True, duration))
     for dt, m in steps:
         cases.append(Case(scene.physics(n=LONG_N, sigma=LONG_SIGMA, contact=True), Numerics(dt=dt, mass_ratio=m),
-                          conv_duration, "mujoco"))
+                          conv_duration, "mujoco", conv_duration / 2))
         meta.append(("convergence", True, conv_duration))
     for contact in (False, True):
         for engine in ("mujoco",) + (("reduced",) if contact else ()):
             cases.append(Case(scene.physics(n=WIND_N, sigma=WIND_SIGMA, contact=contact), Numerics(), wind_duration,
-                              engine))
+                              engine, wind_duration / 2))
             meta.append(("winding", contact, wind_duration))
-    trajs = run(cases, workers, progress, "long chain, self-contact")
+    done = run_measured(cases, workers, progress, "long chain, self-contact", keep_trajectory=True)
     runs, winding, conv = [], [], []
     data: dict = {}
-    for (kind, contact, dur), case, tr in zip(meta, cases, trajs):
-        item = _run(tr, dur / 2)
+    for (kind, contact, dur), case, one in zip(meta, cases, done):
+        tr = one.trajectory
+        item = _run(tr, one.results, dur / 2)
         if kind == "sweep":
             runs.append(item)
         elif kind == "winding":

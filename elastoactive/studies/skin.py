@@ -9,6 +9,7 @@ reduced engine (and, for the shorter chains, MuJoCo) against the linear predicti
 
 from __future__ import annotations
 
+import functools
 import math
 import time
 from dataclasses import dataclass
@@ -19,9 +20,12 @@ import numpy as np
 
 from ..analysis import skin
 from ..analysis.stability import onset
+from ..batch import Case, load_engine
 from ..engines import run_engine
+from ..executor import default_workers, process_pool
 from ..params import Numerics
 from ..scenes import one_pinned
+from ..trajectory import Trajectory
 from . import plotting as plots
 from . import registry
 from .base import Study, Summary, pick
@@ -121,15 +125,19 @@ def _chain_rows(ns, ratio: float) -> dict[str, np.ndarray]:
     return {k: np.array(v) for k, v in rows.items()}
 
 
-def _kick(n: int, engine: str = "reduced"):
-    """The mid-chain kick at KICK_RATIO sigma_c(N) in `engine`: the trajectory, and the operator and kick."""
-    sigma = KICK_RATIO * onset(n)[0]
-    y0 = skin.kick(n, **KICK)
+def _kick_case(n: int, engine: str = "reduced") -> Case:
+    """The mid-chain kick at KICK_RATIO sigma_c(N) in `engine` (its initial state: `skin.kick`)."""
     duration = KICK_DURATION * n**4
     sample_dt = max(0.05, round(duration / KICK_SAMPLES / 0.05) * 0.05)  # a whole number of default steps
-    traj = run_engine(engine, one_pinned.SCENE.physics(n=n, sigma=sigma), Numerics(sample_dt=sample_dt), duration,
-                      theta0=skin.angles_from_displacements(y0))
-    return traj, skin.displacement_operator(n, sigma), y0
+    return Case(one_pinned.SCENE.physics(n=n, sigma=KICK_RATIO * onset(n)[0]), Numerics(sample_dt=sample_dt), duration,
+                engine)
+
+
+def _kick(job: tuple[int, str]) -> Trajectory:
+    """The trajectory of the kick of N = job[0] in engine job[1] (a pool task)."""
+    case = _kick_case(*job)
+    return run_engine(case.engine, case.physics, case.numerics, case.duration,
+                      theta0=skin.angles_from_displacements(skin.kick(job[0], **KICK)))
 
 
 @SKIN.run
@@ -144,6 +152,17 @@ def skin_study(size: str = "quick", workers=None, progress: bool = True) -> Stud
     grid = pick(size, 24, 60, 100)
     kick_ns = pick(size, (12,), (12, 20, 30), (12, 20, 30))
     mujoco_ns = pick(size, (12,), (12, 20), (12, 20, 30))
+    # the kicks run on the workers (the longest first) while this process does the linear algebra
+    jobs = [(n, "mujoco") for n in sorted(mujoco_ns, reverse=True)] + [(n, "reduced") for n in sorted(kick_ns, reverse=True)]
+    with process_pool(max(1, min(default_workers() if workers is None else workers, len(jobs))),
+                      warm=functools.partial(load_engine, _kick_case(kick_ns[0]))) as pool:
+        pending = {job: pool.submit(_kick, job) for job in jobs}
+        data, summary = _skin_analysis(ns, seg_ns, n_decay, n_spec, grid, kick_ns, mujoco_ns, pending)
+    return Study("skin", size, data, summary, time.perf_counter() - start)
+
+
+def _skin_analysis(ns, seg_ns, n_decay, n_spec, grid, kick_ns, mujoco_ns, pending):
+    """The study's arrays and summary; `pending`: the kicks' trajectories (futures) by (N, engine)."""
     data: dict[str, np.ndarray] = {"n": np.array(ns), "ratios": np.array(RATIOS), "segment_n": np.array(seg_ns)}
     chains = []
     for r in RATIOS:
@@ -190,12 +209,13 @@ def skin_study(size: str = "quick", workers=None, progress: bool = True) -> Stud
     peaks_sim, peaks_lin, times, centres, worsts, dev = [], [], [], [], [], 0.0
     peaks_mj, dev_mj = [], 0.0
     for n in kick_ns:
-        traj, m, y0 = _kick(n)
+        traj = pending[n, "reduced"].result()
+        m, y0 = skin.displacement_operator(n, traj.physics.sigma), skin.kick(n, **KICK)
         t = traj.t
         worst = float(skin.worst_gain(m, np.linspace(0.0, t[-1], 81)[1:]).max())
         sim, lin = skin.transient(t, skin.displacements(traj.theta)), skin.transient(t, skin.propagate(m, y0, t))
         if n in mujoco_ns:
-            mj = skin.transient(t, skin.displacements(_kick(n, "mujoco")[0].theta))
+            mj = skin.transient(t, skin.displacements(pending[n, "mujoco"].result().theta))
             data[f"kick_mujoco_{n}"] = mj.gain
             peaks_mj.append(mj.peak_gain)
             dev_mj = max(dev_mj, float(np.abs(mj.gain - sim.gain).max()))
@@ -221,7 +241,7 @@ def skin_study(size: str = "quick", workers=None, progress: bool = True) -> Stud
         kick_ratio=KICK_RATIO, kick_n=[int(n) for n in kick_ns], kick_peak_sim=peaks_sim, kick_peak_linear=peaks_lin,
         kick_peak_time=times, kick_peak_centre=centres, kick_worst=worsts, kick_max_deviation=dev,
         kick_mujoco_n=[int(n) for n in mujoco_ns], kick_peak_mujoco=peaks_mj, kick_mujoco_deviation=dev_mj)
-    return Study("skin", size, data, summary, time.perf_counter() - start)
+    return data, summary
 
 
 # --------------------------------------------------------------------------------------------------

@@ -415,6 +415,11 @@ def check_timestep(physics: Physics, numerics: Numerics, safety: float = 1.0, ac
     at their defaults are checked as a run uses them (numerics.for_physics: a long chain's automatic numerics).
     `model`: the run's compiled model if it is built already (stability_limits). A refusal names a setting that
     passes every check (passing_setting), unless suggest=False."""
+    if physics.scene_def.network(physics) is not None:  # a network scene: its own linearisation
+        from .engines.network_mujoco import check_network_timestep  # start-up time: only network runs load it
+
+        rate = check_network_timestep(physics, numerics)
+        return StabilityLimits(spring_dt=2.0 / rate, drag_dt=math.inf, follower_dt=math.inf, fastest_rate=rate)
     numerics = numerics.for_physics(physics)
     limits = stability_limits(physics, numerics, model=model)
     dt_max = limits.limit(numerics.integrator)

@@ -7,8 +7,8 @@ time shown):
   - free nodes as the model's beads (active ones orange, passive ones grey), pinned nodes as dark discs
   - every spring as a bar coloured by its strain (blue compressed, grey at rest, yellow stretched, saturating at
     STRAIN_SCALE), pinned-to-pinned ones included
-  - an arrow on every active unit along its polarity (cos psi, sin psi), length ARROW_PER_SIGMA * sigma (capped
-    at ARROW_MAX)
+  - an arrow on every active unit along its polarity (cos psi, sin psi), length ARROW_PER_SIGMA * sigma (within
+    ARROW_MIN and ARROW_MAX)
   - the trap's anchor of every free node as a faint ring, when the network has a trap
   - a caption: scene, nodes, sigma, l_a (and the scene's own parameters) and the time
 """
@@ -26,6 +26,8 @@ from .params import Numerics
 from .render_gl import ARROW_MAX, ARROW_PER_SIGMA, ARROW_RGBA, _add_geom, _Caption, _interpolate, _renderer
 from .trajectory import Trajectory
 
+ARROW_MIN = 0.35
+"""Shortest arrow (units a): a unit's polarity stays visible beside its bead at small sigma."""
 STRAIN_SCALE = 0.1
 """Strain (|r| / a - 1) at which a spring's colour saturates."""
 SPRING_WIDTH = 0.05
@@ -52,10 +54,8 @@ def _unwrapped_polarity(traj: Trajectory) -> np.ndarray | None:
 
 def network_caption(traj: Trajectory, network) -> str:
     physics = traj.physics
-    parts = [physics.scene, f"{len(network.positions)} nodes", f"σ = {physics.sigma:.3g}"]
-    if np.any(network.active):
-        parts.append(f"l_a = {physics.alignment_length:.3g}")
-    parts += physics.scene_def.caption(physics)
+    parts = [physics.scene, f"{len(network.positions)} nodes", f"σ = {physics.sigma:.3g}",
+             *physics.scene_def.caption(physics)]  # the network scenes' caption names l_a
     return "   ".join(parts)
 
 
@@ -104,7 +104,7 @@ class NetworkPainter:
             self.model.geom(f"bead_{i}").rgba[:] = PASSIVE_RGBA
         self.data = mujoco.MjData(self.model)  # the render's own state: never the simulating one
         self.active = np.flatnonzero(network.active)
-        self.arrow = min(ARROW_MAX, ARROW_PER_SIGMA * physics.sigma)
+        self.arrow = max(ARROW_MIN, min(ARROW_MAX, ARROW_PER_SIGMA * physics.sigma)) if physics.sigma > 0 else 0.0
         self.caption = _Caption(width, height, network_caption(traj, network))
         span = np.concatenate([bounds_times, traj.t[(traj.t >= bounds_times[0]) & (traj.t <= bounds_times[-1])]])
         xy = _interpolate(traj.t, self.nodes, span).reshape(span.size, -1, 2)

@@ -280,3 +280,18 @@ def test_validate_holds_the_network_cases_within_one_percent():
         comparison = compare(case.physics, ea.Numerics(), case.duration)
         assert comparison.worst() <= 0.01, (case.physics, comparison.errors)
         assert comparison.errors["angle"] > 0  # the node positions were compared
+
+
+def test_preflight_refuses_an_unresolved_network_in_one_line():
+    """diagnose.check_timestep hands network scenes to their own check: dt x (fastest rate) <= 0.2 and the
+    overdamped mass limit, each refusal naming the setting."""
+    from elastoactive.diagnose import check_timestep
+
+    physics = ea.Physics(scene="lattice", rings=2, sigma=0.2, alignment_length=0.1)
+    limits = check_timestep(physics, ea.Numerics())  # the automatic numerics pass
+    assert limits.fastest_rate == pytest.approx(max(np.linalg.eigvalsh(dynamical_matrix(physics.scene_def.network(
+        physics))).max(), 2.0))
+    with pytest.raises(ParameterError, match=r"^dt = 0.1 does not resolve .* use dt <= "):
+        check_timestep(physics, ea.Numerics(dt=0.1, sample_dt=0.1))
+    with pytest.raises(ParameterError, match=r"^mass_ratio = 0.5 is outside the overdamped limit"):
+        check_timestep(physics, ea.Numerics(mass_ratio=0.5))

@@ -24,7 +24,8 @@ from ..controllers import follower_forces
 from ..errors import ParameterError, SimulationDiverged
 from ..network_model import build_network_model, node_positions, qpos_of_positions, set_polarity
 from ..terms.self_aligning import polarity_addresses
-from ..params import Numerics, Physics
+from ..analysis.reduced import INERTIA_RESOLUTION
+from ..params import RESOLUTION, Numerics, Physics
 from ..progress import progress_bar
 from ..trajectory import Trajectory
 from . import check_steps
@@ -56,6 +57,37 @@ def network_numerics(physics: Physics, numerics: Numerics) -> Numerics:
     if turning > 0:
         dt = min(dt, numerics.sample_dt / math.ceil(numerics.sample_dt * turning / TURN_RESOLUTION - 1e-9))
     return dataclasses.replace(numerics, integrator=AUTOMATIC_INTEGRATOR, dt=dt)
+
+
+def network_rate(physics: Physics) -> float:
+    """The fastest rate a network run's step must resolve (units k / gamma): the largest eigenvalue of the passive
+    network's dynamical matrix (springs and trap, explicit in every integrator) or the units' turning Pi = sigma / l_a,
+    whichever is larger."""
+    from ..analysis.network.model import dynamical_matrix  # start-up time: only the pre-flight check needs it
+
+    network = physics.scene_def.network(physics)
+    matrix = dynamical_matrix(network)
+    springs = float(np.linalg.eigvalsh(matrix).max()) if matrix.size else 0.0
+    return max(springs, physics.sigma / physics.alignment_length)
+
+
+def check_network_timestep(physics: Physics, numerics: Numerics) -> float:
+    """The pre-flight check of a network run (diagnose.check_timestep hands network scenes here): refuses, naming the
+    setting, a dt that does not resolve network_rate (dt x rate <= params.RESOLUTION: the springs, the trap and the
+    units are explicit, forward-Euler-like; stable below 2) and a mass outside the overdamped limit (mass_ratio x
+    rate <= INERTIA_RESOLUTION: the reduced network model is overdamped only). Returns the rate."""
+    numerics = network_numerics(physics, numerics)
+    rate = network_rate(physics)
+    if numerics.dt * rate > RESOLUTION:
+        raise ParameterError(f"dt = {numerics.dt:g} does not resolve the {physics.scene} network's fastest rate "
+                             f"{rate:.3g} (gamma / k)^-1 (springs, trap, or the units' turning sigma / l_a): use dt <= "
+                             f"{RESOLUTION / rate:.3g}")
+    if numerics.mass_ratio * rate > INERTIA_RESOLUTION:
+        raise ParameterError(f"mass_ratio = {numerics.mass_ratio:g} is outside the overdamped limit of the "
+                             f"{physics.scene} network (m x rate = {numerics.mass_ratio * rate:.2g} > "
+                             f"{INERTIA_RESOLUTION:g}; the network model is overdamped): use mass_ratio <= "
+                             f"{INERTIA_RESOLUTION / rate:.3g}")
+    return rate
 
 
 def prepare_network(physics: Physics, numerics: Numerics, network=None, positions0: np.ndarray | None = None,

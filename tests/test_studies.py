@@ -196,3 +196,12 @@ def test_every_bisection_step_shows_its_progress(monkeypatch):
                                   lambda case: 5.0)
     assert hi[(0.1, 0.98)] == 0.0625
     assert [p for p, _ in shown] == [True] * 4 and len({d for _, d in shown}) == 4 and "step 4/4" in shown[-1][1]
+
+
+def test_snapping_threshold_bracket_narrows_to_the_first_probe_that_snaps():
+    from elastoactive.studies.snapping import narrow
+
+    assert narrow(0.1, 0.4, [(0.2, False), (0.3, True)]) == (0.2, 0.3)
+    assert narrow(0.1, 0.4, [(0.2, True), (0.3, True)]) == (0.1, 0.2)
+    assert narrow(0.1, 0.4, [(0.2, False), (0.3, False)]) == (0.3, 0.4)
+    assert narrow(0.1, 0.4, [(0.2, True), (0.3, False)]) == (0.1, 0.2)  # the smallest sigma that snaps

@@ -28,7 +28,6 @@ import numpy as np
 
 from ..analysis.network import BOUNDARIES, MAX_RINGS, Network, hexagonal_patch
 from ..analysis.network import observables as nobs
-from ..analysis.network.model import normal_modes
 from ..errors import ParameterError
 from ..parameters import Parameter
 from ..params import Numerics, Physics
@@ -92,6 +91,8 @@ class NetworkScene(Scene):
         return [traj.nodes[:, ~network.pinned, 0].mean(axis=1) - network.positions[~network.pinned, 0].mean()]
 
     def measure_extra(self, traj: Trajectory, transient: float) -> dict[str, float]:
+        from ..analysis.network.model import normal_modes  # start-up time: the network model imports numba
+
         keep = nobs.window(traj.t, transient)
         t, psi = traj.t[keep], traj.polarity[keep]
         values, vectors = normal_modes(self.network(traj.physics))

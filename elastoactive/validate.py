@@ -45,13 +45,13 @@ def inertial_duration(duration: float, mass_ratio: float) -> float:
 
 def inertial_cases(mass_ratio: float, scene: str | None = None) -> list[ValidationCase]:
     """The validation cases (validation_cases) at a finite mass: their durations lengthened for heavy chains
-    (inertial_duration). Run them with compare(..., numerics at that mass, inertial=True). Cases with a plug-in
-    term's node forces or a moving clamp are left out: the reduced engine adds those to the overdamped model only
-    (elastoactive.engines.node_forces)."""
+    (inertial_duration). Run them with compare(..., numerics at that mass, inertial=True). Cases whose scene
+    or active terms the inertial reduced model does not cover (Scene.inertial_model, Term.inertial_model: a network, a
+    plug-in term's node forces, a moving clamp, self-aligning units) are left out."""
     return [ValidationCase(c.physics, inertial_duration(c.duration, mass_ratio), c.convergence)
             for c in validation_cases(scene)
-            if not any(t.node_forces(c.physics) is not None or t.clamp_motion(c.physics) is not None
-                       for t in c.physics.active_terms())]
+            if c.physics.scene_def.inertial_model
+            and all(t.inertial_model(c.physics) for t in c.physics.active_terms())]
 
 
 REFERENCE_TOLERANCE = dict(rtol=1e-10, atol=1e-12)

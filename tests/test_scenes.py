@@ -38,7 +38,7 @@ def test_base_file_opens_on_its_own(scene):
 def test_builder_reproduces_base_file(scene):
     """The generator at the paper's defaults gives the model the base file describes."""
     base = mujoco.MjModel.from_xml_path(str(scene_path(scene)))
-    built = build_model(Physics(scene=scene, n=7, sigma=0.8))  # kappa, rho, delta at their defaults
+    built = build_model(scenes.get(scene).base_physics())  # N = 7, sigma = 0.8, the rest as the file holds them
     for field in ("nq", "nv", "nu", "neq", "ntendon", "nbody", "nsite", "nkey"):
         assert getattr(built, field) == getattr(base, field), field
     for field in ("jnt_stiffness", "body_mass", "site_user", "actuator_gear", "actuator_biasprm",
@@ -54,10 +54,11 @@ def test_each_scene_holds_only_what_it_needs(scene, n):
     physics = Physics(scene=scene, n=n)
     model = build_model(physics)
     chains = physics.n_chains
-    head = physics.scene_def.head_coordinates  # the paraboloid's sliding head: two slides, one particle's drag
+    head = physics.scene_def.head_coordinates  # the paraboloid's sliding head (two slides), the star's hub hinge
     assert model.nq == model.nv == n * chains + head  # one hinge per particle, nothing else
-    assert model.nu == 2 * n * chains + (2 if head else 0)  # two drag actuators per particle (and head)
-    assert all(model.actuator_trntype == mujoco.mjtTrn.mjTRN_SITE)
+    assert model.nu == 2 * n * chains + head  # two drags per particle, one per head coordinate
+    on_sites = model.actuator_trntype == mujoco.mjtTrn.mjTRN_SITE  # the drags on the particles' (and head's) sites,
+    assert np.count_nonzero(~on_sites) <= head  # a hinged head's (the hub's) on its joint
     assert np.count_nonzero(model.site_user[:, 0]) == n * chains  # one follower force per particle
     np.testing.assert_allclose(model.site_user[model.site_user[:, 0] != 0, 0], physics.sigma)
     assert model.ngeom and not np.any(model.geom_contype) and not np.any(model.geom_conaffinity)
@@ -65,7 +66,8 @@ def test_each_scene_holds_only_what_it_needs(scene, n):
     assert ALWAYS_OFF <= off
     pinned = physics.scene_def.pinned  # the two-pinned chain's end, the ring's closing particle
     assert model.neq == (1 if pinned else 0)
-    assert model.ntendon == {"coupled-pair": 1, "paraboloid": n + 1, "ring": 1}.get(scene, 0)  # coupling; trap; closure
+    tendons = {"coupled-pair": 1, "paraboloid": n + 1, "ring": 1, "star": chains}  # coupling; trap; closure; clamps
+    assert model.ntendon == tendons.get(scene, 0)
     if not pinned:
         assert {"mjDSBL_CONSTRAINT", "mjDSBL_EQUALITY", "mjDSBL_WARMSTART"} <= off
     else:
@@ -77,9 +79,9 @@ def test_each_scene_holds_only_what_it_needs(scene, n):
     # mass sits on the particles only: the visual capsules weigh nothing
     links = [i for i in range(model.ngeom) if "link_" in model.geom(i).name]
     assert len(links) == n * chains and not np.any(model.geom_size[links, 0] == 0)
-    masses = np.full(model.nbody - 1, Numerics().mass_ratio)
-    masses[0] += Numerics().mass_ratio if head else 0.0  # the head's bead rides on the first body
-    np.testing.assert_allclose(model.body_mass[1:], masses)
+    m = Numerics().mass_ratio  # one bead per particle and one for a moving head (the paraboloid's, the star's hub)
+    np.testing.assert_allclose(model.body_mass[1:].sum(), (n * chains + (1 if head else 0)) * m)
+    assert np.all(model.body_mass[1:] > 0)
 
 
 def test_physical_parameters_reach_the_model():

@@ -93,6 +93,9 @@ class Scene:
     """The chain's and the terms' parameters that act on the scene (None: all of them, n included: a chain scene). A
     network scene names the few that act on its units (sigma, active, alignment_length): n, the drag ratio, noise,
     contact and the other terms' parameters are then refused as having no effect on it."""
+    inertial_model: ClassVar[bool] = True
+    """Whether the reduced engine has an inertial model of the scene (particles of mass mass_ratio, engines.reduced):
+    a chain scene's does; a network's model is overdamped only (its engines refuse a mass outside that limit)."""
     fixed: ClassVar[tuple[tuple[str, Any, str], ...]] = ()
     """(parameter, value, why) the scene holds fixed (a network's units are self-aligning): Physics sets the value
     and refuses another one in one line, giving the reason."""
@@ -121,6 +124,11 @@ class Scene:
         from ..params import Physics  # params imports the registry that holds this class
 
         return Physics(scene=self.name, **values)
+
+    def base_physics(self) -> "Physics":
+        """The physics the base file describes (the builder at it reproduces the file's model: tests/test_scenes.py):
+        the paper's N = 7, sigma = 0.8, the other parameters at their defaults."""
+        return self.physics(n=7, sigma=0.8)
 
     def label(self, physics: "Physics") -> str:
         """Short description of a case, e.g. 'two-pinned N=7 sigma=0.8 delta=0.1'."""

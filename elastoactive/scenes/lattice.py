@@ -51,6 +51,7 @@ class NetworkScene(Scene):
     """What the network scenes share: the parameters that act on them, the self-aligning units, the observables."""
 
     base_file = "network.xml"
+    inertial_model = False  # analysis.network.model: overdamped nodes
     term_parameters: ClassVar[tuple[str, ...]] = NETWORK_TERMS
     fixed: ClassVar[tuple[tuple[str, Any, str], ...]] = SELF_ALIGNING_ONLY
     observables: ClassVar[tuple[str, ...]] = NETWORK_OBSERVABLES

@@ -100,6 +100,10 @@ class Star(Scene):
     def chain_count(self, physics: Physics) -> int:
         return physics.arms
 
+    def base_physics(self) -> Physics:
+        """mjcf/star.xml holds the most arms."""
+        return self.physics(n=7, sigma=0.8, arms=MAX_ARMS)
+
     def chain_offset(self, physics: Physics, k: int) -> float:
         return 0.0  # every arm starts at the hub
 

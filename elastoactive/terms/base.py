@@ -93,6 +93,12 @@ class Term:
         to the reduced model; the term's `build` moves the clamp in MuJoCo); None: the clamp stays put."""
         return None
 
+    def inertial_model(self, physics) -> bool:
+        """Whether the reduced engine's inertial model (mass_ratio outside the overdamped limit) includes this term
+        while it acts: a term of the compiled kernels' record does; node forces and a moving clamp are added to the
+        overdamped model only (elastoactive.engines.node_forces), where the engine refuses a mass in one line."""
+        return self.node_forces(physics) is None and self.clamp_motion(physics) is None
+
     def measure(self, traj, transient: float) -> dict[str, float | str]:
         """Values of `observables`."""
         return {}

@@ -100,10 +100,15 @@ class SelfAligning(Term):
         return (ValidationCase(physics(scene=rotating_pin.SCENE.name, n=7, sigma=0.8, active=SELF_ALIGNING,
                                        alignment_length=0.5), 100.0, convergence=False),)
 
+    def inertial_model(self, physics) -> bool:
+        """The units' reduced model (engines.polarity) is overdamped only."""
+        return False
+
     def build(self, spec, physics, numerics):
-        """One unit actuator per loaded particle (add_unit), chain 1's then chain 2's."""
+        """One unit actuator per loaded particle (add_unit), chain by chain (the chains this physics has: a star's
+        arms)."""
         mask = physics.load_mask()
-        for prefix in physics.scene_def.chain_prefixes():
+        for prefix in physics.scene_def.chain_prefixes()[: physics.n_chains]:
             for i in np.flatnonzero(mask):
                 add_unit(spec, f"{prefix}particle_{i}", physics.alignment_length)
 

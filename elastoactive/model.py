@@ -142,7 +142,7 @@ def absolute_angles(physics: Physics, qpos: np.ndarray) -> np.ndarray:
 def head_coordinates(physics: Physics) -> int:
     """Coordinates of qpos before the hinge angles: the scene's moving pivot (the paraboloid's head), or the two
     slides of a term that moves chain 1's clamp point (Term.clamp_motion); 0 when the pivot is fixed."""
-    count = physics.scene_def.head_coordinates
+    count = physics.scene_def.head_count(physics)
     if count:
         return count
     moving = (term.clamp_motion(physics) for term in physics.active_terms())

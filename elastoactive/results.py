@@ -56,6 +56,8 @@ OBSERVABLES: dict[str, Observable] = {
                                    "capsules of non-adjacent links)", error="absolute", floor=0.0),
     "min_clearance": Observable("l", "smallest clearance between capsules of non-adjacent links over the measured "
                                 "window (negative: overlap)", error="none"),
+    "centre_drift": Observable("l/tau", "mean speed of the free ring's centre (the mean of its particles) over the "
+                               "measured window", error="absolute", floor=0.0),
     "orbit_rate": Observable("rad/tau", "mean angular velocity of the N particles' centre of mass about the dish's "
                              "centre", floor=1e-6),
     "orbit_radius": Observable("l", "mean distance of the N particles' centre of mass from the dish's centre",
@@ -419,7 +421,7 @@ def load_trajectory(path: Path, physics: Physics | None = None) -> Trajectory:
     try:
         with np.load(path) as f:
             t, theta = np.asarray(f["t"], dtype=float), np.asarray(f["theta"], dtype=float)
-            moving = physics.scene_def.head_coordinates or "head" in f.files  # a moving pivot, or a moving clamp
+            moving = physics.scene_def.head_count(physics) or "head" in f.files  # a moving pivot, or a moving clamp
             head = np.asarray(f["head"], dtype=float) if moving else None
             digest = str(f["settings_sha256"]) if "settings_sha256" in f.files else None
             polarity = np.asarray(f["polarity"], dtype=float) if "polarity" in f.files else None
@@ -435,7 +437,7 @@ def load_trajectory(path: Path, physics: Physics | None = None) -> Trajectory:
                              f"for {physics.scene_def.label(physics)}; got {t.shape} and {theta.shape}")
     if not (np.all(np.isfinite(t)) and np.all(np.diff(t) > 0)):
         raise ParameterError(f"{path}: the sample times t are not finite and increasing")
-    columns = physics.scene_def.head_coordinates or 2  # the scene's moving pivot, or a moving clamp's (x_c, y_c)
+    columns = physics.scene_def.head_count(physics) or 2  # the scene's moving pivot, or a moving clamp's (x_c, y_c)
     if head is not None and head.shape != (t.size, columns):
         raise ParameterError(f"{path}: expected head of shape ({t.size}, {columns}), got {head.shape}")
     if polarity is not None and (polarity.ndim != 2 or polarity.shape[0] != t.size):

@@ -220,8 +220,11 @@ def _chain_spring_gradient(th, c, clamped):
 
 def _pinned_rates(D, force, theta, beta, delta):
     """The pinned chain's rates from the overdamped Baumgarte saddle point [[D, G^T], [G, 0]] (th', lam) =
-    (f, -beta g) (no free head: D over the angles theta of the one chain)."""
+    (f, -beta g) (D over the angles theta of the one chain; with more rows, the free ring's head, whose columns of G
+    are zero: the constraint holds the last particle relative to the head)."""
     G = pin_jacobian(theta)
+    if D.shape[0] > G.shape[1]:
+        G = np.hstack([G, np.zeros((2, D.shape[0] - G.shape[1]))])
     M = np.block([[D, G.T], [G, np.zeros((2, 2))]])
     sol = np.linalg.solve(M, np.concatenate([force, -beta * pin_residual(theta, delta)]))
     return sol[: force.size]
@@ -403,6 +406,10 @@ def _spring_gradient(system: ChainSystem, y: np.ndarray) -> np.ndarray:
     if system.n_chains == 2:
         grad[0] += system.kappa * (y[0] - y[n])
         grad[n] -= system.kappa * (y[0] - y[n])
+    if system.closed:  # the ring's last joint (the free ring's angles before its head)
+        bend = y[0] + 2.0 * np.pi - y[n - 1]
+        grad[0] += bend
+        grad[n - 1] -= bend
     return grad + _star_spring_gradient(system, y)
 
 

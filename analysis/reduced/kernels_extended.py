@@ -441,7 +441,8 @@ def eval_rhs_general(y, fac, system, beta, out, L, C, X, lam):
     """out = q' at the state q = y (the angles, then the free head) with every term on (equations.py: a free
     head, a harmonic trap and self-contact): f by general_forces, D by general_drag (O(N^2) each), dense
     Cholesky (L[0]; L[1] holds D); the pinned chain's Baumgarte saddle point as in eval_rhs_dense (X = D^-1 G^T,
-    multipliers in lam). L, C, X, lam: make_general_workspace."""
+    multipliers in lam; with a free head, the free ring, G's head columns are zero and X's head rows carry the
+    constraint's pull on the head). L, C, X, lam: make_general_workspace."""
     n = system.n
     na = n * system.n_chains
     nq = na + _n_after(system)
@@ -454,9 +455,15 @@ def eval_rhs_general(y, fac, system, beta, out, L, C, X, lam):
     general_drag(system, C, L[1])
     cholesky(L[1], L[0])
     chol_solve(L[0], out, 0)
-    if system.pinned:
-        for i in range(n):
-            X[i, 0] = -C[i, 1]
-            X[i, 1] = C[i, 0]
+    if system.pinned:  # G: the last particle relative to the pivot, (sum cos th_i, sum sin th_i); no head columns
+        for i in range(nq):
+            if i < n:
+                X[i, 0] = -C[i, 1]
+                X[i, 1] = C[i, 0]
+            else:
+                X[i, 0] = 0.0
+                X[i, 1] = 0.0
         chol_solve_cols(L[0], X, 0)
         _pin_correction(y, n, beta, system.delta, out, X, lam, C, False)
+        for i in range(n, nq):  # the free ring: the constraint forces move the head too
+            out[i] -= X[i, 0] * lam[0] + X[i, 1] * lam[1]

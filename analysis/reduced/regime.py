@@ -110,7 +110,10 @@ def _operators(system: ChainSystem, theta) -> tuple[np.ndarray, np.ndarray] | No
         theta = np.asarray(theta, dtype=float).reshape(-1)[: system.n_angles]
         D, F = _drag(system, theta), force_jacobian(system, theta)
     if system.pinned:
-        _, sv, vt = np.linalg.svd(np.vstack([-np.sin(theta), np.cos(theta)]))
+        G = np.vstack([-np.sin(theta), np.cos(theta)])
+        if D.shape[0] > G.shape[1]:  # the free ring: its head's columns of G are zero
+            G = np.hstack([G, np.zeros((2, D.shape[0] - G.shape[1]))])
+        _, sv, vt = np.linalg.svd(G)
         basis = vt[np.sum(sv > 1e-9):].T
         if basis.shape[1] == 0:  # N = 2 on two pins: no free motion
             return None

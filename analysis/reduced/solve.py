@@ -273,10 +273,12 @@ def stiffness(system: ChainSystem, theta, *, beta: float) -> float:
 
 def constraint_violation(system: ChainSystem, theta) -> float:
     """Largest constraint residual max(|g_1|, |g_2|) over the states theta (one state, or one per row);
-    0 for a system without pins."""
+    0 for a system without pins. States with the free ring's head after the angles are read by their angles."""
     if not system.pinned:
         return 0.0
     theta = np.asarray(theta, dtype=float)
+    if theta.shape[-1] > system.n:  # the free ring: the head's two coordinates after the angles
+        theta = theta[..., : system.n]
     c = np.cos(theta).sum(axis=-1) - system.n * (1.0 - system.delta)
     s = np.sin(theta).sum(axis=-1)
     return float(np.max(np.maximum(np.abs(c), np.abs(s))))

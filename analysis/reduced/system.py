@@ -41,7 +41,8 @@ class ChainSystem(NamedTuple):
     head_free          the first pendulum's pivot (the head) slides freely in the plane: the state is
                        (th_0 .. th_{N-1}, x_h, y_h), two more coordinates after the angles. The head carries one
                        particle's drag (gamma_l along e(th_0), gamma_t across) and no active force. Only for one
-                       chain with a free pin (n_chains = 1, clamped = False, pinned = False)
+                       chain with a free pin (n_chains = 1, clamped = False, pinned = False), or the free ring
+                       (closed and pinned with delta = 1: the last particle held on the moving head; overdamped only)
     trap               harmonic trap -trap r on every particle and on the head, centred on the pivot's rest
                        position (the origin; each chain's own pivot for a pair), in units k l^2 / C1 (as kappa).
                        With a fixed pivot at the origin the head term does nothing
@@ -52,7 +53,8 @@ class ChainSystem(NamedTuple):
                        distance d); must be > 0 when contact_radius > 0
     closed             the chain closes on itself (a ring): a spring of stiffness 1 joins the last link to the first,
                        bent by th_0 + 2 pi - th_{N-1}; with pinned and delta = 1 the last particle is held at the
-                       first pendulum's pivot. Only for one chain on a free pin (n_chains = 1, clamped = False)
+                       first pendulum's pivot (with head_free: on the moving head, the free ring). Only for one chain
+                       on a free pin (n_chains = 1, clamped = False)
     star               the chains are the arms of a star on one hub at the origin (the star scene): chain ch's clamp
                        points at alpha_ch = 2 pi ch / n_chains from the hub, its clamp spring is
                        c (th_{ch,0} - alpha_ch - phi) (phi: the hub's angle, 0 unless hub_free); any number of chains
@@ -150,11 +152,15 @@ class ChainSystem(NamedTuple):
             raise ParameterError(f"mass_ratio must be finite and >= 0 (0: overdamped), got {self.mass_ratio!r}")
         if not (self.inertia_factor >= 0 and np.isfinite(self.inertia_factor)):
             raise ParameterError(f"inertia_factor must be finite and >= 0, got {self.inertia_factor!r}")
-        if self.head_free and (self.n_chains != 1 or self.clamped or self.pinned):
+        if self.head_free and (self.n_chains != 1 or self.clamped or (self.pinned and not self.closed)):
             raise ParameterError(
-                "head_free: only a single chain on a free pin can slide (n_chains = 1, clamped = False, pinned = False), "
-                f"got n_chains={self.n_chains!r}, clamped={self.clamped!r}, pinned={self.pinned!r}"
+                "head_free: only a single chain on a free pin can slide (n_chains = 1, clamped = False, pinned = False "
+                f"unless closed), got n_chains={self.n_chains!r}, clamped={self.clamped!r}, pinned={self.pinned!r}"
             )
+        if self.head_free and self.pinned and (self.delta != 1 or self.mass_ratio > 0):
+            raise ParameterError(
+                "head_free with pinned: the free ring holds its last particle on the moving pivot (delta = 1) in the "
+                f"overdamped model only (mass_ratio = 0); got delta={self.delta!r}, mass_ratio={self.mass_ratio!r}")
         if not (self.trap >= 0 and np.isfinite(self.trap)):
             raise ParameterError(f"trap (k l^2 / C1) must be finite and >= 0, got {self.trap!r}")
         if not (0 <= self.contact_radius < CONTACT_LENGTH / 2):
@@ -166,11 +172,12 @@ class ChainSystem(NamedTuple):
             raise ParameterError(f"contact_stiffness must be finite and >= 0, got {self.contact_stiffness!r}")
         if self.contact_radius > 0 and not self.contact_stiffness > 0:
             raise ParameterError("contact_radius > 0 needs contact_stiffness > 0 (the penalty of an overlap)")
-        if self.closed and (self.n_chains != 1 or self.clamped or self.head_free or self.n < 3
+        if self.closed and (self.n_chains != 1 or self.clamped or (self.head_free and not self.pinned) or self.n < 3
                             or self.trap > 0 or self.contact_radius > 0):
             raise ParameterError(
-                "closed: the reduced model's ring is one chain of N >= 3 on a free pin (n_chains = 1, clamped = False, "
-                f"head_free = False) without a trap or self-contact (use the MuJoCo engine for those); got n={self.n!r}, "
+                "closed: the reduced model's ring is one chain of N >= 3 on a free pin (n_chains = 1, clamped = False; "
+                "a free head only with its last particle pinned to it) without a trap or self-contact (use the MuJoCo "
+                f"engine for those); got n={self.n!r}, "
                 f"n_chains={self.n_chains!r}, clamped={self.clamped!r}, head_free={self.head_free!r}, trap={self.trap!r}, "
                 f"contact_radius={self.contact_radius!r}")
         return ChainSystem(

@@ -287,8 +287,8 @@ def simulate_reduced(
     theta, head = _split_head(system, theta)
     if clamp is not None and clamp.translates:  # the moving clamp's position at every sample
         head = np.asarray(clamp.displacement(t), dtype=float).reshape(t.size, 2)
-    if head is None and physics.scene_def.head_coordinates:  # a star's clamped hub: phi = 0, as MuJoCo's idle hinge
-        head = np.zeros((t.size, physics.scene_def.head_coordinates))
+    if head is None and physics.scene_def.head_count(physics):  # a star's clamped hub: phi = 0, as MuJoCo's idle hinge
+        head = np.zeros((t.size, physics.scene_def.head_count(physics)))
     return Trajectory(t=t, theta=theta, physics=physics, engine="reduced", wall_time_s=wall, info=info, head=head,
                       polarity=polarity)
 

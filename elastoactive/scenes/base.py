@@ -111,6 +111,11 @@ class Scene:
         if physics.n < self.min_n:
             raise ParameterError(f"n (number of particles N) must be >= {self.min_n} for {self.name}, got {physics.n}")
 
+    def head_count(self, physics: "Physics") -> int:
+        """Coordinates of the moving pivot for this physics (head_coordinates; a scene whose pivot moves only for some
+        parameter values, the free ring, overrides it)."""
+        return self.head_coordinates
+
     def chain_count(self, physics: "Physics") -> int:
         """Number of chains of this physics (Physics.n_chains): n_chains, or a parameter's value (the star's arms)."""
         return self.n_chains

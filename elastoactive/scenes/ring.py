@@ -6,6 +6,13 @@ the follower force on every particle. The first link starts at a free pin at the
 held there, so the ring can turn about that point. At rest it is the regular N-gon, every joint bent by 2 pi / N.
 The follower forces sum to zero round a closed ring but not their torque: the ring turns about the pin.
 
+pin = free: no pin. The first pendulum's pivot (the root) slides in the plane as the paraboloid's head does, carrying
+one particle's drag and mass and no active force, and the last particle is held on it: the ring may translate and
+turn. MuJoCo: the root's two slide joints before the first hinge, the closure a connect equality between the last
+particle and the root's site. The reduced model: the paraboloid's free head (ChainSystem.head_free, the head's two
+coordinates after the angles) with the ring's closure (closed, pinned with delta = 1: the last particle on the moving
+pivot). Observables then add centre_drift (the speed of the ring's centre of drag: its particles and the root).
+
 MuJoCo: the last particle is held at the pin by a connect equality (as the two-pinned chain's end, nearly hard),
 and the closing spring is a fixed tendon hinge_1 + ... + hinge_{N-1} with rest length 2 pi. The reduced model: the
 two-pinned chain's constraints with the pin at the pivot (delta = 1) and the closing spring (ChainSystem.closed).
@@ -24,6 +31,7 @@ from ..analysis.reduced.constraints import project_on_pins
 from ..analysis.reduced.system import ChainSystem
 from ..errors import ParameterError
 from ..initial import pushed_chains
+from ..parameters import Parameter
 from ..params import Numerics, Physics
 from ..trajectory import Trajectory
 from .base import Scene, ValidationCase
@@ -31,6 +39,34 @@ from .two_pinned import PIN_SOLIMP
 
 CLOSED = 1.0
 """The reduced model's compression delta that puts the last particle on the pivot: (N (1 - delta), 0) = (0, 0)."""
+
+
+PINNED = "pinned"
+FREE = "free"
+PIN = Parameter("pin", PINNED, "the ring's root: on a free pin at the origin (pinned: it turns about it), or free in "
+                "the plane (free: it may translate and turn; the root carries one particle's drag)", kind=str,
+                choices=(PINNED, FREE), title="the ring's root", quiet_default=True)
+HEAD_COORDINATES = 2
+"""The free ring's root position (x_h, y_h): MuJoCo's two slide joints, the reduced model's last two state variables."""
+
+
+def centre_drift(t: np.ndarray, theta: np.ndarray, head: np.ndarray, transient: float | None = None) -> float:
+    """Mean speed (l / tau) of the free ring's centre after the transient (default: half the record): the distance
+    it moved over the window, over the window's length. The centre is the mean of the N particles and the root's bead
+    (the N + 1 points that carry drag): with isotropic drag the total force on the ring is zero (the follower forces
+    sum to zero round the closed ring), so the drag's sum over these points, their mean velocity, vanishes."""
+    t = np.asarray(t, dtype=float)
+    start = t[0] + 0.5 * (t[-1] - t[0]) if transient is None else transient
+    keep = t >= start
+    if np.count_nonzero(keep) < 2:
+        return math.nan
+    th = np.asarray(theta, dtype=float)[keep]
+    h = np.asarray(head, dtype=float)[keep]
+    n = th.shape[1]
+    cx = h[:, 0] + np.cumsum(np.cos(th), axis=1).sum(axis=1) / (n + 1)
+    cy = h[:, 1] + np.cumsum(np.sin(th), axis=1).sum(axis=1) / (n + 1)
+    tw = t[keep]
+    return float(math.hypot(cx[-1] - cx[0], cy[-1] - cy[0]) / (tw[-1] - tw[0]))
 
 
 def polygon(n: int) -> np.ndarray:
@@ -42,6 +78,7 @@ class Ring(Scene):
     name = "ring"
     summary = "the chain closed on itself, one particle on a free pin: the ring turns about it"
     base_file = "ring.xml"
+    parameters = (PIN,)
     min_n = 3
     clamped = False
     pinned = True
@@ -55,20 +92,51 @@ class Ring(Scene):
             raise ParameterError("contact: self-contact is not built for the ring (the reduced model that checks its "
                                  "numerics and cross-validates it has no closing spring with contact)")
 
+    @staticmethod
+    def free(physics: Physics) -> bool:
+        return physics.pin == FREE
+
+    def head_count(self, physics: Physics) -> int:
+        return HEAD_COORDINATES if self.free(physics) else 0
+
+    def label(self, physics: Physics) -> str:
+        return f"{self.name} N={physics.n} sigma={physics.sigma:g}" + (" free" if self.free(physics) else "")
+
+    def caption(self, physics: Physics) -> list[str]:
+        return ["free ring"] if self.free(physics) else []
+
     def build(self, spec, physics: Physics, numerics: Numerics) -> None:
         import mujoco  # start-up time: mujoco is needed only to build a model
 
+        from ..model import add_drag  # start-up time: elastoactive.model imports mujoco
+
+        anchor = "pin"
+        if self.free(physics):  # the root slides: qpos = (x_h, y_h, hinge angles), as the paraboloid's head
+            first = spec.body("segment_0")
+            spec.delete(spec.joint("hinge_0"))
+            for axis, name in ((0, "head_x"), (1, "head_y")):
+                direction = [0.0, 0.0, 0.0]
+                direction[axis] = 1.0
+                first.add_joint(name=name, type=mujoco.mjtJoint.mjJNT_SLIDE, axis=direction, stiffness=[0, 0, 0])
+            first.add_joint(name="hinge_0", default=spec.find_default("segment"), stiffness=[0, 0, 0])
+            first.add_geom(name="head_bead", default=spec.find_default("bead"), pos=[0, 0, 0], mass=numerics.mass_ratio)
+            first.add_site(name="head", default=spec.find_default("segment"), pos=[0, 0, 0], userdata=[0.0])
+            add_drag(spec, "head", "head", physics)  # one particle's drag
+            spec.delete(spec.geom("pin_marker"))
+            anchor = "head"
         spec.add_equality(
             name="pin", type=mujoco.mjtEq.mjEQ_CONNECT, objtype=mujoco.mjtObj.mjOBJ_SITE,
-            name1=f"particle_{physics.n - 1}", name2="pin", solref=[2.0 * numerics.dt, 1.0], solimp=list(PIN_SOLIMP),
+            name1=f"particle_{physics.n - 1}", name2=anchor, solref=[2.0 * numerics.dt, 1.0], solimp=list(PIN_SOLIMP),
         )
         closure = spec.add_tendon(name="closure", stiffness=[1.0, 0, 0], springlength=[2.0 * math.pi, 2.0 * math.pi])
         for i in range(1, physics.n):
             closure.wrap_joint(f"hinge_{i}", 1.0)
-        spec.add_key(name="ring", qpos=np.diff(polygon(physics.n), prepend=0.0).tolist())
+        head = [0.0] * self.head_count(physics)
+        spec.add_key(name="ring", qpos=head + np.diff(polygon(physics.n), prepend=0.0).tolist())
 
     def reduced_system(self, physics: Physics) -> ChainSystem:
-        return super().reduced_system(physics)._replace(delta=CLOSED, closed=True)
+        system = super().reduced_system(physics)._replace(delta=CLOSED, closed=True)
+        return system._replace(head_free=True) if self.free(physics) else system
 
     def initial_angles(self, physics: Physics, numerics: Numerics) -> np.ndarray:
         """The regular N-gon, pushed like the other scenes and projected back onto the pin."""
@@ -76,13 +144,17 @@ class Ring(Scene):
         return project_on_pins(polygon(physics.n) + kick, CLOSED)
 
     def measure_extra(self, traj: Trajectory, transient: float) -> dict[str, float]:
-        return {"rotation_rate": obs.rotation_rate(traj.t, traj.theta, transient)}
+        values = {"rotation_rate": obs.rotation_rate(traj.t, traj.theta, transient)}
+        if self.free(traj.physics) and traj.head is not None:
+            values["centre_drift"] = centre_drift(traj.t, traj.theta, traj.head, transient)
+        return values
 
     def validation_cases(self) -> tuple[ValidationCase, ...]:
-        return (ValidationCase(self.physics(n=7, sigma=0.8), 300.0),)
+        return (ValidationCase(self.physics(n=7, sigma=0.8), 300.0),
+                ValidationCase(self.physics(n=7, sigma=0.8, pin=FREE), 300.0, convergence=False))
 
     def extent_points(self, physics: Physics) -> np.ndarray:
-        return np.zeros((1, 2))
+        return np.empty((0, 2)) if self.free(physics) else np.zeros((1, 2))
 
 
 SCENE = Ring()

@@ -2,8 +2,9 @@
 
 Beyond the paper (its outlook's "more intricate geometrical connections between active particles"). Two ring
 sizes: N = 7, which turns as a rigid regular polygon about the pin at every sigma tried, and N = 24, which beats
-while it turns at small sigma and turns rigidly again at large sigma. Each point runs in MuJoCo and in the reduced
-model from the same start; the claim rows compare the two.
+while it turns at small sigma and turns rigidly again at large sigma; and the N = 7 ring free in the plane (pin = free),
+which turns steadily about its centre of drag without drifting. Each point runs in MuJoCo and in the reduced model
+from the same start; the claim rows compare the two.
 """
 
 from __future__ import annotations
@@ -35,6 +36,8 @@ class RingSummary(Summary):
     """The sigmas of the N = 7 ring."""
     sigma_large: list[float]
     """The sigmas of the N = 24 ring."""
+    sigma_free: list[float]
+    """The sigmas of the free N = 7 ring."""
     rigid_amplitude_mujoco: float
     """Largest Theta amplitude of the N = 7 ring over its sigmas (rad), MuJoCo."""
     rigid_amplitude_reduced: float
@@ -46,6 +49,16 @@ class RingSummary(Summary):
     beating_mujoco: list[float]
     """Sigmas at which the N = 24 ring beats (Theta amplitude > BEATING), MuJoCo."""
     beating_reduced: list[float]
+    free_rate_ratio_mujoco: float
+    """Free N = 7 ring: largest |rotation rate / (sigma N sin(2 pi / N) / (N + 1)) - 1| over its sigmas (the rigid
+    regular polygon's rate about its centre of drag), MuJoCo."""
+    free_rate_ratio_reduced: float
+    free_rate_difference: float
+    """Free N = 7 ring: largest relative difference of the rotation rates between the engines."""
+    free_drift: float
+    """Free N = 7 ring: largest centre drift speed (l / tau) over its sigmas and both engines."""
+    free_rigid_amplitude: float
+    """Free N = 7 ring: largest Theta amplitude (rad) over its sigmas and both engines."""
 
 
 RINGS = registry.declare("rings", summary=RingSummary, order=180)
@@ -57,13 +70,16 @@ def ring_study(size: str = "quick", workers=None, progress: bool = True) -> Stud
     start = time.perf_counter()
     small = pick(size, (0.8, 3.0), (0.2, 0.8, 3.0, 10.0, 30.0), (0.1, 0.2, 0.4, 0.8, 1.5, 3.0, 6.0, 10.0, 20.0, 40.0, 80.0))
     large = pick(size, (0.5, 8.0), (0.25, 0.5, 1.0, 2.0, 4.0, 8.0), (0.1, 0.25, 0.5, 0.75, 1.0, 1.5, 2.0, 3.0, 4.0, 6.0, 8.0))
+    free = pick(size, (0.8,), (0.2, 3.0), (0.1, 0.8, 3.0, 10.0, 30.0))  # the free N = 7 ring
     duration = pick(size, 120.0, 250.0, 800.0)
     transient = duration / 2
     numerics = Numerics(dt=0.001, sample_dt=0.1)  # resolves the N = 24 ring's fastest rate up to sigma = 8 (~120/tau)
-    grid = [(n, s) for n, sigmas in zip(SIZES_N, (small, large)) for s in sigmas]
-    cases = [Case(ring.SCENE.physics(n=n, sigma=s), numerics, duration, eng, transient) for n, s in grid for eng in ENGINES]
+    grid = [(n, s, ring.PINNED) for n, sigmas in zip(SIZES_N, (small, large)) for s in sigmas]
+    grid += [(SIZES_N[0], s, ring.FREE) for s in free]  # the free ring, after the pinned ones
+    cases = [Case(ring.SCENE.physics(n=n, sigma=s, pin=pin), numerics, duration, eng, transient)
+             for n, s, pin in grid for eng in ENGINES]
     results = [r.results for r in run_cases(cases, workers=workers, progress=progress, desc="rings")]
-    data = {"sigma_small": np.array(small), "sigma_large": np.array(large)}
+    data = {"sigma_small": np.array(small), "sigma_large": np.array(large), "sigma_free": np.array(free)}
     for k, eng in enumerate(ENGINES):
         mine = results[k::len(ENGINES)]
         for n, count, offset in ((SIZES_N[0], len(small), 0), (SIZES_N[1], len(large), len(small))):
@@ -71,9 +87,15 @@ def ring_study(size: str = "quick", workers=None, progress: bool = True) -> Stud
             data[f"rate_{n}_{eng}"] = np.array([r.rotation_rate for r in part])
             data[f"amplitude_{n}_{eng}"] = np.array([r.amplitude for r in part])
             data[f"frequency_{n}_{eng}"] = np.array([np.nan if r.frequency is None else r.frequency for r in part])
+        loose = mine[len(small) + len(large):]
+        data[f"rate_free_{eng}"] = np.array([r.rotation_rate for r in loose])
+        data[f"drift_free_{eng}"] = np.array([r.extra["centre_drift"] for r in loose])
+        data[f"amplitude_free_{eng}"] = np.array([r.amplitude for r in loose])
+    n_free = SIZES_N[0]
+    rigid = np.array(free) * n_free * np.sin(2.0 * np.pi / n_free) / (n_free + 1)  # a rigid regular ring's |rate|
     rates = {eng: np.r_[data[f"rate_7_{eng}"], data[f"rate_24_{eng}"]] for eng in ENGINES}
     summary = RingSummary(
-        sigma_small=[float(s) for s in small], sigma_large=[float(s) for s in large],
+        sigma_small=[float(s) for s in small], sigma_large=[float(s) for s in large], sigma_free=[float(s) for s in free],
         rigid_amplitude_mujoco=float(np.max(data["amplitude_7_mujoco"])),
         rigid_amplitude_reduced=float(np.max(data["amplitude_7_reduced"])),
         rate_per_sigma_mujoco=float(data["rate_7_mujoco"][0] / small[0]),
@@ -81,6 +103,12 @@ def ring_study(size: str = "quick", workers=None, progress: bool = True) -> Stud
         rate_difference=float(np.max(np.abs(rates["mujoco"] - rates["reduced"]) / np.abs(rates["reduced"]))),
         beating_mujoco=[float(s) for s, a in zip(large, data["amplitude_24_mujoco"]) if a > BEATING],
         beating_reduced=[float(s) for s, a in zip(large, data["amplitude_24_reduced"]) if a > BEATING],
+        free_rate_ratio_mujoco=float(np.max(np.abs(np.abs(data["rate_free_mujoco"]) / rigid - 1.0))),
+        free_rate_ratio_reduced=float(np.max(np.abs(np.abs(data["rate_free_reduced"]) / rigid - 1.0))),
+        free_rate_difference=float(np.max(np.abs(data["rate_free_mujoco"] - data["rate_free_reduced"])
+                                          / np.abs(data["rate_free_reduced"]))),
+        free_drift=float(max(np.max(data[f"drift_free_{eng}"]) for eng in ENGINES)),
+        free_rigid_amplitude=float(max(np.max(data[f"amplitude_free_{eng}"]) for eng in ENGINES)),
     )
     return Study("rings", size, data, summary, time.perf_counter() - start)
 
@@ -132,4 +160,12 @@ def ring_claims(study: Study, read: Mapping[str, Study]) -> list[Claim]:
               f"{', '.join(fmt(x) for x in s.beating_reduced) or 'none'}",
               verdict(bool(s.beating_mujoco) and s.beating_mujoco == s.beating_reduced),
               f"Theta amplitude > {BEATING:g} rad; at the largest sigma it turns rigidly again"),
+        Claim("A free ring (no pin) turns steadily about its centre of drag and does not drift (N = 7)", outlook,
+              f"rate within {100 * s.free_rate_ratio_mujoco:.2g}% of sigma N sin(2 pi/N) / (N + 1)",
+              f"within {100 * s.free_rate_ratio_reduced:.2g}%",
+              verdict(max(s.free_rate_ratio_mujoco, s.free_rate_ratio_reduced) < 0.05 and s.free_rate_difference < 0.01
+                      and s.free_drift < 1e-3 and s.free_rigid_amplitude < 1e-2),
+              f"the rigid regular polygon's rate with the root's bead (N + 1 drag points); centre drift <= "
+              f"{fmt(s.free_drift, 2)} l/tau, Theta amplitude <= {fmt(s.free_rigid_amplitude, 2)} rad; engines within "
+              f"{100 * s.free_rate_difference:.2g}%"),
     ]

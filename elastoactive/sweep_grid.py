@@ -216,6 +216,11 @@ class Sweep:
         return math.prod(self.shape)
 
     @property
+    def chains(self) -> int:
+        """Chains of every point (Scene.chain_count: the star's arms; make_sweep keeps it the same over the grid)."""
+        return self.physics.n_chains
+
+    @property
     def fixed(self) -> dict:
         """The scene's physics parameters that are not on the grid."""
         return {k: v for k, v in self.physics.relevant().items() if k != "scene" and k not in self.grid}
@@ -248,6 +253,14 @@ class Sweep:
         except ParameterError as err:
             raise ParameterError(f"grid point {point}: {err}") from None
         return Case(physics, numerics, self.duration, self.engine, self.transient)
+
+
+def _chains(physics: Physics, key: str, value) -> int | None:
+    """Chains of `physics` with `key` at `value` (None: the value alone is refused; the grid point says why)."""
+    try:
+        return physics.replace(**{key: value}).n_chains
+    except ParameterError:
+        return None
 
 
 def make_sweep(
@@ -290,6 +303,11 @@ def make_sweep(
         numerics = dataclasses.replace(numerics, **{k: v for k, v in first.items() if k in NUMERICS_KEYS})
     except ParameterError as err:
         raise ParameterError(f"grid point {first}: {err}") from None
+    for key, values in grid.items():  # the per-chain results have one shape: the chains may not change on the grid
+        if key in physics_keys() and any(_chains(physics, key, v.item()) not in (None, physics.n_chains)
+                                         for v in values):
+            raise ParameterError(f"grid: {key} changes the number of chains of scene {scene}; sweep one value of "
+                                 f"{key} at a time (--{key.replace('_', '-')} as a fixed value)")
     noisy = bool(np.any(grid["noise"] > 0)) if "noise" in grid else physics.noise > 0
     check_engine_numerics(engine, [k for k in grid if k in MUJOCO_ONLY], noisy, lambda k: f"grid {k}")
     return Sweep(scene, grid, physics, numerics, duration, engine, None if transient is None else float(transient))

@@ -21,7 +21,6 @@ from typing import Callable
 
 import numpy as np
 
-from . import registry
 from .outputs import write_netcdf
 from .params import LONG_CHAIN
 from .sweep_grid import VARIABLE_ATTRS, VECTORS, SweepStorageError, coordinate_attrs, spec_text
@@ -129,7 +128,7 @@ def contents(sweep, arrays: dict, spec: dict, done: np.ndarray) -> tuple[dict, d
     ({name: array}), specification `spec` and finished points `done` (a boolean array of the grid's shape):
     {name: (dims, array, attrs)}, {...}, {...} (outputs.write_netcdf writes them; `dataset` makes them an
     xarray.Dataset)."""
-    chains = registry.get(sweep.scene).n_chains
+    chains = sweep.chains
     dims = tuple(sweep.grid)
     coords = {k: ((k,), v, coordinate_attrs(k)) for k, v in sweep.grid.items()}
     if chains > 1:

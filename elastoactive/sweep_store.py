@@ -74,7 +74,7 @@ class Store:
         self.sweep, self.out = sweep, out
         self.spec = sweep.spec()
         shape = sweep.shape
-        self.chains = registry.get(sweep.scene).n_chains
+        self.chains = sweep.chains
         self.required = ("amplitude", "frequency") + (("constraint_violation",) if registry.get(sweep.scene).pinned else ())
         self.arrays: dict[str, np.ndarray] = {}
         for name in scene_variables(sweep.scene):

@@ -31,7 +31,10 @@
    Self-aligning active units (the self-aligning term; generic over sites: a particle on a chain's link or a
    lattice node that is a body on two slide joints). A site carrying a force (user[0] = F != 0) is a
    self-aligning unit when an actuator marks it:
-       dyntype user (mjDYN_USER), one activation; transmission on the site (trntype site, target = the site);
+       dyntype user (mjDYN_USER), one activation; transmission on the site (trntype site, target = the site), or,
+       for a site on a body that slides (a lattice node), on one of that body's slide joints (trntype joint: the
+       unit's site is then the site of the joint's body that carries a force; MuJoCo computes a joint transmission's
+       moment in O(1), a site's as a Jacobian, which the unit, having no gain, does not need);
        dynprm[0] = l_a > 0, the alignment length; gain and bias 0 (gaintype fixed, gainprm[0] = 0, biastype none),
        so the actuator applies no force of its own; by convention named "<site name>_polarity".
    Its activation act = psi is the unit's polarity, an absolute angle in the lab's xy plane, integrated by MuJoCo
@@ -136,8 +139,12 @@ static const mjtNum* coloured_noise(const mjModel* m, mjData* d, const mjtNum* p
 /* ---- self-aligning units (see the top of the file) ---- */
 
 static int is_self_aligning_unit(const mjModel* m, int a) {
-  return m->actuator_dyntype[a] == mjDYN_USER && m->actuator_trntype[a] == mjTRN_SITE &&
-         m->actuator_dynprm[a * mjNDYN] > 0 && m->actuator_actadr[a] >= 0 && m->actuator_trnid[2 * a] >= 0;
+  if (m->actuator_dyntype[a] != mjDYN_USER || m->actuator_dynprm[a * mjNDYN] <= 0 || m->actuator_actadr[a] < 0 ||
+      m->actuator_trnid[2 * a] < 0) {
+    return 0;
+  }
+  int trn = m->actuator_trntype[a];
+  return trn == mjTRN_SITE || (trn == mjTRN_JOINT && m->jnt_type[m->actuator_trnid[2 * a]] == mjJNT_SLIDE);
 }
 
 /* the lab-frame linear velocity of site s: cvel's linear part (at the subtree centre of mass of the body's root)
@@ -152,34 +159,70 @@ static void site_velocity(const mjModel* m, const mjData* d, int s, mjtNum v[3])
   for (int k = 0; k < 3; k++) v[k] = cv[3 + k] + wr[k];
 }
 
+/* per thread, for the model last seen: per site, the activation address of the unit that marks it (-1: none), and
+   per actuator, the site of the unit it is (-1: none) */
+static _Thread_local int* unit_of_site = NULL;
+static _Thread_local int* site_of_unit = NULL;
+static _Thread_local int* scratch_site_of_body = NULL;
+static _Thread_local const mjModel* units_model = NULL;
+static _Thread_local int units_any = 0;
+
+static _Thread_local int units_capacity = 0;
+
+/* (re)builds the per-thread maps for m; returns whether m has a unit */
+static int build_units(const mjModel* m) {
+  units_model = NULL;
+  units_any = 0;
+  int need = m->nsite > m->nu ? m->nsite : m->nu;
+  if (m->nbody > need) need = m->nbody;
+  if (need < 1) need = 1;
+  if (units_capacity < need) {
+    int* a1 = (int*)realloc(unit_of_site, sizeof(int) * need);
+    if (a1) unit_of_site = a1;
+    int* a2 = (int*)realloc(site_of_unit, sizeof(int) * need);
+    if (a2) site_of_unit = a2;
+    int* a3 = (int*)realloc(scratch_site_of_body, sizeof(int) * need);
+    if (a3) scratch_site_of_body = a3;
+    if (!a1 || !a2 || !a3) return 0;
+    units_capacity = need;
+  }
+  for (int b = 0; b < m->nbody; b++) scratch_site_of_body[b] = -1;
+  for (int s = m->nsite - 1; s >= 0; s--) {
+    if (m->nuser_site >= 1 && m->site_user[s * m->nuser_site] != 0) scratch_site_of_body[m->site_bodyid[s]] = s;
+  }
+  for (int s = 0; s < m->nsite; s++) unit_of_site[s] = -1;
+  for (int a = 0; a < m->nu; a++) {
+    int s = -1;
+    if (is_self_aligning_unit(m, a)) {
+      int target = m->actuator_trnid[2 * a];
+      s = m->actuator_trntype[a] == mjTRN_SITE ? target : scratch_site_of_body[m->jnt_bodyid[target]];
+    }
+    site_of_unit[a] = s;
+    if (s >= 0) {
+      unit_of_site[s] = m->actuator_actadr[a];
+      units_any = 1;
+    }
+  }
+  units_model = m;
+  return units_any;
+}
+
 static mjtNum self_aligning_act_dyn(const mjModel* m, const mjData* d, int id) {
   if (!is_self_aligning_unit(m, id) || !find_numeric(m, "elastoactive_follower", 2)) return 0;
+  if (units_model != m && !build_units(m)) return 0;
+  int s = site_of_unit[id];
+  if (s < 0) return 0;
   mjtNum v[3];
-  site_velocity(m, d, m->actuator_trnid[2 * id], v);
+  site_velocity(m, d, s, v);
   mjtNum psi = d->act[m->actuator_actadr[id]];
   return (-v[0] * sin(psi) + v[1] * cos(psi)) / m->actuator_dynprm[id * mjNDYN];
 }
 
-static _Thread_local int* unit_of_site = NULL;
-static _Thread_local int unit_sites = 0;
-
 /* per site, the activation address of the self-aligning unit that marks it (-1: none); NULL when the model has
-   no unit */
+   no unit. Rebuilt at every call (the passive callback's, before the act_dyn callback's in each forward pass), so the
+   act_dyn callback reads maps of the model being stepped. */
 static const int* self_aligning_units(const mjModel* m) {
-  int any = 0;
-  for (int a = 0; a < m->nu && !any; a++) any = is_self_aligning_unit(m, a);
-  if (!any) return NULL;
-  if (unit_sites < m->nsite) {
-    int* grown = (int*)realloc(unit_of_site, sizeof(int) * m->nsite);
-    if (!grown) return NULL;
-    unit_of_site = grown;
-    unit_sites = m->nsite;
-  }
-  for (int s = 0; s < m->nsite; s++) unit_of_site[s] = -1;
-  for (int a = 0; a < m->nu; a++) {
-    if (is_self_aligning_unit(m, a)) unit_of_site[m->actuator_trnid[2 * a]] = m->actuator_actadr[a];
-  }
-  return unit_of_site;
+  return build_units(m) ? unit_of_site : NULL;
 }
 
 /* the active force of magnitude F at site s: along the unit's polarity, or the follower's -F x_site */
@@ -198,7 +241,8 @@ static inline void active_force(const mjData* d, const int* units, int s, mjtNum
 }
 
 /* A moving clamp (the moving-clamp term): with the custom numeric "elastoactive_clamp" = (A, omega, a_x, a_y,
-   A_phi, K, B), chain 1's clamp follows x_c(t) = (a_x, a_y) sin(omega t) and its angle phi_c(t) = A_phi sin(omega t).
+   A_phi, K, B[, Omega]), chain 1's clamp follows x_c(t) = (a_x, a_y) sin(omega t) and its angle
+   phi_c(t) = A_phi sin(omega t) + Omega t (Omega: a steadily rotating clamp's rate, 0 when absent).
    The point: the slide joints clamp_x and clamp_y (damped by -B q' from two velocity actuators on the clamp's site,
    integrated implicitly by MuJoCo) receive the servo force B u(t) + K (x_c(t) - q), u = x_c'; with the damping,
    -B (q' - u) + K (x_c - q) holds the clamp on its path. The angle: the hinge named by the custom text "elastoactive_clamp_hinge" receives
@@ -219,7 +263,9 @@ static const char* find_text(const mjModel* m, const char* name) {
 
 static void clamp_servo(const mjModel* m, mjData* d) {
   const mjtNum* c = find_numeric(m, "elastoactive_clamp", 7);
-  if (!c || c[0] == 0) return;
+  const mjtNum* turning = find_numeric(m, "elastoactive_clamp", 8);
+  mjtNum rate = turning ? turning[7] : 0;
+  if (!c || (c[0] == 0 && rate == 0)) return;
   mjtNum s = sin(c[1] * d->time), u = c[1] * cos(c[1] * d->time);
   static const char* slides[2] = {"clamp_x", "clamp_y"};
   for (int k = 0; k < 2; k++) {
@@ -229,8 +275,8 @@ static void clamp_servo(const mjModel* m, mjData* d) {
     d->qfrc_passive[dof] += c[6] * c[2 + k] * u + c[5] * (c[2 + k] * s - d->qpos[m->jnt_qposadr[j]]);
   }
   const char* hinge = find_text(m, "elastoactive_clamp_hinge");
-  int j = (hinge && c[4] != 0) ? find_joint(m, hinge) : -1;
-  if (j >= 0) d->qfrc_passive[m->jnt_dofadr[j]] += m->jnt_stiffness[j] * c[4] * s;
+  int j = (hinge && (c[4] != 0 || rate != 0)) ? find_joint(m, hinge) : -1;
+  if (j >= 0) d->qfrc_passive[m->jnt_dofadr[j]] += m->jnt_stiffness[j] * (c[4] * s + rate * d->time);
 }
 
 static void follower_passive(const mjModel* m, mjData* d) {

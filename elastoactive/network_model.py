@@ -18,7 +18,8 @@ is in gamma / k):
   node mass             bead geom mass = mass_ratio (inertial time m / gamma in units of gamma / k)
   active unit on node i the site's first user value F_a = sigma and a self-aligning unit on the site
                         (terms.self_aligning.add_unit: an actuator node_{i}_polarity with user dynamics whose
-                        activation is the polarity psi_i; controllers/follower.c turns psi at (v . n_perp) / l_a and
+                        activation is the polarity psi_i, its transmission the node's x slide, a pinned node's its
+                        site; controllers/follower.c turns psi at (v . n_perp) / l_a and
                         applies F_a (cos psi, sin psi)); every active node has one, also at sigma = 0 (its
                         polarity then turns without a force), so that the state has the same shape at every sigma
   callback marker       custom numeric elastoactive_follower (noise amplitude 0, seed): the compiled callback acts
@@ -119,8 +120,8 @@ def build_network_spec(network, physics: Physics, numerics: Numerics = Numerics(
                                  springlength=[float(network.rest_lengths[b])] * 2)
         tendon.wrap_site(f"node_{i}")
         tendon.wrap_site(f"node_{j}")
-    for i in np.flatnonzero(active):
-        add_unit(spec, f"node_{i}", physics.alignment_length)
+    for i in np.flatnonzero(active):  # a free node's unit on its x slide (O(1) per step), a pinned one's on its site
+        add_unit(spec, f"node_{i}", physics.alignment_length, slide=None if pinned[i] else f"node_{i}_x")
 
     spec.option.timestep = numerics.dt
     spec.option.integrator = INTEGRATOR[numerics.integrator]

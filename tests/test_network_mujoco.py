@@ -295,3 +295,27 @@ def test_preflight_refuses_an_unresolved_network_in_one_line():
         check_timestep(physics, ea.Numerics(dt=0.1, sample_dt=0.1))
     with pytest.raises(ParameterError, match=r"^mass_ratio = 0.5 is outside the overdamped limit"):
         check_timestep(physics, ea.Numerics(mass_ratio=0.5))
+
+
+def test_units_on_a_slide_joint_are_the_units_on_the_site(patch_scene):
+    """A free node's unit is an actuator on the node's x slide (a joint transmission, O(1) per step) rather than on
+    its site (a Jacobian per step): the callback finds the same site, so the trajectory is the same to the bit."""
+    from elastoactive.engines.network_mujoco import prepare_network
+    from elastoactive.network_model import build_network_spec
+
+    physics = ea.Physics(scene=patch_scene.name, sigma=0.6, alignment_length=0.3)
+    numerics = ea.Numerics(perturbation=0.05, dt=0.0025, integrator="Euler")
+    network, model, data = prepare_network(physics, numerics)
+    assert np.all(model.actuator_trntype == mujoco.mjtTrn.mjTRN_JOINT) and model.nu > 0
+    spec = build_network_spec(network, physics, numerics)
+    for actuator in spec.actuators:
+        actuator.trntype, actuator.target = mujoco.mjtTrn.mjTRN_SITE, actuator.name.removesuffix("_polarity")
+    on_site = spec.compile()
+    site_data = mujoco.MjData(on_site)
+    site_data.qpos[:], site_data.act[:] = data.qpos, data.act
+    with follower_forces():
+        mujoco.mj_step(model, data, nstep=400)
+        mujoco.mj_step(on_site, site_data, nstep=400)
+    assert np.abs(data.act - polarity_of_units(model, prepare_network(physics, numerics)[2])).max() > 1e-3  # turned
+    np.testing.assert_array_equal(data.qpos, site_data.qpos)
+    np.testing.assert_array_equal(data.act, site_data.act)

@@ -40,24 +40,33 @@ POLARITY_SUFFIX = "_polarity"
 """A unit's actuator in MuJoCo is named after its site: '<site name>_polarity' (controllers/follower.c)."""
 
 
-def add_unit(spec, site: str, alignment_length: float) -> None:
+def add_unit(spec, site: str, alignment_length: float, slide: str | None = None) -> None:
     """Mark the site `site` (which carries a force magnitude in its first user value) as a self-aligning unit: an
-    actuator with user dynamics, on the site, l_a in dynprm[0], no gain or bias; its activation is the polarity psi
-    (controllers/follower.c). Generic over sites: a chain's particle or a lattice node."""
+    actuator with user dynamics, l_a in dynprm[0], no gain or bias; its activation is the polarity psi
+    (controllers/follower.c). Generic over sites: a chain's particle or a lattice node. The actuator's transmission is
+    the site, or, for a site on a body that slides, `slide`, one of that body's slide joints: the same unit (the
+    callback finds the site from the joint's body), but MuJoCo computes a joint transmission in O(1) where a site's
+    costs a Jacobian every step (the unit has no gain: its transmission moves nothing)."""
     import mujoco  # start-up time: the CLI imports the terms
 
-    spec.add_actuator(name=site + POLARITY_SUFFIX, target=site, trntype=mujoco.mjtTrn.mjTRN_SITE,
+    target, transmission = (site, mujoco.mjtTrn.mjTRN_SITE) if slide is None else (slide, mujoco.mjtTrn.mjTRN_JOINT)
+    spec.add_actuator(name=site + POLARITY_SUFFIX, target=target, trntype=transmission,
                       dyntype=mujoco.mjtDyn.mjDYN_USER, gaintype=mujoco.mjtGain.mjGAIN_FIXED,
                       biastype=mujoco.mjtBias.mjBIAS_NONE, gainprm=[0.0] * 10,
                       dynprm=[float(alignment_length)] + [0.0] * 9, actdim=1)
 
 
 def unit_actuators(model) -> np.ndarray:
-    """Indices of the actuators that mark self-aligning units (follower.c's rule), in model order."""
+    """Indices of the actuators that mark self-aligning units (follower.c's rule: on a site, or on a slide joint),
+    in model order."""
     import mujoco  # start-up time: the CLI imports the terms
 
+    trn = model.actuator_trntype
+    target = model.actuator_trnid[:, 0]
+    on_slide = (trn == mujoco.mjtTrn.mjTRN_JOINT) & (target >= 0)
+    on_slide[on_slide] = model.jnt_type[target[on_slide]] == mujoco.mjtJoint.mjJNT_SLIDE
     return np.flatnonzero((model.actuator_dyntype == mujoco.mjtDyn.mjDYN_USER)
-                          & (model.actuator_trntype == mujoco.mjtTrn.mjTRN_SITE)
+                          & ((trn == mujoco.mjtTrn.mjTRN_SITE) | on_slide) & (target >= 0)
                           & (model.actuator_dynprm[:, 0] > 0) & (model.actuator_actadr >= 0))
 
 
@@ -68,8 +77,12 @@ def polarity_addresses(model) -> np.ndarray:
 
 def align_with_sites(model, data) -> None:
     """Set every unit's polarity along the follower direction of its site, -x_site (after mj_forward: site_xmat):
-    at t = 0 the two laws exert the same force."""
+    at t = 0 the two laws exert the same force. Chain units only (their transmission is the site)."""
+    import mujoco  # start-up time: the CLI imports the terms
+
     for a in unit_actuators(model):
+        if model.actuator_trntype[a] != mujoco.mjtTrn.mjTRN_SITE:
+            continue
         R = data.site_xmat[model.actuator_trnid[a, 0]]
         data.act[model.actuator_actadr[a]] = math.atan2(-R[3], -R[0])
 

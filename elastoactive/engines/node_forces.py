@@ -76,9 +76,10 @@ def check(physics: Physics, system, noisy: bool) -> None:
     if noisy:
         raise ParameterError(f"the reduced engine adds the forces of {names} to noise-free runs only; set noise 0 or "
                              "use the MuJoCo engine")
-    if system.inertial or system.pinned or system.head_free:
+    if system.inertial or system.pinned or system.head_free or system.hub_free:
         raise ParameterError(f"the reduced engine adds the forces of {names} to the overdamped model of a chain "
-                             f"without pins or a sliding head; scene {physics.scene} needs the MuJoCo engine for them")
+                             f"without pins, a sliding head or a turning hub; scene {physics.scene} needs the MuJoCo "
+                             "engine for them")
 
 
 def clamp_of(physics: Physics):

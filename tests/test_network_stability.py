@@ -59,3 +59,28 @@ def test_pinned_hexagon_threshold_lies_between_the_softest_mode_and_every_random
     assert th.softest == pytest.approx(1.1358, abs=1e-4)
     assert th.softest < th.typical < th.coupling < 1.9
     assert st.critical_coupling(hexagonal_patch(2), th.polarities) == pytest.approx(th.coupling)
+
+
+def test_ceiling_bounds_every_fixed_points_threshold():
+    network = hexagonal_patch(2)
+    ceiling = st.coupling_ceiling(network)
+    rng = np.random.default_rng(3)
+    assert max(st.critical_coupling(network, rng.uniform(0, 2 * np.pi, 7)) for _ in range(50)) < ceiling
+    assert st.coupling_ceiling(trap_unit(0.7)) == pytest.approx(0.7)  # one unit, D = k I: the bound is exact
+
+
+def test_stability_command_reports_the_lattices_bracket(capsys):
+    """`elastoactive stability lattice`: the fixed points form a family, so the onset is the bracket [lambda_1, Pi*]
+    (in sigma = Pi l_a), with the least stable fixed point's growth rate Pi - lambda_1 at --sigma."""
+    from elastoactive.cli import main
+    from elastoactive.params import Physics
+
+    assert main(["stability", "lattice", "--rings", "2", "--alignment-length", "0.1", "--sigma", "0.15"]) == 0
+    out = capsys.readouterr().out
+    assert "every fixed point stable below sigma_c = 0.113584 (Pi = 1.13584)" in out
+    assert "growth rate +0.364164 k/gamma (unstable)" in out
+    onset = Physics(scene="lattice", rings=2, alignment_length=0.1).scene_def.onset(
+        Physics(scene="lattice", rings=2, alignment_length=0.1))
+    assert 0.1740 < onset.sigma_all < 0.1760 and onset.omega_c == 0.0  # Pi* = 1.75 (docs/network.md)
+    assert main(["stability", "lattice", "--boundary", "centre"]) != 0
+    assert "boundary must be pinned" in capsys.readouterr().err

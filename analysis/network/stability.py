@@ -13,7 +13,9 @@ unit's perpendicular), and it has A zero eigenvalues along the family of fixed p
 H = -D (the dynamical matrix; x* - rest = O(sigma)), the fixed point of polarities psi is stable while
 Pi < Pi_c(psi) = 1 / mu_max(psi), mu_max the largest generalised eigenvalue of Q v = mu D v. Since Q <= I, every
 fixed point is stable below the softest mode's eigenvalue lambda_1, and none is stable above
-Pi* = max over psi of Pi_c(psi): `threshold` finds it by optimising the polarities. A single unit in a trap of
+Pi* = max over psi of Pi_c(psi): `threshold` bounds it from below by optimising the polarities (L-BFGS on the
+analytic gradient of mu_max from seeded starts: a lower bound, the best local maximum found), `coupling_ceiling` from
+above (a trace bound, no optimisation). A single unit in a trap of
 stiffness k_t: D = k_t I, Pi_c = k_t for every psi (Pi = l_e / l_a = 1 in the trap's own units).
 """
 
@@ -60,26 +62,63 @@ def critical_coupling(network: Network, psi: np.ndarray) -> float:
     return float(1.0 / eigh(n @ n.T, d, eigvals_only=True)[-1])
 
 
+def _critical_coupling_objective(network: Network):
+    """mu_max(psi) and its gradient, for minimising (Pi_c = 1 / mu_max): with D = L L^T and B = L^-1 N_perp, mu_max
+    is the top eigenvalue of B^T B; w = L^-T B c / sqrt(mu) (c its eigenvector) is the generalised eigenvector with
+    w^T D w = 1, and d mu / d psi_u = w^T (dQ / dpsi_u) w = -2 (w_u . n_perp_u)(w_u . n_u)."""
+    from scipy.linalg import cholesky, solve_triangular  # start-up time: scipy.linalg only for the stability analysis
+
+    d = dynamical_matrix(network)
+    slots = unit_slots(network)
+    free = d.shape[0] // 2
+    inverse = solve_triangular(cholesky(d, lower=True), np.eye(2 * free), lower=True)
+
+    def objective(psi: np.ndarray) -> tuple[float, np.ndarray]:
+        b = inverse @ perpendiculars(psi, slots, free)
+        values, vectors = np.linalg.eigh(b.T @ b)
+        mu = float(values[-1])
+        w = (inverse.T @ (b @ vectors[:, -1]) / np.sqrt(mu)).reshape(-1, 2)[slots]
+        along = w[:, 0] * np.cos(psi) + w[:, 1] * np.sin(psi)
+        across = -w[:, 0] * np.sin(psi) + w[:, 1] * np.cos(psi)
+        return mu, -2.0 * across * along
+
+    return objective
+
+
+def coupling_ceiling(network: Network) -> float:
+    """An upper bound on Pi*, no optimisation: D^-1/2 Q D^-1/2 has rank <= A, so mu_max >= tr(D^-1 Q) / A, and
+    tr(D^-1 Q) = sum_u n_perp_u^T (D^-1)_uu n_perp_u >= sum_u (smallest eigenvalue of unit u's 2 x 2 block of D^-1):
+    Pi_c(psi) <= A / that sum for every psi."""
+    inverse = np.linalg.inv(dynamical_matrix(network))
+    slots = unit_slots(network)
+    floor = sum(float(np.linalg.eigvalsh(inverse[2 * s : 2 * s + 2, 2 * s : 2 * s + 2])[0]) for s in slots)
+    return len(slots) / floor
+
+
 class Threshold(NamedTuple):
     softest: float        # lambda_1: below it every fixed point is stable
-    coupling: float       # Pi*: above it no fixed point is stable
+    coupling: float       # Pi* (a lower bound: the best local maximum found): above it no fixed point is stable
     polarities: np.ndarray  # the most stable fixed point's psi (the last to lose stability)
     typical: float        # median of Pi_c over uniformly random polarities
+    ceiling: float        # coupling_ceiling: an upper bound on Pi*
 
 
-def threshold(network: Network, starts: int = 12, seed: int = 0, samples: int = 400) -> Threshold:
-    """lambda_1, Pi* = max_psi Pi_c(psi) (Nelder-Mead from `starts` seeded random polarities, the best kept) and the
-    median Pi_c of `samples` random polarities."""
+def threshold(network: Network, starts: int = 12, seed: int = 0, samples: int = 400,
+              iterations: int = 3000) -> Threshold:
+    """lambda_1, Pi* >= max over `starts` seeded random polarities of the local maximum of Pi_c (L-BFGS on the
+    analytic gradient, at most `iterations` steps each), the median Pi_c of `samples` random polarities, and
+    coupling_ceiling."""
     from scipy.optimize import minimize  # start-up time: scipy.optimize only for the stability analysis
 
     rng = np.random.default_rng(seed)
     count = len(unit_slots(network))
+    objective = _critical_coupling_objective(network)
     best = None
     for _ in range(starts):
-        result = minimize(lambda p: -critical_coupling(network, p), rng.uniform(0, 2 * np.pi, count),
-                          method="Nelder-Mead", options={"maxiter": 400 * count, "xatol": 1e-9, "fatol": 1e-12})
+        result = minimize(objective, rng.uniform(0, 2 * np.pi, count), jac=True, method="L-BFGS-B",
+                          options={"maxiter": iterations})
         if best is None or result.fun < best.fun:
             best = result
-    typical = float(np.median([critical_coupling(network, rng.uniform(0, 2 * np.pi, count)) for _ in range(samples)]))
+    typical = float(np.median([1.0 / objective(rng.uniform(0, 2 * np.pi, count))[0] for _ in range(samples)]))
     softest = float(np.linalg.eigvalsh(dynamical_matrix(network))[0])
-    return Threshold(softest, float(-best.fun), np.mod(best.x, 2 * np.pi), typical)
+    return Threshold(softest, float(1.0 / best.fun), np.mod(best.x, 2 * np.pi), typical, coupling_ceiling(network))

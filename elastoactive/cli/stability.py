@@ -1,10 +1,13 @@
-"""`elastoactive stability SCENE`: the linear stability of a scene's straight chain, without simulating.
+"""`elastoactive stability SCENE`: the linear stability of a scene's straight chain (or a network's rest states),
+without simulating.
 
 For every scene with a linear operator about its base state (analysis/stability.py): where the straight chain
 loses stability (sigma_c) and how (omega_c: the flutter's angular frequency; 0 for the free pin's steady
 rotation), the growth rate and frequency of its least stable mode at a given --sigma, and the continuum
 filament's onset (analysis/continuum.py) with what it means at this N. The one-pinned chain's onset is computed
-in O(N) per sigma (stability.onset): ~0.1 s at N = 200, ~0.3 s at N = 1000.
+in O(N) per sigma (stability.onset): ~0.1 s at N = 200, ~0.3 s at N = 1000. A network scene (lattice,
+trapped-unit) reports in its coupling Pi = sigma / l_a; the lattice's fixed points form a family, so its onset is a
+bracket: every fixed point stable below lambda_1, none above Pi* (analysis/network/stability.py).
 """
 
 from __future__ import annotations
@@ -40,10 +43,14 @@ def register(subparsers) -> None:
     p.add_argument("scene", metavar="SCENE", help=f"one of: {', '.join(_with_operator())}")
     p.add_argument("--n", type=int, default=7, help="particles per chain N (default 7)")
     p.add_argument("--sigma", type=float, default=None, help="also the growth rate of the least stable mode here")
+    p.add_argument("--alignment-length", dest="alignment_length", type=float, default=None,
+                   help="networks (lattice, trapped-unit): the units' alignment length l_a (default 1); the coupling "
+                        "is Pi = sigma / l_a")
     for name, owners in _own_parameters().items():  # the scenes' own parameters (the pair's kappa, rho), from specs
         spec = parameter_spec(name)
-        p.add_argument(spec.option, type=spec.kind, default=None,
-                       help=f"{', '.join(owners)}: {spec.help} (default {spec.default:.4g})")
+        default = f"{spec.default:.4g}" if isinstance(spec.default, float) else spec.default
+        p.add_argument(spec.option, type=spec.kind, default=None, help=f"{', '.join(owners)}: {spec.help} (default "
+                       f"{default})")
     p.set_defaults(func=main)
 
 
@@ -64,10 +71,36 @@ def _physics(args):
     refused = [k for k in given if k not in own]
     if refused:
         raise ParameterError(f"stability: {refused[0]} has no effect on scene {args.scene}")
+    sigma = 0.0 if args.sigma is None else args.sigma
+    if scene.term_parameters is not None and "alignment_length" in scene.term_parameters:  # a network: no chain
+        if args.alignment_length is not None:
+            given["alignment_length"] = args.alignment_length
+        return Physics(scene=args.scene, sigma=sigma, **given)
+    if args.alignment_length is not None:
+        raise ParameterError(f"stability: alignment_length has no effect on scene {args.scene}")
     if args.n < 2:
         raise ParameterError(f"n must be >= 2 for a chain that can bend, got {args.n}")
-    sigma = 0.0 if args.sigma is None else args.sigma
     return Physics(scene=args.scene, n=args.n, sigma=sigma, **given)
+
+
+def _network_report(physics, sigma: float | None) -> None:
+    """A network's onset in the coupling Pi = sigma / l_a, with the bracket where its fixed points form a family."""
+    scene, la = physics.scene_def, physics.alignment_length
+    onset = scene.onset(physics)
+    own = ", ".join(f"{k} = {getattr(physics, k)}" for k in scene.own_parameter_names())
+    print(f"{physics.scene}, {own}, l_a = {la:g}:")
+    print(f"  onset: {onset.kind}")
+    if onset.sigma_all is None:
+        print(f"  at sigma_c = {onset.sigma_c:.10g} (Pi_c = {onset.sigma_c / la:.6g})")
+    else:
+        print(f"  every fixed point stable below sigma_c = {onset.sigma_c:.6g} (Pi = {onset.sigma_c / la:.6g}); none "
+              f"above sigma_all = {onset.sigma_all:.6g} (Pi* = {onset.sigma_all / la:.6g}, a lower bound); between, "
+              "collective actuation depends on the starting polarities")
+    if sigma is not None:
+        lam = scene.leading_eigenvalue(physics, sigma)
+        which = "the least stable fixed point's" if onset.sigma_all is not None else "the rest state's"
+        state = "unstable" if lam.real > 0 else "stable"
+        print(f"  at sigma = {sigma:g} (Pi = {sigma / la:.6g}): {which} growth rate {lam.real:+.6g} k/gamma ({state})")
 
 
 def main(args) -> int:
@@ -76,6 +109,10 @@ def main(args) -> int:
 
     physics = _physics(args)
     scene, n = physics.scene_def, physics.n
+    if scene.network(physics) is not None:
+        with one_blas_thread():
+            _network_report(physics, args.sigma)
+        return 0
     with one_blas_thread():
         onset = scene.onset(physics)
         sigma_c, omega_c = onset.sigma_c, onset.omega_c

@@ -56,6 +56,10 @@ class Onset:
     sigma_c: float
     omega_c: float
     kind: str
+    sigma_all: float | None = None
+    """Where the base states form a family (a network's fixed points, one per choice of the polarities): sigma_c is
+    where the first of them loses stability, sigma_all where the last does (a lower bound, from an optimisation);
+    None for a single base state."""
 
 
 class Scene:

@@ -33,7 +33,7 @@ from ..parameters import Parameter
 from ..params import Numerics, Physics
 from ..terms.self_aligning import SELF_ALIGNING
 from ..trajectory import Trajectory
-from .base import Scene, ValidationCase
+from .base import Onset, Scene, ValidationCase
 
 RINGS = Parameter("rings", 2, f"rings R of the hexagonal patch (1 + 3R(R+1) nodes, R = 1..{MAX_RINGS})", kind=int,
                   low=1, high=MAX_RINGS, title="rings of the hexagonal patch R", symbol="R")
@@ -135,6 +135,40 @@ class Lattice(NetworkScene):
         angle, t = self._rotation(traj)[keep], traj.t[keep]
         out["patch_rotation_rate"] = float((angle[-1] - angle[0]) / (t[-1] - t[0]))
         return out
+
+    no_linear_operator = ""
+    STARTS: ClassVar[int] = 6
+    """Seeded starts of the optimisation of the polarities that bounds Pi* from below (analysis.network.stability)."""
+
+    def _threshold(self, physics: Physics):
+        from ..analysis.network import stability  # start-up time: scipy only for the stability analysis
+
+        if physics.boundary != "pinned":
+            raise ParameterError(f"stability: boundary must be pinned for the lattice's linear stability, got "
+                                 f"{physics.boundary!r} (a patch free to move or turn has zero modes: no threshold)")
+        return stability.threshold(self.network(physics), starts=self.STARTS, samples=1)
+
+    def onset(self, physics: Physics) -> Onset:
+        """A family of fixed points, one per choice of the polarities, each losing stability through a real
+        eigenvalue of -D + Pi Q: every one is stable below Pi = lambda_1 (sigma_c = lambda_1 l_a, the onset reported),
+        none above Pi* (sigma_all = Pi* l_a, a lower bound from STARTS optimisations); between, it depends on the
+        polarities (docs/network.md)."""
+        bracket = self._threshold(physics)
+        la = physics.alignment_length
+        return Onset(sigma_c=bracket.softest * la, omega_c=0.0, sigma_all=bracket.coupling * la,
+                     kind=f"a family of fixed points (one per choice of polarities), each through a real eigenvalue: "
+                          f"all stable below Pi = lambda_1 = {bracket.softest:.6g}, none above Pi* >= "
+                          f"{bracket.coupling:.6g} (best of {self.STARTS} optimisations; Pi* <= {bracket.ceiling:.4g})")
+
+    def leading_eigenvalue(self, physics: Physics, sigma: float) -> complex:
+        """The least stable fixed point's largest growth rate, Pi - lambda_1 (Q <= I, with equality on the softest
+        mode when every unit's n_perp lies along it): zero at sigma_c."""
+        from ..analysis.network.model import dynamical_matrix  # start-up time: only the stability command needs it
+
+        if physics.boundary != "pinned":
+            self._threshold(physics)  # refuses, naming the boundary
+        softest = float(np.linalg.eigvalsh(dynamical_matrix(self.network(physics)))[0])
+        return complex(sigma / physics.alignment_length - softest)
 
     def validation_cases(self) -> tuple[ValidationCase, ...]:
         return (ValidationCase(self.physics(rings=2, boundary="pinned", sigma=0.2, alignment_length=0.1), 300.0),)

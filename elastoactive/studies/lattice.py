@@ -7,7 +7,9 @@ run against the elasto-active coupling Pi = l_e / l_a = sigma / alignment_length
 sources' model), from several seeded random polarities each: whether the units end still or turn together
 (actuation), and which normal modes hold the elastic energy. The linear stability (analysis.network.stability)
 brackets the transition: every fixed point is stable below the softest mode's eigenvalue lambda_1, none above Pi*.
-The trapped unit is run across its threshold Pi = 1 against its derivation (docs/network.md). Reduced engine.
+The trapped unit is run across its threshold Pi = 1 against its derivation (docs/network.md). Reduced engine; MuJoCo
+reruns seed 0 at MUJOCO_COUPLINGS (the same cases, its automatic numerics) as the cross-check of the transition's
+bracket and of the selected modes.
 """
 
 from __future__ import annotations
@@ -30,6 +32,9 @@ from .claim_rows import Claim, fmt, verdict
 
 ALIGNMENT = 0.1
 """l_a / a of the lattice runs: small, so that the lattice's displacements (of order l_a) stay in the linear regime."""
+MUJOCO_COUPLINGS = {"tiny": (1.0, 1.5), "quick": (1.4, 1.5), "full": (1.0, 1.2, 1.4, 1.5, 1.6, 2.0, 2.5)}
+"""Couplings at which MuJoCo reruns the lattice's seed 0 (each in the reduced engine's set of that size): quick, the
+two that bracket the reduced engine's transition."""
 ACTUATED = 0.1
 """Actuation (coherence of the units' turning) above which a run counts as actuated (still units: 0;
 units turning together at one rate: 1)."""
@@ -57,6 +62,14 @@ class ActiveSolidSummary(Summary):
     """Largest relative error of the trapped unit's orbit radius against sqrt(l_e l_a) (l_e below threshold)."""
     trap_rate_error: float
     """Largest error of its angular frequency against trap sqrt(Pi - 1) (relative; absolute below threshold)."""
+    mujoco_couplings: list[float]
+    mujoco_actuation: list[float]
+    """MuJoCo's actuation of seed 0 at each of mujoco_couplings."""
+    reduced_actuation: list[float]
+    """The reduced engine's, same cases."""
+    mujoco_modes: list[list[int]]
+    """MuJoCo's two most energetic modes at each of mujoco_couplings (ranks by stiffness)."""
+    reduced_modes: list[list[int]]
 
 
 ACTIVE_SOLID = registry.declare("active_solid", summary=ActiveSolidSummary, order=210)
@@ -78,10 +91,16 @@ def active_solid_study(size: str = "quick", workers=None, progress: bool = True)
     trap_cases = [trap.SCENE.physics(sigma=c * 0.5, trap=1.0, alignment_length=0.5) for c in trap_couplings]
     from ..batch import Case  # start-up time: the batch runner loads with the run
 
+    checked = pick(size, *(MUJOCO_COUPLINGS[k] for k in ("tiny", "quick", "full")))
     batch = [Case(p, n, duration, "reduced", duration / 2) for p, n in zip(cases, numerics)]
     batch += [Case(p, Numerics(sample_dt=0.1), 300.0, "reduced", 150.0) for p in trap_cases]
+    batch += [Case(cases[couplings.index(c) * len(seeds)], Numerics(sample_dt=0.25, seed=0), duration, "mujoco",
+                   duration / 2) for c in checked]
     results = [r.results for r in run_measured(batch, workers, progress, "active solid")]
-    lattice_results, trap_results = results[: len(cases)], results[len(cases):]
+    lattice_results = results[: len(cases)]
+    trap_results = results[len(cases): len(cases) + len(trap_cases)]
+    mujoco_results = results[len(cases) + len(trap_cases):]
+    twins = [lattice_results[couplings.index(c) * len(seeds)] for c in checked]
     actuation = np.array([r.extra["actuation"] for r in lattice_results]).reshape(len(couplings), len(seeds))
     modes = np.array([[r.extra["dominant_mode"], r.extra["second_mode"]] for r in lattice_results])
     fraction = (actuation > ACTUATED).mean(axis=1)
@@ -109,7 +128,12 @@ def active_solid_study(size: str = "quick", workers=None, progress: bool = True)
         modes=[[int(a), int(b)] for (a, b), act in zip(modes, actuation.reshape(-1)) if act > ACTUATED],
         trap_couplings=[float(c) for c in trap_couplings],
         trap_radius_error=float(np.max(np.abs(radius - expected[:, 0]) / expected[:, 0])),
-        trap_rate_error=float(np.max(rate_error)))
+        trap_rate_error=float(np.max(rate_error)),
+        mujoco_couplings=[float(c) for c in checked],
+        mujoco_actuation=[float(r.extra["actuation"]) for r in mujoco_results],
+        reduced_actuation=[float(r.extra["actuation"]) for r in twins],
+        mujoco_modes=[[int(r.extra["dominant_mode"]), int(r.extra["second_mode"])] for r in mujoco_results],
+        reduced_modes=[[int(r.extra["dominant_mode"]), int(r.extra["second_mode"])] for r in twins])
     return Study("active_solid", size, data, summary, time.perf_counter() - start)
 
 
@@ -147,17 +171,31 @@ def active_solid_claims(study: Study, read: Mapping[str, Study]) -> list[Claim]:
     source = "Baconnier et al. 2022 (Nat. Phys.): collective actuation above a critical coupling"
     inside = s.still_below < s.actuated_above and s.softest < s.actuated_above  # none actuates below lambda_1
     softest_pair = all(sorted(m) == [1, 2] for m in s.modes)
+    mj_on = [a > ACTUATED for a in s.mujoco_actuation]
+    same_side = mj_on == [a > ACTUATED for a in s.reduced_actuation]
+    runs = [f"Pi = {fmt(c, 3)}: {fmt(a, 2)}" for c, a in zip(s.mujoco_couplings, s.mujoco_actuation)]
+    mj_still = [c for c, on in zip(s.mujoco_couplings, mj_on) if not on]
+    mj_moving = [c for c, on in zip(s.mujoco_couplings, mj_on) if on]
+    mujoco_row = (f"seed 0, actuation {'; '.join(runs)} (still at Pi <= {fmt(max(mj_still), 3) if mj_still else '-'}, "
+                  f"actuated from {fmt(min(mj_moving), 3) if mj_moving else '-'}; the reduced engine: "
+                  f"{'; '.join(fmt(a, 2) for a in s.reduced_actuation)})")
+    modes_mj = [m for m, on in zip(s.mujoco_modes, mj_on) if on]
+    modes_same = all(sorted(a) == sorted(b) for a, b, on in zip(s.mujoco_modes, s.reduced_modes, mj_on) if on)
     return [
-        Claim("Pinned hexagon (R = 2): rest below a critical Pi = l_e / l_a, collective actuation above", source, "-",
+        Claim("Pinned hexagon (R = 2): rest below a critical Pi = l_e / l_a, collective actuation above", source,
+              mujoco_row,
               f"all seeds still at Pi <= {fmt(s.still_below, 3)}, all actuated from Pi = {fmt(s.actuated_above, 3)}",
-              verdict(inside, partly=np.isfinite(s.actuated_above)),
+              verdict(inside and same_side, partly=np.isfinite(s.actuated_above)),
               f"linear bracket: every fixed point stable below lambda_1 = {s.softest:.4f}, none above Pi* >= "
               f"{s.linear_threshold:.4f} (optimised over the polarities: a lower bound; median over random polarities {s.typical_threshold:.3f}); l_a = "
-              f"{ALIGNMENT:g} a; MuJoCo: elastoactive validate --scene lattice"),
+              f"{ALIGNMENT:g} a; MuJoCo reruns the reduced engine's seed 0 (its automatic numerics); the source's numerical "
+              "threshold for its own lattice is not quoted here (docs/network.md)"),
         Claim("The actuated dynamics condenses on few modes", "selected modes not necessarily the lowest-energy ones",
-              "-", "modes (by stiffness) of each actuated run: " + ", ".join(
+              "modes of each actuated run: " + (", ".join("+".join(str(x) for x in sorted(m)) for m in modes_mj) or "-")
+              + (" (the reduced engine's, same cases)" if modes_same else " (differ from the reduced engine's)"),
+              "modes (by stiffness) of each actuated run: " + ", ".join(
                   "+".join(str(x) for x in m) for m in sorted(set(tuple(sorted(m)) for m in s.modes))),
-              verdict(bool(s.modes)),
+              verdict(bool(s.modes) and modes_same),
               "the two softest (degenerate) modes of this small patch" + ("" if softest_pair else
                                                                           "; other pairs in some runs")),
         Claim("Trapped unit: rest at l_e below Pi = 1, circle of radius sqrt(l_e l_a) at k_t sqrt(Pi - 1) above",

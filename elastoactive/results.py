@@ -313,8 +313,11 @@ def summary(traj: Trajectory, numerics: Numerics, duration: float, transient: fl
     carry `sensitivity` (elastoactive.sensitivity: errors of its numbers, whether its dynamics is sensitive) unless
     sensitivity=False."""
     transient = check_transient(duration, transient)
-    if traj.engine == "mujoco":  # what ran: a long chain's automatic numerics (Numerics.for_physics), so --from repeats it
+    if traj.engine == "mujoco":  # what ran: a long chain's or a network's automatic numerics, so --from repeats it
         numerics = numerics.for_physics(traj.physics)
+        ran = traj.info.get("automatic_numerics") or {}  # the engine's record (a network's: engines.network_mujoco)
+        numerics = dataclasses.replace(numerics, **{k: v for k, v in ran.items() if k in ("integrator", "dt",
+                                                                                            "mass_ratio")})
     settings = dataclasses.asdict(numerics)
     if traj.engine in ENGINE_NUMERICS:
         settings = {k: settings[k] for k in recorded_numerics(traj.engine, traj.physics)}

@@ -97,8 +97,10 @@ def cycle_errors(traj: Trajectory, transient: float) -> tuple[float | None, floa
 def needs_estimate(traj: Trajectory, periodic: bool | None) -> bool:
     """Whether a run gets the estimate: judged irregular (periodic False; a window too short to judge already says
     to run longer), noise-free (noise is irregular by design: its statistics are the result), a pivot that does not
-    move (the pilots start from the recorded angles)."""
-    return periodic is False and traj.physics.noise == 0 and traj.head is None
+    move, and a state that is the angles alone (the pilots start from the recorded angles: not a network's nodes, nor
+    angles with the self-aligning units' polarities)."""
+    return (periodic is False and traj.physics.noise == 0 and traj.head is None and traj.nodes is None
+            and traj.polarity is None)
 
 
 def estimate(traj: Trajectory, transient: float, numerics: Numerics) -> Sensitivity:

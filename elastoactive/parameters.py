@@ -45,6 +45,10 @@ class Parameter:
                 it is off is refused (contact_radius needs contact, noise_correlation needs noise)
     needs_value with `needs`: the choice the (str) switch must have instead (alignment_length needs
                 active = self-aligning)
+    or_needs, or_needs_value
+                another way for it to act: the (str) parameter `or_needs` has the choice `or_needs_value`
+                (clamp_frequency acts with clamp_amplitude > 0, or with clamp_motion = rotating, which needs no
+                amplitude)
     quiet_default  reported in summaries only when it differs from its default (contact, loaded, and any
                 parameter a plug-in term adds, so that runs without it record what they recorded before it existed)
     """
@@ -63,6 +67,8 @@ class Parameter:
     units: str = "1"
     needs: str | None = None
     needs_value: str | None = None
+    or_needs: str | None = None
+    or_needs_value: str | None = None
     quiet_default: bool = False
 
     def __post_init__(self) -> None:
@@ -72,6 +78,8 @@ class Parameter:
             raise ValueError(f"parameter {self.name}: kind must be one of float, int, bool, str, got {self.kind!r}")
         if self.needs_value is not None and self.needs is None:
             raise ValueError(f"parameter {self.name}: needs_value without needs")
+        if (self.or_needs is None) != (self.or_needs_value is None) or (self.or_needs and self.needs is None):
+            raise ValueError(f"parameter {self.name}: or_needs and or_needs_value go together, with needs")
         self.check(self.default)
 
     @property
@@ -149,10 +157,20 @@ class Parameter:
             return switch_value == self.needs_value
         return get(self.needs).is_on(switch_value)
 
+    def acts_in(self, values) -> bool:
+        """Whether this parameter acts among `values` (a mapping holding its switches): need_met by `needs`, or the
+        alternative `or_needs` has the choice `or_needs_value`."""
+        if self.needs is None:
+            return True
+        if self.or_needs is not None and values.get(self.or_needs) == self.or_needs_value:
+            return True
+        return self.need_met(values[self.needs])
+
     @property
     def need_text(self) -> str:
         """What this parameter needs, in messages: 'contact', 'active = self-aligning'."""
-        return self.needs if self.needs_value is None else f"{self.needs} = {self.needs_value}"
+        text = self.needs if self.needs_value is None else f"{self.needs} = {self.needs_value}"
+        return text if self.or_needs is None else f"{text} or {self.or_needs} = {self.or_needs_value}"
 
 
 _TABLE: dict[str, tuple[Parameter, str]] = {}

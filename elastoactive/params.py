@@ -118,7 +118,7 @@ class Physics:
         for name in values:  # a value its switch leaves unused is refused, unless it is the default it takes anyway
             spec = _parameters.get(name)
             switch = spec.needs
-            if switch is not None and not spec.need_met(resolved[switch]) and resolved[name] != spec.default:
+            if switch is not None and not spec.acts_in(resolved) and resolved[name] != spec.default:
                 raise ParameterError(f"{name} has no effect without {spec.need_text} ({switch} = {resolved[switch]}); "
                                      f"set {switch} too, or leave {name} out")
         object.__setattr__(self, "scene", scene)
@@ -166,7 +166,7 @@ class Physics:
 
     def _acts(self, name: str) -> bool:
         spec = _parameters.get(name)
-        return spec.needs is None or spec.need_met(self._values[spec.needs])
+        return spec.acts_in(self._values)
 
     def replace(self, **changes) -> "Physics":
         """This physics with some values changed (and checked); values that stop acting (a switch turned off, a
@@ -177,7 +177,9 @@ class Physics:
         values = {**kept, **changes}
         for name in list(kept):
             switch = _parameters.get(name).needs
-            if switch is not None and switch in values and not _parameters.get(name).need_met(values[switch]):
+            spec = _parameters.get(name)
+            if (switch is not None and (switch in values or spec.or_needs in values)
+                    and not spec.acts_in({**self._values, **values})):
                 del values[name]
         return Physics(scene=scene, **values)
 

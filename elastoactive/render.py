@@ -211,6 +211,7 @@ class _Painter:
         self.camera = _camera(physics, xy, width, height, self.caption.h, float(self.model.vis.global_.fovy))
         self.renderer = _renderer(self.model, height, width, self.model.ngeom + n_extra + 100)
         self.options = mujoco.MjvOption()
+        self.clamp = _moving_clamp(self.model, physics)
         if physics.contact:  # self-contacts drawn where the capsules touch (mj_forward of the frame finds them; a
             # force would not be the run's: the render state has no velocities and no follower forces)
             self.options.flags[mujoco.mjtVisFlag.mjVIS_CONTACTPOINT] = True
@@ -226,6 +227,13 @@ class _Painter:
         head = interpolate_head(self.traj, now)
         data.qpos[:] = qpos_of(physics, interpolate(self.traj, now)[0], None if head is None else head[0])
         data.time = t
+        if self.clamp is not None:  # a moving clamp: its box where the clamp point is, turned by its angle
+            geom, pivot, rest, motion = self.clamp
+            shift = pivot + (head[0] if (head is not None and motion.translates) else 0.0)
+            angle = float(motion.angle(t))
+            c, s = math.cos(angle), math.sin(angle)
+            self.model.geom_pos[geom, :2] = (c * rest[0] - s * rest[1] + shift[0], s * rest[0] + c * rest[1] + shift[1])
+            self.model.geom_quat[geom] = (math.cos(angle / 2), 0.0, 0.0, math.sin(angle / 2))
         mujoco.mj_forward(self.model, data)  # with self-contact, this also finds the contacts drawn
         self.renderer.update_scene(data, self.camera, self.options)
         scene = self.renderer.scene
@@ -278,6 +286,18 @@ class _Painter:
         pts = a + s[:, None] * axis + offset[:, None] * normal
         for p, q in zip(pts[:-1], pts[1:]):
             _add_geom(scene, mujoco.mjtGeom.mjGEOM_CAPSULE, SPRING_RGBA, p, q, 0.03)
+
+
+def _moving_clamp(model, physics: Physics):
+    """(geom id, its rest position relative to the clamp point, the ClampMotion) of chain 1's clamp box when a term
+    moves the clamp (Term.clamp_motion), else None: the frames draw it where the clamp is (Trajectory.head, the point;
+    the motion's angle)."""
+    motions = [m for term in physics.active_terms() if (m := term.clamp_motion(physics)) is not None]
+    geom = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_GEOM, "clamp")  # chain 1's clamp in every base file
+    if not motions or geom < 0:
+        return None
+    pivot = model.body_pos[model.body(f"{physics.scene_def.chain_prefixes()[0]}segment_0").id, :2].copy()
+    return geom, pivot, model.geom_pos[geom, :2].copy() - pivot, motions[0]
 
 
 def _painter(traj: Trajectory, **options):

@@ -89,6 +89,33 @@ def test_parameters_act_only_with_an_amplitude():
         ea.Physics(n=N, clamp_amplitude=-0.1)
 
 
+def test_a_rotating_clamp_needs_its_frequency_alone():
+    physics = ea.Physics(n=N, clamp_motion="rotating", clamp_frequency=0.05)
+    assert "moving-clamp" in [t.name for t in physics.active_terms()]
+    assert physics.given()["clamp_frequency"] == 0.05 and "clamp_amplitude" not in repr(physics)
+    with pytest.raises(ParameterError, match="clamp_amplitude has no effect with clamp_motion rotating"):
+        ea.Physics(n=N, clamp_motion="rotating", clamp_amplitude=0.1)
+    with pytest.raises(ParameterError, match="rotating-pin has no clamp"):
+        ea.Physics(scene="rotating-pin", n=N, clamp_motion="rotating")
+    assert physics.replace(clamp_motion="angle", clamp_amplitude=0.2).clamp_frequency == 0.05
+    assert "clamp_frequency" not in physics.replace(clamp_motion="transverse").given()  # off again: dropped
+
+
+def test_a_rotating_clamp_drags_the_chain_round_alike_in_both_engines():
+    """N = 3 at 1.1 sigma_c, the clamp turning at f tau = 0.05: the chain turns with it as a steady bent shape (the
+    beat is gone), its tip 0.819 rad behind the clamp in both engines."""
+    physics = ea.Physics(n=N, sigma=SIGMA, clamp_motion="rotating", clamp_frequency=0.05)
+    red, muj = (ea.simulate(physics, duration=150, engine=e) for e in ("reduced", "mujoco"))
+    assert red.head is None and muj.head is None  # the clamp point stays put
+    r, m = ea.measure(red), ea.measure(muj)
+    assert r.extra["clamp_lag"] == pytest.approx(0.8188, abs=2e-3)
+    assert m.extra["clamp_lag"] == pytest.approx(r.extra["clamp_lag"], rel=0.01)
+    late = red.t > 75
+    rate = np.polyfit(red.t[late], red.theta[late, 0], 1)[0]
+    assert rate == pytest.approx(2 * math.pi * 0.05, rel=1e-3)  # dragged round at the clamp's rate
+    assert max(r.amplitude, m.amplitude) < 1e-3  # no beat left
+
+
 def test_an_angle_amplitude_that_turns_the_chain_into_the_wall_is_refused():
     ea.Physics(n=N, clamp_amplitude=ANGLE_LIMIT - 1e-3, clamp_motion="angle")
     with pytest.raises(ParameterError, match="must be < pi/2"):
@@ -134,7 +161,7 @@ def test_both_engines_agree_for_the_other_motions(motion, amplitude):
 
 def test_validate_offers_the_clamp_cases():
     cases = ea.terms.get("moving-clamp").validation_cases(ea.Physics)
-    assert {c.physics.clamp_motion for c in cases} == {"transverse", "angle"}
+    assert {c.physics.clamp_motion for c in cases} == {"transverse", "angle", "rotating"}
 
 
 @pytest.mark.parametrize("detuning, locked", [(0.0, True), (0.3, False)])

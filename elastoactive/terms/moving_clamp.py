@@ -7,6 +7,8 @@ clamp_motion (with clamp_amplitude A > 0 and clamp_frequency f, omega = 2 pi f):
   angle          the clamp turns about its point, phi_c(t) = A sin(omega t) (A in rad): the clamp spring acts as
                  C1 (theta_1 - phi_c(t)); |A| < pi/2, or the clamp would turn the chain's root into the wall it
                  is mounted on
+  rotating       the clamp turns steadily about its point, phi_c(t) = 2 pi f t (counterclockwise): it needs clamp_frequency
+                 alone (clamp_amplitude has no meaning and is refused); the chain is dragged round
 
 The physics (docs/clamp.md): in the overdamped chain the lab-frame drag acts on the particles' lab velocities
 u(t) + J_k theta', so a clamp moving with velocity u adds -Gamma_k(theta) u to every particle's force (both drag
@@ -18,12 +20,13 @@ MuJoCo moves the clamp physically, so its lab-frame drag sees the motion: chain 
 velocity actuators on its site, integrated implicitly) and, from the compiled passive callback (controllers/follower.c,
 clamp_servo), the force B u(t) + K (x_c(t) - q) with K = SERVO_RATE B / dt. The angle drive is exact there: the
 callback adds C1 phi_c(t) to the clamp hinge's generalised force. Trajectory.head holds the clamp point's position
-(x_c, y_c) when the point moves (MuJoCo: the slides' measured position; reduced: the prescribed one). Drawings keep
-the clamp's box at its rest position.
+(x_c, y_c) when the point moves (MuJoCo: the slides' measured position; reduced: the prescribed one); drawings put
+the clamp's box there. A rotating clamp: the callback adds C1 Omega t (the numeric's eighth entry Omega = 2 pi f).
 
 Observables (analysis.locking): clamp_frequency_ratio (the beat's frequency over the drive's) and
 clamp_phase_spread (the circular spread of the beat's phase against the drive's over the steady window: 0 locked,
-large unlocked).
+large unlocked); a rotating clamp adds clamp_lag (rad: the time mean of phi_c - arg(r_N), how far the tip particle
+trails the clamp's direction as seen from the clamp point, followed along the chain so that it may exceed pi).
 """
 
 from __future__ import annotations
@@ -37,7 +40,8 @@ from ..errors import ParameterError
 from ..parameters import Parameter
 from .base import ClampMotion, Term
 
-MOTIONS = ("transverse", "longitudinal", "angle")
+ROTATING = "rotating"
+MOTIONS = ("transverse", "longitudinal", "angle", ROTATING)
 DIRECTIONS = {"transverse": (0.0, 1.0), "longitudinal": (1.0, 0.0)}
 ANGLE_LIMIT = math.pi / 2
 """Largest clamp-angle amplitude (excluded): at pi/2 the clamp turns the chain's first pendulum along the wall the
@@ -59,17 +63,25 @@ HINGE_TEXT = "elastoactive_clamp_hinge"
 CLAMP_AMPLITUDE = Parameter("clamp_amplitude", 0.0, "amplitude A of the clamp's motion: l for a transverse or "
                             "longitudinal clamp point, rad for the clamp angle (0: a fixed clamp)", low=0.0,
                             title="clamp amplitude", units="l or rad", quiet_default=True)
-CLAMP_FREQUENCY = Parameter("clamp_frequency", 0.01, "frequency f tau of the clamp's motion A sin(2 pi f t) (cycles "
-                            "per tau; with --clamp-amplitude)", low=0.0, low_open=True, title="clamp frequency f tau",
-                            units="1/tau", needs="clamp_amplitude", quiet_default=True)
+"""(clamp_motion rotating needs no amplitude: the term's switch is then the motion itself, CLAMP_FREQUENCY.or_needs)"""
+CLAMP_FREQUENCY = Parameter("clamp_frequency", 0.01, "frequency f tau of the clamp's motion A sin(2 pi f t), or of a "
+                            "rotating clamp's turns (cycles per tau; with --clamp-amplitude or --clamp-motion rotating)",
+                            low=0.0, low_open=True, title="clamp frequency f tau", units="1/tau",
+                            needs="clamp_amplitude", or_needs="clamp_motion", or_needs_value=ROTATING, quiet_default=True)
 CLAMP_MOTION = Parameter("clamp_motion", "transverse", "what moves: the clamp point across the chain (transverse, lab "
-                         "y) or along it (longitudinal, lab x), or the clamp's angle (angle; with --clamp-amplitude)",
-                         kind=str, choices=MOTIONS, title="clamp motion", needs="clamp_amplitude", quiet_default=True)
+                         "y) or along it (longitudinal, lab x), or the clamp's angle (angle) (with --clamp-amplitude); "
+                         "or the clamp turns steadily at --clamp-frequency (rotating, no amplitude)",
+                         kind=str, choices=MOTIONS, title="clamp motion", needs="clamp_amplitude",
+                         or_needs="clamp_motion", or_needs_value=ROTATING, quiet_default=True)
 
 
 def clamp_path(amplitude: float, frequency: float, motion: str) -> ClampMotion:
     """The prescribed motion A sin(omega t) of the clamp point along `motion`'s direction, or of its angle."""
     omega = 2.0 * math.pi * frequency
+    if motion == ROTATING:
+        zero2 = np.zeros(2)
+        return ClampMotion(displacement=lambda t: zero2, velocity=lambda t: zero2,
+                           angle=lambda t: omega * np.asarray(t, dtype=float), translates=False)
     if motion == "angle":
         zero2 = np.zeros(2)
         return ClampMotion(displacement=lambda t: zero2, velocity=lambda t: zero2,
@@ -85,6 +97,19 @@ def clamp_path(amplitude: float, frequency: float, motion: str) -> ClampMotion:
     return ClampMotion(displacement=displacement, velocity=velocity, angle=lambda t: 0.0, translates=True)
 
 
+def tip_lag(t, theta, frequency: float, transient: float) -> float:
+    """How far (rad) the tip particle trails a clamp rotating at `frequency` (phi_c = 2 pi f t) after the transient:
+    the time mean of phi_c - arg(r_N), r_N = sum_i e(theta_i) the tip's position from the clamp point (positive:
+    behind the clamp). arg(r_N) is followed particle by particle from arg(r_1) = theta_1 (each step below pi), so a
+    chain curled round the clamp by more than half a turn lags by more than pi."""
+    t = np.asarray(t, dtype=float)
+    keep = t >= transient
+    th = np.asarray(theta, dtype=float)[keep]
+    points = np.cumsum(np.exp(1j * th), axis=1)
+    steps = np.angle(points[:, 1:] / points[:, :-1]).sum(axis=1)
+    return float(np.mean(2.0 * math.pi * frequency * t[keep] - th[:, 0] - steps))
+
+
 def check_scene(physics) -> None:
     """Refuse, in one line, a scene whose clamp this term cannot move."""
     scene = physics.scene_def
@@ -95,7 +120,7 @@ def check_scene(physics) -> None:
     if scene.pinned:
         raise ParameterError(f"clamp_amplitude: scene {physics.scene} pins its chain's far end to the lab, and the "
                              "reduced engine's pinned model has no moving clamp; use one-pinned")
-    if scene.n_chains > 1 and physics.clamp_motion != "angle":
+    if scene.n_chains > 1 and physics.clamp_motion not in ("angle", ROTATING):
         raise ParameterError(f"clamp_motion {physics.clamp_motion} on scene {physics.scene}: moving chain 1's clamp "
                              "point would stretch the coupling spring, which the reduced model holds between fixed "
                              "clamps; move its angle (clamp_motion angle), or use one-pinned")
@@ -105,18 +130,22 @@ def check_scene(physics) -> None:
 
 class MovingClamp(Term):
     name = "moving-clamp"
-    summary = "chain 1's clamp moves: its point across or along the chain, or its angle, as A sin(2 pi f t)"
+    summary = ("chain 1's clamp moves: its point across or along the chain, or its angle, as A sin(2 pi f t); or it "
+               "turns steadily at f")
     parameters = (CLAMP_AMPLITUDE, CLAMP_FREQUENCY, CLAMP_MOTION)
     observables = ("clamp_frequency_ratio", "clamp_phase_spread")
 
     def prepare(self, values: dict) -> None:
+        if values.get("clamp_motion") == ROTATING and values.get("clamp_amplitude", 0.0) != 0:
+            raise ParameterError(f"clamp_amplitude has no effect with clamp_motion {ROTATING} (the clamp turns steadily "
+                                 "at clamp_frequency, 2 pi f t); leave clamp_amplitude out")
         if (values.get("clamp_motion") == "angle" and values.get("clamp_amplitude", 0.0) >= ANGLE_LIMIT):
             raise ParameterError(f"clamp_amplitude (clamp amplitude) must be < pi/2 = {ANGLE_LIMIT:.6g} rad for "
                                  f"clamp_motion angle, got {values['clamp_amplitude']}: at pi/2 the clamp turns the "
                                  "chain's first pendulum along the wall it is mounted on, beyond it into the wall")
 
     def active(self, physics) -> bool:
-        return physics.clamp_amplitude > 0
+        return physics.clamp_amplitude > 0 or physics.clamp_motion == ROTATING
 
     def check(self, physics) -> None:
         check_scene(physics)
@@ -136,7 +165,8 @@ class MovingClamp(Term):
         motion, amplitude = physics.clamp_motion, physics.clamp_amplitude
         d_x, d_y = DIRECTIONS.get(motion, (0.0, 0.0))
         angle = amplitude if motion == "angle" else 0.0
-        if motion != "angle":
+        rate = 2.0 * math.pi * physics.clamp_frequency if motion == ROTATING else 0.0
+        if motion not in ("angle", ROTATING):
             first = spec.body(f"{prefix}segment_0")
             hinge = spec.joint(f"{prefix}hinge_0")
             stiffness = list(hinge.stiffness)
@@ -156,14 +186,16 @@ class MovingClamp(Term):
         spec.add_text(name=HINGE_TEXT, data=f"{prefix}hinge_0")
         marker = spec.add_numeric(name="elastoactive_clamp")
         marker.data = [amplitude, 2.0 * math.pi * physics.clamp_frequency, d_x * amplitude, d_y * amplitude, angle,
-                       SERVO_RATE * SERVO_DAMPING / numerics.dt, SERVO_DAMPING]
+                       SERVO_RATE * SERVO_DAMPING / numerics.dt, SERVO_DAMPING, rate]
 
     def validation_cases(self, physics):
         """N = 3 at 1.1 sigma_c (f tau ~ 0.072) with the clamp moving across the chain near the beat's frequency,
-        and its angle turning."""
+        its angle turning, and the clamp rotating steadily at f tau = 0.05."""
         base = dict(n=3, sigma=1.28, clamp_amplitude=0.1, clamp_frequency=0.07)
         return (ValidationCase(physics(**base), 300.0, convergence=False),
                 ValidationCase(physics(**{**base, "clamp_amplitude": 0.2, "clamp_motion": "angle"}), 300.0,
+                               convergence=False),
+                ValidationCase(physics(n=3, sigma=1.28, clamp_motion=ROTATING, clamp_frequency=0.05), 300.0,
                                convergence=False))
 
     def measure(self, traj, transient):
@@ -173,7 +205,10 @@ class MovingClamp(Term):
 
         physics = traj.physics
         lock = locking.drive_locking(traj.t, traj.theta[:, : physics.n], physics.clamp_frequency, transient)
-        return {"clamp_frequency_ratio": lock.frequency_ratio, "clamp_phase_spread": lock.phase_spread}
+        values = {"clamp_frequency_ratio": lock.frequency_ratio, "clamp_phase_spread": lock.phase_spread}
+        if physics.clamp_motion == ROTATING:
+            values["clamp_lag"] = tip_lag(traj.t, traj.theta[:, : physics.n], physics.clamp_frequency, transient)
+        return values
 
 
 TERM = MovingClamp()

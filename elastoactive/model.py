@@ -103,6 +103,9 @@ def _template(scene) -> mujoco.MjSpec:
 def build_spec(physics: Physics, numerics: Numerics = Numerics()) -> mujoco.MjSpec:
     """MjSpec of a scene with these parameters (compile it with .compile())."""
     scene = physics.scene_def
+    if scene.network(physics) is not None:  # nodes on slides, not chains: elastoactive.network_model builds those
+        raise ParameterError(f"{scene.name} is an elastic network, not a chain: build its MuJoCo model with "
+                             "elastoactive.network_model.build_network_spec(scene.network(physics), physics, numerics)")
     spec = _template(scene)
     prefixes = scene.chain_prefixes()
 

@@ -57,8 +57,9 @@ def test_batch_reproduces_simulate_mujoco_bit_for_bit():
     for run, outcome in zip(SCENE_RUNS, outcomes):
         assert_same(run, outcome, reference(run))
     sizes = [o.info["batch"]["size"] for o in outcomes]
-    # one model per scene (and N): the points of a scene ran together
-    assert sizes == [6] * 6 + [3] * 3 + [2] * 2 + [2] * 2 + [1]
+    # one model per scene (and N), its points in one batch a thread (a batch's threads are fixed when it starts: a
+    # thread that finished a cheap scene takes a costly scene's second batch instead of waiting)
+    assert sizes == [3] * 6 + [2, 2, 1] + [1] * 2 + [1] * 2 + [1]
     # wall time: each run's share of its batch
     assert all(0 < o.wall_time_s <= o.info["batch"]["wall_s"] for o in outcomes)
 
@@ -67,6 +68,7 @@ def test_batch_on_one_thread_and_in_any_order_is_the_same():
     runs = SCENE_RUNS[:6]
     two = simulate_mujoco_batch(runs, threads=2)
     one = simulate_mujoco_batch(runs[::-1], threads=1)[::-1]
+    assert [o.info["batch"]["size"] for o in one] == [6] * 6  # on one thread the points of a scene run together
     for a, b in zip(two, one):
         assert np.array_equal(a.theta, b.theta)
 
@@ -84,7 +86,7 @@ def test_a_diverging_point_is_its_own_error_and_the_others_finish():
     assert all(thread is threading.main_thread() for _, thread in seen)  # on_done runs in the caller's thread
     assert isinstance(outcomes[1], SimulationDiverged) and "diverged at t = 5 tau" in str(outcomes[1])
     assert isinstance(outcomes[4], SimulationDiverged) and "drifted" in str(outcomes[4])
-    assert outcomes[0].info["batch"]["size"] == 3 and outcomes[3].info["batch"]["size"] == 2
+    assert outcomes[0].info["batch"]["size"] == 2 and outcomes[3].info["batch"]["size"] == 1  # a batch a thread
     for run, outcome in zip(runs, outcomes):
         assert_same(run, outcome, reference(run))
 
@@ -131,6 +133,9 @@ def test_run_chunks_shares_the_threads_and_keeps_the_callback():
     calls.clear()
     assert sorted(run_chunks([[1, 2, 3], [4, 5, 6]], 2, task)) == [3, 3]
     assert sorted(k for _, k in calls) == [1, 1]  # 3 on 2 threads: side by side, one thread each
+    calls.clear()
+    assert list(run_chunks([[1, 2], [3]], 1, task, weight=lambda chunk: 10 if chunk == [3] else 1)) == [1, 2]
+    assert calls == [((3,), 1), ((1, 2), 1)]  # the costliest chunk (weight) first
     assert mujoco.get_mjcb_passive() == before  # restored
 
     def failing(chunk, k, emit, cancel):

@@ -63,6 +63,31 @@ def test_node_force_laws_of_positions_alone_still_work():
     assert np.array_equal(both(3.0, np.ones((2, 2))), 3 * np.ones((2, 2)))
 
 
+def test_compiled_periodic_forces_equal_the_python_path():
+    """A PeriodicForce runs in the compiled right-hand side (engines.node_kernels); the same law as a plain
+    function of (t, positions) runs in Python: the two agree to the solver's tolerance, on one chain and on a pair
+    with forces on both chains and a loaded subset."""
+    from elastoactive.engines import reduced as red
+    from elastoactive.terms.base import PeriodicForce
+
+    for physics, laws in (
+        (ea.Physics(n=7, sigma=0.9, drive_amplitude=0.05, drive_frequency=0.15), None),
+        (ea.Physics(scene="coupled-pair", n=3, sigma=1.0, kappa=0.5, loaded="1,3"),
+         [PeriodicForce(2, (0.02, 0.05), 1.3), PeriodicForce(4, (-0.03, 0.01), 0.7, 0.4)]),
+    ):
+        laws = laws or [t.node_forces(physics) for t in physics.active_terms() if t.node_forces(physics) is not None]
+        assert laws and all(isinstance(law, PeriodicForce) for law in laws)
+        system = red.system_of(physics)
+        t = np.linspace(0.0, 30.0, 61)
+        theta0 = np.random.default_rng(1).uniform(-0.2, 0.2, physics.n_angles)
+        kw = dict(rtol=1e-9, atol=1e-11, beta=0.0, loads=red.load_factors(physics))
+        fast, _ = node_forces.solve(physics, system, t, theta0, laws, **kw)
+        slow, _ = node_forces.solve(physics, system, t, theta0, [lambda s, x, law=law: law(s, x) for law in laws],
+                                    **kw)
+        assert np.abs(fast).max() > 0.01
+        np.testing.assert_allclose(fast, slow, rtol=0, atol=1e-8)
+
+
 def test_tip_drive_parameters():
     assert "tip-drive" in ea.terms.names()
     p = ea.Physics(n=3, sigma=0.5, drive_amplitude=1e-3, drive_frequency=0.1)

@@ -24,8 +24,10 @@ SimulationDiverged), but runs them together:
   a simulation's chunk is replayed from the chunk's start, sample by sample with Batch.step (which
   is mj_step), with simulate_mujoco's checks in its order, so that the outcome is still its outcome.
 
-Batches run one after another on every thread, or, when they are smaller than the thread count,
-side by side (`run_chunks`). wall_time_s of a batched run is its share of its batch's wall time
+The runs are split into chunks, each group of runs that likely share a model into at least one chunk per
+thread (`plan`), and the chunks run on the threads, the costliest first (`run_chunks`, by `run_weight`: a
+thread that finishes a cheap group takes a share of a costly one rather than waiting while a single thread
+runs it); a chunk runs its batches one after another on the threads it was given. wall_time_s of a batched run is its share of its batch's wall time
 (batch wall x threads / simulations); info["batch"] has the batch's size, threads and wall time.
 """
 
@@ -169,6 +171,16 @@ def batch_key(run: Run) -> tuple:
     num = run.numerics.for_physics(run.physics)
     return (run.physics.scene, run.physics.n, num.mass_ratio, num.integrator, num.steps_per_sample,
             num.sample_count(run.duration))
+
+
+def run_weight(run: Run) -> float:
+    """A run's relative cost, for ordering chunks without compiling: steps x N (the step cost of the chains
+    grows about linearly with N); 1 for a run this cannot size (an invalid run fails at once)."""
+    try:
+        num = run.numerics.for_physics(run.physics)
+        return float(num.sample_count(run.duration) * num.steps_per_sample * max(1, int(run.physics.n)))
+    except Exception:  # noqa: BLE001 (an invalid run: preparing it records the error)
+        return 1.0
 
 
 def plan(runs: Sequence[Run], max_points: int | None = None, min_chunks: int = 1) -> list[list[int]]:
@@ -482,18 +494,19 @@ def run_chunks(
     task: Callable[[Sequence, int, Callable[[Any], None], threading.Event], Any],
     cancel: threading.Event | None = None,
     idle: Any = None,
+    weight: Callable[[Sequence], float] = len,
 ) -> Iterator[Any]:
     """Run task(chunk, k, emit, cancel) for every chunk on worker threads, k C threads each and
     `threads` in all, with the follower callback installed; yields, in the caller's thread, every
     item a task passes to emit(item), as soon as it does. A task's exception is raised here.
 
-    Chunks run largest first. A chunk takes every free thread up to its size (one batch on all
+    Chunks run largest first (by `weight`, default their length). A chunk takes every free thread up to its size (one batch on all
     threads is balanced within each call), but only one when other chunks wait and its size is not
     a multiple of the free threads (two batches of 3 on 2 threads run side by side, rather than
     one after the other at 3/4 of the speed). Closing the generator sets `cancel` and waits for the
     running tasks (a batch stops at its next chunk of samples, raising Cancelled). With `idle` given,
     it is yielded whenever no item is waiting (e.g. to write out several items at once)."""
-    order = deque(sorted(range(len(chunks)), key=lambda c: -len(chunks[c])))
+    order = deque(sorted(range(len(chunks)), key=lambda c: -weight(chunks[c])))
     messages: queue.Queue = queue.Queue()
     cancel = cancel if cancel is not None else threading.Event()
     free = max(1, int(threads))
@@ -588,8 +601,12 @@ def iter_mujoco_batch(
     def task(chunk, k, emit, cancel):
         run_chunk(runs, chunk, k, lambda i, outcome: emit((i, outcome)), cancel)
 
-    yield from run_chunks(plan(runs, max_points), int(threads), task)
+    weights = [run_weight(run) for run in runs]
+    # a group per thread at least: one batch on all threads would leave a thread idle once a cheaper group
+    # beside it has finished (a batch's threads are fixed when it starts)
+    chunks = plan(runs, max_points, min_chunks=int(threads))
+    yield from run_chunks(chunks, int(threads), task, weight=lambda chunk: sum(weights[i] for i in chunk))
 
 
-__all__ = ["simulate_mujoco_batch", "iter_mujoco_batch", "Run", "plan", "run_chunk", "run_chunks", "signature",
+__all__ = ["simulate_mujoco_batch", "iter_mujoco_batch", "Run", "plan", "run_weight", "run_chunk", "run_chunks", "signature",
            "Cancelled"]

@@ -33,6 +33,23 @@ NodeForces = Callable[[np.ndarray], np.ndarray]
 """positions (particles, 2) -> forces (particles, 2), in units C1 / l: the particles of chain 1, then chain 2."""
 
 
+class PeriodicForce(NamedTuple):
+    """A node force that does not depend on the positions: vector sin(omega t + phase) on one particle (index over
+    chain 1's particles, then chain 2's; vector in C1 / l, lab frame). It is a law of (t, positions) like any other
+    (calling it gives the forces on every particle), and the reduced engine evaluates it inside its compiled
+    right-hand side (elastoactive.engines.node_kernels) instead of calling it."""
+
+    particle: int
+    vector: tuple[float, float]
+    omega: float
+    phase: float = 0.0
+
+    def __call__(self, t, positions):
+        force = np.zeros_like(positions)
+        force[self.particle] = np.asarray(self.vector, dtype=float) * np.sin(self.omega * t + self.phase)
+        return force
+
+
 class ClampMotion(NamedTuple):
     """A prescribed motion of chain 1's clamp: its point moves by displacement(t) (lab x, y in l) with velocity(t),
     and its spring's rest angle turns to angle(t) (rad: the clamp spring acts as C1 (theta_1 - angle(t))).

@@ -136,3 +136,46 @@ def test_drifting_arms_are_unlocked():
 def test_effective_coupling_of_a_fast_hub():
     clamp, pair = star.effective_coupling(10.0, 2)
     assert clamp == pytest.approx(10 / 12) and pair == pytest.approx(1 / 12)
+
+
+def test_clamped_hub_onset_is_the_one_pinned_chains():
+    from elastoactive.analysis import stability
+
+    onset = star.SCENE.onset(ea.Physics(scene="star", n=7, arms=3, hub="clamped"))
+    sigma_c, omega_c = stability.onset(7)
+    assert onset.sigma_c == pytest.approx(sigma_c, rel=1e-12) and onset.omega_c == pytest.approx(omega_c, rel=1e-9)
+
+
+@pytest.mark.parametrize("k, hub_stiffness, hub_drag", [(2, 1.0, 1.0), (3, 0.3, 2.0)])
+def test_turning_hub_operator_is_the_reduced_models_jacobian(k, hub_stiffness, hub_drag):
+    """The linear operator about the straight star against central differences of the compiled right-hand side."""
+    from elastoactive.analysis.star_stability import star_operator
+    from elastoactive.engines.reduced import system_of
+
+    n, sigma = 5, 0.3
+    system = system_of(ea.Physics(scene="star", n=n, arms=k, sigma=sigma, hub_stiffness=hub_stiffness,
+                                  hub_drag=hub_drag)).typed()
+    base = np.r_[np.repeat(star.clamp_angles(k), n), 0.0]
+    f, eps = rhs(system, beta=1.0), 1e-6
+    numeric = np.array([(f(0.0, base + eps * e) - f(0.0, base - eps * e)) / (2 * eps) for e in np.eye(base.size)]).T
+    np.testing.assert_allclose(star_operator(n, k, sigma, hub_stiffness, hub_drag), numeric, atol=1e-7)
+
+
+def test_the_in_phase_mode_goes_first_on_a_turning_hub():
+    """N = 7, k = 3: the in-phase mode (the hub turns) loses stability first, between the rotating pin's threshold
+    (no hub spring: a divergence, the star starts turning) and the one-pinned onset (a stiff hub); the hub-free
+    modes (splay) stay at the one-pinned onset."""
+    from elastoactive.analysis import stability, star_stability
+
+    free = stability.onset(7)[0]
+    onsets = star_stability.mode_onsets(7, 3, 1.0, 1.0)
+    assert onsets["splay"][0] == pytest.approx(free, rel=1e-12)
+    assert onsets["in-phase"][0] == pytest.approx(0.1027015, rel=1e-6)
+    onset = star.SCENE.onset(ea.Physics(scene="star", n=7, arms=3, hub_stiffness=1.0, hub_drag=1.0))
+    assert onset.sigma_c == pytest.approx(onsets["in-phase"][0], rel=1e-10) and "in-phase" in onset.kind
+    soft = star_stability.mode_onsets(7, 3, 0.0, 1e-3)["in-phase"]
+    assert soft[0] == pytest.approx(stability.rotation_threshold(7), rel=1e-3) and soft[1] < 1e-6  # a real eigenvalue
+    assert star_stability.mode_onsets(7, 3, 1e4, 1.0)["in-phase"][0] == pytest.approx(free, rel=1e-3)
+    lam = star.SCENE.leading_eigenvalue(ea.Physics(scene="star", n=7, arms=3), 1.1 * onset.sigma_c)
+    assert lam.real > 0 and star.SCENE.leading_eigenvalue(ea.Physics(scene="star", n=7, arms=3),
+                                                         0.9 * onset.sigma_c).real < 0

@@ -116,7 +116,8 @@ def main(args) -> int:
     with one_blas_thread():
         onset = scene.onset(physics)
         sigma_c, omega_c = onset.sigma_c, onset.omega_c
-        own = "".join(f", {k} = {getattr(physics, k):g}" for k in scene.own_parameter_names())
+        own = "".join(f", {k} = {v}" if isinstance(v := getattr(physics, k), str) else f", {k} = {v:g}"
+                      for k in scene.own_parameter_names())
         print(f"{physics.scene}, N = {n}{own}:")
         print(f"  onset: {onset.kind} at sigma_c = {sigma_c:.10g} (N^3 sigma_c = {n**3 * sigma_c:.6g}), "
               f"omega_c = {omega_c:.6g} rad/tau (f_c tau = {omega_c / (2 * math.pi):.6g}, N^4 omega_c = "

@@ -44,7 +44,7 @@ from ..errors import ParameterError
 from ..parameters import Parameter
 from ..params import Numerics, Physics
 from ..trajectory import Trajectory
-from .base import Scene, ValidationCase
+from .base import Onset, Scene, ValidationCase
 
 MAX_ARMS = 6
 """The most arms a star has (mjcf/star.xml holds this many template arms)."""
@@ -88,7 +88,7 @@ class Star(Scene):
     observables = ("sync_order", "splay_order", "phase_locking", "phase_lag", "sync_state", "hub_amplitude", "hub_rate")
     compared = ("amplitude", "frequency", "hub_amplitude")
     head_coordinates = 1
-    no_linear_operator = "the star's linear operator is not written (k arms and the hub's angle)"
+    no_linear_operator = ""
 
     # ------------------------------------------------------------------ parameters
     def check(self, physics: Physics) -> None:
@@ -177,6 +177,24 @@ class Star(Scene):
             "hub_amplitude": hub,
             "hub_rate": rate,
         }
+
+    # ------------------------------------------------------------------ linear stability
+    def _hub(self, physics: Physics) -> tuple[float | None, float | None]:
+        return (physics.hub_stiffness, physics.hub_drag) if self.turning(physics) else (None, None)
+
+    def onset(self, physics: Physics) -> Onset:
+        """The first of the star's modes to lose stability about the straight state (analysis.star_stability): the
+        in-phase mode (the hub turns), or the hub-free ones (antiphase, splay) at the one-pinned chain's onset."""
+        from ..analysis import star_stability  # start-up time: scipy
+
+        sigma_c, omega_c, mode = star_stability.star_onset(physics.n, physics.arms, *self._hub(physics))
+        kind = "flutter (Hopf)" if omega_c > 1e-6 else "divergence (the star starts turning)"
+        return Onset(sigma_c, omega_c, f"{kind}, {mode} mode")
+
+    def leading_eigenvalue(self, physics: Physics, sigma: float) -> complex:
+        from ..analysis import star_stability  # start-up time: scipy
+
+        return star_stability.leading_eigenvalue(physics.n, physics.arms, sigma, *self._hub(physics))
 
     # ------------------------------------------------------------------ validation
     def validation_cases(self) -> tuple[ValidationCase, ...]:

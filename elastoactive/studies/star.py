@@ -191,4 +191,23 @@ def star_claims(study: Study, read: Mapping[str, Study]) -> list[Claim]:
               "eliminating a fast hub (hub_drag -> 0) leaves clamps K_h / (K_h + k) and springs 1 / (K_h + k) between "
               "every pair of first links; identical arms have no detuning, so unlike the pair (kappa_c = 0.078 at "
               "rho = 4/3, study tongue) no threshold appears: the hub selects the in-phase state"),
+        _onset_claim(ks, stiff, all_in_phase),
     ]
+
+
+def _onset_claim(ks: list[str], stiff: list[float], all_in_phase: bool) -> Claim:
+    """The linear operator about the straight star (analysis.star_stability) at the study's hubs: which mode leaves
+    the straight state first, against the in-phase locking the study simulates at sigma = SIGMA."""
+    from ..analysis import star_stability  # start-up time: scipy
+
+    onsets = {(k, K): star_stability.star_onset(N, int(k), K, HUB_DRAG) for k in ks for K in stiff}
+    first = {mode for _, _, mode in onsets.values()}
+    lone = star_stability.mode_onsets(N, 2, None, None)["in-phase"][0]
+    text = "; ".join(f"k = {k}: sigma_c = {fmt(onsets[(k, min(stiff))][0], 4)}-{fmt(onsets[(k, max(stiff))][0], 4)}"
+                     for k in ks)
+    return Claim(f"The in-phase mode leaves the straight star first (linear operator, N = {N}, K_h = "
+                 f"{fmt(min(stiff))}-{fmt(max(stiff))})", NEW, "-", f"{text}; first: {', '.join(sorted(first))}",
+                 verdict(first == {star_stability.IN_PHASE} and all_in_phase),
+                 f"antiphase and splay modes leave the hub still and keep the one-pinned onset {fmt(lone, 6)}; the "
+                 f"in-phase mode, bordered by the hub, goes first at every K_h, as the simulations at sigma = {SIGMA:g} "
+                 "lock in phase")

@@ -4,7 +4,8 @@
 # Needs Python >= 3.11 with venv, a C compiler and the Python headers (the follower-force callback is
 # compiled at install), network access to PyPI, and about 1.1 GB of disk for .venv.
 # Idempotent and quick when nothing changed: the install is skipped while pyproject.toml, setup.py
-# and the C callback are as they were at the last install (stamp in .venv/.elastoactive-stamp).
+# and the C callback are as they were at the last install (stamp in .venv/.elastoactive-stamp), and the
+# numba kernels are compiled ahead (elastoactive.warm) only after an install or a change of the sources.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 if command -v apt-get >/dev/null 2>&1 && [ "$(id -u)" = 0 ]; then
@@ -22,9 +23,19 @@ fi
 # where PYTHONDONTWRITEBYTECODE is set: every process would compile ~100 modules, ~0.04 s); quick when up to date
 .venv/bin/python -m compileall -q elastoactive analysis controllers >/dev/null
 stamp=$(cat pyproject.toml setup.py controllers/follower.c | sha256sum | cut -d' ' -f1)
-if [ "$(cat .venv/.elastoactive-stamp 2>/dev/null)" = "$stamp" ] && .venv/bin/python -c "import elastoactive.controllers" 2>/dev/null; then
-  exit 0
+if [ "$(cat .venv/.elastoactive-stamp 2>/dev/null)" != "$stamp" ] || ! .venv/bin/python -c "import elastoactive.controllers" 2>/dev/null; then
+  .venv/bin/python -m pip install -q --upgrade pip
+  .venv/bin/python -m pip install -q -e '.[test]'
+  echo "$stamp" > .venv/.elastoactive-stamp
 fi
-.venv/bin/python -m pip install -q --upgrade pip
-.venv/bin/python -m pip install -q -e '.[test]'
-echo "$stamp" > .venv/.elastoactive-stamp
+# the reduced model's numba kernels, compiled into numba's on-disk cache here (~40 s on 2 cores) rather than by the
+# first run; again after an install or when a source changed since (~2 s when the cache is still valid)
+kernels=.venv/.elastoactive-kernels
+if [ ! -f "$kernels" ] || [ .venv/.elastoactive-stamp -nt "$kernels" ] \
+   || [ -n "$(find elastoactive analysis -name '*.py' -newer "$kernels" 2>/dev/null | head -1)" ]; then
+  if .venv/bin/python -m elastoactive.warm; then
+    touch "$kernels"
+  else
+    echo "setup: could not compile the kernels ahead; the first run compiles them" >&2
+  fi
+fi

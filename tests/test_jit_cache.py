@@ -1,0 +1,39 @@
+"""numba's on-disk cache is keyed by the compiled sources, so an edited kernel is never loaded stale."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+from elastoactive.analysis import jit_cache
+
+
+def test_the_digest_changes_with_any_source_and_only_with_them(tmp_path):
+    a, b = tmp_path / "a", tmp_path / "b"
+    (a / "sub").mkdir(parents=True)
+    b.mkdir()
+    (a / "sub" / "kernels.py").write_text("x = 1\n")
+    (b / "callers.py").write_text("y = 2\n")
+    (b / "notes.txt").write_text("not a source")
+    first = jit_cache.source_digest([a, b])
+    assert jit_cache.source_digest([a, b]) == first  # deterministic
+    (b / "notes.txt").write_text("edited, still not a source")
+    assert jit_cache.source_digest([a, b]) == first
+    (a / "sub" / "kernels.py").write_text("x = 3\n")  # a callee in another file than its caller
+    assert jit_cache.source_digest([a, b]) != first
+
+
+def test_numba_caches_in_the_folder_of_the_current_sources(tmp_path):
+    """In a fresh process: numba's live setting and the workers' environment name the keyed folder, under the base
+    the user gave."""
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path)}
+    env.pop(jit_cache.BASE_ENV, None)
+    code = ("import os, elastoactive, numba.core.config as c; from elastoactive.analysis import jit_cache as j;"
+            "print(c.CACHE_DIR); print(os.environ['NUMBA_CACHE_DIR']); print(j.source_digest(j._compiled_sources()))")
+    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True)
+    live, inherited, digest = out.stdout.split()
+    assert live == inherited == str(tmp_path / f"numba-{digest}")
+    assert Path(live).is_dir()
+    assert {p.name for p in jit_cache._compiled_sources()} == {"analysis", "engines"}

@@ -5,7 +5,9 @@ compiled model step in one batch on `workers` C threads of this process, bit for
 `run_case` gives. Reduced-engine cases run on a process pool (executor): their compiled kernels
 hold the GIL, so threads would not help (processes gave 1.84x on 2 cores); the kernels are loaded
 once in this process before the workers fork (load_engine), not again in every worker of every
-batch. Results come back in input
+batch. A list of both runs them at once: the reduced cases are handed to the pool first (its workers fork
+before any MuJoCo thread starts) and run beside the MuJoCo threads, so that neither engine's last cases
+leave a core idle while the other's wait (the cores are shared: each run's own wall time is then longer). Results come back in input
 order; with `on_result` each is handed over (in this thread) as soon as it is done, so a caller
 can write it out before the rest finish. A failed case (e.g. SimulationDiverged) raises, once
 the others have finished: the first failure in input order.
@@ -13,13 +15,15 @@ the others have finished: the first failure in input order.
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import time
+from concurrent.futures import as_completed
 from dataclasses import dataclass, field
 from typing import Callable, Iterable
 
 from .engines import check_engine, run_engine
-from .executor import default_workers, imap
+from .executor import default_workers, imap, process_pool
 from .params import Numerics, Physics
 from .progress import progress_bar
 from .results import Results, measure
@@ -94,28 +98,26 @@ def run_cases(
 
     try:
         simulated = [i for i, case in enumerate(cases) if case.engine == "mujoco"]
-        if simulated:
-            from .engines.mujoco_batch import iter_mujoco_batch  # start-up time: loads mujoco
-
-            runs = [cases[i] for i in simulated]
-            for j, outcome in iter_mujoco_batch(runs, threads=max(1, workers)):
-                i = simulated[j]
-                if isinstance(outcome, BaseException):
-                    errors[i] = outcome
-                    continue
-                try:
-                    res = measure(outcome, cases[i].transient) if measured else None
-                except Exception as err:  # noqa: BLE001 (raised below, as run_case would)
-                    errors[i] = err
-                    continue
-                finished(i, CaseResult(res, outcome.wall_time_s, outcome.info,
-                                       outcome if keep_trajectory else None))
         reduced = [i for i, case in enumerate(cases) if case.engine != "mujoco"]
+        task = functools.partial(run_case, keep_trajectory=keep_trajectory, measured=measured)
+        with contextlib.ExitStack() as stack:
+            pending = {}
+            if simulated and workers > 1 and len(reduced) > 1:  # both engines at once (see the module's docstring)
+                pool = stack.enter_context(process_pool(min(workers, len(reduced)),
+                                                        warm=functools.partial(load_engine, cases[reduced[0]])))
+                pending = {pool.submit(task, cases[i]): i for i in reduced}  # the workers fork now, before any C thread
+                reduced = []
+            _run_mujoco(cases, simulated, workers, measured, keep_trajectory, errors, finished)
+            for future in as_completed(pending):
+                error = future.exception()
+                if error is not None:
+                    errors[pending[future]] = error
+                else:
+                    finished(pending[future], future.result())
         if workers <= 1 or len(reduced) <= 1:
             for i in reduced:
                 finished(i, run_case(cases[i], keep_trajectory, measured))
         elif reduced:
-            task = functools.partial(run_case, keep_trajectory=keep_trajectory, measured=measured)
             runs = imap(task, [cases[i] for i in reduced], workers, completed=True, errors=True,
                         warm=functools.partial(load_engine, cases[reduced[0]]))
             for j, outcome in runs:
@@ -132,3 +134,24 @@ def run_cases(
     for r in results:
         r.batch_wall_s = elapsed
     return results  # type: ignore[return-value]
+
+
+def _run_mujoco(cases: list[Case], simulated: list[int], workers: int, measured: bool, keep_trajectory: bool,
+                errors: dict, finished: Callable[[int, CaseResult], None]) -> None:
+    """The MuJoCo cases (indices `simulated`) in mujoco.batch batches on `workers` threads; each result to finished(i,
+    result), each failure into errors[i]."""
+    if simulated:
+        from .engines.mujoco_batch import iter_mujoco_batch  # start-up time: loads mujoco
+
+        runs = [cases[i] for i in simulated]
+        for j, outcome in iter_mujoco_batch(runs, threads=max(1, workers)):
+            i = simulated[j]
+            if isinstance(outcome, BaseException):
+                errors[i] = outcome
+                continue
+            try:
+                res = measure(outcome, cases[i].transient) if measured else None
+            except Exception as err:  # noqa: BLE001 (raised below, as run_case would)
+                errors[i] = err
+                continue
+            finished(i, CaseResult(res, outcome.wall_time_s, outcome.info, outcome if keep_trajectory else None))

@@ -159,6 +159,23 @@ def test_run_cases_matches_run_case():
                                                             sample_dt=0.05), 10)], workers=1, progress=False)
 
 
+def test_run_cases_runs_both_engines_at_once_and_raises_the_first_failure():
+    """MuJoCo and reduced cases together: the reduced ones run on the pool beside the MuJoCo threads, the results in
+    input order as run_case gives them; a failed case raises once the others have finished."""
+    cases = [Case(Physics(n=3, sigma=0.9), FAST, 20, engine=e) for e in ("reduced", "mujoco", "reduced", "mujoco")]
+    seen = []
+    results = run_cases(cases, workers=2, progress=False, keep_trajectory=True, on_result=lambda i, r: seen.append(i))
+    assert sorted(seen) == [0, 1, 2, 3]
+    for case, result in zip(cases, results):
+        assert result.trajectory.engine == case.engine
+        np.testing.assert_array_equal(result.trajectory.theta, run_case(case, keep_trajectory=True).trajectory.theta)
+    broken = cases[:2] + [Case(Physics(n=3, sigma=0.9), FAST, -1.0, engine="reduced"), cases[2]]
+    seen.clear()
+    with pytest.raises(ParameterError, match="duration"):
+        run_cases(broken, workers=2, progress=False, on_result=lambda i, r: seen.append(i))
+    assert sorted(seen) == [0, 1, 3]
+
+
 def test_run_cases_unmeasured_gives_the_same_trajectories_without_results():
     cases = [Case(Physics(n=3, sigma=0.9), FAST, 20, engine=e) for e in ("mujoco", "reduced", "reduced")]
     measured = run_cases(cases, workers=2, progress=False, keep_trajectory=True)

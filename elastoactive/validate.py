@@ -50,7 +50,7 @@ def inertial_cases(mass_ratio: float, scene: str | None = None) -> list[Validati
     plug-in term's node forces, a moving clamp, self-aligning units) are left out."""
     return [ValidationCase(c.physics, inertial_duration(c.duration, mass_ratio), c.convergence)
             for c in validation_cases(scene)
-            if c.physics.scene_def.inertial_model
+            if c.physics.scene_def.inertial_model(c.physics)
             and all(t.inertial_model(c.physics) for t in c.physics.active_terms())]
 
 

@@ -36,8 +36,9 @@ def runs() -> list[tuple[Physics, Numerics, dict]]:
             (Physics(n=7, sigma=0.8, noise=0.1), Numerics(sample_dt=0.1, mass_ratio=0.5), {"inertial": True}),
             (Physics(n=24, sigma=0.8), sampled, {}),
             (Physics(n=24, sigma=0.8), sampled, {"method": "LSODA"}),
-            (chain, sampled, {"method": "Radau"}),
-            (Physics(scene="two-pinned", n=7, sigma=0.8, delta=0.1), sampled, {"method": "BDF"})]
+            (chain, sampled, {"method": "Radau"})]
+    out += [(case.physics, sampled, {"method": "BDF"}) for case in validation_cases()  # the pinned constraints'
+            if case.physics.scene_def.pinned and case.physics.scene_def.network(case.physics) is None][:1]  # Jacobian
     return out
 
 

@@ -97,9 +97,6 @@ class Scene:
     """The chain's and the terms' parameters that act on the scene (None: all of them, n included: a chain scene). A
     network scene names the few that act on its units (sigma, active, alignment_length): n, the drag ratio, noise,
     contact and the other terms' parameters are then refused as having no effect on it."""
-    inertial_model: ClassVar[bool] = True
-    """Whether the reduced engine has an inertial model of the scene (particles of mass mass_ratio, engines.reduced):
-    a chain scene's does; a network's model is overdamped only (its engines refuse a mass outside that limit)."""
     fixed: ClassVar[tuple[tuple[str, Any, str], ...]] = ()
     """(parameter, value, why) the scene holds fixed (a network's units are self-aligning): Physics sets the value
     and refuses another one in one line, giving the reason."""
@@ -175,6 +172,12 @@ class Scene:
         for term in physics.active_terms():  # the follower's sigma, the drag's gamma_l, the contact's penalty, ...
             system = term.reduced_system(system, physics)
         return system
+
+    def inertial_model(self, physics: "Physics") -> bool:
+        """Whether the reduced engine has an inertial model of the scene with these parameters (particles of mass
+        mass_ratio, engines.reduced): a chain scene's does; a network's model is overdamped only, and so is the free
+        ring's (their engines refuse a mass outside that limit)."""
+        return True
 
     # ------------------------------------------------------------------ initial state
     def initial_angles(self, physics: "Physics", numerics: "Numerics") -> np.ndarray:

@@ -51,7 +51,6 @@ class NetworkScene(Scene):
     """What the network scenes share: the parameters that act on them, the self-aligning units, the observables."""
 
     base_file = "network.xml"
-    inertial_model = False  # analysis.network.model: overdamped nodes
     term_parameters: ClassVar[tuple[str, ...]] = NETWORK_TERMS
     fixed: ClassVar[tuple[tuple[str, Any, str], ...]] = SELF_ALIGNING_ONLY
     observables: ClassVar[tuple[str, ...]] = NETWORK_OBSERVABLES
@@ -64,6 +63,9 @@ class NetworkScene(Scene):
         network = self.network(physics)
         if network is not None and network.pinned.all():
             raise ParameterError(f"boundary: every node of the {self.name} network is pinned; nothing can move")
+
+    def inertial_model(self, physics: Physics) -> bool:
+        return False  # analysis.network.model: overdamped nodes
 
     def label(self, physics: Physics) -> str:
         own = " ".join(f"{k}={getattr(physics, k):.4g}" if isinstance(getattr(physics, k), float)

@@ -96,6 +96,9 @@ class Ring(Scene):
     def free(physics: Physics) -> bool:
         return physics.pin == FREE
 
+    def inertial_model(self, physics: Physics) -> bool:
+        return not self.free(physics)  # the free root's inertial model is not written (the engine refuses a mass)
+
     def head_count(self, physics: Physics) -> int:
         return HEAD_COORDINATES if self.free(physics) else 0
 

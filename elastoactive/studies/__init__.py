@@ -25,6 +25,12 @@ numbers they are set against in `elastoactive.paper`.
     dish          the supplement's chain in a paraboloid dish: the (sigma, trap) phase diagram of N = 7
     skin          the outlook: mode localisation, spectral winding and transient gain of the non-Hermitian chain
     response      the outlook: a periodic tip force below onset (gain, phase, resonance width) and entrainment above
+    ring          the outlook: rings of N = 7 and 24, pinned or free (rigid turning, beating)
+    self_aligning the outlook: the one-pinned chain with self-aligning units over (sigma, l_a)
+    star          the outlook: k arms on one hub against the hub's stiffness (in phase, antiphase, spinning)
+    clamp_tongue  the outlook: the beat locking to a moving clamp (phase response, Adler's tongue)
+    lattice       the outlook: the active solid (the pinned hexagon's collective actuation, mode selection, the
+                  trapped unit)
 
 and what they share: `registry` (the studies by name), `base` (sizes, the Study container, running a
 batch of cases), `plotting` (figure style and helpers), `claim_rows` (the claim row and its number

@@ -72,6 +72,7 @@ from .errors import ParameterError
 from .model import build_model, prepare
 from .params import RESOLUTION, Numerics, Physics
 from .regime import regime  # noqa: F401  (re-exported: which physics a mass ratio gives)
+from .terms.self_aligning import turning_rate
 
 
 def no_log_file() -> None:
@@ -118,6 +119,7 @@ class StabilityLimits:
     oscillation_rate: float = 0.0  # inertial regime: fastest oscillating mode |lambda|, 1/tau
     inertial_growing_rate: float = 0.0  # inertial regime: fastest growing mode |lambda|, 1/tau
     step_limits: dict = field(default_factory=dict)  # inertial regime: largest stable dt per integrator
+    unit_rate: float = 0.0  # self-aligning units' turning sigma / l_a, 1/tau: MuJoCo integrates it explicitly
 
     @property
     def inertial(self) -> bool:
@@ -125,7 +127,11 @@ class StabilityLimits:
         return self.model == "inertial"
 
     def accuracy_rate(self, integrator: str) -> float:
-        """Fastest rate the integrator must resolve for an accurate run (see the module docstring)."""
+        """Fastest rate the integrator must resolve for an accurate run (see the module docstring), at least the
+        self-aligning units' turning (their polarity is an activation, stepped explicitly in every integrator)."""
+        return max(self._chain_rate(integrator), self.unit_rate)
+
+    def _chain_rate(self, integrator: str) -> float:
         if integrator == "discrete" and not self.pinned:
             rate = max(self.growing_rate, self.follower_rate)
             return max(rate, self.oscillation_rate) if self.inertial else rate
@@ -248,7 +254,8 @@ def stability_limits(physics: Physics, numerics: Numerics, qpos: np.ndarray | No
         growing_rate=float(np.max(np.abs(growing))) if growing.size else 0.0,
         follower_rate=float(np.max(np.abs(follower.imag))) if follower.size else 0.0,
         pinned=bool(model.neq),
-        model=reg.model, mass_ratio=reg.mass_ratio, inertia_number=reg.inertia_number, **extra,
+        model=reg.model, mass_ratio=reg.mass_ratio, inertia_number=reg.inertia_number, unit_rate=turning_rate(physics),
+        **extra,
     )
 
 
@@ -472,6 +479,14 @@ def check_accuracy(physics: Physics, numerics: Numerics, limits: StabilityLimits
             f"{bound:g}); the run would be inaccurate. Use dt <= {largest_dt(limits, numerics):.2g}"
             + (" (the straight chain's active modes grow this fast at high sigma or N)"
                if limits.inertial_growing_rate >= 0.5 * rate and limits.inertial_growing_rate > 20 else "")
+            + (_suggest(physics, limits, numerics) if suggest else "")
+        )
+    if dt > dt_ok and rate <= limits.unit_rate:
+        raise ParameterError(
+            f"dt = {dt:g} does not resolve the self-aligning units' turning sigma / l_a = {rate:.3g}/tau {where} "
+            f"(dt x rate = {dt * rate:.2g} > {RESOLUTION:g}): their polarity is stepped explicitly, so the run would be "
+            f"inaccurate or unstable. Use dt <= {largest_dt(limits, numerics):.2g} or alignment_length >= "
+            f"{_up(physics.sigma * dt / RESOLUTION):.2g}"
             + (_suggest(physics, limits, numerics) if suggest else "")
         )
     if dt > dt_ok:

@@ -106,3 +106,34 @@ def test_follower_law_is_quiet_and_unchanged():
 def test_reduced_engine_refuses_what_it_does_not_cover():
     with pytest.raises(ea.ParameterError, match="noise"):
         ea.simulate(unit(n=3, noise=0.1), duration=1.0, engine="reduced", check=False)
+
+
+@pytest.mark.parametrize("scene, extra", [("one-pinned", ["--active", "self-aligning"]), ("trapped-unit", []),
+                                          ("lattice", ["--rings", "1"])])
+def test_stiff_units_are_refused_at_once_naming_the_alignment_length(capsys, scene, extra):
+    """The units turn at up to sigma / l_a: a tiny alignment length makes them too stiff for the reduced engine's
+    explicit solver (it had sat for minutes) and for MuJoCo's explicit step of the polarity (it had returned a wrong
+    number): each engine refuses in one line naming alignment_length, before it integrates anything."""
+    import time
+
+    start = time.perf_counter()
+    for engine in ("reduced", "mujoco"):
+        refused(capsys, ["run", scene, *extra, "--alignment-length", "1e-9", "--duration", "5", "--engine", engine,
+                         "--quiet"], "alignment_length")
+    assert time.perf_counter() - start < 20.0
+
+
+def test_the_units_turning_sets_mujocos_timestep(capsys, no_simulation):
+    """A chain's pre-flight check resolves the units' turning (dt x sigma / l_a <= RESOLUTION) and its suggestion
+    passes every check."""
+    from elastoactive import diagnose
+    from elastoactive.params import Numerics
+
+    line = refused(capsys, ["run", "one-pinned", "--active", "self-aligning", "--alignment-length", "0.005",
+                            "--duration", "5"], "self-aligning units' turning", "alignment_length >=")
+    dt = float(line.split("--dt ")[1].split()[0])
+    physics = ea.Physics(active="self-aligning", alignment_length=0.005)
+    diagnose.check_timestep(physics, Numerics(dt=dt))
+    with pytest.raises(ea.ParameterError, match="turning"):
+        diagnose.check_timestep(physics, Numerics())
+    diagnose.check_timestep(ea.Physics(active="self-aligning", alignment_length=0.5), Numerics())

@@ -23,7 +23,7 @@ import numpy as np
 from ..controllers import follower_forces
 from ..errors import ParameterError, SimulationDiverged
 from ..network_model import build_network_model, node_positions, qpos_of_positions, set_polarity
-from ..terms.self_aligning import polarity_addresses
+from ..terms.self_aligning import polarity_addresses, turning_rate
 from ..analysis.reduced import INERTIA_RESOLUTION
 from ..params import RESOLUTION, Numerics, Physics
 from ..progress import progress_bar
@@ -52,7 +52,7 @@ def network_numerics(physics: Physics, numerics: Numerics) -> Numerics:
     TURN_RESOLUTION / Pi (a whole fraction of sample_dt; the default dt where that is larger)."""
     if not numerics.automatic:
         return numerics
-    turning = physics.sigma / physics.alignment_length
+    turning = turning_rate(physics)
     dt = numerics.dt
     if turning > 0:
         dt = min(dt, numerics.sample_dt / math.ceil(numerics.sample_dt * turning / TURN_RESOLUTION - 1e-9))
@@ -68,7 +68,7 @@ def network_rate(physics: Physics) -> float:
     network = physics.scene_def.network(physics)
     matrix = dynamical_matrix(network)
     springs = float(np.linalg.eigvalsh(matrix).max()) if matrix.size else 0.0
-    return max(springs, physics.sigma / physics.alignment_length)
+    return max(springs, turning_rate(physics))
 
 
 def check_network_timestep(physics: Physics, numerics: Numerics) -> float:
@@ -83,10 +83,14 @@ def check_network_timestep(physics: Physics, numerics: Numerics) -> float:
                              f"{rate:.3g} (gamma / k)^-1 (springs, trap, or the units' turning sigma / l_a): use dt <= "
                              f"{RESOLUTION / rate:.3g}")
     if numerics.mass_ratio * rate > INERTIA_RESOLUTION:
+        turning = turning_rate(physics)
+        cause = (f"; the units' turning sigma / l_a sets it: use alignment_length >= "
+                 f"{physics.sigma * numerics.mass_ratio / INERTIA_RESOLUTION:.3g} or mass_ratio <= "
+                 f"{INERTIA_RESOLUTION / rate:.3g}" if turning >= rate else
+                 f": use mass_ratio <= {INERTIA_RESOLUTION / rate:.3g}")
         raise ParameterError(f"mass_ratio = {numerics.mass_ratio:g} is outside the overdamped limit of the "
                              f"{physics.scene} network (m x rate = {numerics.mass_ratio * rate:.2g} > "
-                             f"{INERTIA_RESOLUTION:g}; the network model is overdamped): use mass_ratio <= "
-                             f"{INERTIA_RESOLUTION / rate:.3g}")
+                             f"{INERTIA_RESOLUTION:g}; the network model is overdamped){cause}")
     return rate
 
 

@@ -16,6 +16,7 @@ import numpy as np
 from ..analysis.network import model as _model
 from ..errors import ParameterError
 from ..params import Numerics, Physics
+from ..terms.self_aligning import check_reduced_span
 from ..trajectory import Trajectory
 
 METHODS = _model.METHODS
@@ -43,6 +44,7 @@ def simulate_network_reduced(physics: Physics, numerics: Numerics, duration: flo
                              f"{DEFAULT_METHOD}), got {method!r}")
     if physics.noise > 0:
         raise ParameterError("noise: the network scenes are deterministic (noise must be 0)")
+    check_reduced_span(physics, duration)
     system = system_of(physics)
     t = numerics.sample_times(duration)
     y0 = _model.pack(system, physics.scene_def.initial_network(physics, numerics))

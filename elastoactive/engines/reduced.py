@@ -32,7 +32,7 @@ from ..noise import ColouredNoise, force_factor
 from ..params import Numerics, Physics
 from ..regime import Regime, base_state, regime  # re-exported: the engine runs the model these choose
 from ..trajectory import Trajectory
-from ..terms.self_aligning import SELF_ALIGNING
+from ..terms.self_aligning import SELF_ALIGNING, check_reduced_span
 from . import node_forces
 from . import polarity as polarity_engine
 
@@ -247,6 +247,7 @@ def simulate_reduced(
     polarity = None
     if physics.active == SELF_ALIGNING:  # self-aligning units (engines.polarity): before any other path
         polarity_engine.check(physics, system, physics.noise > 0)
+        check_reduced_span(physics, duration)
     start = time.perf_counter()
     if physics.active == SELF_ALIGNING:  # the state (theta, psi)
         theta, polarity, info = polarity_engine.solve(physics, system, t, theta0, laws, rtol=rtol, atol=atol,

@@ -21,6 +21,7 @@ import math
 import numpy as np
 
 from ..cases import ValidationCase
+from ..errors import ParameterError
 from ..parameters import Parameter
 from .base import Term
 
@@ -34,6 +35,34 @@ ACTIVE = Parameter("active", FOLLOWER, "direction law of the active force: follo
 ALIGNMENT_LENGTH = Parameter("alignment_length", 1.0, "alignment length l_a / l of self-aligning units (with "
                              "--active self-aligning)", low=0.0, low_open=True, title="alignment length l_a / l",
                              symbol="l_a", units="l", needs="active", needs_value=SELF_ALIGNING)
+
+
+MAX_REDUCED_TURNS = 2e5
+"""Largest duration x turning_rate the reduced engine integrates with self-aligning units. A short alignment length
+makes the polarities stiff (they turn at up to sigma / l_a): the explicit DOP853 then needs steps in proportion to
+duration x sigma / l_a; at this bound a chain of N = 7 takes about 35 s and a network less (measured: 14 s for 8e4
+on the chain, 1.5 s on the trapped unit). Beyond it the run is refused in one line naming alignment_length, rather than left to hang."""
+
+
+def turning_rate(physics) -> float:
+    """The fastest rate at which self-aligning units turn, sigma / l_a (1 / tau on a chain, k / gamma on a network): a
+    unit pushed by its own force moves at up to sigma (a length per unit time) and its polarity turns at that speed
+    over l_a. 0 without self-aligning units."""
+    return float(physics.sigma) / float(physics.alignment_length) if physics.active == SELF_ALIGNING else 0.0
+
+
+def check_reduced_span(physics, duration: float) -> None:
+    """Refuse, in one line naming alignment_length, a reduced run whose units are too stiff for its length
+    (duration x turning_rate > MAX_REDUCED_TURNS)."""
+    rate = turning_rate(physics)
+    if duration * rate > MAX_REDUCED_TURNS:
+        raise ParameterError(
+            f"alignment_length = {physics.alignment_length:g} is too short for the reduced engine over a duration of {duration:g}: "
+            f"the self-aligning units turn at up to sigma / l_a = {rate:.3g} per unit time, so its explicit solver "
+            f"would need steps in proportion to duration x sigma / l_a = {duration * rate:.2g} (at most "
+            f"{MAX_REDUCED_TURNS:.0e}); use "
+            f"alignment_length >= {float(physics.sigma) * duration / MAX_REDUCED_TURNS:.3g} or a duration <= "
+            f"{MAX_REDUCED_TURNS / rate:.3g}")
 
 
 POLARITY_SUFFIX = "_polarity"

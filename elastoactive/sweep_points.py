@@ -148,7 +148,7 @@ def run_points(cases: Sequence[Case], timestep_check: bool = True, threads: int 
     own while the batch steps: a refused point is dropped from its batch at its next chunk of samples
     and recorded with the refusal, as if it had never run; a point is recorded only once its check is
     done."""
-    from .engines.mujoco_batch import Cancelled, as_runs, run_chunk  # start-up time: loads mujoco
+    from .engines.mujoco_batch import Cancelled, as_runs, is_network, run_chunk  # start-up time: loads mujoco
     from .results import measure
 
     start = time.perf_counter()
@@ -192,13 +192,20 @@ def run_points(cases: Sequence[Case], timestep_check: bool = True, threads: int 
         if on_start is not None:
             on_start()
 
+    runs = as_runs(cases)
+    order = list(range(len(cases)))
+    if timestep_check:  # a network runs whole on its thread, where a refusal cannot stop it: check it first (cheap)
+        for j in [j for j in order if is_network(runs[j])]:
+            refused = checks.refusal(cases[j].physics, cases[j].numerics)
+            if refused is not None:
+                put(j, error_record(refused, time.perf_counter() - start))
+                order.remove(j)
     checker = threading.Thread(target=check_all, name="elastoactive-checks", daemon=True) if timestep_check else None
     if checker is not None:
         checker.start()
     try:
         offer = (lambda j, model: checks.offer(cases[j].physics, cases[j].numerics, model)) if timestep_check else None
-        run_chunk(as_runs(cases), range(len(cases)), threads, done, cancel, started, drop if timestep_check else None,
-                  offer)
+        run_chunk(runs, order, threads, done, cancel, started, drop if timestep_check else None, offer)
     except Cancelled:
         raise
     except Exception as err:  # the batch itself failed: its unfinished points are errors, the sweep goes on

@@ -199,6 +199,20 @@ def test_exit_status_when_points_fail(tmp_path, capsys):
     assert "2 of 2 points" in captured.out and "1 failed" in captured.out and "stability limit" in captured.err
 
 
+@pytest.mark.parametrize("engine", ["mujoco", "reduced"])
+def test_a_refused_network_point_fails_at_once(tmp_path, capsys, engine):
+    """A network point runs whole on its thread, where the pre-flight check running beside the batch cannot stop it:
+    the sweep checks it first. A point whose units are too stiff (l_a = 1e-5: MuJoCo's automatic dt ~1e-8) is
+    recorded as failed with the refusal in a second, not run for hours; the other point runs."""
+    start = time.perf_counter()
+    argv = ["sweep", "trapped-unit", "--grid", "alignment_length=1e-5,1", "--engine", engine, "--duration", "5",
+            "--workers", "1", "--quiet", "--out", str(tmp_path / "s.nc")]
+    assert main(argv) == 0
+    captured = capsys.readouterr()
+    assert "2 of 2 points" in captured.out and "1 failed" in captured.out and "alignment_length >=" in captured.err
+    assert time.perf_counter() - start < 30.0
+
+
 def test_corrupted_journal_header_names_the_journal(tmp_path, capsys):
     """Item 5: a corrupted journal header is reported as such (not as a bad .nc), naming the
     journal and how to proceed; removing it continues from the netCDF."""

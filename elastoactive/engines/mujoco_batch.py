@@ -448,7 +448,7 @@ def run_chunk(
     runs[i].used), e.g. for a pre-flight check that would otherwise build it again; it must only read it."""
     groups: dict[bytes, list[_Sim]] = {}
     for i in indices:
-        if _is_network(runs[i]):  # a network scene: its own engine, run alone on this thread
+        if is_network(runs[i]):  # a network scene: its own engine, run alone on this thread
             if on_start is not None:
                 on_start()
             on_done(i, _network_outcome(runs[i]))
@@ -465,7 +465,8 @@ def run_chunk(
         run_batch(sims, threads, on_done, cancel, on_start, drop)
 
 
-def _is_network(run: Run) -> bool:
+def is_network(run: Run) -> bool:
+    """Whether a run is of a network scene (engines.network_mujoco runs it, not mujoco.batch)."""
     try:
         return run.physics.scene_def.network(run.physics) is not None
     except Exception:  # noqa: BLE001 (an invalid run: preparing it records the error)

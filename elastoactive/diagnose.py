@@ -72,7 +72,6 @@ from .errors import ParameterError
 from .model import build_model, prepare
 from .params import RESOLUTION, Numerics, Physics
 from .regime import regime  # noqa: F401  (re-exported: which physics a mass ratio gives)
-from .terms.self_aligning import turning_rate
 
 
 def no_log_file() -> None:
@@ -119,7 +118,8 @@ class StabilityLimits:
     oscillation_rate: float = 0.0  # inertial regime: fastest oscillating mode |lambda|, 1/tau
     inertial_growing_rate: float = 0.0  # inertial regime: fastest growing mode |lambda|, 1/tau
     step_limits: dict = field(default_factory=dict)  # inertial regime: largest stable dt per integrator
-    unit_rate: float = 0.0  # self-aligning units' turning sigma / l_a, 1/tau: MuJoCo integrates it explicitly
+    term_rate: float = 0.0  # fastest rate a term imposes (Term.rate: a drive's 2 pi f, the units' turning), 1/tau
+    term: str = ""  # the term that imposes it
 
     @property
     def inertial(self) -> bool:
@@ -128,8 +128,9 @@ class StabilityLimits:
 
     def accuracy_rate(self, integrator: str) -> float:
         """Fastest rate the integrator must resolve for an accurate run (see the module docstring), at least the
-        self-aligning units' turning (their polarity is an activation, stepped explicitly in every integrator)."""
-        return max(self._chain_rate(integrator), self.unit_rate)
+        fastest rate a term imposes (Term.rate: a prescribed drive, the self-aligning units' turning), which every
+        integrator steps explicitly."""
+        return max(self._chain_rate(integrator), self.term_rate)
 
     def _chain_rate(self, integrator: str) -> float:
         if integrator == "discrete" and not self.pinned:
@@ -254,9 +255,16 @@ def stability_limits(physics: Physics, numerics: Numerics, qpos: np.ndarray | No
         growing_rate=float(np.max(np.abs(growing))) if growing.size else 0.0,
         follower_rate=float(np.max(np.abs(follower.imag))) if follower.size else 0.0,
         pinned=bool(model.neq),
-        model=reg.model, mass_ratio=reg.mass_ratio, inertia_number=reg.inertia_number, unit_rate=turning_rate(physics),
+        model=reg.model, mass_ratio=reg.mass_ratio, inertia_number=reg.inertia_number, **_term_rate(physics),
         **extra,
     )
+
+
+def _term_rate(physics: Physics) -> dict:
+    """term_rate and term: the active term with the fastest Term.rate (none: 0 and "")."""
+    rates = [(term.rate(physics), term.name) for term in physics.active_terms()]
+    rate, name = max(rates, default=(0.0, ""))
+    return {"term_rate": rate, "term": name} if rate > 0 else {}
 
 
 def _companion(M: np.ndarray, D: np.ndarray, F: np.ndarray) -> np.ndarray:
@@ -481,12 +489,12 @@ def check_accuracy(physics: Physics, numerics: Numerics, limits: StabilityLimits
                if limits.inertial_growing_rate >= 0.5 * rate and limits.inertial_growing_rate > 20 else "")
             + (_suggest(physics, limits, numerics) if suggest else "")
         )
-    if dt > dt_ok and rate <= limits.unit_rate:
+    if dt > dt_ok and rate <= limits.term_rate:
+        term = next(t for t in physics.active_terms() if t.name == limits.term)
         raise ParameterError(
-            f"dt = {dt:g} does not resolve the self-aligning units' turning sigma / l_a = {rate:.3g}/tau {where} "
-            f"(dt x rate = {dt * rate:.2g} > {RESOLUTION:g}): their polarity is stepped explicitly, so the run would be "
-            f"inaccurate or unstable. Use dt <= {largest_dt(limits, numerics):.2g} or alignment_length >= "
-            f"{_up(physics.sigma * dt / RESOLUTION):.2g}"
+            f"dt = {dt:g} does not resolve the rate {rate:.3g}/tau of the {term.name} term {where} (dt x rate = "
+            f"{dt * rate:.2g} > {RESOLUTION:g}: it is stepped explicitly, so the run would be inaccurate or unstable). "
+            f"Use dt <= {largest_dt(limits, numerics):.2g} or {term.slower(physics, RESOLUTION / dt)}"
             + (_suggest(physics, limits, numerics) if suggest else "")
         )
     if dt > dt_ok:

@@ -181,6 +181,8 @@ def prepare(physics: Physics, numerics: Numerics, theta0: np.ndarray | None = No
     if theta0.shape != (physics.n_angles,):
         raise ParameterError(f"theta0 must have {physics.n_angles} angles, got shape {theta0.shape}")
     data.qpos[:] = qpos_of(physics, theta0, head0)
+    for term in physics.active_terms():  # what a term sets in the initial state (a moving clamp's velocity)
+        term.start(physics, model, data)
     mujoco.mj_forward(model, data)
     if model.na:  # self-aligning units: polarity along the follower direction of the initial shape
         align_with_sites(model, data)

@@ -217,3 +217,29 @@ def test_a_saved_run_keeps_the_clamps_path(tmp_path):
                  "0.07", "--engine", "reduced", "--duration", "30", "--out", str(out), "--quiet"]) == 0
     back = load_trajectory(out)
     assert np.allclose(back.head, clamp_path(0.1, 0.07, "transverse").displacement(back.t))
+
+
+def test_a_drive_faster_than_the_step_is_refused_with_a_passing_setting(capsys, no_simulation):
+    """A term's own rate (Term.rate: the clamp's or the tip drive's 2 pi f) is resolved by MuJoCo's pre-flight check
+    like the chain's: f = 100 at dt = 0.0025 (4 steps a period) had diverged with a misleading cause; now one line
+    names the term, a dt and the frequency that pass."""
+    from elastoactive import diagnose
+    from elastoactive.params import Numerics
+
+    for option in ("--clamp-amplitude", "--drive-amplitude"):
+        name = option[2:].split("-")[0]
+        line = refused(capsys, ["run", "one-pinned", "--n", "3", option, "0.1", f"--{name}-frequency", "100",
+                                "--duration", "5"], f"{name}_frequency <=", "does not resolve")
+        dt = float(line.split("--dt ")[1].split()[0])
+        diagnose.check_timestep(ea.Physics(n=3, **{f"{name}_amplitude": 0.1, f"{name}_frequency": 100.0}),
+                                Numerics(dt=dt))
+
+
+def test_a_fast_clamp_starts_at_its_paths_velocity():
+    """The clamp starts moving at u(0) = A omega with the chain at rest in its frame (as the reduced model starts):
+    a large clamp speed no longer puts the whole jump B u(0) on the tiny masses (MuJoCo had diverged at t = 0 from
+    A f ~ 0.2 l/tau on); the engines agree on the beat it drives."""
+    physics = ea.Physics(n=3, sigma=1.28, clamp_amplitude=3.0, clamp_frequency=0.07)
+    runs = {engine: ea.measure(ea.simulate(physics, engine=engine, duration=60.0), transient=30.0)
+            for engine in ("mujoco", "reduced")}
+    assert runs["mujoco"].amplitude == pytest.approx(runs["reduced"].amplitude, rel=0.01)

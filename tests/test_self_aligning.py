@@ -130,10 +130,10 @@ def test_the_units_turning_sets_mujocos_timestep(capsys, no_simulation):
     from elastoactive.params import Numerics
 
     line = refused(capsys, ["run", "one-pinned", "--active", "self-aligning", "--alignment-length", "0.005",
-                            "--duration", "5"], "self-aligning units' turning", "alignment_length >=")
+                            "--duration", "5"], "self-aligning term", "alignment_length >=")
     dt = float(line.split("--dt ")[1].split()[0])
     physics = ea.Physics(active="self-aligning", alignment_length=0.005)
     diagnose.check_timestep(physics, Numerics(dt=dt))
-    with pytest.raises(ea.ParameterError, match="turning"):
+    with pytest.raises(ea.ParameterError, match="self-aligning term"):
         diagnose.check_timestep(physics, Numerics())
     diagnose.check_timestep(ea.Physics(active="self-aligning", alignment_length=0.5), Numerics())

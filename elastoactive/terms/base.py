@@ -96,6 +96,19 @@ class Term:
         """Add the term's MJCF elements to `spec` (an mujoco.MjSpec holding the scene's chains); only called when
         the term is active."""
 
+    def rate(self, physics) -> float:
+        """The fastest rate (1 / tau) this term imposes that MuJoCo steps explicitly (a prescribed motion's or force's
+        angular frequency, a polarity's turning): the pre-flight check wants dt x rate <= params.RESOLUTION. Default 0."""
+        return 0.0
+
+    def slower(self, physics, rate: float) -> str:
+        """This term's own setting that would bring its rate down to `rate`, e.g. 'alignment_length >= 0.02'."""
+        return ""
+
+    def start(self, physics, model, data) -> None:
+        """Set what the term needs in MuJoCo's initial state (`data` at the initial positions, before mj_forward;
+        only called when the term is active). Default: nothing."""
+
     def reduced_system(self, system, physics):
         """The scene's reduced-model record with this term's fields set (only called when the term is active)."""
         return system

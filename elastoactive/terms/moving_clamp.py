@@ -154,6 +154,26 @@ class MovingClamp(Term):
         check_scene(physics)
         return clamp_path(physics.clamp_amplitude, physics.clamp_frequency, physics.clamp_motion)
 
+    def rate(self, physics) -> float:
+        """The clamp's angular frequency 2 pi f: the servo's path and the drag it drags are stepped at dt."""
+        return 2.0 * math.pi * physics.clamp_frequency
+
+    def slower(self, physics, rate: float) -> str:
+        return f"clamp_frequency <= {rate / (2.0 * math.pi):.2g}"
+
+    def start(self, physics, model, data) -> None:
+        """A translating clamp starts at its path's velocity u(0) = A omega (the chain with it, at rest in the clamp's
+        frame, as the reduced model starts): the servo's B (u - q') is then small from the first step, where a clamp
+        at rest would take the whole jump B u(0) on the bodies' tiny mass (MuJoCo diverged beyond A f ~ 0.1 l/tau)."""
+        import mujoco  # start-up time: mujoco is needed only to run a model
+
+        motion = self.clamp_motion(physics)
+        if not motion.translates:
+            return
+        velocity = np.asarray(motion.velocity(0.0), dtype=float)
+        for axis, name in enumerate(CLAMP_JOINTS):
+            data.qvel[model.jnt_dofadr[mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, name)]] = velocity[axis]
+
     def build(self, spec, physics, numerics):
         """A translating clamp: slides clamp_x, clamp_y (damping B) before chain 1's first hinge, and the numeric
         elastoactive_clamp = (A, omega, a_x, a_y, A_phi, K, B) the callback's servo reads; an angle: the same numeric

@@ -142,6 +142,12 @@ class SelfAligning(Term):
         return (ValidationCase(physics(scene=rotating_pin.SCENE.name, n=7, sigma=0.8, active=SELF_ALIGNING,
                                        alignment_length=0.5), 100.0, convergence=False),)
 
+    def rate(self, physics) -> float:
+        return turning_rate(physics)
+
+    def slower(self, physics, rate: float) -> str:
+        return f"alignment_length >= {float(physics.sigma) / rate:.2g}"
+
     def inertial_model(self, physics) -> bool:
         """The units' reduced model (engines.polarity) is overdamped only."""
         return False

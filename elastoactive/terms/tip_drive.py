@@ -40,6 +40,13 @@ class TipDrive(Term):
     def active(self, physics) -> bool:
         return physics.drive_amplitude > 0
 
+    def rate(self, physics) -> float:
+        """The drive's angular frequency 2 pi f (the force is read at each step's time)."""
+        return 2.0 * math.pi * physics.drive_frequency
+
+    def slower(self, physics, rate: float) -> str:
+        return f"drive_frequency <= {rate / (2.0 * math.pi):.2g}"
+
     def build(self, spec, physics, numerics):
         """The tip's site gets a second user value (1: driven) and the model the numeric elastoactive_drive
         = (A, omega, d_x, d_y) that the compiled callback reads (controllers/follower.c)."""

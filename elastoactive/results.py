@@ -324,9 +324,14 @@ def summary(traj: Trajectory, numerics: Numerics, duration: float, transient: fl
     results = measure(traj, transient)
     recorded = results.as_dict()
     if sensitivity and needs_estimate(traj, results.periodic):  # an irregular run: its numbers with their errors
-        estimate = estimate_sensitivity(traj, transient, numerics)
-        recorded["sensitivity"] = estimate.as_dict()
-        recorded["notes"] = [*recorded["notes"], estimate.note(results.amplitude, results.frequency)]
+        try:
+            estimate = estimate_sensitivity(traj, transient, numerics)
+        except ParameterError as refusal:  # the pilots run the reduced engine, which may not cover this run's terms
+            recorded["notes"] = [*recorded["notes"], f"irregular, and no error estimate: its pilots run the reduced "
+                                 f"engine, which refuses this run ({refusal}); rerun at dt / 2 to gauge its error"]
+        else:
+            recorded["sensitivity"] = estimate.as_dict()
+            recorded["notes"] = [*recorded["notes"], estimate.note(results.amplitude, results.frequency)]
     out = {
         "engine": traj.engine,
         "parameters": traj.physics.relevant(),

@@ -84,3 +84,18 @@ def test_stability_command_reports_the_lattices_bracket(capsys):
     assert 0.1740 < onset.sigma_all < 0.1760 and onset.omega_c == 0.0  # Pi* = 1.75 (docs/network.md)
     assert main(["stability", "lattice", "--boundary", "centre"]) != 0
     assert "boundary must be pinned" in capsys.readouterr().err
+
+
+def test_the_coupling_is_the_scenes_own(capsys):
+    """Pi = l_e / l_a with the scene's own spring: sigma / l_a on the lattice (k = 1), sigma / (trap l_a) for the
+    trapped unit (its onset Pi_c = 1 had been printed as 0.1 at trap 0.1); the caption draws the same number."""
+    import elastoactive as ea
+    from elastoactive.cli import main
+
+    assert main(["stability", "trapped-unit", "--sigma", "0.8", "--trap", "0.1"]) == 0
+    out = capsys.readouterr().out
+    assert "(Pi_c = 1)" in out and "(Pi = 8)" in out
+    physics = ea.Physics(scene="trapped-unit", sigma=0.8, trap=0.1)
+    assert physics.scene_def.coupling(physics) == 8.0 and "Π = σ / (k_t l_a) = 8" in physics.scene_def.caption(physics)
+    lattice = ea.Physics(scene="lattice", sigma=0.15, alignment_length=0.1)
+    assert lattice.scene_def.coupling(lattice) == pytest.approx(1.5)

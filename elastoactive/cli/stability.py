@@ -84,23 +84,24 @@ def _physics(args):
 
 
 def _network_report(physics, sigma: float | None) -> None:
-    """A network's onset in the coupling Pi = sigma / l_a, with the bracket where its fixed points form a family."""
+    """A network's onset in the coupling Pi = l_e / l_a (Scene.coupling), with the bracket where its fixed points form
+    a family."""
     scene, la = physics.scene_def, physics.alignment_length
     onset = scene.onset(physics)
     own = ", ".join(f"{k} = {getattr(physics, k)}" for k in scene.own_parameter_names())
     print(f"{physics.scene}, {own}, l_a = {la:g}:")
     print(f"  onset: {onset.kind}")
     if onset.sigma_all is None:
-        print(f"  at sigma_c = {onset.sigma_c:.10g} (Pi_c = {onset.sigma_c / la:.6g})")
+        print(f"  at sigma_c = {onset.sigma_c:.10g} (Pi_c = {scene.coupling(physics, onset.sigma_c):.6g})")
     else:
-        print(f"  every fixed point stable below sigma_c = {onset.sigma_c:.6g} (Pi = {onset.sigma_c / la:.6g}); none "
-              f"above sigma_all = {onset.sigma_all:.6g} (Pi* = {onset.sigma_all / la:.6g}, a lower bound); between, "
+        print(f"  every fixed point stable below sigma_c = {onset.sigma_c:.6g} (Pi = {scene.coupling(physics, onset.sigma_c):.6g}); none "
+              f"above sigma_all = {onset.sigma_all:.6g} (Pi* = {scene.coupling(physics, onset.sigma_all):.6g}, a lower bound); between, "
               "collective actuation depends on the starting polarities")
     if sigma is not None:
         lam = scene.leading_eigenvalue(physics, sigma)
         which = "the least stable fixed point's" if onset.sigma_all is not None else "the rest state's"
         state = "unstable" if lam.real > 0 else "stable"
-        print(f"  at sigma = {sigma:g} (Pi = {sigma / la:.6g}): {which} growth rate {lam.real:+.6g} k/gamma ({state})")
+        print(f"  at sigma = {sigma:g} (Pi = {scene.coupling(physics, sigma):.6g}): {which} growth rate {lam.real:+.6g} k/gamma ({state})")
 
 
 def main(args) -> int:

@@ -72,8 +72,15 @@ class NetworkScene(Scene):
                        else f"{k}={getattr(physics, k)}" for k in self.own_parameter_names())
         return f"{self.name} {own} sigma={physics.sigma:g} l_a={physics.alignment_length:g}".replace("  ", " ")
 
+    coupling_formula: ClassVar[str] = "σ / l_a"
+    """The coupling Pi = l_e / l_a in the scene's parameters (as drawn in captions)."""
+
+    def coupling(self, physics: Physics, sigma: float | None = None) -> float:
+        """Pi = l_e / l_a at `sigma` (default physics.sigma): l_e = F_a / k with the springs' k = 1."""
+        return (physics.sigma if sigma is None else sigma) / physics.alignment_length
+
     def caption(self, physics: Physics) -> list[str]:
-        return [f"l_a = {physics.alignment_length:.3g}", f"Π = σ / l_a = {physics.sigma / physics.alignment_length:.3g}"]
+        return [f"l_a = {physics.alignment_length:.3g}", f"Π = {self.coupling_formula} = {self.coupling(physics):.3g}"]
 
     def extent_points(self, physics: Physics) -> np.ndarray:
         return self.network(physics).positions

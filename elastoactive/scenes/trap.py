@@ -44,6 +44,12 @@ class Trap(NetworkScene):
     compared = ("orbit_radius", "orbit_rate")
     no_linear_operator = ""
 
+    coupling_formula = "σ / (k_t l_a)"
+
+    def coupling(self, physics: Physics, sigma: float | None = None) -> float:
+        """Pi = l_e / l_a with l_e = sigma / trap: the trap is the unit's only spring."""
+        return (physics.sigma if sigma is None else sigma) / (physics.trap * physics.alignment_length)
+
     def network(self, physics: Physics) -> Network:
         return trap_unit(physics.trap)
 

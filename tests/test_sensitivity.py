@@ -3,6 +3,7 @@
 
 from __future__ import annotations
 
+import json
 import math
 
 import numpy as np
@@ -59,3 +60,15 @@ def test_a_sensitive_run_is_named_with_its_horizon(monkeypatch):
     record = s["results"]["sensitivity"]
     assert record["sensitive"] and record["horizon_tau"] == pytest.approx(math.log(1e5) / 2.0)
     assert any(note.startswith("sensitive dynamics") for note in s["results"]["notes"])
+
+
+def test_a_run_the_reduced_pilots_cannot_take_keeps_its_results(tmp_path, capsys):
+    """An irregular MuJoCo run whose terms the reduced engine refuses (a tip drive on the ring) is written with a note
+    that it has no error estimate; it had been thrown away after the simulation by the pilots' refusal."""
+    from elastoactive.cli import main
+
+    out = tmp_path / "ring"
+    assert main(["run", "ring", "--drive-amplitude", "0.1", "--engine", "mujoco", "--duration", "5", "--out", str(out),
+                 "--quiet"]) == 0
+    summary = json.loads((out / "summary.json").read_text())
+    assert any("no error estimate" in note for note in summary["results"]["notes"])

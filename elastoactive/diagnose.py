@@ -549,7 +549,8 @@ def divergence_cause(physics: Physics, numerics: Numerics, time: float, model=No
         bad = [n for w, n in names.items() if data.warning[w].number]
         if bad:
             what = f"NaN or |value| > 1e10 in {', '.join(bad)}"
-    head = f"MuJoCo run diverged at t = {time:.4g} tau ({what}) for {_describe(physics)}, dt = {numerics.dt:g}, " \
+    head = f"MuJoCo run diverged by t = {time:.4g} tau (checked every few samples; {what}) for {_describe(physics)}, " \
+           f"dt = {numerics.dt:g}, " \
            f"mass_ratio = {numerics.mass_ratio:g}, integrator {numerics.integrator}. "
     try:
         limits = stability_limits(physics, numerics)

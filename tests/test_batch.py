@@ -84,7 +84,7 @@ def test_a_diverging_point_is_its_own_error_and_the_others_finish():
     outcomes = simulate_mujoco_batch(runs, threads=2, on_done=lambda i, o: seen.append((i, threading.current_thread())))
     assert sorted(i for i, _ in seen) == list(range(len(runs)))
     assert all(thread is threading.main_thread() for _, thread in seen)  # on_done runs in the caller's thread
-    assert isinstance(outcomes[1], SimulationDiverged) and "diverged at t = 5 tau" in str(outcomes[1])
+    assert isinstance(outcomes[1], SimulationDiverged) and "diverged by t = 5 tau" in str(outcomes[1])
     assert isinstance(outcomes[4], SimulationDiverged) and "drifted" in str(outcomes[4])
     assert outcomes[0].info["batch"]["size"] == 2 and outcomes[3].info["batch"]["size"] == 1  # a batch a thread
     for run, outcome in zip(runs, outcomes):

@@ -75,3 +75,14 @@ def test_nodes_are_saved_and_loaded(tmp_path):
     np.testing.assert_array_equal(back.nodes, traj.nodes)
     np.testing.assert_array_equal(back.polarity, traj.polarity)
     assert back.physics == physics
+
+
+def test_a_mass_outside_the_overdamped_limit_is_refused_by_both_engines(capsys):
+    """The network models are overdamped: a mass ratio whose inertia matters (m x rate > INERTIA_RESOLUTION) is
+    refused in one line by the reduced engine as by MuJoCo (the reduced engine had run the massless model and recorded
+    the mass)."""
+    from conftest import refused
+
+    for engine in ("reduced", "mujoco"):
+        refused(capsys, ["run", "lattice", "--mass-ratio", "1", "--engine", engine, "--duration", "5", "--quiet"],
+                "mass_ratio = 1", "overdamped")

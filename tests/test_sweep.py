@@ -265,7 +265,7 @@ def test_a_diverging_point_of_a_batch_is_its_error_and_the_others_finish(tmp_pat
     ds = run_sweep("one-pinned", {"sigma": [0.5, 100.0, 50.0]}, fixed={"n": 3}, numerics=num, duration=10,
                    out=tmp_path / "d.nc", workers=2, progress=False, timestep_check=False)
     assert ds["status"].values.tolist() == ["ok", "error", "ok"]
-    assert "SimulationDiverged" in ds["error"].values[1] and "diverged at t = 5 tau" in ds["error"].values[1]
+    assert "SimulationDiverged" in ds["error"].values[1] and "diverged by t = 5 tau" in ds["error"].values[1]
     assert np.isfinite(ds["amplitude"].values[[0, 2]]).all() and np.isnan(ds["amplitude"].values[1])
     expected = run_case(Case(Physics(n=3, sigma=50.0), num, 10)).results
     assert ds["amplitude"].values[2] == expected.amplitude

@@ -24,6 +24,7 @@ from ..controllers import follower_forces
 from ..errors import ParameterError, SimulationDiverged
 from ..network_model import build_network_model, node_positions, qpos_of_positions, set_polarity
 from ..terms.self_aligning import polarity_addresses, turning_rate
+from .network_reduced import network_rate
 from ..analysis.reduced import INERTIA_RESOLUTION
 from ..params import RESOLUTION, Numerics, Physics
 from ..progress import progress_bar
@@ -57,18 +58,6 @@ def network_numerics(physics: Physics, numerics: Numerics) -> Numerics:
     if turning > 0:
         dt = min(dt, numerics.sample_dt / math.ceil(numerics.sample_dt * turning / TURN_RESOLUTION - 1e-9))
     return dataclasses.replace(numerics, integrator=AUTOMATIC_INTEGRATOR, dt=dt)
-
-
-def network_rate(physics: Physics) -> float:
-    """The fastest rate a network run's step must resolve (units k / gamma): the largest eigenvalue of the passive
-    network's dynamical matrix (springs and trap, explicit in every integrator) or the units' turning Pi = sigma / l_a,
-    whichever is larger."""
-    from ..analysis.network.model import dynamical_matrix  # start-up time: only the pre-flight check needs it
-
-    network = physics.scene_def.network(physics)
-    matrix = dynamical_matrix(network)
-    springs = float(np.linalg.eigvalsh(matrix).max()) if matrix.size else 0.0
-    return max(springs, turning_rate(physics))
 
 
 def check_network_timestep(physics: Physics, numerics: Numerics) -> float:

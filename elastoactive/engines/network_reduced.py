@@ -16,7 +16,8 @@ import numpy as np
 from ..analysis.network import model as _model
 from ..errors import ParameterError
 from ..params import Numerics, Physics
-from ..terms.self_aligning import check_reduced_span
+from ..analysis.reduced import INERTIA_RESOLUTION
+from ..terms.self_aligning import check_reduced_span, turning_rate
 from ..trajectory import Trajectory
 
 METHODS = _model.METHODS
@@ -33,6 +34,18 @@ def system_of(physics: Physics) -> _model.NetworkSystem:
     return _model.network_system(network, physics.sigma, physics.alignment_length)
 
 
+def network_rate(physics: Physics) -> float:
+    """The fastest rate a network run's step must resolve (units k / gamma): the largest eigenvalue of the passive
+    network's dynamical matrix (springs and trap, explicit in every integrator) or the units' turning Pi = sigma / l_a,
+    whichever is larger."""
+    from ..analysis.network.model import dynamical_matrix  # start-up time: only the pre-flight check needs it
+
+    network = physics.scene_def.network(physics)
+    matrix = dynamical_matrix(network)
+    springs = float(np.linalg.eigvalsh(matrix).max()) if matrix.size else 0.0
+    return max(springs, turning_rate(physics))
+
+
 def simulate_network_reduced(physics: Physics, numerics: Numerics, duration: float, *, theta0=None,
                              rtol: float = 1e-8, atol: float = 1e-10, method: str | None = None) -> Trajectory:
     """Integrate the network model from the scene's initial state and sample every numerics.sample_dt."""
@@ -45,6 +58,11 @@ def simulate_network_reduced(physics: Physics, numerics: Numerics, duration: flo
     if physics.noise > 0:
         raise ParameterError("noise: the network scenes are deterministic (noise must be 0)")
     check_reduced_span(physics, duration)
+    rate = network_rate(physics)
+    if numerics.mass_ratio * rate > INERTIA_RESOLUTION:  # MuJoCo refuses it too (check_network_timestep)
+        raise ParameterError(f"mass_ratio = {numerics.mass_ratio:g}: the reduced engine's {physics.scene} network is "
+                             f"overdamped (m x rate = {numerics.mass_ratio * rate:.2g} > {INERTIA_RESOLUTION:g}); use "
+                             f"mass_ratio <= {INERTIA_RESOLUTION / rate:.3g}, where the inertia is negligible")
     system = system_of(physics)
     t = numerics.sample_times(duration)
     y0 = _model.pack(system, physics.scene_def.initial_network(physics, numerics))

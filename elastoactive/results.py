@@ -198,6 +198,7 @@ def measure(traj: Trajectory, transient: float | None = None) -> Results:
     for k, b in enumerate(beats):
         where = f"chain {k + 1}: " if physics.n_chains > 1 else ""
         notes += [where + note for note in b.notes]
+    notes += _aliasing(traj)
     columns = ([b.amplitude for b in beats], [b.frequency for b in beats], [b.period_spread for b in beats])
     if physics.n_chains == 1:
         amplitude, frequency, spread = (c[0] for c in columns)
@@ -205,6 +206,26 @@ def measure(traj: Trajectory, transient: float | None = None) -> Results:
         amplitude, frequency, spread = (tuple(c) for c in columns)
     harmonics = spectra[0] if physics.n_chains == 1 else tuple(spectra)
     return Results(amplitude, frequency, periodic, spread, tuple(notes), harmonics, **known, extra=extra)
+
+
+ALIASING = 1.0
+"""Most radians a term's fastest rate (Term.rate) may turn between two samples before the record may alias it."""
+
+
+def _aliasing(traj: Trajectory) -> list[str]:
+    """A note when the record is sampled too coarsely for the fastest rate a term imposes (a drive's 2 pi f, the
+    self-aligning units' turning sigma / l_a): rates and frequencies measured from it may be aliased, even in sign."""
+    if traj.t.size < 2:
+        return []
+    spacing = float(traj.t[1] - traj.t[0])
+    rate, term = max(((term.rate(traj.physics), term) for term in traj.physics.active_terms()),
+                     key=lambda pair: pair[0], default=(0.0, None))
+    if term is None or rate * spacing <= ALIASING:
+        return []
+    return [f"the record may alias the motion: the {term.name} term turns or drives at up to {rate:.3g} rad per unit time, "
+            f"{rate * spacing:.2g} rad between samples (sample_dt = {spacing:g}); rates and frequencies may be wrong, "
+            f"even in sign: rerun with --sample-dt <= {ALIASING / rate:.2g} (and --dt; the reduced engine records no "
+            f"finer than the default dt) or a slower setting ({term.slower(traj.physics, ALIASING / spacing)})"]
 
 
 @dataclass(frozen=True)

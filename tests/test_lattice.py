@@ -86,3 +86,15 @@ def test_a_mass_outside_the_overdamped_limit_is_refused_by_both_engines(capsys):
     for engine in ("reduced", "mujoco"):
         refused(capsys, ["run", "lattice", "--mass-ratio", "1", "--engine", engine, "--duration", "5", "--quiet"],
                 "mass_ratio = 1", "overdamped")
+
+
+def test_a_record_too_coarse_for_the_units_turning_says_so():
+    """At l_a = 1e-5 the trapped unit orbits at ~89 rad/tau, sampled every 0.05 tau: the measured orbit rate came out
+    +38 against -88 (aliased, even in sign) with only a note to run longer. The record's coarseness against the fastest
+    rate a term imposes (Term.rate) is now a note naming the setting; a resolved record has none."""
+    physics = ea.Physics(scene="trapped-unit", alignment_length=1e-5)
+    coarse = ea.measure(ea.simulate(physics, engine="reduced", duration=2.5))
+    assert any("may alias" in note and "--sample-dt" in note for note in coarse.notes)
+    fine = ea.measure(ea.simulate(ea.Physics(scene="trapped-unit", sigma=0.8, trap=0.1), engine="reduced",
+                                  duration=100.0))
+    assert not any("alias" in note for note in fine.notes)

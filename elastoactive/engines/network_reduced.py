@@ -58,8 +58,8 @@ def simulate_network_reduced(physics: Physics, numerics: Numerics, duration: flo
     if physics.noise > 0:
         raise ParameterError("noise: the network scenes are deterministic (noise must be 0)")
     check_reduced_span(physics, duration)
-    rate = network_rate(physics)
-    if numerics.mass_ratio * rate > INERTIA_RESOLUTION:  # MuJoCo refuses it too (check_network_timestep)
+    rate = network_rate(physics) if "mass_ratio" in numerics.given() else 0.0  # the model is massless: a mass given
+    if numerics.mass_ratio * rate > INERTIA_RESOLUTION:  # where its inertia would matter is refused, as MuJoCo does
         raise ParameterError(f"mass_ratio = {numerics.mass_ratio:g}: the reduced engine's {physics.scene} network is "
                              f"overdamped (m x rate = {numerics.mass_ratio * rate:.2g} > {INERTIA_RESOLUTION:g}); use "
                              f"mass_ratio <= {INERTIA_RESOLUTION / rate:.3g}, where the inertia is negligible")

@@ -168,6 +168,16 @@ class Physics:
         spec = _parameters.get(name)
         return spec.acts_in(self._values)
 
+    def require_acting(self, names) -> None:
+        """Refuse, in one line, any of `names` (values a user gave, e.g. on the command line) that this physics leaves
+        unused because its switch is off, even at its default value (which the constructor lets through: it is what
+        the physics takes anyway, but a user who typed it expects it to act)."""
+        for name in names:
+            spec = _parameters.get(name)
+            if spec.needs is not None and not spec.acts_in(self._values):
+                raise ParameterError(f"{name} has no effect without {spec.need_text} ({spec.needs} = "
+                                     f"{self._values[spec.needs]}); set {spec.needs} too, or leave {name} out")
+
     def replace(self, **changes) -> "Physics":
         """This physics with some values changed (and checked); values that stop acting (a switch turned off, a
         scene without them) are dropped."""

@@ -12,6 +12,7 @@ import pytest
 import elastoactive as ea
 from elastoactive import parameters, registry
 from elastoactive.cli import main
+from conftest import refused
 from elastoactive.params import Numerics, scene_parameters
 from elastoactive.sweep import make_sweep, parse_grid
 
@@ -80,3 +81,20 @@ def test_only_numbers_are_swept():
     sweep = make_sweep("one-pinned", {"sigma": [0.5, 0.8]}, fixed={"loaded": "tip"}, numerics=Numerics(),
                        duration=10.0, engine="mujoco")
     assert sweep.case(0).physics.loaded == "tip"
+
+
+@pytest.mark.parametrize("argv", [["star", "--hub", "clamped", "--hub-stiffness", "1"],
+                                  ["one-pinned", "--alignment-length", "1"],
+                                  ["one-pinned", "--clamp-frequency", "0.01"],
+                                  ["one-pinned", "--drive-direction", "transverse"],
+                                  ["one-pinned", "--contact-radius", "0.1"]])
+def test_an_option_typed_where_it_does_not_act_is_refused_even_at_its_default(argv, capsys, no_simulation):
+    """The API lets a switch-dependent value equal to its default through (the physics takes it anyway), but a value
+    typed on the command line is meant to act: run refuses it in one line naming its switch (it had been dropped)."""
+    refused(capsys, ["run", *argv, "--duration", "2"], f"{argv[-2][2:].replace('-', '_')} has no effect without")
+
+
+def test_stability_refuses_n_on_a_network(capsys):
+    refused(capsys, ["stability", "lattice", "--n", "5"], "n has no effect on scene lattice")
+    assert main(["stability", "one-pinned"]) == 0  # a chain's N still defaults to 7
+    assert "N = 7" in capsys.readouterr().out

@@ -72,6 +72,7 @@ def settings_from(args) -> tuple[Physics, Numerics, str, float, float | None]:
     # the recorded physics, then the options given (a value that stops acting, like contact_radius once --no-contact
     # is given, is dropped; one given where it does not act is refused)
     physics = Physics(scene=recorded_scene or scene, **base["physics"]).replace(scene=scene, **given(Physics))
+    physics.require_acting(given(Physics))  # an option typed where it does not act, even at its default
     numerics = Numerics(**{**base["numerics"], **given(Numerics)})
     engine = args.engine or base["engine"] or "mujoco"
     duration = args.duration if args.duration is not None else (base["duration"] or DEFAULT_DURATION)

@@ -41,7 +41,7 @@ def register(subparsers) -> None:
         description="Linear stability of a scene's straight chain: sigma_c and omega_c, the growth rate at --sigma, "
         "and the continuum filament's onset. " + UNITS, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("scene", metavar="SCENE", help=f"one of: {', '.join(_with_operator())}")
-    p.add_argument("--n", type=int, default=7, help="particles per chain N (default 7)")
+    p.add_argument("--n", type=int, default=None, help="particles per chain N (default 7; chains only)")
     p.add_argument("--sigma", type=float, default=None, help="also the growth rate of the least stable mode here")
     p.add_argument("--alignment-length", dest="alignment_length", type=float, default=None,
                    help="networks (lattice, trapped-unit): the units' alignment length l_a (default 1); the coupling "
@@ -73,14 +73,18 @@ def _physics(args):
         raise ParameterError(f"stability: {refused[0]} has no effect on scene {args.scene}")
     sigma = 0.0 if args.sigma is None else args.sigma
     if scene.term_parameters is not None and "alignment_length" in scene.term_parameters:  # a network: no chain
+        if args.n is not None:
+            raise ParameterError(f"stability: n has no effect on scene {args.scene} (a network's size is set by its own "
+                                 "parameters, e.g. --rings)")
         if args.alignment_length is not None:
             given["alignment_length"] = args.alignment_length
         return Physics(scene=args.scene, sigma=sigma, **given)
     if args.alignment_length is not None:
         raise ParameterError(f"stability: alignment_length has no effect on scene {args.scene}")
-    if args.n < 2:
-        raise ParameterError(f"n must be >= 2 for a chain that can bend, got {args.n}")
-    return Physics(scene=args.scene, n=args.n, sigma=sigma, **given)
+    n = 7 if args.n is None else args.n
+    if n < 2:
+        raise ParameterError(f"n must be >= 2 for a chain that can bend, got {n}")
+    return Physics(scene=args.scene, n=n, sigma=sigma, **given)
 
 
 def _network_report(physics, sigma: float | None) -> None:

@@ -98,3 +98,11 @@ def test_a_record_too_coarse_for_the_units_turning_says_so():
     fine = ea.measure(ea.simulate(ea.Physics(scene="trapped-unit", sigma=0.8, trap=0.1), engine="reduced",
                                   duration=100.0))
     assert not any("alias" in note for note in fine.notes)
+
+
+def test_units_at_rest_are_not_actuated():
+    """A trapped unit below Pi = 1 comes to rest: its polarity's residual turning (~1e-5, decaying) has no direction
+    worth a ratio, so actuation is 0 (it had read 1.0, 'collective'), as for a pinned patch below onset."""
+    rest = ea.measure(ea.simulate(ea.Physics(scene="trapped-unit", sigma=0.05, trap=0.1), engine="reduced",
+                                  duration=100.0))
+    assert rest.extra["actuation"] == 0.0

@@ -20,7 +20,10 @@ from typing import NamedTuple
 import numpy as np
 
 STILL_RATE = 1e-6
-"""rad / (gamma / k): units turning slower than this on average are still (actuation 0)."""
+"""rad / (gamma / k): units turning slower than this on average are still (actuation 0), at the least."""
+STILL_FRACTION = 1e-3
+"""Units whose mean |dpsi/dt| is below this fraction of their turning scale sigma / l_a are still: the decaying
+residue of a rest state (~1e-5 rad per gamma / k after 100 gamma / k) has no direction worth a ratio."""
 
 
 def window(t: np.ndarray, transient: float) -> np.ndarray:
@@ -45,11 +48,12 @@ def polarity_rate(t: np.ndarray, polarity: np.ndarray) -> float:
     return float(((psi[-1] - psi[0]) / (t[-1] - t[0])).mean())
 
 
-def actuation(t: np.ndarray, polarity: np.ndarray) -> float:
-    """|<dpsi/dt>| / <|dpsi/dt|> over the units and samples (0 when the units are still)."""
+def actuation(t: np.ndarray, polarity: np.ndarray, scale: float = 0.0) -> float:
+    """|<dpsi/dt>| / <|dpsi/dt|> over the units and samples (0 when the units are still: turning on average slower than
+    STILL_RATE or STILL_FRACTION x `scale`, their turning scale sigma / l_a)."""
     rates = turning_rates(t, polarity)
     magnitude = float(np.abs(rates).mean())
-    if magnitude < STILL_RATE:
+    if magnitude < max(STILL_RATE, STILL_FRACTION * scale):
         return 0.0
     return float(abs(rates.mean()) / magnitude)
 

@@ -31,7 +31,7 @@ from ..analysis.network import observables as nobs
 from ..errors import ParameterError
 from ..parameters import Parameter
 from ..params import Numerics, Physics
-from ..terms.self_aligning import SELF_ALIGNING
+from ..terms.self_aligning import SELF_ALIGNING, turning_rate
 from ..trajectory import Trajectory
 from .base import Onset, Scene, ValidationCase
 
@@ -110,7 +110,7 @@ class NetworkScene(Scene):
         return {
             "polarization": nobs.polarization(psi),
             "polarity_rate": nobs.polarity_rate(t, psi),
-            "actuation": nobs.actuation(t, psi),
+            "actuation": nobs.actuation(t, psi, turning_rate(traj.physics)),
             "condensation": modes.condensation,
             "dominant_mode": float(modes.dominant_modes[0]),
             "second_mode": float(modes.dominant_modes[1]),

@@ -109,6 +109,13 @@ class ChainSystem(NamedTuple):
         return bool(self.head_free) or self.trap > 0 or self.contact_radius > 0 or bool(self.hub_free)
 
     @property
+    def extensions(self) -> tuple[str, ...]:
+        """The extended terms that are on, in words (for a refusal that names them)."""
+        named = (("free head", bool(self.head_free)), ("trap", self.trap > 0),
+                 ("self-contact", self.contact_radius > 0), ("turning hub", bool(self.hub_free)))
+        return tuple(name for name, on in named if on)
+
+    @property
     def inertial(self) -> bool:
         """Whether this is the inertial model (mass_ratio > 0): its state is (theta, omega), 2 n_angles numbers."""
         return self.mass_ratio > 0

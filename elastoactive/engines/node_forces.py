@@ -80,10 +80,15 @@ def check(physics: Physics, system, noisy: bool) -> None:
     if noisy:
         raise ParameterError(f"the reduced engine adds the forces of {names} to noise-free runs only; set noise 0 or "
                              "use the MuJoCo engine")
-    if system.inertial or system.pinned or system.head_free or system.hub_free:
+    if system.inertial:
+        raise ParameterError(f"the reduced engine adds the forces of {names} to the overdamped model only, and "
+                             f"mass_ratio = {system.mass_ratio:g} is outside the overdamped limit here; give a smaller "
+                             "--mass-ratio or use the MuJoCo engine")
+    if system.pinned or system.head_free or system.hub_free:
+        has = "pins its far end" if system.pinned else ("slides its head" if system.head_free else "turns its hub")
         raise ParameterError(f"the reduced engine adds the forces of {names} to the overdamped model of a chain "
-                             f"without pins, a sliding head or a turning hub; scene {physics.scene} needs the MuJoCo "
-                             "engine for them")
+                             f"without pins, a sliding head or a turning hub, and scene {physics.scene} {has}; use the "
+                             "MuJoCo engine")
 
 
 def clamp_of(physics: Physics):

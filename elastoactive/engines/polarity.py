@@ -38,8 +38,8 @@ def check(physics: Physics, system, noisy: bool) -> None:
         raise ParameterError("active = self-aligning: the reduced engine has the overdamped model only; give a mass "
                              "ratio inside the overdamped limit or use the MuJoCo engine")
     if system.head_free or system.extended:
-        raise ParameterError(f"active = self-aligning: the reduced engine does not cover scene {physics.scene}'s free "
-                             "head, trap or self-contact; use the MuJoCo engine")
+        raise ParameterError(f"active = self-aligning: the reduced engine does not combine the units with scene "
+                             f"{physics.scene}'s {' and '.join(system.extensions)}; use the MuJoCo engine")
     if any(getattr(term, "clamp_motion", lambda _: None)(physics) is not None for term in physics.active_terms()):
         raise ParameterError("active = self-aligning: the reduced engine does not combine the units with a moving "
                              "clamp; use the MuJoCo engine")

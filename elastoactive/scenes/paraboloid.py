@@ -51,9 +51,9 @@ class Paraboloid(Scene):
     name = "paraboloid"
     summary = "free chain in a dish: sliding head, harmonic trap -k r (the supplement's satellite dish)"
     base_file = "paraboloid.xml"
-    parameters = (Parameter("trap", 0.1, "stiffness k l^2 / C1 of the dish's harmonic trap -k r on every particle and "
-                            "the head", low=0.0, low_open=True, title="the dish's stiffness k l^2 / C1; without it the "
-                            "chain swims away"),)
+    parameters = (Parameter("trap", 0.1, "stiffness k l^2 / C1 of the harmonic trap -k r (the dish's on every particle "
+                            "and the head; the trapped unit's k_t / k on its node)", low=0.0, low_open=True,
+                            title="harmonic trap stiffness; without it the active bodies swim away"),)
     clamped = False
     head_coordinates = HEAD_COORDINATES
     observables = ("rotation_rate", "orbit_rate", "orbit_radius", "curvature", "dish_state")

@@ -114,18 +114,20 @@ def check_scene(physics) -> None:
     """Refuse, in one line, a scene whose clamp this term cannot move."""
     scene = physics.scene_def
     if not scene.clamped:
-        raise ParameterError(f"clamp_amplitude: scene {physics.scene} has no clamp (its first pendulum turns freely "
+        raise ParameterError(f"moving clamp: scene {physics.scene} has no clamp (its first pendulum turns freely "
                              "on a pin); a moving clamp needs a chain that hangs from one (one-pinned, or the angle "
                              "of coupled-pair's)")
     if scene.pinned:
-        raise ParameterError(f"clamp_amplitude: scene {physics.scene} pins its chain's far end to the lab, and the "
+        raise ParameterError(f"moving clamp: scene {physics.scene} pins its chain's far end to the lab, and the "
                              "reduced engine's pinned model has no moving clamp; use one-pinned")
+    if scene.head_coordinates:
+        raise ParameterError(f"moving clamp: scene {physics.scene} holds its chains' roots on a coordinate of its own "
+                             "(a sliding head, or the star's hub), which a prescribed clamp motion would override; use "
+                             "one-pinned, or the angle of coupled-pair's clamp")
     if scene.n_chains > 1 and physics.clamp_motion not in ("angle", ROTATING):
         raise ParameterError(f"clamp_motion {physics.clamp_motion} on scene {physics.scene}: moving chain 1's clamp "
                              "point would stretch the coupling spring, which the reduced model holds between fixed "
                              "clamps; move its angle (clamp_motion angle), or use one-pinned")
-    if scene.head_coordinates:
-        raise ParameterError(f"clamp_amplitude: scene {physics.scene} already moves its chain's pivot")
 
 
 class MovingClamp(Term):

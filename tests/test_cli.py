@@ -73,3 +73,15 @@ def test_help_loads_no_heavy_library():
             "print(','.join(heavy), file=sys.stderr)")
     result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
     assert result.stderr.strip().splitlines()[-1:] in ([], [""]), result.stderr
+
+
+@pytest.mark.parametrize("argv", [["run", "lattice", "--rings", "1.5"], ["run", "lattice", "--boundary", "foo"],
+                                  ["validate", "bogus"], ["bogus"]])
+def test_argument_errors_are_one_line(argv, capsys):
+    """argparse's own errors (a number that is not one, an invalid choice) are one 'elastoactive: error:' line naming
+    the command, like every other refusal (they had printed the whole usage block first)."""
+    with pytest.raises(SystemExit) as stop:
+        main(argv)
+    assert stop.value.code == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("elastoactive: error:") and "--help" in err[0], err

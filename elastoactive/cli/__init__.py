@@ -18,8 +18,17 @@ COMMANDS = (run, validate, sweep, render, accuracy, reproduce, stability, filame
 """The subcommands, in the order --help lists them."""
 
 
+class _Parser(argparse.ArgumentParser):
+    """argparse with the project's one-line errors (an invalid choice, a number that is not one, a missing argument):
+    'elastoactive: error: ...' naming the command, the usage left to --help."""
+
+    def error(self, message: str):
+        command = self.prog.removeprefix("elastoactive").strip()
+        self.exit(2, f"elastoactive: error: {command + ': ' if command else ''}{message} (see {self.prog} --help)\n")
+
+
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
+    parser = _Parser(
         prog="elastoactive",
         description="Elasto-active chains in MuJoCo (Zheng et al., 'Self-oscillation and synchronisation "
         "transitions in elasto-active structures'), checked against the reduced overdamped model. " + UNITS,

@@ -124,14 +124,18 @@ def main(args) -> int:
         own = "".join(f", {k} = {v}" if isinstance(v := getattr(physics, k), str) else f", {k} = {v:g}"
                       for k in scene.own_parameter_names())
         print(f"{physics.scene}, N = {n}{own}:")
-        print(f"  onset: {onset.kind} at sigma_c = {sigma_c:.10g} (N^3 sigma_c = {n**3 * sigma_c:.6g}), "
-              f"omega_c = {omega_c:.6g} rad/tau (f_c tau = {omega_c / (2 * math.pi):.6g}, N^4 omega_c = "
-              f"{n**4 * omega_c:.6g})")
+        if math.isfinite(sigma_c):
+            print(f"  onset: {onset.kind} at sigma_c = {sigma_c:.10g} (N^3 sigma_c = {n**3 * sigma_c:.6g}), "
+                  f"omega_c = {omega_c:.6g} rad/tau (f_c tau = {omega_c / (2 * math.pi):.6g}, N^4 omega_c = "
+                  f"{n**4 * omega_c:.6g})")
+        else:  # stable over the whole range the scene searched
+            print(f"  onset: {onset.kind}")
         if args.sigma is not None:
             lam = scene.leading_eigenvalue(physics, args.sigma)
             state = "unstable" if lam.real > 0 else "stable"
             print(f"  at sigma = {args.sigma:g}: growth rate {lam.real:+.6g} /tau, angular frequency "
-                  f"{abs(lam.imag):.6g} rad/tau ({state}; sigma / sigma_c = {args.sigma / sigma_c:.4g})")
+                  f"{abs(lam.imag):.6g} rad/tau ({state}"
+                  + (f"; sigma / sigma_c = {args.sigma / sigma_c:.4g})" if math.isfinite(sigma_c) else ")"))
     if scene.filament:
         s_c, w_c = continuum_critical()
         print(f"  continuum filament (clamped, distributed follower load f, drag zeta): S_c = f L^3 / B = {s_c:.4f}, "

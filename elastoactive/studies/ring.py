@@ -68,8 +68,8 @@ RINGS = registry.declare("rings", summary=RingSummary, order=180)
 def ring_study(size: str = "quick", workers=None, progress: bool = True) -> Study:
     """Rotation rate and Theta's beat against sigma for rings of N = 7 and 24, both engines."""
     start = time.perf_counter()
-    small = pick(size, (0.8, 3.0), (0.2, 0.8, 3.0, 10.0, 30.0), (0.1, 0.2, 0.4, 0.8, 1.5, 3.0, 6.0, 10.0, 20.0, 40.0, 80.0))
-    large = pick(size, (0.5, 8.0), (0.25, 0.5, 1.0, 2.0, 4.0, 8.0), (0.1, 0.25, 0.5, 0.75, 1.0, 1.5, 2.0, 3.0, 4.0, 6.0, 8.0))
+    small = pick(size, (0.8, 3.0), (0.2, 3.0, 30.0), (0.1, 0.2, 0.4, 0.8, 1.5, 3.0, 6.0, 10.0, 20.0, 40.0, 80.0))
+    large = pick(size, (0.5, 8.0), (0.25, 0.5, 2.0, 8.0), (0.1, 0.25, 0.5, 0.75, 1.0, 1.5, 2.0, 3.0, 4.0, 6.0, 8.0))
     free = pick(size, (0.8,), (0.2, 3.0), (0.1, 0.8, 3.0, 10.0, 30.0))  # the free N = 7 ring
     duration = pick(size, 120.0, 250.0, 800.0)
     transient = duration / 2

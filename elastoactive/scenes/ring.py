@@ -18,6 +18,15 @@ and the closing spring is a fixed tendon hinge_1 + ... + hinge_{N-1} with rest l
 two-pinned chain's constraints with the pin at the pivot (delta = 1) and the closing spring (ChainSystem.closed).
 Observables: rotation_rate (mean d theta_1 / dt: the ring's turning), with the beat of Theta = theta_N - theta_1
 where its shape oscillates.
+
+Linear stability (pin = pinned; analysis/ring_stability.py, docs/outlook.md): the steady state is a rigid rotation,
+theta(t) = theta* + Omega t (every angle shifted alike: a relative equilibrium), theta* a polygon the follower forces
+deform. The Jacobian of the reduced model's right-hand side at theta*, on the closure's tangent space less the
+rotation's zero, decides its stability. `onset` follows the rigid rotation from the regular polygon (sigma -> 0) up
+to SCAN_MAX: N <= 14 stays stable; from N = 15 on it loses stability in a Hopf bifurcation (the shape beats while it
+turns; N = 24: sigma_c = 0.4377, omega_c = 0.1063) and does not regain it. The rigid rotations a long ring reaches at
+large sigma (N = 24 at sigma = 8) are other branches (analysis.ring_stability.restabilisation). The free ring has no
+linear operator written (its rotation also moves its root).
 """
 
 from __future__ import annotations
@@ -34,7 +43,7 @@ from ..initial import pushed_chains
 from ..parameters import Parameter
 from ..params import Numerics, Physics
 from ..trajectory import Trajectory
-from .base import Scene, ValidationCase
+from .base import Onset, Scene, ValidationCase
 from .two_pinned import PIN_SOLIMP
 
 CLOSED = 1.0
@@ -46,6 +55,8 @@ FREE = "free"
 PIN = Parameter("pin", PINNED, "the ring's root: on a free pin at the origin (pinned: it turns about it), or free in "
                 "the plane (free: it may translate and turn; the root carries one particle's drag)", kind=str,
                 choices=(PINNED, FREE), title="the ring's root", quiet_default=True)
+SCAN_MAX = 100.0
+"""sigma up to which onset follows the pinned ring's rigid rotation from the polygon (the rings study goes to 80)."""
 HEAD_COORDINATES = 2
 """The free ring's root position (x_h, y_h): MuJoCo's two slide joints, the reduced model's last two state variables."""
 
@@ -84,7 +95,7 @@ class Ring(Scene):
     pinned = True
     observables = ("rotation_rate",)
     compared = ("rotation_rate",)
-    no_linear_operator = "the ring turns about its pin at any sigma > 0: its steady state is a rotation, not a rest"
+    no_linear_operator = ""  # the pinned ring's: its rigid rotation's (the free ring refuses in onset)
 
     def check(self, physics: Physics) -> None:
         super().check(physics)
@@ -151,6 +162,47 @@ class Ring(Scene):
         if self.free(traj.physics) and traj.head is not None:
             values["centre_drift"] = centre_drift(traj.t, traj.theta, traj.head, transient)
         return values
+
+    # ------------------------------------------------------------------ linear stability (analysis.ring_stability)
+    def _shape_modes(self, physics: Physics) -> float:
+        """The longitudinal drag of the pinned ring whose shape modes are asked for; refuses the free ring and the
+        triangle."""
+        if self.free(physics):
+            raise ParameterError("stability: the free ring (pin = free) has no linear operator here: its steady "
+                                 "turning carries its root round the centre of drag, a relative equilibrium of the "
+                                 "plane's rotations and translations that is not written (the pinned ring's is)")
+        if physics.n < 4:
+            raise ParameterError(f"stability: a ring of N = {physics.n} links is rigid (N - 3 = 0 shape modes): it "
+                                 "turns without deforming at every sigma")
+        return self.reduced_system(physics).gamma_l
+
+    def onset(self, physics: Physics) -> Onset:
+        """Where the rigid rotation followed from the regular polygon first loses stability (sigma up to SCAN_MAX),
+        how, and the shape's angular frequency there; sigma_c = inf when it stays stable over the scan."""
+        from ..analysis import ring_stability  # start-up time: scipy and the compiled kernels
+
+        gamma_l = self._shape_modes(physics)
+        sigma_c, omega_c, branch = ring_stability.onset(physics.n, SCAN_MAX, gamma_l)
+        if not branch.crossings:
+            return Onset(math.inf, math.nan, f"none: the rigid rotation, followed from the regular polygon, stays "
+                                             f"linearly stable up to sigma = {SCAN_MAX:g} (the scan's end)")
+        first = branch.crossings[0]
+        how = {"Hopf": "Hopf: the turning ring's shape beats", "fold": "fold: the rigid rotation ceases to exist",
+               "real": "a real eigenvalue: the turning ring's shape buckles"}[first.kind]
+        last = float(branch.sigma[-1])
+        if len(branch.crossings) > 1:
+            after = f"stable again from sigma = {branch.crossings[1].sigma:.6g} along the branch"
+        else:
+            after = f"unstable from there up to sigma = {last:.6g}, " + ("the scan's end" if last >= SCAN_MAX else
+                                                                           "where the continuation stopped")
+        return Onset(sigma_c, omega_c, f"{how} ({after})")
+
+    def leading_eigenvalue(self, physics: Physics, sigma: float) -> complex:
+        """The least stable shape eigenvalue of the rigid rotation at sigma, on its branch followed from the regular
+        polygon (the rotation's zero removed)."""
+        from ..analysis import ring_stability  # start-up time: scipy and the compiled kernels
+
+        return ring_stability.linearise(physics.n, sigma, gamma_l=self._shape_modes(physics)).leading
 
     def validation_cases(self) -> tuple[ValidationCase, ...]:
         return (ValidationCase(self.physics(n=7, sigma=0.8), 300.0),

@@ -124,7 +124,7 @@ def dish_study(size: str = "quick", workers=None, progress: bool = True) -> Stud
                  tuple(np.round(np.geomspace(0.003, 3.0, 31), 5)))
     if SUPPLEMENT_SIGMA not in sigmas:
         sigmas = tuple(sorted(sigmas + (SUPPLEMENT_SIGMA,)))
-    checks = pick(size, ((SUPPLEMENT_SIGMA, 0.1),), tuple((SUPPLEMENT_SIGMA, k) for k in (0.03, 0.1, 0.3, 1.0)) + ((1.2, 0.3),),
+    checks = pick(size, ((SUPPLEMENT_SIGMA, 0.1),), tuple((SUPPLEMENT_SIGMA, k) for k in (0.03, 0.1, 0.3)) + ((1.2, 0.3),),
                   tuple((SUPPLEMENT_SIGMA, k) for k in (0.003, 0.01, 0.03, 0.1, 0.2, 0.3, 1.0, 3.0)) + ((1.2, 0.3), (0.5, 0.1)))
     scan = tuple(float(k) for k in np.round(np.geomspace(0.03, 0.6, pick(size, 4, 19, 41)), 5))
     scene = paraboloid.SCENE

@@ -111,7 +111,7 @@ def snapping_study(size: str = "quick", workers=None, progress: bool = True) -> 
                                   dur7, eng, dur7 / 2))
                 meta.append(("n7", s, d, eng))
     n9 = PAPER.snapping_map_n
-    map_sig = pick(size, (0.1, 0.3, 0.8), (0.1, 0.15, 0.2, 0.3, 0.5, 0.8),
+    map_sig = pick(size, (0.1, 0.3, 0.8), (0.1, 0.15, 0.2, 0.3, 0.8),
                    tuple(np.round(np.r_[0.05, 0.1, 0.125, 0.15, 0.16, 0.17, 0.18, 0.19, 0.2, 0.25, 0.3, 0.4, 0.5, 0.65, 0.8, 1.0], 4)))
     map_del = pick(size, (0.0, 0.1, 0.3), (0.0, 0.1, 0.2, 0.3), tuple(np.round(np.arange(0.0, 0.401, 0.04), 4)))
     map_engines = pick(size, ("mujoco",), ("mujoco",), ENGINES)

@@ -184,7 +184,7 @@ def sync_study(size: str = "quick", workers=None, progress: bool = True) -> Stud
     n, sigma, rho = 7, PAPER.sync_sigma_1, PAPER.sync_rho
     k_weak, k_strong = PAPER.fig5_kappas
     kappas = pick(size, (0.0, 0.04, 0.1, 1.1),
-                  (0.0, 0.03, 0.05, 0.065, 0.07, 0.075, 0.08, 0.15, 0.8, 1.1),
+                  (0.0, 0.03, 0.05, 0.065, 0.07, 0.075, 0.08, 0.8, 1.1),
                   tuple(np.round(np.r_[np.arange(0.0, 0.05, 0.01), np.arange(0.05, 0.09, 0.0025), np.arange(0.09, 0.2, 0.02),
                                       np.arange(0.2, 2.51, 0.1), k_weak, PAPER.kappa_c_7, k_strong], 4)))
     kappas = tuple(sorted(set(float(k) for k in kappas)))

@@ -44,7 +44,8 @@ from .progress import progress_bar
 from .params import Numerics, Physics
 from .render_network import NetworkPainter
 from .render_gl import (ARROW_MAX, ARROW_PER_SIGMA, ARROW_RGBA, GL_BACKENDS, INSTALL_HINT,  # noqa: F401 (API)
-                        RenderError, _add_geom, _Caption, _interpolate, _renderer, gl_backend, probe_backend)
+                        RenderError, _add_geom, _Caption, _interpolate, _renderer, gl_backend, probe_backend,
+                        top_camera)
 from .trajectory import Trajectory
 
 DEFAULT_RATE = 10.0  # tau per second of video when there is no oscillation to time it by
@@ -156,19 +157,7 @@ def _camera(physics: Physics, xy: np.ndarray, width: int, height: int, caption_p
     size = hi - lo
     floor = max(2.0, 0.25 * size.max())  # a still, straight chain still gets some room around it
     grow = np.maximum(floor - size, 0.0) / 2
-    lo, hi = lo - grow, hi + grow
-    size = hi - lo
-    free = 1.0 - caption_px / height  # fraction of the height below the caption
-    aspect = width / height
-    half_h = max(size[1] / free, size[0] / aspect) / 2  # half the world height seen
-    cam = mujoco.MjvCamera()
-    cam.type = mujoco.mjtCamera.mjCAMERA_FREE
-    centre = (lo + hi) / 2
-    cam.lookat[:] = [centre[0], centre[1] + half_h * (1.0 - free), 0.0]
-    cam.distance = half_h / math.tan(math.radians(fovy_deg) / 2)
-    cam.elevation = -90.0
-    cam.azimuth = 90.0
-    return cam
+    return top_camera(lo - grow, hi + grow, width, height, caption_px, fovy_deg)
 
 
 def _trail_colours(n: int) -> np.ndarray:

@@ -9,6 +9,7 @@ subprocess (a failing back end cannot poison this process), and the first that r
 from __future__ import annotations
 
 import importlib
+import math
 import os
 import subprocess
 import sys
@@ -113,6 +114,22 @@ def _renderer(model, height: int, width: int, max_geom: int):
 
 
 # --------------------------------------------------------------------------- the picture
+
+
+def top_camera(lo: np.ndarray, hi: np.ndarray, width: int, height: int, caption_px: int, fovy_deg: float):
+    """Top-down free camera (x to the right, y up) that frames the box [lo, hi] (world x, y) in a frame of
+    width x height pixels whose top caption_px rows hold the caption band."""
+    size = hi - lo
+    free = 1.0 - caption_px / height  # fraction of the height below the caption
+    half_h = max(size[1] / free, size[0] / (width / height)) / 2  # half the world height seen
+    cam = mujoco.MjvCamera()
+    cam.type = mujoco.mjtCamera.mjCAMERA_FREE
+    centre = (lo + hi) / 2
+    cam.lookat[:] = [centre[0], centre[1] + half_h * (1.0 - free), 0.0]
+    cam.distance = half_h / math.tan(math.radians(fovy_deg) / 2)
+    cam.elevation = -90.0
+    cam.azimuth = 90.0
+    return cam
 
 
 def _interpolate(t: np.ndarray, values: np.ndarray, times: np.ndarray) -> np.ndarray:

@@ -23,7 +23,8 @@ import numpy as np
 from .errors import ParameterError
 from .network_model import build_network_model, qpos_of_positions
 from .params import Numerics
-from .render_gl import ARROW_MAX, ARROW_PER_SIGMA, ARROW_RGBA, _add_geom, _Caption, _interpolate, _renderer
+from .render_gl import (ARROW_MAX, ARROW_PER_SIGMA, ARROW_RGBA, _add_geom, _Caption, _interpolate, _renderer,
+                        top_camera)
 from .trajectory import Trajectory
 
 ARROW_MIN = 0.35
@@ -62,18 +63,7 @@ def network_caption(traj: Trajectory, network) -> str:
 def _camera(xy: np.ndarray, width: int, height: int, caption_px: int, fovy_deg: float, pad: float):
     """Top-down free camera (x to the right, y up) whose view holds every point of xy (..., 2) with `pad` around."""
     pts = xy.reshape(-1, 2)
-    lo, hi = pts.min(axis=0) - pad, pts.max(axis=0) + pad
-    size = hi - lo
-    free = 1.0 - caption_px / height
-    half_h = max(size[1] / free, size[0] / (width / height)) / 2
-    cam = mujoco.MjvCamera()
-    cam.type = mujoco.mjtCamera.mjCAMERA_FREE
-    centre = (lo + hi) / 2
-    cam.lookat[:] = [centre[0], centre[1] + half_h * (1.0 - free), 0.0]
-    cam.distance = half_h / math.tan(math.radians(fovy_deg) / 2)
-    cam.elevation = -90.0
-    cam.azimuth = 90.0
-    return cam
+    return top_camera(pts.min(axis=0) - pad, pts.max(axis=0) + pad, width, height, caption_px, fovy_deg)
 
 
 class NetworkPainter:

@@ -74,6 +74,22 @@ def add_drag(spec: mujoco.MjSpec, site: str, label: str, physics: Physics, prefi
         )
 
 
+def add_sliding_head(spec: mujoco.MjSpec, physics: Physics, numerics: Numerics) -> None:
+    """Free the first pendulum's pivot in the plane: slides head_x, head_y before hinge_0 (qpos = (x_h, y_h, hinge
+    angles)), a bead of one particle's mass and a site "head" carrying one particle's drag (the paraboloid's head,
+    the free ring's root)."""
+    first = spec.body("segment_0")
+    spec.delete(spec.joint("hinge_0"))  # the slides go first
+    for axis, name in ((0, "head_x"), (1, "head_y")):
+        direction = [0.0, 0.0, 0.0]
+        direction[axis] = 1.0
+        first.add_joint(name=name, type=mujoco.mjtJoint.mjJNT_SLIDE, axis=direction, stiffness=[0, 0, 0])
+    first.add_joint(name="hinge_0", default=spec.find_default("segment"), stiffness=[0, 0, 0])
+    first.add_geom(name="head_bead", default=spec.find_default("bead"), pos=[0, 0, 0], mass=numerics.mass_ratio)
+    first.add_site(name="head", default=spec.find_default("segment"), pos=[0, 0, 0], userdata=[0.0])
+    add_drag(spec, "head", "head", physics)  # one particle's drag
+
+
 _TEMPLATES: dict[tuple, mujoco.MjSpec] = {}
 """A scene's base file parsed, with its template chain(s) and generated elements deleted (_template), by
 (base file, chain prefixes)."""

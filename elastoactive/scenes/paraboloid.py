@@ -65,21 +65,9 @@ class Paraboloid(Scene):
 
     # ------------------------------------------------------------------ MJCF
     def build(self, spec, physics: Physics, numerics: Numerics) -> None:
-        import mujoco  # start-up time: mujoco is needed only to build a model
+        from ..model import add_sliding_head  # start-up time: elastoactive.model imports mujoco
 
-        from ..model import add_drag  # start-up time: elastoactive.model imports mujoco
-
-        first = spec.body("segment_0")
-        hinge = spec.joint("hinge_0")
-        spec.delete(hinge)  # the slides go first: qpos = (x_h, y_h, hinge angles)
-        for axis, name in ((0, "head_x"), (1, "head_y")):
-            direction = [0.0, 0.0, 0.0]
-            direction[axis] = 1.0
-            first.add_joint(name=name, type=mujoco.mjtJoint.mjJNT_SLIDE, axis=direction, stiffness=[0, 0, 0])
-        first.add_joint(name="hinge_0", default=spec.find_default("segment"), stiffness=[0, 0, 0])
-        first.add_geom(name="head_bead", default=spec.find_default("bead"), pos=[0, 0, 0], mass=numerics.mass_ratio)
-        first.add_site(name="head", default=spec.find_default("segment"), pos=[0, 0, 0], userdata=[0.0])
-        add_drag(spec, "head", "head", physics)  # one particle's drag
+        add_sliding_head(spec, physics, numerics)  # qpos = (x_h, y_h, hinge angles)
         trap = spec.find_default("trap")
         for site, name in [("head", "trap_head")] + [(f"particle_{i}", f"trap_{i}") for i in range(physics.n)]:
             tendon = spec.add_tendon(name=name, default=trap, stiffness=[physics.trap, 0, 0], springlength=[0, 0])

@@ -122,20 +122,11 @@ class Ring(Scene):
     def build(self, spec, physics: Physics, numerics: Numerics) -> None:
         import mujoco  # start-up time: mujoco is needed only to build a model
 
-        from ..model import add_drag  # start-up time: elastoactive.model imports mujoco
+        from ..model import add_sliding_head  # start-up time: elastoactive.model imports mujoco
 
         anchor = "pin"
         if self.free(physics):  # the root slides: qpos = (x_h, y_h, hinge angles), as the paraboloid's head
-            first = spec.body("segment_0")
-            spec.delete(spec.joint("hinge_0"))
-            for axis, name in ((0, "head_x"), (1, "head_y")):
-                direction = [0.0, 0.0, 0.0]
-                direction[axis] = 1.0
-                first.add_joint(name=name, type=mujoco.mjtJoint.mjJNT_SLIDE, axis=direction, stiffness=[0, 0, 0])
-            first.add_joint(name="hinge_0", default=spec.find_default("segment"), stiffness=[0, 0, 0])
-            first.add_geom(name="head_bead", default=spec.find_default("bead"), pos=[0, 0, 0], mass=numerics.mass_ratio)
-            first.add_site(name="head", default=spec.find_default("segment"), pos=[0, 0, 0], userdata=[0.0])
-            add_drag(spec, "head", "head", physics)  # one particle's drag
+            add_sliding_head(spec, physics, numerics)
             spec.delete(spec.geom("pin_marker"))
             anchor = "head"
         spec.add_equality(

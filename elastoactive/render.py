@@ -44,8 +44,8 @@ from .progress import progress_bar
 from .params import Numerics, Physics
 from .render_network import NetworkPainter
 from .render_gl import (ARROW_MAX, ARROW_PER_SIGMA, ARROW_RGBA, GL_BACKENDS, INSTALL_HINT,  # noqa: F401 (API)
-                        RenderError, _add_geom, _Caption, _interpolate, _renderer, gl_backend, probe_backend,
-                        top_camera)
+                        RenderError, _add_geom, _Caption, _interpolate, _renderer, gl_backend, prepare_visual,
+                        probe_backend, top_camera)
 from .trajectory import Trajectory
 
 DEFAULT_RATE = 10.0  # tau per second of video when there is no oscillation to time it by
@@ -175,12 +175,7 @@ class _Painter:
         physics = traj.physics
         self.traj, self.physics = traj, physics
         self.model = build_model(physics, numerics or Numerics())
-        vis = self.model.vis
-        vis.global_.offwidth = max(vis.global_.offwidth, width)
-        vis.global_.offheight = max(vis.global_.offheight, height)
-        vis.headlight.ambient[:] = 0.35
-        vis.headlight.diffuse[:] = 0.45
-        vis.headlight.specular[:] = 0.0
+        prepare_visual(self.model, width, height)
         self.data = mujoco.MjData(self.model)  # the render's own state: never the simulating one
         self._scene = None  # the mjvScene of the frame being made (for spring)
         self.sites = [[self.model.site(f"{p}particle_{i}").id for i in range(physics.n)]

@@ -116,6 +116,17 @@ def _renderer(model, height: int, width: int, max_geom: int):
 # --------------------------------------------------------------------------- the picture
 
 
+def prepare_visual(model, width: int, height: int) -> None:
+    """Set a model's visual options for off-screen frames of width x height: the offscreen buffer at least that
+    large, and the soft headlight every drawing uses."""
+    vis = model.vis
+    vis.global_.offwidth = max(vis.global_.offwidth, width)
+    vis.global_.offheight = max(vis.global_.offheight, height)
+    vis.headlight.ambient[:] = 0.35
+    vis.headlight.diffuse[:] = 0.45
+    vis.headlight.specular[:] = 0.0
+
+
 def top_camera(lo: np.ndarray, hi: np.ndarray, width: int, height: int, caption_px: int, fovy_deg: float):
     """Top-down free camera (x to the right, y up) that frames the box [lo, hi] (world x, y) in a frame of
     width x height pixels whose top caption_px rows hold the caption band."""

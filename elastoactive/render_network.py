@@ -24,7 +24,7 @@ from .errors import ParameterError
 from .network_model import build_network_model, qpos_of_positions
 from .params import Numerics
 from .render_gl import (ARROW_MAX, ARROW_PER_SIGMA, ARROW_RGBA, _add_geom, _Caption, _interpolate, _renderer,
-                        top_camera)
+                        prepare_visual, top_camera)
 from .trajectory import Trajectory
 
 ARROW_MIN = 0.35
@@ -84,12 +84,7 @@ class NetworkPainter:
         self.nodes = np.asarray(traj.nodes, dtype=float).reshape(traj.t.size, -1)
         self.polarity = _unwrapped_polarity(traj)
         self.model = build_network_model(network, physics, numerics or Numerics())
-        vis = self.model.vis
-        vis.global_.offwidth = max(vis.global_.offwidth, width)
-        vis.global_.offheight = max(vis.global_.offheight, height)
-        vis.headlight.ambient[:] = 0.35
-        vis.headlight.diffuse[:] = 0.45
-        vis.headlight.specular[:] = 0.0
+        prepare_visual(self.model, width, height)
         for i in np.flatnonzero(~network.active & ~network.pinned):  # passive free nodes: grey beads
             self.model.geom(f"bead_{i}").rgba[:] = PASSIVE_RGBA
         self.data = mujoco.MjData(self.model)  # the render's own state: never the simulating one
@@ -98,7 +93,8 @@ class NetworkPainter:
         self.caption = _Caption(width, height, network_caption(traj, network))
         span = np.concatenate([bounds_times, traj.t[(traj.t >= bounds_times[0]) & (traj.t <= bounds_times[-1])]])
         xy = _interpolate(traj.t, self.nodes, span).reshape(span.size, -1, 2)
-        self.camera = _camera(xy, width, height, self.caption.h, float(vis.global_.fovy), pad=0.4 + self.arrow)
+        self.camera = _camera(xy, width, height, self.caption.h, float(self.model.vis.global_.fovy),
+                              pad=0.4 + self.arrow)
         extra = len(network.bonds) + 2 * len(network.positions) + 16
         self.renderer = _renderer(self.model, height, width, self.model.ngeom + extra + 100)
         self.options = mujoco.MjvOption()

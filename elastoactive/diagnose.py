@@ -72,6 +72,7 @@ from .errors import ParameterError
 from .model import build_model, prepare
 from .params import RESOLUTION, Numerics, Physics
 from .regime import regime  # noqa: F401  (re-exported: which physics a mass ratio gives)
+from .terms.base import fastest_term
 
 
 def no_log_file() -> None:
@@ -118,8 +119,7 @@ class StabilityLimits:
     oscillation_rate: float = 0.0  # inertial regime: fastest oscillating mode |lambda|, 1/tau
     inertial_growing_rate: float = 0.0  # inertial regime: fastest growing mode |lambda|, 1/tau
     step_limits: dict = field(default_factory=dict)  # inertial regime: largest stable dt per integrator
-    term_rate: float = 0.0  # fastest rate a term imposes (Term.rate: a drive's 2 pi f, the units' turning), 1/tau
-    term: str = ""  # the term that imposes it
+    term_rate: float = 0.0  # fastest rate a term imposes (terms.base.fastest_term: a drive's 2 pi f, the units'), 1/tau
 
     @property
     def inertial(self) -> bool:
@@ -255,16 +255,10 @@ def stability_limits(physics: Physics, numerics: Numerics, qpos: np.ndarray | No
         growing_rate=float(np.max(np.abs(growing))) if growing.size else 0.0,
         follower_rate=float(np.max(np.abs(follower.imag))) if follower.size else 0.0,
         pinned=bool(model.neq),
-        model=reg.model, mass_ratio=reg.mass_ratio, inertia_number=reg.inertia_number, **_term_rate(physics),
+        model=reg.model, mass_ratio=reg.mass_ratio, inertia_number=reg.inertia_number,
+        term_rate=fastest_term(physics)[0],
         **extra,
     )
-
-
-def _term_rate(physics: Physics) -> dict:
-    """term_rate and term: the active term with the fastest Term.rate (none: 0 and "")."""
-    rates = [(term.rate(physics), term.name) for term in physics.active_terms()]
-    rate, name = max(rates, default=(0.0, ""))
-    return {"term_rate": rate, "term": name} if rate > 0 else {}
 
 
 def _companion(M: np.ndarray, D: np.ndarray, F: np.ndarray) -> np.ndarray:
@@ -490,7 +484,7 @@ def check_accuracy(physics: Physics, numerics: Numerics, limits: StabilityLimits
             + (_suggest(physics, limits, numerics) if suggest else "")
         )
     if dt > dt_ok and rate <= limits.term_rate:
-        term = next(t for t in physics.active_terms() if t.name == limits.term)
+        _, term = fastest_term(physics)
         raise ParameterError(
             f"dt = {dt:g} does not resolve the rate {rate:.3g}/tau of the {term.name} term {where} (dt x rate = "
             f"{dt * rate:.2g} > {RESOLUTION:g}: it is stepped explicitly, so the run would be inaccurate or unstable). "

@@ -17,6 +17,7 @@ from .analysis import dish, spectrum
 from .analysis import star as star_sync
 from .analysis import observables as obs
 from .errors import ParameterError
+from .terms.base import fastest_term
 from .jsonio import to_jsonable
 from .outputs import sha256, write_files
 from .params import MIN_SAMPLES, Numerics, Physics
@@ -218,13 +219,12 @@ def _aliasing(traj: Trajectory) -> list[str]:
     if traj.t.size < 2:
         return []
     spacing = float(traj.t[1] - traj.t[0])
-    rate, term = max(((term.rate(traj.physics), term) for term in traj.physics.active_terms()),
-                     key=lambda pair: pair[0], default=(0.0, None))
+    rate, term = fastest_term(traj.physics)
     if term is None or rate * spacing <= ALIASING:
         return []
-    return [f"the record may alias the motion: the {term.name} term turns or drives at up to {rate:.3g} rad per unit time, "
-            f"{rate * spacing:.2g} rad between samples (sample_dt = {spacing:g}); rates and frequencies may be wrong, "
-            f"even in sign: rerun with --sample-dt <= {ALIASING / rate:.2g} (and --dt; the reduced engine records no "
+    return [f"the record may alias the motion: the {term.name} term turns or drives at up to {rate:.3g} rad per unit "
+            f"time, {rate * spacing:.2g} rad between samples (sample_dt = {spacing:g}); rates and frequencies may be "
+            f"wrong, even in sign: rerun with --sample-dt <= {ALIASING / rate:.2g} (and --dt; the reduced engine records no "
             f"finer than the default dt) or a slower setting ({term.slower(traj.physics, ALIASING / spacing)})"]
 
 

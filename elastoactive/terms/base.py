@@ -98,7 +98,8 @@ class Term:
 
     def rate(self, physics) -> float:
         """The fastest rate (1 / tau) this term imposes that MuJoCo steps explicitly (a prescribed motion's or force's
-        angular frequency, a polarity's turning): the pre-flight check wants dt x rate <= params.RESOLUTION. Default 0."""
+        angular frequency, a polarity's turning): the pre-flight check wants dt x rate <= params.RESOLUTION.
+        Default 0."""
         return 0.0
 
     def slower(self, physics, rate: float) -> str:
@@ -141,3 +142,10 @@ class Term:
 
     def __repr__(self) -> str:
         return f"<term {self.name!r}>"
+
+
+def fastest_term(physics) -> tuple[float, "Term | None"]:
+    """(rate, term): the active term with the fastest Term.rate, or (0.0, None) when no term imposes one."""
+    rate, term = max(((t.rate(physics), t) for t in physics.active_terms()), key=lambda pair: pair[0],
+                     default=(0.0, None))
+    return (rate, term) if rate > 0 else (0.0, None)

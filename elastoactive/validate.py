@@ -43,15 +43,29 @@ def inertial_duration(duration: float, mass_ratio: float) -> float:
     return 10.0 * math.ceil(float(duration) * math.sqrt(mass_ratio) / 10.0 - 1e-9)
 
 
+def inertial_gap(physics: Physics) -> str:
+    """Why the reduced engine's inertial model does not cover `physics` (Scene.inertial_model, Term.inertial_model:
+    a network, the free ring, a plug-in term's node forces, a moving clamp, self-aligning units), '' where it does."""
+    if not physics.scene_def.inertial_model(physics):
+        return f"the reduced model of {physics.scene} with these parameters is overdamped only"
+    missing = [t.name for t in physics.active_terms() if not t.inertial_model(physics)]
+    if missing:
+        return f"the inertial reduced model leaves out the {', '.join(missing)} term{'s' * (len(missing) > 1)}"
+    return ""
+
+
+def inertial_plan(mass_ratio: float, scene: str | None = None) -> list[tuple[ValidationCase, str]]:
+    """Every validation case (validation_cases) at a finite mass, its duration lengthened for heavy chains
+    (inertial_duration), with the reason it cannot run there (inertial_gap; '' for a case that runs). A case that
+    cannot run is reported as not run, never left out."""
+    return [(ValidationCase(c.physics, inertial_duration(c.duration, mass_ratio), c.convergence),
+             inertial_gap(c.physics)) for c in validation_cases(scene)]
+
+
 def inertial_cases(mass_ratio: float, scene: str | None = None) -> list[ValidationCase]:
-    """The validation cases (validation_cases) at a finite mass: their durations lengthened for heavy chains
-    (inertial_duration). Run them with compare(..., numerics at that mass, inertial=True). Cases whose scene
-    or active terms the inertial reduced model does not cover (Scene.inertial_model, Term.inertial_model: a network, a
-    plug-in term's node forces, a moving clamp, self-aligning units) are left out."""
-    return [ValidationCase(c.physics, inertial_duration(c.duration, mass_ratio), c.convergence)
-            for c in validation_cases(scene)
-            if c.physics.scene_def.inertial_model(c.physics)
-            and all(t.inertial_model(c.physics) for t in c.physics.active_terms())]
+    """The validation cases that run at a finite mass (inertial_plan, those with no gap). Run them with
+    compare(..., numerics at that mass, inertial=True)."""
+    return [case for case, gap in inertial_plan(mass_ratio, scene) if not gap]
 
 
 REFERENCE_TOLERANCE = dict(rtol=1e-10, atol=1e-12)
@@ -141,10 +155,18 @@ class Comparison:
     note: str = ""  # why a setting has no errors (a run that stopped)
     statistics: dict | None = None  # irregular beats: cycle statistics of both engines (cycle_statistics)
 
+    @property
+    def ran(self) -> bool:
+        """Whether both engines ran the case (a row with a note says why they did not)."""
+        return not self.note
+
     def worst(self) -> float:
-        """Largest of the relative errors checked against the 1% target. For an irregular beat single numbers
+        """Largest of the relative errors checked against the 1% target (NaN for a case that did not run). For an
+        irregular beat single numbers
         mean little: the steady observables count only through their statistical agreement (z <= Z_AGREE
         counts as 0, anything else as inf), the transient angles as usual."""
+        if not self.ran:
+            return math.nan
         if self.statistics is not None:
             agree = self.statistics["z"] <= Z_AGREE
             return max(self.errors.get("angle", 0.0), 0.0 if agree else math.inf)
@@ -207,6 +229,9 @@ def format_table(rows: list[Comparison]) -> str:
     lines = [head, "|" + "---|" * 9]
     for c in rows:
         case = c.physics.scene_def.label(c.physics)
+        if not c.ran:
+            lines.append(f"| {case} | {c.note} ||||||||")
+            continue
         if c.statistics is not None:
             case += f" (irregular beat: compared as cycle statistics, z = {c.statistics['z']:.2g})"
         e = c.errors
@@ -223,6 +248,28 @@ def format_table(rows: list[Comparison]) -> str:
     return "\n".join(lines)
 
 
+def not_run(case: ValidationCase, numerics: Numerics, reason: str) -> Comparison:
+    """A table row for a case the engines could not run at this setting, saying why."""
+    return Comparison(case.physics, numerics, case.duration, None, None, math.nan, math.nan, {}, None,
+                      note=f"not run: {reason}")
+
+
+def verdict(rows: list[Comparison], tolerance: float) -> tuple[str, bool]:
+    """The closing line of a validation and whether it passed: the largest relative error of the cases that ran
+    against `tolerance`, and how many cases did not run (a validation with a case not run says so; one with no
+    case run does not pass)."""
+    ran = [r for r in rows if r.ran]
+    skipped = len(rows) - len(ran)
+    if not ran:
+        return f"no case ran ({skipped} not run: see the table): nothing validated", False
+    worst = max(r.worst() for r in ran)
+    passed = worst <= tolerance
+    line = f"largest relative error {100 * worst:.3f}% (tolerance {100 * tolerance:g}%): {'PASS' if passed else 'FAIL'}"
+    if skipped:
+        line += f" on the {len(ran)} of {len(rows)} cases that ran; {skipped} NOT RUN at this setting (see the table)"
+    return line, passed
+
+
 CONVERGENCE_DT = (0.02, 0.01, 0.005, 0.0025, 0.00125)
 CONVERGENCE_MASS = (1e-2, 1e-3, 1e-4, 1e-5)
 
@@ -237,7 +284,8 @@ def convergence(physics: Physics, duration: float, *, dts=CONVERGENCE_DT, masses
         fixed_mass = max(fixed_mass, float(f"{1.01 * max(dts) ** 3 / PIN_DT3_PER_MASS:.1g}"))
     sample_dt = 0.04  # a whole number of steps for every dt in the study
     # the overdamped model: this study measures how MuJoCo approaches it as dt and the mass ratio shrink
-    reference = simulate_reduced(physics, Numerics(sample_dt=sample_dt), duration, inertial=False, **REFERENCE_TOLERANCE)
+    reference = simulate_reduced(physics, Numerics(sample_dt=sample_dt), duration, inertial=False,
+                                 **REFERENCE_TOLERANCE)
     settings = [Numerics(dt=dt, mass_ratio=fixed_mass, sample_dt=sample_dt) for dt in dts]
     settings += [Numerics(dt=fixed_dt, mass_ratio=m, sample_dt=sample_dt) for m in masses]
     rows = []
@@ -255,7 +303,8 @@ def _first_clause(message: str) -> str:
 
 
 def format_convergence(rows: list[Comparison]) -> str:
-    lines = ["| dt | mass ratio | amplitude err | frequency err | rotation-rate err | angle diff (transient) | pin violation | MuJoCo wall s |",
+    lines = ["| dt | mass ratio | amplitude err | frequency err | rotation-rate err | angle diff (transient) "
+             "| pin violation | MuJoCo wall s |",
              "|" + "---|" * 8]
     for c in rows:
         e = c.errors

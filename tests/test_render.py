@@ -136,3 +136,19 @@ def test_missing_gl_gives_install_instructions(tmp_path):
     for hint in ("no OpenGL back end", "MUJOCO_GL=egl", "MUJOCO_GL=osmesa", "libegl1", "libosmesa6", "scripts/setup.sh"):
         assert hint in out.stderr
     assert not (tmp_path / "x.mp4").exists()
+
+
+@pytest.mark.parametrize("command", [["render", "RUN", "--still", "OUT.png"],
+                                     ["run", "one-pinned", "--n", "2", "--duration", "1", "--video", "OUT.mp4"]])
+def test_unknown_mujoco_gl_is_one_line_naming_the_variable(tmp_path, command):
+    """MuJoCo raises on a MUJOCO_GL it does not know when it is imported: every command refuses it in one line."""
+    np.savez(tmp_path / "trajectory.npz", t=np.arange(3.0), theta=np.zeros((3, 2)))
+    (tmp_path / "summary.json").write_text('{"parameters": {"scene": "one-pinned", "n": 2, "sigma": 0.8}}')
+    argv = [str(tmp_path) if a == "RUN" else str(tmp_path / a) if a.startswith("OUT") else a for a in command]
+    env = {**os.environ, "MUJOCO_GL": "bogus"}
+    out = subprocess.run([sys.executable, "-m", "elastoactive", *argv], env=env, capture_output=True, text=True,
+                         timeout=120)
+    assert out.returncode == 2 and out.stdout == ""
+    lines = out.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("elastoactive: error: environment variable MUJOCO_GL='bogus'")
+    assert not list(tmp_path.glob("OUT*"))

@@ -45,6 +45,7 @@ def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
     try:
+        render.check_mujoco_gl()
         return args.func(args)
     except ParameterError as err:
         print(f"elastoactive: error: {err}", file=sys.stderr)

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import sys
 from pathlib import Path
 
@@ -18,6 +19,21 @@ RENDER_HELP = (
     "rotating chain; 10 tau/s when nothing oscillates. The GL back end is MUJOCO_GL if set, else "
     "egl, else osmesa."
 )
+
+
+def check_mujoco_gl() -> None:
+    """Refuse a MUJOCO_GL that MuJoCo rejects (it reads the variable when it is imported, and raises on a value it
+    does not know), in one line naming the variable, before any command loads MuJoCo. Unset, nothing is loaded."""
+    value = os.environ.get("MUJOCO_GL")
+    if not value:
+        return
+    try:
+        import mujoco  # noqa: F401 (loaded by every command that simulates or renders)
+    except RuntimeError as err:
+        if "MUJOCO_GL" not in str(err):
+            raise
+        raise ParameterError(f"environment variable MUJOCO_GL={value!r} is not a value MuJoCo accepts ({err}); "
+                             "unset it (rendering then tries egl, then osmesa) or set egl, osmesa or glfw") from None
 
 
 def add_video_args(p: argparse.ArgumentParser, *, still: bool = False) -> None:

@@ -9,7 +9,8 @@ engine).
 Each finished point is journaled at once and the netCDF rewritten atomically now and then; re-running
 the same sweep with the same `out` continues it: the finished points are read from the netCDF and the
 journal (the journal wins) and only the others run. Finished means status "ok" or "error" (a diverged
-point keeps its error text; `retry_errors=True` runs those again). The sweep's specification (scene,
+point keeps its error text; `retry_errors=True` runs those again; a point refused before it ran, its error
+a ParameterError, is checked again by every re-run). The sweep's specification (scene,
 grid with its order, the scene's fixed physics, numerics, engine, duration, transient) is stored in both
 files; a different one is refused with the differences listed.
 
@@ -41,7 +42,9 @@ from .sweep_grid import (
     parse_grid, parse_values, physics_keys, scene_variables,
 )
 from .sweep_netcdf import SNAPSHOT_MARGIN
-from .sweep_points import BATCH_POINTS_PER_THREAD, run_point, run_points, run_points_task
+from .sweep_points import (
+    BATCH_POINTS_PER_THREAD, TimestepChecks, refuse_if_all_refused, refused, run_point, run_points, run_points_task,
+)
 from .sweep_runners import FLUSH, connect, run_dask, run_local, run_local_mujoco
 from .sweep_store import MUST_BE_FINITE, STATUSES, TEXT_VARIABLES, Store, SweepJournalWarning, sigint_deferred
 
@@ -88,7 +91,8 @@ def run_sweep(
                the points of a batch are journaled when it ends, so a kill loses at most the running batches
     on_point   called as on_point(coords, record) in this process after each point is stored
     timestep_check  refuse (record as an error) MuJoCo points whose dt is beyond the linear
-               stability limit, as `elastoactive run` does
+               stability limit, as `elastoactive run` does; when it refuses every point (and none of the
+               sweep is done), a ParameterError is raised before any runs, naming a dt that passes every point
 
     Raises ParameterError for invalid arguments (e.g. workers < 1, dt or mass_ratio on the grid of a
     reduced-engine sweep where they change nothing), SweepMismatch when `out` or its journal holds
@@ -166,18 +170,26 @@ def _run_sweep(
     else:
         from .engines import reduced  # noqa: F401
     store = Store(sweep, out_path)
+    fresh = out_path is None or not (out_path.exists() or store.journal_path.exists())  # nothing of it on disk yet
+    checks = TimestepChecks()
     try:
         store.open()
         store.check_file_size()  # before any point runs: the limit does not change while this process runs
-    except BaseException:
-        store.close(complete=False)
+        status, errors = store.arrays["status"].reshape(-1), store.arrays["error"].reshape(-1)
+        # a refused point (nothing simulated) is checked again: its settings' refusal is no result
+        todo = [i for i in range(sweep.size) if status[i] == "pending"
+                or (status[i] == "error" and (retry_errors or refused(errors[i])))]
+        if todo and timestep_check and engine == "mujoco" and scheduler is None and not (status == "ok").any():
+            refuse_if_all_refused([sweep.case(i) for i in todo], checks, tuple(sweep.grid))
+    except BaseException as err:
+        # a sweep refused before any point ran leaves nothing behind (a new journal goes)
+        store.close(complete=fresh and isinstance(err, ParameterError)
+                    and not isinstance(err, (SweepMismatch, SweepStorageError)))
         if client is not None and client is not scheduler:
             client.close()
         raise
     saved = False  # the final netCDF is on disk
     try:
-        status = store.arrays["status"].reshape(-1)
-        todo = [i for i in range(sweep.size) if status[i] == "pending" or (retry_errors and status[i] == "error")]
         bar = None
         if progress:
             from tqdm.auto import tqdm  # start-up time: only when a bar is shown
@@ -189,7 +201,8 @@ def _run_sweep(
             if scheduler is not None:
                 runner = run_dask(todo, sweep, client, timestep_check, batch_size)
             elif engine == "mujoco":
-                runner = run_local_mujoco(todo, sweep, local, timestep_check, batch_size, preload_xarray=dataset)
+                runner = run_local_mujoco(todo, sweep, local, timestep_check, batch_size, preload_xarray=dataset,
+                                          checks=checks)
             else:
                 runner = run_local(todo, sweep, local, timestep_check)
             try:

@@ -9,6 +9,7 @@ journal stores: status, error, measurements (numbers; None as NaN, a bool as 0 o
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 import math
 import threading
 import time
@@ -17,6 +18,7 @@ from typing import Callable, Sequence
 import numpy as np
 
 from .batch import Case, run_case
+from .errors import ParameterError
 from .jsonio import to_jsonable
 from .params import Numerics, Physics
 from .results import OBSERVABLES
@@ -257,3 +259,63 @@ def _coded(value):
     if isinstance(value, list):
         return [_coded(v) for v in value]
     return math.nan if value is None else (float(value) if isinstance(value, bool) else value)
+
+
+REFUSAL = "ParameterError: "
+"""How a point's error text starts when the point was refused before it ran (its settings, as the pre-flight check or
+the engine read them): nothing was simulated, so a re-run checks it again (a re-run with --no-timestep-check runs it)
+instead of keeping the refusal as the point's result."""
+
+
+def refused(error: str) -> bool:
+    """A point's error text is a refusal of its settings (REFUSAL), not a failed simulation."""
+    return isinstance(error, str) and error.startswith(REFUSAL)
+
+
+def refuse_if_all_refused(cases: Sequence[Case], checks: TimestepChecks, grid_keys: Sequence[str] = ()) -> None:
+    """Raise one ParameterError before any point runs when the pre-flight check (diagnose.check_timestep) refuses
+    every one of `cases` (the MuJoCo points to run, none of the sweep's done): a sweep of refusals is no result.
+    The line gives the first refusal and a setting that passes every point (the smallest of the points' passing dt
+    at their mass ratio and integrator, checked). The first case is checked alone first: when it passes, nothing more
+    runs here (the other checks are made beside the batches). The outcomes are kept in `checks` for the run."""
+    if not cases or checks.refusal(cases[0].physics, cases[0].numerics) is None:
+        return
+    refusals = [checks.refusal(case.physics, case.numerics) for case in cases]
+    if not all(isinstance(err, ParameterError) for err in refusals):
+        return  # some point passes (or its check failed otherwise: that point's own error)
+    from .diagnose import check_timestep, passing_setting, stability_limits  # start-up time: loads mujoco
+
+    first = cases[0]
+    try:
+        check_timestep(first.physics, first.numerics, suggest=False)
+        text = str(refusals[0])
+    except ParameterError as err:
+        text = str(err)
+    settings = []
+    for case in {TimestepChecks.key(c.physics, c.numerics): c for c in cases}.values():
+        numerics = case.numerics.for_physics(case.physics)
+        try:
+            settings.append((passing_setting(case.physics, stability_limits(case.physics, numerics), numerics),
+                             numerics))
+        except Exception:
+            settings.append((None, numerics))
+    advice = ""
+    if all(setting is not None for setting, _ in settings):
+        dt = min(setting[0] for setting, _ in settings)
+        tried = [dataclasses.replace(case.numerics, dt=dt) for case in cases]
+        try:
+            for case, numerics in zip(cases, tried):
+                check_timestep(case.physics, numerics, suggest=False)
+        except Exception:
+            dt = None
+        if dt is not None:
+            masses = {setting[1] for setting, _ in settings}
+            integrators = {numerics.integrator for _, numerics in settings}
+            parts = [f"dt <= {dt:g} on the grid" if "dt" in grid_keys else f"--dt {dt:g}"]
+            if len(masses) == 1 and "mass_ratio" not in grid_keys:
+                parts.append(f"--mass-ratio {masses.pop():g}")
+            if len(integrators) == 1:
+                parts.append(f"--integrator {integrators.pop()}")
+            advice = f"; a setting that passes every point: {' '.join(parts)}"
+    raise ParameterError(f"the pre-flight check refuses every point of the sweep ({len(cases)}), so none runs; "
+                         f"the first: {text.rstrip('.')}{advice}")

@@ -57,13 +57,14 @@ def _chunks(todo: list[int], sweep: Sweep, max_points: int, min_chunks: int = 1)
 
 
 def run_local_mujoco(todo: list[int], sweep: Sweep, workers: int, check: bool,
-                  batch_size: int | None, preload_xarray: bool = True) -> Iterator[tuple[int, dict]]:
+                  batch_size: int | None, preload_xarray: bool = True,
+                  checks: TimestepChecks | None = None) -> Iterator[tuple[int, dict]]:
     """MuJoCo points in mujoco.batch batches on `workers` threads of this process; each point's record is
     yielded (in this thread) as soon as it is known, so a killed sweep loses at most the running batches."""
     from .engines.mujoco_batch import run_chunks  # start-up time: loads mujoco
 
     cases, chunks = _chunks(todo, sweep, batch_size or BATCH_POINTS_PER_THREAD * workers)
-    checks = TimestepChecks()
+    checks = TimestepChecks() if checks is None else checks  # the pre-flight's outcomes (sweep.refuse_if_all_refused)
     started, stop = threading.Event(), threading.Event()
     # what the netCDF snapshots and the returned Dataset need (h5netcdf; xarray only if a Dataset is returned:
     # preload_xarray) is loaded while the C threads step, instead of after them; the loading waits until the

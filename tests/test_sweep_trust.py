@@ -186,14 +186,14 @@ def test_full_disk_is_a_clear_error_and_the_sweep_resumes(tmp_path, monkeypatch)
 
 
 def test_exit_status_when_points_fail(tmp_path, capsys):
-    """Item 4: every point failed: exit 1 with the first error; some failed: exit 0, counted."""
+    """Every point refused before it runs: exit 2, nothing written; some failed: exit 0, counted."""
     # Euler at mass_ratio 0.01 is stable for dt < 0.02: the timestep check refuses larger steps
     base = ["sweep", "one-pinned", "--n", "3", "--integrator", "Euler", "--mass-ratio", "0.01", "--sample-dt", "0.1",
             "--duration", "5", "--workers", "1", "--quiet"]
-    assert main(base + ["--grid", "dt=0.05,0.1", "--out", str(tmp_path / "all.nc")]) == 1
+    assert main(base + ["--grid", "dt=0.05,0.1", "--out", str(tmp_path / "all.nc")]) == 2  # every point refused
     captured = capsys.readouterr()
-    assert "2 failed" in captured.out
-    assert "all 2 points of the sweep failed" in captured.err and "stability limit" in captured.err
+    assert "refuses every point of the sweep (2)" in captured.err and "stability limit" in captured.err
+    assert "dt <= " in captured.err.split("passes every point")[1] and not (tmp_path / "all.nc").exists()
     assert main(base + ["--grid", "dt=0.01,0.05", "--out", str(tmp_path / "some.nc")]) == 0
     captured = capsys.readouterr()
     assert "2 of 2 points" in captured.out and "1 failed" in captured.out and "stability limit" in captured.err
@@ -334,3 +334,45 @@ def test_unreachable_dask_scheduler_is_one_line(tmp_path, capsys, monkeypatch):
     err = capsys.readouterr().err.strip()
     assert err.count("\n") == 0 and "cannot reach the Dask scheduler at tcp://127.0.0.1:9" in err
     assert list(tmp_path.iterdir()) == []
+
+
+def test_a_sweep_whose_every_point_is_refused_is_refused_before_any_runs(tmp_path, capsys, monkeypatch):
+    """A MuJoCo sweep the pre-flight check refuses at every point (dt = 0.01 does not resolve the N = 20 ring) is one
+    line naming a setting that passes every point, before any point runs: no netCDF of failures, no journal. The
+    setting it names then passes."""
+    from elastoactive import sweep_points
+
+    ran = []
+    monkeypatch.setattr(sweep_points, "run_chunk", lambda *a, **k: ran.append(a), raising=False)
+    out = tmp_path / "ring.nc"
+    argv = ["sweep", "ring", "--n", "20", "--preset", "fast", "--grid", "sigma=0.5,0.8", "--duration", "1",
+            "--workers", "1", "--quiet", "--out", str(out)]
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "refuses every point of the sweep (2)" in err and "does not resolve" in err
+    assert not out.exists() and not (tmp_path / "ring.nc.journal").exists()
+    setting = err.split("a setting that passes every point: ")[1].split()
+    assert setting[:2] == ["--dt", "0.00625"]
+    assert main(argv[:4] + setting + argv[4:]) == 0
+    assert (load(out)["status"].values == "ok").all()
+
+
+def test_a_refused_point_is_checked_again_by_a_rerun(tmp_path):
+    """A point refused before it ran (its settings, not its simulation) is no result: a re-run checks it again, and
+    runs it when the refusal no longer holds (here: without the timestep check). A failed simulation is kept."""
+    from sweep_helpers import FAST
+
+    out = tmp_path / "r.nc"
+    kw = dict(fixed={"n": 5}, numerics=FAST, duration=2, progress=False, workers=1, out=out)
+    ds = run_sweep("one-pinned", {"sigma": [0.3, 5.0]}, **kw)  # sigma = 5: dt 0.01 does not resolve it
+    assert ds["status"].values.tolist() == ["ok", "error"] and "does not resolve" in ds["error"].values[1]
+    again = []
+    ds = run_sweep("one-pinned", {"sigma": [0.3, 5.0]}, on_point=lambda c, r: again.append(c), **kw)
+    assert again == [{"sigma": 5.0}] and ds["status"].values.tolist() == ["ok", "error"]
+    again.clear()
+    ds = run_sweep("one-pinned", {"sigma": [0.3, 5.0]}, on_point=lambda c, r: again.append(c), timestep_check=False,
+                   **kw)
+    assert again == [{"sigma": 5.0}] and ds["status"].values.tolist() == ["ok", "ok"]
+    again.clear()
+    run_sweep("one-pinned", {"sigma": [0.3, 5.0]}, on_point=lambda c, r: again.append(c), **kw)
+    assert again == []

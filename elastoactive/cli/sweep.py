@@ -2,7 +2,8 @@
 
 Exit status: 0 when the sweep finished and at least one point succeeded (a partly failed sweep is a
 result: its failed points are counted, their first errors shown, and `--retry-errors` runs them
-again); 1 when every point failed (the first error is shown); 2 for invalid options, an output that
+again; a point refused before it ran is checked again by any re-run); 1 when every point failed (the first
+error is shown); 2 for invalid options, settings the pre-flight check refuses at every point, an output that
 holds another sweep or a corrupted journal, or an output that cannot be written (e.g. a full disk:
 the journal is kept, re-run to resume).
 """
@@ -33,7 +34,9 @@ Re-running the same command continues an interrupted sweep (finished points are 
 --out with a different grid or parameters is refused. Results: xarray.open_dataset(OUT).
 
 Exit status: 0 if at least one point succeeded (failed points are counted and listed; rerun them
-with --retry-errors), 1 if every point failed, 2 for invalid options or an unusable --out."""
+with --retry-errors; a point refused before it ran is checked again by any re-run), 1 if every point
+failed, 2 for invalid options, settings the pre-flight check refuses at every point (before any
+runs, naming a --dt that passes), or an unusable --out."""
 
 
 def register(subparsers) -> None:
@@ -48,7 +51,8 @@ def register(subparsers) -> None:
     add_fields(p.add_argument_group("fixed physics (off the grid; defaults as in `run`)"), Physics, defaults=False)
     g = p.add_argument_group("numerics (default: the preset's; a given option overrides it)")
     g.add_argument("--preset", choices=tuple(PRESETS), default="accurate",
-                   help="numerical settings (default %(default)s; fast: dt 0.01, ~4x quicker, results within 0.3%%)")
+                   help="numerical settings (default %(default)s; fast: dt 0.01, ~4x quicker, results within 0.3%% "
+                   "for the paper's N = 7 chains; stiffer chains need a smaller --dt, which a refusal names)")
     add_fields(g, Numerics, defaults=False)
     g = p.add_argument_group("run")
     g.add_argument("--engine", choices=ENGINES, default="mujoco", help="(default %(default)s)")

@@ -13,6 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
+from . import quantities
 from .analysis import dish, spectrum
 from .analysis import star as star_sync
 from .analysis import observables as obs
@@ -278,8 +279,8 @@ def _rigid(beat: _Beat, rotation_rate: float | None) -> _Beat:
     if beat.frequency != 0.0 or rotation_rate is None or not abs(rotation_rate) >= RIGID_ROTATION_RATE:
         return beat
     return _Beat(beat.amplitude, None, beat.periodic, beat.period_spread, (
-        f"no beat: Theta is steady (amplitude {beat.amplitude:.2g} rad) while the chain turns as a rigid body at "
-        f"{rotation_rate:.3g} rad/tau; frequency is null, rotation_rate describes the motion",))
+        f"no beat: Theta is steady (amplitude {quantities.text(beat.amplitude, '.2g', 'rad')}) while the chain turns "
+        f"as a rigid body at {rotation_rate:.3g} rad/tau; frequency is null, rotation_rate describes the motion",))
 
 
 _RESULT_FIELDS = {"snap_amplitude", "rotation_rate", "frequency_mismatch", "contact_fraction", "min_clearance",
@@ -415,7 +416,9 @@ def _edited(path: Path) -> ParameterError:
 
 
 def read_summary(path: Path) -> dict:
-    """A run's summary.json (a folder written by `run --out`, or the file itself)."""
+    """A run's summary.json (a folder written by `run --out`, or the file itself), refused (ParameterError) unless
+    it holds settings_sha256 and that digest matches its settings (settings_digest): an edited summary, its digest
+    removed or not, never reads as a run's record."""
     path = Path(path)
     if path.is_dir():
         path = path / "summary.json"
@@ -428,7 +431,11 @@ def read_summary(path: Path) -> dict:
     if not isinstance(summary_dict, dict) or not isinstance(summary_dict.get("parameters"), dict):
         raise ParameterError(f"{path} is not a summary.json written by elastoactive run (no parameters)")
     recorded = summary_dict.get("settings_sha256")
-    if recorded is not None and recorded != settings_digest(summary_dict):
+    if recorded is None:  # without its checksum a summary's settings cannot be told from an edit of them
+        raise ParameterError(f"{path} has no settings_sha256 (the checksum `elastoactive run` records with its engine, "
+                             "parameters and numerics), so it may have been changed after the run wrote it; restore "
+                             "it, or re-run the simulation")
+    if recorded != settings_digest(summary_dict):
         raise _edited(path)
     return summary_dict
 

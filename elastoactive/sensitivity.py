@@ -21,6 +21,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from . import quantities
 from .analysis import observables as obs
 from .params import Numerics, replace
 from .trajectory import Trajectory
@@ -39,26 +40,33 @@ HORIZON_ERROR = 0.1
 """rad: the horizon is the time an error of 1e-6 rad (a MuJoCo run's error over a tau) takes to grow to this."""
 
 
+Errors = float | None | tuple[float | None, ...]
+"""A standard error, None without one, or one per chain (elastoactive.quantities)."""
+
+
 class Sensitivity(NamedTuple):
     """What the pilots found: the rate at which nearby states part and, when sensitive, the errors of the numbers."""
 
     lyapunov: float  # 1/tau, finite-time Lyapunov exponent of the pilots' separation
     sensitive: bool
     horizon_tau: float | None  # time over which pointwise angles stay reproducible (sensitive runs)
-    amplitude_error: float | None  # standard errors of the run's amplitude and frequency (cycle-to-cycle spread)
-    frequency_error: float | None
+    amplitude_error: Errors  # standard errors of the run's amplitude and frequency (cycle-to-cycle spread), shaped
+    frequency_error: Errors  # as the results they belong to: one per chain where those are per chain
     pilot_tau: float
 
     def as_dict(self) -> dict:
         return self._asdict()
 
     def note(self, amplitude, frequency) -> str:
-        """The numbers with their errors, and whether the dynamics is sensitive (one line)."""
-        errors = ("amplitude and frequency have no error estimate: fewer than two whole cycles in the measured window "
-                  "(run longer)" if self.amplitude_error is None else
-                  f"amplitude {amplitude:.4g} +- {self.amplitude_error:.2g} rad and frequency "
-                  + ("not measured" if frequency is None else f"{frequency:.4g} +- {self.frequency_error:.2g}")
-                  + " (standard errors from the cycle-to-cycle spread)")
+        """The numbers with their errors, and whether the dynamics is sensitive (one line). amplitude and frequency
+        are the run's results in their shape (a number, None, or one per chain: elastoactive.quantities)."""
+        if all(e is None for e in quantities.entries(self.amplitude_error)):
+            errors = ("amplitude and frequency have no error estimate: fewer than two whole cycles in the measured "
+                      "window (run longer)")
+        else:
+            errors = (f"amplitude {quantities.text_with_error(amplitude, self.amplitude_error, unit='rad')} and "
+                      f"frequency {quantities.text_with_error(frequency, self.frequency_error)} (standard errors from "
+                      "the cycle-to-cycle spread; none for a chain with fewer than two whole cycles)")
         if not self.sensitive:
             return (f"error estimate of an irregular motion: {errors}; nearby states part at {self.lyapunov:.2g}/tau "
                     f"(two reduced-model pilots of {self.pilot_tau:g} tau): not sensitive")
@@ -80,18 +88,27 @@ def separation_rate(t: np.ndarray, a: np.ndarray, b: np.ndarray) -> float:
     return float(math.log(max(sep[end], 1e-15) / early) / (t[end] - t[start]))
 
 
-def cycle_errors(traj: Trajectory, transient: float) -> tuple[float | None, float | None]:
-    """Standard errors of the amplitude and frequency of Theta (chain 1) from the cycle-to-cycle spread of the
-    measured window; None with fewer than two whole cycles."""
-    x = obs.curvature(traj.chain(0))
-    cycles = obs.cycles(traj.t, x, transient)
+def _signal_errors(t: np.ndarray, x: np.ndarray, transient: float) -> tuple[float | None, float | None]:
+    """Standard errors of one beat signal's amplitude and frequency; None with fewer than two whole cycles."""
+    cycles = obs.cycles(t, x, transient)
     if cycles.count < 2:
         return None, None
-    amplitude = obs.amplitude(traj.t, x, transient)
-    frequency = obs.frequency(traj.t, x, transient)
+    amplitude = obs.amplitude(t, x, transient)
+    frequency = obs.frequency(t, x, transient)
     root = math.sqrt(cycles.count)
     return (float(amplitude * np.nan_to_num(cycles.amplitude_spread) / root),
             float(frequency * np.nan_to_num(cycles.period_spread) / root))
+
+
+def cycle_errors(traj: Trajectory, transient: float) -> tuple[Errors, Errors]:
+    """Standard errors of the amplitude and frequency of each beat signal (Scene.beat_signals: Theta of each chain)
+    from the cycle-to-cycle spread of the measured window, shaped as results.measure shapes the numbers they belong
+    to: one value for a single signal, one per chain otherwise; None for a signal with fewer than two whole cycles."""
+    signals = traj.physics.scene_def.beat_signals(traj)
+    errors = [_signal_errors(traj.t, x, transient) for x in signals]
+    if traj.physics.n_chains == 1:
+        return errors[0]
+    return tuple(a for a, _ in errors), tuple(f for _, f in errors)
 
 
 def needs_estimate(traj: Trajectory, periodic: bool | None) -> bool:

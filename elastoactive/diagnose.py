@@ -72,7 +72,8 @@ from .errors import ParameterError
 from .model import build_model, prepare
 from .params import RESOLUTION, Numerics, Physics
 from .regime import regime  # noqa: F401  (re-exported: which physics a mass ratio gives)
-from .terms.base import fastest_term
+from .engines.monitor import MAX_STEP_CHANGE
+from .terms.base import fastest_term, slower_advice
 
 
 def no_log_file() -> None:
@@ -488,7 +489,7 @@ def check_accuracy(physics: Physics, numerics: Numerics, limits: StabilityLimits
         raise ParameterError(
             f"dt = {dt:g} does not resolve the rate {rate:.3g}/tau of the {term.name} term {where} (dt x rate = "
             f"{dt * rate:.2g} > {RESOLUTION:g}: it is stepped explicitly, so the run would be inaccurate or unstable). "
-            f"Use dt <= {largest_dt(limits, numerics):.2g} or {term.slower(physics, RESOLUTION / dt)}"
+            f"Use dt <= {largest_dt(limits, numerics):.2g}{slower_advice(term, physics, RESOLUTION / dt)}"
             + (_suggest(physics, limits, numerics) if suggest else "")
         )
     if dt > dt_ok:
@@ -532,10 +533,17 @@ def _describe(physics: Physics) -> str:
     return ", ".join(f"{k} = {v:g}" if isinstance(v, float) else f"{k} = {v}" for k, v in physics.relevant().items())
 
 
-def divergence_cause(physics: Physics, numerics: Numerics, time: float, model=None, data=None) -> str:
-    """Message for a run that blew up: what happened and the likely cause."""
+def divergence_cause(physics: Physics, numerics: Numerics, time: float, model=None, data=None, *,
+                     step_change: float | None = None) -> str:
+    """Message for a run that blew up: what happened and the likely cause. step_change: the state stayed finite but
+    one step moved a coordinate this far (rad or l), more than any accurate run does
+    (engines.monitor.MAX_STEP_CHANGE)."""
     numerics = numerics.for_physics(physics)
     what = "NaN or |value| > 1e10 in the state"
+    if step_change is not None:
+        data = None  # the state is finite: its warnings, if any, are not what stopped it
+        what = (f"one step moved the state by {step_change:.3g} rad or l, where an accurate run moves less than "
+                f"{MAX_STEP_CHANGE:g}")
     if data is not None:
         names = {mujoco.mjtWarning.mjWARN_BADQACC: "qacc", mujoco.mjtWarning.mjWARN_BADQVEL: "qvel",
                  mujoco.mjtWarning.mjWARN_BADQPOS: "qpos",
@@ -557,5 +565,9 @@ def divergence_cause(physics: Physics, numerics: Numerics, time: float, model=No
     if numerics.dt > 0.5 * dt_max:
         return head + (f"Likely cause: dt too large: the linear stability limit here is {dt_max:.3g} "
                        f"(fastest overdamped rate {limits.fastest_rate:.3g}/tau); reduce dt.")
+    if step_change is not None:
+        return head + ("Likely cause: a force stiffer than dt resolves that the pre-flight check, linearised at the "
+                       "base state, did not see (a term's force away from that state or outside MuJoCo's passive "
+                       "forces, a term whose rate is not declared: Term.rate); reduce dt.")
     return head + ("Likely cause: a nonlinear instability or mass_ratio too small (accelerations ~ force / mass "
                    "exceed 1e10); reduce dt, raise mass_ratio, or reduce sigma.")

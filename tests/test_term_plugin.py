@@ -96,3 +96,100 @@ def test_field_through_sweep(field, tmp_path):
     tip = ds["tip_y"].values
     assert tip[1] > tip[0] > 0
     assert ds["field_y"].attrs["long_name"].startswith("uniform force on every particle")
+
+
+class StiffTether(Term):
+    """Every particle pulled toward its rest point on the x axis by a force k d, capped at tether_cap: a stiff
+    position-dependent force that MuJoCo applies through actuators (not its passive forces, which the pre-flight
+    check linearises) and that declares no rate. At k = 2000 and dt = 0.0025 MuJoCo's explicit step is unstable, yet
+    the capped force keeps the state finite: the chain's angles run to tens of radians."""
+
+    name = "toy-stiff-tether"
+    summary = "a capped stiff spring from every particle to its rest point (a test's toy term)"
+    parameters = (Parameter("tether_k", 0.0, "tether stiffness (C1 / l^2)", low=0.0, quiet_default=True),
+                  Parameter("tether_cap", 1e9, "largest tether force (C1 / l)", low=0.0, quiet_default=True))
+
+    def build(self, spec, physics, numerics):
+        import mujoco
+
+        for i in range(physics.n):
+            spec.worldbody.add_site(name=f"tether_anchor_{i}", pos=[i + 1.0, 0.0, 0.0])
+            tendon = spec.add_tendon(name=f"tether_{i}")
+            tendon.wrap_site(f"particle_{i}")
+            tendon.wrap_site(f"tether_anchor_{i}")
+            actuator = spec.add_actuator(name=f"tether_pull_{i}", target=f"tether_{i}",
+                                         trntype=mujoco.mjtTrn.mjTRN_TENDON)
+            actuator.gainprm[0] = 0.0
+            actuator.biastype = mujoco.mjtBias.mjBIAS_AFFINE
+            actuator.biasprm[:3] = [0.0, -physics.tether_k, 0.0]
+            actuator.forcelimited = 1
+            actuator.forcerange = [-physics.tether_cap, physics.tether_cap]
+
+    def node_forces(self, physics):
+        k, cap = physics.tether_k, physics.tether_cap
+
+        def law(positions):
+            d = positions - np.stack([np.arange(1.0, len(positions) + 1.0), np.zeros(len(positions))], axis=1)
+            r = np.maximum(np.linalg.norm(d, axis=1, keepdims=True), 1e-300)
+            return -np.minimum(k * r, cap) * d / r
+
+        return law
+
+
+@pytest.fixture
+def tether():
+    term = ea.terms.register(StiffTether())
+    yield term
+    ea.terms.unregister(term.name)
+
+
+def test_a_finite_runaway_state_is_a_divergence(tether):
+    """The state itself tells a diverged run, whatever the terms declare: one step moving it by more than
+    monitor.MAX_STEP_CHANGE is SimulationDiverged (a single run and a batched one alike), not 70 rad of angles."""
+    from elastoactive.engines.mujoco_batch import simulate_mujoco_batch
+
+    physics = ea.Physics(n=5, sigma=0.8, tether_k=2000.0, tether_cap=2000.0)
+    with pytest.raises(ea.SimulationDiverged, match="one step moved the state by .* an accurate run moves less") as err:
+        ea.simulate(physics, duration=5.0, engine="mujoco")
+    assert "Term.rate" in str(err.value) and "reduce dt" in str(err.value)
+    batched = simulate_mujoco_batch([physics, ea.Physics(n=5, sigma=0.8, tether_k=1.0, tether_cap=2000.0)],
+                                    ea.Numerics(), 5.0, threads=1)
+    assert isinstance(batched[0], ea.SimulationDiverged) and str(batched[0]) == str(err.value)
+    assert np.abs(batched[1].theta).max() < 0.05  # a soft tether runs: the check reads the state, not the term
+
+
+def test_a_network_run_is_checked_for_runaway_steps(monkeypatch):
+    """The network engine applies the same state check (here with a threshold that any motion exceeds)."""
+    from elastoactive.engines import monitor
+
+    monkeypatch.setattr(monitor, "MAX_STEP_CHANGE", 1e-12)
+    with pytest.raises(ea.SimulationDiverged, match="nodes moved .* in one step"):
+        ea.simulate(ea.Physics(scene="trapped-unit"), duration=1.0, engine="mujoco")
+
+
+class Declared(Term):
+    """A plug-in term that declares a fast rate and leaves every other hook at its default."""
+
+    name = "toy-declared-rate"
+    parameters = (Parameter("declared_rate", 0.0, "a rate the term imposes (1 / tau)", low=0.0, quiet_default=True),)
+
+    def rate(self, physics):
+        return physics.declared_rate
+
+
+def test_a_term_rate_refusal_reads_well_for_every_term():
+    from elastoactive.terms.base import slower_advice
+
+    term = ea.terms.register(Declared())
+    try:
+        with pytest.raises(ea.ParameterError) as err:
+            ea.simulate(ea.Physics(n=5, declared_rate=5000.0), duration=1.0, engine="mujoco")
+        message = str(err.value)
+        assert "toy-declared-rate term" in message and "  " not in message and "or (" not in message
+        assert "declared_rate" in message.split("Use dt <=")[1]
+        for name in ea.terms.names():
+            advice = slower_advice(ea.terms.get(name), ea.Physics(), 10.0)
+            assert advice.startswith(" or ") and advice[4:].strip() == advice[4:] and len(advice) > 8, name
+            assert "  " not in advice and "()" not in advice, name
+    finally:
+        ea.terms.unregister(term.name)

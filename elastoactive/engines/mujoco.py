@@ -27,6 +27,7 @@ from . import check_steps
 from .cost import NOTE_SECONDS, cost_note, mujoco_cost, reduced_cost
 from .monitor import BAD_STATE_WARNINGS, CHECK_EVERY, PROGRESS_EVERY  # noqa: F401 (the batch engine imports them here)
 from .monitor import bad_state as _bad_state
+from .monitor import is_check, runaway, step_last_apart
 
 PIN_DRIFT_LIMIT = 0.05  # l: beyond this the two-pinned end has left its pin (the exact model: 0)
 
@@ -116,13 +117,20 @@ def simulate_mujoco(
     start = last_shown = time.perf_counter()
     with follower_forces():
         for k in range(1, t.size):
-            mujoco.mj_step(model, data, nstep=nstep)
+            check = is_check(k, t.size)
+            if check:  # the last step apart: how far one step moves the state (monitor.MAX_STEP_CHANGE)
+                before = step_last_apart(model, data, nstep)
+            else:
+                mujoco.mj_step(model, data, nstep=nstep)
             qpos[k] = data.qpos
             if polarity is not None:
                 polarity[k] = data.act[units]
             # a diverged state stays NaN (auto-reset is off), so a periodic check loses nothing
-            if (k % CHECK_EVERY == 0 or k == t.size - 1) and _bad_state(data):
+            if check and _bad_state(data):
                 raise SimulationDiverged(divergence_cause(physics, numerics, float(data.time), model, data))
+            if check and (change := runaway(qpos, k, nstep, before)) is not None:
+                raise SimulationDiverged(divergence_cause(physics, numerics, float(data.time), model, data,
+                                                          step_change=change))
             if bar is not None and (k == t.size - 1 or time.perf_counter() - last_shown >= PROGRESS_EVERY):
                 bar.update(k - shown)
                 shown, last_shown = k, time.perf_counter()

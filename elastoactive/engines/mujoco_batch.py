@@ -17,9 +17,10 @@ SimulationDiverged), but runs them together:
   threads with the compiled follower-force callback; no Python runs per step.
 * Stepping is `Batch.rollout` in chunks of many samples (one call per chunk, the GIL released), which
   records every substep; the samples are every steps_per_sample-th record. The divergence checks
-  of simulate_mujoco (bad-state warnings or a non-finite state every CHECK_EVERY samples, the pin
-  drift at every sample of a pinned scene) are done on the records, per simulation: a diverged
-  simulation is that run's SimulationDiverged and stops; the others go on.
+  of simulate_mujoco (bad-state warnings, a non-finite state or a step that moves it farther than an
+  accurate run does, every CHECK_EVERY samples; the pin drift at every sample of a pinned scene) are
+  done on the records, per simulation: a diverged simulation is that run's SimulationDiverged and
+  stops; the others go on.
 * rollout stops a simulation whose warning counters rise; simulate_mujoco does not stop there. Such
   a simulation's chunk is replayed from the chunk's start, sample by sample with Batch.step (which
   is mj_step), with simulate_mujoco's checks in its order, so that the outcome is still its outcome.
@@ -54,6 +55,7 @@ from ..terms.self_aligning import polarity_addresses
 from ..params import Numerics, Physics
 from ..trajectory import Trajectory
 from .mujoco import BAD_STATE_WARNINGS, CHECK_EVERY, PIN_DRIFT_LIMIT, numerics_info, pin_drift_message, pin_violation
+from .monitor import is_check, runaway
 
 RECORD_BYTES = 32 << 20
 """Bytes of records one rollout call of a batch may fill, in buffers reused from call to call. It sets
@@ -347,15 +349,20 @@ def run_batch(
                 sims[k].polarity[k0 : k0 + count] = out["act"][j, nstep - 1 :: nstep][:, units]
             event = None  # (sample offset, message)
             checks = np.flatnonzero((sample_ks % CHECK_EVERY == 0) | (sample_ks == samples - 1))
-            if checks.size:
-                bad_before = bool(saved_warning[j][_BAD, 1].any())
-                finite = np.isfinite(q[checks]).all(axis=1)
-                bad = checks if bad_before else checks[~finite]
-                if bad.size:
-                    s = int(bad[0])
-                    t_s = float(out[_TIME][j, s * nstep + nstep - 1, 0])
+            bad_before = bool(saved_warning[j][_BAD, 1].any())
+            for s in checks:  # simulate_mujoco's checks, in its order: a bad state, then a runaway step
+                s = int(s)
+                t_s = float(out[_TIME][j, s * nstep + nstep - 1, 0])
+                if bad_before or not np.isfinite(q[s]).all():
                     event = (s, divergence_cause(sims[k].run.physics, sims[k].run.used, t_s, None,
                                                  _Warnings(b.warning[k, :, 1])))
+                    break
+                before = out["qpos"][j, s * nstep + nstep - 2] if nstep > 1 else sims[k].qpos[k0 + s - 1]
+                change = runaway(sims[k].qpos, k0 + s, nstep, before)
+                if change is not None:
+                    event = (s, divergence_cause(sims[k].run.physics, sims[k].run.used, t_s, None,
+                                                 _Warnings(b.warning[k, :, 1]), step_change=change))
+                    break
             if pinned:
                 drift = _pin_drift(out["site_xpos"][j, nstep - 1 :: nstep], ends, violation, k)
                 if drift is not None and (event is None or drift < event[0]):
@@ -412,18 +419,26 @@ def _replay(b: mjbatch.Batch, k: int, sim: _Sim, k0: int, count: int, nstep: int
     physics, numerics = sim.run.physics, sim.run.used
     xpos = b.bind("site_xpos") if ends is not None else None
     for kk in range(k0, k0 + count):
+        check = is_check(kk, samples)
         try:
-            b.step(ids, nstep=nstep)
+            if check and nstep > 1:  # the last step apart, as simulate_mujoco steps it (monitor.step_last_apart)
+                b.step(ids, nstep=nstep - 1)
+            before = b.qpos[k].copy()
+            b.step(ids, nstep=1 if check else nstep)
         except mjbatch.SimulationError as err:
             return mujoco.FatalError(f"MuJoCo error: {b.error(k) or err}")
         qpos = b.qpos[k]
         sim.qpos[kk] = qpos
         if units is not None:
             sim.polarity[kk] = b.act[k][units]
-        if kk % CHECK_EVERY == 0 or kk == samples - 1:
+        if check:
             counts = b.warning[k, :, 1]
             if counts[_BAD].any() or not np.all(np.isfinite(qpos)):
                 return SimulationDiverged(divergence_cause(physics, numerics, float(b.time[k]), None, _Warnings(counts)))
+            change = runaway(sim.qpos, kk, nstep, before)
+            if change is not None:
+                return SimulationDiverged(divergence_cause(physics, numerics, float(b.time[k]), None, _Warnings(counts),
+                                                           step_change=change))
         if ends is not None:
             value = float(np.linalg.norm(xpos[k, ends[0]] - xpos[k, ends[1]]))
             violation[k] = max(violation[k], value)

@@ -31,7 +31,7 @@ from ..progress import progress_bar
 from ..trajectory import Trajectory
 from . import check_steps
 from .cost import NOTE_SECONDS, mujoco_cost
-from .monitor import CHECK_EVERY, PROGRESS_EVERY, bad_state
+from .monitor import MAX_STEP_CHANGE, PROGRESS_EVERY, bad_state, is_check, runaway, step_last_apart
 
 
 AUTOMATIC_INTEGRATOR = "Euler"
@@ -101,8 +101,13 @@ def prepare_network(physics: Physics, numerics: Numerics, network=None, position
     return network, model, data
 
 
-def _divergence_message(physics: Physics, numerics: Numerics, time_now: float) -> str:
-    return (f"the {physics.scene} network's state became non-finite or exceeded MuJoCo's limits at t = {time_now:.4g} "
+def _divergence_message(physics: Physics, numerics: Numerics, time_now: float, step_change: float | None = None) -> str:
+    """Why a network run stopped: a non-finite state or MuJoCo's limits, or (step_change) a node that moved farther in
+    one step than any accurate run does (monitor.MAX_STEP_CHANGE)."""
+    what = ("the {} network's state became non-finite or exceeded MuJoCo's limits" if step_change is None else
+            "the {} network's nodes moved " + f"{step_change:.3g} in one step (an accurate run moves less than "
+            f"{MAX_STEP_CHANGE:g})").format(physics.scene)
+    return (f"{what} at t = {time_now:.4g} "
             f"(dt = {numerics.dt:g}, mass_ratio = {numerics.mass_ratio:g}, integrator {numerics.integrator}): the "
             "springs and the trap are explicit, stable for dt x (fastest relaxation rate) < 2; reduce dt")
 
@@ -150,11 +155,17 @@ def simulate_network_mujoco(
     start = last_shown = time.perf_counter()
     with follower_forces() if install_callbacks else contextlib.nullcontext():
         for k in range(1, t.size):
-            mujoco.mj_step(model, data, nstep=nstep)
+            check = is_check(k, t.size)
+            if check:  # the last step apart: how far one step moves the nodes (monitor.MAX_STEP_CHANGE)
+                before = step_last_apart(model, data, nstep)
+            else:
+                mujoco.mj_step(model, data, nstep=nstep)
             qpos[k] = data.qpos
             polarity[k] = data.act[units]
-            if (k % CHECK_EVERY == 0 or k == t.size - 1) and bad_state(data):
+            if check and bad_state(data):
                 raise SimulationDiverged(_divergence_message(physics, numerics, float(data.time)))
+            if check and (change := runaway(qpos, k, nstep, before)) is not None:
+                raise SimulationDiverged(_divergence_message(physics, numerics, float(data.time), change))
             if bar is not None and (k == t.size - 1 or time.perf_counter() - last_shown >= PROGRESS_EVERY):
                 bar.update(k - shown)
                 shown, last_shown = k, time.perf_counter()

@@ -103,8 +103,12 @@ class Term:
         return 0.0
 
     def slower(self, physics, rate: float) -> str:
-        """This term's own setting that would bring its rate down to `rate`, e.g. 'alignment_length >= 0.02'."""
-        return ""
+        """This term's own setting that would bring its rate down to `rate`, e.g. 'alignment_length >= 0.02'; a
+        phrase that follows 'or' in a refusal (slower_advice). Default: the term's parameters, named, to be set so
+        that its rate is at most `rate`."""
+        names = ", ".join(p.name for p in self.parameters)
+        return (f"the {self.name} term's setting" + (f" ({names})" if names else "")
+                + f" that brings its rate to {rate:.2g}/tau or below")
 
     def start(self, physics, model, data) -> None:
         """Set what the term needs in MuJoCo's initial state (`data` at the initial positions, before mj_forward;
@@ -149,3 +153,10 @@ def fastest_term(physics) -> tuple[float, "Term | None"]:
     rate, term = max(((t.rate(physics), t) for t in physics.active_terms()), key=lambda pair: pair[0],
                      default=(0.0, None))
     return (rate, term) if rate > 0 else (0.0, None)
+
+
+def slower_advice(term: Term, physics, rate: float) -> str:
+    """' or <the term's slower setting>' for a refusal or note that advises a finer dt first (Term.slower), or '' when
+    the term names none (a plug-in term's slower may return an empty string)."""
+    slower = str(term.slower(physics, rate) or "").strip()
+    return f" or {slower}" if slower else ""

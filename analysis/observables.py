@@ -29,6 +29,7 @@ __all__ = [
     "upward_crossings",
     "Cycles",
     "cycles",
+    "cycle_amplitudes",
     "hilbert_phase",
     "phase_frequency",
     "frequency_mismatch",
@@ -261,10 +262,21 @@ def cycles(t, x, transient: float | None = None, hysteresis: float = 0.1) -> Cyc
     if count < 2:
         return Cycles(count, math.nan, math.nan)
     periods = np.diff(tc)
-    edges = np.searchsorted(ts, tc)
-    amps = np.array([0.5 * np.ptp(xs[a:b]) for a, b in zip(edges[:-1], edges[1:]) if b - a >= 2])
+    amps = _cycle_amplitudes(ts, xs, tc)
     amp_spread = float(amps.std() / amps.mean()) if amps.size >= 2 and amps.mean() > 0 else math.nan
     return Cycles(count, float(periods.std() / periods.mean()), amp_spread)
+
+
+def _cycle_amplitudes(ts: np.ndarray, xs: np.ndarray, crossings: np.ndarray) -> np.ndarray:
+    edges = np.searchsorted(ts, crossings)
+    return np.array([0.5 * np.ptp(xs[a:b]) for a, b in zip(edges[:-1], edges[1:]) if b - a >= 2])
+
+
+def cycle_amplitudes(t, x, transient: float | None = None, hysteresis: float = 0.1) -> np.ndarray:
+    """Half peak-to-peak of each whole cycle of x after transients, in time order (cycles as in :func:`cycles`;
+    empty with fewer than one)."""
+    ts, xs = _steady(t, x, transient, min_samples=2)
+    return _cycle_amplitudes(ts, xs, upward_crossings(ts, xs, transient=0.0, hysteresis=hysteresis))
 
 
 def _whole_period_window(ts: np.ndarray, xs: np.ndarray, hysteresis: float = 0.1) -> slice:

@@ -10,7 +10,9 @@ The estimate: the standard errors of amplitude and frequency from the run's own 
 two short reduced-model pilots from the run's state at the end of its transient, integrated at two tolerances (the
 analogue of dt and dt/2: they differ by the solver's error, ~1e-7 rad), whose separation gives the finite-time
 Lyapunov exponent Lambda (`separation_rate`). Above SENSITIVE_RATE the run is sensitive: pointwise angles are
-reproducible only up to a horizon. summary.json's results carry `sensitivity` and a note gives the numbers with
+reproducible only up to a horizon. The pilots run only from a state on the motion's attractor (`unsettled`: the window
+holds whole cycles of a beat that no longer grows or decays); before it, the state may still be leaving an unstable
+base state, whose linear growth is not chaos, and the run is "too short to measure". summary.json's results carry `sensitivity` and a note gives the numbers with
 their errors.
 """
 
@@ -38,6 +40,12 @@ SATURATION = 0.1
 """rad: a separation this large has left the linear regime; its growth is measured before it."""
 HORIZON_ERROR = 0.1
 """rad: the horizon is the time an error of 1e-6 rad (a MuJoCo run's error over a tau) takes to grow to this."""
+SETTLED_CYCLES = 2
+"""Whole cycles of the beat the measured window must hold for the pilots to start on the motion's attractor: before
+them the state may still be leaving an unstable base state, whose linear growth the pilots would read as chaos."""
+SETTLING = 0.01
+"""Relative change of the cycle amplitudes, steady in one direction over at least three cycles, that marks a beat still
+growing or decaying towards its attractor (the periodicity verdict's PERIODIC_SPREAD)."""
 
 
 Errors = float | None | tuple[float | None, ...]
@@ -45,14 +53,16 @@ Errors = float | None | tuple[float | None, ...]
 
 
 class Sensitivity(NamedTuple):
-    """What the pilots found: the rate at which nearby states part and, when sensitive, the errors of the numbers."""
+    """What the pilots found: the rate at which nearby states part and, when sensitive, the errors of the numbers; or,
+    on a window that does not reach the motion's attractor, no verdict (sensitive None) and why (`unsettled`)."""
 
-    lyapunov: float  # 1/tau, finite-time Lyapunov exponent of the pilots' separation
-    sensitive: bool
+    lyapunov: float | None  # 1/tau, finite-time Lyapunov exponent of the pilots' separation (None: not measured)
+    sensitive: bool | None  # None: too short to measure (`unsettled` says why)
     horizon_tau: float | None  # time over which pointwise angles stay reproducible (sensitive runs)
     amplitude_error: Errors  # standard errors of the run's amplitude and frequency (cycle-to-cycle spread), shaped
     frequency_error: Errors  # as the results they belong to: one per chain where those are per chain
     pilot_tau: float
+    unsettled: str | None = None  # why the pilots did not run: the window does not reach the attractor
 
     def as_dict(self) -> dict:
         return self._asdict()
@@ -60,13 +70,20 @@ class Sensitivity(NamedTuple):
     def note(self, amplitude, frequency) -> str:
         """The numbers with their errors, and whether the dynamics is sensitive (one line). amplitude and frequency
         are the run's results in their shape (a number, None, or one per chain: elastoactive.quantities)."""
-        if all(e is None for e in quantities.entries(self.amplitude_error)):
-            errors = ("amplitude and frequency have no error estimate: fewer than two whole cycles in the measured "
-                      "window (run longer)")
-        else:
-            errors = (f"amplitude {quantities.text_with_error(amplitude, self.amplitude_error, unit='rad')} and "
-                      f"frequency {quantities.text_with_error(frequency, self.frequency_error)} (standard errors from "
-                      "the cycle-to-cycle spread; none for a chain with fewer than two whole cycles)")
+        measured = any(e is not None for e in quantities.entries(self.amplitude_error))
+        if self.sensitive is None:
+            return (f"irregular, and too short to measure whether its dynamics is sensitive: {self.unsettled}; run "
+                    "longer (--duration)" + (f"; {self._errors(amplitude, frequency)}" if measured else ""))
+        return self._verdict(self._errors(amplitude, frequency) if measured else
+                             "amplitude and frequency have no error estimate: fewer than two whole cycles in the "
+                             "measured window (run longer)")
+
+    def _errors(self, amplitude, frequency) -> str:
+        return (f"amplitude {quantities.text_with_error(amplitude, self.amplitude_error, unit='rad')} and frequency "
+                f"{quantities.text_with_error(frequency, self.frequency_error)} (standard errors from the cycle-to-cycle "
+                "spread; none for a chain with fewer than two whole cycles)")
+
+    def _verdict(self, errors: str) -> str:
         if not self.sensitive:
             return (f"error estimate of an irregular motion: {errors}; nearby states part at {self.lyapunov:.2g}/tau "
                     f"(two reduced-model pilots of {self.pilot_tau:g} tau): not sensitive")
@@ -111,6 +128,27 @@ def cycle_errors(traj: Trajectory, transient: float) -> tuple[Errors, Errors]:
     return tuple(a for a, _ in errors), tuple(f for _, f in errors)
 
 
+def unsettled(traj: Trajectory, transient: float) -> str | None:
+    """Why the measured window does not yet show the motion's attractor, or None when it does: a beat signal
+    (Scene.beat_signals) must hold SETTLED_CYCLES whole cycles, and none may still grow or decay steadily (cycle
+    amplitudes monotone over three or more cycles, changing by more than SETTLING). Pure: no pilot runs."""
+    t = traj.t
+    window = f"the measured window ({t[-1] - t[0] - transient:.3g} tau after a transient of {transient:.3g} tau)"
+    signals = traj.physics.scene_def.beat_signals(traj)
+    counts = [obs.cycles(t, x, transient).count for x in signals]
+    if max(counts, default=0) < SETTLED_CYCLES:
+        return f"{window} holds fewer than {SETTLED_CYCLES} whole cycles of the beat (it may still be leaving its start)"
+    for x in signals:
+        amplitudes = obs.cycle_amplitudes(t, x, transient)
+        steps = np.diff(amplitudes)
+        if amplitudes.size >= 3 and (np.all(steps > 0) or np.all(steps < 0)):
+            change = float(amplitudes[-1] / amplitudes[0] - 1.0)
+            if abs(change) > SETTLING:
+                return (f"the beat is still {'growing' if change > 0 else 'decaying'} in {window} (its cycle "
+                        f"amplitudes change steadily by {change:+.2g} over {amplitudes.size} cycles)")
+    return None
+
+
 def needs_estimate(traj: Trajectory, periodic: bool | None) -> bool:
     """Whether a run gets the estimate: judged irregular (periodic False; a window too short to judge already says
     to run longer), noise-free (noise is irregular by design: its statistics are the result), a pivot that does not
@@ -122,7 +160,11 @@ def needs_estimate(traj: Trajectory, periodic: bool | None) -> bool:
 
 def estimate(traj: Trajectory, transient: float, numerics: Numerics) -> Sensitivity:
     """Run the two pilots from the state at `transient` (the run's mass ratio and seed) and measure how fast they
-    part (module docstring)."""
+    part (module docstring); on a window that does not reach the attractor (`unsettled`), no pilots and no verdict."""
+    reason = unsettled(traj, transient)
+    if reason is not None:  # no pilots: from a state off the attractor they would measure its approach, not chaos
+        amplitude_error, frequency_error = cycle_errors(traj, transient)
+        return Sensitivity(None, None, None, amplitude_error, frequency_error, 0.0, reason)
     from .analysis.reduced.settings import METHODS  # start-up time: only irregular runs load the reduced engine
     from .engines.reduced import simulate_reduced
 

@@ -62,13 +62,50 @@ def test_a_sensitive_run_is_named_with_its_horizon(monkeypatch):
     assert any(note.startswith("sensitive dynamics") for note in s["results"]["notes"])
 
 
-def test_a_run_the_reduced_pilots_cannot_take_keeps_its_results(tmp_path, capsys):
-    """An irregular MuJoCo run whose terms the reduced engine refuses (a tip drive on the ring) is written with a note
-    that it has no error estimate; it had been thrown away after the simulation by the pilots' refusal."""
+def test_a_run_the_reduced_pilots_cannot_take_keeps_its_results(tmp_path, capsys, monkeypatch):
+    """An irregular MuJoCo run whose pilots the reduced engine refuses (as it refuses a term it does not cover) is
+    written with a note that it has no error estimate; it had been thrown away after the simulation by the refusal."""
     from elastoactive.cli import main
 
+    def refused(*args, **kwargs):
+        raise ea.ParameterError("the reduced engine does not cover this run's terms")
+
+    monkeypatch.setattr(results, "estimate_sensitivity", refused)
     out = tmp_path / "ring"
-    assert main(["run", "ring", "--drive-amplitude", "0.1", "--engine", "mujoco", "--duration", "5", "--out", str(out),
+    assert main(["run", "ring", "--sigma", "3", "--engine", "mujoco", "--duration", "5", "--out", str(out),
                  "--quiet"]) == 0
     summary = json.loads((out / "summary.json").read_text())
     assert any("no error estimate" in note for note in summary["results"]["notes"])
+
+
+def _no_pilots(monkeypatch):
+    from elastoactive.engines import reduced
+
+    def boom(*args, **kwargs):
+        raise AssertionError("the pilots ran from a state off the attractor")
+
+    monkeypatch.setattr(reduced, "simulate_reduced", boom)
+
+
+def test_a_run_still_leaving_its_unstable_start_is_too_short_to_measure(monkeypatch):
+    """A 1-tau run of the straight chain above onset grows away from its unstable base state: pilots from there
+    would part at its linear growth rate, which is not chaos. No pilots run and no verdict is given."""
+    traj = ea.simulate(ea.Physics(sigma=0.8), duration=1.0, engine="reduced")
+    _no_pilots(monkeypatch)
+    s = results.summary(traj, ea.Numerics(), 1.0)
+    record = s["results"]["sensitivity"]
+    assert record["sensitive"] is None and record["lyapunov"] is None and "whole cycles" in record["unsettled"]
+    assert not any("sensitive dynamics" in note or "chaotic" in note for note in s["results"]["notes"])
+    assert any("too short to measure" in note for note in s["results"]["notes"])
+
+
+def test_a_beat_still_growing_is_not_on_its_attractor(monkeypatch):
+    t = np.arange(0.0, 200.0, 0.05)
+    theta = np.zeros((t.size, 4))
+    theta[:, -1] = 0.01 * np.exp(0.03 * t) * np.sin(2 * np.pi * t / 10.0)  # spiralling out of the unstable state
+    traj = Trajectory(t=t, theta=theta, physics=ea.Physics(n=4, sigma=1.2), engine="reduced")
+    _no_pilots(monkeypatch)
+    s = results.summary(traj, ea.Numerics(), 200.0)
+    assert s["results"]["periodic"] is False
+    assert s["results"]["sensitivity"]["sensitive"] is None and "growing" in s["results"]["sensitivity"]["unsettled"]
+    assert sensitivity.unsettled(_beating(irregular=True), 100.0) is None

@@ -12,8 +12,8 @@ analogue of dt and dt/2: they differ by the solver's error, ~1e-7 rad), whose se
 Lyapunov exponent Lambda (`separation_rate`). Above SENSITIVE_RATE the run is sensitive: pointwise angles are
 reproducible only up to a horizon. The pilots run only from a state on the motion's attractor (`unsettled`: the window
 holds whole cycles of a beat that no longer grows or decays); before it, the state may still be leaving an unstable
-base state, whose linear growth is not chaos, and the run is "too short to measure". summary.json's results carry `sensitivity` and a note gives the numbers with
-their errors.
+base state, whose linear growth is not chaos, and the run is "too short to measure". summary.json's results carry
+`sensitivity` and a note gives the numbers with their errors.
 """
 
 from __future__ import annotations
@@ -80,8 +80,8 @@ class Sensitivity(NamedTuple):
 
     def _errors(self, amplitude, frequency) -> str:
         return (f"amplitude {quantities.text_with_error(amplitude, self.amplitude_error, unit='rad')} and frequency "
-                f"{quantities.text_with_error(frequency, self.frequency_error)} (standard errors from the cycle-to-cycle "
-                "spread; none for a chain with fewer than two whole cycles)")
+                f"{quantities.text_with_error(frequency, self.frequency_error)} (standard errors from the "
+                "cycle-to-cycle spread; none for a chain with fewer than two whole cycles)")
 
     def _verdict(self, errors: str) -> str:
         if not self.sensitive:
@@ -137,7 +137,8 @@ def unsettled(traj: Trajectory, transient: float) -> str | None:
     signals = traj.physics.scene_def.beat_signals(traj)
     counts = [obs.cycles(t, x, transient).count for x in signals]
     if max(counts, default=0) < SETTLED_CYCLES:
-        return f"{window} holds fewer than {SETTLED_CYCLES} whole cycles of the beat (it may still be leaving its start)"
+        return (f"{window} holds fewer than {SETTLED_CYCLES} whole cycles of the beat (it may still be leaving its "
+                "start)")
     for x in signals:
         amplitudes = obs.cycle_amplitudes(t, x, transient)
         steps = np.diff(amplitudes)

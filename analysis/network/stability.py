@@ -11,12 +11,18 @@ non-symmetric, of rank <= 2F: J = [I; N_perp^T / l_a] [H, sigma N_perp], so its 
 H + Pi Q with Pi = sigma / l_a (the elasto-active coupling l_e / l_a) and Q = N_perp N_perp^T (the projector on each
 unit's perpendicular), and it has A zero eigenvalues along the family of fixed points. In the linear-elastic limit
 H = -D (the dynamical matrix; x* - rest = O(sigma)), the fixed point of polarities psi is stable while
-Pi < Pi_c(psi) = 1 / mu_max(psi), mu_max the largest generalised eigenvalue of Q v = mu D v. Since Q <= I, every
-fixed point is stable below the softest mode's eigenvalue lambda_1, and none is stable above
-Pi* = max over psi of Pi_c(psi): `threshold` bounds it from below by optimising the polarities (L-BFGS on the
-analytic gradient of mu_max from seeded starts: a lower bound, the best local maximum found), `coupling_ceiling` from
-above (a trace bound, no optimisation). A single unit in a trap of
-stiffness k_t: D = k_t I, Pi_c = k_t for every psi (Pi = l_e / l_a = 1 in the trap's own units).
+Pi < Pi_c(psi) = 1 / mu_max(psi), mu_max the largest generalised eigenvalue of Q v = mu D v, equivalently the largest
+eigenvalue of the A x A matrix M(psi) = N_perp^T D^-1 N_perp. What is proved and what is found, for Pi* = max over
+psi of Pi_c(psi) (where the last fixed point loses stability):
+
+- every fixed point is stable below the softest mode's eigenvalue lambda_1 (Q <= I, so Pi_c >= lambda_1);
+- some fixed point is stable up to at least the best Pi_c found (`threshold`: a search over the polarities, whose
+  best local maximum bounds Pi* from below);
+- none is stable above `coupling_ceiling`, an upper bound on Pi* proved for every psi (two bounds, the smaller kept):
+  by interlacing, Pi_c(psi) <= lambda_{2F-A+1}, and from one unit, Pi_c(psi) <= 1 / max_u lambda_min((D^-1)_uu).
+
+A single unit in a trap of stiffness k_t: D = k_t I, Pi_c = k_t for every psi, and both bounds are exact (Pi = l_e /
+l_a = 1 in the trap's own units).
 """
 
 from __future__ import annotations
@@ -62,10 +68,28 @@ def critical_coupling(network: Network, psi: np.ndarray) -> float:
     return float(1.0 / eigh(n @ n.T, d, eigvals_only=True)[-1])
 
 
+SMOOTHING = (0.1, 0.03, 0.01, 0.003, 0.001)
+"""Temperatures (relative to mu_max) of the smoothed searches `threshold` runs after each plain one: mu_max is not
+differentiable where its top eigenvalues cross, which is where Pi_c peaks, and a plain descent stalls there (R = 3:
+Pi_c 0.968 from 6 plain starts, 0.9914 once smoothed)."""
+REACHED = 1e-4
+"""Relative distance within which a search's Pi_c counts as having reached the best found."""
+SEARCH_UNITS = 120
+"""`threshold` searches from about SEARCH_UNITS / A starts (A units), at least MIN_STARTS and at most MAX_STARTS: more
+where a search is cheap."""
+MIN_STARTS, MAX_STARTS = 4, 16
+
+
+def search_starts(units: int) -> int:
+    """How many seeded starts `threshold` searches from by default for `units` active units."""
+    return int(np.clip(round(SEARCH_UNITS / max(units, 1)), MIN_STARTS, MAX_STARTS))
+
+
 def _critical_coupling_objective(network: Network):
-    """mu_max(psi) and its gradient, for minimising (Pi_c = 1 / mu_max): with D = L L^T and B = L^-1 N_perp, mu_max
-    is the top eigenvalue of B^T B; w = L^-T B c / sqrt(mu) (c its eigenvector) is the generalised eigenvector with
-    w^T D w = 1, and d mu / d psi_u = w^T (dQ / dpsi_u) w = -2 (w_u . n_perp_u)(w_u . n_u)."""
+    """mu_max(psi) and its gradient, for minimising (Pi_c = 1 / mu_max), or at temperature t > 0 its smooth upper
+    bound t log sum_i exp(mu_i / t) over the eigenvalues mu_i of M. With D = L L^T and B = L^-1 N_perp, the mu_i are
+    the eigenvalues of B^T B; w_i = L^-T B c_i / sqrt(mu_i) (c_i their eigenvectors) is the generalised eigenvector
+    with w^T D w = 1, and d mu_i / d psi_u = w_i^T (dQ / dpsi_u) w_i = -2 (w_iu . n_perp_u)(w_iu . n_u)."""
     from scipy.linalg import cholesky, solve_triangular  # start-up time: scipy.linalg only for the stability analysis
 
     d = dynamical_matrix(network)
@@ -73,52 +97,89 @@ def _critical_coupling_objective(network: Network):
     free = d.shape[0] // 2
     inverse = solve_triangular(cholesky(d, lower=True), np.eye(2 * free), lower=True)
 
-    def objective(psi: np.ndarray) -> tuple[float, np.ndarray]:
+    def objective(psi: np.ndarray, temperature: float = 0.0) -> tuple[float, np.ndarray]:
         b = inverse @ perpendiculars(psi, slots, free)
         values, vectors = np.linalg.eigh(b.T @ b)
-        mu = float(values[-1])
-        w = (inverse.T @ (b @ vectors[:, -1]) / np.sqrt(mu)).reshape(-1, 2)[slots]
-        along = w[:, 0] * np.cos(psi) + w[:, 1] * np.sin(psi)
-        across = -w[:, 0] * np.sin(psi) + w[:, 1] * np.cos(psi)
-        return mu, -2.0 * across * along
+        top = float(values[-1])
+        if temperature > 0:
+            weight = np.exp((values - top) / temperature)
+            total = float(weight.sum())
+            weight /= total
+            top += temperature * np.log(total)
+        else:
+            weight = np.zeros_like(values)
+            weight[-1] = 1.0
+        keep = np.flatnonzero(weight > 1e-12)
+        w = (inverse.T @ (b @ vectors[:, keep]) / np.sqrt(values[keep])).T.reshape(keep.size, -1, 2)[:, slots]
+        along = w[..., 0] * np.cos(psi) + w[..., 1] * np.sin(psi)
+        across = -w[..., 0] * np.sin(psi) + w[..., 1] * np.cos(psi)
+        return top, -2.0 * (weight[keep, None] * across * along).sum(axis=0)
 
     return objective
 
 
-def coupling_ceiling(network: Network) -> float:
-    """An upper bound on Pi*, no optimisation: D^-1/2 Q D^-1/2 has rank <= A, so mu_max >= tr(D^-1 Q) / A, and
-    tr(D^-1 Q) = sum_u n_perp_u^T (D^-1)_uu n_perp_u >= sum_u (smallest eigenvalue of unit u's 2 x 2 block of D^-1):
-    Pi_c(psi) <= A / that sum for every psi."""
+def interlacing_ceiling(network: Network) -> float:
+    """lambda_{2F-A+1} of the dynamical matrix, above which no fixed point is stable. The units sit on distinct nodes,
+    so the n_perp columns of N_perp are orthonormal and Q projects on their span S(psi), of dimension A; the span E of
+    D's 2F - A + 1 softest modes meets S(psi) in some v != 0 (the dimensions add to more than 2F), where
+    v^T D v <= lambda_{2F-A+1} |v|^2 and v^T Q v = |v|^2, so D - Pi Q is not positive definite for
+    Pi > lambda_{2F-A+1}, whatever psi."""
+    values = np.linalg.eigvalsh(dynamical_matrix(network))
+    return float(values[values.size - len(unit_slots(network))])
+
+
+def unit_ceiling(network: Network) -> float:
+    """1 / max_u lambda_min((D^-1)_uu), above which no fixed point is stable: Pi_c(psi) = 1 / lambda_max(M) with
+    M = N_perp^T D^-1 N_perp, and lambda_max(M) >= M_uu = n_perp_u^T (D^-1)_uu n_perp_u >= lambda_min((D^-1)_uu)
+    for every unit u ((D^-1)_uu: the 2 x 2 block of unit u's node)."""
     inverse = np.linalg.inv(dynamical_matrix(network))
-    slots = unit_slots(network)
-    floor = sum(float(np.linalg.eigvalsh(inverse[2 * s : 2 * s + 2, 2 * s : 2 * s + 2])[0]) for s in slots)
-    return len(slots) / floor
+    floor = max(float(np.linalg.eigvalsh(inverse[2 * s : 2 * s + 2, 2 * s : 2 * s + 2])[0])
+                for s in unit_slots(network))
+    return 1.0 / floor
+
+
+def coupling_ceiling(network: Network) -> float:
+    """A proved upper bound on Pi* (no fixed point is stable above it, whatever the polarities): the smaller of
+    interlacing_ceiling and unit_ceiling."""
+    return min(interlacing_ceiling(network), unit_ceiling(network))
 
 
 class Threshold(NamedTuple):
-    softest: float        # lambda_1: below it every fixed point is stable
-    coupling: float       # Pi* (a lower bound: the best local maximum found): above it no fixed point is stable
-    polarities: np.ndarray  # the most stable fixed point's psi (the last to lose stability)
+    softest: float        # lambda_1: below it every fixed point is stable (proved)
+    coupling: float       # the best Pi_c found: some fixed point is stable up to at least this (Pi* >= coupling)
+    polarities: np.ndarray  # that fixed point's psi
     typical: float        # median of Pi_c over uniformly random polarities
-    ceiling: float        # coupling_ceiling: an upper bound on Pi*
+    ceiling: float        # coupling_ceiling: no fixed point is stable above it (proved, Pi* <= ceiling)
+    starts: int           # searches run
+    reached: int          # searches that ended within REACHED of the best
 
 
-def threshold(network: Network, starts: int = 12, seed: int = 0, samples: int = 400,
+def threshold(network: Network, starts: int | None = None, seed: int = 0, samples: int = 400,
               iterations: int = 3000) -> Threshold:
-    """lambda_1, Pi* >= max over `starts` seeded random polarities of the local maximum of Pi_c (L-BFGS on the
-    analytic gradient, at most `iterations` steps each), the median Pi_c of `samples` random polarities, and
-    coupling_ceiling."""
+    """lambda_1; the best Pi_c found by searches over the polarities from `starts` seeded random polarities
+    (default search_starts): from each, L-BFGS on the analytic gradient of mu_max (at most `iterations` steps), then
+    the same through the SMOOTHING temperatures and again plain, keeping the better end; the median Pi_c of `samples`
+    random polarities; and coupling_ceiling."""
     from scipy.optimize import minimize  # start-up time: scipy.optimize only for the stability analysis
 
     rng = np.random.default_rng(seed)
     count = len(unit_slots(network))
+    starts = search_starts(count) if starts is None else int(starts)
     objective = _critical_coupling_objective(network)
-    best = None
+    options = {"maxiter": iterations}
+    ends = []
     for _ in range(starts):
-        result = minimize(objective, rng.uniform(0, 2 * np.pi, count), jac=True, method="L-BFGS-B",
-                          options={"maxiter": iterations})
-        if best is None or result.fun < best.fun:
-            best = result
+        plain = minimize(objective, rng.uniform(0, 2 * np.pi, count), jac=True, method="L-BFGS-B", options=options)
+        x = plain.x
+        for temperature in SMOOTHING:
+            scale = temperature * objective(x)[0]
+            x = minimize(objective, x, args=(scale,), jac=True, method="L-BFGS-B", options=options).x
+        smoothed = minimize(objective, x, jac=True, method="L-BFGS-B", options=options)
+        ends.append(min((float(objective(plain.x)[0]), plain.x), (float(objective(smoothed.x)[0]), smoothed.x),
+                        key=lambda end: end[0]))
+    best, polarities = min(ends, key=lambda end: end[0])
+    reached = sum(mu <= best * (1.0 + REACHED) for mu, _ in ends)
     typical = float(np.median([1.0 / objective(rng.uniform(0, 2 * np.pi, count))[0] for _ in range(samples)]))
     softest = float(np.linalg.eigvalsh(dynamical_matrix(network))[0])
-    return Threshold(softest, float(1.0 / best.fun), np.mod(best.x, 2 * np.pi), typical, coupling_ceiling(network))
+    return Threshold(softest, 1.0 / best, np.mod(polarities, 2 * np.pi), typical, coupling_ceiling(network), starts,
+                     reached)

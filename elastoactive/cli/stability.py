@@ -6,8 +6,9 @@ loses stability (sigma_c) and how (omega_c: the flutter's angular frequency; 0 f
 rotation), the growth rate and frequency of its least stable mode at a given --sigma, and the continuum
 filament's onset (analysis/continuum.py) with what it means at this N. The one-pinned chain's onset is computed
 in O(N) per sigma (stability.onset): ~0.1 s at N = 200, ~0.3 s at N = 1000. A network scene (lattice,
-trapped-unit) reports in its coupling Pi = sigma / l_a; the lattice's fixed points form a family, so its onset is a
-bracket: every fixed point stable below lambda_1, none above Pi* (analysis/network/stability.py).
+trapped-unit) reports in its coupling Pi = sigma / l_a; the lattice's fixed points form a family, so its onset is
+what is proved (every fixed point stable below lambda_1, none above the ceiling) apart from what a search found (one
+stable up to at least its Pi) (analysis/network/stability.py).
 """
 
 from __future__ import annotations
@@ -88,24 +89,36 @@ def _physics(args):
 
 
 def _network_report(physics, sigma: float | None) -> None:
-    """A network's onset in the coupling Pi = l_e / l_a (Scene.coupling), with the bracket where its fixed points form
-    a family."""
+    """A network's onset in the coupling Pi = l_e / l_a (Scene.coupling). Where its fixed points form a family: what is
+    proved (every one stable below lambda_1, none above the ceiling) apart from what a search found (one stable up to
+    at least its Pi), and, at --sigma, which of these the given Pi falls in."""
     scene, la = physics.scene_def, physics.alignment_length
     onset = scene.onset(physics)
     own = ", ".join(f"{k} = {getattr(physics, k)}" for k in scene.own_parameter_names())
     print(f"{physics.scene}, {own}, l_a = {la:g}:")
     print(f"  onset: {onset.kind}")
+
+    def at(value: float) -> str:
+        return f"Pi = {scene.coupling(physics, value):.6g}, sigma = {value:.6g}"
+
     if onset.sigma_all is None:
         print(f"  at sigma_c = {onset.sigma_c:.10g} (Pi_c = {scene.coupling(physics, onset.sigma_c):.6g})")
     else:
-        print(f"  every fixed point stable below sigma_c = {onset.sigma_c:.6g} (Pi = {scene.coupling(physics, onset.sigma_c):.6g}); none "
-              f"above sigma_all = {onset.sigma_all:.6g} (Pi* = {scene.coupling(physics, onset.sigma_all):.6g}, a lower bound); between, "
-              "collective actuation depends on the starting polarities")
+        print(f"  every fixed point is stable below {at(onset.sigma_c)} (lambda_1, proved)")
+        print(f"  some fixed point is stable up to at least {at(onset.sigma_all)} (the best found)")
+        print(f"  no fixed point is stable above {at(onset.sigma_ceiling)} (proved ceiling)")
+        print("  between, which fixed points are stable depends on their polarities")
     if sigma is not None:
         lam = scene.leading_eigenvalue(physics, sigma)
         which = "the least stable fixed point's" if onset.sigma_all is not None else "the rest state's"
         state = "unstable" if lam.real > 0 else "stable"
-        print(f"  at sigma = {sigma:g} (Pi = {scene.coupling(physics, sigma):.6g}): {which} growth rate {lam.real:+.6g} k/gamma ({state})")
+        line = (f"  at sigma = {sigma:g} (Pi = {scene.coupling(physics, sigma):.6g}): {which} growth rate "
+                f"{lam.real:+.6g} k/gamma ({state}")
+        if onset.sigma_all is not None and lam.real > 0:
+            line += ("; some fixed point is stable" if sigma < onset.sigma_all else
+                     "; no fixed point is stable" if sigma > onset.sigma_ceiling else
+                     "; whether some fixed point is stable is not settled")
+        print(line + ")")
 
 
 def main(args) -> int:

@@ -58,8 +58,10 @@ class Onset:
     kind: str
     sigma_all: float | None = None
     """Where the base states form a family (a network's fixed points, one per choice of the polarities): sigma_c is
-    where the first of them loses stability, sigma_all where the last does (a lower bound, from an optimisation);
-    None for a single base state."""
+    where the first of them loses stability; some base state found stays stable up to sigma_all (the last loses
+    stability at or above it: a lower bound, from a search); None for a single base state."""
+    sigma_ceiling: float | None = None
+    """For a family: no base state is stable above this (a proved upper bound on where the last loses stability)."""
 
 
 class Scene:

@@ -119,7 +119,8 @@ class NetworkScene(Scene):
 
 class Lattice(NetworkScene):
     name = "lattice"
-    summary = "a hexagonal patch of triangular lattice with self-aligning active units (Baconnier et al.'s active solid)"
+    summary = ("a hexagonal patch of triangular lattice with self-aligning active units (Baconnier et al.'s active "
+               "solid)")
     parameters = (RINGS, BOUNDARY)
     observables = NETWORK_OBSERVABLES + ("patch_rotation_rate",)
 
@@ -146,8 +147,6 @@ class Lattice(NetworkScene):
         return out
 
     no_linear_operator = ""
-    STARTS: ClassVar[int] = 6
-    """Seeded starts of the optimisation of the polarities that bounds Pi* from below (analysis.network.stability)."""
 
     def _threshold(self, physics: Physics):
         from ..analysis.network import stability  # start-up time: scipy only for the stability analysis
@@ -155,19 +154,21 @@ class Lattice(NetworkScene):
         if physics.boundary != "pinned":
             raise ParameterError(f"stability: boundary must be pinned for the lattice's linear stability, got "
                                  f"{physics.boundary!r} (a patch free to move or turn has zero modes: no threshold)")
-        return stability.threshold(self.network(physics), starts=self.STARTS, samples=1)
+        return stability.threshold(self.network(physics), samples=1)
 
     def onset(self, physics: Physics) -> Onset:
         """A family of fixed points, one per choice of the polarities, each losing stability through a real
-        eigenvalue of -D + Pi Q: every one is stable below Pi = lambda_1 (sigma_c = lambda_1 l_a, the onset reported),
-        none above Pi* (sigma_all = Pi* l_a, a lower bound from STARTS optimisations); between, it depends on the
-        polarities (docs/network.md)."""
+        eigenvalue of -D + Pi Q: every one is stable below Pi = lambda_1 (sigma_c = lambda_1 l_a, the onset reported);
+        some fixed point found stays stable up to sigma_all = Pi_found l_a (the best of a search, so where the last
+        loses stability is at or above it); none is stable above sigma_ceiling = the proved ceiling x l_a
+        (analysis.network.stability, docs/network.md)."""
         bracket = self._threshold(physics)
         la = physics.alignment_length
         return Onset(sigma_c=bracket.softest * la, omega_c=0.0, sigma_all=bracket.coupling * la,
-                     kind=f"a family of fixed points (one per choice of polarities), each through a real eigenvalue: "
-                          f"all stable below Pi = lambda_1 = {bracket.softest:.6g}, none above Pi* >= "
-                          f"{bracket.coupling:.6g} (best of {self.STARTS} optimisations; Pi* <= {bracket.ceiling:.4g})")
+                     sigma_ceiling=bracket.ceiling * la,
+                     kind=f"a family of fixed points (one per choice of polarities), each through a real "
+                          f"eigenvalue (searched over the polarities from {bracket.starts} starts, {bracket.reached} "
+                          "ending at the best found)")
 
     def leading_eigenvalue(self, physics: Physics, sigma: float) -> complex:
         """The least stable fixed point's largest growth rate, Pi - lambda_1 (Q <= I, with equality on the softest

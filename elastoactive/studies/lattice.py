@@ -52,7 +52,8 @@ class ActiveSolidSummary(Summary):
     softest: float
     """lambda_1 of the pinned hexagon's dynamical matrix (every fixed point is stable below it)."""
     linear_threshold: float
-    """Pi*: no fixed point is stable above it (optimised over the polarities)."""
+    """The best Pi_c found over the polarities: some fixed point is stable up to it (a lower bound on Pi*, where the
+    last loses stability)."""
     typical_threshold: float
     """Median Pi_c of uniformly random polarities."""
     modes: list[list[int]]
@@ -148,7 +149,7 @@ def active_solid_figures(study: Study, out: Path) -> list[Path]:
     a1.plot(d["couplings"], d["fraction"], "k-", lw=1, label="share actuated")
     a1.axvspan(s.softest, s.linear_threshold, color="0.85", label=r"linear: some fixed points stable")
     a1.axvline(s.softest, color="C2", ls=":", label=rf"$\lambda_1$ = {s.softest:.3f}")
-    a1.axvline(s.linear_threshold, color="C3", ls="--", label=rf"$\Pi^*$ = {s.linear_threshold:.3f}")
+    a1.axvline(s.linear_threshold, color="C3", ls="--", label=rf"best $\Pi_c$ found = {s.linear_threshold:.3f}")
     a1.set_xlabel(r"elasto-active coupling $\Pi = \ell_e / \ell_a$")
     a1.set_ylabel("actuation (coherence of the units' turning)")
     a1.set_title("Pinned hexagon (R = 2): collective actuation")
@@ -186,8 +187,9 @@ def active_solid_claims(study: Study, read: Mapping[str, Study]) -> list[Claim]:
               mujoco_row,
               f"all seeds still at Pi <= {fmt(s.still_below, 3)}, all actuated from Pi = {fmt(s.actuated_above, 3)}",
               verdict(inside and same_side, partly=np.isfinite(s.actuated_above)),
-              f"linear bracket: every fixed point stable below lambda_1 = {s.softest:.4f}, none above Pi* >= "
-              f"{s.linear_threshold:.4f} (optimised over the polarities: a lower bound; median over random polarities {s.typical_threshold:.3f}); l_a = "
+              f"linear: every fixed point stable below lambda_1 = {s.softest:.4f}; some stable up to at least "
+              f"Pi = {s.linear_threshold:.4f} (the best found over the polarities); median Pi_c over random "
+              f"polarities {s.typical_threshold:.3f}; l_a = "
               f"{ALIGNMENT:g} a; MuJoCo reruns the reduced engine's seed 0 (its automatic numerics); the source's numerical "
               "threshold for its own lattice is not quoted here (docs/network.md)"),
         Claim("The actuated dynamics condenses on few modes", "selected modes not necessarily the lowest-energy ones",

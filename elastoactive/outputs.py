@@ -23,6 +23,7 @@ import fcntl
 import hashlib
 import os
 import platform
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -101,6 +102,16 @@ def _writable_ancestor(path: Path, option: str, start: Path | None = None) -> Pa
     return ancestor
 
 
+def output_path(text: str) -> Path:
+    """An output path as typed on the command line (an argparse `type`): an empty one is refused, naming the option
+    (Path('') would be the working folder, where the outputs would land unasked)."""
+    if not text.strip():
+        import argparse  # start-up time: only when a command line is parsed
+
+        raise argparse.ArgumentTypeError(f"an empty path ({text!r}); give a folder or file name (. for this folder)")
+    return Path(text)
+
+
 def check_folder(path: Path, option: str = "--out") -> Path:
     """A folder we will write into: it may not exist yet, but must not be a file, and its nearest
     existing ancestor must be writable."""
@@ -125,6 +136,36 @@ def check_file(path: Path, option: str, suffixes: tuple[str, ...], *, force: boo
         raise ParameterError(f"{option} {path}: cannot overwrite it (permission denied)")
     _writable_ancestor(path, option, path.parent)
     return path
+
+
+def file_size_limit() -> int | None:
+    """The largest file this process may write, in bytes (RLIMIT_FSIZE: `ulimit -f`), or None if unlimited."""
+    import resource  # start-up time: only when an output is checked
+
+    soft, _ = resource.getrlimit(resource.RLIMIT_FSIZE)
+    return None if soft == resource.RLIM_INFINITY else int(soft)
+
+
+def check_space(folder: Path, needed: int, what: str, option: str = "--out", advice: str = "") -> None:
+    """Refuse (ParameterError naming `option`), before the work that makes it, a file `what` of about `needed`
+    bytes that this process could not write into `folder`: above the file-size limit (ulimit -f), or more than the
+    free space there. `advice` ends the line (how to need less)."""
+    folder = Path(folder)
+    limit = file_size_limit()
+    size = f"{needed / 1e6:.2g} MB" if needed >= 1e5 else f"{needed} bytes"
+    if limit is not None and limit < needed:
+        raise ParameterError(f"{option} {folder}: {what} takes about {size}, and this process may not write files over "
+                             f"{limit} bytes (the file-size limit, ulimit -f); raise the limit{advice}")
+    existing = folder
+    while not existing.exists() and existing != existing.parent:
+        existing = existing.parent
+    try:
+        free = shutil.disk_usage(existing).free
+    except OSError:
+        return
+    if free < needed:
+        raise ParameterError(f"{option} {folder}: {what} takes about {size} and only {free / 1e6:.2g} MB are free "
+                             f"there; free some space or choose another folder{advice}")
 
 
 @contextlib.contextmanager

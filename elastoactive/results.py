@@ -389,7 +389,10 @@ def write_run(out: Path, traj: Trajectory, summary_dict: dict) -> list[Path]:
     pivot moves), written together:
     each into a temporary file first, the trajectory renamed into place before the summary that
     records its SHA-256, so a summary never describes another trajectory unnoticed. Both record the digest of
-    the run's settings (settings_digest), so neither can be edited into describing another run unnoticed."""
+    the run's settings (settings_digest), so neither can be edited into describing another run unnoticed.
+    A trajectory that cannot be written (a full disk, the file-size limit) does not take the summary with it: into a
+    folder holding no earlier run the summary is written alone, with trajectory_sha256 null and trajectory_error; an
+    earlier run's files are kept whole. Either way the OSError naming trajectory.npz is raised after."""
     checksum = {}
     digest = settings_digest(summary_dict)
 
@@ -404,10 +407,32 @@ def write_run(out: Path, traj: Trajectory, summary_dict: dict) -> list[Path]:
         checksum["sha256"] = sha256(tmp)
 
     def summary_file(tmp: Path) -> None:
-        record = {**summary_dict, "settings_sha256": digest, "trajectory_sha256": checksum["sha256"]}
+        record = {**summary_dict, "settings_sha256": digest, "trajectory_sha256": checksum.get("sha256")}
+        if "error" in checksum:
+            record["trajectory_error"] = checksum["error"]
         tmp.write_text(json.dumps(jsonable(record), indent=2) + "\n")
 
-    return write_files(Path(out), {"trajectory.npz": trajectory, "summary.json": summary_file})
+    out = Path(out)
+    earlier = [name for name in ("summary.json", "trajectory.npz") if (out / name).exists()]
+    try:
+        return write_files(out, {"trajectory.npz": trajectory, "summary.json": summary_file})
+    except OSError as err:
+        if err.filename != str(out / "trajectory.npz"):
+            raise
+        if earlier:  # an earlier run's files: kept whole, not half replaced
+            raise OSError(err.errno, f"{err.strerror}; nothing was replaced: {out} keeps the run it held",
+                          err.filename) from None
+        failed = err
+    # the trajectory (the large file) could not be written: the summary (small: the results, the settings) still is,
+    # recording the failure and no trajectory checksum
+    checksum.pop("sha256", None)
+    checksum["error"] = f"not written: {failed.strerror}"
+    try:
+        written = write_files(out, {"summary.json": summary_file})
+    except OSError:
+        raise failed from None
+    raise OSError(failed.errno, f"{failed.strerror}; {written[0]} was written without it (the run's results and "
+                  "settings; re-run it with --from to have the trajectory)", failed.filename) from None
 
 
 def _edited(path: Path) -> ParameterError:

@@ -13,7 +13,6 @@ import errno
 import functools
 import json
 import os
-import resource
 import shutil
 from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
@@ -21,7 +20,7 @@ from typing import Callable
 
 import numpy as np
 
-from .outputs import write_netcdf
+from .outputs import file_size_limit, write_netcdf
 from .params import LONG_CHAIN
 from .sweep_grid import VARIABLE_ATTRS, VECTORS, SweepStorageError, coordinate_attrs, spec_text
 
@@ -69,12 +68,6 @@ def bytes_needed(grid: dict, arrays: dict) -> int:
         else:
             size += values.nbytes
     return 2 * size + SNAPSHOT_MARGIN
-
-
-def file_size_limit() -> int | None:
-    """The largest file this process may write, in bytes (RLIMIT_FSIZE: `ulimit -f`), or None if unlimited."""
-    soft, _ = resource.getrlimit(resource.RLIMIT_FSIZE)
-    return None if soft == resource.RLIM_INFINITY else int(soft)
 
 
 def check_file_size(out: Path, needed: int, kept: str) -> None:

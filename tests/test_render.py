@@ -4,6 +4,7 @@ Everything that draws is skipped only when no OpenGL back end can be made to wor
 machine (the skip reason says so and what to install); the missing-GL error test always runs.
 """
 
+import json
 import os
 import subprocess
 import sys
@@ -124,10 +125,18 @@ def test_trajectory_identical_with_and_without_video(backend, tmp_path, capsys):
     assert (tmp_path / "r.mp4").stat().st_size > 0 and (tmp_path / "s.png").stat().st_size > 0
 
 
+def _recorded(folder):
+    """A minimal recorded run in `folder`: a 3-sample trajectory of N = 2 and its summary (with its settings' digest)."""
+    from elastoactive.results import settings_digest
+
+    np.savez(folder / "trajectory.npz", t=np.arange(3.0), theta=np.zeros((3, 2)))
+    summary = {"parameters": {"scene": "one-pinned", "n": 2, "sigma": 0.8}}
+    (folder / "summary.json").write_text(json.dumps({**summary, "settings_sha256": settings_digest(summary)}))
+
+
 def test_missing_gl_gives_install_instructions(tmp_path):
     """PyOpenGL pinned to a platform that does not exist: neither egl nor osmesa can start."""
-    np.savez(tmp_path / "trajectory.npz", t=np.arange(3.0), theta=np.zeros((3, 2)))
-    (tmp_path / "summary.json").write_text('{"parameters": {"scene": "one-pinned", "n": 2, "sigma": 0.8}}')
+    _recorded(tmp_path)
     env = {k: v for k, v in os.environ.items() if k != "MUJOCO_GL"}
     env["PYOPENGL_PLATFORM"] = "no-such-platform"
     cmd = [sys.executable, "-m", "elastoactive", "render", str(tmp_path), "-o", str(tmp_path / "x.mp4")]
@@ -142,8 +151,7 @@ def test_missing_gl_gives_install_instructions(tmp_path):
                                      ["run", "one-pinned", "--n", "2", "--duration", "1", "--video", "OUT.mp4"]])
 def test_unknown_mujoco_gl_is_one_line_naming_the_variable(tmp_path, command):
     """MuJoCo raises on a MUJOCO_GL it does not know when it is imported: every command refuses it in one line."""
-    np.savez(tmp_path / "trajectory.npz", t=np.arange(3.0), theta=np.zeros((3, 2)))
-    (tmp_path / "summary.json").write_text('{"parameters": {"scene": "one-pinned", "n": 2, "sigma": 0.8}}')
+    _recorded(tmp_path)
     argv = [str(tmp_path) if a == "RUN" else str(tmp_path / a) if a.startswith("OUT") else a for a in command]
     env = {**os.environ, "MUJOCO_GL": "bogus"}
     out = subprocess.run([sys.executable, "-m", "elastoactive", *argv], env=env, capture_output=True, text=True,

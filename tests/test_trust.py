@@ -116,6 +116,7 @@ def test_a_failed_write_keeps_the_previous_run_whole(tmp_path, capsys, monkeypat
     monkeypatch.setattr(np, "savez_compressed", full_disk)
     assert main(RUN + ["--out", str(out), "--engine", "reduced", "--force", "--sigma", "1.3"]) == 1
     assert {p.name: p.read_bytes() for p in out.iterdir()} == before  # no temporary file left, nothing torn
+    assert "nothing was replaced" in capsys.readouterr().err.strip().splitlines()[-1]
     load_trajectory(out)  # the pair still belongs together
 
 

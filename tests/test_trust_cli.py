@@ -18,7 +18,7 @@ import pytest
 
 import elastoactive as ea
 from elastoactive.cli import main
-from elastoactive.results import load_trajectory
+from elastoactive.results import load_trajectory, settings_digest
 
 from conftest import refused  # the shared one-line-refusal check
 
@@ -98,11 +98,31 @@ def test_an_edited_summary_is_refused(recorded, tmp_path, capsys, no_simulation)
     png = str(tmp_path / "s.png")
     refused(capsys, ["render", str(edited), "--still", png], "summary.json", "changed after the run")
     refused(capsys, ["run", "--from", str(edited), "--out", str(tmp_path / "again")], "changed after the run")
-    summary.pop("settings_sha256")  # its own checksum removed too: the trajectory still knows
+    summary.pop("settings_sha256")  # its own checksum removed too: an edit all the same
     (edited / "summary.json").write_text(json.dumps(summary))
     with pytest.raises(ea.ParameterError, match="changed after the run"):
         load_trajectory(edited)
+    refused(capsys, ["run", "--from", str(edited), "--out", str(tmp_path / "again")], "settings_sha256")
+    (edited / "trajectory.npz").unlink()  # nor does a summary alone, without the trajectory that knows its digest
+    refused(capsys, ["run", "--from", str(edited / "summary.json"), "--out", str(tmp_path / "again")],
+            "settings_sha256", "changed after the run")
+    assert not (tmp_path / "again").exists()
     load_trajectory(recorded)  # the untouched record loads
+
+
+@pytest.mark.parametrize("command", [RUN + ["--out"], ["sweep", "one-pinned", "--grid", "sigma=1", "--out"],
+                                     ["reproduce", "--tiny", "--out"], RUN + ["--video"]])
+@pytest.mark.parametrize("empty", ["", " "])
+def test_an_empty_output_path_is_refused(tmp_path, capsys, no_simulation, monkeypatch, command, empty):
+    """An empty output path is not the working folder (Path('') is '.'): one line naming the option, nothing
+    written."""
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(SystemExit) as info:  # argparse's own error (the option's type): exit 2
+        main(command + [empty])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert info.value.code == 2 and len(err) == 1 and err[0].startswith("elastoactive: error:"), err
+    assert f"argument {command[-1]}: an empty path" in err[0]
+    assert not list(tmp_path.iterdir())
 
 
 def test_a_failed_write_names_the_file_and_the_cause_in_one_line(tmp_path, capsys, monkeypatch):
@@ -110,8 +130,14 @@ def test_a_failed_write_names_the_file_and_the_cause_in_one_line(tmp_path, capsy
         raise OSError(28, "No space left on device")
 
     monkeypatch.setattr(np, "savez_compressed", full_disk)
-    line = refused(capsys, RUN + ["--out", str(tmp_path / "run")], "trajectory.npz", "No space left on device", code=1)
-    assert "Errno" not in line
+    capsys.readouterr()
+    assert main(RUN + ["--out", str(tmp_path / "run")]) == 1
+    captured = capsys.readouterr()
+    lines = captured.err.strip().splitlines()  # the run's notes (warnings), then the failure in one line
+    assert lines[-1].startswith("elastoactive: error:") and "Traceback" not in captured.err
+    assert all(line.startswith("elastoactive: warning:") for line in lines[:-1])
+    assert "trajectory.npz" in lines[-1] and "No space left on device" in lines[-1] and "Errno" not in lines[-1]
+    assert json.loads(captured.out)["amplitude"] > 0  # the results are shown all the same
 
 
 def _limited(limit_bytes: int):
@@ -119,8 +145,8 @@ def _limited(limit_bytes: int):
 
 
 def test_a_file_size_limit_gives_one_line_not_a_traceback(tmp_path):
-    """`ulimit -f`: the trajectory cannot be written; run, run --force and render (a still, a video: its encoder is
-    a separate process) each say so in one line."""
+    """`ulimit -f`: the trajectory cannot be written; run and run --force refuse before they simulate, render (a
+    still, a video: its encoder is a separate process) fails, each in one line."""
     base = [sys.executable, "-m", "elastoactive"]
     small = RUN[:6] + ["--duration", "20"] + RUN[8:]
     out = tmp_path / "run"
@@ -134,9 +160,57 @@ def test_a_file_size_limit_gives_one_line_not_a_traceback(tmp_path):
             continue
         result = subprocess.run(base + argv, capture_output=True, text=True, timeout=300, preexec_fn=_limited(20_000))
         lines = result.stderr.strip().splitlines()
-        assert result.returncode in (1, 4) and "Traceback" not in result.stderr, (argv, result.stderr)
-        assert lines[-1].startswith("elastoactive:") and "File too large" in lines[-1], (argv, result.stderr)
-    load_trajectory(out)  # the run --force could not write: the earlier run is whole
+        assert "Traceback" not in result.stderr and lines[-1].startswith("elastoactive:"), (argv, result.stderr)
+        if argv[0] == "run":  # refused before the simulation: the trajectory would not fit under the limit
+            assert result.returncode == 2 and len(lines) == 1, (argv, result.stderr)
+            assert "--out" in lines[0] and "file-size limit" in lines[0] and "--sample-dt" in lines[0], lines
+        else:
+            assert result.returncode in (1, 4) and "File too large" in lines[-1], (argv, result.stderr)
+    load_trajectory(out)  # the run --force was refused: the earlier run is whole
+    assert not (tmp_path / "big").exists()
+
+
+def test_a_run_whose_trajectory_cannot_be_stored_is_refused_before_it_simulates(tmp_path, capsys, monkeypatch,
+                                                                                no_simulation):
+    """The trajectory's size is known before the run (samples x columns): a file-size limit or a free space below it
+    is one line naming --out, before anything is simulated."""
+    import shutil
+    from types import SimpleNamespace
+
+    from elastoactive import outputs
+
+    out = tmp_path / "run"
+    monkeypatch.setattr(outputs, "file_size_limit", lambda: 10_240)  # `ulimit -f 10`
+    refused(capsys, RUN + ["--out", str(out)], "--out", "trajectory.npz", "file-size limit", "10240 bytes")
+    monkeypatch.setattr(outputs, "file_size_limit", lambda: None)
+    monkeypatch.setattr(shutil, "disk_usage", lambda path: SimpleNamespace(total=1e9, used=1e9, free=5_000))
+    refused(capsys, RUN + ["--out", str(out)], "--out", "trajectory.npz", "free")
+    assert not out.exists()
+
+
+def test_a_trajectory_that_cannot_be_written_leaves_the_summary(tmp_path, capsys, monkeypatch):
+    """A failure writing the large file (the trajectory) still writes the small one: summary.json with the results, its
+    settings' checksum, no trajectory checksum and the error (an earlier run in the folder is kept whole instead:
+    test_trust.py). The results are printed, the failure is one line, and the summary re-runs with --from."""
+    out = tmp_path / "run"
+
+    def too_large(*args, **kwargs):
+        raise OSError(27, "File too large")
+
+    with monkeypatch.context() as patch:
+        patch.setattr(np, "savez_compressed", too_large)
+        assert main(RUN + ["--out", str(out)]) == 1
+    captured = capsys.readouterr()
+    err = captured.err.strip().splitlines()
+    assert err[-1].startswith("elastoactive: error:") and "trajectory.npz" in err[-1] and "File too large" in err[-1]
+    assert "summary.json was written without it" in err[-1]
+    summary = ea.results.read_summary(out)
+    assert summary["numerics"]["duration"] == 60 and summary["trajectory_sha256"] is None
+    assert "File too large" in summary["trajectory_error"]
+    assert json.loads(captured.out)["amplitude"] == summary["results"]["amplitude"]
+    assert sorted(p.name for p in out.iterdir()) == ["summary.json"]
+    assert main(["run", "--from", str(out), "--out", str(tmp_path / "again"), "--quiet"]) == 0
+    assert load_trajectory(tmp_path / "again").t[-1] == pytest.approx(60)
 
 
 def test_what_cannot_be_measured_is_refused_before_simulating(capsys, no_simulation):
@@ -175,10 +249,10 @@ def test_from_reruns_every_recorded_run_or_refuses(tmp_path, capsys):
     with np.load(heavy / "trajectory.npz") as a, np.load(again / "trajectory.npz") as b:
         np.testing.assert_array_equal(a["theta"], b["theta"])
     older = json.loads((heavy / "summary.json").read_text())
-    for key in ("settings_sha256", "trajectory_sha256"):
-        older.pop(key)
+    older.pop("trajectory_sha256")
     older["numerics"]["duration"] = None
     older["numerics"].pop("mass_ratio")
+    older["settings_sha256"] = settings_digest(older)  # a record of a version that did not write them
     (heavy / "summary.json").write_text(json.dumps(older))
     refused(capsys, ["run", "--from", str(heavy), "--quiet"], "duration", "mass_ratio", "--duration", "--mass-ratio")
     assert main(["run", "--from", str(heavy), "--duration", "40", "--mass-ratio", "10", "--out", str(tmp_path / "given"),

@@ -16,6 +16,7 @@ from pathlib import Path
 from ..analysis.reduced.settings import METHODS
 from ..engines import ENGINES
 from ..errors import ParameterError
+from ..outputs import output_path
 from ..params import Numerics, Physics, parameter_fields
 from .options import UNITS, add_fields, scene_argument, scene_help
 from .render import add_video_args
@@ -36,14 +37,14 @@ def register(subparsers) -> None:
     run.add_argument("--method", choices=METHODS, default=None,
                      help="the reduced engine's ODE method (default: chosen from the stiffness at the start: "
                      "numba-DOP853, or the implicit LSODA for long chains near their onset); summary.json records it")
-    run.add_argument("--out", type=Path, help="folder for summary.json and trajectory.npz")
+    run.add_argument("--out", type=output_path, help="folder for summary.json and trajectory.npz")
     run.add_argument("--force", action="store_true",
                      help="replace a run with other settings already in --out, or an existing --video file")
     run.add_argument("--from", dest="source", type=Path, metavar="SUMMARY",
                      help="re-run a recorded run (its folder or summary.json) with the same scene, parameters, numerics, "
                      "engine and duration; options given beside it override the recorded ones")
     run.add_argument("--quiet", action="store_true", help="no progress bar")
-    run.add_argument("--video", type=Path, help="also render the run to this MP4 (see `elastoactive render -h`)")
+    run.add_argument("--video", type=output_path, help="also render the run to this MP4 (see `elastoactive render -h`)")
     add_video_args(run)
     run.set_defaults(func=main)
 
@@ -127,6 +128,13 @@ def _check_destination(out: Path, physics: Physics, numerics: Numerics, engine: 
                              "choose another folder, or pass --force to replace it")
 
 
+def trajectory_bytes(physics: Physics, samples: int) -> int:
+    """About the size of a run's trajectory.npz, uncompressed (compression gains ~10% on a moving chain): t and one
+    column per angle and moving pivot coordinate per sample, 8 bytes each."""
+    columns = 1 + physics.n_angles + (physics.scene_def.head_count(physics) or 0)
+    return 8 * columns * int(samples)
+
+
 def main(args) -> int:
     # start-up time: the engines and analysis load only when a command runs, not for --help
     from ..outputs import check_folder, folder_lock
@@ -141,16 +149,19 @@ def main(args) -> int:
 def _run(args, out: Path | None) -> int:
     # start-up time: the engines and analysis load only when a command runs, not for --help
     from ..api import simulate
-    from ..outputs import check_file, provenance, utc_now
+    from ..outputs import check_file, check_space, provenance, utc_now
     from ..results import jsonable, summary, write_run, check_transient
 
     started, clock = utc_now(), time.perf_counter()
     physics, numerics, engine, duration, transient = settings_from(args)
     if args.source:
         check_rerun(args, physics, engine)
-    transient = check_transient(duration, transient, numerics.sample_times(duration))
+    samples = numerics.sample_times(duration)
+    transient = check_transient(duration, transient, samples)
     if out:
         _check_destination(out, physics, numerics, engine, duration, transient, args.force)
+        check_space(out, trajectory_bytes(physics, samples.size), "trajectory.npz",
+                    advice=", or record fewer samples (--sample-dt, --duration)")
     if args.video:
         check_file(args.video, "--video", (".mp4",), force=args.force)
         from .render import check_video_options  # start-up time: rendering loads matplotlib and GL
@@ -161,12 +172,12 @@ def _run(args, out: Path | None) -> int:
     traj = simulate(physics, numerics, duration=duration, engine=engine, progress=not args.quiet, method=method)
     s = summary(traj, numerics, duration, transient)
     s["provenance"] = provenance(started, time.perf_counter() - clock)
-    if out:
-        write_run(out, traj, s)
+    # the results first: shown even if the files cannot be written
     print(json.dumps(jsonable({"wall_time_s": round(s["wall_time_s"], 3), **s["results"]}), indent=2))
     for note in s["results"].get("notes", []):
         print(f"elastoactive: warning: {note}", file=sys.stderr)
     if out:
+        write_run(out, traj, s)
         print(f"wrote {out / 'summary.json'} and {out / 'trajectory.npz'}")
     if args.video:  # rendered from the recorded trajectory, after the simulation
         from .render import video_after_run  # start-up time: rendering loads matplotlib and GL

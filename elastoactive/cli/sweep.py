@@ -13,10 +13,10 @@ from __future__ import annotations
 import argparse
 import os
 import sys
-from pathlib import Path
 
 from ..engines import ENGINES
 from ..errors import ParameterError
+from ..outputs import output_path
 from ..params import PRESETS, Numerics, Physics, parameter_fields
 from ..sweep import grid_keys
 from .options import add_fields, scene_argument
@@ -58,7 +58,7 @@ def register(subparsers) -> None:
     g.add_argument("--engine", choices=ENGINES, default="mujoco", help="(default %(default)s)")
     g.add_argument("--duration", type=float, default=300.0, help="simulated time per point, tau (default %(default)s)")
     g.add_argument("--transient", type=float, help="time discarded before measuring, tau (default: half the run)")
-    g.add_argument("--out", type=Path, required=True, help="netCDF file (resumed if it holds the same sweep)")
+    g.add_argument("--out", type=output_path, required=True, help="netCDF file (resumed if it holds the same sweep)")
     g.add_argument("--workers", type=int, help="local threads (MuJoCo: mujoco.batch) or processes (reduced engine), >= 1 "
                    "(default: every core; unused with --scheduler)")
     g.add_argument("--batch-size", type=int, metavar="POINTS",

@@ -71,14 +71,20 @@ OBSERVABLES: dict[str, Observable] = {
     # network scenes (analysis.network.observables)
     "polarization": Observable("1", "time mean of the active units' polar order |<n_i>|", error="absolute", floor=0.0),
     "polarity_rate": Observable("rad/tau", "mean turning rate d psi / dt of the active units (signed)", floor=1e-4),
+    "polarity_speed": Observable("rad/tau", "mean |d psi / dt| of the active units: how fast they turn, either way",
+                                 floor=1e-4),
     "actuation": Observable("1", "coherence of the units' turning |<d psi/dt>| / <|d psi/dt|> (1: collective "
                             "actuation, 0: still)", error="absolute", floor=0.0),
     "condensation": Observable("1", "share of the elastic energy on the two most energetic normal modes",
                                error="absolute", floor=0.0),
-    "dominant_mode": Observable("1", "rank by stiffness (1: softest) of the most energetic normal mode", error="none"),
-    "second_mode": Observable("1", "rank by stiffness of the second most energetic normal mode", error="none"),
+    "dominant_mode": Observable("1", "rank by stiffness (1: softest) of the most energetic normal mode of the "
+                                "deformation (0: none, undeformed)", error="none"),
+    "second_mode": Observable("1", "rank by stiffness of the second most energetic normal mode (0: none)",
+                              error="none"),
     "patch_rotation_rate": Observable("rad/tau", "mean rate of the patch's rigid rotation (least squares)",
                                       floor=1e-4),
+    "patch_drift": Observable("a/tau", "mean speed of the patch's centroid (its rigid translation) over the measured "
+                              "window", floor=1e-4),
     "sync_order": Observable("1", "the star's Kuramoto order parameter R_1 of the arms' beat phases (1: in phase; NaN "
                              "unless every arm beats)", error="absolute"),
     "splay_order": Observable("1", "R_k of the star's arms' phases (1 with R_1 = 0: a k-fold splay state)",

@@ -45,6 +45,7 @@ def test_trapped_unit_against_the_derivation(sigma, trap, la):
     assert res.orbit_radius == pytest.approx(radius, rel=1e-3)
     assert abs(res.orbit_rate) == pytest.approx(rate, rel=1e-3, abs=1e-6)
     assert abs(res.extra["polarity_rate"]) == pytest.approx(rate, rel=1e-3, abs=1e-6)
+    assert res.extra["polarity_speed"] == pytest.approx(rate, rel=1e-3, abs=1e-6)  # one unit: the same way
     if rate > 0:
         assert res.frequency == pytest.approx(rate / (2 * math.pi), rel=1e-3) and res.periodic
 
@@ -106,3 +107,99 @@ def test_units_at_rest_are_not_actuated():
     rest = ea.measure(ea.simulate(ea.Physics(scene="trapped-unit", sigma=0.05, trap=0.1), engine="reduced",
                                   duration=100.0))
     assert rest.extra["actuation"] == 0.0
+
+
+def test_polarity_speed_reports_how_fast_units_turn_either_way():
+    """Half the units turning one way, half the other: the signed mean rate is ~0, but the units turn at their rate;
+    polarity_speed (mean |dpsi/dt|) says so beside it, and actuation is their ratio. Declared as every observable."""
+    from elastoactive.analysis.network import observables as nobs
+    from elastoactive.results import OBSERVABLES
+
+    t = np.linspace(0.0, 50.0, 1001)
+    rates = np.array([0.5, -0.5, 0.55, -0.55, 0.5, -0.5])
+    psi = np.mod(np.outer(t, rates) + np.arange(6), 2 * np.pi)
+    assert abs(nobs.polarity_rate(t, psi)) < 1e-12
+    assert nobs.polarity_speed(t, psi) == pytest.approx(np.abs(rates).mean(), rel=1e-9)
+    assert nobs.actuation(t, psi) < 1e-9
+    for scene in ("lattice", "trapped-unit"):
+        assert "polarity_speed" in ea.scenes.get(scene).observables and "polarity_speed" in OBSERVABLES
+
+
+def _degenerate_pair():
+    """The pinned R = 2 patch's modes, its softest pair (lambda_1 = lambda_2) turned by `angle` within their plane."""
+    from elastoactive.analysis.network.model import normal_modes
+
+    values, vectors = normal_modes(ea.analysis.network.hexagonal_patch(2))
+    assert values[1] - values[0] < 1e-9 * values[-1] < values[2] - values[1]
+
+    def turned(angle):
+        out = vectors.copy()
+        c, s = np.cos(angle), np.sin(angle)
+        out[:, 0], out[:, 1] = c * vectors[:, 0] + s * vectors[:, 1], -s * vectors[:, 0] + c * vectors[:, 1]
+        return out
+
+    return values, vectors, turned
+
+
+@pytest.mark.parametrize("ratio", [1.0, 0.6])
+def test_degenerate_modes_are_labelled_canonically(ratio):
+    """A state on the softest degenerate pair (a circle, or an ellipse with axes 1 : ratio, tilted) reads the same
+    whichever basis of the pair the eigensolver returned: the same energies and the labels 1, 2 (the more energetic
+    principal axis on the lower rank; a tie to the lower rank), never 2, 1."""
+    from elastoactive.analysis.network import observables as nobs
+
+    values, vectors, turned = _degenerate_pair()
+    phase = np.linspace(0.0, 2 * np.pi, 400, endpoint=False)
+    tilt = turned(0.4)
+    motion = 0.01 * (np.outer(np.cos(phase), tilt[:, 0]) + ratio * np.outer(np.sin(phase), tilt[:, 1]))
+    motion += 1e-4 * np.outer(np.cos(3 * phase), vectors[:, 5])
+    first = nobs.mode_energies(motion, values, vectors)
+    for angle in np.linspace(0.0, np.pi, 13):
+        modes = nobs.mode_energies(motion, values, turned(angle))
+        assert modes.dominant_modes == (1, 2)
+        np.testing.assert_allclose(modes.energy, first.energy, rtol=1e-9, atol=1e-18)
+        assert modes.condensation == pytest.approx(first.condensation, rel=1e-12)
+
+
+def _rigid_record(boundary, velocity, spin, duration=40.0):
+    """A synthetic record of the R = 2 patch moving rigidly (translating at `velocity`, turning at `spin` about its
+    centroid, or its pinned centre), its units aligned and still."""
+    from elastoactive.trajectory import Trajectory
+
+    physics = ea.Physics(scene="lattice", rings=2, boundary=boundary, sigma=0.8, alignment_length=1.0)
+    network = physics.scene_def.network(physics)
+    t = np.arange(0.0, duration + 1e-9, 0.05)
+    angle = spin * t
+    c, s = np.cos(angle)[:, None], np.sin(angle)[:, None]
+    x, y = network.positions[:, 0], network.positions[:, 1]
+    nodes = np.stack([c * x - s * y, s * x + c * y], axis=-1) + np.outer(t, velocity)[:, None, :]
+    polarity = np.full((t.size, int(network.active.sum())), 1.2)
+    return Trajectory(t=t, theta=np.empty((t.size, 0)), physics=physics, engine="reduced", nodes=nodes,
+                      polarity=polarity)
+
+
+@pytest.mark.parametrize("boundary, velocity, spin", [("free", (0.3, 0.7), 0.0), ("free", (0.0, 0.8), 0.05),
+                                                      ("centre", (0.0, 0.0), 0.1)])
+def test_a_patch_moving_rigidly_is_measured_apart_from_its_deformation(boundary, velocity, spin):
+    """A free patch whose units have aligned translates at sigma with its units still (actuation 0): its rigid motion
+    is patch_drift and patch_rotation_rate, not a beat (the beat is of the motion's rate: a steady drift or turn has
+    none) and not deformation (the mode energies are those of the patch in its own frame: none, undeformed; a finite
+    rotation's displacements from rest had read as energy on stiff modes)."""
+    res = ea.measure(_rigid_record(boundary, velocity, spin))
+    assert res.extra["patch_drift"] == pytest.approx(np.hypot(*velocity), rel=1e-9, abs=1e-9)
+    assert res.extra["patch_rotation_rate"] == pytest.approx(spin, rel=1e-9, abs=1e-12)
+    assert res.extra["actuation"] == 0.0 and res.extra["polarity_speed"] == 0.0
+    assert res.amplitude < 1e-9 and res.frequency == 0.0
+    assert res.extra["dominant_mode"] == 0.0 and res.extra["second_mode"] == 0.0
+    assert math.isnan(res.extra["condensation"])
+    assert "patch_drift" in ea.scenes.get("lattice").observables
+
+
+def test_a_free_patch_drifts_at_sigma_in_the_reduced_engine():
+    """The free hexagon's units align and the patch translates at sigma |<n>| = sigma (the springs' forces sum to
+    zero): patch_drift reads it; its centroid's velocity does not beat."""
+    physics = ea.Physics(scene="lattice", rings=1, boundary="free", sigma=0.8, alignment_length=1.0)
+    res = ea.measure(ea.simulate(physics, duration=60.0, engine="reduced"))
+    assert res.extra["polarization"] > 0.9999 and res.extra["actuation"] == 0.0
+    assert res.extra["patch_drift"] == pytest.approx(0.8, rel=1e-4)
+    assert res.amplitude < 1e-4

@@ -2,15 +2,19 @@
 
   polarization        time mean of |(1/A) sum_i n_i|: the units' polar order (1: all point the same way)
   polarity_rate       mean over the window and the units of dpsi_i/dt (rad per gamma / k): the polarities' common
-                      turning rate, its sign the sense of rotation (0 at a fixed point)
+                      turning rate, its sign the sense of rotation (0 at a fixed point, and near 0 when as many units
+                      turn one way as the other)
+  polarity_speed      mean over the window and the units of |dpsi_i/dt|: how fast the units turn whatever their sense
+                      (actuation ~ |polarity_rate| / polarity_speed)
   actuation           |<dpsi/dt>| / <|dpsi/dt|> over the units and the window: 1 when every unit turns the same way
                       at the same rate (collective actuation), near 0 for incoherent turning, 0 for still units
-  mode energies       the displacements from rest projected on the dynamical matrix's normal modes, energy
-                      lambda_m <a_m^2> / 2 per mode; `condensation` is the share of the two most energetic modes
-                      (1: the dynamics has condensed on two modes), `dominant_modes` their 1-based ranks by stiffness
-                      (1: the softest)
-  rotation            the patch's rigid rotation angle about a point (its least-squares rotation of the
-                      displacements), and its mean rate
+  mode energies       the displacements from rest (the patch's rigid motion taken out, `body_positions`) projected on
+                      the dynamical matrix's normal modes, energy lambda_m <a_m^2> / 2 per mode, canonical within a
+                      degenerate eigenspace (its principal axes); `condensation` is the share of the two most energetic
+                      modes (1: the dynamics has condensed on two modes), `dominant_modes` their 1-based ranks by
+                      stiffness (1: the softest; 0: none, an undeformed patch)
+  rotation, drift     the patch's rigid motion: its rotation angle about a point (its least-squares rotation of the
+                      displacements) and mean rate, and its centroid's drift (distance over the window's length)
 """
 
 from __future__ import annotations
@@ -42,6 +46,11 @@ def turning_rates(t: np.ndarray, polarity: np.ndarray) -> np.ndarray:
     return np.gradient(np.unwrap(np.asarray(polarity), axis=0), np.asarray(t, dtype=float), axis=0)
 
 
+def polarity_speed(t: np.ndarray, polarity: np.ndarray) -> float:
+    """Mean |dpsi/dt| over the samples and the units: how fast the units turn, whichever way (rad per gamma / k)."""
+    return float(np.abs(turning_rates(t, polarity)).mean())
+
+
 def polarity_rate(t: np.ndarray, polarity: np.ndarray) -> float:
     """Mean dpsi/dt over the samples and the units: (psi(end) - psi(start)) / duration, averaged over the units."""
     psi = np.unwrap(np.asarray(polarity), axis=0)
@@ -58,22 +67,50 @@ def actuation(t: np.ndarray, polarity: np.ndarray, scale: float = 0.0) -> float:
     return float(abs(rates.mean()) / magnitude)
 
 
+DEGENERATE = 1e-8
+"""Relative gap (to the stiffest mode's eigenvalue) below which two normal modes share an eigenspace."""
+UNDEFORMED = 1e-8
+"""A patch whose elastic energy is below this fraction of its scale sigma^2 A (A units of force sigma on springs of
+stiffness 1; `floor` of mode_energies) is undeformed, displacements below ~1e-4 sigma: its energy has no modes to
+condense on (condensation NaN, dominant modes 0). A freely translating patch whose units have aligned is one."""
+
+
 class ModeEnergies(NamedTuple):
     energy: np.ndarray            # (M,) time-mean elastic energy per normal mode, ascending stiffness
-    condensation: float           # share of the total in the two most energetic modes
-    dominant_modes: tuple[int, int]  # their 1-based ranks by stiffness, the most energetic first
+    condensation: float           # share of the total in the two most energetic modes (NaN: undeformed)
+    dominant_modes: tuple[int, int]  # their 1-based ranks by stiffness, the most energetic first (0: none)
 
 
-def mode_energies(displacements: np.ndarray, values: np.ndarray, vectors: np.ndarray) -> ModeEnergies:
+def eigenspaces(values: np.ndarray) -> list[np.ndarray]:
+    """The index groups of equal eigenvalues (ascending values; equal within DEGENERATE of the largest)."""
+    values = np.asarray(values, dtype=float)
+    if values.size == 0:
+        return []
+    gap = DEGENERATE * max(float(np.abs(values).max()), 1e-300)
+    cuts = np.flatnonzero(np.diff(values) > gap) + 1
+    return np.split(np.arange(values.size), cuts)
+
+
+def mode_energies(displacements: np.ndarray, values: np.ndarray, vectors: np.ndarray,
+                  floor: float = 0.0) -> ModeEnergies:
     """Energy per normal mode of the free nodes' displacements from rest ((T, 2F), node-interleaved) on the modes
-    (values ascending, vectors as columns): E_m = lambda_m <a_m^2> / 2 with a_m = u . v_m."""
+    (values ascending, vectors as columns): E_m = lambda_m <a_m^2> / 2 with a_m = u . v_m.
+
+    The energies do not depend on which basis an eigensolver returned for a degenerate eigenspace: within each, the
+    modes are its principal axes of <a a^T> (the most energetic first, on the lowest rank), so a state has one
+    labelling; ties between modes go to the lower rank. A total at or below `floor` leaves no modes to name."""
     amplitudes = np.asarray(displacements) @ vectors
-    energy = 0.5 * np.clip(values, 0.0, None) * (amplitudes**2).mean(axis=0)
+    second = amplitudes.T @ amplitudes / max(len(amplitudes), 1)  # <a a^T>
+    held = np.zeros(len(values))
+    for space in eigenspaces(values):
+        held[space] = np.sort(np.linalg.eigvalsh(second[np.ix_(space, space)]))[::-1]
+    energy = 0.5 * np.clip(values, 0.0, None) * np.clip(held, 0.0, None)
     total = float(energy.sum())
-    order = np.argsort(energy)[::-1]
+    order = np.lexsort((np.arange(energy.size), -energy))  # most energetic first, ties to the lower rank
+    if not total > floor:
+        return ModeEnergies(energy, float("nan"), (0, 0))
     top = (int(order[0]) + 1, int(order[1]) + 1) if energy.size > 1 else (int(order[0]) + 1, 0)
-    share = float(energy[order[:2]].sum() / total) if total > 0 else float("nan")
-    return ModeEnergies(energy, share, top)
+    return ModeEnergies(energy, float(energy[order[:2]].sum() / total), top)
 
 
 def rotation_angle(positions: np.ndarray, rest: np.ndarray, centre: np.ndarray | None = None) -> np.ndarray:
@@ -90,3 +127,27 @@ def rotation_angle(positions: np.ndarray, rest: np.ndarray, centre: np.ndarray |
     cross = (r[:, 0] * x[..., 1] - r[:, 1] * x[..., 0]).sum(axis=-1)
     dot = (r[:, 0] * x[..., 0] + r[:, 1] * x[..., 1]).sum(axis=-1)
     return np.unwrap(np.arctan2(cross, dot))
+
+
+def body_positions(positions: np.ndarray, rest: np.ndarray, centre: np.ndarray | None = None) -> np.ndarray:
+    """Positions (T, P, 2) with the patch's rigid motion taken out: each sample turned back by rotation_angle about
+    `centre` (a fixed point) or, when None, moved so its centroid sits on the rest centroid and turned back about it.
+    What is left is the patch's deformation, in the rest frame."""
+    rest = np.asarray(rest, dtype=float)
+    positions = np.asarray(positions, dtype=float)
+    angle = rotation_angle(positions, rest, centre)
+    if centre is None:
+        origin = rest.mean(axis=0)
+        x = positions - positions.mean(axis=-2, keepdims=True)
+    else:
+        origin = np.asarray(centre, dtype=float)
+        x = positions - origin
+    c, s = np.cos(angle)[..., None], np.sin(angle)[..., None]
+    return origin + np.stack([c * x[..., 0] + s * x[..., 1], -s * x[..., 0] + c * x[..., 1]], axis=-1)
+
+
+def drift(t: np.ndarray, positions: np.ndarray) -> float:
+    """Mean speed of the nodes' centroid over the samples given (positions (T, P, 2)): the distance it moved over the
+    time it took (units a per gamma / k)."""
+    centroid = np.asarray(positions, dtype=float).mean(axis=-2)
+    return float(np.linalg.norm(centroid[-1] - centroid[0]) / (t[-1] - t[0]))

@@ -14,10 +14,11 @@ Pi = l_e / l_a = sigma / alignment_length. The chain's n and the chain terms' pa
 contact, loaded) do not act on a network (refused as such); its units are always self-aligning (`--active follower`
 is refused in one line).
 
-Observables: the beat of the patch's mean displacement along x (pinned, free) or of its rotation rate (centre-pinned),
-the units' polarization, their common turning rate and coherence (actuation), the share of elastic energy on the
-two most energetic normal modes and which modes those are (analysis.network.observables), and the patch's rotation
-rate where it can turn. docs/network.md has the physics, the linear stability and the transition.
+Observables: the beat of the pinned patch's mean displacement along x, or of the rate of a patch's rigid motion (its
+rotation rate, centre-pinned; its centroid's velocity, free), the units' polarization, their signed mean turning rate,
+mean turning speed and coherence (actuation), the share of elastic energy on the two most energetic normal modes of
+the patch's deformation (its rigid motion taken out) and which modes those are (analysis.network.observables), and the
+patch's rigid rotation rate and drift. docs/network.md has the physics, the linear stability and the transition.
 """
 
 from __future__ import annotations
@@ -44,7 +45,8 @@ NETWORK_TERMS = ("sigma", "active", "alignment_length")
 """The terms' parameters that act on a network: the active force and the units' direction law and length."""
 SELF_ALIGNING_ONLY = (("active", SELF_ALIGNING, "a network's active units are self-aligning"),)
 
-NETWORK_OBSERVABLES = ("polarization", "polarity_rate", "actuation", "condensation", "dominant_mode", "second_mode")
+NETWORK_OBSERVABLES = ("polarization", "polarity_rate", "polarity_speed", "actuation", "condensation", "dominant_mode",
+                       "second_mode")
 
 
 class NetworkScene(Scene):
@@ -89,10 +91,15 @@ class NetworkScene(Scene):
         return np.empty(0)
 
     # ------------------------------------------------------------------ observables
+    def body_nodes(self, traj: Trajectory) -> np.ndarray:
+        """(T, P, 2) the nodes with the network's rigid motion taken out (here none: a network held in place)."""
+        return traj.nodes
+
     def free_displacements(self, traj: Trajectory) -> np.ndarray:
-        """(T, 2F) the free nodes' displacements from rest, node-interleaved (the normal modes' coordinates)."""
+        """(T, 2F) the free nodes' displacements from rest in the network's own frame (body_nodes), node-interleaved
+        (the normal modes' coordinates)."""
         network = self.network(traj.physics)
-        u = traj.nodes[:, ~network.pinned, :] - network.positions[~network.pinned]
+        u = self.body_nodes(traj)[:, ~network.pinned, :] - network.positions[~network.pinned]
         return u.reshape(len(traj.t), -1)
 
     def beat_signals(self, traj: Trajectory) -> list[np.ndarray]:
@@ -105,11 +112,14 @@ class NetworkScene(Scene):
 
         keep = nobs.window(traj.t, transient)
         t, psi = traj.t[keep], traj.polarity[keep]
-        values, vectors = normal_modes(self.network(traj.physics))
-        modes = nobs.mode_energies(self.free_displacements(traj)[keep], values, vectors)
+        network = self.network(traj.physics)
+        values, vectors = normal_modes(network)
+        scale = traj.physics.sigma**2 * np.count_nonzero(network.active)  # a unit's force on a unit spring: sigma^2
+        modes = nobs.mode_energies(self.free_displacements(traj)[keep], values, vectors, nobs.UNDEFORMED * scale)
         return {
             "polarization": nobs.polarization(psi),
             "polarity_rate": nobs.polarity_rate(t, psi),
+            "polarity_speed": nobs.polarity_speed(t, psi),
             "actuation": nobs.actuation(t, psi, turning_rate(traj.physics)),
             "condensation": modes.condensation,
             "dominant_mode": float(modes.dominant_modes[0]),
@@ -122,17 +132,30 @@ class Lattice(NetworkScene):
     summary = ("a hexagonal patch of triangular lattice with self-aligning active units (Baconnier et al.'s active "
                "solid)")
     parameters = (RINGS, BOUNDARY)
-    observables = NETWORK_OBSERVABLES + ("patch_rotation_rate",)
+    observables = NETWORK_OBSERVABLES + ("patch_rotation_rate", "patch_drift")
 
     def network(self, physics: Physics) -> Network:
         return hexagonal_patch(physics.rings, physics.boundary)
 
     def beat_signals(self, traj: Trajectory) -> list[np.ndarray]:
-        """Centre-pinned: the patch's rotation rate (alternating rotation beats; a steady turn does not); else the
-        free nodes' mean displacement along x."""
-        if traj.physics.boundary != "centre":
+        """Pinned: the free nodes' mean displacement along x (units a). A patch that can move rigidly beats in the rate
+        of that motion, whose steady part is no beat: centre-pinned, the patch's rotation rate (alternating rotation
+        beats; a steady turn does not, patch_rotation_rate has it); free, its centroid's velocity along x (units a per
+        gamma / k: a patch circling beats; a steady drift does not, patch_drift has it)."""
+        if traj.physics.boundary == "pinned":
             return super().beat_signals(traj)
-        return [np.gradient(self._rotation(traj), traj.t)]
+        if traj.physics.boundary == "centre":
+            return [np.gradient(self._rotation(traj), traj.t)]
+        return [np.gradient(traj.nodes[:, :, 0].mean(axis=1), traj.t)]
+
+    def body_nodes(self, traj: Trajectory) -> np.ndarray:
+        """The nodes in the patch's own frame: turned back about the pinned centre, or (free) moved back to the rest
+        centroid and turned back; a pinned patch has no rigid motion."""
+        if traj.physics.boundary == "pinned":
+            return traj.nodes
+        network = self.network(traj.physics)
+        centre = network.positions[0] if traj.physics.boundary == "centre" else None  # the pinned centre node
+        return nobs.body_positions(traj.nodes, network.positions, centre)
 
     def _rotation(self, traj: Trajectory) -> np.ndarray:
         network = self.network(traj.physics)
@@ -144,6 +167,7 @@ class Lattice(NetworkScene):
         keep = nobs.window(traj.t, transient)
         angle, t = self._rotation(traj)[keep], traj.t[keep]
         out["patch_rotation_rate"] = float((angle[-1] - angle[0]) / (t[-1] - t[0]))
+        out["patch_drift"] = nobs.drift(t, traj.nodes[keep])
         return out
 
     no_linear_operator = ""

@@ -200,6 +200,48 @@ def folder_lock(folder: Path, option: str = "--out") -> Iterator[Path]:
         os.close(fd)  # releases the lock
 
 
+@contextlib.contextmanager
+def lock_file(path: Path, what: str, option: str = "--out") -> Iterator[Path]:
+    """Hold an exclusive lock on the file `path` (created if need be; removed when the block ends) while `what`
+    writes: a second one is refused at once (ParameterError naming `option`, the holder's pid and start). The lock is
+    a POSIX record lock (fcntl.lockf): the system drops it when its process ends, however it ends, and forked workers
+    do not inherit it, so a file left by a killed run is stale and simply taken over, never waited for."""
+    path = Path(path)
+    while True:
+        try:
+            handle = open(path, "a+", encoding="utf-8")
+        except OSError as err:
+            raise ParameterError(f"{option} {path.parent}: cannot create the lock file {path.name} "
+                                 f"({err.strerror or err})") from None
+        try:
+            fcntl.lockf(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError as err:
+            handle.seek(0)
+            holder = handle.read().strip() or "unknown"
+            handle.close()
+            if err.errno in (_errno.EACCES, _errno.EAGAIN):
+                raise ParameterError(f"{option} {path.parent}: another {what} is writing into it right now ({holder}); "
+                                     f"wait for it to finish or choose another folder") from None
+            raise
+        try:  # the holder before us may have removed the file between our open and our lock: lock the one there now
+            same = os.path.samestat(os.fstat(handle.fileno()), os.stat(path))
+        except FileNotFoundError:
+            same = False
+        if same:
+            break
+        handle.close()
+    try:
+        handle.seek(0)
+        handle.truncate()
+        handle.write(f"pid {os.getpid()} on {platform.node()}, started {utc_now()}\n")
+        handle.flush()
+        yield path
+    finally:
+        with contextlib.suppress(OSError):
+            path.unlink()  # while still locked: the next one opens a new file
+        handle.close()
+
+
 # ------------------------------------------------------------------------------------------------ writing
 
 

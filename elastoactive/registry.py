@@ -1,4 +1,5 @@
-"""The scene registry's table: scene name -> Scene object.
+"""The scene registry's table: scene name -> Scene object (and UnknownName, what every registry raises for a name
+it does not hold).
 
 A leaf module (it imports nothing of the package but the parameter table), so that `params` can look a scene up while
 the scene modules themselves import `params`. Scenes enter the table through `register`; the
@@ -22,8 +23,25 @@ class Scene(Protocol):
 _SCENES: dict[str, Scene] = {}
 
 
-class UnknownScene(KeyError):
+class UnknownName(KeyError):
+    """A name that no entry of a registry (scenes, terms, studies) holds; its message lists the names that are, as
+    registered when it was raised. A KeyError (a registry is a table); the name is its argument."""
+
+    kind, kinds = "entry", "entries"
+
+    def __init__(self, name, names: tuple[str, ...] = ()):
+        super().__init__(name)
+        self.name, self.names = name, tuple(names)
+
+    def __str__(self) -> str:
+        listed = ", ".join(self.names) if self.names else "none"
+        return f"no {self.kind} called {self.name!r}; the registered {self.kinds}: {listed}"
+
+
+class UnknownScene(UnknownName):
     """Raised by `get` for a name that no scene registered (params turns it into a ParameterError)."""
+
+    kind, kinds = "scene", "scenes"
 
 
 def register(scene: Scene, *, replace: bool = False) -> Scene:
@@ -57,7 +75,7 @@ def get(name: str) -> Scene:
     try:
         return _SCENES[name]
     except (KeyError, TypeError):
-        raise UnknownScene(name) from None
+        raise UnknownScene(name, names()) from None
 
 
 def names() -> tuple[str, ...]:

@@ -14,7 +14,9 @@ A folder is reproduced in place, study by study, so that work is never lost or s
 - a folder holding studies of another size is refused (one line) unless `force`: its report cannot mix
   sizes; with `force` those studies are rerun when asked for, otherwise left out of the report;
 - on Ctrl-C the studies already finished stay saved (a rerun resumes after them); the one running is
-  dropped, and `Interrupted` says which.
+  dropped, and `Interrupted` says which;
+- one reproduce writes into a folder at a time: a second is refused in one line while the first holds the folder's
+  lock file (LOCK), which a killed run leaves stale, never blocking.
 """
 
 from __future__ import annotations
@@ -29,10 +31,14 @@ from pathlib import Path
 from typing import NamedTuple
 
 from .errors import ParameterError
-from .outputs import provenance, utc_now, write_text
+from .outputs import lock_file, provenance, utc_now, write_text
 
 CODE_KEY = "code"
 """Key of the source digest in the provenance record a study saves with its data."""
+
+LOCK = ".reproduce.lock"
+"""The lock file a reproduce holds in its folder while it writes there (outputs.lock_file): a second reproduce into
+the same folder is refused; one left by a killed run is taken over."""
 
 
 @dataclass(frozen=True)
@@ -144,9 +150,7 @@ def reproduce(out: Path, size: str = "quick", workers: int | None = None, only: 
               progress: bool = True, log=print, force: bool = False) -> Reproduction:
     """Run the studies (all, or those in `only`) into `out`: data, figures and files of each, then report.md
     and provenance.json over every study of the folder (see the module's docstring for resume and merge)."""
-    from . import claims  # start-up time: the studies load both engines (and matplotlib when drawing)
-    from .batch import default_workers
-    from .studies import SIZES, Study, load_study, registry
+    from .studies import SIZES, registry  # start-up time: the studies load both engines
 
     if size not in SIZES:
         raise ParameterError(f"size must be one of {', '.join(SIZES)}; got {size!r}")
@@ -158,6 +162,18 @@ def reproduce(out: Path, size: str = "quick", workers: int | None = None, only: 
     names = [n for n in every if n in names]  # reproduce's order
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
+    with lock_file(out / LOCK, "reproduce"):  # one reproduce per folder at a time
+        return _reproduce(out, size, workers, names, progress, log, force)
+
+
+def _reproduce(out: Path, size: str, workers: int | None, names: list[str], progress: bool, log,
+               force: bool) -> Reproduction:
+    """reproduce's work on the folder `out`, which this process holds (`names`: the studies asked for, checked)."""
+    from . import claims  # start-up time: the studies load both engines (and matplotlib when drawing)
+    from .batch import default_workers
+    from .studies import Study, load_study, registry
+
+    every = registry.names()
     code = source_digest()
     to_run, to_keep, merged, dropped = _plan(out, names, every, size, code, force)
     started = utc_now()

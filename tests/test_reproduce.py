@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 import subprocess
 import sys
 from pathlib import Path
@@ -105,3 +106,30 @@ def test_the_code_digest_covers_every_source_that_makes_results():
     inits = {p.parent.name for p in files.values() if p.name == "__init__.py"}
     assert {"elastoactive", "analysis", "reduced", "studies"} <= inits  # same names in different folders all count
     assert len(source_digest()) == 16 and source_digest() == source_digest()
+
+
+def test_one_reproduce_per_folder_and_a_stale_lock_is_taken_over(tmp_path, capsys):
+    """A second reproduce into a folder another one is writing is refused in one line naming --out and the holder,
+    before any study runs; the lock file a killed run leaves behind blocks nothing."""
+    from conftest import refused
+    from elastoactive.outputs import lock_file
+    from elastoactive.reproduce import LOCK
+
+    out = tmp_path / "repro"
+    out.mkdir()
+    hold = ("import sys; from elastoactive.outputs import lock_file\n"
+            "with lock_file(sys.argv[1], 'reproduce'):\n    print('held', flush=True); sys.stdin.read()")
+    holder = subprocess.Popen([sys.executable, "-c", hold, str(out / LOCK)], stdin=subprocess.PIPE,
+                              stdout=subprocess.PIPE, text=True)
+    try:
+        assert holder.stdout.readline().strip() == "held"
+        line = refused(capsys, ["reproduce", "--tiny", "--only", "stability", "--out", str(out), "--quiet"],
+                       "--out", "another reproduce is writing into it", f"pid {holder.pid}")
+        assert "wait for it" in line and sorted(p.name for p in out.iterdir()) == [LOCK]
+    finally:
+        holder.kill()  # no clean-up: its lock file stays, stale
+        holder.wait()
+    assert (out / LOCK).exists()
+    with lock_file(out / LOCK, "reproduce"):  # taken over at once
+        assert f"pid {os.getpid()} " in (out / LOCK).read_text()
+    assert not (out / LOCK).exists()

@@ -1,7 +1,7 @@
 """The scene registry: every scene is one module here, registered under its name.
 
     import elastoactive as ea
-    ea.scenes.names()                 # ('one-pinned', 'two-pinned', 'rotating-pin', 'coupled-pair', 'paraboloid')
+    ea.scenes.names()                 # ('one-pinned', 'two-pinned', 'rotating-pin', ...): every registered scene
     scene = ea.scenes.get("two-pinned")
     scene.parameters, scene.observables, scene.validation_cases()
 

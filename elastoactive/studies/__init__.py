@@ -80,10 +80,7 @@ class _View(Mapping):
         self._pick = pick
 
     def __getitem__(self, name: str):
-        try:
-            return self._pick(registry.get(name))
-        except registry.UnknownStudy:
-            raise KeyError(name) from None
+        return self._pick(registry.get(name))  # an unknown name: registry.UnknownStudy, a KeyError listing the names
 
     def __iter__(self):
         return iter(registry.names())

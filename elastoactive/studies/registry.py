@@ -26,6 +26,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable, Mapping
 
+from ..registry import UnknownName
+
 RunFn = Callable[..., Any]
 """run(size="quick", workers=None, progress=True) -> Study."""
 FigureFn = Callable[[Any, Path], list]
@@ -97,8 +99,10 @@ class StudyEntry:
 _STUDIES: dict[str, StudyEntry] = {}
 
 
-class UnknownStudy(KeyError):
-    """Raised by `get` for a name that no study registered."""
+class UnknownStudy(UnknownName):
+    """Raised by `get` for a name that no study registered (its message lists the registered studies)."""
+
+    kind, kinds = "study", "studies"
 
 
 def declare(name: str, *, summary: type, order: float, reads: tuple[str, ...] | list[str] = (),
@@ -123,7 +127,7 @@ def get(name: str) -> StudyEntry:
     """The registered study called `name` (it must have a run function)."""
     entry = _STUDIES.get(name) if isinstance(name, str) else None
     if entry is None:
-        raise UnknownStudy(name)
+        raise UnknownStudy(name, names())
     if entry.run_fn is None:
         raise ValueError(f"study {name!r} was declared without a run function (decorate one with @<entry>.run)")
     return entry

@@ -1,7 +1,7 @@
 """The term registry: every physical term is one module here, registered under its name.
 
     import elastoactive as ea
-    ea.terms.names()                  # ('follower', 'drag', 'noise', 'contact')
+    ea.terms.names()                  # ('drag', 'noise', 'follower', ...): every registered term
     ea.terms.get("contact").parameters
 
 A new term is a subclass of `Term` (elastoactive.terms.base) registered with `register`: its parameters join every
@@ -13,6 +13,7 @@ and the diff a new term needs.
 from __future__ import annotations
 
 from .. import parameters as _parameters
+from ..registry import UnknownName
 from .base import NodeForces, Term
 
 _TERMS: dict[str, Term] = {}
@@ -38,8 +39,18 @@ def unregister(name: str) -> None:
         _parameters.unregister(spec.name)
 
 
+class UnknownTerm(UnknownName):
+    """Raised by `get` for a name that no term registered (its message lists the registered terms)."""
+
+    kind, kinds = "term", "terms"
+
+
 def get(name: str) -> Term:
-    return _TERMS[name]
+    """The registered term called `name`."""
+    try:
+        return _TERMS[name]
+    except (KeyError, TypeError):
+        raise UnknownTerm(name, names()) from None
 
 
 def names() -> tuple[str, ...]:

@@ -1,8 +1,9 @@
 """Error against wall time: which MuJoCo and reduced-model settings reach 1%, 0.1%, 0.01%.
 
-For each of the paper's cases (validate.validation_cases(), run for a shorter time) every setting is
-compared with a tight reference solution of the reduced model (numba-DOP853, rtol 1e-11,
-atol 1e-13), using the error definitions of validate.compare:
+For each of the paper's cases (the validation cases of STUDY_SCENES, run for a shorter time) every setting is
+compared with a tight reference solution of the reduced model (numba-DOP853, rtol 1e-11, atol 1e-13; a scene whose
+engine does not take that method is solved with one it takes: reference_method), using the error definitions of
+validate.compare:
 
   amplitude, frequency  relative errors of Theta's steady amplitude and frequency (second half)
   rotation_rate         rotating pin: relative error of the mean rotation rate
@@ -16,7 +17,8 @@ dt < 2 m / gamma (RK4: 2.78 m / gamma), so they are paired with larger mass rati
 linear stability limit (diagnose.check_timestep with accuracy=False) is recorded as "refused", a run
 that blows up as "diverged"; neither stops the study. Stable settings are run even when the
 pre-flight accuracy guard (diagnose.check_accuracy) would refuse them; the column `guard` says
-whether it would, so the guard's bounds can be checked against the measured errors. Reduced-model settings are (method, rtol) with atol = rtol/100.
+whether it would, so the guard's bounds can be checked against the measured errors. Reduced-model settings are
+(method, rtol) with atol = rtol/100.
 
 Wall time is the engine's own clock (Trajectory.wall_time_s: simulation only, no model build or
 measurement), best of up to `repeats` runs while the runs are short. The machine is shared, so
@@ -46,7 +48,8 @@ from .params import PRESETS, Numerics, Physics
 from .outputs import atomic_file, provenance, provenance_line, utc_now, write_text
 from .progress import progress_bar
 from .results import default_transient, measure
-from .validate import angle_errors, observable_errors, validation_cases
+from .registry import get as get_scene
+from .validate import angle_errors, observable_errors
 
 REFERENCE = dict(method="numba-DOP853", rtol=1e-11, atol=1e-13)
 SAMPLE_DT = 0.04  # a whole number of steps for every dt in the grids below
@@ -56,7 +59,16 @@ STEADY_KEYS = ("amplitude", "frequency", "rotation_rate")
 
 # Durations: this fraction of each validation case's (150 / 100 tau for a single chain, 300 / 200 for the
 # pair), long enough for two or more periods (f ~ 0.04 / tau) in the measured second half.
-DURATION_FRACTION = {"full": 0.5, "quick": 1.0 / 3.0}
+DURATION_FRACTION = {"full": 0.5, "quick": 1.0 / 3.0, "tiny": 1.0 / 3.0}
+
+SIZES = ("full", "quick", "tiny")
+"""Sizes of the study: full (the numbers of docs/performance.md, ~16 min on 2 cores), quick (a coarser grid, 1-1.5
+min) and tiny (one case, two settings per engine, a few seconds: a smoke test whose numbers say little)."""
+
+STUDY_SCENES = ("one-pinned", "two-pinned", "rotating-pin", "coupled-pair")
+"""The scenes whose own validation cases the study runs: the paper's chains, which every engine setting of the grids
+(MuJoCo integrators, the reduced engine's chain methods) can run. The other scenes and the terms add no numerics of
+their own to these (a network scene's engine takes other methods; `validate` checks every scene at the defaults)."""
 
 DEFAULT_MUJOCO = dict(integrator="implicitfast", dt=Numerics().dt, mass_ratio=Numerics().mass_ratio)
 FAST_MUJOCO = dict(integrator="implicitfast", dt=PRESETS["fast"]["dt"], mass_ratio=PRESETS["fast"]["mass_ratio"])
@@ -87,10 +99,23 @@ def _halvings(start: float, count: int) -> list[float]:
     return [start / 2**k for k in range(count)]
 
 
-def mujoco_grid(quick: bool = False) -> list[Setting]:
+def _size(quick: bool | str) -> str:
+    """A size of SIZES from the older quick flag (True: quick, False: full) or a size's name."""
+    size = ("quick" if quick else "full") if isinstance(quick, bool) else quick
+    if size not in SIZES:
+        raise ParameterError(f"size must be one of {', '.join(SIZES)}, got {quick!r}")
+    return size
+
+
+def mujoco_grid(quick: bool | str = False) -> list[Setting]:
     """(integrator, dt, mass ratio) settings; Euler/RK4 only where dt is below their drag limit."""
     grid: list[tuple[str, float, float]] = []
-    if quick:
+    size = _size(quick)
+    if size == "tiny":
+        return [Setting("mujoco", "implicitfast", dt=dt, mass_ratio=m)
+                for dt, m in ((DEFAULT_MUJOCO["dt"], DEFAULT_MUJOCO["mass_ratio"]),
+                              (FAST_MUJOCO["dt"], FAST_MUJOCO["mass_ratio"]))]
+    if size == "quick":
         for m in (1e-3, 1e-4, 1e-5):
             grid += [("implicitfast", dt, m) for dt in (0.04, 0.01, 0.0025, 0.000625)]
         grid += [("implicit", dt, 1e-4) for dt in (0.01, 0.0025)]
@@ -120,17 +145,24 @@ def mujoco_grid(quick: bool = False) -> list[Setting]:
 REDUCED_METHODS = ("numba-DOP853", "DOP853", "RK45", "Radau", "LSODA")
 
 
-def reduced_grid(quick: bool = False) -> list[Setting]:
-    rtols = (1e-4, 1e-6, 1e-8) if quick else (1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10)
+def reduced_grid(quick: bool | str = False) -> list[Setting]:
+    size = _size(quick)
+    if size == "tiny":
+        return [Setting("reduced", DEFAULT_REDUCED["method"], rtol=r) for r in (1e-4, DEFAULT_REDUCED["rtol"])]
+    rtols = (1e-4, 1e-6, 1e-8) if size == "quick" else (1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10)
     out = [Setting("reduced", method, rtol=r) for method in REDUCED_METHODS for r in rtols]
     if Setting("reduced", DEFAULT_REDUCED["method"], rtol=DEFAULT_REDUCED["rtol"]) not in out:
         out.append(Setting("reduced", DEFAULT_REDUCED["method"], rtol=DEFAULT_REDUCED["rtol"]))
     return out
 
 
-def paper_cases(quick: bool = False) -> list[tuple[Physics, float]]:
-    fraction = DURATION_FRACTION["quick" if quick else "full"]
-    return [(c.physics, round(fraction * c.duration, 9)) for c in validation_cases()]
+def paper_cases(quick: bool | str = False) -> list[tuple[Physics, float]]:
+    """The study's (physics, duration): the validation cases of STUDY_SCENES, shortened (DURATION_FRACTION); the
+    first one only at the tiny size."""
+    size = _size(quick)
+    cases = [(c.physics, round(DURATION_FRACTION[size] * c.duration, 9))
+             for name in STUDY_SCENES for c in get_scene(name).validation_cases()]
+    return cases[:1] if size == "tiny" else cases
 
 
 def case_name(physics: Physics) -> str:
@@ -140,9 +172,20 @@ def case_name(physics: Physics) -> str:
 # ------------------------------------------------------------------------------------------------
 # errors
 # ------------------------------------------------------------------------------------------------
+def reference_method(physics: Physics) -> str:
+    """REFERENCE's method where the scene's reduced engine takes it, else the engine's DOP853 (a network's engine
+    has its own methods: engines.network_reduced.METHODS)."""
+    from .analysis.reduced.settings import METHODS as CHAIN_METHODS
+    from .engines.network_reduced import METHODS as NETWORK_METHODS
+
+    methods = NETWORK_METHODS if physics.scene_def.network(physics) is not None else CHAIN_METHODS
+    return REFERENCE["method"] if REFERENCE["method"] in methods else "DOP853" if "DOP853" in methods else methods[0]
+
+
 def reference_solution(physics: Physics, duration: float, sample_dt: float = SAMPLE_DT):
-    """The tight reduced-model solution every setting is measured against."""
-    return simulate_reduced(physics, Numerics(sample_dt=sample_dt), duration, inertial=False, **REFERENCE)  # the paper's model
+    """The tight reduced-model solution every setting is measured against (the paper's overdamped model)."""
+    return simulate_reduced(physics, Numerics(sample_dt=sample_dt), duration, inertial=False,
+                            **{**REFERENCE, "method": reference_method(physics)})
 
 
 def errors_against(traj, reference, transient: float | None = None, reference_measure=None) -> dict:
@@ -205,7 +248,7 @@ def run_setting(physics: Physics, duration: float, setting: Setting, reference, 
 
 def _worker_init() -> None:
     # load the numba kernels once per process so that the first timed run does not pay for it
-    for physics, _ in paper_cases(quick=True):
+    for physics, _ in paper_cases("tiny"):
         simulate_reduced(physics, Numerics(), 1.0)
 
 
@@ -214,11 +257,12 @@ def _task(args):
     return run_setting(physics, duration, setting, reference, repeats=repeats)
 
 
-def run_study(quick: bool = False, workers: int | None = None, progress: bool = True,
+def run_study(quick: bool | str = False, workers: int | None = None, progress: bool = True,
               cases=None, mujoco=None, reduced=None, repeats: int = 3) -> tuple[list[dict], dict]:
-    """All settings on all cases; returns (rows, meta)."""
-    cases = paper_cases(quick) if cases is None else cases
-    settings = (mujoco_grid(quick) if mujoco is None else mujoco) + (reduced_grid(quick) if reduced is None else reduced)
+    """All settings on all cases (`quick`: a size of SIZES, or True for quick); returns (rows, meta)."""
+    size = _size(quick)
+    cases = paper_cases(size) if cases is None else cases
+    settings = (mujoco_grid(size) if mujoco is None else mujoco) + (reduced_grid(size) if reduced is None else reduced)
     workers = default_workers() if workers is None else workers
     start, started = time.perf_counter(), utc_now()
     references = [reference_solution(p, d) for p, d in cases]
@@ -242,7 +286,8 @@ def run_study(quick: bool = False, workers: int | None = None, progress: bool = 
                 bar.update()
     if bar:
         bar.close()
-    meta = {"quick": quick, "workers": workers, "elapsed_s": time.perf_counter() - start, "started_utc": started,
+    meta = {"quick": size != "full", "size": size, "workers": workers, "elapsed_s": time.perf_counter() - start,
+            "started_utc": started,
             "cases": [(case_name(p), d) for p, d in cases], "reference": REFERENCE, "sample_dt": SAMPLE_DT,
             "reference_wall_s": [r.wall_time_s for r in references], "cpu_count": os.cpu_count()}
     return rows, meta  # type: ignore[return-value]
@@ -311,7 +356,8 @@ def _pct(x):
 
 
 def format_recommendations(recs: list[dict], key: str = "worst") -> str:
-    lines = [f"| target ({key} error) | engine | integrator / method | cheapest setting | {key} error | wall s per 100 tau |",
+    lines = [f"| target ({key} error) | engine | integrator / method | cheapest setting | {key} error "
+             "| wall s per 100 tau |",
              "|---|---|---|---|---|---|"]
     for r in recs:
         s = r["setting"]
@@ -331,7 +377,8 @@ def format_summary(summary: list[dict]) -> str:
     for s in sorted(summary, key=lambda s: (s["engine"], s["series"], -(s["mass_ratio"] or 0), -(s["dt"] or 0),
                                              -(s["rtol"] or 0))):
         lines.append(
-            f"| {s['engine']} | {s['series']} | {_fmt(s['dt'], 'g')} | {_fmt(s['mass_ratio'], 'g')} | {_fmt(s['rtol'], 'g')} "
+            f"| {s['engine']} | {s['series']} | {_fmt(s['dt'], 'g')} | {_fmt(s['mass_ratio'], 'g')} "
+            f"| {_fmt(s['rtol'], 'g')} "
             f"| {s['status']} | {_pct(s['worst'])} | {_pct(s['amplitude'])} | {_pct(s['frequency'])} "
             f"| {_pct(s['rotation_rate'])} | {_pct(s['angle'])} | {_fmt(s['pin_violation'], '.1e')} "
             f"| {_fmt(s['wall_per_100tau'], '.3g')} | {s.get('guard', '-')} |")
@@ -340,8 +387,10 @@ def format_summary(summary: list[dict]) -> str:
 
 def format_defaults(summary: list[dict]) -> str:
     wanted = [
-        ("MuJoCo default ('accurate')", "mujoco", DEFAULT_MUJOCO["integrator"], DEFAULT_MUJOCO["dt"], DEFAULT_MUJOCO["mass_ratio"], None),
-        ("MuJoCo 'fast' preset", "mujoco", FAST_MUJOCO["integrator"], FAST_MUJOCO["dt"], FAST_MUJOCO["mass_ratio"], None),
+        ("MuJoCo default ('accurate')", "mujoco", DEFAULT_MUJOCO["integrator"], DEFAULT_MUJOCO["dt"],
+         DEFAULT_MUJOCO["mass_ratio"], None),
+        ("MuJoCo 'fast' preset", "mujoco", FAST_MUJOCO["integrator"], FAST_MUJOCO["dt"], FAST_MUJOCO["mass_ratio"],
+         None),
         ("reduced default", "reduced", DEFAULT_REDUCED["method"], None, None, DEFAULT_REDUCED["rtol"]),
     ]
     lines = ["| setting | worst err | amplitude | frequency | rotation rate | angle (transient) | wall s per 100 tau "
@@ -379,7 +428,8 @@ def plot(rows: list[dict], summary: list[dict], path: Path, key: str = "worst") 
     for ax, panel in zip(axes.flat, panels):
         data = summary if panel.startswith("all") else [r for r in rows if r["case"] == panel]
         for name, marker in MARKERS.items():
-            pts = [d for d in data if d["series"] == name and d["status"] == "ok" and math.isfinite(d.get(key, math.nan))]
+            pts = [d for d in data
+                   if d["series"] == name and d["status"] == "ok" and math.isfinite(d.get(key, math.nan))]
             if not pts:
                 continue
             groups: dict = {}
@@ -431,10 +481,13 @@ def write_outputs(out: Path, rows: list[dict], meta: dict) -> dict:
     plot(rows, summary, out / "accuracy.png", "worst")
     plot(rows, summary, out / "accuracy_steady.png", "steady")
     cases = ", ".join(f"{c} ({d:g} tau)" for c, d in meta["cases"])
+    size = meta.get("size", "quick" if meta["quick"] else "full")
+    size_note = "" if size == "full" else f" (--{size})"
     text = [
-        f"# Accuracy against wall time{' (--quick)' if meta['quick'] else ''}",
+        f"# Accuracy against wall time{size_note}",
         "",
-        f"Cases: {cases}. Reference: reduced model, {REFERENCE['method']}, rtol {REFERENCE['rtol']:g}, "
+        f"Cases: {cases}. Reference: reduced model, {REFERENCE['method']} (or the scene engine's DOP853), "
+        f"rtol {REFERENCE['rtol']:g}, "
         f"atol {REFERENCE['atol']:g}; samples every {SAMPLE_DT} tau. {meta['workers']} worker process(es); "
         f"study took {meta['elapsed_s']:.0f} s. Wall time: simulation only, best of up to 3 runs while short "
         "(shared machine: +-30% noise).",

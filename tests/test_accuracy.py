@@ -128,3 +128,24 @@ def test_grids_hold_the_defaults_and_respect_the_drag_limit():
             if s.series == "RK4":
                 assert s.dt < 2.78 * s.mass_ratio
         assert A.Setting("reduced", "numba-DOP853", rtol=1e-9) in A.reduced_grid(quick)
+
+
+@pytest.mark.parametrize("size", A.SIZES)
+def test_every_case_of_the_study_takes_every_setting_of_its_grid(size):
+    """The study's cases are the ones its grids were made for: each case's reference and every reduced setting run
+    (a short span), and each MuJoCo setting is within its stability limit or recorded as refused, never raised."""
+    cases = A.paper_cases(size)
+    assert cases and {p.scene for p, _ in cases} <= set(A.STUDY_SCENES)
+    for physics, _ in cases:
+        reference = A.reference_solution(physics, 2.0)
+        for setting in A.reduced_grid(size):
+            row = A.run_setting(physics, 2.0, setting, reference, repeats=1)
+            assert row["status"] == "ok", (physics, setting, row["message"])
+
+
+def test_reference_of_a_network_scene_uses_a_method_its_engine_takes():
+    from elastoactive.registry import get
+
+    physics = get("lattice").validation_cases()[0].physics
+    assert A.reference_method(physics) == "DOP853" and A.reference_method(CHAIN) == A.REFERENCE["method"]
+    assert A.reference_solution(physics, 0.8).t[-1] == pytest.approx(0.8)

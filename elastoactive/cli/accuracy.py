@@ -13,7 +13,8 @@ def main(args) -> int:
     from ..outputs import check_folder
 
     check_folder(args.out)
-    rows, meta = run_study(quick=args.quick, workers=args.workers, progress=not args.quiet)
+    size = "tiny" if args.tiny else "quick" if args.quick else "full"
+    rows, meta = run_study(size, workers=args.workers, progress=not args.quiet)
     write_outputs(args.out, rows, meta)
     summary = summarise(rows)
     print(format_defaults(summary))
@@ -34,7 +35,11 @@ def register(sub) -> None:
         "time; write a log-log plot, tables (markdown + CSV) and the cheapest settings for 1%, 0.1%, 0.01%.",
     )
     p.add_argument("--out", type=Path, default=Path("results/accuracy"), help="output folder (default %(default)s)")
-    p.add_argument("--quick", action="store_true", help="coarser grid and shorter runs (about 2-3 min on 2 cores)")
+    size = p.add_mutually_exclusive_group()
+    size.add_argument("--quick", action="store_true",
+                      help="coarser grid and shorter runs (about 1-1.5 min on 2 cores)")
+    size.add_argument("--tiny", action="store_true",
+                      help="one case, two settings per engine (a smoke test, a few seconds; numbers are rough)")
     workers_argument(p, "processes (default: every core)")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=main)

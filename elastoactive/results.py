@@ -103,7 +103,13 @@ OBSERVABLES: dict[str, Observable] = {
 PerChain = float | tuple[float, ...]
 
 STEADY_AMPLITUDE = 1e-6
-"""rad: a Theta whose half peak-to-peak stays below this is at rest (frequency 0)."""
+"""rad: a Theta whose half peak-to-peak stays below this is at rest (frequency 0), whatever the engine; the rest level
+of a run also grows with its solver's error (SOLVER_JITTER)."""
+SOLVER_JITTER = 1e3
+"""The rest level's multiple of the solver's relative tolerance (the reduced engine's rtol) times the angles' magnitude:
+an adaptive solver's error in each angle scales with the angle, so a chain turning for long has a Theta that wiggles by
+~20 rtol |theta| (2e-6 rad at |theta| ~ 100 rad, rtol 1e-9) at rest in its turning frame; below the level it is the
+integration's error, not motion."""
 SMALL_AMPLITUDE = 1e-3
 """rad: below this a Theta counts as steady for the periodicity verdict (wiggles at round-off or a last
 decaying transient are not an irregular beat)."""
@@ -112,9 +118,13 @@ PERIODIC_SPREAD = 0.01
 A limit cycle gives ~1e-5; noise, chaos, or a beat still growing in the window give more."""
 MIN_CYCLES = 2
 """Whole cycles the measured window must hold to judge whether the beat is periodic."""
-RIGID_ROTATION_RATE = 1e-4
-"""rad/tau: a chain whose Theta is steady while it turns at least this fast (rotation_rate) rotates rigidly: it has
-no beat, so no frequency (slower, it turns by less than 0.03 rad over a 300 tau window: at rest)."""
+RIGID_TURN = 0.03
+"""rad: a chain that turns by at least this over the measured window (|rotation rate| x window) turns; less is at rest
+(the rate alone would call a long run's drift of a still chain a turn, or a short run's slow turn rest)."""
+RIGID_FRACTION = 1e-3
+"""A turning chain whose Theta oscillates by less than this fraction of the angle it turns through in one period of
+that oscillation (over the window, without a period) turns rigidly: the residue is the solver's jitter or the last of
+a transient decaying onto the rigid turn, not a beat; frequency is null and a note gives the residue."""
 
 
 @dataclass(frozen=True)
@@ -193,13 +203,17 @@ def measure(traj: Trajectory, transient: float | None = None) -> Results:
     physics = traj.physics
     scene = physics.scene_def
     thetas = scene.beat_signals(traj)  # Theta = theta_N - theta_1 per chain; a network scene's own signal
-    beats = [_beat(t, x, transient) for x in thetas]
+    rest = rest_level(traj, transient)
+    beats = [_beat(t, x, transient, max(rest, _solver_level(traj, t, x, transient))) for x in thetas]
     spectra = [tuple(float(a) for a in spectrum.harmonics(t, x, transient, HARMONICS)) for x in thetas]
     extra = scene.measure_extra(traj, transient)
     for term in physics.active_terms():  # the terms' own observables (self-contact's clearance, a plug-in's)
         extra.update(term.measure(traj, transient))
     known = {k: extra.pop(k) for k in list(extra) if k in _RESULT_FIELDS}
-    beats = [_rigid(b, known.get("rotation_rate")) for b in beats]
+    window = float(t[-1] - t[0] - transient)
+    turns = _turning(traj, transient, known.get("rotation_rate"))
+    reported = "rotation_rate" in known
+    beats = [_rigid(b, rate, window, reported) for b, rate in zip(beats, turns)]
     verdicts = [b.periodic for b in beats]
     periodic = False if False in verdicts else (None if None in verdicts else True)
     notes = []
@@ -235,6 +249,43 @@ def _aliasing(traj: Trajectory) -> list[str]:
             f"finer than the default dt) or a slower setting ({term.slower(traj.physics, ALIASING / spacing)})"]
 
 
+def rest_level(traj: Trajectory, transient: float) -> float:
+    """rad: the largest Theta amplitude of a chain at rest in this run: STEADY_AMPLITUDE, or the solver's error in its
+    angles (SOLVER_JITTER x the reduced engine's rtol x the largest angle of the measured window) where larger."""
+    rtol = traj.info.get("rtol") if isinstance(traj.info, Mapping) else None
+    if not isinstance(rtol, (int, float)) or not rtol > 0 or traj.theta.size == 0:
+        return STEADY_AMPLITUDE
+    steady = traj.theta[traj.t - traj.t[0] >= transient - 1e-12 * max(1.0, transient)]
+    scale = float(np.max(np.abs(steady))) if steady.size and np.all(np.isfinite(steady)) else 0.0
+    return max(STEADY_AMPLITUDE, SOLVER_JITTER * float(rtol) * scale)
+
+
+def _solver_level(traj: Trajectory, t: np.ndarray, x: np.ndarray, transient: float) -> float:
+    """The rest level of a signal that is not built from the recorded angles (a network's): its own magnitude times
+    the solver's tolerance (as rest_level)."""
+    rtol = traj.info.get("rtol") if isinstance(traj.info, Mapping) else None
+    if traj.theta.size or not isinstance(rtol, (int, float)) or not rtol > 0:
+        return STEADY_AMPLITUDE
+    _, xs = obs.steady_part(t, x, transient=transient)
+    return SOLVER_JITTER * float(rtol) * float(np.max(np.abs(xs))) if np.all(np.isfinite(xs)) else STEADY_AMPLITUDE
+
+
+def _turning(traj: Trajectory, transient: float, reported: float | None) -> list[float | None]:
+    """Each chain's mean turning rate (rad/tau) over the measured window: the scene's reported rotation_rate, else the
+    slope of the chain's first angle (a chain turned by a rotating clamp); None for a network (no chains' angles)."""
+    chains = traj.physics.n_chains
+    if traj.theta.shape[1] < traj.physics.n * chains or traj.theta.shape[1] == 0:
+        return [reported] * chains
+    rates = []
+    for k in range(chains):
+        try:
+            rates.append(obs.rotation_rate(traj.t, traj.chain(k), transient) if reported is None or chains > 1
+                         else reported)
+        except ValueError:
+            rates.append(reported)
+    return rates
+
+
 @dataclass(frozen=True)
 class _Beat:
     amplitude: float
@@ -244,10 +295,10 @@ class _Beat:
     notes: tuple[str, ...]
 
 
-def _beat(t: np.ndarray, theta_diff: np.ndarray, transient: float) -> _Beat:
-    """Amplitude, frequency and regularity of one chain's Theta over the measured window."""
+def _beat(t: np.ndarray, theta_diff: np.ndarray, transient: float, rest: float = STEADY_AMPLITUDE) -> _Beat:
+    """Amplitude, frequency and regularity of one chain's Theta over the measured window (at rest below `rest`)."""
     amplitude = obs.amplitude(t, theta_diff, transient)
-    if amplitude <= STEADY_AMPLITUDE:
+    if amplitude <= rest:
         return _Beat(amplitude, 0.0, True, math.nan, ())
     if amplitude <= SMALL_AMPLITUDE:
         return _Beat(amplitude, obs.frequency(t, theta_diff, transient), True, math.nan, ())
@@ -279,14 +330,27 @@ def _beat(t: np.ndarray, theta_diff: np.ndarray, transient: float) -> _Beat:
     return _Beat(amplitude, frequency, True, cycles.period_spread, ())
 
 
-def _rigid(beat: _Beat, rotation_rate: float | None) -> _Beat:
-    """A steady Theta of a chain that turns (rotation_rate) is a rigid rotation: no beat, so the frequency is null
-    (not 0.0, which would say the chain is at rest) and a note says why."""
-    if beat.frequency != 0.0 or rotation_rate is None or not abs(rotation_rate) >= RIGID_ROTATION_RATE:
+def _rigid(beat: _Beat, rotation_rate: float | None, window: float, reported: bool = True) -> _Beat:
+    """A chain that turns (by RIGID_TURN or more over the window) with a Theta at rest, or oscillating by less than
+    RIGID_FRACTION of the angle it turns through per period of that oscillation, turns rigidly: no beat, so the
+    frequency is null (not 0.0, which would say the chain is at rest) and a note says why."""
+    if rotation_rate is None or not math.isfinite(rotation_rate) or not abs(rotation_rate) * window >= RIGID_TURN:
         return beat
-    return _Beat(beat.amplitude, None, beat.periodic, beat.period_spread, (
-        f"no beat: Theta is steady (amplitude {quantities.text(beat.amplitude, '.2g', 'rad')}) while the chain turns "
-        f"as a rigid body at {rotation_rate:.3g} rad/tau; frequency is null, rotation_rate describes the motion",))
+    rate = abs(rotation_rate)
+    if beat.frequency == 0.0:
+        residue = ""
+    else:
+        per_period = rate / beat.frequency if beat.frequency else rate * window
+        if not beat.amplitude < RIGID_FRACTION * per_period:
+            return beat
+        wiggle = "" if beat.frequency is None else f" at f = {beat.frequency:.3g}"
+        residue = (f"; its residual wiggle{wiggle} is below {RIGID_FRACTION:g} of the {per_period:.3g} rad the chain "
+                   "turns through per wiggle (solver error or a transient decaying onto the rigid turn)")
+    return _Beat(beat.amplitude, None, True, math.nan, (
+        f"no beat: Theta is {'steady' if not residue else 'all but steady'} (amplitude "
+        f"{quantities.text(beat.amplitude, '.2g', 'rad')}) while the chain turns "
+        f"as a rigid body at {rotation_rate:.3g} rad/tau{residue}; frequency is null"
+        + (", rotation_rate describes the motion" if reported else ""),))
 
 
 _RESULT_FIELDS = {"snap_amplitude", "rotation_rate", "frequency_mismatch", "contact_fraction", "min_clearance",

@@ -23,11 +23,13 @@ __all__ = ["Claim", "build_claims", "claims_table", "render_report", "sigma_c_ta
 
 
 def build_claims(studies: Mapping[str, Study]) -> list[Claim]:
-    """Every claim row the given studies (by name) make, in reproduce's order."""
+    """Every claim row the given studies (by name) make, in reproduce's order; a row whose study ran at a size too
+    small for its rule (Claim.judged_from) has the verdict 'not judged at this size' (Claim.judge)."""
     rows: list[Claim] = []
     for entry in registry.entries():
         if entry.name in studies:
-            rows += entry.claim_rows(studies[entry.name], studies)
+            study = studies[entry.name]
+            rows += [row.judge(study.size) for row in entry.claim_rows(study, studies)]
     return rows
 
 

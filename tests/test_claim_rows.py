@@ -33,3 +33,26 @@ def test_a_rate_per_sigma_that_changes_is_quoted_over_every_sigma():
         assert "-0.3917 (sigma 0.2) to -0.6254 (sigma 30)" in cell, cell
     steady = _rings([-0.39174, -0.39174, -0.39174])
     assert rate_per_sigma(steady, "mujoco") == "-0.3917"
+
+
+def test_a_row_is_judged_only_at_a_size_that_can_judge_it(monkeypatch):
+    """A row declares the smallest size whose grids can meet its rule (Claim.judged_from): below it the report marks
+    it 'not judged at this size', keeping its numbers, instead of a verdict the size cannot support (the tiny size's
+    onset fit, N^-3 slope and Landau coefficient had read **no**); from that size on the rule's verdict stands."""
+    from elastoactive import claims
+    from elastoactive.studies import registry
+    from elastoactive.studies.claim_rows import NOT_JUDGED, VERDICTS, Claim
+
+    row = Claim("a fitted exponent", "0.5", "0.41", "0.42", "no", "fit over 3 points", judged_from="quick")
+    monkeypatch.setattr(registry.get("rings"), "claims_fn", lambda study, read: [row, Claim("x", "", "", "", "yes")])
+    study = _rings([-0.39, -0.39, -0.39])
+    for size, verdicts in (("tiny", [NOT_JUDGED, "yes"]), ("quick", ["no", "yes"]), ("full", ["no", "yes"])):
+        study.size = size
+        rows = claims.build_claims({"rings": study})
+        assert [r.agree for r in rows] == verdicts and rows[0].mujoco == "0.41"
+        assert all(r.agree in VERDICTS for r in rows)
+    study.size = "tiny"
+    judged = claims.build_claims({"rings": study})[0]
+    assert "not judged at the tiny size" in judged.note and "fit over 3 points" in judged.note
+    assert f"**{NOT_JUDGED}**" in claims.claims_table([judged])
+

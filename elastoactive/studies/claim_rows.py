@@ -6,11 +6,14 @@ verdict from a stated numeric rule and a note giving the numbers behind it.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 from fractions import Fraction
 
-VERDICTS = ("yes", "no", "partly")
+NOT_JUDGED = "not judged at this size"
+"""The verdict of a row whose study ran at a size too small for its rule (Claim.judged_from)."""
+VERDICTS = ("yes", "no", "partly", NOT_JUDGED)
 
 
 @dataclass
@@ -21,6 +24,19 @@ class Claim:
     reduced: str
     agree: str  # one of VERDICTS
     note: str = ""
+    judged_from: str = "tiny"
+    """The smallest reproduce size (studies.base.SIZES) whose grids and runs can meet the verdict's rule (a fit's
+    error bars, a power law's range); at a smaller size the row's verdict is NOT_JUDGED (judge)."""
+
+    def judge(self, size: str) -> "Claim":
+        """The row as a study of `size` reports it: its numbers, and its verdict only if that size can judge it."""
+        from .base import SIZES  # the sizes' order
+
+        if size not in SIZES or SIZES.index(size) >= SIZES.index(self.judged_from):
+            return self
+        why = (f"not judged at the {size} size: its grids and runs are too coarse for this rule (verdict from the "
+               f"{self.judged_from} size on; the numbers are shown as measured)")
+        return dataclasses.replace(self, agree=NOT_JUDGED, note=f"{why}. {self.note}" if self.note else why)
 
 
 def fmt(x, d: int = 4) -> str:

@@ -299,7 +299,7 @@ def hopf_claims(h: Study, read: Mapping[str, Study]) -> list[Claim]:
         verdict(mo is not None and abs(mo - PAPER.sigma_c_7_sim) <= PAPER.sigma_c_7_sim_err + 2 * (mo_e or 0)),
         f"fit of {model} to the sustained beats with sigma <= {wmax} (MuJoCo fast preset); linear stability "
         f"{s.sigma_c_linear:.6f}; last stable / first oscillating grid point: {m.last_stable_sigma} / "
-        f"{m.first_oscillating_sigma}"))
+        f"{m.first_oscillating_sigma}", judged_from="quick"))  # the tiny size: short runs, a coarse grid far from onset
     trend = ", ".join(f"{w.beta:.3f} (sigma <= {w.sigma_max:g})" for w in m.beta_by_window)
     rows.append(Claim(
         f"Amplitude grows as (sigma - sigma_c)^{PAPER.hopf_exponent:g} (supercritical Hopf)", f"{PAPER.hopf_exponent:g}",
@@ -307,7 +307,7 @@ def hopf_claims(h: Study, read: Mapping[str, Study]) -> list[Claim]:
         verdict(mb is not None and abs(mb - PAPER.hopf_exponent) <= max(3 * (mb_e or 0), 0.01)),
         f"exponent of the same fit. Without the correction term the fitted exponent depends on the window, because the "
         f"amplitude (~6 sqrt(sigma - sigma_c) rad) saturates early: {trend} (MuJoCo; sigma_c "
-        f"{pm(po, po_e, 5)} for sigma <= {s.fit_sigma_max})"))
+        f"{pm(po, po_e, 5)} for sigma <= {s.fit_sigma_max})", judged_from="quick"))
     lin_m, lin_r = m.freq_linear_all, r.freq_linear_all
     near, far = m.freq_linear_near, m.freq_linear_far
     if lin_m:

@@ -7,6 +7,7 @@ the sigma below which a compressed N = 9 chain stays buckled, by a bracket searc
 
 from __future__ import annotations
 
+import math
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -287,7 +288,9 @@ def snapping_claims(sn: Study, read: Mapping[str, Study]) -> list[Claim]:
         f"{m8.snap_max_delta:.3f} ({s8:g}) rad",
         f"{r6.snap_min_positive_delta:.3f} -> {r6.snap_max_delta:.3f}; {r8.snap_min_positive_delta:.3f} -> {r8.snap_max_delta:.3f}",
         verdict(all(x.snap_monotonic_in_delta for x in (m6, m8, r6, r8))),
-        f"delta = {m6.delta_min:g} .. {m6.delta_max:g}; std theta_3 ~ delta^{m8.snap_exponent:.2f} (sigma = {s8:g}, MuJoCo)"))
+        f"delta = {m6.delta_min:g} .. {m6.delta_max:g}; "
+        + (f"std theta_3 ~ delta^{m8.snap_exponent:.2f} (sigma = {s8:g}, MuJoCo)" if math.isfinite(m8.snap_exponent)
+           else f"no power law in delta fitted (too few delta > 0 at sigma = {s8:g})")))
     rel = lambda x: 100 * (x.freq_max_delta / x.freq_min_positive_delta - 1)  # noqa: E731
     rows.append(Claim(
         "Snapping slows with compression (experiment); 'the model fails to capture' it (footnote)",

@@ -179,7 +179,7 @@ def _run_sweep(
         # a refused point (nothing simulated) is checked again: its settings' refusal is no result
         todo = [i for i in range(sweep.size) if status[i] == "pending"
                 or (status[i] == "error" and (retry_errors or refused(errors[i])))]
-        if todo and timestep_check and engine == "mujoco" and scheduler is None and not (status == "ok").any():
+        if todo and timestep_check and engine == "mujoco" and not (status == "ok").any():
             refuse_if_all_refused([sweep.case(i) for i in todo], checks, tuple(sweep.grid))
     except BaseException as err:
         # a sweep refused before any point ran leaves nothing behind (a new journal goes)

@@ -160,6 +160,8 @@ def reproduce(out: Path, size: str = "quick", workers: int | None = None, only: 
     if unknown:
         raise ParameterError(f"unknown studies {', '.join(map(repr, unknown))}; choose from {', '.join(every)}")
     names = [n for n in every if n in names]  # reproduce's order
+    if isinstance(out, str) and not out.strip():  # Path('') would be the working folder
+        raise ParameterError(f"out: an empty path ({out!r}); give a folder (. for this folder)")
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     with lock_file(out / LOCK, "reproduce"):  # one reproduce per folder at a time

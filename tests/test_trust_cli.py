@@ -125,6 +125,16 @@ def test_an_empty_output_path_is_refused(tmp_path, capsys, no_simulation, monkey
     assert not list(tmp_path.iterdir())
 
 
+def test_an_empty_output_path_is_refused_by_the_api(tmp_path, monkeypatch):
+    from elastoactive.reproduce import reproduce
+
+    monkeypatch.chdir(tmp_path)
+    for empty in ("", "  "):
+        with pytest.raises(ea.ParameterError, match="out: an empty path"):
+            reproduce(empty, "tiny", only=["stability"], progress=False, log=lambda message: None)
+    assert not list(tmp_path.iterdir())
+
+
 def test_a_failed_write_names_the_file_and_the_cause_in_one_line(tmp_path, capsys, monkeypatch):
     def full_disk(*args, **kwargs):
         raise OSError(28, "No space left on device")

@@ -29,7 +29,8 @@ def register(subparsers) -> None:
         help="regenerate the paper's figures, their data and report.md (claim by claim)",
         description=DESCRIPTION,
     )
-    p.add_argument("--out", type=output_path, default=Path("results/reproduction"), help="output folder (default %(default)s)")
+    p.add_argument("--out", type=output_path, default=Path("results/reproduction"),
+                   help="output folder (default %(default)s)")
     g = p.add_mutually_exclusive_group()
     g.add_argument("--full", action="store_true", help="publication resolution (finer grids, longer runs: much slower)")
     g.add_argument("--tiny", action="store_true", help="smallest grids and runs (a smoke test; numbers are rough)")

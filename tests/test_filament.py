@@ -67,3 +67,33 @@ def test_filament_refuses_loads_below_the_onset_in_one_line(capsys):
     assert len(err) == 1 and "below the filament's onset" in err[0]
     with pytest.raises(ParameterError, match="N = 10 .* does not beat"):
         ladder(60.0, (10, 14))
+
+
+@pytest.mark.parametrize("S,ns", [("1e5", None), ("1e6", None), ("3000", "10,20")])
+def test_filament_refuses_a_load_its_ladder_does_not_resolve_before_it_runs(S, ns, capsys):
+    """The coarsest rung must have a link per bending length L S^(-1/3): coarser, the chain is not in the 1/N regime."""
+    from elastoactive.cli.filament import DEFAULT_LADDER, largest_resolved_S
+
+    argv = ["filament", "--S", S, "--quiet"] + (["--ns", ns] if ns else [])
+    assert main(argv) == 2
+    captured = capsys.readouterr()
+    err = captured.err.strip().splitlines()
+    coarsest = int(ns.split(",")[0]) if ns else DEFAULT_LADDER[0]
+    assert len(err) == 1 and err[0].startswith(f"elastoactive: error: --S {float(S):g} ")
+    assert f"resolves S up to {largest_resolved_S(coarsest):.4g}" in err[0] and captured.out == ""
+
+
+def test_filament_plans_each_chunk_at_the_beat_it_finds(capsys):
+    """Far above the onset the beat is much faster than the onset's (here ~90 times): the rung measures it (its first
+    chunk planned from the S^(4/3) quickening, any chunk too coarsely sampled run again at the period it found)."""
+    assert main(["filament", "--S", "3375", "--ns", "15,20", "--json", "--quiet"]) == 0
+    result = json.loads(capsys.readouterr().out)
+    assert all(r["settled"] for r in result["rungs"])
+    assert 17000 < result["rungs"][0]["omega"] < 17700 and result["omega"]["converging"]
+
+
+def test_filament_flags_rungs_that_do_not_converge():
+    from elastoactive.cli.filament import converging
+
+    assert converging([228.45, 238.43, 243.60, 246.24]) and converging([1.0, 2.0])
+    assert not converging([2.99, 2.19, 2.31]) and not converging([1.0, 1.5, 2.5])

@@ -49,6 +49,9 @@ class Parameter:
                 another way for it to act: the (str) parameter `or_needs` has the choice `or_needs_value`
                 (clamp_frequency acts with clamp_amplitude > 0, or with clamp_motion = rotating, which needs no
                 amplitude)
+    unless      name of a switch that, when on, leaves this one unused even where `needs` is met (noise_calculus
+                reads white noise only: it does nothing while noise_correlation > 0 makes the noise coloured)
+    unless_why  with `unless`: what the switch being on means, in messages ("coloured noise")
     quiet_default  reported in summaries only when it differs from its default (contact, loaded, and any
                 parameter a plug-in term adds, so that runs without it record what they recorded before it existed)
     """
@@ -69,6 +72,8 @@ class Parameter:
     needs_value: str | None = None
     or_needs: str | None = None
     or_needs_value: str | None = None
+    unless: str | None = None
+    unless_why: str = ""
     quiet_default: bool = False
 
     def __post_init__(self) -> None:
@@ -80,6 +85,8 @@ class Parameter:
             raise ValueError(f"parameter {self.name}: needs_value without needs")
         if (self.or_needs is None) != (self.or_needs_value is None) or (self.or_needs and self.needs is None):
             raise ValueError(f"parameter {self.name}: or_needs and or_needs_value go together, with needs")
+        if self.unless is not None and self.needs is None:
+            raise ValueError(f"parameter {self.name}: unless without needs")
         self.check(self.default)
 
     @property
@@ -162,9 +169,23 @@ class Parameter:
         alternative `or_needs` has the choice `or_needs_value`."""
         if self.needs is None:
             return True
+        if self.unless is not None and self.unless in values and get(self.unless).is_on(values[self.unless]):
+            return False
         if self.or_needs is not None and values.get(self.or_needs) == self.or_needs_value:
             return True
         return self.need_met(values[self.needs])
+
+    def unused_text(self, values) -> str:
+        """Why this parameter does not act among `values` (acts_in is False), and what to do, in one clause:
+        'has no effect without contact (contact = False); set contact too, or leave contact_radius out'."""
+        if self.unless is not None and self.unless in values and get(self.unless).is_on(values[self.unless]):
+            why = f" ({self.unless_why})" if self.unless_why else ""
+            off = get(self.unless).default
+            off = f"{off:g}" if isinstance(off, float) else off
+            return (f"{self.name} has no effect with {self.unless} = {values[self.unless]}{why}; set {self.unless} = "
+                    f"{off} too, or leave {self.name} out")
+        return (f"{self.name} has no effect without {self.need_text} ({self.needs} = {values[self.needs]}); set "
+                f"{self.needs} too, or leave {self.name} out")
 
     @property
     def need_text(self) -> str:

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import numbers
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -119,8 +120,7 @@ class Physics:
             spec = _parameters.get(name)
             switch = spec.needs
             if switch is not None and not spec.acts_in(resolved) and resolved[name] != spec.default:
-                raise ParameterError(f"{name} has no effect without {spec.need_text} ({switch} = {resolved[switch]}); "
-                                     f"set {switch} too, or leave {name} out")
+                raise ParameterError(spec.unused_text(resolved))
         object.__setattr__(self, "scene", scene)
         object.__setattr__(self, "_values", resolved)
         definition.check(self)
@@ -175,8 +175,7 @@ class Physics:
         for name in names:
             spec = _parameters.get(name)
             if spec.needs is not None and not spec.acts_in(self._values):
-                raise ParameterError(f"{name} has no effect without {spec.need_text} ({spec.needs} = "
-                                     f"{self._values[spec.needs]}); set {spec.needs} too, or leave {name} out")
+                raise ParameterError(spec.unused_text(self._values))
 
     def replace(self, **changes) -> "Physics":
         """This physics with some values changed (and checked); values that stop acting (a switch turned off, a
@@ -188,7 +187,7 @@ class Physics:
         for name in list(kept):
             switch = _parameters.get(name).needs
             spec = _parameters.get(name)
-            if (switch is not None and (switch in values or spec.or_needs in values)
+            if (switch is not None and (switch in values or spec.or_needs in values or spec.unless in values)
                     and not spec.acts_in({**self._values, **values})):
                 del values[name]
         return Physics(scene=scene, **values)
@@ -286,7 +285,8 @@ class Numerics:
     mass_ratio   particle mass m / (gamma tau): the inertial time in units of tau
     integrator   MuJoCo integrator
     perturbation largest angle (rad) of the seeded initial push away from the base state
-    sample_dt    spacing of the recorded trajectory
+    sample_dt    spacing of the recorded trajectory: a whole number of steps of dt (a dt left at its default is the
+                 largest whole fraction of sample_dt at most DEFAULT_DT)
 
     Automatic numerics for long chains: when dt, mass_ratio and integrator are all left at their defaults
     (`automatic`), a MuJoCo run of a chain of LONG_CHAIN particles or more uses `for_physics(physics)`
@@ -322,6 +322,11 @@ class Numerics:
             raise ParameterError(f"integrator must be one of {', '.join(INTEGRATORS)}, got {self.integrator!r}")
         if self.perturbation < 0:
             raise ParameterError(f"perturbation must be >= 0, got {self.perturbation}")
+        ratio = self.sample_dt / self.dt
+        if isinstance(self.dt, _Unset) and (ratio < 1 or abs(ratio - round(ratio)) > 1e-6 * ratio):
+            # dt left at its default: the largest whole fraction of sample_dt below it (the reduced engine, which has
+            # no dt, takes any sample_dt; MuJoCo steps a little finer), still a default (automatic)
+            object.__setattr__(self, "dt", _UnsetFloat(_whole_fraction(self.sample_dt, self.dt)))
         if self.sample_dt < self.dt:
             raise ParameterError(f"sample_dt ({self.sample_dt}) must be >= dt ({self.dt})")
         ratio = self.sample_dt / self.dt
@@ -330,8 +335,12 @@ class Numerics:
                 f"sample_dt ({self.sample_dt}) must be a whole multiple of dt ({self.dt}), e.g. "
                 f"{round(ratio) * self.dt:.6g}, so that both engines record at the same times"
             )
-        if isinstance(self.seed, bool) or not isinstance(self.seed, int) or self.seed < 0:
+        # an integer as Parameter.check takes n: a numpy integer, or a number with an integer value, is one
+        whole = isinstance(self.seed, numbers.Integral) or (isinstance(self.seed, numbers.Real)
+                                                             and float(self.seed).is_integer())
+        if isinstance(self.seed, (bool, np.bool_)) or not whole or self.seed < 0:
             raise ParameterError(f"seed must be a non-negative integer, got {self.seed!r}")
+        object.__setattr__(self, "seed", int(self.seed))
 
     @property
     def steps_per_sample(self) -> int:
@@ -389,10 +398,13 @@ class Numerics:
             raise ParameterError(f"duration (in tau) must be > 0, got {duration:g}")
         count = self.sample_count(duration)
         if count < MIN_SAMPLES:
+            # the advice must pass the transient's check too: the default transient (results.default_transient)
+            # discards the first half of the run, and the second half must still hold MIN_SAMPLES samples
+            shortest = 2 * (MIN_SAMPLES - 1) * self.steps_per_sample * self.dt
             raise ParameterError(
                 f"duration ({duration:g} tau) holds {count} sample(s) at sample_dt = {self.sample_dt:g}; at least "
-                f"{MIN_SAMPLES} are needed to measure a run: lengthen --duration (>= "
-                f"{(MIN_SAMPLES - 1) * self.steps_per_sample * self.dt:.4g} tau) or lower --sample-dt")
+                f"{MIN_SAMPLES} are needed to measure a run, after its transient (by default the first half): "
+                f"lengthen --duration (>= {shortest:.4g} tau) or lower --sample-dt")
         return duration
 
     @classmethod
@@ -499,6 +511,27 @@ def long_chain_numerics(physics, numerics: Numerics | None = None) -> Numerics:
     if dt * c * (physics.n / LONG_CHAIN) ** p < implicit.dt:
         return implicit
     return dataclasses.replace(numerics, integrator="Euler", dt=dt, mass_ratio=m)
+
+
+def check_start(physics: Physics, numerics: Numerics) -> None:
+    """Refuse perturbation = 0 where nothing else moves the run off the scene's base state and that state is unstable
+    (Scene.leading_eigenvalue at the physics' sigma has a positive real part): the run would sit on the unstable state
+    up to round-off and report it, not the motion. Both engines' runs ask it (engines.run_engine, the MuJoCo batch).
+    Noise, a term's force or a moving clamp (Term.node_forces, Term.clamp_motion), a network's seeded polarities and a
+    scene without a linear operator at its base state are let through."""
+    if numerics.perturbation > 0 or physics.noise > 0 or physics.scene_def.network(physics) is not None:
+        return
+    if any(t.node_forces(physics) is not None or t.clamp_motion(physics) is not None for t in physics.active_terms()):
+        return
+    try:
+        growth = complex(physics.scene_def.leading_eigenvalue(physics, physics.sigma)).real
+    except ParameterError:  # no linear operator about this scene's base state: nothing to tell
+        return
+    if growth > 0:
+        raise ParameterError(
+            f"perturbation = 0 starts the run exactly on the base state of scene {physics.scene}, which is unstable "
+            f"at sigma = {physics.sigma:g} (growth rate {growth:.3g}/tau): the run would stay on it up to round-off "
+            "and report that state, not the motion; give --perturbation > 0 (default 0.01)")
 
 
 def parameter_fields(cls) -> tuple:

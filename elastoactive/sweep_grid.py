@@ -28,6 +28,11 @@ from .results import HARMONICS, OBSERVABLES
 
 NUMERICS_KEYS = ("seed", "dt", "mass_ratio", "perturbation", "sample_dt")
 
+MAX_GRID_POINTS = 10_000
+"""Most points one grid may have: a point costs at least ~0.1 s (a short reduced-engine run and its measures), and a
+MuJoCo point of the default 300 tau ~1 s, so 10 000 points already take hours on 2 cores. A larger grid is refused
+when it is parsed (split it into several sweeps, each resumable)."""
+
 
 def physics_keys() -> tuple[str, ...]:
     """Every declared physics parameter (elastoactive.parameters: the chain's, the terms', the scenes'), read when
@@ -127,18 +132,30 @@ def parse_values(name: str, text: str) -> np.ndarray:
             start, stop, num = float(parts[0]), float(parts[1]), parts[2].strip()
             if not num.isdigit() or int(num) < 1:
                 raise ValueError
+            _check_size({name: int(num)})
             values = np.linspace(start, stop, int(num))
         else:
             items = [v.strip() for v in text.split(",")]
             if not all(items):
                 raise ValueError
             values = np.array([float(v) for v in items])
+    except ParameterError:  # a grid too large (_check_size)
+        raise
     except ValueError:
         raise ParameterError(
             f"grid {name}={text!r}: expected a comma list (e.g. {name}=0.5,1,2) or start:stop:num "
             f"(e.g. {name}=0.2:1.0:9)"
         ) from None
     return _axis(name, values)
+
+
+def _check_size(sizes: Mapping[str, int]) -> None:
+    """Refuse a grid of more than MAX_GRID_POINTS points (one line naming the axes and their sizes)."""
+    total = math.prod(sizes.values())
+    if total > MAX_GRID_POINTS:
+        axes = " x ".join(f"{name} {size}" for name, size in sizes.items())
+        raise ParameterError(f"grid: {axes} = {total} points, more than {MAX_GRID_POINTS} (at 0.1-1 s a point, hours "
+                             "to days on 2 cores); use fewer values, or split the grid into several sweeps")
 
 
 def _axis(name: str, values) -> np.ndarray:
@@ -179,6 +196,7 @@ def parse_grid(specs: Sequence[str]) -> dict[str, np.ndarray]:
         grid[key] = parse_values(key, text)
     if not grid:
         raise ParameterError("grid: give at least one parameter, e.g. --grid sigma=0.2:1.0:9")
+    _check_size({k: v.size for k, v in grid.items()})
     return grid
 
 
@@ -192,6 +210,7 @@ def normalize_grid(grid: Mapping[str, Sequence]) -> dict[str, np.ndarray]:
         out[key] = parse_values(key, values) if isinstance(values, str) else _axis(key, values)
     if not out:
         raise ParameterError("grid: give at least one parameter")
+    _check_size({k: v.size for k, v in out.items()})
     return out
 
 
@@ -263,6 +282,24 @@ def _chains(physics: Physics, key: str, value) -> int | None:
         return None
 
 
+def _base_physics(scene: str, fixed: dict, grid: dict, first: dict) -> Physics:
+    """The physics the grid's points replace values of: the fixed values with the first point's, or, where a fixed
+    value's switch is swept and off at the first point (clamp_frequency with clamp_amplitude = 0, the undriven
+    baseline), with the first value of that switch on the grid at which every fixed value acts (Sweep.case drops a
+    fixed value at the points where its switch is off, as Physics.replace does). Refused as the first point is when
+    no such value exists."""
+    swept = {k: v for k, v in first.items() if k in physics_keys()}
+    candidates = [swept] + [{**swept, key: value.item()} for key, values in grid.items() if key in physics_keys()
+                            for value in values[1:]]
+    refusal = None
+    for point in candidates:
+        try:
+            return Physics(scene=scene, **fixed, **point)
+        except ParameterError as err:
+            refusal = refusal or err
+    raise ParameterError(f"grid point {first}: {refusal}") from None
+
+
 def make_sweep(
     scene: str,
     grid: Mapping[str, Sequence],
@@ -299,10 +336,10 @@ def make_sweep(
                              f"(its parameters: {', '.join(sorted(used - {'scene'}))})")
     first = {k: v[0].item() for k, v in grid.items()}
     try:
-        physics = Physics(scene=scene, **fixed, **{k: v for k, v in first.items() if k in physics_keys()})
         numerics = dataclasses.replace(numerics, **{k: v for k, v in first.items() if k in NUMERICS_KEYS})
     except ParameterError as err:
         raise ParameterError(f"grid point {first}: {err}") from None
+    physics = _base_physics(scene, fixed, grid, first)
     for key, values in grid.items():  # the per-chain results have one shape: the chains may not change on the grid
         if key in physics_keys() and any(_chains(physics, key, v.item()) not in (None, physics.n_chains)
                                          for v in values):

@@ -6,7 +6,20 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .errors import ParameterError
 from .params import Physics
+
+
+def _array(name: str, values, ndim: int, samples: int | None = None) -> np.ndarray:
+    """values as a float array of `ndim` dimensions (and `samples` rows); a ParameterError naming the field else."""
+    try:
+        array = np.asarray(values, dtype=float)
+    except (TypeError, ValueError):
+        raise ParameterError(f"Trajectory.{name} must be an array of numbers, got {type(values).__name__}") from None
+    if array.ndim != ndim or (samples is not None and array.shape[0] != samples):
+        rows = "" if samples is None else f", one row per time of t ({samples})"
+        raise ParameterError(f"Trajectory.{name} must have {ndim} dimension(s){rows}; got shape {array.shape}")
+    return array
 
 
 @dataclass
@@ -27,6 +40,15 @@ class Trajectory:
     head: np.ndarray | None = None
     polarity: np.ndarray | None = None
     nodes: np.ndarray | None = None
+
+    def __post_init__(self) -> None:
+        """The records as float arrays (a Trajectory built from lists measures as one from an engine does), their
+        shapes checked: t (T,), theta (T, n_angles), head (T, 2), polarity (T, units), nodes (T, P, 2)."""
+        self.t = _array("t", self.t, 1)
+        self.theta = _array("theta", self.theta, 2, len(self.t))
+        for name, ndim in (("head", 2), ("polarity", 2), ("nodes", 3)):
+            if getattr(self, name) is not None:
+                setattr(self, name, _array(name, getattr(self, name), ndim, len(self.t)))
 
     def chain(self, k: int) -> np.ndarray:
         """Angles of chain k (0 or 1), shape (T, N)."""

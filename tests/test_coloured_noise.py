@@ -169,7 +169,8 @@ def test_summary_reports_noise_parameters_only_with_noise():
     quiet = Physics(n=4).relevant()
     assert "noise_correlation" not in quiet and "noise_calculus" not in quiet
     noisy = Physics(n=4, noise=0.2, noise_correlation=0.5).relevant()
-    assert noisy["noise_correlation"] == 0.5 and noisy["noise_calculus"] == "ito"
+    assert noisy["noise_correlation"] == 0.5 and "noise_calculus" not in noisy  # it reads white noise only
+    assert Physics(n=4, noise=0.2).relevant()["noise_calculus"] == "ito"
 
 
 def test_parameter_checks():

@@ -98,3 +98,102 @@ def test_stability_refuses_n_on_a_network(capsys):
     refused(capsys, ["stability", "lattice", "--n", "5"], "n has no effect on scene lattice")
     assert main(["stability", "one-pinned"]) == 0  # a chain's N still defaults to 7
     assert "N = 7" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("scene", [s for s in registry.names() if registry.get(s).pinned
+                                   and "drive_amplitude" in scene_parameters(registry.get(s))])
+def test_a_tip_drive_on_a_pinned_tip_is_refused_in_both_engines(scene):
+    """The tip drive pushes chain 1's last particle; a scene that holds it on a pin would take the force on the pin
+    (the reduced engine refused it, MuJoCo ran it with an effect of 3e-5 rad): refused by the physics itself."""
+    with pytest.raises(ea.ParameterError, match=f"drive_amplitude: .* scene {scene} holds on a pin"):
+        ea.Physics(scene=scene, drive_amplitude=0.1)
+    assert ea.Physics(drive_amplitude=0.1).drive_amplitude == 0.1  # a free tip takes it
+
+
+def test_the_calculus_of_coloured_noise_is_refused(capsys, no_simulation):
+    """Coloured noise is a smooth random force: the calculus, which reads white noise, changes nothing there."""
+    with pytest.raises(ea.ParameterError, match="noise_calculus has no effect with noise_correlation = 0.5"):
+        ea.Physics(noise=0.1, noise_correlation=0.5, noise_calculus="stratonovich")
+    white = ea.Physics(noise=0.1, noise_calculus="stratonovich")
+    coloured = white.replace(noise_correlation=0.5)  # the switch turned on drops what it leaves unused
+    assert "noise_calculus" not in coloured.relevant() and coloured.noise_correlation == 0.5
+    refused(capsys, ["run", "one-pinned", "--noise", "0.1", "--noise-correlation", "0.5", "--noise-calculus", "ito",
+                     "--duration", "2"], "noise_calculus has no effect with noise_correlation")
+
+
+@pytest.mark.parametrize("engine", ["mujoco", "reduced"])
+def test_no_perturbation_on_an_unstable_base_state_is_refused(engine):
+    """perturbation = 0 above onset sits on the unstable base state (reported as a beat); below onset it is a run
+    at rest."""
+    with pytest.raises(ea.ParameterError, match=r"perturbation = 0 .* unstable at sigma = 3 .*--perturbation > 0"):
+        ea.simulate(ea.Physics(n=3, sigma=3.0), Numerics(perturbation=0.0), duration=1.0, engine=engine)
+    traj = ea.simulate(ea.Physics(n=3, sigma=0.5), Numerics(perturbation=0.0), duration=1.0, engine=engine)
+    assert np.abs(traj.theta).max() == 0.0
+
+
+def test_no_perturbation_is_refused_in_a_mujoco_batch():
+    from elastoactive.engines.mujoco_batch import simulate_mujoco_batch
+
+    outcomes = simulate_mujoco_batch([ea.Physics(n=3, sigma=3.0), ea.Physics(n=3, sigma=0.5)],
+                                     Numerics(perturbation=0.0), 1.0, threads=1)
+    assert isinstance(outcomes[0], ea.ParameterError) and "perturbation = 0" in str(outcomes[0])
+    assert not isinstance(outcomes[1], Exception)
+
+
+@pytest.mark.parametrize("switch, setting", [("clamp_amplitude", "clamp_frequency"),
+                                             ("drive_amplitude", "drive_frequency")])
+def test_a_sweep_holds_the_undriven_baseline(switch, setting):
+    """A fixed value whose switch is swept acts at the grid's points where the switch is on and is dropped where it is
+    off (the undriven baseline is a grid point); it is refused only when the switch is never on."""
+    sweep = make_sweep("one-pinned", {switch: [0.0, 0.1]}, fixed={setting: 0.05}, numerics=Numerics(),
+                       duration=5.0, engine="reduced")
+    off, on = sweep.case(0).physics, sweep.case(1).physics
+    assert setting not in off.relevant() and getattr(on, setting) == 0.05 and getattr(on, switch) == 0.1
+    with pytest.raises(ea.ParameterError, match=f"{setting} has no effect without {switch}"):
+        make_sweep("one-pinned", {"sigma": [0.5, 0.6]}, fixed={setting: 0.05}, numerics=Numerics(), duration=5.0)
+
+
+def test_a_default_dt_follows_the_sampling():
+    """dt left at its default becomes a whole fraction of a given sample_dt: the reduced engine, which has no dt,
+    takes any sample_dt, and MuJoCo steps a little finer; a dt given is still held to it."""
+    numerics = Numerics(sample_dt=0.003)
+    assert numerics.dt == pytest.approx(0.0015) and numerics.steps_per_sample == 2 and numerics.given() == ()
+    for engine in ("reduced", "mujoco"):
+        traj = ea.simulate(ea.Physics(n=3, sigma=0.5), numerics, duration=0.1, engine=engine)
+        np.testing.assert_allclose(np.diff(traj.t), 0.003)
+    with pytest.raises(ea.ParameterError, match="whole multiple of dt"):
+        Numerics(sample_dt=0.003, dt=0.0025)
+
+
+@pytest.mark.parametrize("sample_dt", [0.05, 0.02])
+def test_the_shortest_duration_advised_can_be_measured(sample_dt):
+    numerics = Numerics(sample_dt=sample_dt)
+    with pytest.raises(ea.ParameterError, match="lengthen --duration") as err:
+        numerics.check_duration(0.1)
+    advised = float(str(err.value).split("--duration (>= ")[1].split(" tau")[0])
+    traj = ea.simulate(ea.Physics(n=3, sigma=0.5), numerics, duration=advised, engine="reduced")
+    assert ea.measure(traj).amplitude >= 0  # the default transient leaves enough samples
+
+
+def test_a_rerun_on_the_other_engine_drops_the_settings_it_does_not_read(tmp_path, capsys):
+    """run --from a MuJoCo run --engine reduced: the record's dt and integrator, which the reduced engine does not
+    read and the user cannot remove, are left behind (they had been refused)."""
+    assert main(["run", "one-pinned", "--n", "3", "--sigma", "0.5", "--duration", "1", "--out",
+                 str(tmp_path / "mujoco"), "--quiet"]) == 0
+    assert main(["run", "--from", str(tmp_path / "mujoco"), "--engine", "reduced", "--out", str(tmp_path / "reduced"),
+                 "--quiet"]) == 0
+
+
+def test_numpy_integers_are_seeds():
+    numerics = Numerics(seed=np.int64(3))
+    assert numerics.seed == 3 and type(numerics.seed) is int and numerics == Numerics(seed=3)
+    with pytest.raises(ea.ParameterError, match="seed must be a non-negative integer"):
+        Numerics(seed=2.5)
+
+
+def test_a_trajectory_built_from_lists_is_measured():
+    traj = ea.simulate(ea.Physics(n=3, sigma=0.5), duration=2.0, engine="reduced")
+    rebuilt = ea.Trajectory(t=traj.t.tolist(), theta=traj.theta.tolist(), physics=traj.physics, engine="reduced")
+    assert ea.measure(rebuilt).amplitude == ea.measure(traj).amplitude
+    with pytest.raises(ea.ParameterError, match=r"Trajectory.theta must have 2 dimension\(s\), one row per time"):
+        ea.Trajectory(t=traj.t, theta=traj.theta[:-1], physics=traj.physics, engine="reduced")

@@ -74,8 +74,12 @@ def settings_from(args) -> tuple[Physics, Numerics, str, float, float | None]:
     # is given, is dropped; one given where it does not act is refused)
     physics = Physics(scene=recorded_scene or scene, **base["physics"]).replace(scene=scene, **given(Physics))
     physics.require_acting(given(Physics))  # an option typed where it does not act, even at its default
-    numerics = Numerics(**{**base["numerics"], **given(Numerics)})
     engine = args.engine or base["engine"] or "mujoco"
+    if base["engine"] and engine != base["engine"] and engine in ENGINES:  # the record's settings the engine reads
+        from ..results import recorded_numerics  # start-up time: results loads the analysis
+
+        base["numerics"] = {k: v for k, v in base["numerics"].items() if k in recorded_numerics(engine, physics)}
+    numerics = Numerics(**{**base["numerics"], **given(Numerics)})
     duration = args.duration if args.duration is not None else (base["duration"] or DEFAULT_DURATION)
     transient = args.transient if args.transient is not None else (base["transient"] if args.duration is None else None)
     numerics = numerics.for_duration(duration)  # a long run's automatic sample_dt, recorded as it ran

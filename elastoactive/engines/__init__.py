@@ -5,7 +5,7 @@ numerics.sample_times(duration), from the same initial state (Scene.initial_angl
 from __future__ import annotations
 
 from ..errors import ParameterError
-from ..params import Numerics, Physics
+from ..params import Numerics, Physics, check_start
 from ..trajectory import Trajectory
 
 ENGINES = ("mujoco", "reduced")
@@ -48,6 +48,7 @@ def check_engine(engine: str) -> str:
 
 def run_engine(engine: str, physics: Physics, numerics: Numerics, duration: float, **options) -> Trajectory:
     """Simulate with the named engine; options go to simulate_mujoco or simulate_reduced."""
+    check_start(physics, numerics)  # perturbation 0 on an unstable base state, refused alike by both engines
     if check_engine(engine) == "mujoco":
         from .mujoco import simulate_mujoco  # start-up time: load only the engine in use (mujoco)
 

@@ -52,7 +52,7 @@ from ..diagnose import divergence_cause
 from ..errors import ParameterError, SimulationDiverged
 from ..model import prepare, state_of
 from ..terms.self_aligning import polarity_addresses
-from ..params import Numerics, Physics
+from ..params import Numerics, Physics, check_start
 from ..trajectory import Trajectory
 from .mujoco import BAD_STATE_WARNINGS, CHECK_EVERY, PIN_DRIFT_LIMIT, numerics_info, pin_drift_message, pin_violation
 from .monitor import is_check, runaway
@@ -244,6 +244,7 @@ class _Count:
 def _prepare(index: int, run: Run) -> _Sim:
     if not run.duration > 0:
         raise ParameterError(f"duration (in tau) must be a positive number, got {run.duration}")
+    check_start(run.physics, run.used)  # as run_engine: perturbation 0 on an unstable base state
     t = run.used.sample_times(run.duration)
     model, data = prepare(run.physics, run.used)
     violation = pin_violation(model, data) if run.physics.scene_def.pinned else 0.0

@@ -20,7 +20,8 @@ NOISE_CORRELATION = Parameter(
     low=0.0, title="tau_c, 0: white", units="tau", needs="noise")
 NOISE_CALCULUS = Parameter(
     "noise_calculus", "ito", "reading of white noise (reduced engine; MuJoCo: ito, or stratonovich as small tau_c)",
-    kind=str, choices=NOISE_CALCULI, needs="noise")
+    kind=str, choices=NOISE_CALCULI, needs="noise", unless="noise_correlation",
+    unless_why="coloured noise is a smooth random force, read alike in either calculus")
 
 
 class Noise(Term):

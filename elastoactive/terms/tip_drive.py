@@ -14,6 +14,7 @@ from __future__ import annotations
 import cmath
 import math
 
+from ..errors import ParameterError
 from ..parameters import Parameter
 from ..cases import ValidationCase
 from .base import PeriodicForce, Term
@@ -39,6 +40,14 @@ class TipDrive(Term):
 
     def active(self, physics) -> bool:
         return physics.drive_amplitude > 0
+
+    def check(self, physics) -> None:
+        """The drive pushes chain 1's last particle: refused on a scene that holds that particle on a pin (its force
+        would go to the pin, not the chain), in both engines."""
+        if physics.scene_def.pinned:
+            raise ParameterError(f"drive_amplitude: the tip drive pushes chain 1's last particle, which scene "
+                                 f"{physics.scene} holds on a pin, so its force would go to the pin, not the chain; "
+                                 "use a scene whose tip is free (e.g. one-pinned)")
 
     def rate(self, physics) -> float:
         """The drive's angular frequency 2 pi f (the force is read at each step's time)."""

@@ -25,9 +25,10 @@ LOCKED = 0.9
 """Phase-locking value from which the arms count as locked (their phase differences steady)."""
 ORDERED = 0.9
 """R_1 (in phase) or R_k (splay) from which a locked state is named by it; below 1 - ORDERED R_1 counts as zero."""
-SYNC_STATES = ("rest", "unlocked", "in-phase", "antiphase", "splay", "locked")
+SYNC_STATES = ("rest", "unlocked", "in-phase", "antiphase", "splay", "locked", "uncoupled")
 """What sync_state returns: at rest (no arm beats), unlocked (phase differences drift), in phase, in antiphase
-(k = 2), a k-fold splay state (k >= 3), or locked in another pattern."""
+(k = 2), a k-fold splay state (k >= 3), locked in another pattern, or uncoupled: arms that share nothing (a clamped
+hub), whose phase differences keep what their start gave them, so that no pattern is selected and none is named."""
 
 
 def arm_phases(t, signals, transient: float | None = None) -> tuple[np.ndarray, np.ndarray]:
@@ -68,11 +69,15 @@ def phase_locking(phases) -> float:
     return float(np.min(np.abs(np.mean(np.exp(1j * (phases[1:] - phases[0])), axis=1))))
 
 
-def sync_state(phases) -> str:
-    """The arms' state (SYNC_STATES) from their phases (k, T): unlocked below LOCKED; else in-phase (R_1 >=
-    ORDERED), antiphase (k = 2, R_1 <= 1 - ORDERED), splay (k >= 3, R_1 .. R_{k-1} <= 1 - ORDERED and R_k >= ORDERED:
-    no clusters), or locked (another steady pattern, e.g. two clusters). ("rest" is the caller's: no phases without a beat.)"""
+def sync_state(phases, coupled: bool = True) -> str:
+    """The arms' state (SYNC_STATES) from their phases (k, T): "uncoupled" for arms that share nothing (coupled False:
+    identical independent arms keep steady phase differences, which are their start's, not a locked state); else
+    unlocked below LOCKED; else in-phase (R_1 >= ORDERED), antiphase (k = 2, R_1 <= 1 - ORDERED), splay (k >= 3, R_1 ..
+    R_{k-1} <= 1 - ORDERED and R_k >= ORDERED: no clusters), or locked (another steady pattern, e.g. two clusters).
+    ("rest" is the caller's: no phases without a beat.)"""
     phases = np.asarray(phases, dtype=float)
+    if not coupled:
+        return "uncoupled"
     k = phases.shape[0]
     if phase_locking(phases) < LOCKED:
         return "unlocked"

@@ -90,7 +90,7 @@ OBSERVABLES: dict[str, Observable] = {
     "splay_order": Observable("1", "R_k of the star's arms' phases (1 with R_1 = 0: a k-fold splay state)",
                               error="absolute"),
     "phase_locking": Observable("1", "smallest phase-locking value of the star's arms against arm 1 (1: steady "
-                                "phase differences)", error="absolute"),
+                                "phase differences; NaN for uncoupled arms on a clamped hub)", error="absolute"),
     "phase_lag": Observable("rad", "mean phase of each of the star's arms behind arm 1, in (-pi, pi]", per_chain=True,
                             error="none"),
     "sync_state": Observable("1", "state of the star's arms (analysis.star.sync_state)", error="none",
@@ -118,6 +118,14 @@ PERIODIC_SPREAD = 0.01
 A limit cycle gives ~1e-5; noise, chaos, or a beat still growing in the window give more."""
 MIN_CYCLES = 2
 """Whole cycles the measured window must hold to judge whether the beat is periodic."""
+WINDING = 2 * math.pi
+"""rad: with fewer than MIN_CYCLES cycles in the window, Theta's thirds must drift apart by more than this to call the
+motion one that winds up or creeps (not periodic): a bounded beat seen over less than two periods drifts by up to 1.4
+times its amplitude between thirds, and a beat whose Theta drifts by a full turn has its tip turned past its base."""
+PIN_GIVE = 3.0
+"""A beat of a chain held at both ends whose amplitude is below this multiple of sqrt(2 x the pin's largest violation
+in l) (the bending a pin that gives by that much lets a chain held at its full length make) gets a note: it may be the
+soft pin's (MuJoCo's) rather than the chain's."""
 RIGID_TURN = 0.03
 """rad: a chain that turns by at least this over the measured window (|rotation rate| x window) turns; less is at rest
 (the rate alone would call a long run's drift of a still chain a turn, or a short run's slow turn rest)."""
@@ -221,6 +229,7 @@ def measure(traj: Trajectory, transient: float | None = None) -> Results:
         where = f"chain {k + 1}: " if physics.n_chains > 1 else ""
         notes += [where + note for note in b.notes]
     notes += _aliasing(traj)
+    notes += _pin_give(traj, beats)
     columns = ([b.amplitude for b in beats], [b.frequency for b in beats], [b.period_spread for b in beats])
     if physics.n_chains == 1:
         amplitude, frequency, spread = (c[0] for c in columns)
@@ -286,6 +295,30 @@ def _turning(traj: Trajectory, transient: float, reported: float | None) -> list
     return rates
 
 
+def _pin_give(traj: Trajectory, beats: list) -> list[str]:
+    """A note for a beat of a chain held at both ends (not closed on itself) small enough to come from its pin's give
+    (PIN_GIVE): a chain held at its full length can bend only as far as the pin lets its ends approach (a chain whose
+    pins leave it slack bends by its slack, so no note)."""
+    violation = traj.info.get("constraint_violation") if isinstance(traj.info, Mapping) else None
+    if not isinstance(violation, (int, float)) or not violation > 0 or not math.isfinite(violation):
+        return []
+    system = traj.physics.scene_def.reduced_system(traj.physics)
+    give = math.sqrt(2.0 * violation)
+    slack = traj.physics.n * float(system.delta)  # l: how much nearer than its length the pins hold the ends
+    if not system.pinned or system.closed or math.sqrt(2.0 * slack) >= PIN_GIVE * give:
+        return []
+    small = [k for k, b in enumerate(beats) if b.frequency and b.amplitude < PIN_GIVE * give]
+    if not small:
+        return []
+    where = "" if traj.physics.n_chains == 1 else f"chain {', '.join(str(k + 1) for k in small)}: "
+    amplitude = quantities.text(tuple(beats[k].amplitude for k in small) if where else beats[small[0]].amplitude,
+                                ".2g", "rad")
+    return [f"{where}the beat (amplitude {amplitude}) is within what the pin's give allows: the pin gave by up to "
+            f"{violation:.2g} l, which lets a chain held at its full length bend by ~{give:.2g} rad; it may be the "
+            f"{traj.engine} engine's soft pin, not the chain's beat: compare --engine reduced (hard pins) or a smaller "
+            "--dt"]
+
+
 @dataclass(frozen=True)
 class _Beat:
     amplitude: float
@@ -307,10 +340,15 @@ def _beat(t: np.ndarray, theta_diff: np.ndarray, transient: float, rest: float =
     _, xs = obs.steady_part(t, theta_diff, transient=transient)
     third = max(xs.size // 3, 1)
     drift = abs(xs[-third:].mean() - xs[:third].mean())
-    if cycles.count < MIN_CYCLES and drift > amplitude:  # a periodic signal's thirds differ by < amplitude
+    if cycles.count < MIN_CYCLES and drift > WINDING:  # no beat's thirds drift a full turn apart
         return _Beat(amplitude, None, False, math.nan, (
             f"the motion is not periodic: Theta drifts by {drift:.3g} rad over {window} (it winds up or "
             "creeps) with fewer than two cycles about its mean; amplitude is half the range covered",))
+    if cycles.count < MIN_CYCLES and drift > amplitude:  # less than two periods of a beat drift this much too
+        return _Beat(amplitude, None, None, math.nan, (
+            f"periodicity and frequency not judged: Theta moves by {drift:.3g} rad one way over {window}, with fewer "
+            "than two cycles about its mean: a beat slower than the window, or a motion that creeps; run longer "
+            "(--duration) or discard less (--transient)",))
     if cycles.count < 1:
         return _Beat(amplitude, None, None, math.nan, (
             f"frequency not measured: {window} holds fewer than two periods of Theta; run longer "

@@ -26,8 +26,9 @@ hub). Reduced model: ChainSystem.star (and hub_free with a turning hub: phi the 
 
 Observables: per-arm amplitude and frequency (as for the pair), sync_order R_1 and splay_order R_k (Kuramoto order
 parameters of the arms' Hilbert phases), phase_locking, phase_lag (each arm's mean phase behind arm 1),
-sync_state (analysis.star: in-phase, antiphase, splay, locked, unlocked, rest), hub_amplitude and hub_rate (a star
-spinning as a whole: with a free hub, hub_stiffness = 0, three or more arms turn rigidly with it).
+sync_state (analysis.star: in-phase, antiphase, splay, locked, unlocked, rest; uncoupled on a clamped hub, whose
+phase_locking is NaN: its arms share nothing, so their steady phase differences are their start's), hub_amplitude
+and hub_rate (a star spinning as a whole: with a free hub, hub_stiffness = 0, three or more arms turn rigidly with it).
 """
 
 from __future__ import annotations
@@ -168,12 +169,13 @@ class Star(Scene):
                     "sync_state": "rest", "hub_amplitude": hub, "hub_rate": rate}
         _, phases = sync.arm_phases(t, curvatures, transient)
         lags = (0.0, *(float(-d) for d in sync.phase_differences(phases)))
+        coupled = self.turning(physics)  # a clamped hub couples nothing: no locking to measure, no state to name
         return {
             "sync_order": sync.order_parameter(phases, 1),
             "splay_order": sync.order_parameter(phases, physics.arms),
-            "phase_locking": sync.phase_locking(phases),
+            "phase_locking": sync.phase_locking(phases) if coupled else nan,
             "phase_lag": lags,
-            "sync_state": sync.sync_state(phases),
+            "sync_state": sync.sync_state(phases, coupled),
             "hub_amplitude": hub,
             "hub_rate": rate,
         }

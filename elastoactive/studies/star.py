@@ -65,11 +65,12 @@ def _physics(k: int, hub_stiffness: float | None):
 def _point(results) -> dict:
     extra = results.extra
     rate = extra["hub_rate"]
+    frequency = [0.0 if f is None else f for f in results.frequency]  # null: a spinning star's arms turn, no beat
     return dict(state="spin" if extra["sync_state"] == "rest" and abs(rate) > 1e-3 else extra["sync_state"],
-                frequency=float(np.mean(results.frequency)), amplitude=float(np.mean(results.amplitude)),
+                frequency=float(np.mean(frequency)), amplitude=float(np.mean(results.amplitude)),
                 hub_amplitude=float(extra["hub_amplitude"]), hub_rate=float(rate), sync_order=float(extra["sync_order"]),
                 spread=float(max(np.ptp(results.amplitude) / np.mean(results.amplitude),
-                                 np.ptp(results.frequency) / np.mean(results.frequency))))
+                                 np.ptp(frequency) / np.mean(frequency))))
 
 
 @STAR.run

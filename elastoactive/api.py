@@ -19,9 +19,6 @@ from .results import Results, check_measurable, check_transient
 from .results import measure as _measure
 from .trajectory import Trajectory
 
-ANNOUNCED_CHECK_ANGLES = 60
-"""Angles from which the pre-flight check takes long enough (a second or more) to announce itself."""
-
 
 def _field_names(cls) -> tuple[str, ...]:
     """The keyword arguments a Physics (scene and its parameters) or a Numerics takes."""
@@ -122,10 +119,11 @@ def simulate(
         check_steps(numerics.for_physics(physics), duration)  # before the pre-flight check's linearisation
         if check:
             from .diagnose import check_timestep  # start-up time: diagnose builds MuJoCo models
+            from .engines.cost import check_announcement  # its time grows like the angles cubed
 
-            if progress and physics.n_angles >= ANNOUNCED_CHECK_ANGLES:  # the check linearises the model: seconds at N ~ 200
-                print(f"elastoactive: checking dt against the stability limits of the N = {physics.n} model...",
-                      file=sys.stderr, flush=True)
+            announcement = check_announcement(physics) if progress else None
+            if announcement:
+                print(f"elastoactive: {announcement}", file=sys.stderr, flush=True)
             check_timestep(physics, numerics)
         options["progress"] = progress
     elif method is not None:  # the reduced engine's ODE method (None: its automatic choice)

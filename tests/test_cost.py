@@ -51,3 +51,23 @@ def test_a_sample_longer_than_the_probe_budget_is_timed_by_single_steps():
     assert timed == 0
     per_step = per_sample / 10**7
     assert 1e-8 < per_step < 1e-3  # a real step time (N = 7: a few microseconds), not a whole sample's
+
+
+def test_a_long_preflight_check_is_announced_with_its_estimated_time(monkeypatch, capsys):
+    """MuJoCo's pre-flight stability check is dense in the angles (seconds at N = 200, minutes at N = 1000): before a
+    long one starts, one line says how long it will take; a short one is not announced."""
+    import elastoactive.diagnose as diagnose
+
+    assert cost.check_announcement(ea.Physics(n=7)) is None
+    assert cost.check_seconds(1000) > 30 * cost.check_seconds(300)
+    text = cost.check_announcement(ea.Physics(n=1000, sigma=1e-7))
+    assert text is not None and "N = 1000" in text and "(about " in text and "min" in text
+
+    def stop(*args, **kwargs):
+        raise ea.ParameterError("stopped after the announcement")
+
+    monkeypatch.setattr(diagnose, "check_timestep", stop)
+    with pytest.raises(ea.ParameterError, match="stopped"):
+        ea.simulate(ea.Physics(n=1000, sigma=1e-7), ea.Numerics(), duration=5.0, progress=True)
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "checking dt against the stability limits of the N = 1000 model (about " in err

@@ -4,8 +4,10 @@ MuJoCo's cost is close to linear in the number of steps: `sample_cost` times a f
 compiled model (the follower-force callback on, as in the run) on a copy of the run's state, so the run itself is
 untouched (bit-identical). The reduced engine's cost depends on the adaptive solver's steps, which follow the
 dynamics rather than a fixed dt: `reduced_cost` times a short pilot run after one untimed call (the first one
-compiles the kernels). When the MuJoCo run would take far longer than the reduced engine for the same observables,
-`cost_note` says so in one line with both estimates; the run still goes.
+compiles the kernels). MuJoCo's pre-flight stability check is dense in the model's angles: `check_seconds`
+estimates it from their number, and `check_announcement` words it before a large model's check starts. When the
+MuJoCo run would take far longer than the reduced engine for the same observables, `cost_note` says so in one line
+with both estimates; the run still goes.
 """
 
 from __future__ import annotations
@@ -91,6 +93,30 @@ def reduced_cost(physics: Physics, numerics: Numerics, duration: float) -> float
     except (ParameterError, RuntimeError):
         return None
     return (time.perf_counter() - start) * duration / pilot
+
+
+CHECK_SECONDS_PER_ANGLE3 = 2e-7
+"""Wall time of MuJoCo's pre-flight stability check (diagnose.check_timestep) per angle cubed: its linearisation
+and the eigenvalues of its matrices are dense in the angles (2 N forward passes of O(N^2) each): the one-pinned
+chain's took 8 s of CPU time at N = 400 and 173 s at N = 1000 (1.7e-7 N^3; 340 s of wall time on the shared
+machine)."""
+ANNOUNCED_CHECK_SECONDS = 1.0
+"""A pre-flight check estimated to take at least this long is announced, with its estimate, before it starts."""
+
+
+def check_seconds(n_angles: int) -> float:
+    """Estimated wall time (s) of MuJoCo's pre-flight stability check of a model with this many angles."""
+    return CHECK_SECONDS_PER_ANGLE3 * float(n_angles) ** 3
+
+
+def check_announcement(physics: Physics) -> str | None:
+    """The line that announces a long pre-flight check (ANNOUNCED_CHECK_SECONDS or more) with its estimated time,
+    None for a quick one."""
+    seconds = check_seconds(physics.n_angles)
+    if seconds < ANNOUNCED_CHECK_SECONDS:
+        return None
+    return (f"checking dt against the stability limits of the N = {physics.n} model (about "
+            f"{_duration_text(max(seconds, 1.0))})...")
 
 
 def _duration_text(seconds: float) -> str:

@@ -105,11 +105,12 @@ PerChain = float | tuple[float, ...]
 STEADY_AMPLITUDE = 1e-6
 """rad: a Theta whose half peak-to-peak stays below this is at rest (frequency 0), whatever the engine; the rest level
 of a run also grows with its solver's error (SOLVER_JITTER)."""
-SOLVER_JITTER = 1e3
+SOLVER_JITTER = 100.0
 """The rest level's multiple of the solver's relative tolerance (the reduced engine's rtol) times the angles' magnitude:
 an adaptive solver's error in each angle scales with the angle, so a chain turning for long has a Theta that wiggles by
 ~20 rtol |theta| (2e-6 rad at |theta| ~ 100 rad, rtol 1e-9) at rest in its turning frame; below the level it is the
-integration's error, not motion."""
+integration's error, not motion (five times the jitter seen: a loose rtol of 1e-4 still resolves beats above 0.01
+rad on a chain whose angles stay within 1 rad)."""
 SMALL_AMPLITUDE = 1e-3
 """rad: below this a Theta counts as steady for the periodicity verdict (wiggles at round-off or a last
 decaying transient are not an irregular beat)."""

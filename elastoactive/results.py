@@ -142,7 +142,8 @@ class Results:
 
     amplitude, frequency  of Theta = theta_N - theta_1: floats, or one per chain (tuple) for the pair;
                           frequency is None when the window holds fewer than two periods of a
-                          beating chain (a longer run fixes it), 0.0 for a chain at rest
+                          beating chain (a longer run fixes it) or the chain turns rigidly (no beat:
+                          RIGID_TURN, RIGID_FRACTION), 0.0 for a chain at rest (below rest_level)
     periodic              True for a steady state or a regular beat (the single numbers describe it),
                           False for an irregular one (period or amplitude varying by more than
                           PERIODIC_SPREAD from cycle to cycle: use statistics, not one number), None

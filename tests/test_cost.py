@@ -29,9 +29,10 @@ def test_the_estimate_leaves_the_run_bit_identical():
 def test_a_run_far_slower_than_the_reduced_engine_is_named_in_one_line(monkeypatch, capsys):
     line = cost.cost_note(cost.MujocoCost(3.0 * 3600, 10**9, 10.8, 5), 40.0)
     assert "3.0 h" in line and "40 s" in line and "--engine reduced" in line and "\n" not in line
-    assert cost.cost_note(cost.MujocoCost(3.0 * 3600, 10**9, 10.8, 5), 3600.0) is None  # not far beyond
     assert cost.cost_note(cost.MujocoCost(20.0, 10**6, 20.0, 5), 0.1) is None  # short: not worth a word
-    assert cost.cost_note(cost.MujocoCost(3.0 * 3600, 10**9, 10.8, 5), None) is None  # no reduced estimate
+    for reduced_s in (3600.0, None):  # not far beyond, or no reduced estimate: the run's own estimate is announced
+        line = cost.cost_note(cost.MujocoCost(3.0 * 3600, 10**9, 10.8, 5), reduced_s)
+        assert line.startswith("this MuJoCo run will take about 3.0 h") and "reduced" not in line
     monkeypatch.setattr(engine, "NOTE_SECONDS", 0.0)
     monkeypatch.setattr(cost, "NOTE_SECONDS", 0.0)
     monkeypatch.setattr(cost, "FAR_BEYOND", 0.0)
@@ -71,3 +72,23 @@ def test_a_long_preflight_check_is_announced_with_its_estimated_time(monkeypatch
         ea.simulate(ea.Physics(n=1000, sigma=1e-7), ea.Numerics(), duration=5.0, progress=True)
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "checking dt against the stability limits of the N = 1000 model (about " in err
+
+
+def test_the_reduced_pilot_of_a_stiff_model_stops_at_its_time_budget(monkeypatch):
+    """The pilot grows from a short span and stops once one run takes PILOT_SECONDS: a large model whose stiff solve
+    costs seconds per tau is not piloted over its full share (5 tau of the paraboloid at N = 100 took minutes, silent
+    before a MuJoCo run)."""
+    import elastoactive.engines.reduced as reduced
+
+    spans = []
+
+    def slow(physics, numerics, duration, **kwargs):  # a model whose every run takes 10 s per tau, at least 0.2 s
+        spans.append(duration)
+        clock[0] += max(0.2, 10.0 * duration)
+
+    clock = [0.0]
+    monkeypatch.setattr(reduced, "simulate_reduced", slow)
+    monkeypatch.setattr(cost.time, "perf_counter", lambda: clock[0])
+    estimate = cost.reduced_cost(ea.Physics(n=7), ea.Numerics(), 300.0)
+    assert sum(10.0 * s for s in spans) < 4 * cost.PILOT_SECONDS + 1.0 and max(spans) < 0.2
+    assert estimate == pytest.approx(10.0 * 300.0, rel=0.05)

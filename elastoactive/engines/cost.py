@@ -3,8 +3,8 @@
 MuJoCo's cost is close to linear in the number of steps: `sample_cost` times a few recorded samples of the
 compiled model (the follower-force callback on, as in the run) on a copy of the run's state, so the run itself is
 untouched (bit-identical). The reduced engine's cost depends on the adaptive solver's steps, which follow the
-dynamics rather than a fixed dt: `reduced_cost` times a short pilot run after one untimed call (the first one
-compiles the kernels). MuJoCo's pre-flight stability check is dense in the model's angles: `check_seconds`
+dynamics rather than a fixed dt: `reduced_cost` times a pilot that grows from a short span until one run takes
+PILOT_SECONDS (a large model's stiff solve costs seconds per tau: its pilot stays short). MuJoCo's pre-flight stability check is dense in the model's angles: `check_seconds`
 estimates it from their number, and `check_announcement` words it before a large model's check starts. When the
 MuJoCo run would take far longer than the reduced engine for the same observables, `cost_note` says so in one line
 with both estimates; the run still goes.
@@ -13,6 +13,7 @@ with both estimates; the run still goes.
 from __future__ import annotations
 
 import copy
+import dataclasses
 import time
 from typing import NamedTuple
 
@@ -35,6 +36,10 @@ FAR_BEYOND = 10.0
 PILOT_SHARE = 0.02
 """Share of the run's duration the reduced engine's pilot simulates (at least PILOT_MIN_TAU)."""
 PILOT_MIN_TAU = 5.0
+PILOT_SECONDS = 0.5
+"""Wall time the reduced engine's pilot may take: it starts over PILOT_FIRST_TAU and doubles its span until one run
+takes this long or covers its share, so a large model's stiff solve (seconds per tau) is timed over a short span."""
+PILOT_FIRST_TAU = 0.01
 
 
 class MujocoCost(NamedTuple):
@@ -81,18 +86,28 @@ def mujoco_cost(model: mujoco.MjModel, data: mujoco.MjData, numerics: Numerics, 
 
 
 def reduced_cost(physics: Physics, numerics: Numerics, duration: float) -> float | None:
-    """Estimated wall time (s) of the reduced engine over `duration`, from a pilot of a few percent of it; None
-    when the reduced engine cannot run this case."""
+    """Estimated wall time (s) of the reduced engine over `duration`, from a pilot of a few percent of it that stops
+    growing once a run takes PILOT_SECONDS (the first run, which may compile the kernels, counts only when it alone
+    takes that long). A stiff model's start costs most, so a short pilot overestimates it: the note that names the
+    reduced engine as the quicker one errs on the side of silence. None when the reduced engine cannot run this case."""
     from .reduced import simulate_reduced  # start-up time: numba's kernels load only when a pilot runs
 
     pilot = min(duration, max(PILOT_MIN_TAU, PILOT_SHARE * duration))
+    span = min(pilot, max(PILOT_FIRST_TAU, 4 * numerics.dt))
+    numerics = dataclasses.replace(numerics, sample_dt=numerics.dt)  # a short span still records a few samples
+    timed = False
     try:
-        simulate_reduced(physics, numerics, min(pilot, 10 * numerics.sample_dt))  # compiles the kernels: untimed
-        start = time.perf_counter()
-        simulate_reduced(physics, numerics, pilot)
+        while True:
+            start = time.perf_counter()
+            simulate_reduced(physics, numerics, span)
+            took = time.perf_counter() - start
+            if took >= PILOT_SECONDS or (timed and span >= pilot):
+                break
+            span = min(pilot, 2 * span) if timed else span
+            timed = True
     except (ParameterError, RuntimeError):
         return None
-    return (time.perf_counter() - start) * duration / pilot
+    return took * duration / span
 
 
 CHECK_SECONDS_PER_ANGLE3 = 2e-7
@@ -128,9 +143,13 @@ def _duration_text(seconds: float) -> str:
 
 
 def cost_note(mujoco_estimate: MujocoCost, reduced_s: float | None) -> str | None:
-    """One line when MuJoCo would take far longer than the reduced engine (None otherwise)."""
-    if reduced_s is None or mujoco_estimate.wall_s < NOTE_SECONDS or mujoco_estimate.wall_s < FAR_BEYOND * reduced_s:
+    """One line before a MuJoCo run of NOTE_SECONDS or more (None for a shorter one): its estimated wall time, and the
+    reduced engine's where that is more than FAR_BEYOND times quicker."""
+    if mujoco_estimate.wall_s < NOTE_SECONDS:
         return None
-    return (f"this MuJoCo run will take about {_duration_text(mujoco_estimate.wall_s)} ({mujoco_estimate.steps:.3g} "
-            f"steps at {mujoco_estimate.us_per_step:.3g} us); the reduced engine gives the same observables in about "
-            f"{_duration_text(reduced_s)} (--engine reduced, or engine='reduced'). Running it anyway")
+    line = (f"this MuJoCo run will take about {_duration_text(mujoco_estimate.wall_s)} ({mujoco_estimate.steps:.3g} "
+            f"steps at {mujoco_estimate.us_per_step:.3g} us)")
+    if reduced_s is None or mujoco_estimate.wall_s < FAR_BEYOND * reduced_s:
+        return line
+    return (f"{line}; the reduced engine gives the same observables in about {_duration_text(reduced_s)} "
+            "(--engine reduced, or engine='reduced'). Running it anyway")

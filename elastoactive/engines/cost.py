@@ -4,10 +4,11 @@ MuJoCo's cost is close to linear in the number of steps: `sample_cost` times a f
 compiled model (the follower-force callback on, as in the run) on a copy of the run's state, so the run itself is
 untouched (bit-identical). The reduced engine's cost depends on the adaptive solver's steps, which follow the
 dynamics rather than a fixed dt: `reduced_cost` times a pilot that grows from a short span until one run takes
-PILOT_SECONDS (a large model's stiff solve costs seconds per tau: its pilot stays short). MuJoCo's pre-flight stability check is dense in the model's angles: `check_seconds`
-estimates it from their number, and `check_announcement` words it before a large model's check starts. When the
-MuJoCo run would take far longer than the reduced engine for the same observables, `cost_note` says so in one line
-with both estimates; the run still goes.
+PILOT_SECONDS (a large model's stiff solve costs seconds per tau: its pilot stays short). MuJoCo's pre-flight
+stability check is dense in the model's angles: `check_seconds` estimates it from their number, and
+`check_announcement` words it before a large model's check starts. A MuJoCo run of NOTE_SECONDS or more is
+announced with its estimate (`cost_note`), and where the reduced engine would give the same observables far sooner
+the line says so too; the run still goes.
 """
 
 from __future__ import annotations

@@ -62,7 +62,7 @@ STEADY_KEYS = ("amplitude", "frequency", "rotation_rate")
 DURATION_FRACTION = {"full": 0.5, "quick": 1.0 / 3.0, "tiny": 1.0 / 3.0}
 
 SIZES = ("full", "quick", "tiny")
-"""Sizes of the study: full (the numbers of docs/performance.md, ~16 min on 2 cores), quick (a coarser grid, 1-1.5
+"""Sizes of the study: full (the numbers of docs/performance.md, ~16 min on 2 cores), quick (a coarser grid, 2-2.5
 min) and tiny (one case, two settings per engine, a few seconds: a smoke test whose numbers say little)."""
 
 STUDY_SCENES = ("one-pinned", "two-pinned", "rotating-pin", "coupled-pair")

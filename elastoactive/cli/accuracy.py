@@ -37,7 +37,7 @@ def register(sub) -> None:
     p.add_argument("--out", type=Path, default=Path("results/accuracy"), help="output folder (default %(default)s)")
     size = p.add_mutually_exclusive_group()
     size.add_argument("--quick", action="store_true",
-                      help="coarser grid and shorter runs (about 1-1.5 min on 2 cores)")
+                      help="coarser grid and shorter runs (about 2-2.5 min on 2 cores)")
     size.add_argument("--tiny", action="store_true",
                       help="one case, two settings per engine (a smoke test, a few seconds; numbers are rough)")
     workers_argument(p, "processes (default: every core)")

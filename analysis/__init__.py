@@ -1,6 +1,2 @@
-"""The package's mathematics. Importing it first points numba's on-disk cache at a folder keyed by the compiled
-sources (analysis.jit_cache), so an edited kernel is never loaded stale from the cache of another."""
-
-from .jit_cache import use_keyed_cache
-
-use_keyed_cache()
+"""Pure functions of results: stability, spectra, fits, observables (numpy and scipy; the reduced engine's
+mathematics, where an analysis needs it, from elastoactive.reduced)."""

@@ -5,7 +5,7 @@ the origin, a spring at every joint including the closing one) obeys the two-pin
 
     [[D, G^T], [G, 0]] [theta'; lam] = [f; -beta g],   g = (sum cos theta_i, sum sin theta_i),  G = dg/dtheta,
 
-theta' = F(theta; sigma) (analysis/reduced/equations.py). F is affine in sigma (f = -dU/dtheta + sigma Q1(theta)).
+theta' = F(theta; sigma) (elastoactive/reduced/equations.py). F is affine in sigma (f = -dU/dtheta + sigma Q1(theta)).
 
 Symmetry. Shifting every angle, theta -> theta + c 1 (turning the ring about the pin; the follower forces turn with
 the links), leaves D, f and the springs alone and turns g and G by the rotation R(c), so the saddle point's solution
@@ -58,7 +58,7 @@ import numpy as np
 from scipy.linalg import null_space
 from scipy.optimize import brentq
 
-from .reduced import DEFAULT_BETA, ChainSystem, drag_and_forces_reference, jacobian, rhs
+from ..reduced import DEFAULT_BETA, ChainSystem, drag_and_forces_reference, jacobian, rhs
 
 __all__ = [
     "Branch",

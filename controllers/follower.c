@@ -6,7 +6,7 @@
    eta is optional multiplicative noise. The callback acts only on models that carry the custom
    numeric "elastoactive_follower" = (noise amplitude a, seed[, correlation time tau_c]), so other
    models in the process are left alone; the draws are the counter-based ones of
-   elastoactive/noise.py, so both engines see the same noise.
+   controllers/noise.py, so both engines see the same noise.
 
    White noise (tau_c = 0 or absent): eta = a xi(seed, k, p) / sqrt(dt) over step k (k = the nearest
    whole number to time / dt).

@@ -3,7 +3,7 @@
 Kept as the specification the compiled callback is tested against. For every site s with
 user value F: force f = -F (1 + eta) x_s at the site, added to qfrc_passive as J_s^T f.
 Coloured noise (the marker's third entry tau_c > 0): eta held in data.userdata and advanced exactly as
-follower.c does (see there and elastoactive.noise.ColouredNoise). The tip drive (numeric elastoactive_drive =
+follower.c does (see there and elastoactive.controllers.noise.ColouredNoise). The tip drive (numeric elastoactive_drive =
 (A, omega, d_x, d_y)): the force A sin(omega t) (d_x, d_y, 0) on every site whose second user value is non-zero.
 """
 
@@ -12,7 +12,7 @@ from __future__ import annotations
 import mujoco
 import numpy as np
 
-from ..noise import INITIAL_STEP, force_factor, ou_constants, standard_normal
+from .noise import INITIAL_STEP, force_factor, ou_constants, standard_normal
 
 
 def reference_passive(model: mujoco.MjModel, data: mujoco.MjData) -> None:

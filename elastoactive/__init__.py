@@ -20,12 +20,14 @@ scenes                   the scene registry (elastoactive.scenes)
 ParameterError, SimulationDiverged
 """
 
-from . import scenes  # first: registers the built-in scenes that Physics looks up
+from . import _moved, scenes  # scenes first: registers the built-in scenes that Physics looks up
 from .api import measure, simulate
 from .errors import ParameterError, SimulationDiverged
 from .params import Numerics, Physics
 from .results import Results
 from .trajectory import Trajectory
+
+_moved.install()  # old module paths keep working for one release
 
 __all__ = ["Numerics", "ParameterError", "Physics", "Results", "SimulationDiverged", "Trajectory", "measure",
            "scenes", "simulate"]

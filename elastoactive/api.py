@@ -118,7 +118,7 @@ def simulate(
     if check_engine(engine) == "mujoco":
         check_steps(numerics.for_physics(physics), duration)  # before the pre-flight check's linearisation
         if check:
-            from .diagnose import check_timestep  # start-up time: diagnose builds MuJoCo models
+            from .engines.timestep import check_timestep  # start-up time: diagnose builds MuJoCo models
             from .engines.cost import check_announcement  # its time grows like the angles cubed
 
             announcement = check_announcement(physics) if progress else None

@@ -23,9 +23,9 @@ from dataclasses import dataclass, field
 from typing import Callable, Iterable
 
 from .engines import check_engine, run_engine
-from .executor import default_workers, imap, process_pool
+from .io.executor import default_workers, imap, process_pool
 from .params import Numerics, Physics
-from .progress import progress_bar
+from .io.progress import progress_bar
 from .results import Results, measure
 from .trajectory import Trajectory
 

@@ -8,7 +8,7 @@ from __future__ import annotations
 import numpy as np
 
 from . import registry
-from .analysis.reduced.constraints import pin_jacobian, pin_residual, project_on_pins  # noqa: F401 (re-exported)
+from .reduced.constraints import pin_jacobian, pin_residual, project_on_pins  # noqa: F401 (re-exported)
 from .errors import ParameterError
 
 

@@ -2,7 +2,7 @@
 
 Units: pendulum length l = 1, joint stiffness C (C1 for the pair) = 1 and transverse drag
 gamma = 1, so the time unit is tau = gamma l^2 / C = 1 and the active force is F_a = sigma.
-Every other module takes its physics from here; `elastoactive.model` is the one place
+Every other module takes its physics from here; `elastoactive.mjcf.chain` is the one place
 that turns these numbers into MJCF attributes. Which parameters a scene uses, and any
 constraint on them beyond the generic ranges checked here, is the scene's business
 (`elastoactive.scenes`).
@@ -316,7 +316,7 @@ class Numerics:
         if not 1e-7 <= self.mass_ratio <= MAX_MASS_RATIO:
             raise ParameterError(
                 f"mass_ratio (m / gamma tau) must lie in [1e-7, {MAX_MASS_RATIO:g}], got {self.mass_ratio} (above "
-                "the overdamped limit both engines model the inertial chain: elastoactive.diagnose.regime)"
+                "the overdamped limit both engines model the inertial chain: elastoactive.engines.timestep.regime)"
             )
         if self.integrator not in INTEGRATORS:
             raise ParameterError(f"integrator must be one of {', '.join(INTEGRATORS)}, got {self.integrator!r}")
@@ -434,7 +434,7 @@ here on implicitfast's step, whose dense drag derivatives cost O(N^3), is more t
 per step, thread time: 2.1x at N = 30, 5.4x at 100, 8.3x at 200; docs/performance.md)."""
 RESOLUTION = 0.2
 """dt x rate below which an integrator resolves a mode of that rate (implicitfast, Euler, RK4, implicit; the pre-flight
-check, elastoactive.diagnose, holds every run to it; docs/performance.md)."""
+check, elastoactive.engines.timestep, holds every run to it; docs/performance.md)."""
 RESOLVED_INERTIA = 0.05
 """mass_ratio x rate that the automatic numerics keep below: half the overdamped limit (analysis.reduced.regime's 0.1),
 so that the inertial lag stays a small error."""
@@ -461,7 +461,7 @@ def _fastest_rate(physics) -> float:
     """Fastest overdamped rate at the scene's base state (analysis.reduced.overdamped_rate, numpy), cached."""
     rate = _RATES.get(physics)
     if rate is None:
-        from .analysis.reduced.regime import overdamped_rate  # start-up time: only long chains need their rates
+        from .reduced.regime import overdamped_rate  # start-up time: only long chains need their rates
 
         system = physics.scene_def.reduced_system(physics)
         theta = np.asarray(physics.scene_def.initial_angles(physics, Numerics(perturbation=0.0)), dtype=float)

@@ -19,8 +19,8 @@ from .analysis import star as star_sync
 from .analysis import observables as obs
 from .errors import ParameterError
 from .terms.base import fastest_term
-from .jsonio import to_jsonable
-from .outputs import sha256, write_files
+from .io.jsonio import to_jsonable
+from .io.outputs import sha256, write_files
 from .params import MIN_SAMPLES, Numerics, Physics
 from .sensitivity import estimate as estimate_sensitivity
 from .sensitivity import needs_estimate
@@ -441,7 +441,7 @@ def recorded_numerics(engine: str, physics: Physics) -> tuple[str, ...]:
 def summary(traj: Trajectory, numerics: Numerics, duration: float, transient: float | None = None,
             provenance: dict | None = None, sensitivity: bool = True) -> dict:
     """Everything summary.json holds: parameters, numerical settings, wall time, results, solver
-    information and (when given) the provenance record of elastoactive.outputs. An irregular run's results also
+    information and (when given) the provenance record of elastoactive.io.outputs. An irregular run's results also
     carry `sensitivity` (elastoactive.sensitivity: errors of its numbers, whether its dynamics is sensitive) unless
     sensitivity=False."""
     transient = check_transient(duration, transient)

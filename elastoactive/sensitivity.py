@@ -166,7 +166,7 @@ def estimate(traj: Trajectory, transient: float, numerics: Numerics) -> Sensitiv
     if reason is not None:  # no pilots: from a state off the attractor they would measure its approach, not chaos
         amplitude_error, frequency_error = cycle_errors(traj, transient)
         return Sensitivity(None, None, None, amplitude_error, frequency_error, 0.0, reason)
-    from .analysis.reduced.settings import METHODS  # start-up time: only irregular runs load the reduced engine
+    from .reduced.settings import METHODS  # start-up time: only irregular runs load the reduced engine
     from .engines.reduced import simulate_reduced
 
     physics = traj.physics

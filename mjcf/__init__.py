@@ -1,6 +1,6 @@
 """The MJCF base scenes: one XML file per scene, each including the shared common.xml.
 
-Paper defaults N = 7, sigma = 0.8; elastoactive.model regenerates the chain for any N.
+Paper defaults N = 7, sigma = 0.8; elastoactive.mjcf.chain regenerates the chain for any N.
 """
 
 from importlib import resources

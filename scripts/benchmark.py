@@ -55,7 +55,7 @@ from elastoactive.engines.mujoco import prepare, simulate_mujoco
 from elastoactive.engines.reduced import regime, rhs_reference, simulate_reduced, system_of
 from elastoactive.initial import initial_angles
 from elastoactive.params import Numerics, Physics
-from elastoactive.validate import validation_cases
+from elastoactive.checks.validate import validation_cases
 
 from bench_common import CLI, CORES, load, log  # scripts/ is on sys.path when a script runs
 from benchmark_filament import bench_filament, filament_report

@@ -6,8 +6,8 @@ normal form (which printed Landau-Stuart coefficient holds).
     .venv/bin/python scripts/flagellar_hopf.py [--tiny | --full] [--out DIR] [--workers K]
 """
 
-from elastoactive.paper import PAPER
-from elastoactive.reproduce import save_all, scenario_parser, scenario_size
+from elastoactive.report.paper import PAPER
+from elastoactive.report.reproduce import save_all, scenario_parser, scenario_size
 from elastoactive.studies import growth_study, hopf_study, normal_form_study, stability_study
 
 

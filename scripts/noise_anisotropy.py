@@ -6,7 +6,7 @@ amplitude shrinking).
     .venv/bin/python scripts/noise_anisotropy.py [--tiny | --full] [--out DIR] [--workers K]
 """
 
-from elastoactive.reproduce import save_all, scenario_parser, scenario_size
+from elastoactive.report.reproduce import save_all, scenario_parser, scenario_size
 from elastoactive.studies import anisotropy_study, noise_study
 
 

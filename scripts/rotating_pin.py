@@ -5,7 +5,7 @@ rotation chosen spontaneously (several seeds at the experiment's sigma = 0.33).
     .venv/bin/python scripts/rotating_pin.py [--tiny | --full] [--out DIR] [--workers K]
 """
 
-from elastoactive.reproduce import save_all, scenario_parser, scenario_size
+from elastoactive.report.reproduce import save_all, scenario_parser, scenario_size
 from elastoactive.studies import rotation_study
 
 

@@ -6,7 +6,7 @@ N = 9 (supplement), with the sigma below which a compressed chain stays still.
     .venv/bin/python scripts/self_snapping.py [--tiny | --full] [--out DIR] [--workers K]
 """
 
-from elastoactive.reproduce import save_all, scenario_parser, scenario_size
+from elastoactive.report.reproduce import save_all, scenario_parser, scenario_size
 from elastoactive.studies import snapping_study
 
 

@@ -5,7 +5,7 @@
 # compiled at install), network access to PyPI, and about 1.1 GB of disk for .venv.
 # Idempotent and quick when nothing changed: the install is skipped while pyproject.toml, setup.py
 # and the C callback are as they were at the last install (stamp in .venv/.elastoactive-stamp), and the
-# numba kernels are compiled ahead (elastoactive.warm) only after an install or a change of the sources.
+# numba kernels are compiled ahead (elastoactive.cli.warm) only after an install or a change of the sources.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 if command -v apt-get >/dev/null 2>&1 && [ "$(id -u)" = 0 ]; then
@@ -33,7 +33,7 @@ fi
 kernels=.venv/.elastoactive-kernels
 if [ ! -f "$kernels" ] || [ .venv/.elastoactive-stamp -nt "$kernels" ] \
    || [ -n "$(find elastoactive analysis -name '*.py' -newer "$kernels" 2>/dev/null | head -1)" ]; then
-  if .venv/bin/python -m elastoactive.warm; then
+  if .venv/bin/python -m elastoactive.cli.warm; then
     touch "$kernels"
   else
     echo "setup: could not compile the kernels ahead; the first run compiles them" >&2

@@ -6,7 +6,7 @@
 
 1. cells: every physics of extremes.physics_grid() x numerics column (default, dt = 0.1, m = 1e-7,
    both, m = 1e-2) x integrator, run like `elastoactive run` (pre-flight check, MuJoCo, comparison
-   with the reduced model); outcome agrees / refused / diverged / WRONG / NaN (elastoactive.extremes).
+   with the reduced model); outcome agrees / refused / diverged / WRONG / NaN (elastoactive.checks.extremes).
 2. limits: one-pinned chain, sigma in {0.8, 10, 100} x N in {7, 30, 100}: largest dt that runs
    without SimulationDiverged (bisection in log dt to 15%) against diagnose.stability_limits.
 3. reduced model at the extremes: which method the default picks and what it costs.
@@ -25,8 +25,8 @@ from pathlib import Path
 
 import numpy as np
 
-from elastoactive import extremes as X
-from elastoactive.executor import imap
+from elastoactive.checks import extremes as X
+from elastoactive.io.executor import imap
 from elastoactive.params import Numerics, Physics
 
 CODES = {"agrees": "ok", "refused": "R", "diverged": "D", "WRONG": "**WRONG**", "NaN": "**NaN**", "skipped": "-"}
@@ -49,7 +49,7 @@ def _cells_for(physics: Physics):
     if not ACCURACY_GUARD:
         return out
     # the settings the pre-flight check asks for, where affordable
-    from elastoactive.diagnose import stability_limits
+    from elastoactive.engines.timestep import stability_limits
 
     limits = stability_limits(physics, Numerics())
     for integrator in X.INTEGRATORS:
@@ -98,7 +98,7 @@ LIMIT_MASS = {"implicitfast": 1e-4, "implicit": 1e-4, "discrete": 1e-4, "Euler":
 
 def _limit_for(args):
     physics, integrator = args
-    from elastoactive.diagnose import stability_limits
+    from elastoactive.engines.timestep import stability_limits
 
     mass = LIMIT_MASS[integrator]
     t0 = time.perf_counter()

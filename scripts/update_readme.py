@@ -31,7 +31,7 @@ def claims_table(folder: Path = REPRODUCTION) -> str:
     """The claims table of the studies saved in `folder`, without the explanation column: only that table (the
     report's other tables, sigma_c(N) and run times, stay in report.md)."""
     sys.path.insert(0, str(ROOT))
-    from elastoactive import claims
+    from elastoactive.report import claims
     from elastoactive.studies import load_study, registry
 
     studies = {name: load_study(folder, name) for name in registry.names() if (folder / f"{name}.json").exists()}
@@ -58,7 +58,7 @@ def fill(text: str, content: dict[str, str]) -> str:
 def regenerate() -> None:
     """Run validate and the one-pinned convergence study into docs/generated/ (atomically)."""
     sys.path.insert(0, str(ROOT))
-    from elastoactive.outputs import write_text
+    from elastoactive.io.outputs import write_text
 
     run = lambda *argv: subprocess.run([sys.executable, "-m", "elastoactive", *argv], capture_output=True, text=True,
                                        check=True).stdout.strip()

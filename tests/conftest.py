@@ -49,7 +49,7 @@ def tiny_studies(tmp_path_factory):
 def round_trip(tmp_path):
     """check(runs, name) -> the claims table: a study saved by tiny_studies reads back equal, draws its figures and
     renders claim rows with a verdict each."""
-    from elastoactive import claims  # the studies load both engines: only the tests that use them pay
+    from elastoactive.report import claims  # the studies load both engines: only the tests that use them pay
     from elastoactive.studies import SUMMARIES, load_study, registry
     from elastoactive.studies.claim_rows import VERDICTS
 

@@ -8,9 +8,9 @@ import math
 
 import pytest
 
-from elastoactive import accuracy as A
+from elastoactive.checks import accuracy as A
 from elastoactive.params import Numerics, Physics
-from elastoactive.validate import compare
+from elastoactive.checks.validate import compare
 
 CHAIN = Physics(n=7, sigma=0.8)
 DURATION = 100.0  # two periods (f ~ 0.042) in the measured second half

@@ -7,7 +7,7 @@ import pytest
 
 import elastoactive as ea
 from elastoactive.cli import main
-from elastoactive.diagnose import check_timestep
+from elastoactive.engines.timestep import check_timestep
 from elastoactive.params import LONG_CHAIN, Numerics
 
 

@@ -39,7 +39,7 @@ def test_a_row_is_judged_only_at_a_size_that_can_judge_it(monkeypatch):
     """A row declares the smallest size whose grids can meet its rule (Claim.judged_from): below it the report marks
     it 'not judged at this size', keeping its numbers, instead of a verdict the size cannot support (the tiny size's
     onset fit, N^-3 slope and Landau coefficient had read **no**); from that size on the rule's verdict stands."""
-    from elastoactive import claims
+    from elastoactive.report import claims
     from elastoactive.studies import registry
     from elastoactive.studies.claim_rows import NOT_JUDGED, VERDICTS, Claim
 

@@ -10,8 +10,8 @@ from elastoactive.controllers import compiled_passive, follower_forces, referenc
 from elastoactive.engines.mujoco import simulate_mujoco
 from elastoactive.engines.reduced import simulate_reduced
 from elastoactive.errors import ParameterError
-from elastoactive.model import build_model, prepare
-from elastoactive.noise import ColouredNoise, ou_constants
+from elastoactive.mjcf.chain import build_model, prepare
+from elastoactive.controllers.noise import ColouredNoise, ou_constants
 from elastoactive import scenes
 from elastoactive.params import Numerics, Physics, replace, scene_parameters
 from elastoactive.results import measure

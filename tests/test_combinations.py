@@ -159,10 +159,10 @@ def test_sweep_run_from_and_a_still_for_every_scene(scene, tmp_path, capsys):
 @pytest.mark.parametrize("case", [c for s in registry.scenes() for c in s.validation_cases()[:1]
                                   if s.network(c.physics) is not None], ids=lambda c: c.physics.scene)
 def test_the_chain_builder_refuses_a_network_in_one_line(case):
-    """elastoactive.model builds chains; a network scene handed to it is told where its model is built."""
-    from elastoactive.model import build_model
+    """elastoactive.mjcf.chain builds chains; a network scene handed to it is told where its model is built."""
+    from elastoactive.mjcf.chain import build_model
 
     physics = case.physics
-    with pytest.raises(ea.ParameterError, match="network_model") as err:
+    with pytest.raises(ea.ParameterError, match="mjcf.network") as err:
         build_model(physics)
     assert "\n" not in str(err.value)

@@ -5,8 +5,8 @@ import numpy as np
 import pytest
 
 from elastoactive.controllers import _follower, compiled_passive, follower_forces, reference_passive
-from elastoactive.model import build_model
-from elastoactive.noise import standard_normal
+from elastoactive.mjcf.chain import build_model
+from elastoactive.controllers.noise import standard_normal
 from elastoactive import scenes
 from elastoactive.params import Numerics, Physics, scene_parameters
 from elastoactive.scenes import names as scene_names

@@ -44,7 +44,7 @@ def test_a_run_far_slower_than_the_reduced_engine_is_named_in_one_line(monkeypat
 def test_a_sample_longer_than_the_probe_budget_is_timed_by_single_steps():
     """A long chain's sample can hold thousands of slow steps (N = 1000: ~0.8 s each): the probe then times single
     steps within its budget instead of stepping whole samples (it sat for minutes), and still scales to a sample."""
-    from elastoactive.model import prepare
+    from elastoactive.mjcf.chain import prepare
 
     physics, numerics = ea.Physics(n=7), ea.Numerics()
     model, data = prepare(physics, numerics)[:2]
@@ -57,7 +57,7 @@ def test_a_sample_longer_than_the_probe_budget_is_timed_by_single_steps():
 def test_a_long_preflight_check_is_announced_with_its_estimated_time(monkeypatch, capsys):
     """MuJoCo's pre-flight stability check is dense in the angles (seconds at N = 200, minutes at N = 1000): before a
     long one starts, one line says how long it will take; a short one is not announced."""
-    import elastoactive.diagnose as diagnose
+    import elastoactive.engines.timestep as diagnose
 
     assert cost.check_announcement(ea.Physics(n=7)) is None
     assert cost.check_seconds(1000) > 30 * cost.check_seconds(300)

@@ -15,17 +15,17 @@ POOL = re.compile(r"ProcessPoolExecutor|multiprocessing\s*\.\s*(Pool|Process)\b|
 
 
 def test_one_module_makes_process_pools():
-    """Every pool of the package and its scripts comes from elastoactive.executor (worker counts, Ctrl-C,
+    """Every pool of the package and its scripts comes from elastoactive.io.executor (worker counts, Ctrl-C,
     loading the kernels once are decided there)."""
     found = []
     for folder in ("elastoactive", "analysis", "scripts"):
         for path in sorted((ROOT / folder).rglob("*.py")):
-            if path == ROOT / "elastoactive" / "executor.py":
+            if path == ROOT / "elastoactive" / "io" / "executor.py":
                 continue
             for number, line in enumerate(path.read_text().splitlines(), 1):
                 if POOL.search(line):
                     found.append(f"{path.relative_to(ROOT)}:{number}: {line.strip()}")
-    assert not found, "process pools made outside elastoactive/executor.py:\n" + "\n".join(found)
+    assert not found, "process pools made outside elastoactive/io/executor.py:\n" + "\n".join(found)
 
 
 INTERRUPTED = """

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import elastoactive as ea
-from elastoactive.validate import angle_errors, observable_errors
+from elastoactive.checks.validate import angle_errors, observable_errors
 
 
 def test_the_tutorial_points_to_every_scene():

@@ -1,6 +1,6 @@
 """The reduced model with the particles' inertia: MuJoCo's chain at a finite mass, equation for equation.
 
-The inertial model (analysis/reduced/equations.py) must be MuJoCo's continuous dynamics exactly (mass
+The inertial model (elastoactive/reduced/equations.py) must be MuJoCo's continuous dynamics exactly (mass
 matrix, accelerations), its compiled kernels must match the plain-numpy formulas, the one criterion
 (engines.reduced.regime) decides which model runs, diagnose classifies instead of refusing the mass,
 and MuJoCo agrees with the inertial model at a finite mass (validate.inertial_cases).
@@ -12,18 +12,18 @@ import mujoco
 import numpy as np
 import pytest
 
-from elastoactive.analysis import reduced as M
+from elastoactive import reduced as M
 from elastoactive.analysis.flutter import BEAD_INERTIA_FACTOR, mass_matrix_at
 from elastoactive.cli import main
 from elastoactive.controllers import follower_forces
-from elastoactive.diagnose import check_timestep, stability_limits
+from elastoactive.engines.timestep import check_timestep, stability_limits
 from elastoactive.engines.mujoco import simulate_mujoco
 from elastoactive.engines.reduced import regime, simulate_reduced, system_of
 from elastoactive.errors import ParameterError
-from elastoactive.model import build_model
+from elastoactive.mjcf.chain import build_model
 from elastoactive.params import Numerics, Physics
 from elastoactive.results import measure
-from elastoactive.validate import compare, inertial_cases
+from elastoactive.checks.validate import compare, inertial_cases
 
 CHAIN = Physics(n=7, sigma=0.8)
 

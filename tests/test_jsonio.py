@@ -1,4 +1,4 @@
-"""One JSON converter (elastoactive.jsonio) for summary.json, the studies' JSON and the sweep's journal."""
+"""One JSON converter (elastoactive.io.jsonio) for summary.json, the studies' JSON and the sweep's journal."""
 
 from __future__ import annotations
 
@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from elastoactive.analysis.fits import Fit
-from elastoactive.jsonio import from_jsonable, to_jsonable
+from elastoactive.io.jsonio import from_jsonable, to_jsonable
 from elastoactive.results import jsonable
 from elastoactive.studies import SUMMARIES
 

@@ -127,7 +127,7 @@ def test_polarity_speed_reports_how_fast_units_turn_either_way():
 
 def _degenerate_pair():
     """The pinned R = 2 patch's modes, its softest pair (lambda_1 = lambda_2) turned by `angle` within their plane."""
-    from elastoactive.analysis.network.model import normal_modes
+    from elastoactive.reduced.network import normal_modes
 
     values, vectors = normal_modes(ea.analysis.network.hexagonal_patch(2))
     assert values[1] - values[0] < 1e-9 * values[-1] < values[2] - values[1]

@@ -114,10 +114,23 @@ def test_scene_names_only_in_scene_modules():
 
 @pytest.mark.parametrize("name", sorted(m for m in MODULES if m.startswith("elastoactive.analysis")))
 def test_analysis_is_pure(name):
-    """analysis/ is mathematics: it imports nothing of the package outside itself but the error types and the models'
-    constants (leaves)."""
+    """analysis/ is mathematics: it imports nothing of the package outside itself but the reduced engine's mathematics,
+    the network records, the error types and the models' constants (leaves)."""
     outside = [f"line {line}: {target}" for target, line, *_ in _imports(name, MODULES[name])
                if target.startswith("elastoactive")
-               and not target.startswith(("elastoactive.analysis", "elastoactive.errors", "elastoactive.constants"))
+               and not target.startswith(PURE + ("elastoactive.analysis",))
                and target != "elastoactive"]
+    assert not outside, f"{name} imports {outside}"
+
+
+PURE = ("elastoactive.reduced", "elastoactive.networks", "elastoactive.errors", "elastoactive.constants")
+"""The packages and leaves below the scenes: the reduced engine's mathematics, the network records, errors, constants."""
+
+
+@pytest.mark.parametrize("name", sorted(m for m in MODULES if m.startswith(PURE[:2])))
+def test_reduced_engine_and_network_records_stand_alone(name):
+    """The reduced engine (elastoactive/reduced/) and the network records know no scene, term, Physics or engine:
+    arrays and records in, arrays out."""
+    outside = [f"line {line}: {target}" for target, line, *_ in _imports(name, MODULES[name])
+               if target.startswith("elastoactive") and not target.startswith(PURE) and target != "elastoactive"]
     assert not outside, f"{name} imports {outside}"

@@ -11,14 +11,14 @@ import sys
 import numpy as np
 import pytest
 
-from elastoactive import diagnose
+from elastoactive.engines import timestep as diagnose
 from elastoactive.cli import main
 from elastoactive.engines.mujoco import simulate_mujoco
 from elastoactive.engines.mujoco_batch import simulate_mujoco_batch
 from elastoactive.engines.reduced import regime, simulate_reduced
-from elastoactive.diagnose import INERTIA_RESOLUTION
+from elastoactive.engines.timestep import INERTIA_RESOLUTION
 from elastoactive.params import LONG_CHAIN, Numerics, Physics, long_chain_numerics
-from elastoactive.validate import validation_cases
+from elastoactive.checks.validate import validation_cases
 
 EXPLICIT = Numerics(dt=0.0025, mass_ratio=1e-4, integrator="implicitfast")  # the defaults, given by hand
 
@@ -106,7 +106,7 @@ def test_the_checks_regime_is_the_reduced_engines():
     """One criterion: the pre-flight check classifies a run with the function the reduced engine runs by, from a
     light module (no compiled solver loaded)."""
     assert diagnose.regime is regime
-    code = "import sys, elastoactive.diagnose; print('numba' in sys.modules)"
+    code = "import sys, elastoactive.engines.timestep; print('numba' in sys.modules)"
     assert subprocess.run([sys.executable, "-c", code], capture_output=True, text=True).stdout.strip() == "False"
 
 

@@ -14,7 +14,7 @@ import pytest
 from elastoactive import scenes
 from elastoactive.controllers import follower_forces
 from elastoactive.mjcf import mjcf_path
-from elastoactive.model import prepare
+from elastoactive.mjcf.chain import prepare
 from elastoactive.params import Numerics, Physics
 
 N_VALUES = (1, 2, 7, 40)

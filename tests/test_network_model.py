@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from elastoactive.analysis.network import NetworkState, hexagonal_patch, initial_state, trap_unit
-from elastoactive.analysis.network import model as m
+from elastoactive.reduced import network as m
 
 CASES = [(hexagonal_patch(2, "pinned"), 0.3, 0.5), (hexagonal_patch(2, "centre"), 0.2, 0.1),
          (hexagonal_patch(1, "free"), 0.4, 2.0), (trap_unit(0.7), 0.8, 1.3)]

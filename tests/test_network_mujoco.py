@@ -1,4 +1,4 @@
-"""Elastic networks of active units in MuJoCo: the model (elastoactive.network_model) and the engine's branch.
+"""Elastic networks of active units in MuJoCo: the model (elastoactive.mjcf.network) and the engine's branch.
 
 Checked: every network compiles and steps with no MuJoCo warning; pinned nodes never move; the springs, the trap and
 the drag are the exact forces (against a numpy sum over the bonds); the passive lattice relaxes mode by mode at the
@@ -15,7 +15,7 @@ from elastoactive.engines.network_mujoco import simulate_network_mujoco
 from elastoactive.errors import ParameterError
 from elastoactive.controllers import follower_forces
 from elastoactive.scenes.base import Scene
-from elastoactive.network_model import (build_network_model, free_nodes, node_positions, polarity_of_units,
+from elastoactive.mjcf.network import (build_network_model, free_nodes, node_positions, polarity_of_units,
                                         qpos_of_positions, set_polarity)
 
 PHYSICS = ea.Physics(sigma=0.0)  # a passive network: the builder reads the scene's name and sigma = 0
@@ -272,7 +272,7 @@ def test_automatic_euler_is_implicitfast_bit_for_bit(patch_scene):
 def test_validate_holds_the_network_cases_within_one_percent():
     """elastoactive validate's cases of the lattice and the trapped unit, at the default (automatic) numerics: the
     observables and the node positions over the first 20 gamma / k within 1% of the reduced engine."""
-    from elastoactive.validate import compare, validation_cases
+    from elastoactive.checks.validate import compare, validation_cases
 
     cases = validation_cases("lattice") + validation_cases("trapped-unit")
     assert len(cases) >= 2
@@ -285,7 +285,7 @@ def test_validate_holds_the_network_cases_within_one_percent():
 def test_preflight_refuses_an_unresolved_network_in_one_line():
     """diagnose.check_timestep hands network scenes to their own check: dt x (fastest rate) <= 0.2 and the
     overdamped mass limit, each refusal naming the setting."""
-    from elastoactive.diagnose import check_timestep
+    from elastoactive.engines.timestep import check_timestep
 
     physics = ea.Physics(scene="lattice", rings=2, sigma=0.2, alignment_length=0.1)
     limits = check_timestep(physics, ea.Numerics())  # the automatic numerics pass
@@ -301,7 +301,7 @@ def test_units_on_a_slide_joint_are_the_units_on_the_site(patch_scene):
     """A free node's unit is an actuator on the node's x slide (a joint transmission, O(1) per step) rather than on
     its site (a Jacobian per step): the callback finds the same site, so the trajectory is the same to the bit."""
     from elastoactive.engines.network_mujoco import prepare_network
-    from elastoactive.network_model import build_network_spec
+    from elastoactive.mjcf.network import build_network_spec
 
     physics = ea.Physics(scene=patch_scene.name, sigma=0.6, alignment_length=0.3)
     numerics = ea.Numerics(perturbation=0.05, dt=0.0025, integrator="Euler")

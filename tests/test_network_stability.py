@@ -8,7 +8,7 @@ import pytest
 from scipy.optimize import fsolve
 
 from elastoactive.analysis.network import NetworkState, hexagonal_patch, trap_unit
-from elastoactive.analysis.network import model as m
+from elastoactive.reduced import network as m
 from elastoactive.analysis.network import stability as st
 
 

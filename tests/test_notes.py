@@ -13,8 +13,8 @@ import pytest
 import elastoactive as ea
 from elastoactive import quantities, results, sensitivity
 from elastoactive.render import _caption_left
-from elastoactive.render_network import network_caption
-from elastoactive.sweep_points import _ok_record
+from elastoactive.render.network import network_caption
+from elastoactive.sweep.points import _ok_record
 from elastoactive.trajectory import Trajectory
 
 SPACING = 0.1

@@ -7,7 +7,7 @@ from elastoactive.analysis import observables as obs
 from elastoactive.engines.reduced import simulate_reduced
 from elastoactive.params import Numerics, Physics
 from elastoactive.engines.mujoco import simulate_mujoco
-from elastoactive.validate import compare
+from elastoactive.checks.validate import compare
 
 PAPER_CASES = [
     (Physics(scene="one-pinned", n=7, sigma=0.8), 150.0),
@@ -121,7 +121,7 @@ def test_noise_same_realisation_in_both_engines():
 
 def test_error_falls_as_dt_and_mass_shrink():
     """First order in dt (each halving roughly halves the error); inertia error falls with m."""
-    from elastoactive.validate import REFERENCE_TOLERANCE
+    from elastoactive.checks.validate import REFERENCE_TOLERANCE
 
     physics, duration = Physics(n=7, sigma=0.8), 80.0
     reference = simulate_reduced(physics, Numerics(sample_dt=0.04), duration, **REFERENCE_TOLERANCE)

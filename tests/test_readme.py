@@ -111,7 +111,7 @@ def test_readme_tables_come_from_the_committed_reports():
 def test_committed_report_matches_the_code():
     """docs/reproduction/report.md was written by today's code: its claims and sigma_c tables equal those
     the code builds from the committed study data (so a change of wording or of a number shows here)."""
-    from elastoactive import claims
+    from elastoactive.report import claims
     from elastoactive.studies import STUDIES, load_study
 
     folder = ROOT / "docs" / "reproduction"

@@ -8,7 +8,7 @@ import pytest
 from elastoactive.engines import reduced as R
 from elastoactive.analysis import stability
 from elastoactive.initial import initial_angles, pin_residual
-from elastoactive.noise import force_factor
+from elastoactive.controllers.noise import force_factor
 from elastoactive import registry
 from elastoactive.params import Numerics, ParameterError, Physics, scene_parameters
 

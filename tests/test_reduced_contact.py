@@ -6,9 +6,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from elastoactive.analysis import reduced as M
-from elastoactive.analysis.reduced import ChainSystem, kernels
-from elastoactive.analysis.reduced.contact import capsule_clearance, contact_forces, core_span
+from elastoactive import reduced as M
+from elastoactive.reduced import ChainSystem, kernels
+from elastoactive.reduced.contact import capsule_clearance, contact_forces, core_span
 from elastoactive.errors import ParameterError
 
 BETA = M.DEFAULT_BETA

@@ -7,8 +7,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from elastoactive.analysis import reduced as M
-from elastoactive.analysis.reduced import kernels as K
+from elastoactive import reduced as M
+from elastoactive.reduced import kernels as K
 
 BETA = 3.0
 NS = (2, 3, 7, 30, 100)

@@ -9,9 +9,9 @@ import json
 import numpy as np
 import pytest
 
-from elastoactive.analysis import reduced as M
-from elastoactive.analysis.reduced import kernels as K
-from elastoactive.analysis.reduced.blas import _openblas_controls, one_blas_thread
+from elastoactive import reduced as M
+from elastoactive.reduced import kernels as K
+from elastoactive.reduced.blas import _openblas_controls, one_blas_thread
 from elastoactive.cli import main
 from elastoactive.engines.reduced import simulate_reduced
 from elastoactive.params import Numerics, Physics
@@ -98,7 +98,7 @@ def test_method_option_is_recorded_and_refused_where_it_does_not_apply(tmp_path,
 def test_a_solver_that_gives_up_says_what_to_change_in_one_line(monkeypatch, capsys):
     """numba-DOP853 giving up (as at sigma = 500 with contact, where its step fell below round-off after ~8 s)
     is a SimulationDiverged naming the settings and the fix, printed by the CLI as one line (exit 3)."""
-    from elastoactive.analysis.reduced import dop853
+    from elastoactive.reduced import dop853
 
     def gives_up(system, t, y0, **kw):
         return np.zeros((t.size, y0.size)), -1, 10, 1, 0
@@ -111,7 +111,7 @@ def test_a_solver_that_gives_up_says_what_to_change_in_one_line(monkeypatch, cap
 
 def test_compiled_dop853_resumes_bit_for_bit_across_calls(monkeypatch):
     """The compiled loop returns every STEP_BUDGET steps (so Ctrl-C is seen) and resumes exactly where it was."""
-    from elastoactive.analysis.reduced import dop853
+    from elastoactive.reduced import dop853
 
     system = M.ChainSystem(n=7, sigma=0.8).typed()
     ts = np.arange(0.0, 60.0, 0.05)

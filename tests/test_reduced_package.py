@@ -9,11 +9,11 @@ import pathlib
 import numpy as np
 import pytest
 
-from elastoactive.analysis import reduced as M
-from elastoactive.analysis.reduced import dop853, dop853_coefficients, kernels
+from elastoactive import reduced as M
+from elastoactive.reduced import dop853, dop853_coefficients, kernels
 from elastoactive.errors import ParameterError
 
-PACKAGE = "elastoactive.analysis.reduced"
+PACKAGE = "elastoactive.reduced"
 SOURCES = sorted(pathlib.Path(M.__file__).parent.glob("*.py"))
 
 

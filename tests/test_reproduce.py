@@ -10,8 +10,8 @@ from pathlib import Path
 import pytest
 
 from elastoactive.cli import main
-from elastoactive.progress import LOG_INTERVAL, LineProgress
-from elastoactive.reproduce import reproduce
+from elastoactive.io.progress import LOG_INTERVAL, LineProgress
+from elastoactive.report.reproduce import reproduce
 from elastoactive.studies import STUDIES, SUMMARIES, load_study
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -85,7 +85,7 @@ def test_readme_claims_block_holds_only_the_claims_table():
     and its run-time table), one row per claim the committed study data make."""
     import importlib.util
 
-    from elastoactive import claims
+    from elastoactive.report import claims
     from elastoactive.studies import load_study, registry
 
     spec = importlib.util.spec_from_file_location("update_readme", ROOT / "scripts" / "update_readme.py")
@@ -105,7 +105,7 @@ def test_readme_claims_block_holds_only_the_claims_table():
 def test_the_code_digest_covers_every_source_that_makes_results():
     """Resume keeps a study only when the code that made it is today's: the digest must see the reduced engine,
     the MJCF templates and the callback's C source, which a checkout keeps in top-level folders."""
-    from elastoactive.reproduce import source_digest, source_files
+    from elastoactive.report.reproduce import source_digest, source_files
 
     files = source_files()
     for rel in ("reproduce.py", "studies/registry.py", "reduced/kernels.py", "stability.py", "common.xml", "follower.c"):
@@ -119,12 +119,12 @@ def test_one_reproduce_per_folder_and_a_stale_lock_is_taken_over(tmp_path, capsy
     """A second reproduce into a folder another one is writing is refused in one line naming --out and the holder,
     before any study runs; the lock file a killed run leaves behind blocks nothing."""
     from conftest import refused
-    from elastoactive.outputs import lock_file
-    from elastoactive.reproduce import LOCK
+    from elastoactive.io.outputs import lock_file
+    from elastoactive.report.reproduce import LOCK
 
     out = tmp_path / "repro"
     out.mkdir()
-    hold = ("import sys; from elastoactive.outputs import lock_file\n"
+    hold = ("import sys; from elastoactive.io.outputs import lock_file\n"
             "with lock_file(sys.argv[1], 'reproduce'):\n    print('held', flush=True); sys.stdin.read()")
     holder = subprocess.Popen([sys.executable, "-c", hold, str(out / LOCK)], stdin=subprocess.PIPE,
                               stdout=subprocess.PIPE, text=True)

@@ -104,7 +104,7 @@ def test_compiled_drive_equals_its_reference():
     """MuJoCo's callback applies A sin(omega t) along the drive on the tip's site, as controllers/reference.py does."""
     import mujoco  # only the MuJoCo tests need it
     from elastoactive.controllers import compiled_passive, follower_forces, reference_passive
-    from elastoactive.model import build_model
+    from elastoactive.mjcf.chain import build_model
 
     for direction in ("transverse", "longitudinal"):
         model = build_model(ea.Physics(n=5, sigma=0.4, drive_amplitude=0.3, drive_frequency=0.2,
@@ -150,7 +150,7 @@ def test_tip_drive_in_the_reduced_engine_matches_the_transfer_function():
 
 
 def test_validate_holds_both_engines_to_one_percent():
-    from elastoactive import validate  # validate loads both engines
+    from elastoactive.checks import validate  # validate loads both engines
 
     case = ea.terms.get("tip-drive").validation_cases(ea.Physics)[0]
     row = validate.compare(case.physics, ea.Numerics(), case.duration)

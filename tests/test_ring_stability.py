@@ -11,7 +11,7 @@ import pytest
 
 import elastoactive as ea
 from elastoactive.analysis import ring_stability as rs
-from elastoactive.analysis.reduced import project_on_pins
+from elastoactive.reduced import project_on_pins
 from elastoactive.cli import main
 from elastoactive.errors import ParameterError
 from elastoactive.scenes import ring

@@ -7,9 +7,9 @@ import numpy as np
 import pytest
 
 from elastoactive.cli import main
-from elastoactive.diagnose import check_timestep, stability_limits
+from elastoactive.engines.timestep import check_timestep, stability_limits
 from elastoactive.errors import SimulationDiverged
-from elastoactive.model import build_model
+from elastoactive.mjcf.chain import build_model
 from elastoactive.params import Numerics, ParameterError, Physics
 from elastoactive import scenes
 from elastoactive.scenes import names as scene_names

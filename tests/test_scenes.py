@@ -6,7 +6,7 @@ import pytest
 
 from elastoactive import scenes
 from elastoactive.mjcf import mjcf_path
-from elastoactive.model import absolute_angles, build_model, relative_angles
+from elastoactive.mjcf.chain import absolute_angles, build_model, relative_angles
 from elastoactive.params import Numerics, Physics
 
 SCENES = [s for s in scenes.names() if scenes.get(s).term_parameters is None]  # chain scenes; networks: test_network*

@@ -7,11 +7,11 @@ import numpy as np
 import pytest
 
 import elastoactive as ea
-from elastoactive.analysis.reduced.contact import capsule_clearance, core_span
-from elastoactive.analysis.reduced.system import CONTACT_LENGTH
+from elastoactive.reduced.contact import capsule_clearance, core_span
+from elastoactive.reduced.system import CONTACT_LENGTH
 from elastoactive.cli import main
 from elastoactive.errors import ParameterError
-from elastoactive.model import build_model, qpos_of
+from elastoactive.mjcf.chain import build_model, qpos_of
 from elastoactive.params import Numerics, Physics
 
 

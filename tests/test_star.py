@@ -9,7 +9,7 @@ import pytest
 
 import elastoactive as ea
 from elastoactive.analysis import star as sync
-from elastoactive.analysis.reduced import ChainSystem, rhs, rhs_reference, solve_ode
+from elastoactive.reduced import ChainSystem, rhs, rhs_reference, solve_ode
 from elastoactive.scenes import star
 
 def _numerics(engine: str) -> ea.Numerics:
@@ -101,7 +101,7 @@ def test_engines_agree_on_a_turning_hub():
 
 @pytest.mark.slow
 def test_validate_holds_both_engines_within_one_percent():
-    from elastoactive.validate import compare
+    from elastoactive.checks.validate import compare
 
     for case in ea.scenes.get("star").validation_cases():
         comparison = compare(case.physics, ea.Numerics(), case.duration)

@@ -14,7 +14,7 @@ from elastoactive.analysis import stability as stab
 from elastoactive.analysis import synchronisation as syn
 from elastoactive.analysis.fits import Fit
 from elastoactive.engines import reduced as R
-from elastoactive.paper import PAPER
+from elastoactive.report.paper import PAPER
 from elastoactive.scenes import rotating_pin
 from elastoactive.studies.base import EngineParts, Study, Summary, to_jsonable
 from elastoactive.studies.normal_form import landau_prediction

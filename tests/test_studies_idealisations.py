@@ -8,7 +8,7 @@ import math
 import pytest
 
 from elastoactive.analysis import flutter as fl
-from elastoactive.paper import PAPER
+from elastoactive.report.paper import PAPER
 from elastoactive.studies.inertia import experiment_scales
 from elastoactive.studies.noise import experiment_noise
 

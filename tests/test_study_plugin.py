@@ -16,8 +16,8 @@ import pytest
 from elastoactive.analysis import stability as stab
 from elastoactive.cli import main
 from elastoactive.errors import ParameterError
-from elastoactive import reproduce as reproduce_module
-from elastoactive.reproduce import Interrupted, reproduce
+from elastoactive.report import reproduce as reproduce_module
+from elastoactive.report.reproduce import Interrupted, reproduce
 from elastoactive.studies import STUDIES, SUMMARIES, Study, Summary, load_study, registry
 from elastoactive.studies import plotting as plots
 from elastoactive.studies.claim_rows import Claim, fmt, verdict

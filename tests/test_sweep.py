@@ -272,7 +272,7 @@ def test_a_diverging_point_of_a_batch_is_its_error_and_the_others_finish(tmp_pat
 
 
 def test_preflight_check_once_per_distinct_model(tmp_path, monkeypatch):
-    from elastoactive import diagnose
+    from elastoactive.engines import timestep as diagnose
 
     calls = []
     original = diagnose.check_timestep
@@ -384,7 +384,7 @@ def test_netcdf_writer_matches_xarrays(tmp_path):
     """outputs.write_netcdf (h5netcdf, without xarray's writer and its dask imports) writes what xarray's own
     to_netcdf writes, as xarray.open_dataset reads it back: floats with NaN, integers, text, times with NaT, a
     per-chain dimension, numpy and plain attributes."""
-    from elastoactive.outputs import write_netcdf
+    from elastoactive.io.outputs import write_netcdf
 
     status = np.array([["ok", "error", "pending"], ["ok", "", "ok"]], dtype=object)
     finished = np.array([["2026-11-22T17:56:44.8378", "NaT", "2026-01-01"], ["NaT", "NaT", "1970-01-01"]],

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from elastoactive.errors import ParameterError
-from elastoactive.sweep_grid import MAX_GRID_POINTS, make_sweep, parse_grid
+from elastoactive.sweep.grid import MAX_GRID_POINTS, make_sweep, parse_grid
 
 
 @pytest.mark.parametrize("specs", [["sigma=0.2:1:100000"], ["sigma=0.2:1:1000000000000"],

@@ -18,7 +18,7 @@ import xarray as xr
 
 from elastoactive.cli import main
 from elastoactive.params import ParameterError
-from elastoactive import sweep_netcdf
+from elastoactive.sweep import netcdf as sweep_netcdf
 from elastoactive.sweep import make_sweep, run_sweep
 
 from sweep_helpers import REDUCED, VOLATILE, Stop, load  # shared with test_sweep.py
@@ -322,7 +322,7 @@ def test_unreachable_dask_scheduler_is_one_line(tmp_path, capsys, monkeypatch):
     """A scheduler address nobody answers at: one line naming it after a short wait (it was Dask's 30 s, then a
     69-line traceback), and nothing is written."""
     pytest.importorskip("dask.distributed")
-    from elastoactive import sweep_runners
+    from elastoactive.sweep import runners as sweep_runners
 
     monkeypatch.setattr(sweep_runners, "DASK_CONNECT_S", 1.0, raising=False)
     out = tmp_path / "d.nc"
@@ -340,7 +340,7 @@ def test_a_sweep_whose_every_point_is_refused_is_refused_before_any_runs(tmp_pat
     """A MuJoCo sweep the pre-flight check refuses at every point (dt = 0.01 does not resolve the N = 20 ring) is one
     line naming a setting that passes every point, before any point runs: no netCDF of failures, no journal. The
     setting it names then passes."""
-    from elastoactive import sweep_points
+    from elastoactive.sweep import points as sweep_points
 
     ran = []
     monkeypatch.setattr(sweep_points, "run_chunk", lambda *a, **k: ran.append(a), raising=False)

@@ -12,9 +12,9 @@ import numpy as np
 import pytest
 
 import elastoactive as ea
-from elastoactive import progress
+from elastoactive.io import progress
 from elastoactive.cli import main
-from elastoactive.diagnose import check_timestep
+from elastoactive.engines.timestep import check_timestep
 from elastoactive.results import load_trajectory
 
 from conftest import refused  # the shared one-line-refusal check
@@ -232,7 +232,7 @@ def test_from_reruns_a_recorded_mujoco_run_bit_identically(tmp_path):
 
 
 def test_reproduce_records_provenance(tmp_path):
-    from elastoactive.reproduce import reproduce
+    from elastoactive.report.reproduce import reproduce
 
     reproduce(tmp_path, "tiny", 1, ["stability"], progress=False, log=lambda *a: None)
     assert json.loads((tmp_path / "provenance.json").read_text())["versions"]["mujoco"]
@@ -242,7 +242,7 @@ def test_reproduce_records_provenance(tmp_path):
 
 def test_engines_compare_irregular_beats_by_their_statistics():
     """With noise the beat is irregular: validate compares cycle statistics (z-scores), not single numbers."""
-    from elastoactive.validate import Z_AGREE, compare, format_table
+    from elastoactive.checks.validate import Z_AGREE, compare, format_table
 
     c = compare(ea.Physics(noise=0.1), ea.Numerics(), 400)
     assert c.mujoco.periodic is False and c.statistics is not None

@@ -34,7 +34,7 @@ def recorded(tmp_path_factory):
 
 
 def test_files_are_written_with_the_users_umask(tmp_path):
-    from elastoactive.outputs import write_text
+    from elastoactive.io.outputs import write_text
 
     old = os.umask(0o022)
     try:
@@ -76,7 +76,7 @@ def test_a_video_of_absurdly_many_frames_is_refused_before_rendering(recorded, t
 
 @pytest.mark.parametrize("tolerance", ["nan", "-1", "1e-9", "inf", "2"])
 def test_validate_refuses_a_meaningless_tolerance(tolerance, capsys, monkeypatch):
-    import elastoactive.validate as validate
+    import elastoactive.checks.validate as validate
 
     def boom(*args, **kwargs):
         raise AssertionError("validated before --tolerance was checked")
@@ -126,7 +126,7 @@ def test_an_empty_output_path_is_refused(tmp_path, capsys, no_simulation, monkey
 
 
 def test_an_empty_output_path_is_refused_by_the_api(tmp_path, monkeypatch):
-    from elastoactive.reproduce import reproduce
+    from elastoactive.report.reproduce import reproduce
 
     monkeypatch.chdir(tmp_path)
     for empty in ("", "  "):
@@ -187,7 +187,7 @@ def test_a_run_whose_trajectory_cannot_be_stored_is_refused_before_it_simulates(
     import shutil
     from types import SimpleNamespace
 
-    from elastoactive import outputs
+    from elastoactive.io import outputs
 
     out = tmp_path / "run"
     monkeypatch.setattr(outputs, "file_size_limit", lambda: 10_240)  # `ulimit -f 10`
@@ -274,7 +274,7 @@ def test_from_reruns_every_recorded_run_or_refuses(tmp_path, capsys):
 def test_reading_the_git_commit_writes_nothing_into_the_checkout(tmp_path):
     """The provenance's git state is read without refreshing the index: under a full disk or a file-size limit a
     refresh would leave .git/index.lock behind, and it would race with the user's own git commands."""
-    from elastoactive.outputs import git_commit
+    from elastoactive.io.outputs import git_commit
 
     def git(*args):
         subprocess.run(["git", "-C", str(tmp_path), *args], check=True, capture_output=True)

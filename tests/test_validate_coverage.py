@@ -6,7 +6,7 @@ import pytest
 
 from elastoactive.cli import main
 from elastoactive.params import Numerics
-from elastoactive.validate import (Comparison, format_table, inertial_gap, inertial_plan, not_run, validation_cases,
+from elastoactive.checks.validate import (Comparison, format_table, inertial_gap, inertial_plan, not_run, validation_cases,
                                    verdict)
 
 
@@ -50,7 +50,7 @@ def test_validate_refuses_a_scene_with_no_case_at_the_mass(argv, capsys):
 
 
 def test_validate_reports_a_case_it_cannot_run(monkeypatch, capsys):
-    import elastoactive.validate as validate
+    import elastoactive.checks.validate as validate
 
     monkeypatch.setattr(validate, "compare", lambda physics, numerics, duration, inertial=None: _ran(
         next(c for c in validation_cases("ring") if c.physics == physics), 0.001))

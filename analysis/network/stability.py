@@ -31,8 +31,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .geometry import Network
-from .model import dynamical_matrix
+from ...networks.geometry import Network
+from ...reduced.network import dynamical_matrix
 
 
 def perpendiculars(psi: np.ndarray, units: np.ndarray, n_free: int) -> np.ndarray:

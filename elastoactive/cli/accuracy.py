@@ -9,8 +9,8 @@ from .options import workers_argument
 
 def main(args) -> int:
     # start-up time: both engines, matplotlib and the process pool load only when the study runs
-    from ..accuracy import format_defaults, format_recommendations, recommend, run_study, summarise, write_outputs
-    from ..outputs import check_folder
+    from ..checks.accuracy import format_defaults, format_recommendations, recommend, run_study, summarise, write_outputs
+    from ..io.outputs import check_folder
 
     check_folder(args.out)
     size = "tiny" if args.tiny else "quick" if args.quick else "full"

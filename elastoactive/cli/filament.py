@@ -195,7 +195,7 @@ def ladder(S: float, ns=DEFAULT_LADDER, progress: bool = False) -> list[Rung]:
     not resolve S is refused first: check_resolution)."""
     from ..analysis import stability as stab  # start-up time: scipy loads only when the command runs
     from ..analysis.filament import resample
-    from ..analysis.reduced.blas import one_blas_thread
+    from ..reduced.blas import one_blas_thread
 
     ns = tuple(sorted(ns))
     check_resolution(S, ns)

@@ -87,7 +87,7 @@ def video_after_run(args, traj, numerics=None) -> int:
 def main(args) -> int:
     from ..results import load_trajectory  # start-up time: results loads the analysis
 
-    from ..outputs import check_file  # start-up time: only when rendering
+    from ..io.outputs import check_file  # start-up time: only when rendering
 
     if args.output is None and args.still is None:
         raise ParameterError("give -o/--output (MP4) and/or --still (PNG)")

@@ -6,7 +6,7 @@ import sys
 from pathlib import Path
 
 from ..errors import ParameterError
-from ..outputs import output_path
+from ..io.outputs import output_path
 from .options import workers_argument
 
 DESCRIPTION = (
@@ -57,8 +57,8 @@ def _only(text: str | None, known: tuple[str, ...]) -> list[str] | None:
 
 def main(args) -> int:
     # start-up time: the studies load both engines (outputs: numpy)
-    from ..outputs import check_folder
-    from ..reproduce import reproduce
+    from ..io.outputs import check_folder
+    from ..report.reproduce import reproduce
     from ..studies import registry
 
     size = "full" if args.full else ("tiny" if args.tiny else "quick")

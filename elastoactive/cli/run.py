@@ -13,10 +13,10 @@ import sys
 import time
 from pathlib import Path
 
-from ..analysis.reduced.settings import METHODS
+from ..reduced.settings import METHODS
 from ..engines import ENGINES
 from ..errors import ParameterError
-from ..outputs import output_path
+from ..io.outputs import output_path
 from ..params import Numerics, Physics, parameter_fields
 from .options import UNITS, add_fields, scene_argument, scene_help
 from .render import add_video_args
@@ -109,7 +109,7 @@ def check_rerun(args, physics: Physics, engine: str) -> None:
 def _check_destination(out: Path, physics: Physics, numerics: Numerics, engine: str, duration: float,
                        transient: float, force: bool) -> None:
     """Refuse, before simulating, an --out that cannot be written or that holds another run."""
-    from ..outputs import check_folder  # start-up time: only when a run writes files
+    from ..io.outputs import check_folder  # start-up time: only when a run writes files
     from ..results import read_summary
 
     check_folder(out)
@@ -141,7 +141,7 @@ def trajectory_bytes(physics: Physics, samples: int) -> int:
 
 def main(args) -> int:
     # start-up time: the engines and analysis load only when a command runs, not for --help
-    from ..outputs import check_folder, folder_lock
+    from ..io.outputs import check_folder, folder_lock
 
     if not args.out:
         return _run(args, None)
@@ -153,7 +153,7 @@ def main(args) -> int:
 def _run(args, out: Path | None) -> int:
     # start-up time: the engines and analysis load only when a command runs, not for --help
     from ..api import simulate
-    from ..outputs import check_file, check_space, provenance, utc_now
+    from ..io.outputs import check_file, check_space, provenance, utc_now
     from ..results import jsonable, summary, write_run, check_transient
 
     started, clock = utc_now(), time.perf_counter()

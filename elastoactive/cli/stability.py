@@ -123,7 +123,7 @@ def _network_report(physics, sigma: float | None) -> None:
 
 def main(args) -> int:
     from ..analysis.continuum import continuum_critical  # start-up time: scipy loads only when a command runs
-    from ..analysis.reduced.blas import one_blas_thread
+    from ..reduced.blas import one_blas_thread
 
     physics = _physics(args)
     scene, n = physics.scene_def, physics.n

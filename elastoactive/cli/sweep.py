@@ -16,7 +16,7 @@ import sys
 
 from ..engines import ENGINES
 from ..errors import ParameterError
-from ..outputs import output_path
+from ..io.outputs import output_path
 from ..params import PRESETS, Numerics, Physics, parameter_fields
 from ..sweep import grid_keys
 from .options import add_fields, scene_argument
@@ -86,7 +86,7 @@ def _import_mujoco_headless() -> None:
 
 def main(args) -> int:
     # start-up time: xarray, h5py and the engines load only when a sweep runs
-    from ..outputs import check_file  # start-up time: only when a sweep runs
+    from ..io.outputs import check_file  # start-up time: only when a sweep runs
     from ..sweep import MUJOCO_ONLY, check_engine_numerics, parse_grid, run_sweep_outcome
 
     if args.workers is not None and args.workers < 1:

@@ -46,7 +46,7 @@ def register(subparsers) -> None:
 def main(args) -> int:
     # start-up time: both engines load only when a command runs, not for --help
     from ..params import Numerics
-    from ..validate import (compare, convergence, format_convergence, format_table, inertial_plan, not_run,
+    from ..checks.validate import (compare, convergence, format_convergence, format_table, inertial_plan, not_run,
                             validation_cases, verdict)
 
     check_tolerance(args.tolerance)

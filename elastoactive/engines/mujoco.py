@@ -16,11 +16,11 @@ import mujoco
 import numpy as np
 
 from ..controllers import follower_forces
-from ..diagnose import divergence_cause
+from .timestep import divergence_cause
 from ..errors import ParameterError, SimulationDiverged
-from ..model import prepare, state_of
+from ..mjcf.chain import prepare, state_of
 from ..params import Numerics, Physics
-from ..progress import progress_bar
+from ..io.progress import progress_bar
 from ..terms.self_aligning import polarity_addresses
 from ..trajectory import Trajectory
 from . import check_steps

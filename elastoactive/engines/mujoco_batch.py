@@ -48,9 +48,9 @@ import numpy as np
 from mujoco import batch as mjbatch
 
 from ..controllers import follower_forces
-from ..diagnose import divergence_cause
+from .timestep import divergence_cause
 from ..errors import ParameterError, SimulationDiverged
-from ..model import prepare, state_of
+from ..mjcf.chain import prepare, state_of
 from ..terms.self_aligning import polarity_addresses
 from ..params import Numerics, Physics, check_start
 from ..trajectory import Trajectory

@@ -1,6 +1,6 @@
 """Run a network scene (Scene.network(physics) is not None) in MuJoCo.
 
-The model comes from elastoactive.network_model; between two recorded samples MuJoCo runs steps_per_sample steps in
+The model comes from elastoactive.mjcf.network; between two recorded samples MuJoCo runs steps_per_sample steps in
 C, with the compiled callback installed for the active units, so no Python runs per step. The Trajectory it returns
 has the shape of the reduced engine's: `nodes` (T, P, 2), the lab positions of every node (pinned ones at rest),
 `polarity` (T, A), the active units' polarities in node order (None without units), and `theta` of shape
@@ -22,12 +22,12 @@ import numpy as np
 
 from ..controllers import follower_forces
 from ..errors import ParameterError, SimulationDiverged
-from ..network_model import build_network_model, node_positions, qpos_of_positions, set_polarity
+from ..mjcf.network import build_network_model, node_positions, qpos_of_positions, set_polarity
 from ..terms.self_aligning import polarity_addresses, turning_rate
 from .network_reduced import network_rate
-from ..analysis.reduced import INERTIA_RESOLUTION
+from ..reduced import INERTIA_RESOLUTION
 from ..params import RESOLUTION, Numerics, Physics
-from ..progress import progress_bar
+from ..io.progress import progress_bar
 from ..trajectory import Trajectory
 from . import check_steps
 from .cost import NOTE_SECONDS, mujoco_cost

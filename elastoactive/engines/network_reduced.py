@@ -1,6 +1,6 @@
 """Run a network scene (Scene.network(physics) is not None) in the reduced model: the cross-check of MuJoCo.
 
-The mathematics is elastoactive.analysis.network.model (the overdamped equations of nodes and self-aligning units, a
+The mathematics is elastoactive.reduced.network (the overdamped equations of nodes and self-aligning units, a
 compiled right-hand side, its analytic Jacobian); here a Physics becomes the scene's network with sigma and the
 alignment length, the initial state comes from the scene (Scene.initial_network, the one MuJoCo starts from too), and
 the result is a Trajectory of the MuJoCo engine's shape: `nodes` (T, P, 2) lab positions of every node, `polarity`
@@ -13,10 +13,10 @@ import time
 
 import numpy as np
 
-from ..analysis.network import model as _model
+from ..reduced import network as _model
 from ..errors import ParameterError
 from ..params import Numerics, Physics
-from ..analysis.reduced import INERTIA_RESOLUTION
+from ..reduced import INERTIA_RESOLUTION
 from ..terms.self_aligning import check_reduced_span, turning_rate
 from ..trajectory import Trajectory
 
@@ -38,7 +38,7 @@ def network_rate(physics: Physics) -> float:
     """The fastest rate a network run's step must resolve (units k / gamma): the largest eigenvalue of the passive
     network's dynamical matrix (springs and trap, explicit in every integrator) or the units' turning Pi = sigma / l_a,
     whichever is larger."""
-    from ..analysis.network.model import dynamical_matrix  # start-up time: only the pre-flight check needs it
+    from ..reduced.network import dynamical_matrix  # start-up time: only the pre-flight check needs it
 
     network = physics.scene_def.network(physics)
     matrix = dynamical_matrix(network)

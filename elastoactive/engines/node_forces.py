@@ -31,7 +31,7 @@ import inspect
 
 import numpy as np
 
-from ..analysis import reduced as _math
+from .. import reduced as _math
 from ..errors import ParameterError
 from ..params import Physics
 from ..terms.base import PeriodicForce
@@ -133,7 +133,7 @@ def solve(physics: Physics, system, t: np.ndarray, theta0: np.ndarray, laws, *, 
 
 def _compiled(system, beta: float, loads, laws):
     """The right-hand side with periodic point forces only (engines.node_kernels.periodic_rhs)."""
-    from . import node_kernels  # start-up time: numba
+    from ..reduced import node_kernels  # start-up time: numba
 
     system = system.typed()
     beta = float(beta)

@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..analysis import reduced as _math
+from .. import reduced as _math
 from ..errors import ParameterError
 from ..params import Physics
 from ..terms.self_aligning import initial_polarity

@@ -1,16 +1,16 @@
 """Run a scene in the reduced model: the cross-check of the MuJoCo engine.
 
-The mathematics is elastoactive.analysis.reduced (equations, compiled kernels, solvers), which knows
+The mathematics is elastoactive.reduced (equations, compiled kernels, solvers), which knows
 no scene: here a Physics becomes the scene's ChainSystem (Scene.reduced_system), the initial state
-comes from the scene (elastoactive.initial), the noise from elastoactive.noise (the counter-based
+comes from the scene (elastoactive.initial), the noise from elastoactive.controllers.noise (the counter-based
 force factors the MuJoCo engine uses too), and the result is a Trajectory.
 
 Which model runs: the overdamped one (the paper's) or the inertial one (MuJoCo's chain with particles
-of mass numerics.mass_ratio, analysis/reduced/equations.py). One criterion, `regime`: inside the
+of mass numerics.mass_ratio, elastoactive/reduced/equations.py). One criterion, `regime`: inside the
 overdamped limit, mass_ratio x (fastest overdamped rate at the scene's base state) <= INERTIA_RESOLUTION
 (0.1), both engines model the overdamped physics (MuJoCo approximates it with a small mass); outside it,
 both model the inertial physics with that mass, and simulate_reduced integrates the inertial model.
-elastoactive.diagnose classifies MuJoCo runs by the same function. simulate_reduced(inertial=True/False)
+elastoactive.engines.timestep classifies MuJoCo runs by the same function. simulate_reduced(inertial=True/False)
 overrides it; Trajectory.info records "model" ("overdamped" / "inertial") and "mass_ratio".
 
 The physics-level functions (rhs, jacobian, drag_matrix, ...) are those of the package, applied to
@@ -23,14 +23,14 @@ import time
 
 import numpy as np
 
-from ..analysis import reduced as _math
-from ..analysis.reduced import DEFAULT_BETA, INERTIA_RESOLUTION, STIFF_RADIUS, ChainSystem
-from ..analysis.reduced.settings import METHODS
+from .. import reduced as _math
+from ..reduced import DEFAULT_BETA, INERTIA_RESOLUTION, STIFF_RADIUS, ChainSystem
+from ..reduced.settings import METHODS
 from ..errors import ParameterError
 from ..initial import initial_angles
-from ..noise import ColouredNoise, force_factor
+from ..controllers.noise import ColouredNoise, force_factor
 from ..params import Numerics, Physics
-from ..regime import Regime, base_state, regime  # re-exported: the engine runs the model these choose
+from .regime import Regime, base_state, regime  # re-exported: the engine runs the model these choose
 from ..trajectory import Trajectory
 from ..terms.self_aligning import SELF_ALIGNING, check_reduced_span
 from . import node_forces
@@ -219,13 +219,13 @@ def simulate_reduced(
     inertial: None (automatic: the inertial model, at rest at t = 0, when numerics.mass_ratio is outside the
     overdamped limit, see `regime`), True (the inertial model at numerics.mass_ratio), False (overdamped).
     Deterministic (noise = 0): adaptive ODE solver; method None picks it (numba-DOP853, or an implicit method
-    for stiff systems and long chains near their onset: elastoactive.analysis.reduced.solve), or one of METHODS;
+    for stiff systems and long chains near their onset: elastoactive.reduced.solve), or one of METHODS;
     info["method"] records what ran.
     noise > 0: Euler-Maruyama with step numerics.dt and the shared counter-based noise (seed numerics.seed)
     (inertial: the noise force constant over each step dt, as in MuJoCo, RK4 substeps); rtol, atol and
     method are then unused. White noise read as Stratonovich (physics.noise_calculus): stochastic Heun
     instead (the inertial model has no Ito-Stratonovich difference). Coloured noise (noise_correlation
-    tau_c > 0): the Ornstein-Uhlenbeck realisation of elastoactive.noise.ColouredNoise, the one MuJoCo's
+    tau_c > 0): the Ornstein-Uhlenbeck realisation of elastoactive.controllers.noise.ColouredNoise, the one MuJoCo's
     callback applies, constant over each step (Euler steps of the random ODE; dt << tau_c resolves it). info records "model" ("overdamped" / "inertial") and "mass_ratio".
     """
     if physics.scene_def.network(physics) is not None:  # a network scene: its own model (engines.network_reduced)

@@ -9,7 +9,7 @@ knows everything specific to the scene; the rest of the package asks it (through
                       noise, contact: elastoactive.terms), and `check` for constraints on them (e.g. N >= 2 with both
                       ends pinned)
   MJCF                `base_file` (in mjcf/) and `build`, which adds the scene's own elements (pins,
-                      coupling, keyframes) to the chain(s) that elastoactive.model generates
+                      coupling, keyframes) to the chain(s) that elastoactive.mjcf.chain generates
   reduced model       `reduced_system`: the typed record the reduced solver integrates
   initial state       `initial_angles`
   observables         `observables` (names) and `measure_extra` (their values); `compared`, the
@@ -37,7 +37,7 @@ import numpy as np
 
 from ..analysis import observables as obs
 from ..analysis.network import Network, NetworkState, initial_state
-from ..analysis.reduced.system import ChainSystem
+from ..reduced.system import ChainSystem
 from ..cases import ValidationCase
 from ..constants import BEAD_INERTIA_FACTOR
 from ..errors import ParameterError
@@ -124,7 +124,7 @@ class Scene:
         return self.n_chains
 
     def stiffness(self, physics: "Physics") -> tuple[float, ...]:
-        """Joint stiffness of each chain in units of C1 (one per chain that elastoactive.model builds)."""
+        """Joint stiffness of each chain in units of C1 (one per chain that elastoactive.mjcf.chain builds)."""
         return (1.0,) * self.chain_count(physics)
 
     def physics(self, **values: Any) -> "Physics":

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 
 from ..analysis import observables as obs
-from ..analysis.reduced.system import ChainSystem
+from ..reduced.system import ChainSystem
 from ..parameters import Parameter
 from ..params import Numerics, Physics
 from ..trajectory import Trajectory

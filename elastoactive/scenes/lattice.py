@@ -108,7 +108,7 @@ class NetworkScene(Scene):
         return [traj.nodes[:, ~network.pinned, 0].mean(axis=1) - network.positions[~network.pinned, 0].mean()]
 
     def measure_extra(self, traj: Trajectory, transient: float) -> dict[str, float]:
-        from ..analysis.network.model import normal_modes  # start-up time: the network model imports numba
+        from ..reduced.network import normal_modes  # start-up time: the network model imports numba
 
         keep = nobs.window(traj.t, transient)
         t, psi = traj.t[keep], traj.polarity[keep]
@@ -197,7 +197,7 @@ class Lattice(NetworkScene):
     def leading_eigenvalue(self, physics: Physics, sigma: float) -> complex:
         """The least stable fixed point's largest growth rate, Pi - lambda_1 (Q <= I, with equality on the softest
         mode when every unit's n_perp lies along it): zero at sigma_c."""
-        from ..analysis.network.model import dynamical_matrix  # start-up time: only the stability command needs it
+        from ..reduced.network import dynamical_matrix  # start-up time: only the stability command needs it
 
         if physics.boundary != "pinned":
             self._threshold(physics)  # refuses, naming the boundary

@@ -25,7 +25,7 @@ import numpy as np
 
 from ..analysis import dish
 from ..analysis import observables as obs
-from ..analysis.reduced.system import ChainSystem
+from ..reduced.system import ChainSystem
 from ..parameters import Parameter
 from ..params import Numerics, Physics
 from ..trajectory import Trajectory
@@ -65,7 +65,7 @@ class Paraboloid(Scene):
 
     # ------------------------------------------------------------------ MJCF
     def build(self, spec, physics: Physics, numerics: Numerics) -> None:
-        from ..model import add_sliding_head  # start-up time: elastoactive.model imports mujoco
+        from ..mjcf.chain import add_sliding_head  # start-up time: elastoactive.mjcf.chain imports mujoco
 
         add_sliding_head(spec, physics, numerics)  # qpos = (x_h, y_h, hinge angles)
         trap = spec.find_default("trap")

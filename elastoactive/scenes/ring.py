@@ -36,8 +36,8 @@ import math
 import numpy as np
 
 from ..analysis import observables as obs
-from ..analysis.reduced.constraints import project_on_pins
-from ..analysis.reduced.system import ChainSystem
+from ..reduced.constraints import project_on_pins
+from ..reduced.system import ChainSystem
 from ..errors import ParameterError
 from ..initial import pushed_chains
 from ..parameters import Parameter
@@ -122,7 +122,7 @@ class Ring(Scene):
     def build(self, spec, physics: Physics, numerics: Numerics) -> None:
         import mujoco  # start-up time: mujoco is needed only to build a model
 
-        from ..model import add_sliding_head  # start-up time: elastoactive.model imports mujoco
+        from ..mjcf.chain import add_sliding_head  # start-up time: elastoactive.mjcf.chain imports mujoco
 
         anchor = "pin"
         if self.free(physics):  # the root slides: qpos = (x_h, y_h, hinge angles), as the paraboloid's head

@@ -39,7 +39,7 @@ import numpy as np
 
 from ..analysis import observables as obs
 from ..analysis import star as sync
-from ..analysis.reduced.system import ChainSystem
+from ..reduced.system import ChainSystem
 from ..constants import BEAD_INERTIA_FACTOR
 from ..errors import ParameterError
 from ..parameters import Parameter

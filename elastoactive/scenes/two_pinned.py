@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..analysis import observables as obs
-from ..analysis.reduced.system import ChainSystem
+from ..reduced.system import ChainSystem
 from ..initial import buckled_arch, project_on_pins, pushed_chains
 from ..parameters import Parameter
 from ..params import Numerics, Physics

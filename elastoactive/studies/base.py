@@ -17,8 +17,8 @@ from typing import Callable, TypeVar
 
 import numpy as np
 
-from ..jsonio import from_jsonable, to_jsonable
-from ..outputs import write_files
+from ..io.jsonio import from_jsonable, to_jsonable
+from ..io.outputs import write_files
 
 from ..analysis.fits import Fit
 from ..batch import Case, CaseResult, run_cases
@@ -79,7 +79,7 @@ class Study:
 
     def save(self, folder: Path, provenance: dict | None = None) -> list[Path]:
         """<name>.npz and <name>.json in `folder`, written atomically together (the JSON, which may carry
-        the provenance record of elastoactive.outputs, last)."""
+        the provenance record of elastoactive.io.outputs, last)."""
         record = {"study": self.name, "size": self.size, "wall_s": to_jsonable(self.wall_s),
                   "summary": to_jsonable(self.summary)}
         if provenance is not None:

@@ -23,7 +23,7 @@ import numpy as np
 
 from ..analysis import dish
 from ..batch import Case
-from ..paper import PAPER
+from ..report.paper import PAPER
 from ..params import Numerics
 from ..results import Results
 from ..scenes import paraboloid

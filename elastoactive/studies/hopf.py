@@ -17,7 +17,7 @@ from ..analysis import observables as obs
 from ..analysis import stability as stab
 from ..analysis.fits import Fit
 from ..batch import Case
-from ..paper import PAPER
+from ..report.paper import PAPER
 from ..scenes import one_pinned
 from . import plotting as plots
 from . import registry

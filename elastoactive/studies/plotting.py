@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..outputs import atomic_file
+from ..io.outputs import atomic_file
 
 STYLE = {
     "font.size": 11,

@@ -18,7 +18,7 @@ from ..analysis import observables as obs
 from ..analysis.fits import Fit
 from ..analysis.stability import rotating_operator, rotation_threshold
 from ..batch import Case
-from ..paper import PAPER
+from ..report.paper import PAPER
 from ..scenes import rotating_pin
 from . import plotting as plots
 from . import registry

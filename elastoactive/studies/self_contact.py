@@ -22,9 +22,9 @@ import numpy as np
 
 from ..analysis import observables as obs
 from ..analysis import spectrum
-from ..analysis.reduced.contact import capsule_clearance, contact_pairs, link_distance
+from ..reduced.contact import capsule_clearance, contact_pairs, link_distance
 from ..batch import Case
-from ..paper import PAPER
+from ..report.paper import PAPER
 from ..params import Numerics
 from ..results import HARMONICS, Results
 from ..scenes import one_pinned

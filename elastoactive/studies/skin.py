@@ -22,7 +22,7 @@ from ..analysis import skin
 from ..analysis.stability import onset
 from ..batch import Case, load_engine
 from ..engines import run_engine
-from ..executor import default_workers, process_pool
+from ..io.executor import default_workers, process_pool
 from ..params import Numerics
 from ..scenes import one_pinned
 from ..trajectory import Trajectory

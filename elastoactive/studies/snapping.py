@@ -19,7 +19,7 @@ from ..analysis import fits
 from ..analysis import observables as obs
 from ..analysis.measures import chain_positions
 from ..batch import Case
-from ..paper import PAPER
+from ..report.paper import PAPER
 from ..scenes import two_pinned
 from . import plotting as plots
 from . import registry

@@ -37,7 +37,7 @@ class PeriodicForce(NamedTuple):
     """A node force that does not depend on the positions: vector sin(omega t + phase) on one particle (index over
     chain 1's particles, then chain 2's; vector in C1 / l, lab frame). It is a law of (t, positions) like any other
     (calling it gives the forces on every particle), and the reduced engine evaluates it inside its compiled
-    right-hand side (elastoactive.engines.node_kernels) instead of calling it."""
+    right-hand side (elastoactive.reduced.node_kernels) instead of calling it."""
 
     particle: int
     vector: tuple[float, float]
@@ -66,7 +66,7 @@ class Term:
     """A physical term: its parameters, MJCF element, reduced-model contribution and observables.
 
     The hooks take a `physics` (elastoactive.params.Physics), `numerics` (elastoactive.params.Numerics), `system`
-    (the reduced model's elastoactive.analysis.reduced.ChainSystem) and `traj` (elastoactive.trajectory.Trajectory);
+    (the reduced model's elastoactive.reduced.ChainSystem) and `traj` (elastoactive.trajectory.Trajectory);
     they are not imported here, since Physics reads the terms' parameters from this registry."""
 
     name: ClassVar[str] = ""

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..analysis.reduced.contact import capsule_clearance, core_span
+from ..reduced.contact import capsule_clearance, core_span
 from ..constants import CONTACT_LENGTH, CONTACT_STIFFNESS
 from ..parameters import Parameter
 from .base import Term

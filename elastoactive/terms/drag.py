@@ -1,6 +1,6 @@
 """Lab-frame drag: gamma_T across each link, gamma_L = drag_ratio gamma_T along it (the paper's overdamped limit).
 
-MuJoCo carries it as velocity actuators on each particle's site (elastoactive.model.add_drag, implicit in
+MuJoCo carries it as velocity actuators on each particle's site (elastoactive.mjcf.chain.add_drag, implicit in
 implicitfast); the reduced model as the drag matrix D(theta) of its record's gamma_l and gamma_t.
 """
 

@@ -2,7 +2,7 @@
 
 Its parameters: sigma (the elasto-active number) and loaded (which particles carry it). MuJoCo applies it in the
 compiled passive callback (controllers/follower.c) on the particle sites whose user value is non-zero
-(elastoactive.model); the reduced model reads sigma from its record and the load mask as per-particle force
+(elastoactive.mjcf.chain); the reduced model reads sigma from its record and the load mask as per-particle force
 factors (elastoactive.engines.reduced.load_factors).
 """
 

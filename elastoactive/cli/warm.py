@@ -1,0 +1,66 @@
+"""Compile the reduced model's kernels into numba's on-disk cache, so that the first run after an install does not.
+
+The kernels are compiled with cache=True: the first process that needs one compiles it (about 25 s of CPU for the
+whole set on a 2-core machine) and every later process loads it (about 1.5 s). `scripts/setup.sh` runs this module
+after an install, and again when a source has changed since, so a fresh machine's first `elastoactive reproduce`
+(or any first run) loads the kernels instead of compiling them. It runs, for a tau each in the reduced engine,
+every registered scene's and term's validation case (which reach the numba-DOP853 loop with every right-hand side,
+the network model, the periodic point forces), and the paths those do not: noise (Ito, Stratonovich, coloured),
+the inertial model with and without noise, a long chain (the O(N) recursion) and the implicit methods with the
+analytic Jacobian.
+
+    .venv/bin/python -m elastoactive.cli.warm        # prints one line: what it ran and how long it took
+"""
+
+from __future__ import annotations
+
+import time
+
+from ..engines.reduced import simulate_reduced
+from ..params import Numerics, Physics
+from ..checks.validate import validation_cases
+
+DURATION = 1.0
+"""tau of each run: a few steps of every loop."""
+
+
+def runs() -> list[tuple[Physics, Numerics, dict]]:
+    """(physics, numerics, simulate_reduced's keywords) of every run the warm-up makes."""
+    sampled = Numerics(sample_dt=0.1)
+    out = [(case.physics, sampled, {}) for case in validation_cases()]
+    chain = Physics(n=7, sigma=0.8)
+    out += [(Physics(n=7, sigma=0.8, noise=0.1), sampled, {}),
+            (Physics(n=7, sigma=0.8, noise=0.1, noise_calculus="stratonovich"), sampled, {}),
+            (Physics(n=7, sigma=0.8, noise=0.1, noise_correlation=0.5), sampled, {}),
+            (chain, Numerics(sample_dt=0.1, mass_ratio=0.5), {"inertial": True}),
+            (Physics(n=7, sigma=0.8, noise=0.1), Numerics(sample_dt=0.1, mass_ratio=0.5), {"inertial": True}),
+            (Physics(n=24, sigma=0.8), sampled, {}),
+            (Physics(n=24, sigma=0.8), sampled, {"method": "LSODA"}),
+            (chain, sampled, {"method": "Radau"})]
+    out += [(case.physics, sampled, {"method": "BDF"}) for case in validation_cases()  # the pinned constraints'
+            if case.physics.scene_def.pinned and case.physics.scene_def.network(case.physics) is None][:1]  # Jacobian
+    return out
+
+
+def warm() -> tuple[int, int, float]:
+    """Run every warm-up run; (runs, failed, seconds). A run that fails (a scene this build refuses) is skipped."""
+    start = time.perf_counter()
+    failed = 0
+    todo = runs()
+    for physics, numerics, keywords in todo:
+        try:
+            simulate_reduced(physics, numerics, DURATION, **keywords)
+        except Exception:  # noqa: BLE001 (warming only: the run itself will say what is wrong)
+            failed += 1
+    return len(todo), failed, time.perf_counter() - start
+
+
+def main() -> None:
+    count, failed, seconds = warm()
+    note = f" ({failed} could not run)" if failed else ""
+    print(f"elastoactive: the reduced model's kernels compiled into numba's cache: {count} short runs{note}, "
+          f"{seconds:.0f} s")
+
+
+if __name__ == "__main__":
+    main()

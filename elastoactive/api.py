@@ -7,18 +7,17 @@ naming the parameter.
 
 from __future__ import annotations
 
-import sys
 from collections.abc import Mapping
 
 import numpy as np
 
-from .engines import check_engine, check_engine_numerics, check_steps, run_engine
+from .engines import run_engine
 from .errors import ParameterError
+from .gate import preflight
 from .params import Numerics, Physics, parameter_fields
 from .results import Results, check_measurable, check_transient
 from .results import measure as _measure
 from .trajectory import Trajectory
-
 
 def _field_names(cls) -> tuple[str, ...]:
     """The keyword arguments a Physics (scene and its parameters) or a Numerics takes."""
@@ -82,7 +81,8 @@ def simulate(
         overdamped pendulum ODE.
     check : bool
         Before a MuJoCo run, refuse settings beyond the integrator's stability limit or known to be
-        inaccurate (``diagnose.check_timestep``). Pass False only to provoke a divergence on purpose.
+        inaccurate (``engines.timestep.check_timestep``). Pass False only to provoke a divergence on purpose; every
+        other check of the pre-flight gate (``gate.preflight``) runs either way.
     progress : bool
         Show a progress bar (MuJoCo engine).
     theta0 : array_like, optional
@@ -108,27 +108,13 @@ def simulate(
         A MuJoCo run whose state blew up or left its pin; the message names the likely cause.
     """
     physics, numerics = as_physics(physics), as_numerics(numerics)
-    numerics = numerics.for_duration(duration)  # a long run's automatic sample_dt
-    duration = numerics.check_duration(duration)
-    check_measurable(physics)
+    run = preflight(physics, numerics, duration, engine, method=method, timestep=check, announce=progress)
     options = {"theta0": theta0}
-    if method is not None and check_engine(engine) == "mujoco":
-        raise ParameterError(f"method = {method}: the ODE method applies to the reduced engine (engine='reduced')")
-    check_engine_numerics(engine, numerics.given(), physics.noise > 0, lambda k: f"numerics.{k}")  # as sweep
-    if check_engine(engine) == "mujoco":
-        check_steps(numerics.for_physics(physics), duration)  # before the pre-flight check's linearisation
-        if check:
-            from .engines.timestep import check_timestep  # start-up time: diagnose builds MuJoCo models
-            from .engines.cost import check_announcement  # its time grows like the angles cubed
-
-            announcement = check_announcement(physics) if progress else None
-            if announcement:
-                print(f"elastoactive: {announcement}", file=sys.stderr, flush=True)
-            check_timestep(physics, numerics)
+    if run.engine == "mujoco":
         options["progress"] = progress
     elif method is not None:  # the reduced engine's ODE method (None: its automatic choice)
         options["method"] = method
-    return run_engine(engine, physics, numerics, duration, **options)
+    return run_engine(run.engine, run.physics, run.numerics, run.duration, **options)
 
 
 def measure(trajectory: Trajectory, transient: float | None = None) -> Results:

@@ -10,12 +10,14 @@ before any MuJoCo thread starts) and run beside the MuJoCo threads, so that neit
 leave a core idle while the other's wait (the cores are shared: each run's own wall time is then longer). Results come back in input
 order; with `on_result` each is handed over (in this thread) as soon as it is done, so a caller
 can write it out before the rest finish. A failed case (e.g. SimulationDiverged) raises, once
-the others have finished: the first failure in input order.
+the others have finished: the first failure in input order. Every case passes the gate (gate.preflight) before
+any of them runs, its MuJoCo timestep checked once per distinct model of the batch.
 """
 
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 import functools
 import time
 from concurrent.futures import as_completed
@@ -23,6 +25,7 @@ from dataclasses import dataclass, field
 from typing import Callable, Iterable
 
 from .engines import check_engine, run_engine
+from .gate import TimestepChecks, preflight
 from .io.executor import default_workers, imap, process_pool
 from .params import Numerics, Physics
 from .io.progress import progress_bar
@@ -55,8 +58,21 @@ class CaseResult:
     batch_wall_s: float = 0.0
 
 
-def run_case(case: Case, keep_trajectory: bool = False, measured: bool = True) -> CaseResult:
-    """Simulate one case and measure it (results.measure; not with measured=False)."""
+def checked(case: Case, timestep: bool = True, checks: TimestepChecks | None = None) -> Case:
+    """The case as it runs, once it has passed the gate (gate.preflight: its numerics resolved for its duration), or
+    the gate's ParameterError."""
+    run = preflight(case.physics, case.numerics, case.duration, case.engine, timestep=timestep, checks=checks,
+                    given=False)
+    if run.numerics == case.numerics and run.duration == case.duration:
+        return case
+    return dataclasses.replace(case, numerics=run.numerics, duration=run.duration)
+
+
+def run_case(case: Case, keep_trajectory: bool = False, measured: bool = True, *, timestep: bool = True,
+             checks: TimestepChecks | None = None) -> CaseResult:
+    """Simulate one case, once it has passed the gate (`checked`), and measure it (results.measure; not with
+    measured=False)."""
+    case = checked(case, timestep, checks)
     traj = run_engine(case.engine, case.physics, case.numerics, case.duration)
     return CaseResult(measure(traj, case.transient) if measured else None, traj.wall_time_s, traj.info,
                       traj if keep_trajectory else None)
@@ -96,10 +112,16 @@ def run_cases(
         if bar:
             bar.update()
 
+    checks = TimestepChecks()  # one check per distinct model of the batch
+    for i, case in enumerate(cases):  # the gate, before anything runs: a refused case is its own error
+        try:
+            cases[i] = checked(case, checks=checks)
+        except Exception as err:  # noqa: BLE001 (raised below, after the others, as a failed run would be)
+            errors[i] = err
     try:
-        simulated = [i for i, case in enumerate(cases) if case.engine == "mujoco"]
-        reduced = [i for i, case in enumerate(cases) if case.engine != "mujoco"]
-        task = functools.partial(run_case, keep_trajectory=keep_trajectory, measured=measured)
+        simulated = [i for i, case in enumerate(cases) if case.engine == "mujoco" and i not in errors]
+        reduced = [i for i, case in enumerate(cases) if case.engine != "mujoco" and i not in errors]
+        task = functools.partial(run_case, keep_trajectory=keep_trajectory, measured=measured, timestep=False)
         with contextlib.ExitStack() as stack:
             pending = {}
             if simulated and workers > 1 and len(reduced) > 1:  # both engines at once (see the module's docstring)
@@ -116,7 +138,7 @@ def run_cases(
                     finished(pending[future], future.result())
         if workers <= 1 or len(reduced) <= 1:
             for i in reduced:
-                finished(i, run_case(cases[i], keep_trajectory, measured))
+                finished(i, run_case(cases[i], keep_trajectory, measured, timestep=False))
         elif reduced:
             runs = imap(task, [cases[i] for i in reduced], workers, completed=True, errors=True,
                         warm=functools.partial(load_engine, cases[reduced[0]]))

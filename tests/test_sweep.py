@@ -18,14 +18,15 @@ from elastoactive.sweep import SweepMismatch, normalize_grid, parse_grid, run_po
 
 from sweep_helpers import FAST, REDUCED, VOLATILE, Stop, load  # shared with test_sweep_trust.py
 
-def check_against_run_case(ds, scene, fixed, numerics, duration, engine):
+def check_against_run_case(ds, scene, fixed, numerics, duration, engine, timestep=True):
     dims = [d for d in ds["status"].dims]
     for index in np.ndindex(*ds["status"].shape):
         point = {d: ds[d].values[i].item() for d, i in zip(dims, index)}
         assert ds["status"].values[index] == "ok", ds["error"].values[index]
         phys = {k: v for k, v in point.items() if k != "seed"}
         num = numerics if "seed" not in point else Numerics(**{**numerics.__dict__, "seed": point["seed"]})
-        expected = run_case(Case(Physics(scene=scene, **fixed, **phys), num, duration, engine)).results.as_dict()
+        case = Case(Physics(scene=scene, **fixed, **phys), num, duration, engine)
+        expected = run_case(case, timestep=timestep).results.as_dict()
         for name, value in expected.items():
             if name == "notes":  # text: one string per point
                 assert ds["notes"].values[index] == "; ".join(value), point
@@ -267,7 +268,7 @@ def test_a_diverging_point_of_a_batch_is_its_error_and_the_others_finish(tmp_pat
     assert ds["status"].values.tolist() == ["ok", "error", "ok"]
     assert "SimulationDiverged" in ds["error"].values[1] and "diverged by t = 5 tau" in ds["error"].values[1]
     assert np.isfinite(ds["amplitude"].values[[0, 2]]).all() and np.isnan(ds["amplitude"].values[1])
-    expected = run_case(Case(Physics(n=3, sigma=50.0), num, 10)).results
+    expected = run_case(Case(Physics(n=3, sigma=50.0), num, 10), timestep=False).results
     assert ds["amplitude"].values[2] == expected.amplitude
 
 
@@ -301,7 +302,7 @@ def test_periodicity_and_notes_are_stored(tmp_path):
     grid = {"sigma": [0.5, 4.0], "noise": [0.0, 0.3]}
     ds = run_sweep("one-pinned", grid, fixed={"n": 3}, numerics=FAST, duration=60, out=out, workers=2,
                    progress=False, timestep_check=False)
-    check_against_run_case(ds, "one-pinned", {"n": 3}, FAST, 60, "mujoco")
+    check_against_run_case(ds, "one-pinned", {"n": 3}, FAST, 60, "mujoco", timestep=False)
     disk = load(out)
     xr.testing.assert_identical(disk, ds)
     assert disk["periodic"].dims == ("sigma", "noise") and disk["period_spread"].dims == ("sigma", "noise")

@@ -1,6 +1,7 @@
 """Running grid points: one point on its own (`run_point`, for the process pool and Dask), or MuJoCo points
-together in one mujoco.batch (`run_points`) with the pre-flight check (diagnose.check_timestep) computed
-once per distinct model on a thread of its own while the batch steps (`TimestepChecks`).
+together in one mujoco.batch (`run_points`). Every point passes the gate (gate.preflight, through batch.checked);
+a batch's timestep checks (engines.timestep.check_timestep) are computed once per distinct model on a thread of their
+own while the batch steps (gate.TimestepChecks).
 
 A point never raises for a failed simulation: its record holds the error text. A record is what the
 journal stores: status, error, measurements (numbers; None as NaN, a bool as 0 or 1), notes and wall time.
@@ -17,8 +18,9 @@ from typing import Callable, Sequence
 
 import numpy as np
 
-from ..batch import Case, run_case
+from ..batch import Case, checked, run_case
 from ..errors import ParameterError
+from ..gate import TimestepChecks
 from ..io.jsonio import to_jsonable
 from ..params import Numerics, Physics
 from ..results import OBSERVABLES
@@ -38,11 +40,7 @@ def run_point(case: Case, timestep_check: bool = True) -> dict:
     """One grid point: never raises for a failed simulation, returns its error text instead."""
     start = time.perf_counter()
     try:
-        if timestep_check and case.engine == "mujoco":
-            from ..engines.timestep import check_timestep  # start-up time: diagnose loads mujoco; the CLI imports this module
-
-            check_timestep(case.physics, case.numerics)
-        out = run_case(case)
+        out = run_case(case, timestep=timestep_check)  # through the gate
         record = _ok_record(out.results, out.info, out.wall_time_s)
     except Exception as err:  # a diverged or refused point is recorded and the sweep goes on
         record = error_record(err, time.perf_counter() - start)
@@ -63,79 +61,6 @@ def _ok_record(results, info: dict, wall_time_s: float) -> dict:
 def error_record(err: BaseException, wall_time_s: float) -> dict:
     return {"status": "error", "error": f"{type(err).__name__}: {err}", "results": {}, "notes": "",
             "wall_time_s": float(wall_time_s)}
-
-
-class TimestepChecks:
-    """diagnose.check_timestep per point, computed once per distinct model: its outcome depends on the
-    physics, dt, mass_ratio and integrator, on the seed only with noise (the linearisation sees the
-    first step's noise draw) and on the initial state only for integrator discrete (its probe run).
-    Thread-safe: a check another thread is computing is waited for, not computed again."""
-
-    def __init__(self):
-        self._cache: dict = {}
-        self._running: dict = {}  # key -> Event set when that check is done
-        self._models: dict = {}  # key -> the point's compiled model, offered by the batch (offer)
-        self._lock = threading.Lock()
-
-    def offer(self, physics: Physics, numerics: Numerics, model) -> None:
-        """The compiled model of a point (as its run builds it), for its check to use instead of building it
-        again (~1.5 ms at N = 7). Kept only until the check is done."""
-        key = self.key(physics, numerics)
-        with self._lock:
-            if key not in self._cache:
-                self._models.setdefault(key, model)
-
-    @staticmethod
-    def key(physics: Physics, numerics: Numerics) -> tuple:
-        seed = numerics.seed if physics.noise > 0 or numerics.integrator == "discrete" else None
-        perturbation = numerics.perturbation if numerics.integrator == "discrete" else None
-        return (physics, numerics.dt, numerics.mass_ratio, numerics.integrator, seed, perturbation)
-
-    def known_refusal(self, physics: Physics, numerics: Numerics) -> Exception | None:
-        """The check's refusal if it is done and refused the point, else None (nothing is computed)."""
-        key = self.key(physics, numerics)
-        with self._lock:
-            return self._cache.get(key)
-
-    def refusal(self, physics: Physics, numerics: Numerics) -> Exception | None:
-        """The check's refusal (a ParameterError, or whatever else it raised), or None if the point may run."""
-        key = self.key(physics, numerics)
-        while True:
-            with self._lock:
-                if key in self._cache:
-                    return self._cache[key]
-                running = self._running.get(key)
-                if running is None:
-                    running = self._running[key] = threading.Event()
-                    break
-            running.wait()  # another thread computes it
-        from ..engines.timestep import check_timestep  # start-up time: diagnose loads mujoco
-
-        error = None
-        with self._lock:
-            model = self._models.get(key)
-        try:
-            # a point's model is the same for every point of its key when the check's outcome can depend on
-            # it (key: the seed and perturbation only where they matter, which the model does not hold)
-            check_timestep(physics, numerics, model=model)
-        except Exception as err:  # refused (ParameterError) or failed: the point's error either way
-            error = err
-        except BaseException:  # interrupted: nothing is known
-            with self._lock:
-                del self._running[key]
-            running.set()
-            raise
-        with self._lock:
-            self._cache[key] = error
-            self._models.pop(key, None)
-            del self._running[key]
-        running.set()
-        return error
-
-    def __call__(self, physics: Physics, numerics: Numerics) -> None:
-        error = self.refusal(physics, numerics)
-        if error is not None:
-            raise error
 
 
 def run_points(cases: Sequence[Case], timestep_check: bool = True, threads: int = 1, *,
@@ -183,19 +108,26 @@ def run_points(cases: Sequence[Case], timestep_check: bool = True, threads: int 
         # after the stepping has started: the checks need the GIL, which preparing the models needs too
         while not (stepping.wait(0.05) or finished.is_set()):
             pass
-        for case in cases:
+        for j in order:
             if finished.is_set() or (cancel is not None and cancel.is_set()):
                 return
             with contextlib.suppress(Exception):
-                checks.refusal(case.physics, case.numerics)
+                checks.refusal(cases[j].physics, cases[j].numerics)
 
     def started() -> None:
         stepping.set()
         if on_start is not None:
             on_start()
 
-    runs = as_runs(cases)
+    cases = list(cases)
     order = list(range(len(cases)))
+    for j in list(order):  # the gate, but for the timestep check, which runs beside the batch (check_all)
+        try:
+            cases[j] = checked(cases[j], timestep=False)
+        except Exception as err:  # refused: the point's error, as in run_point
+            put(j, error_record(err, time.perf_counter() - start))
+            order.remove(j)
+    runs = as_runs(cases)
     if timestep_check:  # a network runs whole on its thread, where a refusal cannot stop it: check it first (cheap)
         for j in [j for j in order if is_network(runs[j])]:
             refused = checks.refusal(cases[j].physics, cases[j].numerics)

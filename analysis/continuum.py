@@ -69,7 +69,9 @@ def _growth(S: float, m: int) -> float:
     return float(continuum_eigenvalues(S, m)[0].real)
 
 
-def continuum_critical(m: int = 32, bracket: tuple[float, float] = (40.0, 120.0), tol: float = 1e-10) -> tuple[float, float]:
+def continuum_critical(
+    m: int = 32, bracket: tuple[float, float] = (40.0, 120.0), tol: float = 1e-10
+) -> tuple[float, float]:
     """(S_c, omega_c): the continuum onset f L^3 / B and |Im lambda| there (units 1 / (zeta L^4 / B))."""
     S = brentq(lambda v: _growth(v, m), *bracket, xtol=tol)
     return float(S), float(abs(continuum_eigenvalues(S, m)[0].imag))

@@ -65,7 +65,9 @@ def richardson(ns, values) -> Extrapolation:
     ns = np.asarray(ns, dtype=float).reshape(-1)
     values = np.asarray(values, dtype=float).reshape(-1)
     if ns.size == 0 or ns.size != values.size:
-        raise ValueError(f"richardson needs as many values as N (at least one), got {ns.size} N and {values.size} values")
+        raise ValueError(
+            f"richardson needs as many values as N (at least one), got {ns.size} N and {values.size} values"
+        )
     if np.any(ns <= 0) or np.unique(ns).size != ns.size:
         raise ValueError(f"the ladder's N must be distinct and positive, got {ns.tolist()}")
     if not np.all(np.isfinite(values)):
@@ -127,8 +129,10 @@ def beat(t, x) -> Beat:
     highs, lows = np.array(highs), np.array(lows)
     period = float(periods.mean())
     amplitude = 0.5 * float(highs.mean() - lows.mean())
-    spread = max(float(np.max(np.abs(periods / period - 1.0))),
-                 float(np.max(np.abs(np.concatenate([highs - highs.mean(), lows - lows.mean()])))) / amplitude)
+    spread = max(
+        float(np.max(np.abs(periods / period - 1.0))),
+        float(np.max(np.abs(np.concatenate([highs - highs.mean(), lows - lows.mean()])))) / amplitude,
+    )
     return Beat(period, amplitude, int(periods.size), spread)
 
 

@@ -81,8 +81,13 @@ def linear_fit(x, y) -> Fit:
     x, y = _xy(x, y, 3)
     A = np.column_stack([np.ones_like(x), x])
     c, cov = _lstsq(A, y)
-    return Fit({"intercept": c[0], "slope": c[1]}, {"intercept": math.sqrt(cov[0, 0]), "slope": math.sqrt(cov[1, 1])},
-               _r2(y, A @ c), x.size, {"cov_intercept_slope": float(cov[0, 1])})
+    return Fit(
+        {"intercept": c[0], "slope": c[1]},
+        {"intercept": math.sqrt(cov[0, 0]), "slope": math.sqrt(cov[1, 1])},
+        _r2(y, A @ c),
+        x.size,
+        {"cov_intercept_slope": float(cov[0, 1])},
+    )
 
 
 def power_law_fit(x, y) -> Fit:
@@ -92,8 +97,12 @@ def power_law_fit(x, y) -> Fit:
         raise ValueError("power_law_fit needs positive x and y")
     f = linear_fit(np.log(x), np.log(y))
     a = math.exp(f["intercept"])
-    return Fit({"exponent": f["slope"], "prefactor": a}, {"exponent": f.err("slope"), "prefactor": a * f.err("intercept")},
-               f.r2, f.n)
+    return Fit(
+        {"exponent": f["slope"], "prefactor": a},
+        {"exponent": f.err("slope"), "prefactor": a * f.err("intercept")},
+        f.r2,
+        f.n,
+    )
 
 
 def square_root_onset_fit(x, y) -> Fit:
@@ -136,21 +145,37 @@ def onset_power_law_fit(x, y, beta0: float = 0.5, correction: bool = False) -> F
     def model(xx, a, xc, beta):
         return a * np.clip(xx - xc, 1e-300, None) ** beta
 
-    p, cov = curve_fit(model, x, y, p0=[a0, xc0, beta0], bounds=([0, upper - 100 * span, 0.01], [np.inf, upper, 5.0]),
-                       maxfev=20000)
+    p, cov = curve_fit(
+        model, x, y, p0=[a0, xc0, beta0], bounds=([0, upper - 100 * span, 0.01], [np.inf, upper, 5.0]), maxfev=20000
+    )
     if correction:
+
         def model_c(xx, a, xc, beta, c):
             return model(xx, a, xc, beta) * (1.0 + c * (xx - xc))
 
         scale = 1.0 / span
-        p, cov = curve_fit(model_c, x, y, p0=[*p, 0.0],
-                           bounds=([0, upper - 100 * span, 0.01, -100 * scale], [np.inf, upper, 5.0, 100 * scale]), maxfev=20000)
+        p, cov = curve_fit(
+            model_c,
+            x,
+            y,
+            p0=[*p, 0.0],
+            bounds=([0, upper - 100 * span, 0.01, -100 * scale], [np.inf, upper, 5.0, 100 * scale]),
+            maxfev=20000,
+        )
         err = np.sqrt(np.clip(np.diag(cov), 0, None))
-        return Fit({"prefactor": p[0], "onset": p[1], "beta": p[2], "c": p[3]},
-                   {"prefactor": err[0], "onset": err[1], "beta": err[2], "c": err[3]}, _r2(y, model_c(x, *p)), x.size)
+        return Fit(
+            {"prefactor": p[0], "onset": p[1], "beta": p[2], "c": p[3]},
+            {"prefactor": err[0], "onset": err[1], "beta": err[2], "c": err[3]},
+            _r2(y, model_c(x, *p)),
+            x.size,
+        )
     err = np.sqrt(np.clip(np.diag(cov), 0, None))
-    return Fit({"prefactor": p[0], "onset": p[1], "beta": p[2]},
-               {"prefactor": err[0], "onset": err[1], "beta": err[2]}, _r2(y, model(x, *p)), x.size)
+    return Fit(
+        {"prefactor": p[0], "onset": p[1], "beta": p[2]},
+        {"prefactor": err[0], "onset": err[1], "beta": err[2]},
+        _r2(y, model(x, *p)),
+        x.size,
+    )
 
 
 def finite_size_fit(n, y, order: int = 2) -> Fit:
@@ -198,8 +223,12 @@ def exp_oscillation_fit(t, x) -> Fit:
         raise RuntimeError("exp_oscillation_fit did not converge")
     _, p, cov = best
     err = np.sqrt(np.clip(np.diag(cov), 0, None))
-    return Fit({"rate": p[0], "omega": abs(p[1]), "offset": p[4]}, {"rate": err[0], "omega": err[1], "offset": err[4]},
-               _r2(x, model(s, *p)), x.size)
+    return Fit(
+        {"rate": p[0], "omega": abs(p[1]), "offset": p[4]},
+        {"rate": err[0], "omega": err[1], "offset": err[4]},
+        _r2(x, model(s, *p)),
+        x.size,
+    )
 
 
 def richardson(coarse: float, fine: float, ratio: float = 2.0, order: int = 1) -> float:

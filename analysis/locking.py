@@ -23,8 +23,14 @@ import numpy as np
 from . import measures
 from . import observables as obs
 
-__all__ = ["Locking", "drive_locking", "phase_spread", "coupling_amplitude", "adler_half_width",
-           "asymptotic_phase_shift"]
+__all__ = [
+    "Locking",
+    "drive_locking",
+    "phase_spread",
+    "coupling_amplitude",
+    "adler_half_width",
+    "asymptotic_phase_shift",
+]
 
 
 class Locking(NamedTuple):
@@ -75,8 +81,9 @@ def adler_half_width(amplitude: float, drive_omega: float, coupling: float) -> f
     return abs(amplitude) * drive_omega * coupling
 
 
-def asymptotic_phase_shift(t: np.ndarray, x_free: np.ndarray, x_kicked: np.ndarray, omega: float,
-                           last: int = 4) -> float:
+def asymptotic_phase_shift(
+    t: np.ndarray, x_free: np.ndarray, x_kicked: np.ndarray, omega: float, last: int = 4
+) -> float:
     """Phase advance (rad) of a kicked beat over the free one, omega (t_free - t_kicked) averaged over the `last`
     upward mean crossings of both signals (sampled at the same times t, after the kick has relaxed)."""
     up_free = obs.upward_crossings(t, x_free, transient=0.0)

@@ -91,9 +91,7 @@ def _steady_mask(t: np.ndarray, transient: float | None, fraction: float) -> np.
         if not math.isfinite(transient) or transient < 0.0:
             raise ValueError(f"transient must be a finite time >= 0 (in tau); got {transient}")
         if transient >= duration:
-            raise ValueError(
-                f"transient ({transient:g} tau) must be shorter than the record ({duration:g} tau)"
-            )
+            raise ValueError(f"transient ({transient:g} tau) must be shorter than the record ({duration:g} tau)")
         t_start = t[0] + transient
     # small tolerance so that a transient landing exactly on a sample keeps it
     return t >= t_start - 1e-12 * max(1.0, abs(t_start))
@@ -104,9 +102,7 @@ def _steady(t, x, transient, *, name="x", ndim=(1,), min_samples=2):
     m = _steady_mask(ta, transient, 0.5)
     ts, xs = ta[m], xa[m]
     if ts.size < min_samples:
-        raise ValueError(
-            f"only {ts.size} samples remain after discarding transients; need at least {min_samples}"
-        )
+        raise ValueError(f"only {ts.size} samples remain after discarding transients; need at least {min_samples}")
     return ts, xs
 
 
@@ -338,9 +334,7 @@ def phase_frequency(t, x, transient: float | None = None, trim: float = 0.1) -> 
     return _trimmed_slope(tw, phi, trim) / (2.0 * math.pi)
 
 
-def frequency_mismatch(
-    t, x1, x2, transient: float | None = None, trim: float = 0.1, absolute: bool = False
-) -> float:
+def frequency_mismatch(t, x1, x2, transient: float | None = None, trim: float = 0.1, absolute: bool = False) -> float:
     """Frequency mismatch of a pair, in cycles per tau: slope of Psi = Phi_2 - Phi_1, / (2 pi).
 
     Phi_k is the unwrapped Hilbert phase of x_k (typically Theta of chain k), each computed

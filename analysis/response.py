@@ -33,8 +33,16 @@ import numpy as np
 from ..errors import ParameterError
 from .skin import displacement_operator
 
-__all__ = ["Resonance", "Harmonic", "tip_transfer", "resonance", "harmonic_response", "tip_displacement",
-           "tip_residue", "adler_half_width"]
+__all__ = [
+    "Resonance",
+    "Harmonic",
+    "tip_transfer",
+    "resonance",
+    "harmonic_response",
+    "tip_displacement",
+    "tip_residue",
+    "adler_half_width",
+]
 
 
 def tip_transfer(n: int, sigma: float, omega) -> np.ndarray:
@@ -79,8 +87,9 @@ def resonance(n: int, sigma: float) -> Resonance:
         return float(abs(tip_transfer(n, sigma, w)[0]) ** 2)
 
     lo = max(0.0, w0 - 3 * gamma)
-    best = minimize_scalar(lambda w: -gain2(w), bounds=(lo, w0 + 3 * gamma), method="bounded",
-                           options={"xatol": 1e-10 * max(w0, 1e-12)})
+    best = minimize_scalar(
+        lambda w: -gain2(w), bounds=(lo, w0 + 3 * gamma), method="bounded", options={"xatol": 1e-10 * max(w0, 1e-12)}
+    )
     peak_w, peak = float(best.x), gain2(float(best.x))
     half = peak / 2.0
     step = max(gamma, 1e-3 * w0)

@@ -112,8 +112,17 @@ def polygon(n: int) -> np.ndarray:
 
 def ring_system(n: int, sigma: float, gamma_l: float = 1.0) -> ChainSystem:
     """The pinned ring's reduced model (overdamped, gamma_T = 1; gamma_l: the longitudinal drag)."""
-    return ChainSystem(n=int(n), n_chains=1, clamped=False, pinned=True, sigma=float(sigma), gamma_l=float(gamma_l),
-                       gamma_t=1.0, delta=1.0, closed=True).typed()
+    return ChainSystem(
+        n=int(n),
+        n_chains=1,
+        clamped=False,
+        pinned=True,
+        sigma=float(sigma),
+        gamma_l=float(gamma_l),
+        gamma_t=1.0,
+        delta=1.0,
+        closed=True,
+    ).typed()
 
 
 @lru_cache(maxsize=8)
@@ -205,8 +214,11 @@ def _sorted(lam: np.ndarray) -> np.ndarray:
 def tangent_spectrum(n: int, sigma: float, theta, gamma_l: float = 1.0, jacobian_matrix=None) -> np.ndarray:
     """Eigenvalues of the Jacobian restricted to the constraint's tangent space at theta (V^T J V, N - 2 of them; at
     a relative equilibrium one is 0, the uniform rotation), by decreasing real part."""
-    J = _model(int(n), float(gamma_l))[1](np.asarray(theta, dtype=float), sigma) if jacobian_matrix is None \
+    J = (
+        _model(int(n), float(gamma_l))[1](np.asarray(theta, dtype=float), sigma)
+        if jacobian_matrix is None
         else jacobian_matrix
+    )
     V = tangent_basis(theta)
     return _sorted(np.linalg.eigvals(V.T @ J @ V))
 
@@ -214,8 +226,11 @@ def tangent_spectrum(n: int, sigma: float, theta, gamma_l: float = 1.0, jacobian
 def shape_spectrum(n: int, sigma: float, theta, gamma_l: float = 1.0, jacobian_matrix=None) -> np.ndarray:
     """The shape eigenvalues at a relative equilibrium theta (the tangent spectrum without the rotation's 0: W^T J W,
     N - 3 of them), by decreasing real part. jacobian_matrix: J at theta if already known (e.g. by differences)."""
-    J = _model(int(n), float(gamma_l))[1](np.asarray(theta, dtype=float), sigma) if jacobian_matrix is None \
+    J = (
+        _model(int(n), float(gamma_l))[1](np.asarray(theta, dtype=float), sigma)
+        if jacobian_matrix is None
         else jacobian_matrix
+    )
     W = shape_basis(theta)
     return _sorted(np.linalg.eigvals(W.T @ J @ W))
 
@@ -252,8 +267,9 @@ def linearise(n: int, sigma: float, theta=None, gamma_l: float = 1.0) -> RigidRo
     theta, omega = relative_equilibrium(n, sigma, theta, gamma_l)
     J = _model(n, float(gamma_l))[1](theta, sigma)
     tangent = tangent_spectrum(n, sigma, theta, gamma_l, J)
-    return RigidRotation(float(sigma), theta, omega, shape_spectrum(n, sigma, theta, gamma_l, J),
-                         float(np.min(np.abs(tangent))))
+    return RigidRotation(
+        float(sigma), theta, omega, shape_spectrum(n, sigma, theta, gamma_l, J), float(np.min(np.abs(tangent)))
+    )
 
 
 @dataclass(frozen=True)
@@ -376,8 +392,14 @@ class _Continuation:
         return math.sqrt(d @ (self.weight * d))
 
 
-def follow(n: int, sigma_max: float = SCAN_MAX, start=None, gamma_l: float = 1.0, downward: bool = False,
-           sigma_min: float | None = None) -> Branch:
+def follow(
+    n: int,
+    sigma_max: float = SCAN_MAX,
+    start=None,
+    gamma_l: float = 1.0,
+    downward: bool = False,
+    sigma_min: float | None = None,
+) -> Branch:
     """Follow a branch of rigid rotations by pseudo-arclength continuation in (theta, log sigma), through folds.
 
     start None: the branch through the polygon, from sigma = START / N^3 upward; start (theta, sigma): the branch
@@ -449,8 +471,13 @@ def follow(n: int, sigma_max: float = SCAN_MAX, start=None, gamma_l: float = 1.0
 def _crossing(cont: _Continuation, x, t, span, before: complex, after: complex) -> Crossing:
     """Refine a sign change of the leading real part between x and the point at arclength span from x (brentq)."""
     n = cont.n
-    h = brentq(lambda s: cont.leading(cont.at(x, t, s)).real if 0 < s < span else
-               (before.real if s == 0 else after.real), 0.0, span, xtol=1e-13, rtol=1e-12)
+    h = brentq(
+        lambda s: cont.leading(cont.at(x, t, s)).real if 0 < s < span else (before.real if s == 0 else after.real),
+        0.0,
+        span,
+        xtol=1e-13,
+        rtol=1e-12,
+    )
     z = cont.at(x, t, h)
     lam = cont.leading(z)
     omega = abs(lam.imag) if abs(lam.imag) > HOPF_FREQUENCY * (1.0 + abs(z[n])) else 0.0

@@ -44,10 +44,29 @@ from ..errors import ParameterError
 from .stability import banded_operator
 
 __all__ = [
-    "Localisation", "Transient", "displacement_operator", "hermitian_part", "bulk_stencil", "bulk_symbol",
-    "ring_operator", "segment_operator", "localisation", "participation", "centre", "condition_numbers",
-    "winding_number", "loop_reference", "smallest_singular_values", "nonnormality_ratio", "decay_length",
-    "numerical_abscissa", "propagate", "worst_gain", "transient", "kick", "angles_from_displacements",
+    "Localisation",
+    "Transient",
+    "displacement_operator",
+    "hermitian_part",
+    "bulk_stencil",
+    "bulk_symbol",
+    "ring_operator",
+    "segment_operator",
+    "localisation",
+    "participation",
+    "centre",
+    "condition_numbers",
+    "winding_number",
+    "loop_reference",
+    "smallest_singular_values",
+    "nonnormality_ratio",
+    "decay_length",
+    "numerical_abscissa",
+    "propagate",
+    "worst_gain",
+    "transient",
+    "kick",
+    "angles_from_displacements",
     "displacements",
 ]
 

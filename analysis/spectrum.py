@@ -219,7 +219,9 @@ def harmonic_fit(
     phases = np.full(count, math.nan)
     n = min(count, k_fit)
     amplitudes[:n], phases[:n] = amps[:n], ph[:n]
-    return HarmonicFit(float(f), float(coef[0]), amplitudes, phases, float(explained), float(f * (tcross[-1] - tcross[0])))
+    return HarmonicFit(
+        float(f), float(coef[0]), amplitudes, phases, float(explained), float(f * (tcross[-1] - tcross[0]))
+    )
 
 
 def harmonics(

@@ -209,8 +209,9 @@ def slow_eigenvalues(n: int, sigma: float, count: int = SLOW_MODES) -> np.ndarra
         y[:-1] -= y[1:].copy()  # B^-T y
         return -lu.solve(y)
 
-    nu = eigs(LinearOperator((n, n), matvec=inverse, dtype=float), k=count, which="LM", return_eigenvectors=False,
-              tol=1e-14)
+    nu = eigs(
+        LinearOperator((n, n), matvec=inverse, dtype=float), k=count, which="LM", return_eigenvectors=False, tol=1e-14
+    )
     lam = 1.0 / nu
     return lam[np.lexsort((-lam.imag, -lam.real))]
 

@@ -18,8 +18,16 @@ import numpy as np
 
 from .observables import hilbert_phase
 
-__all__ = ["LOCKED", "ORDERED", "SYNC_STATES", "arm_phases", "order_parameter", "phase_differences", "phase_locking",
-           "sync_state"]
+__all__ = [
+    "LOCKED",
+    "ORDERED",
+    "SYNC_STATES",
+    "arm_phases",
+    "order_parameter",
+    "phase_differences",
+    "phase_locking",
+    "sync_state",
+]
 
 LOCKED = 0.9
 """Phase-locking value from which the arms count as locked (their phase differences steady)."""

@@ -16,6 +16,7 @@ import math
 
 import numpy as np
 
+
 def splitmix64(x: np.ndarray) -> np.ndarray:
     x = np.asarray(x, dtype=np.uint64)
     with np.errstate(over="ignore"):

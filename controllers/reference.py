@@ -47,8 +47,9 @@ def _has_marker(model: mujoco.MjModel) -> bool:
     return mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_NUMERIC, "elastoactive_follower") >= 0
 
 
-def coloured_noise(model: mujoco.MjModel, data: mujoco.MjData, amplitude: float, seed: int, tau_c: float,
-                   count: int) -> np.ndarray:
+def coloured_noise(
+    model: mujoco.MjModel, data: mujoco.MjData, amplitude: float, seed: int, tau_c: float, count: int
+) -> np.ndarray:
     """eta of the current step from data.userdata (userdata[0] = held step + 1, userdata[1:1+count] = eta),
     advanced there to the step floor(time / dt + 1e-6): follower.c's coloured_noise, number for number."""
     dt = model.opt.timestep

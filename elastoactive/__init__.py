@@ -29,5 +29,14 @@ from .trajectory import Trajectory
 
 _moved.install()  # old module paths keep working for one release
 
-__all__ = ["Numerics", "ParameterError", "Physics", "Results", "SimulationDiverged", "Trajectory", "measure",
-           "scenes", "simulate"]
+__all__ = [
+    "Numerics",
+    "ParameterError",
+    "Physics",
+    "Results",
+    "SimulationDiverged",
+    "Trajectory",
+    "measure",
+    "scenes",
+    "simulate",
+]

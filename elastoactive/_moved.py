@@ -51,7 +51,7 @@ def new_name(old: str) -> str | None:
     """Where the module once called `old` lives now (None: it did not move)."""
     for moved, new in MOVED.items():
         if old == moved or old.startswith(moved + "."):
-            return new + old[len(moved):]
+            return new + old[len(moved) :]
     return None
 
 
@@ -73,8 +73,9 @@ class MovedFinder(importlib.abc.MetaPathFinder):
         new = new_name(fullname)
         if new is None:
             return None
-        warnings.warn(f"{fullname} has moved to {new}; the old name goes in the next release", DeprecationWarning,
-                      stacklevel=3)
+        warnings.warn(
+            f"{fullname} has moved to {new}; the old name goes in the next release", DeprecationWarning, stacklevel=3
+        )
         module = importlib.import_module(new)
         return importlib.machinery.ModuleSpec(fullname, _Alias(new), is_package=hasattr(module, "__path__"))
 

@@ -19,6 +19,7 @@ from .results import Results, check_measurable, check_transient
 from .results import measure as _measure
 from .trajectory import Trajectory
 
+
 def _field_names(cls) -> tuple[str, ...]:
     """The keyword arguments a Physics (scene and its parameters) or a Numerics takes."""
     names = tuple(f.name for f in parameter_fields(cls))
@@ -35,10 +36,13 @@ def _record(cls, value, argument: str, name_kind: str, from_name):
         known = _field_names(cls)
         unknown = [k for k in value if not isinstance(k, str) or k not in known]
         if unknown:
-            raise TypeError(f"{argument}: {unknown[0]!r} is not a field of ea.{cls.__name__} (fields: {', '.join(known)})")
+            raise TypeError(
+                f"{argument}: {unknown[0]!r} is not a field of ea.{cls.__name__} (fields: {', '.join(known)})"
+            )
         return cls(**value)
-    raise TypeError(f"{argument} must be an ea.{cls.__name__}, {name_kind} or a dict of its fields; got "
-                    f"{type(value).__name__}")
+    raise TypeError(
+        f"{argument} must be an ea.{cls.__name__}, {name_kind} or a dict of its fields; got {type(value).__name__}"
+    )
 
 
 def as_physics(physics) -> Physics:
@@ -143,8 +147,10 @@ def measure(trajectory: Trajectory, transient: float | None = None) -> Results:
         A transient outside the record, or one that leaves too few samples to measure.
     """
     if not isinstance(trajectory, Trajectory):
-        raise TypeError(f"trajectory must be an ea.Trajectory (from ea.simulate or elastoactive.results.load_trajectory); "
-                        f"got {type(trajectory).__name__}")
+        raise TypeError(
+            f"trajectory must be an ea.Trajectory (from ea.simulate or elastoactive.results.load_trajectory); "
+            f"got {type(trajectory).__name__}"
+        )
     check_measurable(trajectory.physics)
     t = np.asarray(trajectory.t, dtype=float)
     if transient is not None:

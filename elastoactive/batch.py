@@ -20,15 +20,15 @@ import contextlib
 import dataclasses
 import functools
 import time
+from collections.abc import Callable, Iterable
 from concurrent.futures import as_completed
 from dataclasses import dataclass, field
-from typing import Callable, Iterable
 
 from .engines import check_engine, run_engine
 from .gate import TimestepChecks, preflight
 from .io.executor import default_workers, imap, process_pool
-from .params import Numerics, Physics
 from .io.progress import progress_bar
+from .params import Numerics, Physics
 from .results import Results, measure
 from .trajectory import Trajectory
 
@@ -61,21 +61,32 @@ class CaseResult:
 def checked(case: Case, timestep: bool = True, checks: TimestepChecks | None = None) -> Case:
     """The case as it runs, once it has passed the gate (gate.preflight: its numerics resolved for its duration), or
     the gate's ParameterError."""
-    run = preflight(case.physics, case.numerics, case.duration, case.engine, timestep=timestep, checks=checks,
-                    given=False)
+    run = preflight(
+        case.physics, case.numerics, case.duration, case.engine, timestep=timestep, checks=checks, given=False
+    )
     if run.numerics == case.numerics and run.duration == case.duration:
         return case
     return dataclasses.replace(case, numerics=run.numerics, duration=run.duration)
 
 
-def run_case(case: Case, keep_trajectory: bool = False, measured: bool = True, *, timestep: bool = True,
-             checks: TimestepChecks | None = None) -> CaseResult:
+def run_case(
+    case: Case,
+    keep_trajectory: bool = False,
+    measured: bool = True,
+    *,
+    timestep: bool = True,
+    checks: TimestepChecks | None = None,
+) -> CaseResult:
     """Simulate one case, once it has passed the gate (`checked`), and measure it (results.measure; not with
     measured=False)."""
     case = checked(case, timestep, checks)
     traj = run_engine(case.engine, case.physics, case.numerics, case.duration)
-    return CaseResult(measure(traj, case.transient) if measured else None, traj.wall_time_s, traj.info,
-                      traj if keep_trajectory else None)
+    return CaseResult(
+        measure(traj, case.transient) if measured else None,
+        traj.wall_time_s,
+        traj.info,
+        traj if keep_trajectory else None,
+    )
 
 
 def load_engine(case: Case) -> None:
@@ -125,8 +136,9 @@ def run_cases(
         with contextlib.ExitStack() as stack:
             pending = {}
             if simulated and workers > 1 and len(reduced) > 1:  # both engines at once (see the module's docstring)
-                pool = stack.enter_context(process_pool(min(workers, len(reduced)),
-                                                        warm=functools.partial(load_engine, cases[reduced[0]])))
+                pool = stack.enter_context(
+                    process_pool(min(workers, len(reduced)), warm=functools.partial(load_engine, cases[reduced[0]]))
+                )
                 pending = {pool.submit(task, cases[i]): i for i in reduced}  # the workers fork now, before any C thread
                 reduced = []
             _run_mujoco(cases, simulated, workers, measured, keep_trajectory, errors, finished)
@@ -140,8 +152,14 @@ def run_cases(
             for i in reduced:
                 finished(i, run_case(cases[i], keep_trajectory, measured, timestep=False))
         elif reduced:
-            runs = imap(task, [cases[i] for i in reduced], workers, completed=True, errors=True,
-                        warm=functools.partial(load_engine, cases[reduced[0]]))
+            runs = imap(
+                task,
+                [cases[i] for i in reduced],
+                workers,
+                completed=True,
+                errors=True,
+                warm=functools.partial(load_engine, cases[reduced[0]]),
+            )
             for j, outcome in runs:
                 if isinstance(outcome, BaseException):
                     errors[reduced[j]] = outcome
@@ -158,8 +176,15 @@ def run_cases(
     return results  # type: ignore[return-value]
 
 
-def _run_mujoco(cases: list[Case], simulated: list[int], workers: int, measured: bool, keep_trajectory: bool,
-                errors: dict, finished: Callable[[int, CaseResult], None]) -> None:
+def _run_mujoco(
+    cases: list[Case],
+    simulated: list[int],
+    workers: int,
+    measured: bool,
+    keep_trajectory: bool,
+    errors: dict,
+    finished: Callable[[int, CaseResult], None],
+) -> None:
     """The MuJoCo cases (indices `simulated`) in mujoco.batch batches on `workers` threads; each result to finished(i,
     result), each failure into errors[i]."""
     if simulated:

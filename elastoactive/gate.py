@@ -29,6 +29,7 @@ from .errors import ParameterError
 from .params import Numerics, Physics
 from .results import check_measurable
 
+
 @dataclass(frozen=True)
 class Checked:
     """A run that passed the gate: the physics, the numerics as resolved for its duration, the duration, the engine
@@ -85,9 +86,8 @@ class TimestepChecks:
                     running = self._running[key] = threading.Event()
                     break
             running.wait()  # another thread computes it
-        from .engines.timestep import check_timestep  # engine boundary: the check builds MuJoCo models
-
         from .engines.cost import check_announcement  # engine boundary: the cost model loads MuJoCo
+        from .engines.timestep import check_timestep  # engine boundary: the check builds MuJoCo models
 
         announcement = check_announcement(physics) if announce else None  # its time grows like the angles cubed
         if announcement:
@@ -117,9 +117,18 @@ class TimestepChecks:
             raise error
 
 
-def preflight(physics: Physics, numerics: Numerics, duration: float, engine: str = "mujoco", *,
-              method: str | None = None, timestep: bool = True, checks: TimestepChecks | None = None,
-              given: bool = True, announce: bool = False) -> Checked:
+def preflight(
+    physics: Physics,
+    numerics: Numerics,
+    duration: float,
+    engine: str = "mujoco",
+    *,
+    method: str | None = None,
+    timestep: bool = True,
+    checks: TimestepChecks | None = None,
+    given: bool = True,
+    announce: bool = False,
+) -> Checked:
     """The gate (module docstring): the run as its engine will be given it, or a ParameterError naming the parameter.
 
     checks: the TimestepChecks of a batch, so that its runs of one model are checked once (default: a check of

@@ -8,8 +8,8 @@ from __future__ import annotations
 import numpy as np
 
 from . import registry
-from .reduced.constraints import pin_jacobian, pin_residual, project_on_pins  # noqa: F401 (re-exported)
 from .errors import ParameterError
+from .reduced.constraints import pin_jacobian, pin_residual, project_on_pins  # noqa: F401 (re-exported)
 
 
 def buckled_arch(n: int, delta: float) -> np.ndarray:

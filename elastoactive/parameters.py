@@ -182,10 +182,14 @@ class Parameter:
             why = f" ({self.unless_why})" if self.unless_why else ""
             off = get(self.unless).default
             off = f"{off:g}" if isinstance(off, float) else off
-            return (f"{self.name} has no effect with {self.unless} = {values[self.unless]}{why}; set {self.unless} = "
-                    f"{off} too, or leave {self.name} out")
-        return (f"{self.name} has no effect without {self.need_text} ({self.needs} = {values[self.needs]}); set "
-                f"{self.needs} too, or leave {self.name} out")
+            return (
+                f"{self.name} has no effect with {self.unless} = {values[self.unless]}{why}; set {self.unless} = "
+                f"{off} too, or leave {self.name} out"
+            )
+        return (
+            f"{self.name} has no effect without {self.need_text} ({self.needs} = {values[self.needs]}); set "
+            f"{self.needs} too, or leave {self.name} out"
+        )
 
     @property
     def need_text(self) -> str:
@@ -229,4 +233,3 @@ def known(name: str) -> bool:
 def names() -> tuple[str, ...]:
     """Every declared parameter, in declaration order."""
     return tuple(_TABLE)
-

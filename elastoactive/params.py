@@ -29,8 +29,10 @@ INTEGRATORS = ("implicitfast", "implicit", "discrete", "Euler", "RK4")
 DEFAULT_SCENE = "one-pinned"
 """The scene a Physics() without a scene describes: the paper's flagellar beating."""
 
-N = _parameters.register(Parameter(
-    "n", 7, "particles per chain N", kind=int, low=1, high=MAX_PARTICLES, title="number of particles N"), "the chain")
+N = _parameters.register(
+    Parameter("n", 7, "particles per chain N", kind=int, low=1, high=MAX_PARTICLES, title="number of particles N"),
+    "the chain",
+)
 """The one parameter of the chain itself; every other belongs to a term (elastoactive.terms) or a scene."""
 LEADING = ("n", "sigma", "drag_ratio", "noise")
 """The parameters every summary reports first, in this order; then the scene's own, then the terms' others."""
@@ -102,9 +104,10 @@ class Physics:
         for name in values:
             if name not in usable:
                 if _parameters.known(name):
-                    raise ParameterError(f"{name} has no effect on scene {scene} (its parameters: "
-                                         f"{', '.join(usable)})")
-                raise ParameterError(f"unknown parameter {name!r}; the parameters of scene {scene}: {', '.join(usable)}")
+                    raise ParameterError(f"{name} has no effect on scene {scene} (its parameters: {', '.join(usable)})")
+                raise ParameterError(
+                    f"unknown parameter {name!r}; the parameters of scene {scene}: {', '.join(usable)}"
+                )
         resolved = {}
         for name in usable:
             spec = _parameters.get(name)
@@ -157,8 +160,11 @@ class Physics:
         return (_restore, (self.scene, self.given()))
 
     def __repr__(self) -> str:
-        return f"Physics(scene={self.scene!r}, " + ", ".join(f"{k}={v!r}" for k, v in self.relevant().items()
-                                                            if k != "scene") + ")"
+        return (
+            f"Physics(scene={self.scene!r}, "
+            + ", ".join(f"{k}={v!r}" for k, v in self.relevant().items() if k != "scene")
+            + ")"
+        )
 
     def given(self) -> dict:
         """The values that act (the scene's parameters, less those whose switch is off): what rebuilds this."""
@@ -177,7 +183,7 @@ class Physics:
             if spec.needs is not None and not spec.acts_in(self._values):
                 raise ParameterError(spec.unused_text(self._values))
 
-    def replace(self, **changes) -> "Physics":
+    def replace(self, **changes) -> Physics:
         """This physics with some values changed (and checked); values that stop acting (a switch turned off, a
         scene without them) are dropped."""
         scene = changes.pop("scene", self.scene)
@@ -187,8 +193,11 @@ class Physics:
         for name in list(kept):
             switch = _parameters.get(name).needs
             spec = _parameters.get(name)
-            if (switch is not None and (switch in values or spec.or_needs in values or spec.unless in values)
-                    and not spec.acts_in({**self._values, **values})):
+            if (
+                switch is not None
+                and (switch in values or spec.or_needs in values or spec.unless in values)
+                and not spec.acts_in({**self._values, **values})
+            ):
                 del values[name]
         return Physics(scene=scene, **values)
 
@@ -298,13 +307,18 @@ class Numerics:
     """
 
     dt: float = field(default=DEFAULT_DT, metadata={"help": "MuJoCo timestep in tau"})
-    mass_ratio: float = field(default=DEFAULT_MASS_RATIO, metadata={
-        "help": "particle mass m / (gamma tau); the overdamped limit is 0"})
+    mass_ratio: float = field(
+        default=DEFAULT_MASS_RATIO, metadata={"help": "particle mass m / (gamma tau); the overdamped limit is 0"}
+    )
     integrator: str = field(default=DEFAULT_INTEGRATOR, metadata={"help": "MuJoCo integrator", "choices": INTEGRATORS})
     perturbation: float = field(default=1e-2, metadata={"help": "size of the random initial kick, rad"})
-    sample_dt: float = field(default=DEFAULT_SAMPLE_DT, metadata={
-        "help": "spacing of the recorded trajectory, tau (default 0.05, coarser for runs that would record more than "
-                "100000 samples)"})
+    sample_dt: float = field(
+        default=DEFAULT_SAMPLE_DT,
+        metadata={
+            "help": "spacing of the recorded trajectory, tau (default 0.05, coarser for runs that would record more than "
+            "100000 samples)"
+        },
+    )
     seed: int = field(default=0, metadata={"help": "seed of the initial perturbation and the noise"})
 
     def __post_init__(self) -> None:
@@ -336,8 +350,9 @@ class Numerics:
                 f"{round(ratio) * self.dt:.6g}, so that both engines record at the same times"
             )
         # an integer as Parameter.check takes n: a numpy integer, or a number with an integer value, is one
-        whole = isinstance(self.seed, numbers.Integral) or (isinstance(self.seed, numbers.Real)
-                                                             and float(self.seed).is_integer())
+        whole = isinstance(self.seed, numbers.Integral) or (
+            isinstance(self.seed, numbers.Real) and float(self.seed).is_integer()
+        )
         if isinstance(self.seed, (bool, np.bool_)) or not whole or self.seed < 0:
             raise ParameterError(f"seed must be a non-negative integer, got {self.seed!r}")
         object.__setattr__(self, "seed", int(self.seed))
@@ -356,14 +371,14 @@ class Numerics:
         choose them for the physics (for_physics)."""
         return all(isinstance(getattr(self, name), _Unset) for name in ("dt", "mass_ratio", "integrator"))
 
-    def for_physics(self, physics) -> "Numerics":
+    def for_physics(self, physics) -> Numerics:
         """The numerics a MuJoCo run of `physics` uses: these, or, when they are `automatic` and the chain has
         LONG_CHAIN particles or more, long_chain_numerics(physics, self) if that is expected to be cheaper."""
         if not self.automatic or physics.n < LONG_CHAIN:
             return self
         return long_chain_numerics(physics, self)
 
-    def for_duration(self, duration: float) -> "Numerics":
+    def for_duration(self, duration: float) -> Numerics:
         """These numerics, or, where sample_dt was left at its default and the run would record more than AUTO_SAMPLES
         samples, a coarser sample_dt: the fewest whole steps of dt that keep the count at most AUTO_SAMPLES. A given
         sample_dt is kept as it is."""
@@ -383,7 +398,8 @@ class Numerics:
         if count > MAX_SAMPLES:
             raise ParameterError(
                 f"duration ({duration:g} tau) at sample_dt = {spacing:g} would record {count:.3g} samples "
-                f"(limit {MAX_SAMPLES:.0e}); shorten --duration or raise --sample-dt")
+                f"(limit {MAX_SAMPLES:.0e}); shorten --duration or raise --sample-dt"
+            )
         return count
 
     def sample_times(self, duration: float) -> np.ndarray:
@@ -404,11 +420,12 @@ class Numerics:
             raise ParameterError(
                 f"duration ({duration:g} tau) holds {count} sample(s) at sample_dt = {self.sample_dt:g}; at least "
                 f"{MIN_SAMPLES} are needed to measure a run, after its transient (by default the first half): "
-                f"lengthen --duration (>= {shortest:.4g} tau) or lower --sample-dt")
+                f"lengthen --duration (>= {shortest:.4g} tau) or lower --sample-dt"
+            )
         return duration
 
     @classmethod
-    def preset(cls, name: str, **overrides) -> "Numerics":
+    def preset(cls, name: str, **overrides) -> Numerics:
         """Named settings: 'accurate' (the default: every validate error <= 1%) or 'fast'
         (dt = 0.01: amplitude and frequency within 0.3%, about four times faster; for sweeps)."""
         if name not in PRESETS:
@@ -531,7 +548,8 @@ def check_start(physics: Physics, numerics: Numerics) -> None:
         raise ParameterError(
             f"perturbation = 0 starts the run exactly on the base state of scene {physics.scene}, which is unstable "
             f"at sigma = {physics.sigma:g} (growth rate {growth:.3g}/tau): the run would stay on it up to round-off "
-            "and report that state, not the motion; give --perturbation > 0 (default 0.01)")
+            "and report that state, not the motion; give --perturbation > 0 (default 0.01)"
+        )
 
 
 def parameter_fields(cls) -> tuple:

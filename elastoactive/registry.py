@@ -55,8 +55,10 @@ def register(scene: Scene, *, replace: bool = False) -> Scene:
         if isinstance(spec, _parameters.Parameter):
             _parameters.register(spec, f"scene {name}")
         elif not _parameters.known(spec):
-            raise ValueError(f"scene {name!r} names the parameter {spec!r}, which nothing declares "
-                             "(declare it as an elastoactive.parameters.Parameter in the scene's parameters)")
+            raise ValueError(
+                f"scene {name!r} names the parameter {spec!r}, which nothing declares "
+                "(declare it as an elastoactive.parameters.Parameter in the scene's parameters)"
+            )
     _SCENES[name] = scene
     return scene
 
@@ -65,8 +67,11 @@ def unregister(name: str) -> None:
     """Remove a scene and the parameter specs it declared (tests that register a toy scene clean up with this)."""
     scene = _SCENES.pop(name, None)
     for spec in getattr(scene, "parameters", ()):
-        if isinstance(spec, _parameters.Parameter) and _parameters.known(spec.name) \
-                and _parameters.owner(spec.name) == f"scene {name}":
+        if (
+            isinstance(spec, _parameters.Parameter)
+            and _parameters.known(spec.name)
+            and _parameters.owner(spec.name) == f"scene {name}"
+        ):
             _parameters.unregister(spec.name)
 
 

@@ -15,15 +15,15 @@ import numpy as np
 
 from . import quantities
 from .analysis import dish, spectrum
-from .analysis import star as star_sync
 from .analysis import observables as obs
+from .analysis import star as star_sync
 from .errors import ParameterError
-from .terms.base import fastest_term
 from .io.jsonio import to_jsonable
 from .io.outputs import sha256, write_files
 from .params import MIN_SAMPLES, Numerics, Physics
 from .sensitivity import estimate as estimate_sensitivity
 from .sensitivity import needs_estimate
+from .terms.base import fastest_term
 from .trajectory import Trajectory
 
 
@@ -48,53 +48,94 @@ OBSERVABLES: dict[str, Observable] = {
     "frequency": Observable("1/tau", "oscillation frequency f*tau of Theta", per_chain=True),
     "snap_amplitude": Observable("rad", "standard deviation of theta_3 (self-snapping; NaN for n < 3)"),
     "rotation_rate": Observable("rad/tau", "mean d theta_1 / dt", floor=1e-6),
-    "frequency_mismatch": Observable("1/tau", "f_2 - f_1 from the Hilbert phases (NaN unless both oscillate)",
-                                     error="absolute"),
-    "period_spread": Observable("1", "std / mean of the cycle periods of Theta (NaN with fewer than 2 cycles)",
-                                per_chain=True, error="none"),
-    "harmonics": Observable("1", f"amplitudes of harmonics 1-{HARMONICS} of Theta relative to the fundamental "
-                            "(NaN without a periodic beat)", per_chain=True, error="none"),
-    "contact_fraction": Observable("1", "share of recorded samples with at least one self-contact (overlapping "
-                                   "capsules of non-adjacent links)", error="absolute", floor=0.0),
-    "min_clearance": Observable("l", "smallest clearance between capsules of non-adjacent links over the measured "
-                                "window (negative: overlap)", error="none"),
-    "centre_drift": Observable("l/tau", "mean speed of the free ring's centre (the mean of its particles) over the "
-                               "measured window", error="absolute", floor=0.0),
-    "orbit_rate": Observable("rad/tau", "mean angular velocity of the N particles' centre of mass about the dish's "
-                             "centre", floor=1e-6),
-    "orbit_radius": Observable("l", "mean distance of the N particles' centre of mass from the dish's centre",
-                               floor=1e-3),
-    "curvature": Observable("1/l", "mean curvature of the chain (theta_{i+1} - theta_i per l, signed)",
-                            floor=1e-4, min_n=2),
-    "dish_state": Observable("1", "state of the chain in the dish (analysis.dish.dish_state)", error="none",
-                             categories=dish.STATES),
+    "frequency_mismatch": Observable(
+        "1/tau", "f_2 - f_1 from the Hilbert phases (NaN unless both oscillate)", error="absolute"
+    ),
+    "period_spread": Observable(
+        "1", "std / mean of the cycle periods of Theta (NaN with fewer than 2 cycles)", per_chain=True, error="none"
+    ),
+    "harmonics": Observable(
+        "1",
+        f"amplitudes of harmonics 1-{HARMONICS} of Theta relative to the fundamental (NaN without a periodic beat)",
+        per_chain=True,
+        error="none",
+    ),
+    "contact_fraction": Observable(
+        "1",
+        "share of recorded samples with at least one self-contact (overlapping capsules of non-adjacent links)",
+        error="absolute",
+        floor=0.0,
+    ),
+    "min_clearance": Observable(
+        "l",
+        "smallest clearance between capsules of non-adjacent links over the measured window (negative: overlap)",
+        error="none",
+    ),
+    "centre_drift": Observable(
+        "l/tau",
+        "mean speed of the free ring's centre (the mean of its particles) over the measured window",
+        error="absolute",
+        floor=0.0,
+    ),
+    "orbit_rate": Observable(
+        "rad/tau", "mean angular velocity of the N particles' centre of mass about the dish's centre", floor=1e-6
+    ),
+    "orbit_radius": Observable(
+        "l", "mean distance of the N particles' centre of mass from the dish's centre", floor=1e-3
+    ),
+    "curvature": Observable(
+        "1/l", "mean curvature of the chain (theta_{i+1} - theta_i per l, signed)", floor=1e-4, min_n=2
+    ),
+    "dish_state": Observable(
+        "1", "state of the chain in the dish (analysis.dish.dish_state)", error="none", categories=dish.STATES
+    ),
     # network scenes (analysis.network.observables)
     "polarization": Observable("1", "time mean of the active units' polar order |<n_i>|", error="absolute", floor=0.0),
     "polarity_rate": Observable("rad/tau", "mean turning rate d psi / dt of the active units (signed)", floor=1e-4),
-    "polarity_speed": Observable("rad/tau", "mean |d psi / dt| of the active units: how fast they turn, either way",
-                                 floor=1e-4),
-    "actuation": Observable("1", "coherence of the units' turning |<d psi/dt>| / <|d psi/dt|> (1: collective "
-                            "actuation, 0: still)", error="absolute", floor=0.0),
-    "condensation": Observable("1", "share of the elastic energy on the two most energetic normal modes",
-                               error="absolute", floor=0.0),
-    "dominant_mode": Observable("1", "rank by stiffness (1: softest) of the most energetic normal mode of the "
-                                "deformation (0: none, undeformed)", error="none"),
-    "second_mode": Observable("1", "rank by stiffness of the second most energetic normal mode (0: none)",
-                              error="none"),
-    "patch_rotation_rate": Observable("rad/tau", "mean rate of the patch's rigid rotation (least squares)",
-                                      floor=1e-4),
-    "patch_drift": Observable("a/tau", "mean speed of the patch's centroid (its rigid translation) over the measured "
-                              "window", floor=1e-4),
-    "sync_order": Observable("1", "the star's Kuramoto order parameter R_1 of the arms' beat phases (1: in phase; NaN "
-                             "unless every arm beats)", error="absolute"),
-    "splay_order": Observable("1", "R_k of the star's arms' phases (1 with R_1 = 0: a k-fold splay state)",
-                              error="absolute"),
-    "phase_locking": Observable("1", "smallest phase-locking value of the star's arms against arm 1 (1: steady "
-                                "phase differences; NaN for uncoupled arms on a clamped hub)", error="absolute"),
-    "phase_lag": Observable("rad", "mean phase of each of the star's arms behind arm 1, in (-pi, pi]", per_chain=True,
-                            error="none"),
-    "sync_state": Observable("1", "state of the star's arms (analysis.star.sync_state)", error="none",
-                             categories=star_sync.SYNC_STATES),
+    "polarity_speed": Observable(
+        "rad/tau", "mean |d psi / dt| of the active units: how fast they turn, either way", floor=1e-4
+    ),
+    "actuation": Observable(
+        "1",
+        "coherence of the units' turning |<d psi/dt>| / <|d psi/dt|> (1: collective actuation, 0: still)",
+        error="absolute",
+        floor=0.0,
+    ),
+    "condensation": Observable(
+        "1", "share of the elastic energy on the two most energetic normal modes", error="absolute", floor=0.0
+    ),
+    "dominant_mode": Observable(
+        "1",
+        "rank by stiffness (1: softest) of the most energetic normal mode of the deformation (0: none, undeformed)",
+        error="none",
+    ),
+    "second_mode": Observable(
+        "1", "rank by stiffness of the second most energetic normal mode (0: none)", error="none"
+    ),
+    "patch_rotation_rate": Observable("rad/tau", "mean rate of the patch's rigid rotation (least squares)", floor=1e-4),
+    "patch_drift": Observable(
+        "a/tau", "mean speed of the patch's centroid (its rigid translation) over the measured window", floor=1e-4
+    ),
+    "sync_order": Observable(
+        "1",
+        "the star's Kuramoto order parameter R_1 of the arms' beat phases (1: in phase; NaN unless every arm beats)",
+        error="absolute",
+    ),
+    "splay_order": Observable(
+        "1", "R_k of the star's arms' phases (1 with R_1 = 0: a k-fold splay state)", error="absolute"
+    ),
+    "phase_locking": Observable(
+        "1",
+        "smallest phase-locking value of the star's arms against arm 1 (1: steady "
+        "phase differences; NaN for uncoupled arms on a clamped hub)",
+        error="absolute",
+    ),
+    "phase_lag": Observable(
+        "rad", "mean phase of each of the star's arms behind arm 1, in (-pi, pi]", per_chain=True, error="none"
+    ),
+    "sync_state": Observable(
+        "1", "state of the star's arms (analysis.star.sync_state)", error="none", categories=star_sync.SYNC_STATES
+    ),
     "hub_amplitude": Observable("rad", "half peak-to-peak of the star's hub angle phi (0 for a clamped hub)"),
     "hub_rate": Observable("rad/tau", "mean d phi / dt of the star's hub (a star spinning as a whole)", floor=1e-6),
 }
@@ -254,10 +295,12 @@ def _aliasing(traj: Trajectory) -> list[str]:
     rate, term = fastest_term(traj.physics)
     if term is None or rate * spacing <= ALIASING:
         return []
-    return [f"the record may alias the motion: the {term.name} term turns or drives at up to {rate:.3g} rad per unit "
-            f"time, {rate * spacing:.2g} rad between samples (sample_dt = {spacing:g}); rates and frequencies may be "
-            f"wrong, even in sign: rerun with --sample-dt <= {ALIASING / rate:.2g} (and --dt; the reduced engine records no "
-            f"finer than the default dt) or a slower setting ({term.slower(traj.physics, ALIASING / spacing)})"]
+    return [
+        f"the record may alias the motion: the {term.name} term turns or drives at up to {rate:.3g} rad per unit "
+        f"time, {rate * spacing:.2g} rad between samples (sample_dt = {spacing:g}); rates and frequencies may be "
+        f"wrong, even in sign: rerun with --sample-dt <= {ALIASING / rate:.2g} (and --dt; the reduced engine records no "
+        f"finer than the default dt) or a slower setting ({term.slower(traj.physics, ALIASING / spacing)})"
+    ]
 
 
 def rest_level(traj: Trajectory, transient: float) -> float:
@@ -290,8 +333,9 @@ def _turning(traj: Trajectory, transient: float, reported: float | None) -> list
     rates = []
     for k in range(chains):
         try:
-            rates.append(obs.rotation_rate(traj.t, traj.chain(k), transient) if reported is None or chains > 1
-                         else reported)
+            rates.append(
+                obs.rotation_rate(traj.t, traj.chain(k), transient) if reported is None or chains > 1 else reported
+            )
         except ValueError:
             rates.append(reported)
     return rates
@@ -313,12 +357,15 @@ def _pin_give(traj: Trajectory, beats: list) -> list[str]:
     if not small:
         return []
     where = "" if traj.physics.n_chains == 1 else f"chain {', '.join(str(k + 1) for k in small)}: "
-    amplitude = quantities.text(tuple(beats[k].amplitude for k in small) if where else beats[small[0]].amplitude,
-                                ".2g", "rad")
-    return [f"{where}the beat (amplitude {amplitude}) is within what the pin's give allows: the pin gave by up to "
-            f"{violation:.2g} l, which lets a chain held at its full length bend by ~{give:.2g} rad; it may be the "
-            f"{traj.engine} engine's soft pin, not the chain's beat: compare --engine reduced (hard pins) or a smaller "
-            "--dt"]
+    amplitude = quantities.text(
+        tuple(beats[k].amplitude for k in small) if where else beats[small[0]].amplitude, ".2g", "rad"
+    )
+    return [
+        f"{where}the beat (amplitude {amplitude}) is within what the pin's give allows: the pin gave by up to "
+        f"{violation:.2g} l, which lets a chain held at its full length bend by ~{give:.2g} rad; it may be the "
+        f"{traj.engine} engine's soft pin, not the chain's beat: compare --engine reduced (hard pins) or a smaller "
+        "--dt"
+    ]
 
 
 @dataclass(frozen=True)
@@ -343,30 +390,65 @@ def _beat(t: np.ndarray, theta_diff: np.ndarray, transient: float, rest: float =
     third = max(xs.size // 3, 1)
     drift = abs(xs[-third:].mean() - xs[:third].mean())
     if cycles.count < MIN_CYCLES and drift > WINDING:  # no beat's thirds drift a full turn apart
-        return _Beat(amplitude, None, False, math.nan, (
-            f"the motion is not periodic: Theta drifts by {drift:.3g} rad over {window} (it winds up or "
-            "creeps) with fewer than two cycles about its mean; amplitude is half the range covered",))
+        return _Beat(
+            amplitude,
+            None,
+            False,
+            math.nan,
+            (
+                f"the motion is not periodic: Theta drifts by {drift:.3g} rad over {window} (it winds up or "
+                "creeps) with fewer than two cycles about its mean; amplitude is half the range covered",
+            ),
+        )
     if cycles.count < MIN_CYCLES and drift > amplitude:  # less than two periods of a beat drift this much too
-        return _Beat(amplitude, None, None, math.nan, (
-            f"periodicity and frequency not judged: Theta moves by {drift:.3g} rad one way over {window}, with fewer "
-            "than two cycles about its mean: a beat slower than the window, or a motion that creeps; run longer "
-            "(--duration) or discard less (--transient)",))
+        return _Beat(
+            amplitude,
+            None,
+            None,
+            math.nan,
+            (
+                f"periodicity and frequency not judged: Theta moves by {drift:.3g} rad one way over {window}, with fewer "
+                "than two cycles about its mean: a beat slower than the window, or a motion that creeps; run longer "
+                "(--duration) or discard less (--transient)",
+            ),
+        )
     if cycles.count < 1:
-        return _Beat(amplitude, None, None, math.nan, (
-            f"frequency not measured: {window} holds fewer than two periods of Theta; run longer "
-            "(--duration) or discard less (--transient)",))
+        return _Beat(
+            amplitude,
+            None,
+            None,
+            math.nan,
+            (
+                f"frequency not measured: {window} holds fewer than two periods of Theta; run longer "
+                "(--duration) or discard less (--transient)",
+            ),
+        )
     frequency = obs.frequency(t, theta_diff, transient)
     if cycles.count < MIN_CYCLES:
-        return _Beat(amplitude, frequency, None, cycles.period_spread, (
-            f"periodicity not judged: {window} holds {cycles.count} whole cycle(s), fewer than {MIN_CYCLES}; "
-            "run longer (--duration)",))
+        return _Beat(
+            amplitude,
+            frequency,
+            None,
+            cycles.period_spread,
+            (
+                f"periodicity not judged: {window} holds {cycles.count} whole cycle(s), fewer than {MIN_CYCLES}; "
+                "run longer (--duration)",
+            ),
+        )
     spread = max(cycles.period_spread, cycles.amplitude_spread)
     if spread > PERIODIC_SPREAD:
-        return _Beat(amplitude, frequency, False, cycles.period_spread, (
-            f"the beat is not periodic: its cycle periods vary by {cycles.period_spread:.2g} and its cycle "
-            f"amplitudes by {cycles.amplitude_spread:.2g} (std / mean, over {cycles.count} cycles; periodic: "
-            f"<= {PERIODIC_SPREAD:g}); amplitude and frequency are averages over an irregular motion (noise, "
-            "chaos, or a beat still growing: run longer)",))
+        return _Beat(
+            amplitude,
+            frequency,
+            False,
+            cycles.period_spread,
+            (
+                f"the beat is not periodic: its cycle periods vary by {cycles.period_spread:.2g} and its cycle "
+                f"amplitudes by {cycles.amplitude_spread:.2g} (std / mean, over {cycles.count} cycles; periodic: "
+                f"<= {PERIODIC_SPREAD:g}); amplitude and frequency are averages over an irregular motion (noise, "
+                "chaos, or a beat still growing: run longer)",
+            ),
+        )
     return _Beat(amplitude, frequency, True, cycles.period_spread, ())
 
 
@@ -384,17 +466,35 @@ def _rigid(beat: _Beat, rotation_rate: float | None, window: float, reported: bo
         if not beat.amplitude < RIGID_FRACTION * per_period:
             return beat
         wiggle = "" if beat.frequency is None else f" at f = {beat.frequency:.3g}"
-        residue = (f"; its residual wiggle{wiggle} is below {RIGID_FRACTION:g} of the {per_period:.3g} rad the chain "
-                   "turns through per wiggle (solver error or a transient decaying onto the rigid turn)")
-    return _Beat(beat.amplitude, None, True, math.nan, (
-        f"no beat: Theta is {'steady' if not residue else 'all but steady'} (amplitude "
-        f"{quantities.text(beat.amplitude, '.2g', 'rad')}) while the chain turns "
-        f"as a rigid body at {rotation_rate:.3g} rad/tau{residue}; frequency is null"
-        + (", rotation_rate describes the motion" if reported else ""),))
+        residue = (
+            f"; its residual wiggle{wiggle} is below {RIGID_FRACTION:g} of the {per_period:.3g} rad the chain "
+            "turns through per wiggle (solver error or a transient decaying onto the rigid turn)"
+        )
+    return _Beat(
+        beat.amplitude,
+        None,
+        True,
+        math.nan,
+        (
+            f"no beat: Theta is {'steady' if not residue else 'all but steady'} (amplitude "
+            f"{quantities.text(beat.amplitude, '.2g', 'rad')}) while the chain turns "
+            f"as a rigid body at {rotation_rate:.3g} rad/tau{residue}; frequency is null"
+            + (", rotation_rate describes the motion" if reported else ""),
+        ),
+    )
 
 
-_RESULT_FIELDS = {"snap_amplitude", "rotation_rate", "frequency_mismatch", "contact_fraction", "min_clearance",
-                  "orbit_rate", "orbit_radius", "curvature", "dish_state"}
+_RESULT_FIELDS = {
+    "snap_amplitude",
+    "rotation_rate",
+    "frequency_mismatch",
+    "contact_fraction",
+    "min_clearance",
+    "orbit_rate",
+    "orbit_radius",
+    "curvature",
+    "dish_state",
+}
 
 
 def check_transient(duration: float, transient: float | None, times: np.ndarray | None = None) -> float:
@@ -403,15 +503,18 @@ def check_transient(duration: float, transient: float | None, times: np.ndarray 
     if transient is None:
         transient = default_transient(duration)
     elif not (math.isfinite(transient) and 0 <= transient < duration):
-        raise ParameterError(f"transient ({transient} tau) must lie in [0, duration = {duration:g} tau): the results are "
-                             "measured on the part of the run after it")
+        raise ParameterError(
+            f"transient ({transient} tau) must lie in [0, duration = {duration:g} tau): the results are "
+            "measured on the part of the run after it"
+        )
     if times is not None:
         kept = int(np.count_nonzero(times >= transient - 1e-12 * max(1.0, transient)))  # as observables' steady part
         if kept < MIN_SAMPLES:
             latest = times[-MIN_SAMPLES] if times.size >= MIN_SAMPLES else 0.0
             raise ParameterError(
                 f"transient ({transient:g} tau) leaves {kept} recorded sample(s) of the {duration:g} tau run; at least "
-                f"{MIN_SAMPLES} are needed to measure it: use --transient <= {latest:.4g} or a longer --duration")
+                f"{MIN_SAMPLES} are needed to measure it: use --transient <= {latest:.4g} or a longer --duration"
+            )
     return float(transient)
 
 
@@ -420,8 +523,10 @@ def check_measurable(physics: Physics) -> None:
     for name in physics.scene_def.observables:
         need = OBSERVABLES[name].min_n if name in OBSERVABLES else 1
         if physics.n < need:
-            raise ParameterError(f"n = {physics.n} is too short for scene {physics.scene}: it measures {name}, which needs "
-                                 f"N >= {need} particles; use --n {need} or more")
+            raise ParameterError(
+                f"n = {physics.n} is too short for scene {physics.scene}: it measures {name}, which needs "
+                f"N >= {need} particles; use --n {need} or more"
+            )
 
 
 ENGINE_NUMERICS = {
@@ -438,8 +543,14 @@ def recorded_numerics(engine: str, physics: Physics) -> tuple[str, ...]:
     return names + ("dt",) if engine == "reduced" and physics.noise > 0 else names
 
 
-def summary(traj: Trajectory, numerics: Numerics, duration: float, transient: float | None = None,
-            provenance: dict | None = None, sensitivity: bool = True) -> dict:
+def summary(
+    traj: Trajectory,
+    numerics: Numerics,
+    duration: float,
+    transient: float | None = None,
+    provenance: dict | None = None,
+    sensitivity: bool = True,
+) -> dict:
     """Everything summary.json holds: parameters, numerical settings, wall time, results, solver
     information and (when given) the provenance record of elastoactive.io.outputs. An irregular run's results also
     carry `sensitivity` (elastoactive.sensitivity: errors of its numbers, whether its dynamics is sensitive) unless
@@ -448,8 +559,9 @@ def summary(traj: Trajectory, numerics: Numerics, duration: float, transient: fl
     if traj.engine == "mujoco":  # what ran: a long chain's or a network's automatic numerics, so --from repeats it
         numerics = numerics.for_physics(traj.physics)
         ran = traj.info.get("automatic_numerics") or {}  # the engine's record (a network's: engines.network_mujoco)
-        numerics = dataclasses.replace(numerics, **{k: v for k, v in ran.items() if k in ("integrator", "dt",
-                                                                                            "mass_ratio")})
+        numerics = dataclasses.replace(
+            numerics, **{k: v for k, v in ran.items() if k in ("integrator", "dt", "mass_ratio")}
+        )
     settings = dataclasses.asdict(numerics)
     if traj.engine in ENGINE_NUMERICS:
         settings = {k: settings[k] for k in recorded_numerics(traj.engine, traj.physics)}
@@ -459,8 +571,11 @@ def summary(traj: Trajectory, numerics: Numerics, duration: float, transient: fl
         try:
             estimate = estimate_sensitivity(traj, transient, numerics)
         except ParameterError as refusal:  # the pilots run the reduced engine, which may not cover this run's terms
-            recorded["notes"] = [*recorded["notes"], f"irregular, and no error estimate: its pilots run the reduced "
-                                 f"engine, which refuses this run ({refusal}); rerun at dt / 2 to gauge its error"]
+            recorded["notes"] = [
+                *recorded["notes"],
+                f"irregular, and no error estimate: its pilots run the reduced "
+                f"engine, which refuses this run ({refusal}); rerun at dt / 2 to gauge its error",
+            ]
         else:
             recorded["sensitivity"] = estimate.as_dict()
             recorded["notes"] = [*recorded["notes"], estimate.note(results.amplitude, results.frequency)]
@@ -512,8 +627,9 @@ def write_run(out: Path, traj: Trajectory, summary_dict: dict) -> list[Path]:
             head["polarity"] = traj.polarity
         if traj.nodes is not None:
             head["nodes"] = traj.nodes
-        np.savez_compressed(tmp, t=traj.t, theta=traj.theta, scene=traj.physics.scene, n=traj.physics.n,
-                            settings_sha256=digest, **head)
+        np.savez_compressed(
+            tmp, t=traj.t, theta=traj.theta, scene=traj.physics.scene, n=traj.physics.n, settings_sha256=digest, **head
+        )
         checksum["sha256"] = sha256(tmp)
 
     def summary_file(tmp: Path) -> None:
@@ -530,8 +646,9 @@ def write_run(out: Path, traj: Trajectory, summary_dict: dict) -> list[Path]:
         if err.filename != str(out / "trajectory.npz"):
             raise
         if earlier:  # an earlier run's files: kept whole, not half replaced
-            raise OSError(err.errno, f"{err.strerror}; nothing was replaced: {out} keeps the run it held",
-                          err.filename) from None
+            raise OSError(
+                err.errno, f"{err.strerror}; nothing was replaced: {out} keeps the run it held", err.filename
+            ) from None
         failed = err
     # the trajectory (the large file) could not be written: the summary (small: the results, the settings) still is,
     # recording the failure and no trajectory checksum
@@ -541,13 +658,19 @@ def write_run(out: Path, traj: Trajectory, summary_dict: dict) -> list[Path]:
         written = write_files(out, {"summary.json": summary_file})
     except OSError:
         raise failed from None
-    raise OSError(failed.errno, f"{failed.strerror}; {written[0]} was written without it (the run's results and "
-                  "settings; re-run it with --from to have the trajectory)", failed.filename) from None
+    raise OSError(
+        failed.errno,
+        f"{failed.strerror}; {written[0]} was written without it (the run's results and "
+        "settings; re-run it with --from to have the trajectory)",
+        failed.filename,
+    ) from None
 
 
 def _edited(path: Path) -> ParameterError:
-    return ParameterError(f"{path} was changed after the run wrote it (its engine, parameters or numerics no longer "
-                          "match the checksum recorded with them); restore it, or re-run the simulation")
+    return ParameterError(
+        f"{path} was changed after the run wrote it (its engine, parameters or numerics no longer "
+        "match the checksum recorded with them); restore it, or re-run the simulation"
+    )
 
 
 def read_summary(path: Path) -> dict:
@@ -560,16 +683,20 @@ def read_summary(path: Path) -> dict:
     try:
         summary_dict = json.loads(path.read_text())
     except FileNotFoundError:
-        raise ParameterError(f"{path} not found: give a folder written by `elastoactive run --out` or its summary.json") from None
+        raise ParameterError(
+            f"{path} not found: give a folder written by `elastoactive run --out` or its summary.json"
+        ) from None
     except (OSError, UnicodeDecodeError, json.JSONDecodeError) as err:
         raise ParameterError(f"{path} is not a readable summary.json ({err})") from None
     if not isinstance(summary_dict, dict) or not isinstance(summary_dict.get("parameters"), dict):
         raise ParameterError(f"{path} is not a summary.json written by elastoactive run (no parameters)")
     recorded = summary_dict.get("settings_sha256")
     if recorded is None:  # without its checksum a summary's settings cannot be told from an edit of them
-        raise ParameterError(f"{path} has no settings_sha256 (the checksum `elastoactive run` records with its engine, "
-                             "parameters and numerics), so it may have been changed after the run wrote it; restore "
-                             "it, or re-run the simulation")
+        raise ParameterError(
+            f"{path} has no settings_sha256 (the checksum `elastoactive run` records with its engine, "
+            "parameters and numerics), so it may have been changed after the run wrote it; restore "
+            "it, or re-run the simulation"
+        )
     if recorded != settings_digest(summary_dict):
         raise _edited(path)
     return summary_dict
@@ -600,12 +727,16 @@ def load_trajectory(path: Path, physics: Physics | None = None) -> Trajectory:
     except FileNotFoundError:
         raise ParameterError(f"{path} not found") from None
     except KeyError as err:
-        raise ParameterError(f"{path} lacks the array {err} (expected t and theta, and head for a moving pivot)") from None
+        raise ParameterError(
+            f"{path} lacks the array {err} (expected t and theta, and head for a moving pivot)"
+        ) from None
     except (OSError, ValueError, EOFError, zipfile.BadZipFile) as err:
         raise ParameterError(f"{path} is not a readable trajectory.npz (truncated or foreign file: {err})") from None
     if t.ndim != 1 or t.size < 2 or theta.shape != (t.size, physics.n_angles):
-        raise ParameterError(f"{path}: expected t of shape (T,) with T >= 2 and theta of shape (T, {physics.n_angles}) "
-                             f"for {physics.scene_def.label(physics)}; got {t.shape} and {theta.shape}")
+        raise ParameterError(
+            f"{path}: expected t of shape (T,) with T >= 2 and theta of shape (T, {physics.n_angles}) "
+            f"for {physics.scene_def.label(physics)}; got {t.shape} and {theta.shape}"
+        )
     if not (np.all(np.isfinite(t)) and np.all(np.diff(t) > 0)):
         raise ParameterError(f"{path}: the sample times t are not finite and increasing")
     columns = physics.scene_def.head_count(physics) or 2  # the scene's moving pivot, or a moving clamp's (x_c, y_c)
@@ -622,9 +753,18 @@ def load_trajectory(path: Path, physics: Physics | None = None) -> Trajectory:
         bad = t[~np.all(np.isfinite(state), axis=1)][0]
         raise ParameterError(f"{path}: the angles are not finite from t = {bad:g} tau on (a diverged run?)")
     if recorded is not None and recorded.get("trajectory_sha256") not in (None, sha256(path)):
-        raise ParameterError(f"{path} is not the trajectory {summary_file.name} describes (checksum differs: an "
-                             "interrupted or mixed write); re-run the simulation")
+        raise ParameterError(
+            f"{path} is not the trajectory {summary_file.name} describes (checksum differs: an "
+            "interrupted or mixed write); re-run the simulation"
+        )
     if recorded is not None and digest is not None and digest != settings_digest(recorded):
         raise _edited(summary_file)
-    return Trajectory(t=t, theta=theta, physics=physics, engine=(recorded or {}).get("engine", "file"), head=head,
-                      polarity=polarity, nodes=nodes)
+    return Trajectory(
+        t=t,
+        theta=theta,
+        physics=physics,
+        engine=(recorded or {}).get("engine", "file"),
+        head=head,
+        polarity=polarity,
+        nodes=nodes,
+    )

@@ -72,24 +72,35 @@ class Sensitivity(NamedTuple):
         are the run's results in their shape (a number, None, or one per chain: elastoactive.quantities)."""
         measured = any(e is not None for e in quantities.entries(self.amplitude_error))
         if self.sensitive is None:
-            return (f"irregular, and too short to measure whether its dynamics is sensitive: {self.unsettled}; run "
-                    "longer (--duration)" + (f"; {self._errors(amplitude, frequency)}" if measured else ""))
-        return self._verdict(self._errors(amplitude, frequency) if measured else
-                             "amplitude and frequency have no error estimate: fewer than two whole cycles in the "
-                             "measured window (run longer)")
+            return (
+                f"irregular, and too short to measure whether its dynamics is sensitive: {self.unsettled}; run "
+                "longer (--duration)" + (f"; {self._errors(amplitude, frequency)}" if measured else "")
+            )
+        return self._verdict(
+            self._errors(amplitude, frequency)
+            if measured
+            else "amplitude and frequency have no error estimate: fewer than two whole cycles in the "
+            "measured window (run longer)"
+        )
 
     def _errors(self, amplitude, frequency) -> str:
-        return (f"amplitude {quantities.text_with_error(amplitude, self.amplitude_error, unit='rad')} and frequency "
-                f"{quantities.text_with_error(frequency, self.frequency_error)} (standard errors from the "
-                "cycle-to-cycle spread; none for a chain with fewer than two whole cycles)")
+        return (
+            f"amplitude {quantities.text_with_error(amplitude, self.amplitude_error, unit='rad')} and frequency "
+            f"{quantities.text_with_error(frequency, self.frequency_error)} (standard errors from the "
+            "cycle-to-cycle spread; none for a chain with fewer than two whole cycles)"
+        )
 
     def _verdict(self, errors: str) -> str:
         if not self.sensitive:
-            return (f"error estimate of an irregular motion: {errors}; nearby states part at {self.lyapunov:.2g}/tau "
-                    f"(two reduced-model pilots of {self.pilot_tau:g} tau): not sensitive")
-        return (f"sensitive dynamics: nearby states part at {self.lyapunov:.2g}/tau (two reduced-model pilots of "
-                f"{self.pilot_tau:g} tau from the state after the transient); angles are reproducible only over ~"
-                f"{self.horizon_tau:.2g} tau, and the numbers are averages over a chaotic motion: {errors}")
+            return (
+                f"error estimate of an irregular motion: {errors}; nearby states part at {self.lyapunov:.2g}/tau "
+                f"(two reduced-model pilots of {self.pilot_tau:g} tau): not sensitive"
+            )
+        return (
+            f"sensitive dynamics: nearby states part at {self.lyapunov:.2g}/tau (two reduced-model pilots of "
+            f"{self.pilot_tau:g} tau from the state after the transient); angles are reproducible only over ~"
+            f"{self.horizon_tau:.2g} tau, and the numbers are averages over a chaotic motion: {errors}"
+        )
 
 
 def separation_rate(t: np.ndarray, a: np.ndarray, b: np.ndarray) -> float:
@@ -113,8 +124,10 @@ def _signal_errors(t: np.ndarray, x: np.ndarray, transient: float) -> tuple[floa
     amplitude = obs.amplitude(t, x, transient)
     frequency = obs.frequency(t, x, transient)
     root = math.sqrt(cycles.count)
-    return (float(amplitude * np.nan_to_num(cycles.amplitude_spread) / root),
-            float(frequency * np.nan_to_num(cycles.period_spread) / root))
+    return (
+        float(amplitude * np.nan_to_num(cycles.amplitude_spread) / root),
+        float(frequency * np.nan_to_num(cycles.period_spread) / root),
+    )
 
 
 def cycle_errors(traj: Trajectory, transient: float) -> tuple[Errors, Errors]:
@@ -137,16 +150,19 @@ def unsettled(traj: Trajectory, transient: float) -> str | None:
     signals = traj.physics.scene_def.beat_signals(traj)
     counts = [obs.cycles(t, x, transient).count for x in signals]
     if max(counts, default=0) < SETTLED_CYCLES:
-        return (f"{window} holds fewer than {SETTLED_CYCLES} whole cycles of the beat (it may still be leaving its "
-                "start)")
+        return (
+            f"{window} holds fewer than {SETTLED_CYCLES} whole cycles of the beat (it may still be leaving its start)"
+        )
     for x in signals:
         amplitudes = obs.cycle_amplitudes(t, x, transient)
         steps = np.diff(amplitudes)
         if amplitudes.size >= 3 and (np.all(steps > 0) or np.all(steps < 0)):
             change = float(amplitudes[-1] / amplitudes[0] - 1.0)
             if abs(change) > SETTLING:
-                return (f"the beat is still {'growing' if change > 0 else 'decaying'} in {window} (its cycle "
-                        f"amplitudes change steadily by {change:+.2g} over {amplitudes.size} cycles)")
+                return (
+                    f"the beat is still {'growing' if change > 0 else 'decaying'} in {window} (its cycle "
+                    f"amplitudes change steadily by {change:+.2g} over {amplitudes.size} cycles)"
+                )
     return None
 
 
@@ -155,8 +171,13 @@ def needs_estimate(traj: Trajectory, periodic: bool | None) -> bool:
     to run longer), noise-free (noise is irregular by design: its statistics are the result), a pivot that does not
     move, and a state that is the angles alone (the pilots start from the recorded angles: not a network's nodes, nor
     angles with the self-aligning units' polarities)."""
-    return (periodic is False and traj.physics.noise == 0 and traj.head is None and traj.nodes is None
-            and traj.polarity is None)
+    return (
+        periodic is False
+        and traj.physics.noise == 0
+        and traj.head is None
+        and traj.nodes is None
+        and traj.polarity is None
+    )
 
 
 def estimate(traj: Trajectory, transient: float, numerics: Numerics) -> Sensitivity:
@@ -166,8 +187,8 @@ def estimate(traj: Trajectory, transient: float, numerics: Numerics) -> Sensitiv
     if reason is not None:  # no pilots: from a state off the attractor they would measure its approach, not chaos
         amplitude_error, frequency_error = cycle_errors(traj, transient)
         return Sensitivity(None, None, None, amplitude_error, frequency_error, 0.0, reason)
-    from .reduced.settings import METHODS  # start-up time: only irregular runs load the reduced engine
     from .engines.reduced import simulate_reduced
+    from .reduced.settings import METHODS  # start-up time: only irregular runs load the reduced engine
 
     physics = traj.physics
     k = int(np.searchsorted(traj.t - traj.t[0], transient - 1e-9))
@@ -178,8 +199,10 @@ def estimate(traj: Trajectory, transient: float, numerics: Numerics) -> Sensitiv
     numerics = replace(numerics, sample_dt=spacing, dt=spacing / math.ceil(spacing / 0.1 - 1e-9))
     method = traj.info.get("method") if traj.engine == "reduced" else None  # the run's own method, else automatic
     method = method if method in METHODS else None
-    runs = [simulate_reduced(physics, numerics, pilot, theta0=traj.theta[k], rtol=rtol, atol=atol, method=method)
-            for rtol, atol in PILOT_TOLERANCES]
+    runs = [
+        simulate_reduced(physics, numerics, pilot, theta0=traj.theta[k], rtol=rtol, atol=atol, method=method)
+        for rtol, atol in PILOT_TOLERANCES
+    ]
     rate = separation_rate(runs[0].t, runs[0].theta, runs[1].theta)
     amplitude_error, frequency_error = cycle_errors(traj, transient)
     sensitive = rate > SENSITIVE_RATE

@@ -30,9 +30,9 @@ import numpy as np
 from ..constants import BEAD_RADIUS
 from ..errors import ParameterError
 from ..initial import initial_angles
-from . import mjcf_path
 from ..params import Numerics, Physics
 from ..terms.self_aligning import align_with_sites
+from . import mjcf_path
 
 INTEGRATOR = {
     "Euler": mujoco.mjtIntegrator.mjINT_EULER,
@@ -43,8 +43,9 @@ INTEGRATOR = {
 }
 
 
-def _add_chain(spec: mujoco.MjSpec, prefix: str, physics: Physics, numerics: Numerics, stiffness: float, y: float,
-               chain: int = 0):
+def _add_chain(
+    spec: mujoco.MjSpec, prefix: str, physics: Physics, numerics: Numerics, stiffness: float, y: float, chain: int = 0
+):
     segment = spec.find_default("segment")
     link, bead = (spec.find_default(c) for c in ("link", "bead"))
     parent, pos = spec.worldbody, [0.0, y, 0.0]
@@ -69,8 +70,13 @@ def add_drag(spec: mujoco.MjSpec, site: str, label: str, physics: Physics, prefi
         gear = [0.0] * 6
         gear[axis] = 1.0
         spec.add_actuator(
-            name=f"{prefix}drag_{name}_{label}", default=drag, target=site, trntype=mujoco.mjtTrn.mjTRN_SITE,
-            gear=gear, gainprm=[gamma] + [0] * 9, biasprm=[0, 0, -gamma] + [0] * 7,
+            name=f"{prefix}drag_{name}_{label}",
+            default=drag,
+            target=site,
+            trntype=mujoco.mjtTrn.mjTRN_SITE,
+            gear=gear,
+            gainprm=[gamma] + [0] * 9,
+            biasprm=[0, 0, -gamma] + [0] * 7,
         )
 
 
@@ -120,8 +126,10 @@ def build_spec(physics: Physics, numerics: Numerics = Numerics()) -> mujoco.MjSp
     """MjSpec of a scene with these parameters (compile it with .compile())."""
     scene = physics.scene_def
     if scene.network(physics) is not None:  # nodes on slides, not chains: elastoactive.mjcf.network builds those
-        raise ParameterError(f"{scene.name} is an elastic network, not a chain: build its MuJoCo model with "
-                             "elastoactive.mjcf.network.build_network_spec(scene.network(physics), physics, numerics)")
+        raise ParameterError(
+            f"{scene.name} is an elastic network, not a chain: build its MuJoCo model with "
+            "elastoactive.mjcf.network.build_network_spec(scene.network(physics), physics, numerics)"
+        )
     spec = _template(scene)
     prefixes = scene.chain_prefixes()
 

@@ -34,10 +34,10 @@ import mujoco
 import numpy as np
 
 from ..errors import ParameterError
-from . import mjcf_path
-from .chain import INTEGRATOR
 from ..params import Numerics, Physics
 from ..terms.self_aligning import add_unit, polarity_addresses
+from . import mjcf_path
+from .chain import INTEGRATOR
 
 BASE_FILE = "network.xml"
 
@@ -73,8 +73,13 @@ def check_network(network) -> None:
     if positions.ndim != 2 or positions.shape[1] != 2 or count == 0:
         raise ParameterError(f"network.positions must have shape (P, 2) with P >= 1, got {positions.shape}")
     bonds = np.asarray(network.bonds)
-    if bonds.size and (bonds.ndim != 2 or bonds.shape[1] != 2 or bonds.min() < 0 or bonds.max() >= count
-                       or np.any(bonds[:, 0] == bonds[:, 1])):
+    if bonds.size and (
+        bonds.ndim != 2
+        or bonds.shape[1] != 2
+        or bonds.min() < 0
+        or bonds.max() >= count
+        or np.any(bonds[:, 0] == bonds[:, 1])
+    ):
         raise ParameterError("network.bonds must be (B, 2) pairs of distinct node indices in [0, P)")
     for name in ("rest_lengths", "stiffness"):
         values = np.asarray(getattr(network, name), dtype=float)
@@ -109,15 +114,24 @@ def build_network_spec(network, physics: Physics, numerics: Numerics = Numerics(
         for axis, label in ((0, "x"), (1, "y")):
             direction = [0.0, 0.0, 0.0]
             direction[axis] = 1.0
-            body.add_joint(name=f"node_{i}_{label}", default=node, axis=direction, stiffness=[trap, 0, 0],
-                           springref=float(anchors[i, axis] - positions[i, axis]))
+            body.add_joint(
+                name=f"node_{i}_{label}",
+                default=node,
+                axis=direction,
+                stiffness=[trap, 0, 0],
+                springref=float(anchors[i, axis] - positions[i, axis]),
+            )
         body.add_geom(name=f"bead_{i}", default=node, mass=numerics.mass_ratio)
         body.add_site(name=f"node_{i}", default=node, userdata=force)
     for b, (i, j) in enumerate(np.asarray(network.bonds, dtype=int).reshape(-1, 2)):
         if pinned[i] and pinned[j]:
             continue
-        tendon = spec.add_tendon(name=f"spring_{b}", default=spring, stiffness=[float(network.stiffness[b]), 0, 0],
-                                 springlength=[float(network.rest_lengths[b])] * 2)
+        tendon = spec.add_tendon(
+            name=f"spring_{b}",
+            default=spring,
+            stiffness=[float(network.stiffness[b]), 0, 0],
+            springlength=[float(network.rest_lengths[b])] * 2,
+        )
         tendon.wrap_site(f"node_{i}")
         tendon.wrap_site(f"node_{j}")
     for i in np.flatnonzero(active):  # a free node's unit on its x slide (O(1) per step), a pinned one's on its site
@@ -168,6 +182,7 @@ def set_polarity(model: mujoco.MjModel, data: mujoco.MjData, polarity: np.ndarra
     addresses = polarity_addresses(model)
     polarity = np.asarray(polarity, dtype=float)
     if polarity.shape != addresses.shape:
-        raise ParameterError(f"polarity must have one angle per active unit, shape {addresses.shape}, "
-                             f"got {polarity.shape}")
+        raise ParameterError(
+            f"polarity must have one angle per active unit, shape {addresses.shape}, got {polarity.shape}"
+        )
     data.act[addresses] = polarity

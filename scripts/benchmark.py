@@ -49,17 +49,16 @@ from pathlib import Path
 
 import mujoco
 import numpy as np
+from bench_common import CLI, CORES, load, log  # scripts/ is on sys.path when a script runs
+from benchmark_filament import bench_filament, filament_report
+from benchmark_network import bench_network, network_report
 
+from elastoactive.checks.validate import validation_cases
 from elastoactive.controllers import compiled_passive, follower_forces, reference_passive
 from elastoactive.engines.mujoco import prepare, simulate_mujoco
 from elastoactive.engines.reduced import regime, rhs_reference, simulate_reduced, system_of
 from elastoactive.initial import initial_angles
 from elastoactive.params import Numerics, Physics
-from elastoactive.checks.validate import validation_cases
-
-from bench_common import CLI, CORES, load, log  # scripts/ is on sys.path when a script runs
-from benchmark_filament import bench_filament, filament_report
-from benchmark_network import bench_network, network_report
 
 PLAIN_METHODS = ("LSODA", "DOP853", "RK45", "BDF", "Radau")  # LSODA first: the usual winner prunes the rest
 MATCH = 2.0  # a plain method matches when its error is <= MATCH x the compiled run's error
@@ -165,11 +164,21 @@ def bench_reduced(cases, repeats: int, cap_s: float) -> list[dict]:
             log(f"  {method}: " + (r if isinstance(r, str) else _plain_cell(r)))
         winners = {m: r for m, r in methods.items() if isinstance(r, dict)}
         win = min(winners, key=lambda m: winners[m]["wall"]) if winners else None
-        rows.append({"case": label, "n": physics.n, "duration": duration, "compiled_s": wall_c,
-                     "compiled_err": err_c, "method": comp.info.get("method", "?"), "plain": methods, "best": win,
-                     "best_s": winners[win]["wall"] if win else np.nan,
-                     "speedup": winners[win]["wall"] / wall_c if win else np.nan,
-                     "bound": None if win else cap_s / wall_c})
+        rows.append(
+            {
+                "case": label,
+                "n": physics.n,
+                "duration": duration,
+                "compiled_s": wall_c,
+                "compiled_err": err_c,
+                "method": comp.info.get("method", "?"),
+                "plain": methods,
+                "best": win,
+                "best_s": winners[win]["wall"] if win else np.nan,
+                "speedup": winners[win]["wall"] / wall_c if win else np.nan,
+                "bound": None if win else cap_s / wall_c,
+            }
+        )
     return rows
 
 
@@ -223,10 +232,20 @@ def bench_process(lsoda_rtol: float, repeats: int) -> dict:
     err_cli = float(np.abs(simulate_reduced(physics, numerics, duration).theta - ref).max())  # the CLI's path
     with tempfile.TemporaryDirectory() as tmp:
         script = Path(tmp) / "plain_lsoda.py"
-        script.write_text(PLAIN_SCRIPT.format(
-            n=system.n, sigma=float(system.sigma), gl=float(system.gamma_l), gt=float(system.gamma_t),
-            theta0=[float(x) for x in initial_angles(physics, numerics)], duration=duration, samples=t.size,
-            sample_dt=float(numerics.sample_dt), rtol=float(lsoda_rtol), atol=float(lsoda_rtol) * 1e-2))
+        script.write_text(
+            PLAIN_SCRIPT.format(
+                n=system.n,
+                sigma=float(system.sigma),
+                gl=float(system.gamma_l),
+                gt=float(system.gamma_t),
+                theta0=[float(x) for x in initial_angles(physics, numerics)],
+                duration=duration,
+                samples=t.size,
+                sample_dt=float(numerics.sample_dt),
+                rtol=float(lsoda_rtol),
+                atol=float(lsoda_rtol) * 1e-2,
+            )
+        )
         out = Path(tmp) / "theta.npy"
         cli_cmd = [CLI, "run", "one-pinned", "--engine", "reduced", "--duration", "600", "--quiet"]
         plain_cmd = [sys.executable, str(script), str(out)]
@@ -239,8 +258,16 @@ def bench_process(lsoda_rtol: float, repeats: int) -> dict:
             hlp.append(run_wall(help_cmd, tmp))
         err_plain = float(np.abs(np.load(out) - ref).max())
         imports = run_wall([sys.executable, "-c", "import numpy, scipy.integrate"], tmp)
-    return {"cli": cli, "plain": plain, "help": hlp, "err_cli": err_cli, "err_plain": err_plain,
-            "rtol": lsoda_rtol, "imports": imports, "cmd": " ".join(["elastoactive"] + cli_cmd[1:])}
+    return {
+        "cli": cli,
+        "plain": plain,
+        "help": hlp,
+        "err_cli": err_cli,
+        "err_plain": err_plain,
+        "rtol": lsoda_rtol,
+        "imports": imports,
+        "cmd": " ".join(["elastoactive"] + cli_cmd[1:]),
+    }
 
 
 # ------------------------------------------------------------------------------------------------
@@ -270,10 +297,33 @@ def bench_sweep(points: int, duration: float, repeats: int) -> dict:
     with tempfile.TemporaryDirectory() as tmp:
         for k in range(repeats):
             out = Path(tmp) / f"sweep{k}.nc"
-            walls.append(run_wall([CLI, "sweep", "one-pinned", "--grid", f"sigma=0.3:1.0:{points}", "--duration",
-                                   f"{duration:g}", "--out", str(out), "--quiet"], tmp))
-    return {"points": points, "duration": duration, "steps": steps, "us_per_step": 1e6 * min(costs),
-            "floor_s": floor, "walls": walls, "wall_s": statistics.median(walls), "best_s": min(walls)}
+            walls.append(
+                run_wall(
+                    [
+                        CLI,
+                        "sweep",
+                        "one-pinned",
+                        "--grid",
+                        f"sigma=0.3:1.0:{points}",
+                        "--duration",
+                        f"{duration:g}",
+                        "--out",
+                        str(out),
+                        "--quiet",
+                    ],
+                    tmp,
+                )
+            )
+    return {
+        "points": points,
+        "duration": duration,
+        "steps": steps,
+        "us_per_step": 1e6 * min(costs),
+        "floor_s": floor,
+        "walls": walls,
+        "wall_s": statistics.median(walls),
+        "best_s": min(walls),
+    }
 
 
 # ------------------------------------------------------------------------------------------------
@@ -291,10 +341,22 @@ def bench_mujoco_long(cases: dict, repeats: int) -> dict:
         best = min(runs, key=lambda r: r.wall_time_s)
         ref = simulate_reduced(physics, Numerics(), duration)
         err = float(np.abs(best.theta - ref.theta).max() / np.abs(ref.theta).max())
-        rows.append({"n": n, "sigma": sigma, "duration": duration, "wall_s": best.wall_time_s,
-                     "tau_per_s": duration / best.wall_time_s, "s_per_tau": best.wall_time_s / duration,
-                     "us_per_step": best.info["us_per_step"], "integrator": used.integrator, "dt": used.dt,
-                     "mass_ratio": used.mass_ratio, "err": err, "max_angle": float(np.abs(ref.theta).max())})
+        rows.append(
+            {
+                "n": n,
+                "sigma": sigma,
+                "duration": duration,
+                "wall_s": best.wall_time_s,
+                "tau_per_s": duration / best.wall_time_s,
+                "s_per_tau": best.wall_time_s / duration,
+                "us_per_step": best.info["us_per_step"],
+                "integrator": used.integrator,
+                "dt": used.dt,
+                "mass_ratio": used.mass_ratio,
+                "err": err,
+                "max_angle": float(np.abs(ref.theta).max()),
+            }
+        )
     long = [r for r in rows if r["n"] >= 30]
     x = np.log([r["n"] for r in long])
     fit = lambda key: float(np.polyfit(x, np.log([r[key] for r in long]), 1)[0]) if len(long) >= 2 else np.nan
@@ -320,9 +382,11 @@ def bench_step_by_n(ns, repeats: int) -> list[dict]:
         physics = Physics(n=n, sigma=0.05)
         nstep = max(20, int(200_000 / n**2))
         row = {"n": n}
-        for name, numerics in (("implicitfast", Numerics(integrator="implicitfast")),
-                               ("Euler", Numerics(integrator="Euler", mass_ratio=2e-3)),
-                               ("RK4", Numerics(integrator="RK4", mass_ratio=2e-3))):
+        for name, numerics in (
+            ("implicitfast", Numerics(integrator="implicitfast")),
+            ("Euler", Numerics(integrator="Euler", mass_ratio=2e-3)),
+            ("RK4", Numerics(integrator="RK4", mass_ratio=2e-3)),
+        ):
             row[name] = _step_us(physics, numerics, nstep if name != "RK4" else max(10, nstep // 4), repeats)
         rows.append(row)
     return rows
@@ -351,10 +415,18 @@ def bench_alternatives(n: int, duration: float) -> list[dict]:
         used = numerics.for_physics(physics)
         simulate_mujoco(physics, numerics, 0.2)
         traj = simulate_mujoco(physics, numerics, duration)
-        rows.append({"label": label, "integrator": used.integrator, "dt": used.dt, "mass_ratio": used.mass_ratio,
-                     "inertia_number": regime(physics, used).inertia_number,
-                     "us_per_step": traj.info["us_per_step"], "tau_per_s": duration / traj.wall_time_s,
-                     "err": float(np.abs(traj.theta - ref.theta).max() / np.abs(ref.theta).max())})
+        rows.append(
+            {
+                "label": label,
+                "integrator": used.integrator,
+                "dt": used.dt,
+                "mass_ratio": used.mass_ratio,
+                "inertia_number": regime(physics, used).inertia_number,
+                "us_per_step": traj.info["us_per_step"],
+                "tau_per_s": duration / traj.wall_time_s,
+                "err": float(np.abs(traj.theta - ref.theta).max() / np.abs(ref.theta).max()),
+            }
+        )
     return rows
 
 
@@ -365,8 +437,16 @@ def bench_reduced_long(ns, duration: float, repeats: int) -> dict:
         simulate_reduced(physics, Numerics(), duration)  # warm-up: some kernels compile on first use, not at 1 tau
         runs = [simulate_reduced(physics, Numerics(), duration) for _ in range(repeats)]
         wall = min(r.wall_time_s for r in runs)
-        rows.append({"n": n, "duration": duration, "wall_s": wall, "per_100": wall * 100 / duration,
-                     "method": runs[0].info.get("method", "?"), "nfev": runs[0].info.get("nfev")})
+        rows.append(
+            {
+                "n": n,
+                "duration": duration,
+                "wall_s": wall,
+                "per_100": wall * 100 / duration,
+                "method": runs[0].info.get("method", "?"),
+                "nfev": runs[0].info.get("nfev"),
+            }
+        )
     x, y = np.log([r["n"] for r in rows]), np.log([r["per_100"] for r in rows])
     big = [i for i, r in enumerate(rows) if r["n"] >= 30]
     slope_all = float(np.polyfit(x, y, 1)[0])
@@ -374,7 +454,7 @@ def bench_reduced_long(ns, duration: float, repeats: int) -> dict:
     return {"rows": rows, "exponent_all": slope_all, "exponent_long": slope_big}
 
 
-SINGLE_BLAS = '''
+SINGLE_BLAS = """
 import json, sys
 from elastoactive.engines.reduced import simulate_reduced
 from elastoactive.params import Numerics, Physics
@@ -384,7 +464,7 @@ for n in map(int, sys.argv[2:]):
     simulate_reduced(p, Numerics(), float(sys.argv[1]))
     out[n] = min(simulate_reduced(p, Numerics(), float(sys.argv[1])).wall_time_s for _ in range(2))
 print(json.dumps(out))
-'''
+"""
 
 
 def bench_reduced_single_blas(ns, duration: float) -> dict:
@@ -392,8 +472,13 @@ def bench_reduced_single_blas(ns, duration: float) -> dict:
     import json
 
     env = dict(os.environ, OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1", MKL_NUM_THREADS="1")
-    res = subprocess.run([sys.executable, "-c", SINGLE_BLAS, f"{duration:g}", *map(str, ns)], env=env, check=True,
-                         capture_output=True, text=True)
+    res = subprocess.run(
+        [sys.executable, "-c", SINGLE_BLAS, f"{duration:g}", *map(str, ns)],
+        env=env,
+        check=True,
+        capture_output=True,
+        text=True,
+    )
     return {int(k): v * 100 / duration for k, v in json.loads(res.stdout.strip().splitlines()[-1]).items()}
 
 
@@ -420,8 +505,15 @@ def bench_callback(repeats: int, nstep: int) -> list[dict]:
                     mujoco.mj_step(model, data, nstep=n)
                     best[name] = min(best[name], (time.perf_counter() - t0) / n)
         res = {k: 1e6 * v for k, v in best.items()}
-        rows.append({"integrator": integrator, "mass_ratio": numerics.mass_ratio, **res,
-                     "compiled_ratio": res["compiled"] / res["bare"], "python_ratio": res["python"] / res["bare"]})
+        rows.append(
+            {
+                "integrator": integrator,
+                "mass_ratio": numerics.mass_ratio,
+                **res,
+                "compiled_ratio": res["compiled"] / res["bare"],
+                "python_ratio": res["python"] / res["bare"],
+            }
+        )
     return rows
 
 
@@ -433,88 +525,154 @@ def _plain_cell(r) -> str:
 
 
 def report(red, proc, sweep, mj, rl, cb, meta, steps=(), alt=(), alt_n=100, alt_tau=20.0) -> str:
-    o = [f"# Benchmark ({meta['date']}, {meta['machine']})", "",
-         f"One run of `scripts/benchmark.py{' --quick' if meta['quick'] else ''}`. Machine load (1/5/15 min): "
-         f"{meta['load_start']} at the start, {meta['load_end']} at the end (2 shared cores; figures carry tens "
-         f"of percent noise). Warm timings are best of {meta['repeats']}, whole-process timings medians. "
-         f"{meta['bytecode']}", ""]
-    o += ["## A. Reduced model, warm, at equal accuracy (target e)", "",
-          f"Error = max |theta - theta_ref| (rad) over the run; theta_ref = compiled model at rtol 1e-12. Each scipy "
-          f"method (solve_ivp on the plain-numpy `rhs_reference`, atol = rtol/100) at the loosest rtol whose error "
-          f"is <= {MATCH:g} x the compiled default's (ladder of decades, one bisection step). '-' = dropped: slower "
-          f"than the best plain method already found (it cannot win) or over the time cap.", "",
-          "| case | N | tau | compiled default s (err) | " + " | ".join(PLAIN_METHODS)
-          + " | best plain | speed-up vs best plain |", "|---" * (6 + len(PLAIN_METHODS)) + "|"]
+    o = [
+        f"# Benchmark ({meta['date']}, {meta['machine']})",
+        "",
+        f"One run of `scripts/benchmark.py{' --quick' if meta['quick'] else ''}`. Machine load (1/5/15 min): "
+        f"{meta['load_start']} at the start, {meta['load_end']} at the end (2 shared cores; figures carry tens "
+        f"of percent noise). Warm timings are best of {meta['repeats']}, whole-process timings medians. "
+        f"{meta['bytecode']}",
+        "",
+    ]
+    o += [
+        "## A. Reduced model, warm, at equal accuracy (target e)",
+        "",
+        f"Error = max |theta - theta_ref| (rad) over the run; theta_ref = compiled model at rtol 1e-12. Each scipy "
+        f"method (solve_ivp on the plain-numpy `rhs_reference`, atol = rtol/100) at the loosest rtol whose error "
+        f"is <= {MATCH:g} x the compiled default's (ladder of decades, one bisection step). '-' = dropped: slower "
+        f"than the best plain method already found (it cannot win) or over the time cap.",
+        "",
+        "| case | N | tau | compiled default s (err) | "
+        + " | ".join(PLAIN_METHODS)
+        + " | best plain | speed-up vs best plain |",
+        "|---" * (6 + len(PLAIN_METHODS)) + "|",
+    ]
     for r in red:
-        o.append(f"| {r['case']} | {r['n']} | {r['duration']:g} | {r['compiled_s']:.4f} ({r['compiled_err']:.0e}) | "
-                 + " | ".join(_plain_cell(r["plain"][m]) for m in PLAIN_METHODS)
-                 + f" | {r['best'] or 'none within the cap'} | "
-                 + (f"**{r['speedup']:.0f}x** |" if r["best"] else f"**> {r['bound']:.0f}x** (cap / compiled) |"))
+        o.append(
+            f"| {r['case']} | {r['n']} | {r['duration']:g} | {r['compiled_s']:.4f} ({r['compiled_err']:.0e}) | "
+            + " | ".join(_plain_cell(r["plain"][m]) for m in PLAIN_METHODS)
+            + f" | {r['best'] or 'none within the cap'} | "
+            + (f"**{r['speedup']:.0f}x** |" if r["best"] else f"**> {r['bound']:.0f}x** (cap / compiled) |")
+        )
     if meta.get("skipped"):
-        o += ["", "Left out (their plain-numpy rhs_reference does not evaluate, so there is no plain baseline): "
-              + ", ".join(meta["skipped"]) + "."]
+        o += [
+            "",
+            "Left out (their plain-numpy rhs_reference does not evaluate, so there is no plain baseline): "
+            + ", ".join(meta["skipped"])
+            + ".",
+        ]
     cli, plain, hlp = (statistics.median(proc[k]) for k in ("cli", "plain", "help"))
-    o += ["", "## B. Whole process (targets e, b): median of " + str(len(proc["cli"])) + " subprocess wall times", "",
-          "| command | median s | all runs s | max angle error |", "|---|---|---|---|",
-          f"| `{proc['cmd']}` | **{cli:.2f}** | {', '.join(f'{x:.2f}' for x in proc['cli'])} | {proc['err_cli']:.0e} |",
-          f"| plain script: numpy + scipy LSODA, same equations, rtol {proc['rtol']:.0e} | **{plain:.2f}** | "
-          f"{', '.join(f'{x:.2f}' for x in proc['plain'])} | {proc['err_plain']:.0e} |",
-          f"| `elastoactive --help` (target < 0.2 s) | **{hlp:.3f}** | {', '.join(f'{x:.3f}' for x in proc['help'])} | |",
-          "", f"Whole process, CLI / plain script: **{plain / cli:.2f}x** faster. For scale, "
-          f"`python -c 'import numpy, scipy.integrate'` alone took {proc['imports']:.2f} s."]
-    o += ["", "## C. MuJoCo sweep against the engine floor (target a)", "",
-          "| command | median s (all) | engine floor s | sweep / floor |", "|---|---|---|---|",
-          f"| `elastoactive sweep one-pinned --grid sigma=0.3:1.0:{sweep['points']} --duration {sweep['duration']:g} "
-          f"--out TMP --quiet` | **{sweep['wall_s']:.2f}** ({', '.join(f'{x:.2f}' for x in sweep['walls'])}) | "
-          f"{sweep['floor_s']:.2f} | **{sweep['wall_s'] / sweep['floor_s']:.2f}x** |", "",
-          f"Floor = {sweep['us_per_step']:.2f} us per compiled step (mj_step with the C callback, N = 7, default "
-          f"numerics, best of 5 x 4000 steps) x {sweep['steps']} steps / {CORES} cores. The whole process includes "
-          f"start-up, model compilation, pre-flight checks and writing the netCDF file."]
-    o += ["", "## D. Long chains (targets c, d)", "",
-          "MuJoCo (`simulate_mujoco` with `Numerics()`, i.e. what `elastoactive run` and `ea.simulate` use without "
-          "numerical options: implicitfast dt 0.0025, m 1e-4 below N = 30, the automatic long-chain numerics "
-          "`Numerics.for_physics` from N = 30; the pre-flight check accepts every row), best of "
-          f"{meta['mj_repeats']}. Angle error = max |theta - theta_reduced| / max |theta_reduced| over the same run "
-          "(reduced model, overdamped, defaults):", "",
-          "| N | sigma | numerics used | tau simulated | us per step | wall s | tau per wall s | angle error |",
-          "|---|---|---|---|---|---|---|---|"]
+    o += [
+        "",
+        "## B. Whole process (targets e, b): median of " + str(len(proc["cli"])) + " subprocess wall times",
+        "",
+        "| command | median s | all runs s | max angle error |",
+        "|---|---|---|---|",
+        f"| `{proc['cmd']}` | **{cli:.2f}** | {', '.join(f'{x:.2f}' for x in proc['cli'])} | {proc['err_cli']:.0e} |",
+        f"| plain script: numpy + scipy LSODA, same equations, rtol {proc['rtol']:.0e} | **{plain:.2f}** | "
+        f"{', '.join(f'{x:.2f}' for x in proc['plain'])} | {proc['err_plain']:.0e} |",
+        f"| `elastoactive --help` (target < 0.2 s) | **{hlp:.3f}** | {', '.join(f'{x:.3f}' for x in proc['help'])} | |",
+        "",
+        f"Whole process, CLI / plain script: **{plain / cli:.2f}x** faster. For scale, "
+        f"`python -c 'import numpy, scipy.integrate'` alone took {proc['imports']:.2f} s.",
+    ]
+    o += [
+        "",
+        "## C. MuJoCo sweep against the engine floor (target a)",
+        "",
+        "| command | median s (all) | engine floor s | sweep / floor |",
+        "|---|---|---|---|",
+        f"| `elastoactive sweep one-pinned --grid sigma=0.3:1.0:{sweep['points']} --duration {sweep['duration']:g} "
+        f"--out TMP --quiet` | **{sweep['wall_s']:.2f}** ({', '.join(f'{x:.2f}' for x in sweep['walls'])}) | "
+        f"{sweep['floor_s']:.2f} | **{sweep['wall_s'] / sweep['floor_s']:.2f}x** |",
+        "",
+        f"Floor = {sweep['us_per_step']:.2f} us per compiled step (mj_step with the C callback, N = 7, default "
+        f"numerics, best of 5 x 4000 steps) x {sweep['steps']} steps / {CORES} cores. The whole process includes "
+        f"start-up, model compilation, pre-flight checks and writing the netCDF file.",
+    ]
+    o += [
+        "",
+        "## D. Long chains (targets c, d)",
+        "",
+        "MuJoCo (`simulate_mujoco` with `Numerics()`, i.e. what `elastoactive run` and `ea.simulate` use without "
+        "numerical options: implicitfast dt 0.0025, m 1e-4 below N = 30, the automatic long-chain numerics "
+        "`Numerics.for_physics` from N = 30; the pre-flight check accepts every row), best of "
+        f"{meta['mj_repeats']}. Angle error = max |theta - theta_reduced| / max |theta_reduced| over the same run "
+        "(reduced model, overdamped, defaults):",
+        "",
+        "| N | sigma | numerics used | tau simulated | us per step | wall s | tau per wall s | angle error |",
+        "|---|---|---|---|---|---|---|---|",
+    ]
     for r in mj["rows"]:
-        o.append(f"| {r['n']} | {r['sigma']:g} | {r['integrator']} dt {r['dt']:.3g}, m {r['mass_ratio']:.2g} | "
-                 f"{r['duration']:g} | {r['us_per_step']:.1f} | {r['wall_s']:.3f} | **{r['tau_per_s']:.1f}** | "
-                 f"{100 * r['err']:.2f}% |")
-    o += ["", f"Growth over N = 30-{mj['rows'][-1]['n']} (log-log fit): wall s per tau ~ N^"
-          f"**{mj['exponent_tau']:.2f}** (includes dt, which the automatic choice shrinks where the chain's fastest "
-          f"rate grows: {mj['rows'][-1]['n']} particles take {mj['rows'][-1]['dt']:.2g}), us per step ~ N^"
-          f"**{mj['exponent_step']:.2f}**.", "",
-          "Step cost by N (us per step, thread time, best of 3; sigma 0.05; Euler and RK4 at m 2e-3): why "
-          "implicitfast stays the default below N = 30 and explicit drag takes over above:", "",
-          "| N | implicitfast | Euler | RK4 | implicitfast / Euler |", "|---|---|---|---|---|"]
+        o.append(
+            f"| {r['n']} | {r['sigma']:g} | {r['integrator']} dt {r['dt']:.3g}, m {r['mass_ratio']:.2g} | "
+            f"{r['duration']:g} | {r['us_per_step']:.1f} | {r['wall_s']:.3f} | **{r['tau_per_s']:.1f}** | "
+            f"{100 * r['err']:.2f}% |"
+        )
+    o += [
+        "",
+        f"Growth over N = 30-{mj['rows'][-1]['n']} (log-log fit): wall s per tau ~ N^"
+        f"**{mj['exponent_tau']:.2f}** (includes dt, which the automatic choice shrinks where the chain's fastest "
+        f"rate grows: {mj['rows'][-1]['n']} particles take {mj['rows'][-1]['dt']:.2g}), us per step ~ N^"
+        f"**{mj['exponent_step']:.2f}**.",
+        "",
+        "Step cost by N (us per step, thread time, best of 3; sigma 0.05; Euler and RK4 at m 2e-3): why "
+        "implicitfast stays the default below N = 30 and explicit drag takes over above:",
+        "",
+        "| N | implicitfast | Euler | RK4 | implicitfast / Euler |",
+        "|---|---|---|---|---|",
+    ]
     for r in steps:
-        o.append(f"| {r['n']} | {r['implicitfast']:.1f} | {r['Euler']:.1f} | {r['RK4']:.1f} | "
-                 f"{r['implicitfast'] / r['Euler']:.1f}x |")
-    o += ["", f"Alternatives at N = {alt_n}, sigma 0.05, {alt_tau:g} tau (one run each; m x rate: the inertia number "
-          "of the regime criterion, overdamped below 0.1):", "",
-          "| setting | us per step | tau per wall s | angle error vs reduced | m x rate |", "|---|---|---|---|---|"]
+        o.append(
+            f"| {r['n']} | {r['implicitfast']:.1f} | {r['Euler']:.1f} | {r['RK4']:.1f} | "
+            f"{r['implicitfast'] / r['Euler']:.1f}x |"
+        )
+    o += [
+        "",
+        f"Alternatives at N = {alt_n}, sigma 0.05, {alt_tau:g} tau (one run each; m x rate: the inertia number "
+        "of the regime criterion, overdamped below 0.1):",
+        "",
+        "| setting | us per step | tau per wall s | angle error vs reduced | m x rate |",
+        "|---|---|---|---|---|",
+    ]
     for r in alt:
-        o.append(f"| {r['label']} | {r['us_per_step']:.0f} | {r['tau_per_s']:.1f} | {100 * r['err']:.2f}% | "
-                 f"{r['inertia_number']:.3f} |")
-    o += ["", f"Reduced model (simulate_reduced defaults, one-pinned, sigma 0.05), best of {meta['rl_repeats']}:", "",
-          "| N | wall s per 100 tau | same, fresh process, OPENBLAS_NUM_THREADS=1 | method | RHS evaluations |",
-          "|---|---|---|---|---|"]
+        o.append(
+            f"| {r['label']} | {r['us_per_step']:.0f} | {r['tau_per_s']:.1f} | {100 * r['err']:.2f}% | "
+            f"{r['inertia_number']:.3f} |"
+        )
+    o += [
+        "",
+        f"Reduced model (simulate_reduced defaults, one-pinned, sigma 0.05), best of {meta['rl_repeats']}:",
+        "",
+        "| N | wall s per 100 tau | same, fresh process, OPENBLAS_NUM_THREADS=1 | method | RHS evaluations |",
+        "|---|---|---|---|---|",
+    ]
     for r in rl["rows"]:
         one = rl["single_blas"].get(r["n"])
-        o.append(f"| {r['n']} | **{r['per_100']:.3f}** | {'' if one is None else f'{one:.3f}'} | {r['method']} "
-                 f"| {r['nfev']} |")
+        o.append(
+            f"| {r['n']} | **{r['per_100']:.3f}** | {'' if one is None else f'{one:.3f}'} | {r['method']} "
+            f"| {r['nfev']} |"
+        )
     nmax = rl["rows"][-1]["n"]
-    o += ["", f"Growth exponent (log-log fit of cost against N): **{rl['exponent_long']:.2f}** over N = 30-{nmax}, "
-          f"{rl['exponent_all']:.2f} over N = 7-{nmax}. The exponent includes the number of steps, which grows "
-          f"with the chain's fastest rate, not only the O(N) cost per evaluation."]
-    o += ["", "## E. Force callback against the bare engine step (N = 7 one-pinned, dt 0.0025)", "",
-          "| integrator | mass ratio | bare us/step | compiled callback us/step | Python callback us/step "
-          "| compiled / bare (target <= 1.3) | Python / bare |", "|---|---|---|---|---|---|---|"]
+    o += [
+        "",
+        f"Growth exponent (log-log fit of cost against N): **{rl['exponent_long']:.2f}** over N = 30-{nmax}, "
+        f"{rl['exponent_all']:.2f} over N = 7-{nmax}. The exponent includes the number of steps, which grows "
+        f"with the chain's fastest rate, not only the O(N) cost per evaluation.",
+    ]
+    o += [
+        "",
+        "## E. Force callback against the bare engine step (N = 7 one-pinned, dt 0.0025)",
+        "",
+        "| integrator | mass ratio | bare us/step | compiled callback us/step | Python callback us/step "
+        "| compiled / bare (target <= 1.3) | Python / bare |",
+        "|---|---|---|---|---|---|---|",
+    ]
     for r in cb:
-        o.append(f"| {r['integrator']} | {r['mass_ratio']:g} | {r['bare']:.2f} | {r['compiled']:.2f} | "
-                 f"{r['python']:.1f} | **{r['compiled_ratio']:.2f}x** | {r['python_ratio']:.1f}x |")
+        o.append(
+            f"| {r['integrator']} | {r['mass_ratio']:g} | {r['bare']:.2f} | {r['compiled']:.2f} | "
+            f"{r['python']:.1f} | **{r['compiled_ratio']:.2f}x** | {r['python_ratio']:.1f}x |"
+        )
     o.append("")
     return "\n".join(o)
 
@@ -537,12 +695,19 @@ def main(argv=None) -> int:
         args.network_out.write_text(text)
         print(text)
         return 0
-    meta = {"date": time.strftime("%Y-%m-%d %H:%M"), "quick": q, "load_start": load(),
-            "machine": f"{platform.processor() or platform.machine()}, {CORES} cores, MuJoCo {mujoco.__version__}",
-            "repeats": 2 if q else 3, "mj_repeats": 1 if q else 2, "rl_repeats": 2,
-            "bytecode": "Bytecode caching was off (PYTHONDONTWRITEBYTECODE set): every whole-process run compiled "
-                        "the package's modules from source (about 0.04 s of a sweep's start-up)."
-                        if sys.flags.dont_write_bytecode else "Bytecode caching was on."}
+    meta = {
+        "date": time.strftime("%Y-%m-%d %H:%M"),
+        "quick": q,
+        "load_start": load(),
+        "machine": f"{platform.processor() or platform.machine()}, {CORES} cores, MuJoCo {mujoco.__version__}",
+        "repeats": 2 if q else 3,
+        "mj_repeats": 1 if q else 2,
+        "rl_repeats": 2,
+        "bytecode": "Bytecode caching was off (PYTHONDONTWRITEBYTECODE set): every whole-process run compiled "
+        "the package's modules from source (about 0.04 s of a sweep's start-up)."
+        if sys.flags.dont_write_bytecode
+        else "Bytecode caching was on.",
+    }
     t0 = time.perf_counter()
     scale = 0.25 if q else 1.0
     cases = [(c.physics.scene_def.label(c.physics), c.physics, 600.0 * scale) for c in validation_cases()]
@@ -559,8 +724,15 @@ def main(argv=None) -> int:
     log(f"sweep (load {load()})")
     sweep = bench_sweep(8 if q else 16, 50.0 if q else 100.0, 1 if q else 3)
     log(f"long chains (load {load()})")
-    mj = bench_mujoco_long({7: (0.8, 10.0 if q else 40.0), 30: (0.05, 5.0 if q else 20.0),
-                            100: (0.05, 5.0 if q else 20.0), 200: (0.05, 1.0 if q else 4.0)}, meta["mj_repeats"])
+    mj = bench_mujoco_long(
+        {
+            7: (0.8, 10.0 if q else 40.0),
+            30: (0.05, 5.0 if q else 20.0),
+            100: (0.05, 5.0 if q else 20.0),
+            200: (0.05, 1.0 if q else 4.0),
+        },
+        meta["mj_repeats"],
+    )
     steps = bench_step_by_n((7, 30, 100) if q else (7, 15, 30, 60, 100, 200), 3)
     alt_tau = 5.0 if q else 20.0
     alt = bench_alternatives(100, alt_tau)

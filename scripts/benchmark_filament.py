@@ -10,7 +10,6 @@ import time
 from pathlib import Path
 
 import numpy as np
-
 from bench_common import CLI, CORES, load, log
 
 # ------------------------------------------------------------------------------------------------
@@ -39,8 +38,9 @@ def bench_filament_ladder() -> dict:
     import json
 
     t0 = time.perf_counter()
-    out = subprocess.run([CLI, "filament", "--S", str(FILAMENT_S), "--json", "--quiet"], capture_output=True,
-                         text=True, check=True).stdout
+    out = subprocess.run(
+        [CLI, "filament", "--S", str(FILAMENT_S), "--json", "--quiet"], capture_output=True, text=True, check=True
+    ).stdout
     result = json.loads(out)
     result["process_s"] = time.perf_counter() - t0
     return result
@@ -57,17 +57,43 @@ def bench_filament_reduced(ns, continuum: dict, tmp: Path) -> list[dict]:
         period = _filament_period(n)
         sample = 0.0025 * max(1, round(period / 200 / 0.0025))
         out = tmp / f"reduced-{n}"
-        cmd = [CLI, "run", "one-pinned", "--engine", "reduced", "--n", str(n), "--sigma", repr(FILAMENT_S / n**3),
-               "--duration", repr(periods * period), "--transient", repr(transient * period), "--sample-dt",
-               repr(sample), "--quiet", "--out", str(out), "--force"]
+        cmd = [
+            CLI,
+            "run",
+            "one-pinned",
+            "--engine",
+            "reduced",
+            "--n",
+            str(n),
+            "--sigma",
+            repr(FILAMENT_S / n**3),
+            "--duration",
+            repr(periods * period),
+            "--transient",
+            repr(transient * period),
+            "--sample-dt",
+            repr(sample),
+            "--quiet",
+            "--out",
+            str(out),
+            "--force",
+        ]
         t0 = time.perf_counter()
         subprocess.run(cmd, capture_output=True, text=True, check=True)
         wall = time.perf_counter() - t0
         s = json.loads((out / "summary.json").read_text())
         omega = 2 * np.pi * s["results"]["frequency"] * n**4
-        rows.append({"n": n, "omega": omega, "amplitude": s["results"]["amplitude"], "method": s["solver"]["method"],
-                     "per_period_s": wall / periods, "omega_err": omega / continuum["omega"] - 1,
-                     "amp_err": s["results"]["amplitude"] / continuum["amplitude"] - 1})
+        rows.append(
+            {
+                "n": n,
+                "omega": omega,
+                "amplitude": s["results"]["amplitude"],
+                "method": s["solver"]["method"],
+                "per_period_s": wall / periods,
+                "omega_err": omega / continuum["omega"] - 1,
+                "amp_err": s["results"]["amplitude"] / continuum["amplitude"] - 1,
+            }
+        )
         log(f"reduced N = {n}: {rows[-1]['per_period_s']:.3f} s per period ({rows[-1]['method']})")
     return rows
 
@@ -93,15 +119,25 @@ def _elastica_run(n_elem: int, periods: float) -> tuple[np.ndarray, np.ndarray, 
     r, m, cfl = ELASTICA_ROD["radius"], ELASTICA_ROD["mass_per_length"], ELASTICA_ROD["cfl"]
     area, inertia = np.pi * r**2, np.pi * r**4 / 4
     young, dl = 1.0 / inertia, 1.0 / n_elem
-    rod = ea.CosseratRod.straight_rod(n_elem, np.zeros(3), np.array([1.0, 0, 0]), np.array([0, 0, 1.0]), 1.0, r,
-                                      m / area, youngs_modulus=young, shear_modulus=young / 3.0)
+    rod = ea.CosseratRod.straight_rod(
+        n_elem,
+        np.zeros(3),
+        np.array([1.0, 0, 0]),
+        np.array([0, 0, 1.0]),
+        1.0,
+        r,
+        m / area,
+        youngs_modulus=young,
+        shear_modulus=young / 3.0,
+    )
     sim = Filament()
     sim.append(rod)
     sim.constrain(rod).using(ea.OneEndFixedBC, constrained_position_idx=(0,), constrained_director_idx=(0,))
     sim.add_forcing_to(rod).using(Follower, load=FILAMENT_S * dl)
     dt = cfl * dl / np.sqrt(young * area / m)
-    sim.dampen(rod).using(ea.AnalyticalLinearDamper, translational_damping_constant=dl,
-                          rotational_damping_constant=dl**3, time_step=dt)
+    sim.dampen(rod).using(
+        ea.AnalyticalLinearDamper, translational_damping_constant=dl, rotational_damping_constant=dl**3, time_step=dt
+    )
     period = 2 * np.pi / 249.0
     every = max(1, int(period / 400 / dt))
     record = ([], [])
@@ -138,8 +174,16 @@ def bench_filament_elastica(elements, continuum: dict) -> list[dict] | str:
         keep = t >= t[-1] - (measured + 0.5) * 2 * np.pi / 249.0
         b = beat(t[keep], theta[keep])
         omega = 2 * np.pi / b.period
-        rows.append({"elements": n_elem, "omega": omega, "amplitude": b.amplitude, "per_period_s": wall / periods,
-                     "omega_err": omega / continuum["omega"] - 1, "amp_err": b.amplitude / continuum["amplitude"] - 1})
+        rows.append(
+            {
+                "elements": n_elem,
+                "omega": omega,
+                "amplitude": b.amplitude,
+                "per_period_s": wall / periods,
+                "omega_err": omega / continuum["omega"] - 1,
+                "amp_err": b.amplitude / continuum["amplitude"] - 1,
+            }
+        )
         log(f"PyElastica {n_elem} elements: {rows[-1]['per_period_s']:.2f} s per period")
     return rows
 
@@ -177,25 +221,38 @@ def filament_report(fil: dict) -> str:
         lines.append(f"| PyElastica | - | - | - | skipped: {fil['elastica']} |")
     else:
         for r in fil["elastica"]:
-            lines.append(f"| PyElastica (follower force and drag as forcing and an analytical damper, small mass, "
-                         f"PositionVerlet at {ELASTICA_ROD['cfl']} of its CFL limit) | {r['elements']} elements | "
-                         f"{100 * r['omega_err']:+.2f}% | {100 * r['amp_err']:+.2f}% | {r['per_period_s']:.2f} s |")
+            lines.append(
+                f"| PyElastica (follower force and drag as forcing and an analytical damper, small mass, "
+                f"PositionVerlet at {ELASTICA_ROD['cfl']} of its CFL limit) | {r['elements']} elements | "
+                f"{100 * r['omega_err']:+.2f}% | {100 * r['amp_err']:+.2f}% | {r['per_period_s']:.2f} s |"
+            )
     for r in fil["reduced"]:
-        lines.append(f"| `elastoactive run one-pinned --engine reduced` (its automatic method: {r['method']}; whole "
-                     f"process over {periods} periods) | N = {r['n']} | {100 * r['omega_err']:+.2f}% | "
-                     f"{100 * r['amp_err']:+.2f}% | {r['per_period_s']:.3f} s |")
+        lines.append(
+            f"| `elastoactive run one-pinned --engine reduced` (its automatic method: {r['method']}; whole "
+            f"process over {periods} periods) | N = {r['n']} | {100 * r['omega_err']:+.2f}% | "
+            f"{100 * r['amp_err']:+.2f}% | {r['per_period_s']:.3f} s |"
+        )
     ladder_rungs = ", ".join(str(r["n"]) for r in lad["rungs"])
-    lines.append(f"| `elastoactive filament --S {FILAMENT_S:g}` (ladder N = {ladder_rungs}, extrapolated; whole "
-                 f"process) | continuum | +- {100 * lad['omega']['error'] / c['omega']:.1g}% (estimate) | +- "
-                 f"{100 * lad['amplitude']['error'] / c['amplitude']:.1g}% (estimate) | {lad['process_s']:.1f} s "
-                 "for the whole ladder |")
+    lines.append(
+        f"| `elastoactive filament --S {FILAMENT_S:g}` (ladder N = {ladder_rungs}, extrapolated; whole "
+        f"process) | continuum | +- {100 * lad['omega']['error'] / c['omega']:.1g}% (estimate) | +- "
+        f"{100 * lad['amplitude']['error'] / c['amplitude']:.1g}% (estimate) | {lad['process_s']:.1f} s "
+        "for the whole ladder |"
+    )
     n80 = [r for r in fil["reduced"] if r["n"] == 80]
-    lines += ["", "Targets (issue: long chains as filaments):",
-              f"- `run one-pinned --engine reduced --n 80 --sigma 100/80^3` with no numerics given: "
-              + (f"{n80[0]['per_period_s']:.3f} s per beat period (target < 0.5 s; was ~75 s with the explicit "
-                 "method)." if n80 else "not run."),
-              f"- the filament limit at S = 100 within 0.1% in under 60 s: `elastoactive filament` took "
-              f"{lad['process_s']:.1f} s, estimated error {100 * lad['omega']['error'] / c['omega']:.1g}% (omega) "
-              f"and {100 * lad['amplitude']['error'] / c['amplitude']:.1g}% (amplitude).",
-              "", "MuJoCo rows are not rerun here (section D of the main benchmark measures its long-chain cost)."]
+    lines += [
+        "",
+        "Targets (issue: long chains as filaments):",
+        "- `run one-pinned --engine reduced --n 80 --sigma 100/80^3` with no numerics given: "
+        + (
+            f"{n80[0]['per_period_s']:.3f} s per beat period (target < 0.5 s; was ~75 s with the explicit method)."
+            if n80
+            else "not run."
+        ),
+        f"- the filament limit at S = 100 within 0.1% in under 60 s: `elastoactive filament` took "
+        f"{lad['process_s']:.1f} s, estimated error {100 * lad['omega']['error'] / c['omega']:.1g}% (omega) "
+        f"and {100 * lad['amplitude']['error'] / c['amplitude']:.1g}% (amplitude).",
+        "",
+        "MuJoCo rows are not rerun here (section D of the main benchmark measures its long-chain cost).",
+    ]
     return "\n".join(lines) + "\n"

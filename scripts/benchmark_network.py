@@ -25,14 +25,13 @@ import time
 
 import mujoco
 import numpy as np
-
 from bench_common import CORES, load, log
 
 RINGS, SIGMA, ALIGNMENT_LENGTH = 6, 0.2, 0.1
 DURATION = 1000.0
 WINDOW = 5.0
 PLAIN_METHODS = ("DOP853", "RK45", "LSODA")
-RTOLS = tuple(10.0 ** -k for k in range(3, 12))
+RTOLS = tuple(10.0**-k for k in range(3, 12))
 REF_RTOL = 1e-11
 AUTO_TAU = 100.0
 """gamma / k the automatic MuJoCo row is timed over (its wall time is scaled to the whole duration: 4 min otherwise)."""
@@ -103,17 +102,25 @@ def bench_network(quick: bool) -> dict:
     ref = simulate_network_reduced(physics, numerics, WINDOW, rtol=REF_RTOL, atol=REF_RTOL * 1e-2)
     t = ref.t
     rows = []
-    settings = (("MuJoCo, dt 0.0025 (Euler, m 1e-4)", Numerics(dt=0.0025, integrator="Euler"), duration),
-                ("MuJoCo automatic (Euler, dt 0.000625 = 0.00125 / Pi)", Numerics(), min(duration, AUTO_TAU)),
-                ("MuJoCo 'fast' preset (dt 0.01, m 1e-3)", Numerics.preset("fast", integrator="Euler"), duration))
+    settings = (
+        ("MuJoCo, dt 0.0025 (Euler, m 1e-4)", Numerics(dt=0.0025, integrator="Euler"), duration),
+        ("MuJoCo automatic (Euler, dt 0.000625 = 0.00125 / Pi)", Numerics(), min(duration, AUTO_TAU)),
+        ("MuJoCo 'fast' preset (dt 0.01, m 1e-3)", Numerics.preset("fast", integrator="Euler"), duration),
+    )
     for label, num, span in settings:
         log(f"network: {label} (load {load()})")
         short = simulate_network_mujoco(physics, num, WINDOW)
         run = simulate_network_mujoco(physics, num, span)
-        rows.append({"engine": label, "error": _window_error(short.nodes, ref.nodes, t),
-                     "wall_s": run.wall_time_s * duration / span, "us_per_step": run.info["us_per_step"],
-                     "setting": f"dt {run.info.get('automatic_numerics', {}).get('dt', num.dt):g}"
-                                + (f" (timed over {span:g}, scaled)" if span < duration else "")})
+        rows.append(
+            {
+                "engine": label,
+                "error": _window_error(short.nodes, ref.nodes, t),
+                "wall_s": run.wall_time_s * duration / span,
+                "us_per_step": run.info["us_per_step"],
+                "setting": f"dt {run.info.get('automatic_numerics', {}).get('dt', num.dt):g}"
+                + (f" (timed over {span:g}, scaled)" if span < duration else ""),
+            }
+        )
     target = rows[0]["error"]
 
     def loosest(solve):
@@ -131,8 +138,15 @@ def bench_network(quick: bool) -> dict:
 
     rtol, error = loosest(lambda r: _window_error(reduced(r).nodes, ref.nodes, t))
     run = reduced(rtol, duration)
-    rows.append({"engine": "reduced engine (compiled, DOP853)", "error": error, "wall_s": run.wall_time_s,
-                 "setting": f"rtol {rtol:g}", "nfev": run.info["nfev"]})
+    rows.append(
+        {
+            "engine": "reduced engine (compiled, DOP853)",
+            "error": error,
+            "wall_s": run.wall_time_s,
+            "setting": f"rtol {rtol:g}",
+            "nfev": run.info["nfev"],
+        }
+    )
 
     f, free, count = plain_rhs(network, SIGMA, ALIGNMENT_LENGTH)
     start = physics.scene_def.initial_network(physics, numerics)
@@ -157,30 +171,54 @@ def bench_network(quick: bool) -> dict:
         log(f"network: plain scipy {method} (load {load()})")
         rtol, error = loosest(lambda r: _window_error(plain(method, r)[0], ref.nodes, t))
         if rtol is None:
-            rows.append({"engine": f"plain scipy {method}", "error": None, "wall_s": None, "setting": "no rtol matched"})
+            rows.append(
+                {"engine": f"plain scipy {method}", "error": None, "wall_s": None, "setting": "no rtol matched"}
+            )
             continue
         try:
             _, wall, nfev = plain(method, rtol, duration)
         except TooSlow:
-            rows.append({"engine": f"plain scipy solve_ivp {method}", "error": error, "wall_s": None,
-                         "setting": f"rtol {rtol:g}: > {PLAIN_CAP_S:g} s, stopped"})
+            rows.append(
+                {
+                    "engine": f"plain scipy solve_ivp {method}",
+                    "error": error,
+                    "wall_s": None,
+                    "setting": f"rtol {rtol:g}: > {PLAIN_CAP_S:g} s, stopped",
+                }
+            )
             continue
-        rows.append({"engine": f"plain scipy solve_ivp {method}", "error": error, "wall_s": wall,
-                     "setting": f"rtol {rtol:g}", "nfev": nfev})
-    return {"rows": rows, "duration": duration, "nodes": len(network.positions), "units": int(network.active.sum()),
-            "quick": quick}
+        rows.append(
+            {
+                "engine": f"plain scipy solve_ivp {method}",
+                "error": error,
+                "wall_s": wall,
+                "setting": f"rtol {rtol:g}",
+                "nfev": nfev,
+            }
+        )
+    return {
+        "rows": rows,
+        "duration": duration,
+        "nodes": len(network.positions),
+        "units": int(network.active.sum()),
+        "quick": quick,
+    }
 
 
 def network_report(result: dict) -> str:
-    meta = (f"{platform.processor() or platform.machine()}, {CORES} cores, MuJoCo {mujoco.__version__}; "
-            f"{time.strftime('%Y-%m-%d %H:%M')}, load {load()}")
+    meta = (
+        f"{platform.processor() or platform.machine()}, {CORES} cores, MuJoCo {mujoco.__version__}; "
+        f"{time.strftime('%Y-%m-%d %H:%M')}, load {load()}"
+    )
     lines = [
-        "## G. The active lattice: MuJoCo, the reduced engine and plain scipy at equal accuracy", "",
+        "## G. The active lattice: MuJoCo, the reduced engine and plain scipy at equal accuracy",
+        "",
         f"Hexagonal patch R = {RINGS} ({result['nodes']} nodes, {result['units']} self-aligning units, outer ring "
         f"pinned), sigma = {SIGMA}, l_a = {ALIGNMENT_LENGTH}, {result['duration']:g} gamma / k, one thread "
         f"({meta}). Error: largest node error over [0, {WINDOW:g}] against the reduced engine at rtol "
         f"{REF_RTOL:g}, relative to the largest displacement; the ODE solvers at the loosest rtol matching MuJoCo's "
-        "at dt 0.0025.", "",
+        "at dt 0.0025.",
+        "",
         "| engine | setting | window error | wall s | us per step | right-hand sides |",
         "|---|---|---|---|---|---|",
     ]

@@ -25,16 +25,22 @@ def main(argv=None):
     save_all([stab, growth, hopf, nf], args.out)
 
     s = stab.summary
-    print(f"linear stability: sigma_c(7) = {s.sigma_c_7:.6f}, f_c tau = {s.f_c_7:.6f}; "
-          f"N^3 sigma_c -> {s.n3_sigma_c_limit:.3f} (continuum {s.continuum_onset:.3f})")
+    print(
+        f"linear stability: sigma_c(7) = {s.sigma_c_7:.6f}, f_c tau = {s.f_c_7:.6f}; "
+        f"N^3 sigma_c -> {s.n3_sigma_c_limit:.3f} (continuum {s.continuum_onset:.3f})"
+    )
     for eng in ("mujoco", "reduced"):
         fit = hopf.summary.engine(eng).power_law
         if fit:
             p, e = fit.params, fit.errors
-            print(f"Hopf N = 7 ({eng}): sigma_c = {p['onset']:.5f} +/- {e['onset']:.1g}, beta = {p['beta']:.3f} +/- {e['beta']:.1g}")
+            print(
+                f"Hopf N = 7 ({eng}): sigma_c = {p['onset']:.5f} +/- {e['onset']:.1g}, beta = {p['beta']:.3f} +/- {e['beta']:.1g}"
+            )
         c = nf.summary.engine(eng)
-        print(f"Landau-Stuart c ({eng}) = {c.re_c:.3f} {c.im_c:+.3f} i  (supplement: {_complex(PAPER.landau_supplement.at_onset)}; "
-              f"main text: {_complex(PAPER.landau_main.at_onset)})")
+        print(
+            f"Landau-Stuart c ({eng}) = {c.re_c:.3f} {c.im_c:+.3f} i  (supplement: {_complex(PAPER.landau_supplement.at_onset)}; "
+            f"main text: {_complex(PAPER.landau_main.at_onset)})"
+        )
 
 
 if __name__ == "__main__":

@@ -41,8 +41,12 @@ def main() -> None:
     p.add_argument("--out", type=Path, default=Path(__file__).resolve().parents[1] / "docs" / "img")
     p.add_argument("--width", type=int, default=640)
     p.add_argument("--height", type=int, default=480)
-    p.add_argument("--only", type=lambda text: set(text.split(",")), default=None,
-                   help="comma list of the images and videos to write (file names without suffix); default: all")
+    p.add_argument(
+        "--only",
+        type=lambda text: set(text.split(",")),
+        default=None,
+        help="comma list of the images and videos to write (file names without suffix); default: all",
+    )
     args = p.parse_args()
     videos = {name for name, *_ in VIDEOS}
     for name, physics, duration in CASES:
@@ -61,8 +65,16 @@ def main() -> None:
         traj = simulate_mujoco(physics, numerics, duration)
         rate = default_rate(traj)
         path = args.out / f"{name}.mp4"
-        render_trajectory(traj, path, fps=VIDEO_FPS, rate=rate, start=max(duration / 2, duration - seconds * rate),
-                          width=VIDEO_SIZE[0], height=VIDEO_SIZE[1], progress=False)
+        render_trajectory(
+            traj,
+            path,
+            fps=VIDEO_FPS,
+            rate=rate,
+            start=max(duration / 2, duration - seconds * rate),
+            width=VIDEO_SIZE[0],
+            height=VIDEO_SIZE[1],
+            progress=False,
+        )
         render_still(traj, args.out / f"{name}.png", rate=rate, width=args.width, height=args.height)
         kib = path.stat().st_size / 1024
         print(f"{path}  {kib:.0f} KiB  ({time.perf_counter() - start:.1f} s)")

@@ -18,10 +18,14 @@ def main(argv=None):
     for sigma in s.n7_sigmas:
         print(f"N = 7, sigma = {sigma}:  delta  std(theta_3) MuJoCo / reduced   f tau MuJoCo")
         for i, delta in enumerate(d["delta"]):
-            print(f"    {delta:6.3f}   {d[f'snap_{sigma:g}_mujoco'][i]:.4f} / {d[f'snap_{sigma:g}_reduced'][i]:.4f}"
-                  f"          {d[f'freq_{sigma:g}_mujoco'][i]:.5f}")
-    print(f"N = 9, delta = {s.threshold_delta}: snapping above sigma = {s.mujoco.sigma_snap_n9:.3f} (MuJoCo), "
-          f"{s.reduced.sigma_snap_n9:.3f} (reduced)")
+            print(
+                f"    {delta:6.3f}   {d[f'snap_{sigma:g}_mujoco'][i]:.4f} / {d[f'snap_{sigma:g}_reduced'][i]:.4f}"
+                f"          {d[f'freq_{sigma:g}_mujoco'][i]:.5f}"
+            )
+    print(
+        f"N = 9, delta = {s.threshold_delta}: snapping above sigma = {s.mujoco.sigma_snap_n9:.3f} (MuJoCo), "
+        f"{s.reduced.sigma_snap_n9:.3f} (reduced)"
+    )
 
 
 if __name__ == "__main__":

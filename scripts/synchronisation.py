@@ -20,7 +20,9 @@ def main(argv=None):
     save_all([sync, tongue, n2], args.out)
     for eng in ("mujoco", "reduced"):
         s = sync.summary.engine(eng)
-        print(f"N = 7 pair ({eng}): kappa_c = {s.kappa_c:.4g} (bracket {list(s.kappa_c_bracket)}); paper {PAPER.kappa_c_7:g}")
+        print(
+            f"N = 7 pair ({eng}): kappa_c = {s.kappa_c:.4g} (bracket {list(s.kappa_c_bracket)}); paper {PAPER.kappa_c_7:g}"
+        )
     q = n2.summary
     print(f"N = 2: kappa_c / sqrt(mu |1 - rho|) = {q.prefactor_fit:.3f} (paper {q.prefactor_formula:.3f})")
 

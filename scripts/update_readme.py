@@ -60,8 +60,9 @@ def regenerate() -> None:
     sys.path.insert(0, str(ROOT))
     from elastoactive.io.outputs import write_text
 
-    run = lambda *argv: subprocess.run([sys.executable, "-m", "elastoactive", *argv], capture_output=True, text=True,
-                                       check=True).stdout.strip()
+    run = lambda *argv: subprocess.run(
+        [sys.executable, "-m", "elastoactive", *argv], capture_output=True, text=True, check=True
+    ).stdout.strip()
     write_text(GENERATED / "validate.md", run("validate", "--quiet") + "\n")
     # the convergence output opens with a heading paragraph naming the fixed dt and mass ratio: keep the table
     write_text(GENERATED / "convergence.md", run("validate", "one-pinned", "--convergence").split("\n\n", 1)[1] + "\n")

@@ -9,8 +9,8 @@ import math
 import pytest
 
 from elastoactive.checks import accuracy as A
-from elastoactive.params import Numerics, Physics
 from elastoactive.checks.validate import compare
+from elastoactive.params import Numerics, Physics
 
 CHAIN = Physics(n=7, sigma=0.8)
 DURATION = 100.0  # two periods (f ~ 0.042) in the measured second half
@@ -34,15 +34,20 @@ def test_errors_are_validate_compare_errors(reference):
 
 def test_settings_the_guard_refuses_are_still_measured(reference):
     """dt = 0.04 is stable for implicitfast (limit 0.27) but unresolved: measured, and marked."""
-    row = A.run_setting(CHAIN, DURATION, A.Setting("mujoco", "implicitfast", dt=0.04, mass_ratio=1e-4), reference,
-                        repeats=1)
+    row = A.run_setting(
+        CHAIN, DURATION, A.Setting("mujoco", "implicitfast", dt=0.04, mass_ratio=1e-4), reference, repeats=1
+    )
     assert row["status"] == "ok" and row["guard"].startswith("refuse: dt = 0.04 does not resolve")
     assert row["angle"] > 0.03  # and it is indeed several times worse than the 1% target
 
 
 def test_mujoco_error_falls_with_dt_first_order(reference):
-    rows = [A.run_setting(CHAIN, DURATION, A.Setting("mujoco", "implicitfast", dt=dt, mass_ratio=1e-6), reference,
-                          repeats=1) for dt in (0.02, 0.005)]
+    rows = [
+        A.run_setting(
+            CHAIN, DURATION, A.Setting("mujoco", "implicitfast", dt=dt, mass_ratio=1e-6), reference, repeats=1
+        )
+        for dt in (0.02, 0.005)
+    ]
     coarse, fine = rows
     # implicitfast is first order: 4x smaller dt, about 4x smaller error (transient angles and amplitude)
     assert 2.5 < coarse["angle"] / fine["angle"] < 6
@@ -52,16 +57,19 @@ def test_mujoco_error_falls_with_dt_first_order(reference):
 
 def test_mujoco_error_falls_with_mass_ratio_for_rk4(reference):
     """RK4's error at small dt is the inertia's: about proportional to the mass ratio."""
-    rows = [A.run_setting(CHAIN, DURATION, A.Setting("mujoco", "RK4", dt=0.02, mass_ratio=m), reference, repeats=1)
-            for m in (1e-2,)] + [A.run_setting(CHAIN, DURATION, A.Setting("mujoco", "RK4", dt=0.0025, mass_ratio=1e-3),
-                                               reference, repeats=1)]
+    rows = [
+        A.run_setting(CHAIN, DURATION, A.Setting("mujoco", "RK4", dt=0.02, mass_ratio=m), reference, repeats=1)
+        for m in (1e-2,)
+    ] + [A.run_setting(CHAIN, DURATION, A.Setting("mujoco", "RK4", dt=0.0025, mass_ratio=1e-3), reference, repeats=1)]
     assert all(r["status"] == "ok" for r in rows)
     assert rows[0]["angle"] / rows[1]["angle"] > 5
 
 
 def test_reduced_error_falls_with_tolerance(reference):
-    loose, tight = (A.run_setting(CHAIN, DURATION, A.Setting("reduced", "numba-DOP853", rtol=r), reference, repeats=1)
-                    for r in (1e-4, 1e-8))
+    loose, tight = (
+        A.run_setting(CHAIN, DURATION, A.Setting("reduced", "numba-DOP853", rtol=r), reference, repeats=1)
+        for r in (1e-4, 1e-8)
+    )
     assert tight["worst"] < 1e-3 * loose["worst"]
     assert tight["worst"] < 1e-5
 
@@ -72,18 +80,34 @@ def test_unstable_settings_are_recorded_not_raised(reference, monkeypatch):
     assert math.isnan(refused["wall_s"])
     # with the pre-flight check switched off the same setting blows up: recorded as diverged
     monkeypatch.setattr(A, "check_timestep", lambda *a, **k: None)
-    diverged = A.run_setting(CHAIN, 20.0, A.Setting("mujoco", "Euler", dt=0.01, mass_ratio=1e-4),
-                             A.reference_solution(CHAIN, 20.0))
+    diverged = A.run_setting(
+        CHAIN, 20.0, A.Setting("mujoco", "Euler", dt=0.01, mass_ratio=1e-4), A.reference_solution(CHAIN, 20.0)
+    )
     assert diverged["status"] == "diverged" and "diverged" in diverged["message"]
 
 
 def test_recommend_picks_the_cheapest_setting_meeting_each_level():
     def s(series, dt, worst, wall):
-        return {"engine": "mujoco", "series": series, "dt": dt, "mass_ratio": 1e-4, "rtol": None, "status": "ok",
-                "worst": worst, "steady": worst, "wall_s": wall, "wall_per_100tau": wall}
+        return {
+            "engine": "mujoco",
+            "series": series,
+            "dt": dt,
+            "mass_ratio": 1e-4,
+            "rtol": None,
+            "status": "ok",
+            "worst": worst,
+            "steady": worst,
+            "wall_s": wall,
+            "wall_per_100tau": wall,
+        }
 
-    summary = [s("implicitfast", 0.04, 0.05, 1.0), s("implicitfast", 0.01, 0.008, 2.0), s("implicitfast", 0.0025, 0.002, 8.0),
-               s("implicitfast", 0.001, 0.0009, 20.0), s("RK4", 0.001, 0.0005, 30.0)]
+    summary = [
+        s("implicitfast", 0.04, 0.05, 1.0),
+        s("implicitfast", 0.01, 0.008, 2.0),
+        s("implicitfast", 0.0025, 0.002, 8.0),
+        s("implicitfast", 0.001, 0.0009, 20.0),
+        s("RK4", 0.001, 0.0005, 30.0),
+    ]
     summary.append({**s("implicitfast", 0.1, 1e-9, 0.1), "status": "diverged"})  # never recommended
     recs = {(r["level"], r["series"]): r["setting"] for r in A.recommend(summary)}
     assert recs[(1e-2, "implicitfast")]["dt"] == 0.01
@@ -97,11 +121,16 @@ def test_recommend_picks_the_cheapest_setting_meeting_each_level():
 def test_study_writes_plot_tables_and_csv(tmp_path):
     physics = Physics(n=3, sigma=3.0)
     cases = [(physics, 40.0)]
-    mujoco = [A.Setting("mujoco", "implicitfast", dt=0.01, mass_ratio=1e-3),
-              A.Setting("mujoco", "implicitfast", dt=0.0025, mass_ratio=1e-4),
-              A.Setting("mujoco", "Euler", dt=0.01, mass_ratio=1e-4)]  # refused: recorded
-    reduced = [A.Setting("reduced", "numba-DOP853", rtol=1e-6), A.Setting("reduced", "numba-DOP853", rtol=1e-9),
-               A.Setting("reduced", "RK45", rtol=1e-6)]
+    mujoco = [
+        A.Setting("mujoco", "implicitfast", dt=0.01, mass_ratio=1e-3),
+        A.Setting("mujoco", "implicitfast", dt=0.0025, mass_ratio=1e-4),
+        A.Setting("mujoco", "Euler", dt=0.01, mass_ratio=1e-4),
+    ]  # refused: recorded
+    reduced = [
+        A.Setting("reduced", "numba-DOP853", rtol=1e-6),
+        A.Setting("reduced", "numba-DOP853", rtol=1e-9),
+        A.Setting("reduced", "RK45", rtol=1e-6),
+    ]
     rows, meta = A.run_study(cases=cases, mujoco=mujoco, reduced=reduced, workers=1, progress=False, repeats=1)
     A.write_outputs(tmp_path, rows, meta)
     with open(tmp_path / "accuracy.csv") as fh:

@@ -24,8 +24,26 @@ def test_a_given_setting_is_still_checked_as_given():
 
 def test_long_chain_runs_with_the_defaults_and_records_what_ran(tmp_path):
     out = tmp_path / "long"
-    assert main(["run", "one-pinned", "--n", "100", "--duration", "1", "--transient", "0.2", "--sample-dt", "0.05", "--out", str(out),
-                 "--quiet"]) == 0
+    assert (
+        main(
+            [
+                "run",
+                "one-pinned",
+                "--n",
+                "100",
+                "--duration",
+                "1",
+                "--transient",
+                "0.2",
+                "--sample-dt",
+                "0.05",
+                "--out",
+                str(out),
+                "--quiet",
+            ]
+        )
+        == 0
+    )
     numerics = json.loads((out / "summary.json").read_text())["numerics"]
     used = Numerics().for_physics(ea.Physics(n=100))
     assert numerics["dt"] == pytest.approx(used.dt) and used.dt < 0.0025
@@ -43,6 +61,24 @@ def test_a_long_run_records_a_bounded_number_of_samples(tmp_path):
     with pytest.raises(ea.ParameterError, match="samples"):
         Numerics(sample_dt=0.05).for_duration(3e6).check_duration(3e6)
     out = tmp_path / "n40"
-    assert main(["run", "one-pinned", "--engine", "reduced", "--n", "40", "--sigma", "0.0015625", "--duration", "2e5",
-                 "--out", str(out), "--quiet"]) == 0
+    assert (
+        main(
+            [
+                "run",
+                "one-pinned",
+                "--engine",
+                "reduced",
+                "--n",
+                "40",
+                "--sigma",
+                "0.0015625",
+                "--duration",
+                "2e5",
+                "--out",
+                str(out),
+                "--quiet",
+            ]
+        )
+        == 0
+    )
     assert json.loads((out / "summary.json").read_text())["numerics"]["sample_dt"] == pytest.approx(2.0)

@@ -39,12 +39,20 @@ def assert_same(run: Run, outcome, expected) -> None:
 SCENE_RUNS = [
     *[Run(Physics(n=5, sigma=s), FAST, 30) for s in (0.3, 0.8, 1.5)],
     # noise > 0, different seeds and amplitudes: numeric_data per simulation
-    *[Run(Physics(n=5, sigma=0.8, noise=a), Numerics.preset("fast", seed=seed), 30)
-      for a, seed in ((0.1, 0), (0.1, 1), (0.3, 7))],
+    *[
+        Run(Physics(n=5, sigma=0.8, noise=a), Numerics.preset("fast", seed=seed), 30)
+        for a, seed in ((0.1, 0), (0.1, 1), (0.3, 7))
+    ],
     # the pinned scene: sigma and delta (the pin's site, its marker, the keyframe) per simulation
-    *[Run(Physics(scene="two-pinned", n=5, sigma=s, delta=d), FAST, 20) for s, d in ((0.8, 0.1), (2.0, 0.3), (2.0, 0.1))],
+    *[
+        Run(Physics(scene="two-pinned", n=5, sigma=s, delta=d), FAST, 20)
+        for s, d in ((0.8, 0.1), (2.0, 0.3), (2.0, 0.1))
+    ],
     # the pair: kappa (the coupling tendon) and rho (chain 2's joint stiffness)
-    *[Run(Physics(scene="coupled-pair", n=4, sigma=0.8, kappa=k, rho=r), FAST, 20) for k, r in ((0.5, 4 / 3), (2.0, 1.0))],
+    *[
+        Run(Physics(scene="coupled-pair", n=4, sigma=0.8, kappa=k, rho=r), FAST, 20)
+        for k, r in ((0.5, 4 / 3), (2.0, 1.0))
+    ],
     # the free pin, with the drag ratio (the actuators' gains) per simulation
     *[Run(Physics(scene="rotating-pin", n=3, sigma=s, drag_ratio=g), FAST, 20) for s, g in ((0.5, 1.0), (1.0, 2.0))],
     # dt changes the steps per sample: a batch of its own
@@ -155,8 +163,17 @@ def test_run_cases_matches_run_case():
         expected = run_case(case)
         np.testing.assert_equal(result.results.as_dict(), expected.results.as_dict())  # NaN == NaN here
     with pytest.raises(ParameterError, match="dt"):  # the gate refuses what would diverge, before it runs
-        run_cases([Case(Physics(n=3, sigma=100.0), Numerics(integrator="Euler", mass_ratio=1e-2, dt=0.01,
-                                                            sample_dt=0.05), 10)], workers=1, progress=False)
+        run_cases(
+            [
+                Case(
+                    Physics(n=3, sigma=100.0),
+                    Numerics(integrator="Euler", mass_ratio=1e-2, dt=0.01, sample_dt=0.05),
+                    10,
+                )
+            ],
+            workers=1,
+            progress=False,
+        )
 
 
 def test_run_cases_runs_both_engines_at_once_and_raises_the_first_failure():
@@ -188,7 +205,9 @@ def test_run_cases_unmeasured_gives_the_same_trajectories_without_results():
 @pytest.mark.parametrize("integrator", ["implicitfast", "implicit", "discrete", "Euler", "RK4"])
 def test_every_integrator(integrator):
     num = Numerics(integrator=integrator, dt=0.005, mass_ratio=1e-2, sample_dt=0.05)
-    runs = [Run(Physics(scene=scene, n=4, sigma=s), num, 5) for scene in ("one-pinned", "two-pinned") for s in (0.5, 1.2)]
+    runs = [
+        Run(Physics(scene=scene, n=4, sigma=s), num, 5) for scene in ("one-pinned", "two-pinned") for s in (0.5, 1.2)
+    ]
     for run, outcome in zip(runs, simulate_mujoco_batch(runs, threads=2)):
         assert_same(run, outcome, reference(run))
 
@@ -203,8 +222,8 @@ def test_cached_scene_template_builds_the_same_model_as_parsing_the_file(monkeyp
     """model.build_spec starts from a copy of a template parsed once per base file: every scene, with contact
     capsules and coloured noise too, compiles to the model a fresh parse gives, byte for byte, and building
     one model leaves the template as it was."""
-    from elastoactive.mjcf import chain as model_module
     from elastoactive import registry
+    from elastoactive.mjcf import chain as model_module
     from elastoactive.mjcf import mjcf_path
 
     def fresh(scene):
@@ -216,8 +235,12 @@ def test_cached_scene_template_builds_the_same_model_as_parsing_the_file(monkeyp
         return spec
 
     cases = []
-    variants = ((dict(), Numerics()), (dict(n=9, sigma=0.4), FAST), (dict(n=6, contact=True, contact_friction=0.3),
-                Numerics()), (dict(n=5, noise=0.1, noise_correlation=0.5), Numerics()))
+    variants = (
+        (dict(), Numerics()),
+        (dict(n=9, sigma=0.4), FAST),
+        (dict(n=6, contact=True, contact_friction=0.3), Numerics()),
+        (dict(n=5, noise=0.1, noise_correlation=0.5), Numerics()),
+    )
     chain_scenes = [name for name in registry.names() if registry.get(name).network(Physics(scene=name)) is None]
     for name in chain_scenes:  # a network's model is network_model's, from its own template
         for values, numerics in variants:

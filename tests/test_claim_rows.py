@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 from elastoactive.studies.base import Study
-from elastoactive.studies.ring import ring_claims, rate_per_sigma
+from elastoactive.studies.ring import rate_per_sigma, ring_claims
 
 
 def _rings(ratios, sigma=(0.2, 3.0, 30.0)):
@@ -15,13 +15,30 @@ def _rings(ratios, sigma=(0.2, 3.0, 30.0)):
 
     sigma = np.asarray(sigma)
     rate = np.asarray(ratios) * sigma
-    data = {"sigma_small": sigma, "sigma_large": np.array([0.5]), "sigma_free": np.array([0.8]),
-            "rate_7_mujoco": rate, "rate_7_reduced": rate * (1 + 1e-6)}
+    data = {
+        "sigma_small": sigma,
+        "sigma_large": np.array([0.5]),
+        "sigma_free": np.array([0.8]),
+        "rate_7_mujoco": rate,
+        "rate_7_reduced": rate * (1 + 1e-6),
+    }
     summary = RingSummary(
-        sigma_small=list(sigma), sigma_large=[0.5], sigma_free=[0.8], rigid_amplitude_mujoco=1e-12,
-        rigid_amplitude_reduced=1e-6, rate_per_sigma_mujoco=float(ratios[0]), rate_per_sigma_reduced=float(ratios[0]),
-        rate_difference=1e-6, beating_mujoco=[0.5], beating_reduced=[0.5], free_rate_ratio_mujoco=0.01,
-        free_rate_ratio_reduced=0.01, free_rate_difference=1e-6, free_drift=1e-6, free_rigid_amplitude=1e-6)
+        sigma_small=list(sigma),
+        sigma_large=[0.5],
+        sigma_free=[0.8],
+        rigid_amplitude_mujoco=1e-12,
+        rigid_amplitude_reduced=1e-6,
+        rate_per_sigma_mujoco=float(ratios[0]),
+        rate_per_sigma_reduced=float(ratios[0]),
+        rate_difference=1e-6,
+        beating_mujoco=[0.5],
+        beating_reduced=[0.5],
+        free_rate_ratio_mujoco=0.01,
+        free_rate_ratio_reduced=0.01,
+        free_rate_difference=1e-6,
+        free_drift=1e-6,
+        free_rigid_amplitude=1e-6,
+    )
     return Study("rings", "quick", data, summary, 1.0)
 
 
@@ -55,4 +72,3 @@ def test_a_row_is_judged_only_at_a_size_that_can_judge_it(monkeypatch):
     judged = claims.build_claims({"rings": study})[0]
     assert "not judged at the tiny size" in judged.note and "fit over 3 points" in judged.note
     assert f"**{NOT_JUDGED}**" in claims.claims_table([judged])
-

@@ -20,7 +20,22 @@ from elastoactive.cli import build_parser, main
 @pytest.mark.parametrize("engine", ["mujoco", "reduced"])
 def test_run_writes_summary_and_trajectory(tmp_path, scene, extra, keys, engine):
     out = tmp_path / "run"
-    argv = ["run", scene, "--n", "4", "--sigma", "1.2", "--duration", "30", "--engine", engine, "--out", str(out), "--quiet", *extra]
+    argv = [
+        "run",
+        scene,
+        "--n",
+        "4",
+        "--sigma",
+        "1.2",
+        "--duration",
+        "30",
+        "--engine",
+        engine,
+        "--out",
+        str(out),
+        "--quiet",
+        *extra,
+    ]
     assert main(argv) == 0
     summary = json.loads((out / "summary.json").read_text())
     irregular = {"sensitivity"} if summary["results"]["periodic"] is False else set()  # its numbers' errors
@@ -67,16 +82,20 @@ def test_help_loads_no_heavy_library():
     import subprocess
     import sys
 
-    code = ("import sys, runpy; sys.argv = ['elastoactive', '--help']\n"
-            "try:\n    runpy.run_module('elastoactive', run_name='__main__')\nexcept SystemExit:\n    pass\n"
-            "heavy = [m for m in ('scipy', 'numba', 'mujoco', 'matplotlib', 'xarray') if m in sys.modules]\n"
-            "print(','.join(heavy), file=sys.stderr)")
+    code = (
+        "import sys, runpy; sys.argv = ['elastoactive', '--help']\n"
+        "try:\n    runpy.run_module('elastoactive', run_name='__main__')\nexcept SystemExit:\n    pass\n"
+        "heavy = [m for m in ('scipy', 'numba', 'mujoco', 'matplotlib', 'xarray') if m in sys.modules]\n"
+        "print(','.join(heavy), file=sys.stderr)"
+    )
     result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
     assert result.stderr.strip().splitlines()[-1:] in ([], [""]), result.stderr
 
 
-@pytest.mark.parametrize("argv", [["run", "lattice", "--rings", "1.5"], ["run", "lattice", "--boundary", "foo"],
-                                  ["validate", "bogus"], ["bogus"]])
+@pytest.mark.parametrize(
+    "argv",
+    [["run", "lattice", "--rings", "1.5"], ["run", "lattice", "--boundary", "foo"], ["validate", "bogus"], ["bogus"]],
+)
 def test_argument_errors_are_one_line(argv, capsys):
     """argparse's own errors (a number that is not one, an invalid choice) are one 'elastoactive: error:' line naming
     the command, like every other refusal (they had printed the whole usage block first)."""

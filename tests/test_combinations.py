@@ -50,8 +50,9 @@ def switches() -> list[dict]:
         for switch in (p for p in term.parameters if p.needs is None or p.needs not in names):
             for value in _off_default(switch):
                 out.append({switch.name: value})
-                for dependent in (p for p in term.parameters if p.needs == switch.name and (p.choices or
-                                                                                         p.kind is float)):
+                for dependent in (
+                    p for p in term.parameters if p.needs == switch.name and (p.choices or p.kind is float)
+                ):
                     if dependent.need_met(value):
                         out += [{switch.name: value, dependent.name: v} for v in _off_default(dependent)]
     return out
@@ -87,8 +88,17 @@ def test_the_matrix_covers_every_scene_and_switch():
     scenes = {scene for scene, _ in CASES}
     assert scenes == set(registry.names())
     keys = {k for _, values in CASES for k in values}
-    for name in ("contact", "noise", "noise_correlation", "drive_amplitude", "active", "clamp_amplitude",
-                 "clamp_motion", "drag_ratio", "loaded"):
+    for name in (
+        "contact",
+        "noise",
+        "noise_correlation",
+        "drive_amplitude",
+        "active",
+        "clamp_amplitude",
+        "clamp_motion",
+        "drag_ratio",
+        "loaded",
+    ):
         assert name in keys or not parameters.known(name), name
 
 
@@ -119,8 +129,9 @@ def test_each_combination_runs_or_is_refused_before_simulating(case, engine):
     if physics is None:  # refused at once: test above
         return
     try:
-        traj = ea.simulate(physics, Numerics.preset("fast") if engine == "mujoco" else Numerics(), duration=SHORT,
-                           engine=engine)
+        traj = ea.simulate(
+            physics, Numerics.preset("fast") if engine == "mujoco" else Numerics(), duration=SHORT, engine=engine
+        )
     except ea.ParameterError as err:
         _one_line_naming(err, values, scene)
         return
@@ -141,12 +152,25 @@ def test_sweep_run_from_and_a_still_for_every_scene(scene, tmp_path, capsys):
     """The commands on every scene at its defaults (and a star of two arms): a 2-point sweep, a run, its re-run
     with --from, and a still of it; each either works or prints one line."""
     fixed = ["--arms", "2"] if "arms" in scene_parameters(registry.get(scene)) else []
-    sweep = ["sweep", scene, *fixed, "--grid", "sigma=0.3,0.5", "--duration", str(SHORT), "--engine", "reduced",
-             "--out", str(tmp_path / "sweep"), "--quiet"]
+    sweep = [
+        "sweep",
+        scene,
+        *fixed,
+        "--grid",
+        "sigma=0.3,0.5",
+        "--duration",
+        str(SHORT),
+        "--engine",
+        "reduced",
+        "--out",
+        str(tmp_path / "sweep"),
+        "--quiet",
+    ]
     assert main(sweep) == 0, capsys.readouterr().err
     run = tmp_path / "run"
-    assert main(["run", scene, *fixed, "--duration", str(SHORT), "--out", str(run), "--quiet"]) == 0, \
+    assert main(["run", scene, *fixed, "--duration", str(SHORT), "--out", str(run), "--quiet"]) == 0, (
         capsys.readouterr().err
+    )
     again = tmp_path / "again"
     assert main(["run", "--from", str(run), "--out", str(again), "--quiet"]) == 0, capsys.readouterr().err
     first, second = (json.loads((d / "summary.json").read_text())["results"] for d in (run, again))
@@ -156,8 +180,11 @@ def test_sweep_run_from_and_a_still_for_every_scene(scene, tmp_path, capsys):
     assert code == 0 or (code == 2 and err.strip().count("\n") == 0 and "Traceback" not in err), err
 
 
-@pytest.mark.parametrize("case", [c for s in registry.scenes() for c in s.validation_cases()[:1]
-                                  if s.network(c.physics) is not None], ids=lambda c: c.physics.scene)
+@pytest.mark.parametrize(
+    "case",
+    [c for s in registry.scenes() for c in s.validation_cases()[:1] if s.network(c.physics) is not None],
+    ids=lambda c: c.physics.scene,
+)
 def test_the_chain_builder_refuses_a_network_in_one_line(case):
     """elastoactive.mjcf.chain builds chains; a network scene handed to it is told where its model is built."""
     from elastoactive.mjcf.chain import build_model

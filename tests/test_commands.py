@@ -20,19 +20,48 @@ def _subcommands() -> tuple[str, ...]:
 SMALLEST = {
     "run": ["run", "one-pinned", "--n", "2", "--duration", "2", "--out", "{tmp}/run", "--quiet"],
     "validate": ["validate", "two-pinned", "--quiet"],
-    "sweep": ["sweep", "one-pinned", "--n", "2", "--grid", "sigma=1,2", "--duration", "4", "--engine", "reduced",
-              "--out", "{tmp}/sweep.nc", "--workers", "1", "--quiet"],
+    "sweep": [
+        "sweep",
+        "one-pinned",
+        "--n",
+        "2",
+        "--grid",
+        "sigma=1,2",
+        "--duration",
+        "4",
+        "--engine",
+        "reduced",
+        "--out",
+        "{tmp}/sweep.nc",
+        "--workers",
+        "1",
+        "--quiet",
+    ],
     "render": ["render", "{tmp}/run", "--still", "{tmp}/still.png", "--width", "64", "--height", "48"],
     "accuracy": ["accuracy", "--tiny", "--out", "{tmp}/accuracy", "--workers", "1", "--quiet"],
-    "reproduce": ["reproduce", "--tiny", "--only", "stability", "--out", "{tmp}/reproduction", "--workers", "1",
-                  "--quiet"],
+    "reproduce": [
+        "reproduce",
+        "--tiny",
+        "--only",
+        "stability",
+        "--out",
+        "{tmp}/reproduction",
+        "--workers",
+        "1",
+        "--quiet",
+    ],
     "stability": ["stability", "one-pinned", "--n", "3"],
     "filament": ["filament", "--S", "100", "--ns", "6,8", "--quiet"],
 }
 """Each subcommand at its smallest size (render draws the run's folder: it runs after run)."""
 
-WRITES = {"run": "run/summary.json", "sweep": "sweep.nc", "render": "still.png", "accuracy": "accuracy/accuracy.md",
-          "reproduce": "reproduction/report.md"}
+WRITES = {
+    "run": "run/summary.json",
+    "sweep": "sweep.nc",
+    "render": "still.png",
+    "accuracy": "accuracy/accuracy.md",
+    "reproduce": "reproduction/report.md",
+}
 """The file each subcommand that writes must leave."""
 
 

@@ -128,7 +128,8 @@ def test_centre_of_mass_with_or_without_the_head():
     assert r != pytest.approx(dish.orbit_radius(T, theta, head), abs=1e-3)
     assert dish.orbit_rate(T, theta, head, include_head=False) == pytest.approx(0.08, abs=1e-6)
     assert dish.orbit_angle(T, theta, head, include_head=False)[0] == pytest.approx(
-        math.atan2(*p[T >= T[-1] / 2][0, 1:].mean(axis=0)[::-1]), abs=1e-12)
+        math.atan2(*p[T >= T[-1] / 2][0, 1:].mean(axis=0)[::-1]), abs=1e-12
+    )
 
 
 def test_crawl_body_and_orbit_at_different_rates():

@@ -11,7 +11,9 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-POOL = re.compile(r"ProcessPoolExecutor|multiprocessing\s*\.\s*(Pool|Process)\b|\bmp\.Pool\b|from multiprocessing import")
+POOL = re.compile(
+    r"ProcessPoolExecutor|multiprocessing\s*\.\s*(Pool|Process)\b|\bmp\.Pool\b|from multiprocessing import"
+)
 
 
 def test_one_module_makes_process_pools():
@@ -60,8 +62,14 @@ def _alive(pid: str) -> bool:
 def test_ctrl_c_stops_a_pool_at_once_without_worker_tracebacks():
     """Ctrl-C at a terminal goes to the whole process group: the workers must not print KeyboardInterrupt
     tracebacks, and the parent must not wait for their running tasks (minutes here) before it stops."""
-    proc = subprocess.Popen([sys.executable, "-c", INTERRUPTED], cwd=ROOT, stdout=subprocess.PIPE,
-                            stderr=subprocess.PIPE, text=True, start_new_session=True)
+    proc = subprocess.Popen(
+        [sys.executable, "-c", INTERRUPTED],
+        cwd=ROOT,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        start_new_session=True,
+    )
     try:
         assert proc.stdout.readline().strip() == "started"
         deadline = time.monotonic() + 60

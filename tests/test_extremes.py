@@ -103,7 +103,9 @@ def test_predicted_limit_matches_bisection_for_stiff_coupling():
     assert heavy.inertial and heavy.limit("implicitfast") > predicted
     stable_heavy, unstable_heavy = X.largest_stable_dt(physics, "implicitfast", 1e-4, 5.0, heavy.limit("implicitfast"))
     assert stable_heavy > predicted
-    assert unstable_heavy is not None and 0.85 * heavy.limit("implicitfast") < stable_heavy <= unstable_heavy < 1.2 * heavy.limit("implicitfast")
+    assert unstable_heavy is not None and 0.85 * heavy.limit(
+        "implicitfast"
+    ) < stable_heavy <= unstable_heavy < 1.2 * heavy.limit("implicitfast")
 
 
 def test_discrete_on_a_long_chain_is_refused_by_the_probe():

@@ -38,7 +38,7 @@ def test_beat_measures_period_and_amplitude_between_the_samples(samples):
     assert b.period == pytest.approx(period, rel=1e-9)
     assert b.amplitude == pytest.approx(0.5 * (xf.max() - xf.min()), rel=2e-6 if samples == 60 else 1e-9)
     with pytest.raises(ValueError, match="two whole periods"):
-        beat(t[: samples], x[: samples])
+        beat(t[:samples], x[:samples])
 
 
 def test_resample_keeps_a_smooth_shape():

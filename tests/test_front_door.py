@@ -24,8 +24,17 @@ def test_the_tutorial_points_to_every_scene():
 
 
 def test_front_door_names():
-    for name in ("Physics", "Numerics", "simulate", "measure", "scenes", "ParameterError", "SimulationDiverged",
-                 "Trajectory", "Results"):
+    for name in (
+        "Physics",
+        "Numerics",
+        "simulate",
+        "measure",
+        "scenes",
+        "ParameterError",
+        "SimulationDiverged",
+        "Trajectory",
+        "Results",
+    ):
         assert hasattr(ea, name), name
     for fn in (ea.simulate, ea.measure):
         assert "Parameters" in fn.__doc__ and "Returns" in fn.__doc__

@@ -80,8 +80,10 @@ def test_run_from_a_recorded_run(gate_refuses, tmp_path, monkeypatch, capsys):
 
     monkeypatch.undo()  # record a real run first
     out = tmp_path / "first"
-    assert main(["run", "one-pinned", "--n", "3", "--duration", "5", "--engine", "reduced", "--out", str(out),
-                 "--quiet"]) == 0
+    assert (
+        main(["run", "one-pinned", "--n", "3", "--duration", "5", "--engine", "reduced", "--out", str(out), "--quiet"])
+        == 0
+    )
     assert json.loads((out / "summary.json").read_text())["engine"] == "reduced"
     monkeypatch.setattr(gate, "check_measurable", lambda physics: (_ for _ in ()).throw(ParameterError(MARK)))
     capsys.readouterr()

@@ -14,16 +14,16 @@ import pytest
 
 from elastoactive import reduced as M
 from elastoactive.analysis.flutter import BEAD_INERTIA_FACTOR, mass_matrix_at
+from elastoactive.checks.validate import compare, inertial_cases
 from elastoactive.cli import main
 from elastoactive.controllers import follower_forces
-from elastoactive.engines.timestep import check_timestep, stability_limits
 from elastoactive.engines.mujoco import simulate_mujoco
 from elastoactive.engines.reduced import regime, simulate_reduced, system_of
+from elastoactive.engines.timestep import check_timestep, stability_limits
 from elastoactive.errors import ParameterError
 from elastoactive.mjcf.chain import build_model
 from elastoactive.params import Numerics, Physics
 from elastoactive.results import measure
-from elastoactive.checks.validate import compare, inertial_cases
 
 CHAIN = Physics(n=7, sigma=0.8)
 
@@ -60,12 +60,15 @@ def test_mass_matrix_is_mujocos(physics):
     np.testing.assert_allclose(ours[: physics.n, : physics.n], mass_matrix_at(theta[: physics.n], 0.37), atol=1e-14)
 
 
-@pytest.mark.parametrize("physics", [
-    Physics(n=5, sigma=0.8),
-    Physics(n=4, sigma=0.8, drag_ratio=2.5),
-    Physics(scene="rotating-pin", n=6, sigma=0.5),
-    Physics(scene="coupled-pair", n=4, sigma=0.8, kappa=1.7, rho=4 / 3),
-])
+@pytest.mark.parametrize(
+    "physics",
+    [
+        Physics(n=5, sigma=0.8),
+        Physics(n=4, sigma=0.8, drag_ratio=2.5),
+        Physics(scene="rotating-pin", n=6, sigma=0.5),
+        Physics(scene="coupled-pair", n=4, sigma=0.8, kappa=1.7, rho=4 / 3),
+    ],
+)
 def test_accelerations_are_mujocos(physics):
     """At a random state (angles and rates), MuJoCo's qacc (springs, drag actuators, follower callback,
     Coriolis and centripetal terms) is the inertial model's theta'' to round-off."""
@@ -81,15 +84,22 @@ def test_accelerations_are_mujocos(physics):
     y = np.concatenate([L @ data.qpos, L @ data.qvel])
     out = M.rhs(system_of(physics, m), beta=M.DEFAULT_BETA)(0.0, y)
     acc = L @ data.qacc
-    assert np.abs(out[physics.n_angles:] - acc).max() < 1e-12 * np.abs(acc).max()
-    np.testing.assert_array_equal(out[: physics.n_angles], y[physics.n_angles:])
+    assert np.abs(out[physics.n_angles :] - acc).max() < 1e-12 * np.abs(acc).max()
+    np.testing.assert_array_equal(out[: physics.n_angles], y[physics.n_angles :])
 
 
-@pytest.mark.parametrize("kw", [
-    dict(n=5, sigma=0.8), dict(n=4, sigma=0.8, gamma_l=2.0), dict(n=6, pinned=True, sigma=0.8, delta=0.1),
-    dict(n=4, n_chains=2, sigma=0.7, kappa=1.3, rho=1.4), dict(n=5, clamped=False, sigma=0.3), dict(n=12, sigma=0.3),
-    dict(n=1, sigma=0.5),
-])
+@pytest.mark.parametrize(
+    "kw",
+    [
+        dict(n=5, sigma=0.8),
+        dict(n=4, sigma=0.8, gamma_l=2.0),
+        dict(n=6, pinned=True, sigma=0.8, delta=0.1),
+        dict(n=4, n_chains=2, sigma=0.7, kappa=1.3, rho=1.4),
+        dict(n=5, clamped=False, sigma=0.3),
+        dict(n=12, sigma=0.3),
+        dict(n=1, sigma=0.5),
+    ],
+)
 def test_compiled_inertial_rhs_matches_the_formulas(kw):
     rng = np.random.default_rng(0)
     system = M.ChainSystem(mass_ratio=0.37, **kw)
@@ -154,8 +164,9 @@ def test_regime_is_the_overdamped_limit():
     assert r.inertial and r.inertia_number == pytest.approx(0.5 * 7.3232, rel=1e-4)
     assert r.mass_limit == pytest.approx(M.INERTIA_RESOLUTION / r.rate)
     for physics in (CHAIN, pair, Physics(scene="two-pinned", n=7, sigma=0.8, delta=0.1)):
-        assert regime(physics, Numerics()).rate == pytest.approx(stability_limits(physics, Numerics()).fastest_rate,
-                                                                 rel=1e-6)
+        assert regime(physics, Numerics()).rate == pytest.approx(
+            stability_limits(physics, Numerics()).fastest_rate, rel=1e-6
+        )
 
 
 def test_reduced_engine_records_and_overrides_the_model():

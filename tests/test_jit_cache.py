@@ -30,8 +30,10 @@ def test_numba_caches_in_the_folder_of_the_current_sources(tmp_path):
     the user gave."""
     env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path)}
     env.pop(jit_cache.BASE_ENV, None)
-    code = ("import os, elastoactive, numba.core.config as c; from elastoactive.reduced import jit_cache as j;"
-            "print(c.CACHE_DIR); print(os.environ['NUMBA_CACHE_DIR']); print(j.source_digest(j._compiled_sources()))")
+    code = (
+        "import os, elastoactive, numba.core.config as c; from elastoactive.reduced import jit_cache as j;"
+        "print(c.CACHE_DIR); print(os.environ['NUMBA_CACHE_DIR']); print(j.source_digest(j._compiled_sources()))"
+    )
     out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True)
     live, inherited, digest = out.stdout.split()
     assert live == inherited == str(tmp_path / f"numba-{digest}")
@@ -42,7 +44,10 @@ def test_numba_caches_in_the_folder_of_the_current_sources(tmp_path):
 def test_every_compiled_kernel_lives_in_the_keyed_folder():
     """The cache is keyed by elastoactive/reduced/ alone: a numba kernel anywhere else would be cached unkeyed."""
     root = Path(jit_cache.__file__).resolve().parents[2]
-    outside = [str(path.relative_to(root)) for folder in ("elastoactive", "analysis", "mjcf", "controllers")
-               for path in (root / folder).rglob("*.py")
-               if "from numba import" in path.read_text() and "reduced" not in path.relative_to(root).parts]
+    outside = [
+        str(path.relative_to(root))
+        for folder in ("elastoactive", "analysis", "mjcf", "controllers")
+        for path in (root / folder).rglob("*.py")
+        if "from numba import" in path.read_text() and "reduced" not in path.relative_to(root).parts
+    ]
     assert not outside, outside

@@ -16,8 +16,15 @@ from elastoactive.studies import SUMMARIES
 
 ROOT = Path(__file__).resolve().parents[1]
 
-VALUE = {"fit": Fit({"a": 1.5}, {"a": math.inf}, 0.9, 12), "z": complex(1.0, -math.nan), "theta": np.arange(3.0),
-         "n": np.int64(7), "ok": np.bool_(True), "bad": float("nan"), 3: (np.float32(0.5), -math.inf)}
+VALUE = {
+    "fit": Fit({"a": 1.5}, {"a": math.inf}, 0.9, 12),
+    "z": complex(1.0, -math.nan),
+    "theta": np.arange(3.0),
+    "n": np.int64(7),
+    "ok": np.bool_(True),
+    "bad": float("nan"),
+    3: (np.float32(0.5), -math.inf),
+}
 
 
 def test_summary_json_takes_every_value_the_studies_json_takes():
@@ -26,7 +33,13 @@ def test_summary_json_takes_every_value_the_studies_json_takes():
     text = json.dumps(jsonable(VALUE), allow_nan=False)
     assert json.loads(text) == {
         "fit": {"params": {"a": 1.5}, "errors": {"a": None}, "r2": 0.9, "n": 12, "extra": {}},
-        "z": {"re": 1.0, "im": None}, "theta": [0.0, 1.0, 2.0], "n": 7, "ok": True, "bad": None, "3": [0.5, None]}
+        "z": {"re": 1.0, "im": None},
+        "theta": [0.0, 1.0, 2.0],
+        "n": 7,
+        "ok": True,
+        "bad": None,
+        "3": [0.5, None],
+    }
     assert jsonable(VALUE) == to_jsonable(VALUE, nonfinite="null")
     studies = to_jsonable(VALUE)
     assert studies["bad"] == "nan" and studies["3"] == [0.5, "-inf"] and studies["fit"]["errors"] == {"a": "inf"}

@@ -38,7 +38,7 @@ def _star(hub: str, lag: float) -> Trajectory:
     physics = ea.Physics(scene="star", n=n, sigma=0.8, arms=2, hub=hub, **values)
     theta = np.repeat(clamp_angles(2), n)[None, :] + np.zeros((T.size, 1))
     for j in range(2):
-        theta[:, j * n:(j + 1) * n] += 0.5 * np.sin(2 * np.pi * 0.1 * T - j * lag)[:, None] * np.linspace(0, 1, n)
+        theta[:, j * n : (j + 1) * n] += 0.5 * np.sin(2 * np.pi * 0.1 * T - j * lag)[:, None] * np.linspace(0, 1, n)
     return Trajectory(t=T, theta=theta, physics=physics, engine="reduced", head=np.zeros((T.size, 1)))
 
 

@@ -15,10 +15,20 @@ from elastoactive.results import load_trajectory, summary, write_run
 from elastoactive.scenes.trap import orbit
 
 
-@pytest.mark.parametrize("values, name", [
-    (dict(n=7), "n"), (dict(active="follower"), "active"), (dict(rings=0), "rings"), (dict(rings=7), "rings"),
-    (dict(alignment_length=-0.5), "alignment_length"), (dict(boundary="clamped"), "boundary"), (dict(noise=0.1), "noise"),
-    (dict(drag_ratio=2.0), "drag_ratio"), (dict(loaded="tip"), "loaded")])
+@pytest.mark.parametrize(
+    "values, name",
+    [
+        (dict(n=7), "n"),
+        (dict(active="follower"), "active"),
+        (dict(rings=0), "rings"),
+        (dict(rings=7), "rings"),
+        (dict(alignment_length=-0.5), "alignment_length"),
+        (dict(boundary="clamped"), "boundary"),
+        (dict(noise=0.1), "noise"),
+        (dict(drag_ratio=2.0), "drag_ratio"),
+        (dict(loaded="tip"), "loaded"),
+    ],
+)
 def test_lattice_refuses_in_one_line_naming_the_parameter(values, name):
     with pytest.raises(ParameterError, match=rf"^{name}\b") as err:
         ea.Physics(scene="lattice", **values)
@@ -54,14 +64,16 @@ def test_pinned_hexagon_actuates_collectively_above_threshold_and_rests_below():
     """R = 2, pinned, l_a = 0.1: at Pi = 2 every unit turns together (actuation 1, polarization ~1), the nodes beat
     at the units' turning rate, and the elastic energy condenses on the two softest (degenerate) modes; at Pi = 1
     (below the softest mode's eigenvalue, 1.136) every fixed point is stable and the patch comes to rest."""
-    moving = ea.measure(ea.simulate(ea.Physics(scene="lattice", sigma=0.2, alignment_length=0.1), duration=300,
-                                    engine="reduced"))
+    moving = ea.measure(
+        ea.simulate(ea.Physics(scene="lattice", sigma=0.2, alignment_length=0.1), duration=300, engine="reduced")
+    )
     assert moving.extra["actuation"] > 0.999 and moving.extra["polarization"] > 0.95
     assert moving.frequency == pytest.approx(abs(moving.extra["polarity_rate"]) / (2 * math.pi), rel=1e-3)
     assert moving.extra["condensation"] > 0.9
     assert {moving.extra["dominant_mode"], moving.extra["second_mode"]} == {1.0, 2.0}
-    still = ea.measure(ea.simulate(ea.Physics(scene="lattice", sigma=0.1, alignment_length=0.1), duration=300,
-                                   engine="reduced"))
+    still = ea.measure(
+        ea.simulate(ea.Physics(scene="lattice", sigma=0.1, alignment_length=0.1), duration=300, engine="reduced")
+    )
     assert still.extra["actuation"] == 0.0 and still.amplitude < 1e-6 and still.frequency == 0.0
 
 
@@ -85,8 +97,12 @@ def test_a_mass_outside_the_overdamped_limit_is_refused_by_both_engines(capsys):
     from conftest import refused
 
     for engine in ("reduced", "mujoco"):
-        refused(capsys, ["run", "lattice", "--mass-ratio", "1", "--engine", engine, "--duration", "5", "--quiet"],
-                "mass_ratio = 1", "overdamped")
+        refused(
+            capsys,
+            ["run", "lattice", "--mass-ratio", "1", "--engine", engine, "--duration", "5", "--quiet"],
+            "mass_ratio = 1",
+            "overdamped",
+        )
 
 
 def test_a_record_too_coarse_for_the_units_turning_says_so():
@@ -96,16 +112,18 @@ def test_a_record_too_coarse_for_the_units_turning_says_so():
     physics = ea.Physics(scene="trapped-unit", alignment_length=1e-5)
     coarse = ea.measure(ea.simulate(physics, engine="reduced", duration=2.5))
     assert any("may alias" in note and "--sample-dt" in note for note in coarse.notes)
-    fine = ea.measure(ea.simulate(ea.Physics(scene="trapped-unit", sigma=0.8, trap=0.1), engine="reduced",
-                                  duration=100.0))
+    fine = ea.measure(
+        ea.simulate(ea.Physics(scene="trapped-unit", sigma=0.8, trap=0.1), engine="reduced", duration=100.0)
+    )
     assert not any("alias" in note for note in fine.notes)
 
 
 def test_units_at_rest_are_not_actuated():
     """A trapped unit below Pi = 1 comes to rest: its polarity's residual turning (~1e-5, decaying) has no direction
     worth a ratio, so actuation is 0 (it had read 1.0, 'collective'), as for a pinned patch below onset."""
-    rest = ea.measure(ea.simulate(ea.Physics(scene="trapped-unit", sigma=0.05, trap=0.1), engine="reduced",
-                                  duration=100.0))
+    rest = ea.measure(
+        ea.simulate(ea.Physics(scene="trapped-unit", sigma=0.05, trap=0.1), engine="reduced", duration=100.0)
+    )
     assert rest.extra["actuation"] == 0.0
 
 
@@ -174,12 +192,14 @@ def _rigid_record(boundary, velocity, spin, duration=40.0):
     x, y = network.positions[:, 0], network.positions[:, 1]
     nodes = np.stack([c * x - s * y, s * x + c * y], axis=-1) + np.outer(t, velocity)[:, None, :]
     polarity = np.full((t.size, int(network.active.sum())), 1.2)
-    return Trajectory(t=t, theta=np.empty((t.size, 0)), physics=physics, engine="reduced", nodes=nodes,
-                      polarity=polarity)
+    return Trajectory(
+        t=t, theta=np.empty((t.size, 0)), physics=physics, engine="reduced", nodes=nodes, polarity=polarity
+    )
 
 
-@pytest.mark.parametrize("boundary, velocity, spin", [("free", (0.3, 0.7), 0.0), ("free", (0.0, 0.8), 0.05),
-                                                      ("centre", (0.0, 0.0), 0.1)])
+@pytest.mark.parametrize(
+    "boundary, velocity, spin", [("free", (0.3, 0.7), 0.0), ("free", (0.0, 0.8), 0.05), ("centre", (0.0, 0.0), 0.1)]
+)
 def test_a_patch_moving_rigidly_is_measured_apart_from_its_deformation(boundary, velocity, spin):
     """A free patch whose units have aligned translates at sigma with its units still (actuation 0): its rigid motion
     is patch_drift and patch_rotation_rate, not a beat (the beat is of the motion's rate: a steady drift or turn has
@@ -217,7 +237,7 @@ def test_the_readme_lattice_examples_show_what_their_table_says():
     from elastoactive.trajectory import Trajectory
 
     readme = (Path(__file__).resolve().parents[1] / "README.md").read_text()
-    section = readme[readme.index("## Beyond the paper: active solids"):]
+    section = readme[readme.index("## Beyond the paper: active solids") :]
     section = section[: section.index("\n## ", 1)]
     header = [h.strip() for h in re.search(r"^\| run \| state \|(.*)\|$", section, re.M).group(1).split("|")]
     rows = re.findall(r"^\| Pi = ([\d.]+) \(sigma ([\d.]+)\), ([\d.]+) tau \| ([a-z ]+) \|(.*)\|$", section, re.M)
@@ -227,8 +247,14 @@ def test_the_readme_lattice_examples_show_what_their_table_says():
         assert physics.scene_def.coupling(physics) == pytest.approx(float(pi))
         run = ea.simulate(physics, duration=2 * float(duration), engine="reduced")
         half = run.t <= float(duration) + 1e-9
-        short = Trajectory(t=run.t[half], theta=run.theta[half], physics=physics, engine="reduced",
-                           nodes=run.nodes[half], polarity=run.polarity[half])
+        short = Trajectory(
+            t=run.t[half],
+            theta=run.theta[half],
+            physics=physics,
+            engine="reduced",
+            nodes=run.nodes[half],
+            polarity=run.polarity[half],
+        )
         quoted = dict(zip(header, (cell.split("/")[0].strip() for cell in cells.split("|"))))
         modes = quoted.pop("modes")
         for res in (ea.measure(short), ea.measure(run)):

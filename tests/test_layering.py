@@ -71,7 +71,7 @@ def test_no_import_cycles_between_modules():
         state[node] = "open"
         for nxt in sorted(graph[node]):
             if state.get(nxt) == "open":
-                cycles.append(stack[stack.index(nxt):] + [nxt])
+                cycles.append(stack[stack.index(nxt) :] + [nxt])
             elif nxt not in state:
                 visit(nxt, stack + [nxt])
         state[node] = "done"
@@ -116,10 +116,13 @@ def test_scene_names_only_in_scene_modules():
 def test_analysis_is_pure(name):
     """analysis/ is mathematics: it imports nothing of the package outside itself but the reduced engine's mathematics,
     the network records, the error types and the models' constants (leaves)."""
-    outside = [f"line {line}: {target}" for target, line, *_ in _imports(name, MODULES[name])
-               if target.startswith("elastoactive")
-               and not target.startswith(PURE + ("elastoactive.analysis",))
-               and target != "elastoactive"]
+    outside = [
+        f"line {line}: {target}"
+        for target, line, *_ in _imports(name, MODULES[name])
+        if target.startswith("elastoactive")
+        and not target.startswith(PURE + ("elastoactive.analysis",))
+        and target != "elastoactive"
+    ]
     assert not outside, f"{name} imports {outside}"
 
 
@@ -131,6 +134,9 @@ PURE = ("elastoactive.reduced", "elastoactive.networks", "elastoactive.errors", 
 def test_reduced_engine_and_network_records_stand_alone(name):
     """The reduced engine (elastoactive/reduced/) and the network records know no scene, term, Physics or engine:
     arrays and records in, arrays out."""
-    outside = [f"line {line}: {target}" for target, line, *_ in _imports(name, MODULES[name])
-               if target.startswith("elastoactive") and not target.startswith(PURE) and target != "elastoactive"]
+    outside = [
+        f"line {line}: {target}"
+        for target, line, *_ in _imports(name, MODULES[name])
+        if target.startswith("elastoactive") and not target.startswith(PURE) and target != "elastoactive"
+    ]
     assert not outside, f"{name} imports {outside}"

@@ -2,12 +2,11 @@
 
 from __future__ import annotations
 
-
 import numpy as np
 import pytest
 
-from elastoactive import registry
 from elastoactive import reduced as M
+from elastoactive import registry
 from elastoactive.analysis.flutter import critical_sigma
 from elastoactive.cli import build_parser
 from elastoactive.cli.run import settings_from
@@ -21,14 +20,25 @@ from elastoactive.results import measure
 
 def _site_users(physics: Physics) -> np.ndarray:
     model = build_model(physics)
-    return np.array([model.site_user[model.site(f"{prefix}particle_{i}").id, 0]
-                     for prefix in physics.scene_def.chain_prefixes() for i in range(physics.n)])
+    return np.array(
+        [
+            model.site_user[model.site(f"{prefix}particle_{i}").id, 0]
+            for prefix in physics.scene_def.chain_prefixes()
+            for i in range(physics.n)
+        ]
+    )
 
 
 # ---------------------------------------------------------------------------------------------- parameter
-@pytest.mark.parametrize("value, mask", [
-    ("all", [1, 1, 1, 1, 1]), ("tip", [0, 0, 0, 0, 1]), ("1,3", [1, 0, 1, 0, 0]), (" 5, 2 ", [0, 1, 0, 0, 1]),
-])
+@pytest.mark.parametrize(
+    "value, mask",
+    [
+        ("all", [1, 1, 1, 1, 1]),
+        ("tip", [0, 0, 0, 0, 1]),
+        ("1,3", [1, 0, 1, 0, 0]),
+        (" 5, 2 ", [0, 1, 0, 0, 1]),
+    ],
+)
 def test_load_mask(value, mask):
     physics = Physics(n=5, loaded=value)
     np.testing.assert_array_equal(physics.load_mask(), np.array(mask, dtype=bool))
@@ -39,10 +49,18 @@ def test_loaded_is_normalised():
     assert Physics(n=5, loaded="TIP").loaded == "tip"
 
 
-@pytest.mark.parametrize("value, message", [
-    ("0", "1..5"), ("6", "1..5"), ("1,1", "more than once"), ("x", "1-based"), ("", "1-based"),
-    ("1;2", "1-based"), (3, "string"),
-])
+@pytest.mark.parametrize(
+    "value, message",
+    [
+        ("0", "1..5"),
+        ("6", "1..5"),
+        ("1,1", "more than once"),
+        ("x", "1-based"),
+        ("", "1-based"),
+        ("1;2", "1-based"),
+        (3, "string"),
+    ],
+)
 def test_loaded_validation(value, message):
     with pytest.raises(ParameterError, match="loaded") as err:
         Physics(n=5, loaded=value)
@@ -140,7 +158,7 @@ def test_tip_onset_from_simulation():
         assert (a[-k:].max() > 2 * a[:k].max()) == grows
     # the all-loaded chain is unstable at 0.8 of the tip-loaded onset: the mask matters
     a = np.abs(simulate_mujoco(Physics(n=5, sigma=0.8 * TIP_ONSET[5]), Numerics(dt=0.01, sample_dt=0.1), 150.0).theta)
-    assert a[-a.shape[0] // 3:].max() > 10 * a[0].max()
+    assert a[-a.shape[0] // 3 :].max() > 10 * a[0].max()
 
 
 def test_noise_goes_to_the_loaded_particles_only():

@@ -11,14 +11,14 @@ import sys
 import numpy as np
 import pytest
 
-from elastoactive.engines import timestep as diagnose
+from elastoactive.checks.validate import validation_cases
 from elastoactive.cli import main
+from elastoactive.engines import timestep as diagnose
 from elastoactive.engines.mujoco import simulate_mujoco
 from elastoactive.engines.mujoco_batch import simulate_mujoco_batch
 from elastoactive.engines.reduced import regime, simulate_reduced
 from elastoactive.engines.timestep import INERTIA_RESOLUTION
 from elastoactive.params import LONG_CHAIN, Numerics, Physics, long_chain_numerics
-from elastoactive.checks.validate import validation_cases
 
 EXPLICIT = Numerics(dt=0.0025, mass_ratio=1e-4, integrator="implicitfast")  # the defaults, given by hand
 
@@ -29,8 +29,13 @@ def test_defaults_are_marked_but_plain_values():
     assert json.dumps(dataclasses.asdict(n)) == json.dumps(dataclasses.asdict(EXPLICIT))
     assert repr(n) == repr(EXPLICIT)
     # the mark survives what the package does with numerics: replace, copies, pickling (process pools, Dask)
-    for same in (dataclasses.replace(n, seed=3), pickle.loads(pickle.dumps(n)), Numerics(**dataclasses.asdict(n)),
-                 Numerics.preset("accurate"), Numerics(sample_dt=0.1)):
+    for same in (
+        dataclasses.replace(n, seed=3),
+        pickle.loads(pickle.dumps(n)),
+        Numerics(**dataclasses.asdict(n)),
+        Numerics.preset("accurate"),
+        Numerics(sample_dt=0.1),
+    ):
         assert same.automatic
     # any one of dt, mass_ratio, integrator given (even equal to its default) is a choice
     for given in (dict(dt=0.0025), dict(mass_ratio=1e-4), dict(integrator="implicitfast")):
@@ -52,8 +57,13 @@ def test_short_chains_and_the_papers_cases_keep_their_numerics():
 
 def test_an_explicit_choice_wins_on_a_long_chain():
     physics = Physics(n=100, sigma=0.05)
-    for given in (EXPLICIT, Numerics(integrator="implicitfast"), Numerics(dt=0.001), Numerics(mass_ratio=1e-3),
-                  Numerics.preset("fast")):
+    for given in (
+        EXPLICIT,
+        Numerics(integrator="implicitfast"),
+        Numerics(dt=0.001),
+        Numerics(mass_ratio=1e-3),
+        Numerics.preset("fast"),
+    ):
         assert given.for_physics(physics) is given
     assert Numerics().for_physics(physics).integrator == "Euler"
 
@@ -113,8 +123,10 @@ def test_the_checks_regime_is_the_reduced_engines():
 def test_summary_records_the_numerics_that_ran_and_from_repeats_them(tmp_path):
     """A long chain's automatic numerics are what summary.json records, so `run --from` repeats the run exactly."""
     first, again = tmp_path / "a", tmp_path / "b"
-    assert main(["run", "one-pinned", "--n", "100", "--sigma", "0.05", "--duration", "2", "--out", str(first),
-                 "--quiet"]) == 0
+    assert (
+        main(["run", "one-pinned", "--n", "100", "--sigma", "0.05", "--duration", "2", "--out", str(first), "--quiet"])
+        == 0
+    )
     numerics = json.loads((first / "summary.json").read_text())["numerics"]
     assert numerics["integrator"] == "Euler" and numerics["mass_ratio"] != 1e-4
     assert main(["run", "--from", str(first), "--out", str(again), "--quiet"]) == 0

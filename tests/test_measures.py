@@ -106,7 +106,7 @@ def test_linear_fit_exact_and_noisy():
 
 def test_power_law_and_finite_size_fits():
     n = np.arange(10, 60)
-    f = fits.power_law_fit(n, 76.0 * n ** -3.0)
+    f = fits.power_law_fit(n, 76.0 * n**-3.0)
     assert f["exponent"] == pytest.approx(-3.0) and f["prefactor"] == pytest.approx(76.0)
     g = fits.finite_size_fit(n, 76.0 - 150.0 / n + 20.0 / n**2)
     assert g["limit"] == pytest.approx(76.0, abs=1e-9)
@@ -149,7 +149,7 @@ def test_richardson_and_crossing():
 # ------------------------------------------------------------------------------------------ continuum
 def test_continuum_passive_rod_and_onset():
     # clamped-free beam without forcing: slowest decay rate (1.8751)^4
-    assert continuum_eigenvalues(0.0)[0].real == pytest.approx(-(1.8751040687) ** 4, rel=1e-6)
+    assert continuum_eigenvalues(0.0)[0].real == pytest.approx(-((1.8751040687) ** 4), rel=1e-6)
     S_c, w_c = continuum_critical()
     assert 75.5 < S_c < 76.5
     # the discrete chain tends to it: N^3 sigma_c(N) extrapolated from N = 20..40

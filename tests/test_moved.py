@@ -31,6 +31,13 @@ def test_the_new_tree_never_imports_an_old_path():
     """Nothing of the package itself goes through the aliases: importing every new module warns about none."""
     with warnings.catch_warnings():
         warnings.simplefilter("error", DeprecationWarning)
-        for name in ("elastoactive", "elastoactive.cli", "elastoactive.sweep", "elastoactive.render",
-                     "elastoactive.checks.validate", "elastoactive.report.reproduce", "elastoactive.cli.warm"):
+        for name in (
+            "elastoactive",
+            "elastoactive.cli",
+            "elastoactive.sweep",
+            "elastoactive.render",
+            "elastoactive.checks.validate",
+            "elastoactive.report.reproduce",
+            "elastoactive.cli.warm",
+        ):
             importlib.import_module(name)

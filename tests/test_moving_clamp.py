@@ -30,16 +30,21 @@ class SteadyClamp(Term):
     parameters = (Parameter("toy_clamp_on", False, "move the clamp steadily", kind=bool, quiet_default=True),)
 
     def clamp_motion(self, physics):
-        return ClampMotion(displacement=lambda t: np.multiply.outer(np.asarray(t, dtype=float), DRIFT),
-                           velocity=lambda t: DRIFT, angle=lambda t: 0.0, translates=True)
+        return ClampMotion(
+            displacement=lambda t: np.multiply.outer(np.asarray(t, dtype=float), DRIFT),
+            velocity=lambda t: DRIFT,
+            angle=lambda t: 0.0,
+            translates=True,
+        )
 
 
 class Field(Term):
     """The same force on every particle (the test's toy term)."""
 
     name = "toy-clamp-field"
-    parameters = (Parameter("toy_field_on", False, "a uniform force -DRIFT on every particle", kind=bool,
-                            quiet_default=True),)
+    parameters = (
+        Parameter("toy_field_on", False, "a uniform force -DRIFT on every particle", kind=bool, quiet_default=True),
+    )
 
     def node_forces(self, physics):
         return lambda positions: np.broadcast_to(-DRIFT, positions.shape)
@@ -123,19 +128,23 @@ def test_an_angle_amplitude_that_turns_the_chain_into_the_wall_is_refused():
     ea.Physics(n=N, clamp_amplitude=2.0, clamp_motion="transverse")  # a point's amplitude is a length: no limit
 
 
-@pytest.mark.parametrize("scene, values, words", [
-    ("rotating-pin", {}, ("rotating-pin", "has no clamp")),
-    ("two-pinned", {}, ("two-pinned", "pins its chain's far end")),
-    ("coupled-pair", {}, ("coupled-pair", "coupling spring")),
-])
+@pytest.mark.parametrize(
+    "scene, values, words",
+    [
+        ("rotating-pin", {}, ("rotating-pin", "has no clamp")),
+        ("two-pinned", {}, ("two-pinned", "pins its chain's far end")),
+        ("coupled-pair", {}, ("coupled-pair", "coupling spring")),
+    ],
+)
 @pytest.mark.parametrize("engine", ["reduced", "mujoco"])
 def test_scenes_without_a_movable_clamp_are_refused_in_one_line(capsys, no_simulation, scene, values, words, engine):
     refused(capsys, ["run", scene, "--clamp-amplitude", "0.1", "--engine", engine, "--duration", "50"], *words)
 
 
 def test_the_coupled_pairs_clamp_angle_moves_in_both_engines():
-    physics = ea.Physics(scene="coupled-pair", n=2, sigma=3.3, clamp_amplitude=0.2, clamp_motion="angle",
-                         clamp_frequency=0.15)
+    physics = ea.Physics(
+        scene="coupled-pair", n=2, sigma=3.3, clamp_amplitude=0.2, clamp_motion="angle", clamp_frequency=0.15
+    )
     red = ea.simulate(physics, duration=30, engine="reduced")
     muj = ea.simulate(physics, duration=30)
     assert np.max(np.abs(red.theta - muj.theta)) < 0.01
@@ -213,8 +222,30 @@ def test_a_saved_run_keeps_the_clamps_path(tmp_path):
     from elastoactive.results import load_trajectory
 
     out = tmp_path / "clamp"
-    assert main(["run", "one-pinned", "--n", "3", "--sigma", "1.28", "--clamp-amplitude", "0.1", "--clamp-frequency",
-                 "0.07", "--engine", "reduced", "--duration", "30", "--out", str(out), "--quiet"]) == 0
+    assert (
+        main(
+            [
+                "run",
+                "one-pinned",
+                "--n",
+                "3",
+                "--sigma",
+                "1.28",
+                "--clamp-amplitude",
+                "0.1",
+                "--clamp-frequency",
+                "0.07",
+                "--engine",
+                "reduced",
+                "--duration",
+                "30",
+                "--out",
+                str(out),
+                "--quiet",
+            ]
+        )
+        == 0
+    )
     back = load_trajectory(out)
     assert np.allclose(back.head, clamp_path(0.1, 0.07, "transverse").displacement(back.t))
 
@@ -228,11 +259,16 @@ def test_a_drive_faster_than_the_step_is_refused_with_a_passing_setting(capsys, 
 
     for option in ("--clamp-amplitude", "--drive-amplitude"):
         name = option[2:].split("-")[0]
-        line = refused(capsys, ["run", "one-pinned", "--n", "3", option, "0.1", f"--{name}-frequency", "100",
-                                "--duration", "5"], f"{name}_frequency <=", "does not resolve")
+        line = refused(
+            capsys,
+            ["run", "one-pinned", "--n", "3", option, "0.1", f"--{name}-frequency", "100", "--duration", "5"],
+            f"{name}_frequency <=",
+            "does not resolve",
+        )
         dt = float(line.split("--dt ")[1].split()[0])
-        diagnose.check_timestep(ea.Physics(n=3, **{f"{name}_amplitude": 0.1, f"{name}_frequency": 100.0}),
-                                Numerics(dt=dt))
+        diagnose.check_timestep(
+            ea.Physics(n=3, **{f"{name}_amplitude": 0.1, f"{name}_frequency": 100.0}), Numerics(dt=dt)
+        )
 
 
 def test_a_fast_clamp_starts_at_its_paths_velocity():
@@ -240,6 +276,8 @@ def test_a_fast_clamp_starts_at_its_paths_velocity():
     a large clamp speed no longer puts the whole jump B u(0) on the tiny masses (MuJoCo had diverged at t = 0 from
     A f ~ 0.2 l/tau on); the engines agree on the beat it drives."""
     physics = ea.Physics(n=3, sigma=1.28, clamp_amplitude=3.0, clamp_frequency=0.07)
-    runs = {engine: ea.measure(ea.simulate(physics, engine=engine, duration=60.0), transient=30.0)
-            for engine in ("mujoco", "reduced")}
+    runs = {
+        engine: ea.measure(ea.simulate(physics, engine=engine, duration=60.0), transient=30.0)
+        for engine in ("mujoco", "reduced")
+    }
     assert runs["mujoco"].amplitude == pytest.approx(runs["reduced"].amplitude, rel=0.01)

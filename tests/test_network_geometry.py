@@ -53,9 +53,15 @@ def test_trap_unit():
     assert net.active.tolist() == [True] and net.pinned.tolist() == [False] and net.trap == 0.5
 
 
-@pytest.mark.parametrize("call, name", [(lambda: hexagonal_patch(0), "rings"), (lambda: hexagonal_patch(7), "rings"),
-                                        (lambda: hexagonal_patch(2, "clamped"), "boundary"),
-                                        (lambda: trap_unit(0.0), "trap")])
+@pytest.mark.parametrize(
+    "call, name",
+    [
+        (lambda: hexagonal_patch(0), "rings"),
+        (lambda: hexagonal_patch(7), "rings"),
+        (lambda: hexagonal_patch(2, "clamped"), "boundary"),
+        (lambda: trap_unit(0.0), "trap"),
+    ],
+)
 def test_refusals_name_the_parameter(call, name):
     with pytest.raises(ParameterError, match=name):
         call()

@@ -12,8 +12,12 @@ import pytest
 from elastoactive.analysis.network import NetworkState, hexagonal_patch, initial_state, trap_unit
 from elastoactive.reduced import network as m
 
-CASES = [(hexagonal_patch(2, "pinned"), 0.3, 0.5), (hexagonal_patch(2, "centre"), 0.2, 0.1),
-         (hexagonal_patch(1, "free"), 0.4, 2.0), (trap_unit(0.7), 0.8, 1.3)]
+CASES = [
+    (hexagonal_patch(2, "pinned"), 0.3, 0.5),
+    (hexagonal_patch(2, "centre"), 0.2, 0.1),
+    (hexagonal_patch(1, "free"), 0.4, 2.0),
+    (trap_unit(0.7), 0.8, 1.3),
+]
 
 
 @pytest.mark.parametrize("network, sigma, la", CASES)
@@ -24,8 +28,9 @@ def test_rhs_and_jacobian(network, sigma, la):
     f, reference = m.rhs(system), m.rhs_reference(system)
     np.testing.assert_allclose(f(0.0, y), reference(0.0, y), rtol=0, atol=1e-13)
     eps = 1e-6
-    numeric = np.column_stack([(reference(0, y + eps * e) - reference(0, y - eps * e)) / (2 * eps)
-                               for e in np.eye(y.size)])
+    numeric = np.column_stack(
+        [(reference(0, y + eps * e) - reference(0, y - eps * e)) / (2 * eps) for e in np.eye(y.size)]
+    )
     np.testing.assert_allclose(m.jacobian(system, y), numeric, rtol=0, atol=1e-7)
 
 
@@ -55,7 +60,8 @@ def _energy_hessian(network) -> np.ndarray:
         for b in range(size):
             ea, eb = np.eye(size)[a] * h, np.eye(size)[b] * h
             out[a, b] = (energy(q0 + ea + eb) - energy(q0 + ea - eb) - energy(q0 - ea + eb) + energy(q0 - ea - eb)) / (
-                4 * h * h)
+                4 * h * h
+            )
     return out
 
 
@@ -92,7 +98,8 @@ def test_passive_mode_relaxes_at_its_eigenvalue():
         t = np.linspace(0, 2.0, 5)
         y = m.solve(system, t, y0, rtol=1e-11, atol=1e-16).y
         amplitude = (m.unpack(system, y).positions[:, ~network.pinned] - network.positions[~network.pinned]).reshape(
-            t.size, -1) @ vectors[:, mode]
+            t.size, -1
+        ) @ vectors[:, mode]
         np.testing.assert_allclose(amplitude, 1e-4 * np.exp(-values[mode] * t), rtol=1e-5)
 
 

@@ -11,12 +11,18 @@ import pytest
 
 import elastoactive as ea
 from elastoactive.analysis.network import hexagonal_patch, trap_unit
+from elastoactive.controllers import follower_forces
 from elastoactive.engines.network_mujoco import simulate_network_mujoco
 from elastoactive.errors import ParameterError
-from elastoactive.controllers import follower_forces
+from elastoactive.mjcf.network import (
+    build_network_model,
+    free_nodes,
+    node_positions,
+    polarity_of_units,
+    qpos_of_positions,
+    set_polarity,
+)
 from elastoactive.scenes.base import Scene
-from elastoactive.mjcf.network import (build_network_model, free_nodes, node_positions, polarity_of_units,
-                                        qpos_of_positions, set_polarity)
 
 PHYSICS = ea.Physics(sigma=0.0)  # a passive network: the builder reads the scene's name and sigma = 0
 ACTIVE = ea.Physics(sigma=1.5, active="self-aligning", alignment_length=0.7)  # the units' F_a and l_a
@@ -40,7 +46,7 @@ def dynamical_matrix(network) -> np.ndarray:
         e = network.positions[j] - network.positions[i]
         block = k * np.outer(e, e) / (e @ e)
         for a, b, s in ((i, i, 1), (j, j, 1), (i, j, -1), (j, i, -1)):
-            K[2 * a:2 * a + 2, 2 * b:2 * b + 2] += s * block
+            K[2 * a : 2 * a + 2, 2 * b : 2 * b + 2] += s * block
     dofs = np.ravel([[2 * i, 2 * i + 1] for i in free_nodes(network)])
     return K[np.ix_(dofs, dofs)] + network.trap * np.eye(dofs.size)
 
@@ -67,15 +73,20 @@ def test_every_network_compiles_and_steps_without_a_warning(label, network):
     set_polarity(model, data, np.linspace(0, 6, units))
     with follower_forces():
         mujoco.mj_step(model, data, nstep=200)
-    assert all(w.number == 0 for w in data.warning), [mujoco.mjtWarning(i).name for i, w in enumerate(data.warning)
-                                                     if w.number]
+    assert all(w.number == 0 for w in data.warning), [
+        mujoco.mjtWarning(i).name for i, w in enumerate(data.warning) if w.number
+    ]
     assert model.nq == model.nv == 2 * free_nodes(network).size
     assert model.ntendon == sum(not (network.pinned[i] and network.pinned[j]) for i, j in network.bonds)
     assert model.nu == model.na == units and model.neq == 0 and np.isfinite(data.qpos).all()
     assert not np.array_equal(polarity_of_units(model, data), np.linspace(0, 6, units))  # the units turned
     disabled = mujoco.mjtDisableBit
-    for flag in (disabled.mjDSBL_CONTACT, disabled.mjDSBL_GRAVITY, disabled.mjDSBL_CONSTRAINT,
-                 disabled.mjDSBL_AUTORESET):
+    for flag in (
+        disabled.mjDSBL_CONTACT,
+        disabled.mjDSBL_GRAVITY,
+        disabled.mjDSBL_CONSTRAINT,
+        disabled.mjDSBL_AUTORESET,
+    ):
         assert model.opt.disableflags & flag
     assert not model.opt.disableflags & disabled.mjDSBL_DAMPER  # the drag is the slide joints' damping
 
@@ -176,8 +187,14 @@ def test_trapped_unit_orbits_on_the_self_aligning_circle(sigma, alignment_length
     angular rate omega = sqrt(k (F_a / l_a - k)) / gamma (steady orbit: F_a n = gamma v + k x, and psi turns with
     the orbit only if k R^2 = F_a l_a); MuJoCo within 0.3% (first order in dt: 0.13% at dt = 0.0025)."""
     physics = ea.Physics(sigma=sigma, active="self-aligning", alignment_length=alignment_length)
-    traj = simulate_network_mujoco(physics, ea.Numerics(), 60.0, network=trap_unit(trap),
-                                   positions0=np.array([[0.1, 0.0]]), polarity0=np.array([0.3]))
+    traj = simulate_network_mujoco(
+        physics,
+        ea.Numerics(),
+        60.0,
+        network=trap_unit(trap),
+        positions0=np.array([[0.1, 0.0]]),
+        polarity0=np.array([0.3]),
+    )
     assert traj.theta.shape == (traj.t.size, 0) and traj.nodes.shape == (traj.t.size, 1, 2)
     assert traj.polarity.shape == (traj.t.size, 1)
     x = traj.nodes[:, 0]
@@ -221,8 +238,9 @@ def test_simulate_dispatches_a_network_scene_to_the_network_engine(patch_scene):
     assert traj.nodes.shape == (traj.t.size, 19, 2) and traj.polarity.shape == (traj.t.size, 7)
     np.testing.assert_allclose(traj.nodes[0], start.positions, atol=1e-15)
     np.testing.assert_allclose(traj.polarity[0], start.polarity, atol=1e-15)
-    np.testing.assert_array_equal(traj.nodes[:, network.pinned], np.broadcast_to(
-        network.positions[network.pinned], (traj.t.size, 12, 2)))
+    np.testing.assert_array_equal(
+        traj.nodes[:, network.pinned], np.broadcast_to(network.positions[network.pinned], (traj.t.size, 12, 2))
+    )
     assert np.abs(traj.nodes[-1] - traj.nodes[0]).max() > 1e-3  # the active units moved the free nodes
 
 
@@ -262,8 +280,9 @@ def test_automatic_euler_is_implicitfast_bit_for_bit(patch_scene):
     automatic = simulate_network_mujoco(physics, ea.Numerics(perturbation=0.05), 3.0)
     used = automatic.info["automatic_numerics"]
     assert used["integrator"] == "Euler" and used["dt"] == 0.000625  # Pi = 2: dt x Pi = TURN_RESOLUTION
-    implicit = simulate_network_mujoco(physics, ea.Numerics(perturbation=0.05, integrator="implicitfast",
-                                                            dt=used["dt"]), 3.0)
+    implicit = simulate_network_mujoco(
+        physics, ea.Numerics(perturbation=0.05, integrator="implicitfast", dt=used["dt"]), 3.0
+    )
     assert "automatic_numerics" not in implicit.info
     np.testing.assert_array_equal(automatic.nodes, implicit.nodes)
     np.testing.assert_array_equal(automatic.polarity, implicit.polarity)
@@ -289,8 +308,9 @@ def test_preflight_refuses_an_unresolved_network_in_one_line():
 
     physics = ea.Physics(scene="lattice", rings=2, sigma=0.2, alignment_length=0.1)
     limits = check_timestep(physics, ea.Numerics())  # the automatic numerics pass
-    assert limits.fastest_rate == pytest.approx(max(np.linalg.eigvalsh(dynamical_matrix(physics.scene_def.network(
-        physics))).max(), 2.0))
+    assert limits.fastest_rate == pytest.approx(
+        max(np.linalg.eigvalsh(dynamical_matrix(physics.scene_def.network(physics))).max(), 2.0)
+    )
     with pytest.raises(ParameterError, match=r"^dt = 0.1 does not resolve .* use dt <= "):
         check_timestep(physics, ea.Numerics(dt=0.1, sample_dt=0.1))
     with pytest.raises(ParameterError, match=r"^mass_ratio = 0.5 is outside the overdamped limit"):

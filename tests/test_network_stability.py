@@ -8,8 +8,8 @@ import pytest
 from scipy.optimize import fsolve
 
 from elastoactive.analysis.network import NetworkState, hexagonal_patch, trap_unit
-from elastoactive.reduced import network as m
 from elastoactive.analysis.network import stability as st
+from elastoactive.reduced import network as m
 
 
 def test_trap_threshold_is_one_in_the_traps_units():
@@ -61,8 +61,11 @@ def test_pinned_hexagon_threshold_lies_between_the_softest_mode_and_every_random
     assert st.critical_coupling(hexagonal_patch(2), th.polarities) == pytest.approx(th.coupling)
 
 
-@pytest.mark.parametrize("network", [hexagonal_patch(1), hexagonal_patch(2), hexagonal_patch(3), trap_unit(0.7)],
-                         ids=["R=1", "R=2", "R=3", "trap"])
+@pytest.mark.parametrize(
+    "network",
+    [hexagonal_patch(1), hexagonal_patch(2), hexagonal_patch(3), trap_unit(0.7)],
+    ids=["R=1", "R=2", "R=3", "trap"],
+)
 def test_each_ceiling_bounds_every_fixed_points_threshold(network):
     """No fixed point is stable above either proved ceiling: random polarities and the search's best stay below both;
     the interlacing argument's vector (in the span of the 2F - A + 1 softest modes and of the units' n_perp) has

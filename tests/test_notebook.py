@@ -45,7 +45,10 @@ def executed(tmp_path_factory):
     nb = _read()
     cwd = tmp_path_factory.mktemp("tutorial-cwd")
     client = nbclient.NotebookClient(
-        copy.deepcopy(nb), timeout=CELL_TIMEOUT, kernel_name="python3", record_timing=False,
+        copy.deepcopy(nb),
+        timeout=CELL_TIMEOUT,
+        kernel_name="python3",
+        record_timing=False,
         resources={"metadata": {"path": str(cwd)}},
     )
     try:
@@ -73,8 +76,11 @@ def test_notebook_writes_nothing_in_its_working_directory(executed):
 
 def test_notebook_plots_limit_cycle_and_sweep(executed):
     nb, _ = executed
-    figures = [c for c in _code_cells(nb) if any("image/png" in o.get("data", {}) for o in c.outputs)
-               and "render" not in c.metadata.get("tags", [])]
+    figures = [
+        c
+        for c in _code_cells(nb)
+        if any("image/png" in o.get("data", {}) for o in c.outputs) and "render" not in c.metadata.get("tags", [])
+    ]
     assert len(figures) >= 2, "expected the limit-cycle and the sweep figures"
 
 

@@ -22,8 +22,14 @@ FREQUENCY = 0.1
 REGIMES = {  # name: (duration, beat of chain k at times t, rigid rotation rate)
     "rest": (60.0, lambda t, k: 0.0 * t, 0.0),
     "periodic": (100.0, lambda t, k: np.sin(2 * np.pi * FREQUENCY * t + 0.7 * k), 0.0),
-    "irregular": (150.0, lambda t, k: np.sin(2 * np.pi * FREQUENCY * t) * (1 + 0.4 * np.sin(0.08 * t + k))
-                  + 0.3 * np.sin(2 * np.pi * FREQUENCY * math.sqrt(5) * t), 0.0),
+    "irregular": (
+        150.0,
+        lambda t, k: (
+            np.sin(2 * np.pi * FREQUENCY * t) * (1 + 0.4 * np.sin(0.08 * t + k))
+            + 0.3 * np.sin(2 * np.pi * FREQUENCY * math.sqrt(5) * t)
+        ),
+        0.0,
+    ),
     "too short": (15.0, lambda t, k: np.sin(2 * np.pi * FREQUENCY * t + k), 0.0),
     "one chain still": (100.0, lambda t, k: np.sin(2 * np.pi * FREQUENCY * t) * (k % 2 == 0), 0.0),
     "diverging": (100.0, lambda t, k: np.exp(0.08 * t) * np.sin(2 * np.pi * FREQUENCY * t + k), 0.0),
@@ -48,12 +54,19 @@ def _template(name: str) -> Trajectory:
     network = scene.network(physics)
     if network is not None:
         state = scene.initial_network(physics, numerics)
-        return Trajectory(t=t, theta=np.zeros((1, 0)), physics=physics, engine="reduced",
-                          polarity=state.polarity[None, :], nodes=state.positions[None])
+        return Trajectory(
+            t=t,
+            theta=np.zeros((1, 0)),
+            physics=physics,
+            engine="reduced",
+            polarity=state.polarity[None, :],
+            nodes=state.positions[None],
+        )
     theta = np.asarray(scene.initial_angles(physics, numerics), dtype=float)[None, :]
     columns = scene.head_count(physics)
-    return Trajectory(t=t, theta=theta, physics=physics, engine="reduced",
-                      head=np.zeros((1, columns)) if columns else None)
+    return Trajectory(
+        t=t, theta=theta, physics=physics, engine="reduced", head=np.zeros((1, columns)) if columns else None
+    )
 
 
 def _synthetic(name: str, regime: str) -> Trajectory:
@@ -66,7 +79,7 @@ def _synthetic(name: str, regime: str) -> Trajectory:
     theta = np.repeat(start.theta[:1], t.size, axis=0) + turn * (start.theta.shape[1] > 0)
     n = physics.n
     for k in range(physics.n_chains if start.theta.shape[1] else 0):
-        theta[:, k * n:(k + 1) * n] += 0.3 * beat(t, k)[:, None] * np.linspace(0.0, 1.0, n)
+        theta[:, k * n : (k + 1) * n] += 0.3 * beat(t, k)[:, None] * np.linspace(0.0, 1.0, n)
     head = None if start.head is None else np.repeat(start.head[:1], t.size, axis=0) + 0.01 * beat(t, 0)[:, None]
     if head is not None and head.shape[1] == 1:  # the star's hub angle turns with its arms
         head = head + turn
@@ -79,8 +92,9 @@ def _synthetic(name: str, regime: str) -> Trajectory:
         centre = rest.mean(axis=0)
         c, s = np.cos(turn)[:, :, None], np.sin(turn)[:, :, None]
         rel = moved - centre
-        nodes = centre + np.concatenate([c * rel[..., :1] - s * rel[..., 1:], s * rel[..., :1] + c * rel[..., 1:]],
-                                        axis=-1)
+        nodes = centre + np.concatenate(
+            [c * rel[..., :1] - s * rel[..., 1:], s * rel[..., :1] + c * rel[..., 1:]], axis=-1
+        )
     return Trajectory(t=t, theta=theta, physics=physics, engine="reduced", head=head, polarity=polarity, nodes=nodes)
 
 
@@ -137,14 +151,18 @@ def test_the_error_estimate_is_per_chain_where_the_results_are():
     assert amplitude_errors[0] < 1e-3 < amplitude_errors[1]
 
 
-@pytest.mark.parametrize("amplitude, frequency, errors", [
-    ((0.5, 0.6), (0.1, None), ((0.01, None), (1e-4, None))),
-    ((0.5, math.nan), (None, None), ((None, None), (None, None))),
-    (0.5, 0.1, (0.01, 1e-4)),
-    (0.5, None, (None, None)),
-])
+@pytest.mark.parametrize(
+    "amplitude, frequency, errors",
+    [
+        ((0.5, 0.6), (0.1, None), ((0.01, None), (1e-4, None))),
+        ((0.5, math.nan), (None, None), ((None, None), (None, None))),
+        (0.5, 0.1, (0.01, 1e-4)),
+        (0.5, None, (None, None)),
+    ],
+)
 def test_the_sensitivity_note_writes_any_result_shape(amplitude, frequency, errors):
     for sensitive in (False, True):
-        estimate = sensitivity.Sensitivity(1.0 if sensitive else -0.1, sensitive, 9.0 if sensitive else None,
-                                           errors[0], errors[1], 10.0)
+        estimate = sensitivity.Sensitivity(
+            1.0 if sensitive else -0.1, sensitive, 9.0 if sensitive else None, errors[0], errors[1], 10.0
+        )
         _check_text(estimate.note(amplitude, frequency), f"{amplitude}, {frequency}")

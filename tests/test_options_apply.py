@@ -8,19 +8,18 @@ scene and every parameter, not for a list of commands.
 
 import numpy as np
 import pytest
+from conftest import refused
 
 import elastoactive as ea
 from elastoactive import parameters, registry
 from elastoactive.cli import main
-from conftest import refused
 from elastoactive.params import Numerics, scene_parameters
 from elastoactive.sweep import make_sweep, parse_grid
 
 
 def _foreign():
     """(scene, parameter) pairs where the scene does not have the parameter."""
-    return [(s, p) for s in registry.names() for p in parameters.names()
-            if p not in scene_parameters(registry.get(s))]
+    return [(s, p) for s in registry.names() for p in parameters.names() if p not in scene_parameters(registry.get(s))]
 
 
 @pytest.mark.parametrize("scene, name", _foreign())
@@ -30,8 +29,9 @@ def test_a_parameter_the_scene_does_not_have_is_refused_everywhere(scene, name, 
     with pytest.raises(ea.ParameterError, match=message):
         ea.Physics(scene=scene, **{name: value})
     with pytest.raises(ea.ParameterError, match=message):
-        make_sweep(scene, {"sigma": [0.5, 0.8]}, fixed={name: value}, numerics=Numerics(), duration=10.0,
-                   engine="mujoco")
+        make_sweep(
+            scene, {"sigma": [0.5, 0.8]}, fixed={name: value}, numerics=Numerics(), duration=10.0, engine="mujoco"
+        )
     option = parameters.get(name).option
     args = [option] if isinstance(value, bool) else [option, str(value)]
     assert main(["run", scene, *args, "--duration", "5", "--quiet"]) == 2
@@ -39,9 +39,15 @@ def test_a_parameter_the_scene_does_not_have_is_refused_everywhere(scene, name, 
     assert message in err and err.count("\n") == 1
 
 
-@pytest.mark.parametrize("name, value, switch", [("contact_radius", 0.2, "contact"), ("contact_friction", 0.3, "contact"),
-                                                 ("noise_correlation", 1.0, "noise"),
-                                                 ("noise_calculus", "stratonovich", "noise")])
+@pytest.mark.parametrize(
+    "name, value, switch",
+    [
+        ("contact_radius", 0.2, "contact"),
+        ("contact_friction", 0.3, "contact"),
+        ("noise_correlation", 1.0, "noise"),
+        ("noise_calculus", "stratonovich", "noise"),
+    ],
+)
 def test_a_value_whose_switch_is_off_is_refused(name, value, switch, capsys):
     with pytest.raises(ea.ParameterError, match=f"{name} has no effect without {switch}"):
         ea.Physics(**{name: value})
@@ -78,16 +84,27 @@ def test_only_numbers_are_swept():
         with pytest.raises(ea.ParameterError, match=f"{name} is not a number and cannot be swept"):
             parse_grid([f"{name}=1"])
     # a text value is given as a fixed value, on every scene that has it
-    sweep = make_sweep("one-pinned", {"sigma": [0.5, 0.8]}, fixed={"loaded": "tip"}, numerics=Numerics(),
-                       duration=10.0, engine="mujoco")
+    sweep = make_sweep(
+        "one-pinned",
+        {"sigma": [0.5, 0.8]},
+        fixed={"loaded": "tip"},
+        numerics=Numerics(),
+        duration=10.0,
+        engine="mujoco",
+    )
     assert sweep.case(0).physics.loaded == "tip"
 
 
-@pytest.mark.parametrize("argv", [["star", "--hub", "clamped", "--hub-stiffness", "1"],
-                                  ["one-pinned", "--alignment-length", "1"],
-                                  ["one-pinned", "--clamp-frequency", "0.01"],
-                                  ["one-pinned", "--drive-direction", "transverse"],
-                                  ["one-pinned", "--contact-radius", "0.1"]])
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["star", "--hub", "clamped", "--hub-stiffness", "1"],
+        ["one-pinned", "--alignment-length", "1"],
+        ["one-pinned", "--clamp-frequency", "0.01"],
+        ["one-pinned", "--drive-direction", "transverse"],
+        ["one-pinned", "--contact-radius", "0.1"],
+    ],
+)
 def test_an_option_typed_where_it_does_not_act_is_refused_even_at_its_default(argv, capsys, no_simulation):
     """The API lets a switch-dependent value equal to its default through (the physics takes it anyway), but a value
     typed on the command line is meant to act: run refuses it in one line naming its switch (it had been dropped)."""
@@ -100,8 +117,10 @@ def test_stability_refuses_n_on_a_network(capsys):
     assert "N = 7" in capsys.readouterr().out
 
 
-@pytest.mark.parametrize("scene", [s for s in registry.names() if registry.get(s).pinned
-                                   and "drive_amplitude" in scene_parameters(registry.get(s))])
+@pytest.mark.parametrize(
+    "scene",
+    [s for s in registry.names() if registry.get(s).pinned and "drive_amplitude" in scene_parameters(registry.get(s))],
+)
 def test_a_tip_drive_on_a_pinned_tip_is_refused_in_both_engines(scene):
     """The tip drive pushes chain 1's last particle; a scene that holds it on a pin would take the force on the pin
     (the reduced engine refused it, MuJoCo ran it with an effect of 3e-5 rad): refused by the physics itself."""
@@ -117,8 +136,22 @@ def test_the_calculus_of_coloured_noise_is_refused(capsys, no_simulation):
     white = ea.Physics(noise=0.1, noise_calculus="stratonovich")
     coloured = white.replace(noise_correlation=0.5)  # the switch turned on drops what it leaves unused
     assert "noise_calculus" not in coloured.relevant() and coloured.noise_correlation == 0.5
-    refused(capsys, ["run", "one-pinned", "--noise", "0.1", "--noise-correlation", "0.5", "--noise-calculus", "ito",
-                     "--duration", "2"], "noise_calculus has no effect with noise_correlation")
+    refused(
+        capsys,
+        [
+            "run",
+            "one-pinned",
+            "--noise",
+            "0.1",
+            "--noise-correlation",
+            "0.5",
+            "--noise-calculus",
+            "ito",
+            "--duration",
+            "2",
+        ],
+        "noise_calculus has no effect with noise_correlation",
+    )
 
 
 @pytest.mark.parametrize("engine", ["mujoco", "reduced"])
@@ -134,19 +167,22 @@ def test_no_perturbation_on_an_unstable_base_state_is_refused(engine):
 def test_no_perturbation_is_refused_in_a_mujoco_batch():
     from elastoactive.engines.mujoco_batch import simulate_mujoco_batch
 
-    outcomes = simulate_mujoco_batch([ea.Physics(n=3, sigma=3.0), ea.Physics(n=3, sigma=0.5)],
-                                     Numerics(perturbation=0.0), 1.0, threads=1)
+    outcomes = simulate_mujoco_batch(
+        [ea.Physics(n=3, sigma=3.0), ea.Physics(n=3, sigma=0.5)], Numerics(perturbation=0.0), 1.0, threads=1
+    )
     assert isinstance(outcomes[0], ea.ParameterError) and "perturbation = 0" in str(outcomes[0])
     assert not isinstance(outcomes[1], Exception)
 
 
-@pytest.mark.parametrize("switch, setting", [("clamp_amplitude", "clamp_frequency"),
-                                             ("drive_amplitude", "drive_frequency")])
+@pytest.mark.parametrize(
+    "switch, setting", [("clamp_amplitude", "clamp_frequency"), ("drive_amplitude", "drive_frequency")]
+)
 def test_a_sweep_holds_the_undriven_baseline(switch, setting):
     """A fixed value whose switch is swept acts at the grid's points where the switch is on and is dropped where it is
     off (the undriven baseline is a grid point); it is refused only when the switch is never on."""
-    sweep = make_sweep("one-pinned", {switch: [0.0, 0.1]}, fixed={setting: 0.05}, numerics=Numerics(),
-                       duration=5.0, engine="reduced")
+    sweep = make_sweep(
+        "one-pinned", {switch: [0.0, 0.1]}, fixed={setting: 0.05}, numerics=Numerics(), duration=5.0, engine="reduced"
+    )
     off, on = sweep.case(0).physics, sweep.case(1).physics
     assert setting not in off.relevant() and getattr(on, setting) == 0.05 and getattr(on, switch) == 0.1
     with pytest.raises(ea.ParameterError, match=f"{setting} has no effect without {switch}"):
@@ -178,10 +214,39 @@ def test_the_shortest_duration_advised_can_be_measured(sample_dt):
 def test_a_rerun_on_the_other_engine_drops_the_settings_it_does_not_read(tmp_path, capsys):
     """run --from a MuJoCo run --engine reduced: the record's dt and integrator, which the reduced engine does not
     read and the user cannot remove, are left behind (they had been refused)."""
-    assert main(["run", "one-pinned", "--n", "3", "--sigma", "0.5", "--duration", "1", "--out",
-                 str(tmp_path / "mujoco"), "--quiet"]) == 0
-    assert main(["run", "--from", str(tmp_path / "mujoco"), "--engine", "reduced", "--out", str(tmp_path / "reduced"),
-                 "--quiet"]) == 0
+    assert (
+        main(
+            [
+                "run",
+                "one-pinned",
+                "--n",
+                "3",
+                "--sigma",
+                "0.5",
+                "--duration",
+                "1",
+                "--out",
+                str(tmp_path / "mujoco"),
+                "--quiet",
+            ]
+        )
+        == 0
+    )
+    assert (
+        main(
+            [
+                "run",
+                "--from",
+                str(tmp_path / "mujoco"),
+                "--engine",
+                "reduced",
+                "--out",
+                str(tmp_path / "reduced"),
+                "--quiet",
+            ]
+        )
+        == 0
+    )
 
 
 def test_numpy_integers_are_seeds():

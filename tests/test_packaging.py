@@ -23,7 +23,9 @@ CONFIG = tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["setuptool
 def _tree_packages() -> set[str]:
     """Package names of every folder holding an __init__.py, through pyproject's package-dir mapping."""
     roots = {"elastoactive": ROOT / "elastoactive"}
-    roots.update({name: ROOT / folder for name, folder in CONFIG.get("package-dir", {}).items() if name != "elastoactive"})
+    roots.update(
+        {name: ROOT / folder for name, folder in CONFIG.get("package-dir", {}).items() if name != "elastoactive"}
+    )
     found = set()
     for name, folder in roots.items():
         for init in folder.rglob("__init__.py"):
@@ -37,7 +39,9 @@ def _tree_packages() -> set[str]:
 def test_package_list_is_the_tree():
     listed = set(CONFIG["packages"])
     tree = _tree_packages()
-    assert not tree - listed, f"sub-packages missing from pyproject.toml [tool.setuptools] packages: {sorted(tree - listed)}"
+    assert not tree - listed, (
+        f"sub-packages missing from pyproject.toml [tool.setuptools] packages: {sorted(tree - listed)}"
+    )
     assert not listed - tree, f"packages listed in pyproject.toml with no __init__.py: {sorted(listed - tree)}"
 
 
@@ -47,35 +51,65 @@ def test_wheel_installs_and_runs_outside_the_checkout(tmp_path):
     from this environment's site-packages, without this environment's editable install), then run `elastoactive
     run` and `import elastoactive` from a folder outside the checkout."""
     wheels = tmp_path / "wheels"
-    build = subprocess.run([sys.executable, "-m", "pip", "wheel", str(ROOT), "--no-deps", "-q", "-w", str(wheels)],
-                           capture_output=True, text=True, timeout=900)
+    build = subprocess.run(
+        [sys.executable, "-m", "pip", "wheel", str(ROOT), "--no-deps", "-q", "-w", str(wheels)],
+        capture_output=True,
+        text=True,
+        timeout=900,
+    )
     assert build.returncode == 0, build.stdout + build.stderr
     (wheel,) = wheels.glob("elastoactive-*.whl")
 
     venv = tmp_path / "venv"
     subprocess.run([sys.executable, "-m", "venv", "--without-pip", str(venv)], check=True, timeout=120)
     python = venv / "bin" / "python"
-    purelib = Path(subprocess.run([str(python), "-c", "import sysconfig; print(sysconfig.get_paths()['purelib'])"],
-                                  capture_output=True, text=True, check=True).stdout.strip())
+    purelib = Path(
+        subprocess.run(
+            [str(python), "-c", "import sysconfig; print(sysconfig.get_paths()['purelib'])"],
+            capture_output=True,
+            text=True,
+            check=True,
+        ).stdout.strip()
+    )
     # the dependencies (numpy, mujoco, ...) from this environment: a plain path entry, so that its .pth files
     # (among them the editable install's finder) are not run
     (purelib / "_deps.pth").write_text(sysconfig.get_paths()["purelib"] + "\n")
-    install = subprocess.run([sys.executable, "-m", "pip", "--python", str(python), "install", "--no-deps", "-q",
-                              str(wheel)], capture_output=True, text=True, timeout=300)
+    install = subprocess.run(
+        [sys.executable, "-m", "pip", "--python", str(python), "install", "--no-deps", "-q", str(wheel)],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
     assert install.returncode == 0, install.stdout + install.stderr
 
     outside = tmp_path / "elsewhere"
     outside.mkdir()
     env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "PYTHONHOME")}
-    where = subprocess.run([str(python), "-c", "import elastoactive as ea, elastoactive.engines, elastoactive.cli; "
-                            "print(ea.__file__); print(ea.scenes.names())"],
-                           cwd=outside, env=env, capture_output=True, text=True, timeout=300)
+    where = subprocess.run(
+        [
+            str(python),
+            "-c",
+            "import elastoactive as ea, elastoactive.engines, elastoactive.cli; "
+            "print(ea.__file__); print(ea.scenes.names())",
+        ],
+        cwd=outside,
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
     assert where.returncode == 0, where.stderr
     location = Path(where.stdout.splitlines()[0]).resolve()
     assert location.is_relative_to(venv.resolve()), f"imported from {location}, not from the installed wheel"
     assert ROOT not in location.parents
 
-    run = subprocess.run([str(venv / "bin" / "elastoactive"), "run", "one-pinned", "--duration", "2", "--out", "beat"],
-                         cwd=outside, env=env, capture_output=True, text=True, timeout=600)
+    run = subprocess.run(
+        [str(venv / "bin" / "elastoactive"), "run", "one-pinned", "--duration", "2", "--out", "beat"],
+        cwd=outside,
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
     assert run.returncode == 0, run.stdout + run.stderr
     assert (outside / "beat" / "summary.json").is_file()

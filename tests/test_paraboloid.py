@@ -71,11 +71,31 @@ def test_engines_agree_on_the_dish(trap, state, rate, radius):
 
 def test_run_writes_the_head_and_renders_it(tmp_path):
     out = tmp_path / "dish"
-    assert main(["run", "paraboloid", "--n", "5", "--sigma", "0.3", "--trap", "0.3", "--duration", "40", "--out",
-                 str(out), "--quiet"]) == 0
+    assert (
+        main(
+            [
+                "run",
+                "paraboloid",
+                "--n",
+                "5",
+                "--sigma",
+                "0.3",
+                "--trap",
+                "0.3",
+                "--duration",
+                "40",
+                "--out",
+                str(out),
+                "--quiet",
+            ]
+        )
+        == 0
+    )
     summary = json.loads((out / "summary.json").read_text())
     assert summary["parameters"]["trap"] == 0.3
-    assert {"rotation_rate", "orbit_rate", "orbit_radius", "curvature", "dish_state", "harmonics"} <= set(summary["results"])
+    assert {"rotation_rate", "orbit_rate", "orbit_radius", "curvature", "dish_state", "harmonics"} <= set(
+        summary["results"]
+    )
     traj = load_trajectory(out)
     assert traj.head.shape == (traj.t.size, 2) and np.all(np.isfinite(traj.head))
     with np.load(out / "trajectory.npz") as f:  # a trajectory without its head is refused, naming what is missing
@@ -90,8 +110,15 @@ def test_run_writes_the_head_and_renders_it(tmp_path):
     frame = render.render_frames(traj, fps=2, rate=10, width=160, height=120, start=30, end=30)[0]
     assert frame.std() > 10
     # the chain is drawn where the head took it: the frame differs from one with the head at the origin
-    moved = render.render_frames(ea.Trajectory(traj.t, traj.theta, traj.physics, "x", head=np.zeros_like(traj.head)),
-                                 fps=2, rate=10, width=160, height=120, start=30, end=30)[0]
+    moved = render.render_frames(
+        ea.Trajectory(traj.t, traj.theta, traj.physics, "x", head=np.zeros_like(traj.head)),
+        fps=2,
+        rate=10,
+        width=160,
+        height=120,
+        start=30,
+        end=30,
+    )[0]
     assert np.abs(frame.astype(int) - moved).mean() > 1.0
 
 
@@ -100,8 +127,26 @@ def test_sweep_stores_the_dish_state_as_flags(tmp_path):
     import xarray as xr
 
     out = tmp_path / "dish.nc"
-    assert main(["sweep", "paraboloid", "--grid", "trap=0.1,0.3", "--sigma", "0.3", "--duration", "300", "--engine",
-                 "reduced", "--out", str(out), "--quiet"]) == 0
+    assert (
+        main(
+            [
+                "sweep",
+                "paraboloid",
+                "--grid",
+                "trap=0.1,0.3",
+                "--sigma",
+                "0.3",
+                "--duration",
+                "300",
+                "--engine",
+                "reduced",
+                "--out",
+                str(out),
+                "--quiet",
+            ]
+        )
+        == 0
+    )
     with xr.open_dataset(out) as ds:
         meanings = ds.dish_state.attrs["flag_meanings"].split()
         states = [meanings[int(v)] for v in ds.dish_state.values]

@@ -4,10 +4,10 @@ import numpy as np
 import pytest
 
 from elastoactive.analysis import observables as obs
+from elastoactive.checks.validate import compare
+from elastoactive.engines.mujoco import simulate_mujoco
 from elastoactive.engines.reduced import simulate_reduced
 from elastoactive.params import Numerics, Physics
-from elastoactive.engines.mujoco import simulate_mujoco
-from elastoactive.checks.validate import compare
 
 PAPER_CASES = [
     (Physics(scene="one-pinned", n=7, sigma=0.8), 150.0),

@@ -57,8 +57,11 @@ def toy():
 def test_registry_lists_the_toy_only_while_registered(toy):
     assert toy.name in ea.scenes.names() and ea.scenes.get(toy.name) is toy
     p = ea.Physics(scene=toy.name, n=3, kappa=0.5)
-    assert p.n_chains == 2 and not p.clamped and p.relevant() == {
-        "scene": toy.name, "n": 3, "sigma": 0.8, "drag_ratio": 1.0, "noise": 0.0, "kappa": 0.5}
+    assert (
+        p.n_chains == 2
+        and not p.clamped
+        and p.relevant() == {"scene": toy.name, "n": 3, "sigma": 0.8, "drag_ratio": 1.0, "noise": 0.0, "kappa": 0.5}
+    )
 
 
 def test_toy_is_refused_once_unregistered():
@@ -72,16 +75,44 @@ def test_toy_runs_in_both_engines_and_they_agree(toy):
     rates = {e: ea.measure(tr).rotation_rate for e, tr in runs.items()}
     assert abs(rates["reduced"]) > 0.01  # it does rotate
     assert rates["mujoco"] == pytest.approx(rates["reduced"], rel=0.01)
-    np.testing.assert_allclose(runs["mujoco"].theta, runs["reduced"].theta, atol=0.02 * np.abs(runs["reduced"].theta).max())
+    np.testing.assert_allclose(
+        runs["mujoco"].theta, runs["reduced"].theta, atol=0.02 * np.abs(runs["reduced"].theta).max()
+    )
 
 
 def test_toy_through_run(toy, tmp_path):
     out = tmp_path / "run"
-    assert main(["run", toy.name, "--n", "3", "--sigma", "1.5", "--kappa", "1", "--duration", "20", "--out", str(out),
-                 "--quiet"]) == 0
+    assert (
+        main(
+            [
+                "run",
+                toy.name,
+                "--n",
+                "3",
+                "--sigma",
+                "1.5",
+                "--kappa",
+                "1",
+                "--duration",
+                "20",
+                "--out",
+                str(out),
+                "--quiet",
+            ]
+        )
+        == 0
+    )
     summary = json.loads((out / "summary.json").read_text())
     assert summary["parameters"]["scene"] == toy.name and "rho" not in summary["parameters"]
-    assert set(summary["results"]) == {"amplitude", "frequency", "periodic", "period_spread", "notes", "harmonics", "rotation_rate"}
+    assert set(summary["results"]) == {
+        "amplitude",
+        "frequency",
+        "periodic",
+        "period_spread",
+        "notes",
+        "harmonics",
+        "rotation_rate",
+    }
     assert len(summary["results"]["amplitude"]) == 2
 
 
@@ -93,8 +124,16 @@ def test_toy_through_validate(toy, capsys):
 
 def test_toy_through_sweep(toy, tmp_path):
     path = tmp_path / "toy.nc"
-    ds = run_sweep(toy.name, {"kappa": [0.5, 2.0]}, fixed={"n": 3, "sigma": 1.5}, numerics="fast", duration=20.0,
-                   out=path, workers=1, progress=False)
+    ds = run_sweep(
+        toy.name,
+        {"kappa": [0.5, 2.0]},
+        fixed={"n": 3, "sigma": 1.5},
+        numerics="fast",
+        duration=20.0,
+        out=path,
+        workers=1,
+        progress=False,
+    )
     assert (ds["status"].values == "ok").all()
     assert set(ds.data_vars) >= {"amplitude", "frequency", "rotation_rate"}
     assert ds["amplitude"].dims == ("kappa", "chain")

@@ -31,21 +31,28 @@ def _names_parameter(message: str, keys) -> bool:
 
 
 @settings(max_examples=300, deadline=None, derandomize=True)
-@given(scene=st.one_of(st.sampled_from(ea.scenes.names()), st.text(max_size=8)),
-       values=st.dictionaries(st.sampled_from(PHYSICS_FIELDS), ODD_NUMBERS, max_size=4))
+@given(
+    scene=st.one_of(st.sampled_from(ea.scenes.names()), st.text(max_size=8)),
+    values=st.dictionaries(st.sampled_from(PHYSICS_FIELDS), ODD_NUMBERS, max_size=4),
+)
 def test_physics_runs_or_names_the_parameter(scene, values):
     try:
         physics = ea.Physics(scene=scene, **values)
     except ea.ParameterError as err:
         assert "\n" not in str(err) and _names_parameter(str(err), ("scene", *values)), str(err)
     else:
-        assert physics.n >= physics.scene_def.min_n and all(math.isfinite(getattr(physics, k)) for k in PHYSICS_FIELDS[1:])
+        assert physics.n >= physics.scene_def.min_n and all(
+            math.isfinite(getattr(physics, k)) for k in PHYSICS_FIELDS[1:]
+        )
 
 
 @settings(max_examples=300, deadline=None, derandomize=True)
-@given(values=st.dictionaries(st.sampled_from(NUMERICS_FIELDS), st.one_of(ODD_NUMBERS, st.sampled_from(("RK4", "Euler"))),
-                              max_size=4),
-       duration=ODD_NUMBERS)
+@given(
+    values=st.dictionaries(
+        st.sampled_from(NUMERICS_FIELDS), st.one_of(ODD_NUMBERS, st.sampled_from(("RK4", "Euler"))), max_size=4
+    ),
+    duration=ODD_NUMBERS,
+)
 def test_numerics_and_duration_run_or_name_the_parameter(values, duration):
     try:
         numerics = ea.Numerics(**values)
@@ -70,18 +77,38 @@ NUMBER_TEXT = st.one_of(
 )
 
 
-TIMESTEP_TEXT = st.sampled_from(["nan", "inf", "-1", "0", "abc", "", "1e-9", "1e-300", "0.2", "0.05", "0.01", "0.0025",
-                                 "0.001"])
+TIMESTEP_TEXT = st.sampled_from(
+    ["nan", "inf", "-1", "0", "abc", "", "1e-9", "1e-300", "0.2", "0.05", "0.01", "0.0025", "0.001"]
+)
 """dt values: every kind of refusal, and valid ones that keep a 5-tau run short (a tiny valid dt would
 simply run long, which is not what this test is about; MAX_STEPS refuses the absurd ones)."""
 
 
 @settings(max_examples=60, deadline=None, derandomize=True, suppress_health_check=[HealthCheck.too_slow])
-@given(scene=st.sampled_from(ea.scenes.names()), engine=st.sampled_from(["reduced", "mujoco"]),
-       options=st.dictionaries(st.sampled_from(["--n", "--sigma", "--delta", "--kappa", "--rho", "--noise",
-                                                "--mass-ratio", "--sample-dt", "--duration", "--transient", "--seed"]),
-                               NUMBER_TEXT, max_size=3),
-       dt=st.one_of(st.none(), TIMESTEP_TEXT))
+@given(
+    scene=st.sampled_from(ea.scenes.names()),
+    engine=st.sampled_from(["reduced", "mujoco"]),
+    options=st.dictionaries(
+        st.sampled_from(
+            [
+                "--n",
+                "--sigma",
+                "--delta",
+                "--kappa",
+                "--rho",
+                "--noise",
+                "--mass-ratio",
+                "--sample-dt",
+                "--duration",
+                "--transient",
+                "--seed",
+            ]
+        ),
+        NUMBER_TEXT,
+        max_size=3,
+    ),
+    dt=st.one_of(st.none(), TIMESTEP_TEXT),
+)
 def test_cli_run_runs_or_refuses_in_one_line(scene, engine, options, dt):
     options = {"--n": "3", "--duration": "5", **options, **({"--dt": dt} if dt is not None else {})}
     argv = ["run", scene, "--engine", engine, "--quiet"] + [x for kv in options.items() for x in kv]
@@ -89,17 +116,28 @@ def test_cli_run_runs_or_refuses_in_one_line(scene, engine, options, dt):
     assert "Traceback" not in stderr, stderr
     assert code in (0, 2, 3), (argv, code, stderr)
     if code:
-        lines = [line for line in stderr.splitlines() if line.strip() and not line.startswith("usage:")
-                 and not line.startswith(" ")]
+        lines = [
+            line
+            for line in stderr.splitlines()
+            if line.strip() and not line.startswith("usage:") and not line.startswith(" ")
+        ]
         assert lines and lines[-1].startswith(("elastoactive: ", "elastoactive run: error:")), (argv, stderr)
 
 
 SCENE_OR_PRESET = st.sampled_from((*ea.scenes.names(), "accurate", "fast"))
 ARGUMENT = st.one_of(
-    st.none(), st.booleans(), st.integers(-3, 10), st.floats(allow_nan=True), st.text(max_size=6), SCENE_OR_PRESET,
+    st.none(),
+    st.booleans(),
+    st.integers(-3, 10),
+    st.floats(allow_nan=True),
+    st.text(max_size=6),
+    SCENE_OR_PRESET,
     st.lists(st.integers(0, 3), max_size=2),
-    st.dictionaries(st.sampled_from(["n", "sigma", "scene", "dt", "sample_dt", "seed", "bogus"]),
-                    st.one_of(st.integers(1, 4), st.floats(0.01, 1.0), st.text(max_size=3), SCENE_OR_PRESET), max_size=2),
+    st.dictionaries(
+        st.sampled_from(["n", "sigma", "scene", "dt", "sample_dt", "seed", "bogus"]),
+        st.one_of(st.integers(1, 4), st.floats(0.01, 1.0), st.text(max_size=3), SCENE_OR_PRESET),
+        max_size=2,
+    ),
 )
 """What a user may pass as the physics or the numerics of ea.simulate, or as the trajectory of ea.measure."""
 
@@ -131,8 +169,11 @@ def test_api_measure_takes_a_trajectory_or_names_the_argument(trajectory, transi
 
 
 @settings(max_examples=40, deadline=None, derandomize=True)
-@given(transient=st.one_of(st.none(), st.floats(allow_nan=True, allow_infinity=True), st.text(max_size=3),
-                           st.integers(-5, 30)))
+@given(
+    transient=st.one_of(
+        st.none(), st.floats(allow_nan=True, allow_infinity=True), st.text(max_size=3), st.integers(-5, 30)
+    )
+)
 def test_api_measure_takes_a_transient_or_names_it(transient):
     trajectory = _short_run()
     try:

@@ -83,13 +83,21 @@ def test_every_readme_command_runs(tmp_path):
     assert len(commands) >= 10
     gl = _gl_works()
     env = {**os.environ, "PYTHONWARNINGS": "ignore"}
-    with LocalCluster(n_workers=1, threads_per_worker=1, processes=False, protocol="tcp", dashboard_address=None) as cluster:
+    with LocalCluster(
+        n_workers=1, threads_per_worker=1, processes=False, protocol="tcp", dashboard_address=None
+    ) as cluster:
         for argv in commands:
             if argv[0] == "reproduce" or ("--video" in argv or "-o" in argv or "--still" in argv) and not gl:
                 continue  # reproduce is the main job (test_reproduce runs it tiny); no GL here for videos
             small = _shrink(argv, cluster.scheduler_address)
-            result = subprocess.run([sys.executable, "-m", "elastoactive", *small], cwd=tmp_path, env=env,
-                                    capture_output=True, text=True, timeout=600)
+            result = subprocess.run(
+                [sys.executable, "-m", "elastoactive", *small],
+                cwd=tmp_path,
+                env=env,
+                capture_output=True,
+                text=True,
+                timeout=600,
+            )
             assert result.returncode == 0, f"elastoactive {' '.join(small)}\n{result.stderr[-2000:]}"
 
 
@@ -103,8 +111,12 @@ def test_every_readme_python_block_runs(tmp_path):
 
 def test_readme_tables_come_from_the_committed_reports():
     """The README's claims, validate and convergence tables equal the committed report files."""
-    result = subprocess.run([sys.executable, str(ROOT / "scripts" / "update_readme.py"), "--check"],
-                            capture_output=True, text=True, timeout=60)
+    result = subprocess.run(
+        [sys.executable, str(ROOT / "scripts" / "update_readme.py"), "--check"],
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
     assert result.returncode == 0, result.stderr
 
 

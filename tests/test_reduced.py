@@ -5,11 +5,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from elastoactive.engines import reduced as R
-from elastoactive.analysis import stability
-from elastoactive.initial import initial_angles, pin_residual
-from elastoactive.controllers.noise import force_factor
 from elastoactive import registry
+from elastoactive.analysis import stability
+from elastoactive.controllers.noise import force_factor
+from elastoactive.engines import reduced as R
+from elastoactive.initial import initial_angles, pin_residual
 from elastoactive.params import Numerics, ParameterError, Physics, scene_parameters
 
 SCENES = ("one-pinned", "two-pinned", "rotating-pin", "coupled-pair")
@@ -266,8 +266,9 @@ def test_pair_uncoupled_second_chain_is_rescaled_single_chain():
 
 def test_pair_identical_chains_stay_identical_and_coupling_pulls_together():
     th0 = np.tile(0.05 * np.arange(1, 6), 2)
-    tr = R.simulate_reduced(Physics(scene="coupled-pair", n=5, sigma=0.8, rho=1.0, kappa=2.0), Numerics(), 30.0,
-                            theta0=th0)
+    tr = R.simulate_reduced(
+        Physics(scene="coupled-pair", n=5, sigma=0.8, rho=1.0, kappa=2.0), Numerics(), 30.0, theta0=th0
+    )
     assert np.max(np.abs(tr.chain(0) - tr.chain(1))) < 1e-10
     f = R.rhs(Physics(scene="coupled-pair", n=3, sigma=0.0, rho=1.0, kappa=1.0))
     rate = f(0.0, np.array([0.1, 0.1, 0.1, -0.1, -0.1, -0.1]))

@@ -7,9 +7,9 @@ import numpy as np
 import pytest
 
 from elastoactive import reduced as M
+from elastoactive.errors import ParameterError
 from elastoactive.reduced import ChainSystem, kernels
 from elastoactive.reduced.contact import capsule_clearance, contact_forces, core_span
-from elastoactive.errors import ParameterError
 
 BETA = M.DEFAULT_BETA
 R = 0.12
@@ -35,8 +35,10 @@ def _state(system, rng, spread=1.5):
 
 def _clearance(system, y):
     head = y[system.n_angles :] if system.head_free else None
-    return min(capsule_clearance(y[ch * system.n : (ch + 1) * system.n], system.contact_radius,
-                                 head if ch == 0 else None) for ch in range(system.n_chains))
+    return min(
+        capsule_clearance(y[ch * system.n : (ch + 1) * system.n], system.contact_radius, head if ch == 0 else None)
+        for ch in range(system.n_chains)
+    )
 
 
 def _overlapping_states(system, rng, count=25):
@@ -68,17 +70,20 @@ def test_new_fields_default_off_and_keep_old_records():
     assert 0.0 < core_span(0.1)[0] < core_span(0.1)[1] < 1.0 and M.CONTACT_LENGTH == 0.7
 
 
-@pytest.mark.parametrize("kw, words", [
-    (dict(head_free=True, clamped=True), "head_free"),
-    (dict(head_free=True, clamped=False, n_chains=2), "head_free"),
-    (dict(head_free=True, clamped=False, pinned=True), "head_free"),
-    (dict(trap=-1.0), "trap"),
-    (dict(trap=np.inf), "trap"),
-    (dict(contact_radius=0.1), "contact_stiffness"),
-    (dict(contact_radius=0.35, contact_stiffness=1.0), "contact_radius"),
-    (dict(contact_radius=-0.1, contact_stiffness=1.0), "contact_radius"),
-    (dict(contact_radius=0.1, contact_stiffness=-1.0), "contact_stiffness"),
-])
+@pytest.mark.parametrize(
+    "kw, words",
+    [
+        (dict(head_free=True, clamped=True), "head_free"),
+        (dict(head_free=True, clamped=False, n_chains=2), "head_free"),
+        (dict(head_free=True, clamped=False, pinned=True), "head_free"),
+        (dict(trap=-1.0), "trap"),
+        (dict(trap=np.inf), "trap"),
+        (dict(contact_radius=0.1), "contact_stiffness"),
+        (dict(contact_radius=0.35, contact_stiffness=1.0), "contact_radius"),
+        (dict(contact_radius=-0.1, contact_stiffness=1.0), "contact_radius"),
+        (dict(contact_radius=0.1, contact_stiffness=-1.0), "contact_stiffness"),
+    ],
+)
 def test_typed_rejects_what_the_kernels_cannot_solve(kw, words):
     with pytest.raises(ParameterError, match=words):
         ChainSystem(n=7, **kw).typed()
@@ -137,9 +142,12 @@ def test_general_kernel_reduces_to_the_old_paths_without_new_terms():
     """eval_rhs_general on a record with every extended term off (called directly) agrees with the dense and
     recursive paths to round-off: the same D and f, assembled otherwise."""
     rng = np.random.default_rng(3)
-    for system in (ChainSystem(n=7, sigma=0.8, gamma_l=0.5), ChainSystem(n=12, clamped=False, sigma=0.4),
-                   ChainSystem(n=9, clamped=False, pinned=True, delta=0.2, sigma=2.0),
-                   ChainSystem(n=5, n_chains=2, kappa=0.5, rho=4 / 3, sigma=0.8)):
+    for system in (
+        ChainSystem(n=7, sigma=0.8, gamma_l=0.5),
+        ChainSystem(n=12, clamped=False, sigma=0.4),
+        ChainSystem(n=9, clamped=False, pinned=True, delta=0.2, sigma=2.0),
+        ChainSystem(n=5, n_chains=2, kappa=0.5, rho=4 / 3, sigma=0.8),
+    ):
         system = system.typed()
         L, C, X, lam = kernels.make_general_workspace(system.n_chains, system.n, system.n_angles)
         fac = np.ones(system.n_angles)
@@ -156,9 +164,12 @@ def test_contact_out_of_reach_changes_nothing_but_round_off():
     the system without contact to round-off, over a whole solve too. Without any extended term the old path runs:
     bit for bit the same numbers as a record built without the new fields."""
     rng = np.random.default_rng(4)
-    for base in (ChainSystem(n=7, sigma=0.8), ChainSystem(n=17, clamped=False, sigma=0.2),
-                 ChainSystem(n=7, clamped=False, pinned=True, delta=0.1, sigma=1.0),
-                 ChainSystem(n=5, n_chains=2, kappa=0.5, sigma=0.8)):
+    for base in (
+        ChainSystem(n=7, sigma=0.8),
+        ChainSystem(n=17, clamped=False, sigma=0.2),
+        ChainSystem(n=7, clamped=False, pinned=True, delta=0.1, sigma=1.0),
+        ChainSystem(n=5, n_chains=2, kappa=0.5, sigma=0.8),
+    ):
         contact = base._replace(contact_radius=0.1, contact_stiffness=1e3)
         th = 0.1 * rng.standard_normal(base.n_angles)
         if base.pinned:
@@ -199,8 +210,9 @@ def test_drag_matrix_with_a_free_head_is_positive_definite_and_needs_the_heads_d
 def test_contact_is_internal_the_drag_on_a_free_chain_sums_to_zero():
     """A free chain (free head, no trap, sigma = 0) in contact: springs and contacts are internal forces, so the
     drag forces on all particles and the head sum to zero, and so do their torques, while contact moves it."""
-    system = ChainSystem(n=9, clamped=False, head_free=True, contact_radius=R, contact_stiffness=200.0,
-                         gamma_l=0.4).typed()
+    system = ChainSystem(
+        n=9, clamped=False, head_free=True, contact_radius=R, contact_stiffness=200.0, gamma_l=0.4
+    ).typed()
     rng = np.random.default_rng(6)
     f = M.rhs(system, beta=BETA)
     for y in _overlapping_states(system, rng, count=10):
@@ -232,8 +244,9 @@ def test_potential_never_increases_without_activity():
     """sigma = 0: D q' = -dU/dq, so U (springs + trap + contact) decreases along every solution."""
     system = ChainSystem(n=9, clamped=False, head_free=True, trap=1.0, contact_radius=0.1, contact_stiffness=300.0)
     t = np.linspace(0.0, 30.0, 151)
-    y, info = M.solve_ode(system, t, _hairpin(), head0=(-2.0, 0.0), rtol=1e-10, atol=1e-10, method="numba-DOP853",
-                          beta=BETA)
+    y, info = M.solve_ode(
+        system, t, _hairpin(), head0=(-2.0, 0.0), rtol=1e-10, atol=1e-10, method="numba-DOP853", beta=BETA
+    )
     assert y.shape == (t.size, 11)
     U = np.array([M.potential_reference(system, s) for s in y])
     assert np.max(np.diff(U)) <= 1e-8 * U[0] and U[-1] < 0.8 * U[0]
@@ -260,8 +273,9 @@ def test_pressed_fold_overlaps_by_force_over_stiffness():
     depth = {}
     for K in (300.0, 3000.0):
         system = ChainSystem(n=9, clamped=False, head_free=True, trap=1.0, contact_radius=0.1, contact_stiffness=K)
-        y, _ = M.solve_ode(system, t, _hairpin(), head0=(-2.0, 0.0), rtol=1e-8, atol=1e-8, method="numba-DOP853",
-                           beta=BETA)
+        y, _ = M.solve_ode(
+            system, t, _hairpin(), head0=(-2.0, 0.0), rtol=1e-8, atol=1e-8, method="numba-DOP853", beta=BETA
+        )
         clearance = capsule_clearance(y[:, :9], 0.1, y[:, 9:])
         th, head = y[-1, :9], y[-1, 9:]
         nodes = np.vstack([head, head + np.cumsum(np.stack([np.cos(th), np.sin(th)], 1), 0)])
@@ -293,8 +307,9 @@ def test_jacobian_with_extended_terms_is_a_finite_difference_of_the_rhs():
 
 
 def test_solvers_take_and_return_the_whole_state():
-    system = ChainSystem(n=7, clamped=False, head_free=True, trap=0.1, sigma=0.3, contact_radius=0.1,
-                         contact_stiffness=100.0)
+    system = ChainSystem(
+        n=7, clamped=False, head_free=True, trap=0.1, sigma=0.3, contact_radius=0.1, contact_stiffness=100.0
+    )
     th0 = 0.05 * np.arange(7)
     t = np.linspace(0.0, 2.0, 11)
     a, info = M.solve_ode(system, t, th0, head0=(0.5, -0.2), rtol=1e-9, atol=1e-9, beta=BETA)
@@ -303,8 +318,16 @@ def test_solvers_take_and_return_the_whole_state():
     c, _ = M.solve_ode(system, t, th0, head0=(0.5, -0.2), rtol=1e-9, atol=1e-9, method="Radau", beta=BETA)
     np.testing.assert_allclose(c, a, atol=1e-6)
     for scheme in M.SDE_SCHEMES:
-        s, _ = M.solve_sde(system, t, th0, head0=(0.5, -0.2), dt=1e-3, beta=BETA, scheme=scheme,
-                           factors=lambda steps: np.ones((steps.size, 7)))
+        s, _ = M.solve_sde(
+            system,
+            t,
+            th0,
+            head0=(0.5, -0.2),
+            dt=1e-3,
+            beta=BETA,
+            scheme=scheme,
+            factors=lambda steps: np.ones((steps.size, 7)),
+        )
         assert s.shape == (11, 9)
         np.testing.assert_allclose(s, a, atol=5e-3)
     with pytest.raises(ParameterError, match="head0"):
@@ -352,11 +375,19 @@ def test_small_mass_approaches_the_overdamped_free_chain():
         assert y.shape == (5, 9) and info["model"] == "inertial"
         gaps.append(np.max(np.abs(y - ref)))
     assert gaps[1] < 0.2 * gaps[0] and gaps[1] < 2e-3
-    full, _ = M.solve_inertial(base._replace(mass_ratio=0.002), t, th0, head0=(1.0, 0.0), rtol=1e-9, atol=1e-9,
-                               beta=BETA)
+    full, _ = M.solve_inertial(
+        base._replace(mass_ratio=0.002), t, th0, head0=(1.0, 0.0), rtol=1e-9, atol=1e-9, beta=BETA
+    )
     assert full.shape == (5, 18)
-    noisy, info = M.solve_sde(base._replace(mass_ratio=0.002), t, th0, head0=(1.0, 0.0), dt=0.01, beta=BETA,
-                              factors=lambda steps: np.ones((steps.size, 7)))
+    noisy, info = M.solve_sde(
+        base._replace(mass_ratio=0.002),
+        t,
+        th0,
+        head0=(1.0, 0.0),
+        dt=0.01,
+        beta=BETA,
+        factors=lambda steps: np.ones((steps.size, 7)),
+    )
     assert noisy.shape == (5, 9) and info["model"] == "inertial"
     np.testing.assert_allclose(noisy, full[:, :9], atol=1e-4)
 
@@ -383,6 +414,12 @@ def test_capsule_clearance():
         e = np.stack([np.cos(theta[k]), np.sin(theta[k])], 1)
         pivots = head[k] + np.vstack([np.zeros(2), np.cumsum(e, 0)[:-1]])
         pts = pivots[:, None, :] + s[None, :, None] * e[:, None, :]  # (link, sample, 2)
-        best = min(np.min(np.hypot(*(pts[i][:, None, :] - pts[j][None, :, :]).transpose(2, 0, 1)))
-                   for i in range(6) for j in range(i + 2, 6)) - 2 * R
+        best = (
+            min(
+                np.min(np.hypot(*(pts[i][:, None, :] - pts[j][None, :, :]).transpose(2, 0, 1)))
+                for i in range(6)
+                for j in range(i + 2, 6)
+            )
+            - 2 * R
+        )
         assert best - 3e-3 < got[k] <= best + 1e-12

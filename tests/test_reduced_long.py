@@ -98,7 +98,6 @@ def test_straight_isotropic_chain_closed_form():
     """Straight chain, isotropic drag: D_jk = N - max(j, k) + 1, D^-1 = B^-1 B^-T with B the lower-triangular
     ones (the reduced model's linear limit); solved by the recursion at N = 400."""
     n = 400
-    system = M.ChainSystem(n=n).typed()
     b = np.random.default_rng(0).standard_normal(n)
     U = np.zeros((n, 4))
     U[:, 2] = 1.0
@@ -180,6 +179,7 @@ def test_long_pinned_chain_integrates_on_its_pins():
     # and the compiled DOP853 (recursive RHS inside) follows scipy's DOP853 on the public rhs
     from scipy.integrate import solve_ivp
 
-    sol = solve_ivp(M.rhs(system, beta=M.DEFAULT_BETA), (0.0, t[-1]), arch, method="DOP853", t_eval=t, rtol=1e-9,
-                    atol=1e-11)
+    sol = solve_ivp(
+        M.rhs(system, beta=M.DEFAULT_BETA), (0.0, t[-1]), arch, method="DOP853", t_eval=t, rtol=1e-9, atol=1e-11
+    )
     np.testing.assert_allclose(theta, sol.y.T, rtol=0, atol=1e-10)

@@ -10,11 +10,11 @@ import numpy as np
 import pytest
 
 from elastoactive import reduced as M
-from elastoactive.reduced import kernels as K
-from elastoactive.reduced.blas import _openblas_controls, one_blas_thread
 from elastoactive.cli import main
 from elastoactive.engines.reduced import simulate_reduced
 from elastoactive.params import Numerics, Physics
+from elastoactive.reduced import kernels as K
+from elastoactive.reduced.blas import _openblas_controls, one_blas_thread
 
 FILAMENT_S = 100.0  # N^3 sigma: the clamped filament above its onset (76.1)
 
@@ -55,9 +55,16 @@ def test_short_runs_stay_explicit_whatever_the_ratio():
     assert run.info["method"] == "numba-DOP853"
 
 
-@pytest.mark.parametrize("kind", [dict(), dict(gamma_l=2.5), dict(clamped=False, gamma_l=1.6),
-                                  dict(clamped=False, pinned=True, delta=0.1, gamma_l=1.7),
-                                  dict(n_chains=2, kappa=1.3, rho=1.4, gamma_l=0.6)])
+@pytest.mark.parametrize(
+    "kind",
+    [
+        dict(),
+        dict(gamma_l=2.5),
+        dict(clamped=False, gamma_l=1.6),
+        dict(clamped=False, pinned=True, delta=0.1, gamma_l=1.7),
+        dict(n_chains=2, kappa=1.3, rho=1.4, gamma_l=0.6),
+    ],
+)
 def test_recursive_jacobian_equals_the_dense_one(kind):
     system = M.ChainSystem(n=23, sigma=0.7, **kind).typed()
     rng = np.random.default_rng(3)
@@ -83,15 +90,47 @@ def test_one_blas_thread_sets_and_restores():
 
 def test_method_option_is_recorded_and_refused_where_it_does_not_apply(tmp_path, capsys):
     out = tmp_path / "run"
-    assert main(["run", "one-pinned", "--engine", "reduced", "--method", "Radau", "--duration", "60", "--out",
-                 str(out), "--quiet"]) == 0
+    assert (
+        main(
+            [
+                "run",
+                "one-pinned",
+                "--engine",
+                "reduced",
+                "--method",
+                "Radau",
+                "--duration",
+                "60",
+                "--out",
+                str(out),
+                "--quiet",
+            ]
+        )
+        == 0
+    )
     assert json.loads((out / "summary.json").read_text())["solver"]["method"] == "Radau"
     capsys.readouterr()
     assert main(["run", "one-pinned", "--method", "Radau", "--duration", "60", "--quiet"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "reduced engine" in err[0]
-    assert main(["run", "one-pinned", "--engine", "reduced", "--noise", "0.1", "--method", "LSODA", "--duration",
-                 "60", "--quiet"]) == 2
+    assert (
+        main(
+            [
+                "run",
+                "one-pinned",
+                "--engine",
+                "reduced",
+                "--noise",
+                "0.1",
+                "--method",
+                "LSODA",
+                "--duration",
+                "60",
+                "--quiet",
+            ]
+        )
+        == 2
+    )
     assert "--method" in capsys.readouterr().err
 
 
@@ -129,9 +168,26 @@ def test_ctrl_c_stops_a_long_reduced_run_within_a_second(tmp_path):
     import sys
     import time
 
-    proc = subprocess.Popen([sys.executable, "-m", "elastoactive", "run", "one-pinned", "--engine", "reduced",
-                             "--duration", "200000", "--sample-dt", "1", "--quiet"], cwd=tmp_path,
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    proc = subprocess.Popen(
+        [
+            sys.executable,
+            "-m",
+            "elastoactive",
+            "run",
+            "one-pinned",
+            "--engine",
+            "reduced",
+            "--duration",
+            "200000",
+            "--sample-dt",
+            "1",
+            "--quiet",
+        ],
+        cwd=tmp_path,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
     time.sleep(6.0)  # start-up, then well into the integration (the whole run takes ~15 s)
     assert proc.poll() is None
     proc.send_signal(signal.SIGINT)
@@ -166,8 +222,24 @@ def test_run_from_repeats_the_recorded_method(tmp_path):
     """`run --from` re-runs a reduced run with the ODE method it ran with (a --method given, or the automatic
     choice), so the trajectory is the same bit for bit."""
     first, again = tmp_path / "first", tmp_path / "again"
-    assert main(["run", "one-pinned", "--engine", "reduced", "--method", "Radau", "--duration", "30", "--out",
-                 str(first), "--quiet"]) == 0
+    assert (
+        main(
+            [
+                "run",
+                "one-pinned",
+                "--engine",
+                "reduced",
+                "--method",
+                "Radau",
+                "--duration",
+                "30",
+                "--out",
+                str(first),
+                "--quiet",
+            ]
+        )
+        == 0
+    )
     assert main(["run", "--from", str(first), "--out", str(again), "--quiet"]) == 0
     a, b = (json.loads((p / "summary.json").read_text()) for p in (first, again))
     assert a["solver"]["method"] == b["solver"]["method"] == "Radau"

@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 
 from elastoactive import reduced as M
-from elastoactive.reduced import dop853, dop853_coefficients, kernels
 from elastoactive.errors import ParameterError
+from elastoactive.reduced import dop853, dop853_coefficients, kernels
 
 PACKAGE = "elastoactive.reduced"
 SOURCES = sorted(pathlib.Path(M.__file__).parent.glob("*.py"))
@@ -38,8 +38,9 @@ def test_dop853_coefficients_equal_scipys():
 # ------------------------------------------------------------------------------------------------
 def _systems():
     """Two records with different values, and fields given as numpy scalars or ints where floats belong."""
-    a = M.ChainSystem(n=np.int64(4), n_chains=2, clamped=np.bool_(True), sigma=1, gamma_l=2, kappa=np.float32(0.5),
-                      rho=2)
+    a = M.ChainSystem(
+        n=np.int64(4), n_chains=2, clamped=np.bool_(True), sigma=1, gamma_l=2, kappa=np.float32(0.5), rho=2
+    )
     b = M.ChainSystem(n=4, n_chains=2, clamped=True, sigma=0.7, gamma_l=1.5, kappa=1.25, rho=1.4)
     return a, b
 
@@ -63,14 +64,17 @@ def test_kernels_compile_once_for_chain_systems():
         (record,) = _record_types(dispatcher)
         # n, n_chains; clamped, pinned; sigma .. inertia_factor; head_free; trap, contact_radius, contact_stiffness; closed;
         # star, hub_free; hub_stiffness, hub_drag
-        assert [str(ty) for ty in record.types] == (["int64"] * 2 + ["bool"] * 2 + ["float64"] * 8 + ["bool"] + ["float64"] * 3
-                                                    + ["bool"] * 3 + ["float64"] * 2)
+        assert [str(ty) for ty in record.types] == (
+            ["int64"] * 2 + ["bool"] * 2 + ["float64"] * 8 + ["bool"] + ["float64"] * 3 + ["bool"] * 3 + ["float64"] * 2
+        )
 
 
 def test_typed_coerces_and_checks():
     a, b = _systems()
     ta = a.typed()
-    assert [type(v) for v in ta] == [int, int, bool, bool] + [float] * 8 + [bool] + [float] * 3 + [bool] * 3 + [float] * 2
+    assert [type(v) for v in ta] == [int, int, bool, bool] + [float] * 8 + [bool] + [float] * 3 + [bool] * 3 + [
+        float
+    ] * 2
     assert ta == a and b.typed() == b
     with pytest.raises(ParameterError):
         M.ChainSystem(n=0).typed()
@@ -103,8 +107,16 @@ def _imports(path: pathlib.Path):
 
 
 def test_package_imports_nothing_of_elastoactive_but_analysis_and_errors():
-    assert {p.name for p in SOURCES} >= {"__init__.py", "system.py", "equations.py", "constraints.py", "kernels.py",
-                                         "dop853_coefficients.py", "dop853.py", "solve.py"}
+    assert {p.name for p in SOURCES} >= {
+        "__init__.py",
+        "system.py",
+        "equations.py",
+        "constraints.py",
+        "kernels.py",
+        "dop853_coefficients.py",
+        "dop853.py",
+        "solve.py",
+    }
     for path in SOURCES:
         for name, _ in _imports(path):
             if name == "elastoactive" or name.startswith("elastoactive."):

@@ -15,10 +15,15 @@ from elastoactive import studies
 ROOT = Path(__file__).resolve().parents[1]
 
 
-@pytest.mark.parametrize("kind, get, names", [
-    ("scene", ea.scenes.get, ea.scenes.names), ("term", ea.terms.get, ea.terms.names),
-    ("study", studies.registry.get, studies.registry.names), ("study", studies.STUDIES.__getitem__,
-                                                              studies.registry.names)])
+@pytest.mark.parametrize(
+    "kind, get, names",
+    [
+        ("scene", ea.scenes.get, ea.scenes.names),
+        ("term", ea.terms.get, ea.terms.names),
+        ("study", studies.registry.get, studies.registry.names),
+        ("study", studies.STUDIES.__getitem__, studies.registry.names),
+    ],
+)
 @pytest.mark.parametrize("name", ["nope", "", None, 3])
 def test_an_unknown_name_lists_the_registered_ones(kind, get, names, name):
     with pytest.raises(KeyError) as info:

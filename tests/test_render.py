@@ -14,8 +14,8 @@ import pytest
 
 from elastoactive import render
 from elastoactive.cli import main
-from elastoactive.params import Numerics, Physics
 from elastoactive.engines.mujoco import simulate_mujoco
+from elastoactive.params import Numerics, Physics
 from elastoactive.trajectory import Trajectory
 
 
@@ -102,8 +102,9 @@ def test_arrow_points_to_the_anchor_with_length_proportional_to_sigma(backend, s
 def test_video_file_has_the_frames(backend, beating, tmp_path):
     import imageio_ffmpeg
 
-    out = render.render_trajectory(beating, tmp_path / "clip.mp4", fps=10, rate=5, width=160, height=120,
-                                   start=110, end=120, progress=False)
+    out = render.render_trajectory(
+        beating, tmp_path / "clip.mp4", fps=10, rate=5, width=160, height=120, start=110, end=120, progress=False
+    )
     assert out["frames"] == 21 and out["seconds"] == pytest.approx(2.1)
     frames, seconds = imageio_ffmpeg.count_frames_and_secs(str(tmp_path / "clip.mp4"))
     assert frames == 21 and seconds == pytest.approx(2.1, abs=0.15)
@@ -119,8 +120,21 @@ def test_trajectory_identical_with_and_without_video(backend, tmp_path, capsys):
         np.testing.assert_array_equal(a["theta"], b["theta"])
         np.testing.assert_array_equal(a["t"], b["t"])
     # and a saved run renders on its own
-    args = ["render", str(tmp_path / "plain"), "-o", str(tmp_path / "r.mp4"), "--still", str(tmp_path / "s.png"),
-            "--fps", "2", "--width", "96", "--height", "64", "--quiet"]
+    args = [
+        "render",
+        str(tmp_path / "plain"),
+        "-o",
+        str(tmp_path / "r.mp4"),
+        "--still",
+        str(tmp_path / "s.png"),
+        "--fps",
+        "2",
+        "--width",
+        "96",
+        "--height",
+        "64",
+        "--quiet",
+    ]
     assert main(args) == 0
     assert (tmp_path / "r.mp4").stat().st_size > 0 and (tmp_path / "s.png").stat().st_size > 0
 
@@ -142,20 +156,33 @@ def test_missing_gl_gives_install_instructions(tmp_path):
     cmd = [sys.executable, "-m", "elastoactive", "render", str(tmp_path), "-o", str(tmp_path / "x.mp4")]
     out = subprocess.run(cmd, env=env, capture_output=True, text=True, timeout=120)
     assert out.returncode == 4, out.stderr
-    for hint in ("no OpenGL back end", "MUJOCO_GL=egl", "MUJOCO_GL=osmesa", "libegl1", "libosmesa6", "scripts/setup.sh"):
+    for hint in (
+        "no OpenGL back end",
+        "MUJOCO_GL=egl",
+        "MUJOCO_GL=osmesa",
+        "libegl1",
+        "libosmesa6",
+        "scripts/setup.sh",
+    ):
         assert hint in out.stderr
     assert not (tmp_path / "x.mp4").exists()
 
 
-@pytest.mark.parametrize("command", [["render", "RUN", "--still", "OUT.png"],
-                                     ["run", "one-pinned", "--n", "2", "--duration", "1", "--video", "OUT.mp4"]])
+@pytest.mark.parametrize(
+    "command",
+    [
+        ["render", "RUN", "--still", "OUT.png"],
+        ["run", "one-pinned", "--n", "2", "--duration", "1", "--video", "OUT.mp4"],
+    ],
+)
 def test_unknown_mujoco_gl_is_one_line_naming_the_variable(tmp_path, command):
     """MuJoCo raises on a MUJOCO_GL it does not know when it is imported: every command refuses it in one line."""
     _recorded(tmp_path)
     argv = [str(tmp_path) if a == "RUN" else str(tmp_path / a) if a.startswith("OUT") else a for a in command]
     env = {**os.environ, "MUJOCO_GL": "bogus"}
-    out = subprocess.run([sys.executable, "-m", "elastoactive", *argv], env=env, capture_output=True, text=True,
-                         timeout=120)
+    out = subprocess.run(
+        [sys.executable, "-m", "elastoactive", *argv], env=env, capture_output=True, text=True, timeout=120
+    )
     assert out.returncode == 2 and out.stdout == ""
     lines = out.stderr.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith("elastoactive: error: environment variable MUJOCO_GL='bogus'")

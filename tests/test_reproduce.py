@@ -40,8 +40,12 @@ def test_reproduce_tiny_writes_report_figures_and_data(tmp_path):
     # what the tiny size cannot judge (the onset fit and its exponent, the N^-3 slope, the supplement's Landau
     # coefficient) is said to be so, not judged **no**; no number prints as nan
     unjudged = [row for row in rows if "**not judged at this size**" in row]
-    for claim in ("N = 7 simulations: onset sigma_c", "supercritical Hopf", "sigma_c falls as N^-3",
-                  "Landau-Stuart cubic coefficient (supplement)"):
+    for claim in (
+        "N = 7 simulations: onset sigma_c",
+        "supercritical Hopf",
+        "sigma_c falls as N^-3",
+        "Landau-Stuart cubic coefficient (supplement)",
+    ):
         assert any(claim in row for row in unjudged), claim
     assert not any("nan" in cell.split() or "^nan" in cell for row in rows for cell in row.split("|")), report
     figures = sorted({f for names in SCRIPTS.values() for f in names})
@@ -60,8 +64,13 @@ def test_reproduce_rejects_unknown_study(tmp_path):
 
 @pytest.mark.parametrize("script", sorted(SCRIPTS))
 def test_scenario_script_tiny(script, tmp_path):
-    res = subprocess.run([sys.executable, str(ROOT / "scripts" / script), "--tiny", "--out", str(tmp_path), "--workers", "2"],
-                         capture_output=True, text=True, timeout=240, cwd=tmp_path)
+    res = subprocess.run(
+        [sys.executable, str(ROOT / "scripts" / script), "--tiny", "--out", str(tmp_path), "--workers", "2"],
+        capture_output=True,
+        text=True,
+        timeout=240,
+        cwd=tmp_path,
+    )
     assert res.returncode == 0, res.stderr[-3000:]
     for name in SCRIPTS[script]:
         assert _png(tmp_path / name), name
@@ -94,8 +103,9 @@ def test_readme_claims_block_holds_only_the_claims_table():
     block = update_readme.claims_table()
     lines = block.splitlines()
     folder = ROOT / "docs" / "reproduction"
-    rows = claims.build_claims({name: load_study(folder, name) for name in registry.names()
-                                if (folder / f"{name}.json").exists()})
+    rows = claims.build_claims(
+        {name: load_study(folder, name) for name in registry.names() if (folder / f"{name}.json").exists()}
+    )
     assert lines[0] == "| # | claim | paper | MuJoCo | reduced model | agree |" and len(lines) == 2 + len(rows)
     assert all(line.startswith(f"| {i} | ") for i, line in enumerate(lines[2:], 1))
     readme = (ROOT / "README.md").read_text()
@@ -108,7 +118,14 @@ def test_the_code_digest_covers_every_source_that_makes_results():
     from elastoactive.report.reproduce import source_digest, source_files
 
     files = source_files()
-    for rel in ("reproduce.py", "studies/registry.py", "reduced/kernels.py", "stability.py", "common.xml", "follower.c"):
+    for rel in (
+        "reproduce.py",
+        "studies/registry.py",
+        "reduced/kernels.py",
+        "stability.py",
+        "common.xml",
+        "follower.c",
+    ):
         assert any(k.endswith(":" + rel) or k.endswith("/" + rel) for k in files), rel
     inits = {p.parent.name for p in files.values() if p.name == "__init__.py"}
     assert {"elastoactive", "analysis", "reduced", "studies"} <= inits  # same names in different folders all count
@@ -119,19 +136,28 @@ def test_one_reproduce_per_folder_and_a_stale_lock_is_taken_over(tmp_path, capsy
     """A second reproduce into a folder another one is writing is refused in one line naming --out and the holder,
     before any study runs; the lock file a killed run leaves behind blocks nothing."""
     from conftest import refused
+
     from elastoactive.io.outputs import lock_file
     from elastoactive.report.reproduce import LOCK
 
     out = tmp_path / "repro"
     out.mkdir()
-    hold = ("import sys; from elastoactive.io.outputs import lock_file\n"
-            "with lock_file(sys.argv[1], 'reproduce'):\n    print('held', flush=True); sys.stdin.read()")
-    holder = subprocess.Popen([sys.executable, "-c", hold, str(out / LOCK)], stdin=subprocess.PIPE,
-                              stdout=subprocess.PIPE, text=True)
+    hold = (
+        "import sys; from elastoactive.io.outputs import lock_file\n"
+        "with lock_file(sys.argv[1], 'reproduce'):\n    print('held', flush=True); sys.stdin.read()"
+    )
+    holder = subprocess.Popen(
+        [sys.executable, "-c", hold, str(out / LOCK)], stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True
+    )
     try:
         assert holder.stdout.readline().strip() == "held"
-        line = refused(capsys, ["reproduce", "--tiny", "--only", "stability", "--out", str(out), "--quiet"],
-                       "--out", "another reproduce is writing into it", f"pid {holder.pid}")
+        line = refused(
+            capsys,
+            ["reproduce", "--tiny", "--only", "stability", "--out", str(out), "--quiet"],
+            "--out",
+            "another reproduce is writing into it",
+            f"pid {holder.pid}",
+        )
         assert "wait for it" in line and sorted(p.name for p in out.iterdir()) == [LOCK]
     finally:
         holder.kill()  # no clean-up: its lock file stays, stale

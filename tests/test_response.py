@@ -72,8 +72,10 @@ def test_compiled_periodic_forces_equal_the_python_path():
 
     for physics, laws in (
         (ea.Physics(n=7, sigma=0.9, drive_amplitude=0.05, drive_frequency=0.15), None),
-        (ea.Physics(scene="coupled-pair", n=3, sigma=1.0, kappa=0.5, loaded="1,3"),
-         [PeriodicForce(2, (0.02, 0.05), 1.3), PeriodicForce(4, (-0.03, 0.01), 0.7, 0.4)]),
+        (
+            ea.Physics(scene="coupled-pair", n=3, sigma=1.0, kappa=0.5, loaded="1,3"),
+            [PeriodicForce(2, (0.02, 0.05), 1.3), PeriodicForce(4, (-0.03, 0.01), 0.7, 0.4)],
+        ),
     ):
         laws = laws or [t.node_forces(physics) for t in physics.active_terms() if t.node_forces(physics) is not None]
         assert laws and all(isinstance(law, PeriodicForce) for law in laws)
@@ -82,8 +84,7 @@ def test_compiled_periodic_forces_equal_the_python_path():
         theta0 = np.random.default_rng(1).uniform(-0.2, 0.2, physics.n_angles)
         kw = dict(rtol=1e-9, atol=1e-11, beta=0.0, loads=red.load_factors(physics))
         fast, _ = node_forces.solve(physics, system, t, theta0, laws, **kw)
-        slow, _ = node_forces.solve(physics, system, t, theta0, [lambda s, x, law=law: law(s, x) for law in laws],
-                                    **kw)
+        slow, _ = node_forces.solve(physics, system, t, theta0, [lambda s, x, law=law: law(s, x) for law in laws], **kw)
         assert np.abs(fast).max() > 0.01
         np.testing.assert_allclose(fast, slow, rtol=0, atol=1e-8)
 
@@ -103,12 +104,15 @@ def test_tip_drive_parameters():
 def test_compiled_drive_equals_its_reference():
     """MuJoCo's callback applies A sin(omega t) along the drive on the tip's site, as controllers/reference.py does."""
     import mujoco  # only the MuJoCo tests need it
+
     from elastoactive.controllers import compiled_passive, follower_forces, reference_passive
     from elastoactive.mjcf.chain import build_model
 
     for direction in ("transverse", "longitudinal"):
-        model = build_model(ea.Physics(n=5, sigma=0.4, drive_amplitude=0.3, drive_frequency=0.2,
-                                       drive_direction=direction), ea.Numerics())
+        model = build_model(
+            ea.Physics(n=5, sigma=0.4, drive_amplitude=0.3, drive_frequency=0.2, drive_direction=direction),
+            ea.Numerics(),
+        )
         data = mujoco.MjData(model)
         data.qpos[:] = np.random.default_rng(3).uniform(-1, 1, model.nq)
         data.time = 0.9
@@ -124,8 +128,11 @@ def test_compiled_drive_equals_its_reference():
         with follower_forces(compiled_passive):
             mujoco.mj_forward(undriven, plain)
         drive = forces["compiled"] - plain.qfrc_passive  # the drive's generalised force on the hinges
-        f = 0.3 * math.sin(2 * math.pi * 0.2 * 0.9) * (np.array([0.0, 1.0]) if direction == "transverse" else
-                                                       np.array([1.0, 0.0]))
+        f = (
+            0.3
+            * math.sin(2 * math.pi * 0.2 * 0.9)
+            * (np.array([0.0, 1.0]) if direction == "transverse" else np.array([1.0, 0.0]))
+        )
         theta = np.cumsum(data.qpos)  # hinge angles are relative: absolute angles are their sums
         absolute = -np.sin(theta) * f[0] + np.cos(theta) * f[1]  # Q_j = F . n_j on the absolute angles
         expected = np.cumsum(absolute[::-1])[::-1]  # hinge j turns every absolute angle beyond it
@@ -144,8 +151,9 @@ def test_tip_drive_in_the_reduced_engine_matches_the_transfer_function():
     res = ea.measure(traj, transient=duration - 3 * period)
     assert res.extra["drive_gain"] == pytest.approx(abs(g), rel=1e-3)
     assert res.extra["drive_phase"] == pytest.approx(cmath.phase(g), abs=1e-3)
-    still = ea.simulate(ea.Physics(n=n, sigma=sigma), ea.Numerics(sample_dt=0.05, perturbation=0.0), duration=10.0,
-                        engine="reduced")
+    still = ea.simulate(
+        ea.Physics(n=n, sigma=sigma), ea.Numerics(sample_dt=0.05, perturbation=0.0), duration=10.0, engine="reduced"
+    )
     assert np.abs(still.theta).max() == 0.0  # without the drive the straight chain stays put: the drive moved it
 
 

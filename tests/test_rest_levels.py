@@ -8,7 +8,6 @@ import numpy as np
 import pytest
 
 import elastoactive as ea
-from elastoactive import results
 from elastoactive.trajectory import Trajectory
 
 T = np.arange(0.0, 200.0, 0.05)
@@ -29,8 +28,15 @@ def test_the_solvers_jitter_on_a_long_turn_is_rest_not_a_beat():
     jitter = 20 * 1e-9 * np.abs(0.3 * T) * np.sin(2 * np.pi * 0.378 * T)
     res = ea.measure(_turning("rotating-pin", jitter))
     assert res.frequency is None and res.periodic is True and "no beat" in res.notes[0]
-    still = ea.measure(Trajectory(t=T, theta=np.broadcast_to(SHAPE * 60, (T.size, 4)) + jitter[:, None] * [0, 0, 0, 1],
-                                  physics=ea.Physics(n=4), engine="reduced", info={"rtol": 1e-9}))
+    still = ea.measure(
+        Trajectory(
+            t=T,
+            theta=np.broadcast_to(SHAPE * 60, (T.size, 4)) + jitter[:, None] * [0, 0, 0, 1],
+            physics=ea.Physics(n=4),
+            engine="reduced",
+            info={"rtol": 1e-9},
+        )
+    )
     assert still.frequency == 0.0 and not still.notes  # at rest: its jitter sits below the rest level
 
 
@@ -54,8 +60,14 @@ def test_a_drifting_still_chain_is_at_rest_not_turning():
 
 
 @pytest.mark.parametrize("engine", ["reduced", "mujoco"])
-@pytest.mark.parametrize("physics", [ea.Physics(n=3, sigma=1.28, clamp_motion="rotating", clamp_frequency=0.05),
-                                     ea.Physics(scene="ring", n=7, sigma=0.8, pin="free")], ids=["clamp", "free-ring"])
+@pytest.mark.parametrize(
+    "physics",
+    [
+        ea.Physics(n=3, sigma=1.28, clamp_motion="rotating", clamp_frequency=0.05),
+        ea.Physics(scene="ring", n=7, sigma=0.8, pin="free"),
+    ],
+    ids=["clamp", "free-ring"],
+)
 def test_rigid_turns_have_no_frequency_in_both_engines(engine, physics):
     res = ea.measure(ea.simulate(physics, duration=60.0, engine=engine))
     assert res.frequency is None and res.periodic is True and "no beat" in res.notes[0]

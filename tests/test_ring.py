@@ -13,8 +13,8 @@ import numpy as np
 import pytest
 
 import elastoactive as ea
-from elastoactive.reduced import jacobian, rhs, rhs_reference
 from elastoactive.engines.reduced import system_of
+from elastoactive.reduced import jacobian, rhs, rhs_reference
 from elastoactive.reduced.constraints import project_on_pins
 from elastoactive.scenes.ring import polygon
 

@@ -11,9 +11,9 @@ import pytest
 
 import elastoactive as ea
 from elastoactive.analysis import ring_stability as rs
-from elastoactive.reduced import project_on_pins
 from elastoactive.cli import main
 from elastoactive.errors import ParameterError
+from elastoactive.reduced import project_on_pins
 from elastoactive.scenes import ring
 
 LONG = 24
@@ -22,8 +22,13 @@ FOLD = 1.6873  # N = 24: the fold below which the rigid rotation reached at sigm
 
 
 def _run(n, sigma, duration, theta0=None, sample_dt=0.5):
-    return ea.simulate(ea.Physics(scene="ring", n=n, sigma=sigma), ea.Numerics(sample_dt=sample_dt), engine="reduced",
-                       duration=duration, theta0=theta0)
+    return ea.simulate(
+        ea.Physics(scene="ring", n=n, sigma=sigma),
+        ea.Numerics(sample_dt=sample_dt),
+        engine="reduced",
+        duration=duration,
+        theta0=theta0,
+    )
 
 
 def _theta_spread(traj, after):

@@ -6,14 +6,14 @@ import mujoco
 import numpy as np
 import pytest
 
+from elastoactive import scenes
 from elastoactive.cli import main
+from elastoactive.engines.mujoco import simulate_mujoco
 from elastoactive.engines.timestep import check_timestep, stability_limits
 from elastoactive.errors import SimulationDiverged
 from elastoactive.mjcf.chain import build_model
 from elastoactive.params import Numerics, ParameterError, Physics
-from elastoactive import scenes
 from elastoactive.scenes import names as scene_names
-from elastoactive.engines.mujoco import simulate_mujoco
 
 
 @pytest.mark.parametrize(
@@ -88,8 +88,9 @@ def test_preflight_refuses_unstable_timestep():
     with pytest.raises(ParameterError, match=r"dt = 0.01 is above the stability limit"):
         check_timestep(Physics(n=7), Numerics(dt=0.01, integrator="Euler"))
     with pytest.raises(ParameterError, match="stiffest overdamped mode"):
-        check_timestep(Physics(n=7), Numerics(dt=0.1, sample_dt=0.1, integrator="implicitfast", mass_ratio=1e-2),
-                       safety=0.3)
+        check_timestep(
+            Physics(n=7), Numerics(dt=0.1, sample_dt=0.1, integrator="implicitfast", mass_ratio=1e-2), safety=0.3
+        )
     check_timestep(Physics(n=7), Numerics())  # the defaults are fine
 
 
@@ -103,10 +104,14 @@ def test_predicted_limit_is_real():
     """Just below the predicted Euler limit the run is stable, well above it it diverges."""
     physics = Physics(n=4, sigma=0.3)
     limit = stability_limits(physics, Numerics(mass_ratio=1e-2)).limit("Euler")
-    ok = simulate_mujoco(physics, Numerics(dt=0.9 * limit, sample_dt=0.9 * limit, mass_ratio=1e-2, integrator="Euler"), 5.0)
+    ok = simulate_mujoco(
+        physics, Numerics(dt=0.9 * limit, sample_dt=0.9 * limit, mass_ratio=1e-2, integrator="Euler"), 5.0
+    )
     assert np.all(np.isfinite(ok.theta))
     with pytest.raises(SimulationDiverged):
-        simulate_mujoco(physics, Numerics(dt=1.5 * limit, sample_dt=1.5 * limit, mass_ratio=1e-2, integrator="Euler"), 20.0)
+        simulate_mujoco(
+            physics, Numerics(dt=1.5 * limit, sample_dt=1.5 * limit, mass_ratio=1e-2, integrator="Euler"), 20.0
+        )
 
 
 def test_sample_spacing_must_be_whole_steps():
@@ -127,8 +132,11 @@ def test_two_pinned_n2_has_no_free_motion():
 def test_pin_drift_stops_the_run():
     """A soft pin that lets go (tiny mass, large dt) is an error, not a silently wrong snap."""
     with pytest.raises(SimulationDiverged, match="drifted .* off its pin"):
-        simulate_mujoco(Physics(scene="two-pinned", n=7, sigma=0.8, delta=0.1),
-                        Numerics(dt=0.04, sample_dt=0.04, mass_ratio=1e-4), 50.0)
+        simulate_mujoco(
+            Physics(scene="two-pinned", n=7, sigma=0.8, delta=0.1),
+            Numerics(dt=0.04, sample_dt=0.04, mass_ratio=1e-4),
+            50.0,
+        )
 
 
 def test_failed_implicit_solve_is_a_divergence():

@@ -15,6 +15,7 @@ SCENES = [s for s in scenes.names() if scenes.get(s).term_parameters is None]  #
 def scene_path(scene):
     return mjcf_path(scenes.get(scene).base_file)
 
+
 D = mujoco.mjtDisableBit
 
 
@@ -22,8 +23,18 @@ def flags(model):
     return {name for name, bit in D.__members__.items() if name != "mjNDISABLE" and model.opt.disableflags & int(bit)}
 
 
-ALWAYS_OFF = {"mjDSBL_CONTACT", "mjDSBL_GRAVITY", "mjDSBL_AUTORESET", "mjDSBL_FRICTIONLOSS", "mjDSBL_LIMIT",
-              "mjDSBL_SENSOR", "mjDSBL_MIDPHASE", "mjDSBL_FILTERPARENT", "mjDSBL_CLAMPCTRL", "mjDSBL_DAMPER"}
+ALWAYS_OFF = {
+    "mjDSBL_CONTACT",
+    "mjDSBL_GRAVITY",
+    "mjDSBL_AUTORESET",
+    "mjDSBL_FRICTIONLOSS",
+    "mjDSBL_LIMIT",
+    "mjDSBL_SENSOR",
+    "mjDSBL_MIDPHASE",
+    "mjDSBL_FILTERPARENT",
+    "mjDSBL_CLAMPCTRL",
+    "mjDSBL_DAMPER",
+}
 
 
 @pytest.mark.parametrize("scene", SCENES)
@@ -41,15 +52,23 @@ def test_builder_reproduces_base_file(scene):
     built = build_model(scenes.get(scene).base_physics())  # N = 7, sigma = 0.8, the rest as the file holds them
     for field in ("nq", "nv", "nu", "neq", "ntendon", "nbody", "nsite", "nkey"):
         assert getattr(built, field) == getattr(base, field), field
-    for field in ("jnt_stiffness", "body_mass", "site_user", "actuator_gear", "actuator_biasprm",
-                  "tendon_stiffness", "body_pos", "site_pos", "eq_data", "key_qpos"):
+    for field in (
+        "jnt_stiffness",
+        "body_mass",
+        "site_user",
+        "actuator_gear",
+        "actuator_biasprm",
+        "tendon_stiffness",
+        "body_pos",
+        "site_pos",
+        "eq_data",
+        "key_qpos",
+    ):
         np.testing.assert_allclose(getattr(built, field), getattr(base, field), atol=1e-9, err_msg=field)
     assert built.opt.disableflags == base.opt.disableflags
 
 
-@pytest.mark.parametrize(
-    "scene,n", [(s, n) for s in SCENES for n in (1, 2, 7, 40) if n >= scenes.get(s).min_n]
-)
+@pytest.mark.parametrize("scene,n", [(s, n) for s in SCENES for n in (1, 2, 7, 40) if n >= scenes.get(s).min_n])
 def test_each_scene_holds_only_what_it_needs(scene, n):
     physics = Physics(scene=scene, n=n)
     model = build_model(physics)

@@ -75,8 +75,26 @@ def test_engines_agree_on_a_winding_chain():
 def test_polarity_is_saved_with_the_run(tmp_path):
     from elastoactive.cli import main
 
-    assert main(["run", "one-pinned", "--n", "3", "--active", "self-aligning", "--alignment-length", "2",
-                 "--duration", "10", "--quiet", "--out", str(tmp_path / "run")]) == 0
+    assert (
+        main(
+            [
+                "run",
+                "one-pinned",
+                "--n",
+                "3",
+                "--active",
+                "self-aligning",
+                "--alignment-length",
+                "2",
+                "--duration",
+                "10",
+                "--quiet",
+                "--out",
+                str(tmp_path / "run"),
+            ]
+        )
+        == 0
+    )
     traj = load_trajectory(tmp_path / "run")
     assert traj.polarity.shape == (traj.t.size, 3) and np.all(np.isfinite(traj.polarity))
 
@@ -108,8 +126,9 @@ def test_reduced_engine_refuses_what_it_does_not_cover():
         ea.simulate(unit(n=3, noise=0.1), duration=1.0, engine="reduced", check=False)
 
 
-@pytest.mark.parametrize("scene, extra", [("one-pinned", ["--active", "self-aligning"]), ("trapped-unit", []),
-                                          ("lattice", ["--rings", "1"])])
+@pytest.mark.parametrize(
+    "scene, extra", [("one-pinned", ["--active", "self-aligning"]), ("trapped-unit", []), ("lattice", ["--rings", "1"])]
+)
 def test_stiff_units_are_refused_at_once_naming_the_alignment_length(capsys, scene, extra):
     """The units turn at up to sigma / l_a: a tiny alignment length makes them too stiff for the reduced engine's
     explicit solver (it had sat for minutes) and for MuJoCo's explicit step of the polarity (it had returned a wrong
@@ -118,8 +137,11 @@ def test_stiff_units_are_refused_at_once_naming_the_alignment_length(capsys, sce
 
     start = time.perf_counter()
     for engine in ("reduced", "mujoco"):
-        refused(capsys, ["run", scene, *extra, "--alignment-length", "1e-9", "--duration", "5", "--engine", engine,
-                         "--quiet"], "alignment_length")
+        refused(
+            capsys,
+            ["run", scene, *extra, "--alignment-length", "1e-9", "--duration", "5", "--engine", engine, "--quiet"],
+            "alignment_length",
+        )
     assert time.perf_counter() - start < 20.0
 
 
@@ -129,8 +151,12 @@ def test_the_units_turning_sets_mujocos_timestep(capsys, no_simulation):
     from elastoactive.engines import timestep as diagnose
     from elastoactive.params import Numerics
 
-    line = refused(capsys, ["run", "one-pinned", "--active", "self-aligning", "--alignment-length", "0.005",
-                            "--duration", "5"], "self-aligning term", "alignment_length >=")
+    line = refused(
+        capsys,
+        ["run", "one-pinned", "--active", "self-aligning", "--alignment-length", "0.005", "--duration", "5"],
+        "self-aligning term",
+        "alignment_length >=",
+    )
     dt = float(line.split("--dt ")[1].split()[0])
     physics = ea.Physics(active="self-aligning", alignment_length=0.005)
     diagnose.check_timestep(physics, Numerics(dt=dt))

@@ -7,12 +7,12 @@ import numpy as np
 import pytest
 
 import elastoactive as ea
-from elastoactive.reduced.contact import capsule_clearance, core_span
-from elastoactive.reduced.system import CONTACT_LENGTH
 from elastoactive.cli import main
 from elastoactive.errors import ParameterError
 from elastoactive.mjcf.chain import build_model, qpos_of
 from elastoactive.params import Numerics, Physics
+from elastoactive.reduced.contact import capsule_clearance, core_span
+from elastoactive.reduced.system import CONTACT_LENGTH
 
 
 def test_capsules_only_with_contact_and_only_within_a_chain():
@@ -26,10 +26,15 @@ def test_capsules_only_with_contact_and_only_within_a_chain():
     assert np.all(model.geom_condim[caps] == 3) and np.allclose(model.geom_friction[caps, 0], 0.3)
     s_a, s_b = core_span(0.12)
     # the capsule is CONTACT_LENGTH long, centred on its link: half-length of the core plus the radius
-    assert np.allclose(model.geom_size[caps, 1] + 0.12, CONTACT_LENGTH / 2) and np.isclose((s_b - s_a) / 2, model.geom_size[caps[0], 1])
+    assert np.allclose(model.geom_size[caps, 1] + 0.12, CONTACT_LENGTH / 2) and np.isclose(
+        (s_b - s_a) / 2, model.geom_size[caps[0], 1]
+    )
     off = model.opt.disableflags
-    for flag in (mujoco.mjtDisableBit.mjDSBL_CONTACT, mujoco.mjtDisableBit.mjDSBL_FILTERPARENT,
-                 mujoco.mjtDisableBit.mjDSBL_CONSTRAINT):
+    for flag in (
+        mujoco.mjtDisableBit.mjDSBL_CONTACT,
+        mujoco.mjtDisableBit.mjDSBL_FILTERPARENT,
+        mujoco.mjtDisableBit.mjDSBL_CONSTRAINT,
+    ):
         assert not off & int(flag)
     frictionless = build_model(Physics(n=5, contact=True))
     caps = [g for g in range(frictionless.ngeom) if "capsule_" in frictionless.geom(g).name]
@@ -82,8 +87,25 @@ def test_overlap_converges_like_dt_and_does_not_depend_on_the_mass():
 
 def test_run_reports_contact_and_harmonics(tmp_path):
     out = tmp_path / "c"
-    assert main(["run", "one-pinned", "--n", "17", "--sigma", "0.8", "--contact", "--duration", "200", "--out",
-                 str(out), "--quiet"]) == 0
+    assert (
+        main(
+            [
+                "run",
+                "one-pinned",
+                "--n",
+                "17",
+                "--sigma",
+                "0.8",
+                "--contact",
+                "--duration",
+                "200",
+                "--out",
+                str(out),
+                "--quiet",
+            ]
+        )
+        == 0
+    )
     summary = json.loads((out / "summary.json").read_text())
     assert summary["parameters"]["contact"] is True and summary["parameters"]["contact_radius"] == 0.1
     res = summary["results"]
@@ -94,8 +116,15 @@ def test_run_reports_contact_and_harmonics(tmp_path):
     assert "contact" not in json.loads((tmp_path / "p" / "summary.json").read_text())["parameters"]
 
 
-@pytest.mark.parametrize("kw,name", [({"contact_radius": 0.35}, "contact_radius"), ({"contact_radius": 0.0}, "contact_radius"),
-                                     ({"contact_friction": -0.1}, "contact_friction"), ({"contact": "yes"}, "contact")])
+@pytest.mark.parametrize(
+    "kw,name",
+    [
+        ({"contact_radius": 0.35}, "contact_radius"),
+        ({"contact_radius": 0.0}, "contact_radius"),
+        ({"contact_friction": -0.1}, "contact_friction"),
+        ({"contact": "yes"}, "contact"),
+    ],
+)
 def test_bad_contact_parameters_name_themselves(kw, name):
     with pytest.raises(ParameterError, match=name):
         Physics(**kw)

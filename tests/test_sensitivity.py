@@ -73,8 +73,10 @@ def test_a_run_the_reduced_pilots_cannot_take_keeps_its_results(tmp_path, capsys
     monkeypatch.setattr(results, "estimate_sensitivity", refused)
     monkeypatch.setattr(results, "needs_estimate", lambda *args: True)  # as an irregular run: a short one is not
     out = tmp_path / "ring"
-    assert main(["run", "ring", "--sigma", "3", "--engine", "mujoco", "--duration", "5", "--out", str(out),
-                 "--quiet"]) == 0
+    assert (
+        main(["run", "ring", "--sigma", "3", "--engine", "mujoco", "--duration", "5", "--out", str(out), "--quiet"])
+        == 0
+    )
     summary = json.loads((out / "summary.json").read_text())
     assert any("no error estimate" in note for note in summary["results"]["notes"])
 

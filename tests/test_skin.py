@@ -15,8 +15,8 @@ def _b(n):
 
 
 def test_displacement_operator_is_the_engines_linearisation_in_particle_displacements():
-    from elastoactive.engines.reduced import base_state, jacobian  # the engine loads numba: only this test needs it
     import elastoactive as ea
+    from elastoactive.engines.reduced import base_state, jacobian  # the engine loads numba: only this test needs it
 
     n, sigma = 8, 0.07
     m = skin.displacement_operator(n, sigma)
@@ -42,7 +42,7 @@ def test_bulk_rows_are_bending_link_compression_and_the_own_follower_force():
         row[k - 1] -= c_in
         row[k] -= sigma
         row[k - 1] += sigma
-        assert np.allclose(m[k - 1], row[1:n + 1], atol=1e-13), k
+        assert np.allclose(m[k - 1], row[1 : n + 1], atol=1e-13), k
     ring = skin.ring_operator(n, sigma, 0.3)
     anti, ring_anti = 0.5 * (m - m.T), 0.5 * (ring - ring.T)
     assert np.allclose(anti[4:-4, :], ring_anti[4:-4, :], atol=1e-14)
@@ -107,8 +107,9 @@ def test_kick_angles_round_trip_and_bad_inputs():
         skin.ring_operator(4, 0.1, 0.0)
     m = np.diag([-1.0, -2.0])
     assert skin.nonnormality_ratio(m, np.linspace(-3, 1, 5), np.linspace(-1, 1, 3)) == pytest.approx(1.0)
-    assert math.isfinite(skin.nonnormality_ratio(skin.segment_operator(10, 0.5, 0.0), np.linspace(-3, 1, 5),
-                                                 np.linspace(-1, 1, 3)))
+    assert math.isfinite(
+        skin.nonnormality_ratio(skin.segment_operator(10, 0.5, 0.0), np.linspace(-3, 1, 5), np.linspace(-1, 1, 3))
+    )
 
 
 @pytest.fixture(scope="module")

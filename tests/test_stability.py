@@ -5,8 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from elastoactive.engines import reduced as R
 from elastoactive.analysis import stability as S
+from elastoactive.engines import reduced as R
 from elastoactive.params import Physics
 
 

@@ -12,6 +12,7 @@ from elastoactive.analysis import star as sync
 from elastoactive.reduced import ChainSystem, rhs, rhs_reference, solve_ode
 from elastoactive.scenes import star
 
+
 def _numerics(engine: str) -> ea.Numerics:
     """Coarse samples; MuJoCo at dt = 0.005 (the reduced engine takes no dt)."""
     return ea.Numerics(dt=0.005, sample_dt=0.1) if engine == "mujoco" else ea.Numerics(sample_dt=0.1)
@@ -24,12 +25,20 @@ def test_registered_with_its_parameters():
     assert physics.n_chains == 4 and physics.n_angles == 4 * physics.n
 
 
-@pytest.mark.parametrize("values, name", [
-    (dict(arms=0), "arms"), (dict(arms=1), "arms"), (dict(arms=7), "arms"), (dict(n=0), "n"),
-    (dict(hub_drag=0.0), "hub_drag"), (dict(hub_stiffness=-1.0), "hub_stiffness"),
-    (dict(hub="clamped", hub_stiffness=2.0), "hub_stiffness"), (dict(hub="loose"), "hub"),
-    (dict(contact=True), "contact"),
-])
+@pytest.mark.parametrize(
+    "values, name",
+    [
+        (dict(arms=0), "arms"),
+        (dict(arms=1), "arms"),
+        (dict(arms=7), "arms"),
+        (dict(n=0), "n"),
+        (dict(hub_drag=0.0), "hub_drag"),
+        (dict(hub_stiffness=-1.0), "hub_stiffness"),
+        (dict(hub="clamped", hub_stiffness=2.0), "hub_stiffness"),
+        (dict(hub="loose"), "hub"),
+        (dict(contact=True), "contact"),
+    ],
+)
 def test_refusals_name_the_parameter(values, name):
     with pytest.raises(ea.ParameterError) as err:
         ea.Physics(scene="star", **values)
@@ -39,8 +48,9 @@ def test_refusals_name_the_parameter(values, name):
 
 @pytest.mark.parametrize("k, hub", [(2, False), (3, True), (5, True)])
 def test_compiled_rhs_equals_the_numpy_reference(k, hub):
-    system = ChainSystem(n=6, n_chains=k, sigma=0.9, gamma_l=0.7, star=True, hub_free=hub, hub_stiffness=0.4,
-                         hub_drag=0.3)
+    system = ChainSystem(
+        n=6, n_chains=k, sigma=0.9, gamma_l=0.7, star=True, hub_free=hub, hub_stiffness=0.4, hub_drag=0.3
+    )
     rng = np.random.default_rng(k)
     y = rng.normal(size=system.state_size) + np.r_[np.repeat(star.clamp_angles(k), 6), np.zeros(system.n_head)]
     np.testing.assert_allclose(rhs(system, beta=1.0)(0.0, y), rhs_reference(system, beta=1.0)(0.0, y), atol=1e-12)
@@ -64,12 +74,14 @@ def test_clamped_star_is_independent_one_pinned_chains_reduced():
     t = np.arange(0.0, 150.0, 0.5)
     theta0 = 0.05 * np.random.default_rng(2).normal(size=k * n)
     alpha = np.repeat(star.clamp_angles(k), n)
-    arms, _ = solve_ode(ChainSystem(n=n, n_chains=k, sigma=0.8, star=True), t, theta0 + alpha, rtol=1e-10,
-                        atol=1e-12, beta=1.0)
+    arms, _ = solve_ode(
+        ChainSystem(n=n, n_chains=k, sigma=0.8, star=True), t, theta0 + alpha, rtol=1e-10, atol=1e-12, beta=1.0
+    )
     for j in range(k):
-        alone, _ = solve_ode(ChainSystem(n=n, sigma=0.8), t, theta0[j * n:(j + 1) * n], rtol=1e-10, atol=1e-12,
-                             beta=1.0)
-        np.testing.assert_allclose(arms[:, j * n:(j + 1) * n] - alpha[j * n], alone, atol=1e-6)
+        alone, _ = solve_ode(
+            ChainSystem(n=n, sigma=0.8), t, theta0[j * n : (j + 1) * n], rtol=1e-10, atol=1e-12, beta=1.0
+        )
+        np.testing.assert_allclose(arms[:, j * n : (j + 1) * n] - alpha[j * n], alone, atol=1e-6)
 
 
 @pytest.mark.parametrize("engine", ["reduced", "mujoco"])
@@ -77,10 +89,15 @@ def test_clamped_star_beats_as_the_one_pinned_chain(engine):
     """Both engines: every arm of a clamped star has the one-pinned chain's amplitude and frequency, the hub stays
     at 0, and the arms point at 2 pi j / k."""
     duration = 200.0
-    one = ea.measure(ea.simulate(ea.Physics(scene="one-pinned", n=5, sigma=1.0), _numerics(engine), duration=duration,
-                                 engine=engine))
-    traj = ea.simulate(ea.Physics(scene="star", n=5, sigma=1.0, arms=2, hub="clamped"), _numerics(engine), duration=duration,
-                       engine=engine)
+    one = ea.measure(
+        ea.simulate(ea.Physics(scene="one-pinned", n=5, sigma=1.0), _numerics(engine), duration=duration, engine=engine)
+    )
+    traj = ea.simulate(
+        ea.Physics(scene="star", n=5, sigma=1.0, arms=2, hub="clamped"),
+        _numerics(engine),
+        duration=duration,
+        engine=engine,
+    )
     res = ea.measure(traj)
     assert np.allclose(res.amplitude, one.amplitude, rtol=1e-3)
     assert np.allclose(res.frequency, one.frequency, rtol=1e-3)
@@ -112,10 +129,16 @@ def _signals(lags, t, f=0.04):
     return np.stack([np.cos(2 * math.pi * f * t - lag) for lag in lags])
 
 
-@pytest.mark.parametrize("lags, state", [
-    ((0.0, 0.0, 0.0), "in-phase"), ((0.0, math.pi), "antiphase"), ((0.0, 2 * math.pi / 3, 4 * math.pi / 3), "splay"),
-    ((0.0, math.pi, 0.0, math.pi), "locked"), ((0.0, 1.5), "locked"),
-])
+@pytest.mark.parametrize(
+    "lags, state",
+    [
+        ((0.0, 0.0, 0.0), "in-phase"),
+        ((0.0, math.pi), "antiphase"),
+        ((0.0, 2 * math.pi / 3, 4 * math.pi / 3), "splay"),
+        ((0.0, math.pi, 0.0, math.pi), "locked"),
+        ((0.0, 1.5), "locked"),
+    ],
+)
 def test_sync_state_of_constructed_signals(lags, state):
     t = np.arange(0.0, 500.0, 0.1)
     _, phases = sync.arm_phases(t, _signals(lags, t), 250.0)
@@ -153,8 +176,9 @@ def test_turning_hub_operator_is_the_reduced_models_jacobian(k, hub_stiffness, h
     from elastoactive.engines.reduced import system_of
 
     n, sigma = 5, 0.3
-    system = system_of(ea.Physics(scene="star", n=n, arms=k, sigma=sigma, hub_stiffness=hub_stiffness,
-                                  hub_drag=hub_drag)).typed()
+    system = system_of(
+        ea.Physics(scene="star", n=n, arms=k, sigma=sigma, hub_stiffness=hub_stiffness, hub_drag=hub_drag)
+    ).typed()
     base = np.r_[np.repeat(star.clamp_angles(k), n), 0.0]
     f, eps = rhs(system, beta=1.0), 1e-6
     numeric = np.array([(f(0.0, base + eps * e) - f(0.0, base - eps * e)) / (2 * eps) for e in np.eye(base.size)]).T
@@ -177,5 +201,7 @@ def test_the_in_phase_mode_goes_first_on_a_turning_hub():
     assert soft[0] == pytest.approx(stability.rotation_threshold(7), rel=1e-3) and soft[1] < 1e-6  # a real eigenvalue
     assert star_stability.mode_onsets(7, 3, 1e4, 1.0)["in-phase"][0] == pytest.approx(free, rel=1e-3)
     lam = star.SCENE.leading_eigenvalue(ea.Physics(scene="star", n=7, arms=3), 1.1 * onset.sigma_c)
-    assert lam.real > 0 and star.SCENE.leading_eigenvalue(ea.Physics(scene="star", n=7, arms=3),
-                                                         0.9 * onset.sigma_c).real < 0
+    assert (
+        lam.real > 0
+        and star.SCENE.leading_eigenvalue(ea.Physics(scene="star", n=7, arms=3), 0.9 * onset.sigma_c).real < 0
+    )

@@ -98,8 +98,16 @@ class _Demo(EngineParts):
 
 def test_study_save_and_load_roundtrip(tmp_path):
     fit = Fit({"onset": 0.1575, "beta": 0.5}, {"onset": 1e-5, "beta": float("nan")}, 0.99, 7, {"cov": -1.0})
-    summary = _Demo(a=1.5, b=np.float64(2.0), c=float("nan"), bracket=(0.4, math.inf), by_key={"0.5": 1.0, "1": -math.inf},
-                    z=complex(-1, -0.125), fit=fit, mujoco=_Part(np.float64(3.0), [True, np.bool_(False)]))
+    summary = _Demo(
+        a=1.5,
+        b=np.float64(2.0),
+        c=float("nan"),
+        bracket=(0.4, math.inf),
+        by_key={"0.5": 1.0, "1": -math.inf},
+        z=complex(-1, -0.125),
+        fit=fit,
+        mujoco=_Part(np.float64(3.0), [True, np.bool_(False)]),
+    )
     s = Study("demo", "tiny", {"x": np.arange(3.0)}, summary, 0.1)
     s.save(tmp_path)
     back = Study.load(tmp_path, "demo", _Demo)
@@ -192,8 +200,9 @@ def test_every_bisection_step_shows_its_progress(monkeypatch):
     monkeypatch.setattr(sync, "run", fake_run)
     monkeypatch.setattr(sync, "_pair_measures", lambda tr, transient: {"locked": True})
     make = lambda c, k: type("FakeCase", (), {"physics": type("P", (), {"kappa": k})(), "duration": 10.0})()  # noqa: E731
-    lo, hi = sync._bisect_locking([(0.1, 0.98)], make, {(0.1, 0.98): 0.0}, {(0.1, 0.98): 1.0}, 4, 1, True, "kappa_c N=2",
-                                  lambda case: 5.0)
+    lo, hi = sync._bisect_locking(
+        [(0.1, 0.98)], make, {(0.1, 0.98): 0.0}, {(0.1, 0.98): 1.0}, 4, 1, True, "kappa_c N=2", lambda case: 5.0
+    )
     assert hi[(0.1, 0.98)] == 0.0625
     assert [p for p, _ in shown] == [True] * 4 and len({d for _, d in shown}) == 4 and "step 4/4" in shown[-1][1]
 

@@ -6,9 +6,9 @@ from __future__ import annotations
 
 import json
 import time
+from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Mapping
 
 import numpy as np
 import pytest
@@ -43,8 +43,9 @@ def _onset_study(name: str, ns: tuple[int, ...]):
         n = np.array(ns)
         sc = np.array([stab.critical_sigma(int(k))[0] for k in n])
         slope = float(np.polyfit(np.log(n), np.log(sc), 1)[0])
-        return Study(name, size, {"n": n, "sigma_c": sc}, OnsetSummary(list(map(float, sc)), slope),
-                     time.perf_counter() - start)
+        return Study(
+            name, size, {"n": n, "sigma_c": sc}, OnsetSummary(list(map(float, sc)), slope), time.perf_counter() - start
+        )
 
     return run
 
@@ -61,8 +62,16 @@ def _claims(study: Study, read: Mapping[str, Study]) -> list[Claim]:
     s = study.summary
     other = read.get("toy_short")
     seen = f"; with toy_short: {fmt(other.summary.exponent, 3)}" if other else ""
-    return [Claim(f"{study.name}: sigma_c falls as N^-3 at small N", "N^-3", "-", f"slope {fmt(s.exponent, 3)}{seen}",
-                  verdict(-3.5 < s.exponent < -2.0), "linear stability of N = 2..4 (toy study of the plug-in test)")]
+    return [
+        Claim(
+            f"{study.name}: sigma_c falls as N^-3 at small N",
+            "N^-3",
+            "-",
+            f"slope {fmt(s.exponent, 3)}{seen}",
+            verdict(-3.5 < s.exponent < -2.0),
+            "linear stability of N = 2..4 (toy study of the plug-in test)",
+        )
+    ]
 
 
 @pytest.fixture
@@ -122,7 +131,9 @@ def test_another_size_is_refused_in_one_line(toys, tmp_path, capsys):
     assert err.count("\n") == 0 and "--force" in err
     assert CALLS == ["toy_short"]
     forced = reproduce(tmp_path, "quick", 1, only=["toy_long"], progress=False, log=_quiet, force=True)
-    assert CALLS == ["toy_short", "toy_long"] and list(forced.studies) == ["toy_long"]  # the tiny one left out, and said
+    assert CALLS == ["toy_short", "toy_long"] and list(forced.studies) == [
+        "toy_long"
+    ]  # the tiny one left out, and said
     assert "Left out: toy_short, whose data in this folder are of another size." in forced.report.read_text()
 
 
@@ -157,6 +168,8 @@ def test_data_made_by_other_code_are_run_again(toys, tmp_path, monkeypatch):
     monkeypatch.setattr(reproduce_module, "source_digest", lambda: "code-2")
     lines = []
     result = reproduce(tmp_path, "tiny", 1, only=["toy_short"], progress=False, log=lines.append)
-    assert CALLS == ["toy_short", "toy_long", "toy_short"] and result.kept == ["toy_long"]  # toy_long merged, as recorded
+    assert CALLS == ["toy_short", "toy_long", "toy_short"] and result.kept == [
+        "toy_long"
+    ]  # toy_long merged, as recorded
     assert any("made by other code: toy_short" in x for x in lines)
     assert json.loads((tmp_path / "toy_short.json").read_text())["provenance"]["code"] == "code-2"

@@ -9,14 +9,14 @@ import time
 import numpy as np
 import pytest
 import xarray as xr
+from sweep_helpers import FAST, REDUCED, VOLATILE, Stop, load  # shared with test_sweep_trust.py
 
+from elastoactive import sweep as sweep_module
 from elastoactive.batch import Case, run_case
 from elastoactive.cli import main
 from elastoactive.params import Numerics, ParameterError, Physics
-from elastoactive import sweep as sweep_module
 from elastoactive.sweep import SweepMismatch, normalize_grid, parse_grid, run_point, run_sweep
 
-from sweep_helpers import FAST, REDUCED, VOLATILE, Stop, load  # shared with test_sweep_trust.py
 
 def check_against_run_case(ds, scene, fixed, numerics, duration, engine, timestep=True):
     dims = [d for d in ds["status"].dims]
@@ -31,7 +31,9 @@ def check_against_run_case(ds, scene, fixed, numerics, duration, engine, timeste
             if name == "notes":  # text: one string per point
                 assert ds["notes"].values[index] == "; ".join(value), point
                 continue
-            np.testing.assert_array_equal(ds[name].values[index], np.asarray(value, dtype=float), err_msg=f"{name} at {point}")
+            np.testing.assert_array_equal(
+                ds[name].values[index], np.asarray(value, dtype=float), err_msg=f"{name} at {point}"
+            )
 
 
 def test_parse_grid():
@@ -42,16 +44,37 @@ def test_parse_grid():
     assert grid["n"].dtype.kind == "i" and grid["n"].tolist() == [3, 5, 7]
     assert grid["drag_ratio"].tolist() == [2.0] and grid["seed"].dtype.kind == "i"
     assert normalize_grid({"sigma": "0:1:3", "n": [5, 7.0]})["n"].tolist() == [5, 7]
-    for bad in (["sigma"], ["sigma=1:2"], ["sigma=0:1:0"], ["sigma=0:1:2.5"], ["sigma=a,b"], ["sigma=1,,2"],
-                ["sigma=1,1"], ["n=2.5"], ["nan=1"], ["scene=1"], ["sigma=1", "sigma=2"], ["sigma=inf"], []):
+    for bad in (
+        ["sigma"],
+        ["sigma=1:2"],
+        ["sigma=0:1:0"],
+        ["sigma=0:1:2.5"],
+        ["sigma=a,b"],
+        ["sigma=1,,2"],
+        ["sigma=1,1"],
+        ["n=2.5"],
+        ["nan=1"],
+        ["scene=1"],
+        ["sigma=1", "sigma=2"],
+        ["sigma=inf"],
+        [],
+    ):
         with pytest.raises(ParameterError):
             parse_grid(bad)
 
 
 def test_reduced_sweep_matches_run_case(tmp_path):
     out = tmp_path / "r.nc"
-    ds = run_sweep("one-pinned", {"sigma": [0.3, 0.8], "n": [3, 4]}, numerics=FAST, duration=40, engine="reduced",
-                   out=out, workers=2, progress=False)
+    ds = run_sweep(
+        "one-pinned",
+        {"sigma": [0.3, 0.8], "n": [3, 4]},
+        numerics=FAST,
+        duration=40,
+        engine="reduced",
+        out=out,
+        workers=2,
+        progress=False,
+    )
     assert dict(ds.sizes) == {"sigma": 2, "n": 2, "harmonic": 5}  # harmonics: one value per harmonic
     check_against_run_case(ds, "one-pinned", {}, FAST, 40, "reduced")
     disk = load(out)
@@ -61,14 +84,18 @@ def test_reduced_sweep_matches_run_case(tmp_path):
     assert "package_version" in disk.attrs and not (tmp_path / "r.nc.journal").exists()
 
 
-@pytest.mark.parametrize("scene, grid, fixed", [
-    ("coupled-pair", {"kappa": [0.5, 2.0]}, {"n": 3}),
-    ("two-pinned", {"n": [3, 4], "seed": [1]}, {"sigma": 2.0}),
-    ("rotating-pin", {"sigma": [0.5, 1.0]}, {"n": 2}),
-])
+@pytest.mark.parametrize(
+    "scene, grid, fixed",
+    [
+        ("coupled-pair", {"kappa": [0.5, 2.0]}, {"n": 3}),
+        ("two-pinned", {"n": [3, 4], "seed": [1]}, {"sigma": 2.0}),
+        ("rotating-pin", {"sigma": [0.5, 1.0]}, {"n": 2}),
+    ],
+)
 def test_mujoco_sweep_matches_run_case(tmp_path, scene, grid, fixed):
-    ds = run_sweep(scene, grid, fixed=fixed, numerics=FAST, duration=20, out=tmp_path / "m.nc", workers=1,
-                   progress=False)
+    ds = run_sweep(
+        scene, grid, fixed=fixed, numerics=FAST, duration=20, out=tmp_path / "m.nc", workers=1, progress=False
+    )
     check_against_run_case(ds, scene, fixed, FAST, 20, "mujoco")
     if scene == "coupled-pair":
         assert ds["amplitude"].dims == ("kappa", "chain") and ds["frequency_mismatch"].dims == ("kappa",)
@@ -121,8 +148,21 @@ def test_resume_after_kill(tmp_path):
     leaves no worker holding the file, and re-running continues."""
     out = tmp_path / "k.nc"
     grid = ["--grid", "sigma=0.3:1.0:4", "--grid", "n=5,7"]
-    args = [sys.executable, "-m", "elastoactive", "sweep", "one-pinned", *grid, "--duration", "150",
-            "--out", str(out), "--workers", "2", "--quiet"]
+    args = [
+        sys.executable,
+        "-m",
+        "elastoactive",
+        "sweep",
+        "one-pinned",
+        *grid,
+        "--duration",
+        "150",
+        "--out",
+        str(out),
+        "--workers",
+        "2",
+        "--quiet",
+    ]
     journal = tmp_path / "k.nc.journal"
     proc = subprocess.Popen(args, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     try:
@@ -137,8 +177,15 @@ def test_resume_after_kill(tmp_path):
     finished = {json.loads(line)["i"]: json.loads(line) for line in journal.read_text().splitlines()[1:]}
     assert len(finished) >= 2
     new = []
-    ds = run_sweep("one-pinned", parse_grid([g for g in grid if g != "--grid"]), duration=150, out=out, workers=1,
-                   progress=False, on_point=lambda c, r: new.append(c))
+    ds = run_sweep(
+        "one-pinned",
+        parse_grid([g for g in grid if g != "--grid"]),
+        duration=150,
+        out=out,
+        workers=1,
+        progress=False,
+        on_point=lambda c, r: new.append(c),
+    )
     assert len(new) == 8 - len(finished) and (ds["status"] == "ok").all()
     times = ds["finished_at"].values.reshape(-1)
     for i, entry in finished.items():
@@ -174,13 +221,23 @@ def test_changed_sweep_is_refused(tmp_path):
 def test_diverged_point_is_recorded_and_sweep_goes_on(tmp_path):
     # Euler treats the drag explicitly: stable for dt < 2 m / gamma = 0.02 at mass_ratio 0.01
     num = Numerics(integrator="Euler", mass_ratio=1e-2, dt=0.01, sample_dt=0.05)
-    ds = run_sweep("one-pinned", {"dt": [0.01, 0.05]}, fixed={"n": 3}, numerics=num, duration=5,
-                   out=tmp_path / "d.nc", workers=1, progress=False, timestep_check=False)
+    ds = run_sweep(
+        "one-pinned",
+        {"dt": [0.01, 0.05]},
+        fixed={"n": 3},
+        numerics=num,
+        duration=5,
+        out=tmp_path / "d.nc",
+        workers=1,
+        progress=False,
+        timestep_check=False,
+    )
     assert ds["status"].values.tolist() == ["ok", "error"]
     assert "diverged" in ds["error"].values[1] and ds["error"].values[0] == ""
     assert np.isfinite(ds["amplitude"].values[0]) and np.isnan(ds["amplitude"].values[1])
-    checked = run_sweep("one-pinned", {"dt": [0.01, 0.05]}, fixed={"n": 3}, numerics=num, duration=5,
-                        workers=1, progress=False)
+    checked = run_sweep(
+        "one-pinned", {"dt": [0.01, 0.05]}, fixed={"n": 3}, numerics=num, duration=5, workers=1, progress=False
+    )
     assert "stability limit" in checked["error"].values[1]
 
 
@@ -197,8 +254,25 @@ def test_dask_local_cluster(tmp_path):
 
 def test_cli(tmp_path, capsys):
     out = tmp_path / "c.nc"
-    args = ["sweep", "one-pinned", "--grid", "sigma=0.3:0.9:3", "--n", "3", "--engine", "reduced", "--preset", "fast",
-            "--duration", "20", "--out", str(out), "--workers", "1", "--quiet"]
+    args = [
+        "sweep",
+        "one-pinned",
+        "--grid",
+        "sigma=0.3:0.9:3",
+        "--n",
+        "3",
+        "--engine",
+        "reduced",
+        "--preset",
+        "fast",
+        "--duration",
+        "20",
+        "--out",
+        str(out),
+        "--workers",
+        "1",
+        "--quiet",
+    ]
     assert main(args) == 0
     assert "3 of 3 points" in capsys.readouterr().out
     ds = load(out)
@@ -234,8 +308,15 @@ def test_mujoco_sweep_resumed_after_an_interruption_gives_the_same_dataset(tmp_p
     sweep keeps what was journaled, the resume runs only the rest, and the dataset equals the
     uninterrupted sweep's, which equals run_case point by point."""
     grid = {"sigma": [0.3, 0.8, 1.5], "seed": [0, 1]}
-    kw = dict(fixed={"n": 4, "noise": 0.05}, numerics=FAST, duration=20, progress=False, snapshot_interval=0,
-              workers=2, batch_size=2)
+    kw = dict(
+        fixed={"n": 4, "noise": 0.05},
+        numerics=FAST,
+        duration=20,
+        progress=False,
+        snapshot_interval=0,
+        workers=2,
+        batch_size=2,
+    )
     whole = run_sweep("one-pinned", grid, out=tmp_path / "whole.nc", **kw)
     check_against_run_case(whole, "one-pinned", {"n": 4, "noise": 0.05}, FAST, 20, "mujoco")
 
@@ -263,8 +344,17 @@ def test_mujoco_sweep_resumed_after_an_interruption_gives_the_same_dataset(tmp_p
 def test_a_diverging_point_of_a_batch_is_its_error_and_the_others_finish(tmp_path):
     # one model (Euler, n = 3) for every sigma: sigma = 100 blows up at dt = 0.01, the others do not
     num = Numerics(integrator="Euler", mass_ratio=1e-2, dt=0.01, sample_dt=0.05)
-    ds = run_sweep("one-pinned", {"sigma": [0.5, 100.0, 50.0]}, fixed={"n": 3}, numerics=num, duration=10,
-                   out=tmp_path / "d.nc", workers=2, progress=False, timestep_check=False)
+    ds = run_sweep(
+        "one-pinned",
+        {"sigma": [0.5, 100.0, 50.0]},
+        fixed={"n": 3},
+        numerics=num,
+        duration=10,
+        out=tmp_path / "d.nc",
+        workers=2,
+        progress=False,
+        timestep_check=False,
+    )
     assert ds["status"].values.tolist() == ["ok", "error", "ok"]
     assert "SimulationDiverged" in ds["error"].values[1] and "diverged by t = 5 tau" in ds["error"].values[1]
     assert np.isfinite(ds["amplitude"].values[[0, 2]]).all() and np.isnan(ds["amplitude"].values[1])
@@ -285,8 +375,15 @@ def test_preflight_check_once_per_distinct_model(tmp_path, monkeypatch):
 
     monkeypatch.setattr(diagnose, "check_timestep", counted)
     # sigma = 5 at N = 5: dt = 0.01 does not resolve the fastest rate; refused while its batch runs
-    ds = run_sweep("one-pinned", {"sigma": [0.3, 0.8, 5.0], "seed": [0, 1, 2]}, fixed={"n": 5}, numerics=FAST,
-                   duration=10, workers=2, progress=False)
+    ds = run_sweep(
+        "one-pinned",
+        {"sigma": [0.3, 0.8, 5.0], "seed": [0, 1, 2]},
+        fixed={"n": 5},
+        numerics=FAST,
+        duration=10,
+        workers=2,
+        progress=False,
+    )
     assert sorted(calls) == [(0.3, 0), (0.8, 0), (5.0, 0)]  # the seed changes nothing it checks (no noise)
     assert (ds["status"].values[:2] == "ok").all() and (ds["status"].values[2] == "error").all()
     refused = run_point(Case(Physics(n=5, sigma=5.0), FAST, 10))
@@ -300,8 +397,17 @@ def test_periodicity_and_notes_are_stored(tmp_path):
     they are."""
     out = tmp_path / "p.nc"
     grid = {"sigma": [0.5, 4.0], "noise": [0.0, 0.3]}
-    ds = run_sweep("one-pinned", grid, fixed={"n": 3}, numerics=FAST, duration=60, out=out, workers=2,
-                   progress=False, timestep_check=False)
+    ds = run_sweep(
+        "one-pinned",
+        grid,
+        fixed={"n": 3},
+        numerics=FAST,
+        duration=60,
+        out=out,
+        workers=2,
+        progress=False,
+        timestep_check=False,
+    )
     check_against_run_case(ds, "one-pinned", {"n": 3}, FAST, 60, "mujoco", timestep=False)
     disk = load(out)
     xr.testing.assert_identical(disk, ds)
@@ -316,15 +422,22 @@ def test_periodicity_and_notes_are_stored(tmp_path):
     assert "NaN" in attrs["comment"] and "notes" in disk["notes"].attrs["long_name"]
     assert "periodic" in disk.attrs["measurements"]
 
-    pair = run_sweep("coupled-pair", {"noise": [0.0, 0.3]}, fixed={"n": 3, "sigma": 4.0, "kappa": 0.5},
-                     numerics=FAST, duration=40, out=tmp_path / "pair.nc", workers=1, progress=False,
-                     timestep_check=False)
+    pair = run_sweep(
+        "coupled-pair",
+        {"noise": [0.0, 0.3]},
+        fixed={"n": 3, "sigma": 4.0, "kappa": 0.5},
+        numerics=FAST,
+        duration=40,
+        out=tmp_path / "pair.nc",
+        workers=1,
+        progress=False,
+        timestep_check=False,
+    )
     check_against_run_case(pair, "coupled-pair", {"n": 3, "sigma": 4.0, "kappa": 0.5}, FAST, 40, "mujoco")
     assert pair["period_spread"].dims == ("noise", "chain") and pair["periodic"].dims == ("noise",)
     assert pair["periodic"].values[1] == 0 and pair["notes"].values[1].count("chain ") == 2
     for scene in ("two-pinned", "rotating-pin"):  # present before any point is done
-        ds = run_sweep(scene, {"sigma": [0.5]}, fixed={"n": 3}, numerics=FAST, duration=10, workers=1,
-                       progress=False)
+        ds = run_sweep(scene, {"sigma": [0.5]}, fixed={"n": 3}, numerics=FAST, duration=10, workers=1, progress=False)
         assert {"periodic", "period_spread", "notes"} <= set(ds.data_vars)
 
 
@@ -366,8 +479,9 @@ def test_a_failing_batch_is_its_points_errors(tmp_path, monkeypatch):
         return original(sims, *args, **kwargs)
 
     monkeypatch.setattr(mujoco_batch, "run_batch", fragile)
-    ds = run_sweep("one-pinned", {"n": [3, 4], "sigma": [0.5, 0.9]}, numerics=FAST, duration=10, workers=2,
-                   progress=False)
+    ds = run_sweep(
+        "one-pinned", {"n": [3, 4], "sigma": [0.5, 0.9]}, numerics=FAST, duration=10, workers=2, progress=False
+    )
     assert ds["status"].values.tolist() == [["ok", "ok"], ["error", "error"]]
     assert (ds["error"].values[1] == "RuntimeError: batch lost").all()
 
@@ -375,8 +489,17 @@ def test_a_failing_batch_is_its_points_errors(tmp_path, monkeypatch):
 def test_batch_size_must_be_at_least_one(tmp_path, capsys):
     with pytest.raises(ParameterError, match="batch_size must be"):
         run_sweep("one-pinned", {"sigma": [0.3]}, batch_size=0, progress=False)
-    args = ["sweep", "one-pinned", "--grid", "sigma=0.3", "--out", str(tmp_path / "b.nc"), "--batch-size", "0",
-            "--quiet"]
+    args = [
+        "sweep",
+        "one-pinned",
+        "--grid",
+        "sigma=0.3",
+        "--out",
+        str(tmp_path / "b.nc"),
+        "--batch-size",
+        "0",
+        "--quiet",
+    ]
     assert main(args) == 2 and "--batch-size must be >= 1" in capsys.readouterr().err
     assert not (tmp_path / "b.nc").exists()
 
@@ -388,28 +511,43 @@ def test_netcdf_writer_matches_xarrays(tmp_path):
     from elastoactive.io.outputs import write_netcdf
 
     status = np.array([["ok", "error", "pending"], ["ok", "", "ok"]], dtype=object)
-    finished = np.array([["2026-11-22T17:56:44.8378", "NaT", "2026-01-01"], ["NaT", "NaT", "1970-01-01"]],
-                        dtype="datetime64[ns]")
+    finished = np.array(
+        [["2026-11-22T17:56:44.8378", "NaT", "2026-01-01"], ["NaT", "NaT", "1970-01-01"]], dtype="datetime64[ns]"
+    )
     amplitude = np.arange(12.0).reshape(2, 3, 2)
     amplitude[0, 1] = np.nan
     variables = {
         "amplitude": (("sigma", "n", "chain"), amplitude, {"units": "rad", "long_name": "amplitude"}),
-        "periodic": (("sigma", "n"), np.array([[1.0, 0.0, np.nan], [np.nan, 1.0, 0.0]]),
-                     {"flag_values": np.array([1.0, 0.0]), "flag_meanings": "periodic irregular"}),
+        "periodic": (
+            ("sigma", "n"),
+            np.array([[1.0, 0.0, np.nan], [np.nan, 1.0, 0.0]]),
+            {"flag_values": np.array([1.0, 0.0]), "flag_meanings": "periodic irregular"},
+        ),
         "status": (("sigma", "n"), status, {"long_name": "status"}),
         "finished_at": (("sigma", "n"), finished, {"long_name": "when"}),
     }
-    coords = {"sigma": (("sigma",), np.array([0.3, 1.0]), {"long_name": "sigma"}),
-              "n": (("n",), np.array([5, 7, 9], dtype=np.int64), {"long_name": "N"}),
-              "chain": (("chain",), np.arange(1, 3), {"long_name": "chain"})}
-    attrs = {"title": "t", "duration": 40.0, "points_total": 6, "complete": 0, "numerics_integrator":
-             Numerics().integrator, "numerics_dt": Numerics().dt}
+    coords = {
+        "sigma": (("sigma",), np.array([0.3, 1.0]), {"long_name": "sigma"}),
+        "n": (("n",), np.array([5, 7, 9], dtype=np.int64), {"long_name": "N"}),
+        "chain": (("chain",), np.arange(1, 3), {"long_name": "chain"}),
+    }
+    attrs = {
+        "title": "t",
+        "duration": 40.0,
+        "points_total": 6,
+        "complete": 0,
+        "numerics_integrator": Numerics().integrator,
+        "numerics_dt": Numerics().dt,
+    }
     mine, theirs = tmp_path / "mine.nc", tmp_path / "xarray.nc"
     write_netcdf(mine, variables, coords, attrs)
-    xr.Dataset({k: (d, v, a) for k, (d, v, a) in variables.items()},
-               coords={k: (d, v, a) for k, (d, v, a) in coords.items()},
-               attrs={k: (str(v) if isinstance(v, str) else float(v) if isinstance(v, float) else v)
-                      for k, v in attrs.items()}).to_netcdf(theirs, engine="h5netcdf")
+    xr.Dataset(
+        {k: (d, v, a) for k, (d, v, a) in variables.items()},
+        coords={k: (d, v, a) for k, (d, v, a) in coords.items()},
+        attrs={
+            k: (str(v) if isinstance(v, str) else float(v) if isinstance(v, float) else v) for k, v in attrs.items()
+        },
+    ).to_netcdf(theirs, engine="h5netcdf")
     a, b = load(mine), load(theirs)
     xr.testing.assert_identical(a, b)
     assert a["finished_at"].dtype == np.dtype("datetime64[ns]") and np.isnat(a["finished_at"].values[0, 1])
@@ -419,8 +557,9 @@ def test_netcdf_writer_matches_xarrays(tmp_path):
 
 
 def test_long_chain_sweep_says_its_numerics_are_automatic(tmp_path):
-    ds = run_sweep("one-pinned", {"sigma": [0.05]}, fixed={"n": 30}, duration=2, out=tmp_path / "l.nc",
-                   progress=False, workers=1)
+    ds = run_sweep(
+        "one-pinned", {"sigma": [0.05]}, fixed={"n": 30}, duration=2, out=tmp_path / "l.nc", progress=False, workers=1
+    )
     assert (ds["status"] == "ok").all() and "automatic long-chain numerics" in ds.attrs["numerics_automatic"]
     short = run_sweep("one-pinned", {"sigma": [0.8]}, duration=2, progress=False, workers=1)
     assert "numerics_automatic" not in short.attrs

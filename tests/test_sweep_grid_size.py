@@ -9,8 +9,9 @@ from elastoactive.errors import ParameterError
 from elastoactive.sweep.grid import MAX_GRID_POINTS, make_sweep, parse_grid
 
 
-@pytest.mark.parametrize("specs", [["sigma=0.2:1:100000"], ["sigma=0.2:1:1000000000000"],
-                                   ["sigma=0.2:1:200", "n=3:102:100"]])
+@pytest.mark.parametrize(
+    "specs", [["sigma=0.2:1:100000"], ["sigma=0.2:1:1000000000000"], ["sigma=0.2:1:200", "n=3:102:100"]]
+)
 def test_a_grid_beyond_the_limit_is_refused_when_parsed(specs):
     start = time.perf_counter()
     with pytest.raises(ParameterError, match=f"points, more than {MAX_GRID_POINTS}") as err:

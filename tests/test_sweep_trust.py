@@ -15,16 +15,15 @@ from types import SimpleNamespace
 
 import pytest
 import xarray as xr
+from sweep_helpers import REDUCED, VOLATILE, Stop, load  # shared with test_sweep.py
 
 from elastoactive.cli import main
 from elastoactive.params import ParameterError
-from elastoactive.sweep import netcdf as sweep_netcdf
 from elastoactive.sweep import make_sweep, run_sweep
-
-from sweep_helpers import REDUCED, VOLATILE, Stop, load  # shared with test_sweep.py
-
+from elastoactive.sweep import netcdf as sweep_netcdf
 
 # ----------------------------------------------------------------------------- "Trustworthy runs"
+
 
 @pytest.mark.parametrize("how", ["signal", "exception"])
 def test_ctrl_c_during_final_save_loses_nothing(tmp_path, monkeypatch, how):
@@ -175,8 +174,30 @@ def test_full_disk_is_a_clear_error_and_the_sweep_resumes(tmp_path, monkeypatch)
     assert str(out) in str(info.value) and "needed" in str(info.value)
     assert sorted(p.name for p in tmp_path.iterdir()) == [journal.name]  # no partial file left
     assert len(journal.read_text().splitlines()) == 1 + 2
-    assert main(["sweep", "one-pinned", "--grid", "sigma=0.3,0.6", "--n", "3", "--engine", "reduced", "--preset",
-                 "fast", "--duration", "20", "--out", str(out), "--workers", "1", "--quiet"]) == 2
+    assert (
+        main(
+            [
+                "sweep",
+                "one-pinned",
+                "--grid",
+                "sigma=0.3,0.6",
+                "--n",
+                "3",
+                "--engine",
+                "reduced",
+                "--preset",
+                "fast",
+                "--duration",
+                "20",
+                "--out",
+                str(out),
+                "--workers",
+                "1",
+                "--quiet",
+            ]
+        )
+        == 2
+    )
 
     monkeypatch.undo()  # space freed: the sweep resumes without running anything again
     again = []
@@ -188,8 +209,23 @@ def test_full_disk_is_a_clear_error_and_the_sweep_resumes(tmp_path, monkeypatch)
 def test_exit_status_when_points_fail(tmp_path, capsys):
     """Every point refused before it runs: exit 2, nothing written; some failed: exit 0, counted."""
     # Euler at mass_ratio 0.01 is stable for dt < 0.02: the timestep check refuses larger steps
-    base = ["sweep", "one-pinned", "--n", "3", "--integrator", "Euler", "--mass-ratio", "0.01", "--sample-dt", "0.1",
-            "--duration", "5", "--workers", "1", "--quiet"]
+    base = [
+        "sweep",
+        "one-pinned",
+        "--n",
+        "3",
+        "--integrator",
+        "Euler",
+        "--mass-ratio",
+        "0.01",
+        "--sample-dt",
+        "0.1",
+        "--duration",
+        "5",
+        "--workers",
+        "1",
+        "--quiet",
+    ]
     assert main(base + ["--grid", "dt=0.05,0.1", "--out", str(tmp_path / "all.nc")]) == 2  # every point refused
     captured = capsys.readouterr()
     assert "refuses every point of the sweep (2)" in captured.err and "stability limit" in captured.err
@@ -205,8 +241,21 @@ def test_a_refused_network_point_fails_at_once(tmp_path, capsys, engine):
     the sweep checks it first. A point whose units are too stiff (l_a = 1e-5: MuJoCo's automatic dt ~1e-8) is
     recorded as failed with the refusal in a second, not run for hours; the other point runs."""
     start = time.perf_counter()
-    argv = ["sweep", "trapped-unit", "--grid", "alignment_length=1e-5,1", "--engine", engine, "--duration", "5",
-            "--workers", "1", "--quiet", "--out", str(tmp_path / "s.nc")]
+    argv = [
+        "sweep",
+        "trapped-unit",
+        "--grid",
+        "alignment_length=1e-5,1",
+        "--engine",
+        engine,
+        "--duration",
+        "5",
+        "--workers",
+        "1",
+        "--quiet",
+        "--out",
+        str(tmp_path / "s.nc"),
+    ]
     assert main(argv) == 0
     captured = capsys.readouterr()
     assert "2 of 2 points" in captured.out and "1 failed" in captured.out and "alignment_length >=" in captured.err
@@ -234,8 +283,25 @@ def test_corrupted_journal_header_names_the_journal(tmp_path, capsys):
     message = str(info.value)
     assert str(journal) in message and "corrupted" in message and "remove" in message and "restore" in message
     assert journal.read_text() == corrupted  # left as it was
-    args = ["sweep", "one-pinned", "--grid", "sigma=0.3,0.6,0.9", "--n", "3", "--engine", "reduced", "--preset", "fast",
-            "--duration", "20", "--out", str(out), "--workers", "1", "--quiet"]
+    args = [
+        "sweep",
+        "one-pinned",
+        "--grid",
+        "sigma=0.3,0.6,0.9",
+        "--n",
+        "3",
+        "--engine",
+        "reduced",
+        "--preset",
+        "fast",
+        "--duration",
+        "20",
+        "--out",
+        str(out),
+        "--workers",
+        "1",
+        "--quiet",
+    ]
     assert main(args) == 2
     err = capsys.readouterr().err
     assert journal.name in err and err.count("\n") == 1
@@ -250,8 +316,19 @@ def test_workers_must_be_at_least_one(tmp_path, capsys):
     for workers in (0, -1):
         with pytest.raises(ParameterError, match="workers must be"):
             run_sweep("one-pinned", {"sigma": [0.3]}, **{**REDUCED, "workers": workers})
-        args = ["sweep", "one-pinned", "--grid", "sigma=0.3", "--engine", "reduced", "--out", str(tmp_path / "w.nc"),
-                "--workers", str(workers), "--quiet"]
+        args = [
+            "sweep",
+            "one-pinned",
+            "--grid",
+            "sigma=0.3",
+            "--engine",
+            "reduced",
+            "--out",
+            str(tmp_path / "w.nc"),
+            "--workers",
+            str(workers),
+            "--quiet",
+        ]
         assert main(args) == 2
         err = capsys.readouterr().err
         assert "--workers must be >= 1" in err and err.count("\n") == 1
@@ -269,8 +346,17 @@ def test_mujoco_only_numerics_refused_with_reduced_engine(tmp_path, capsys):
     make_sweep("one-pinned", {"dt": [0.01, 0.025]}, fixed={"noise": 0.1}, engine="reduced")  # Euler-Maruyama step
     make_sweep("one-pinned", {"dt": [0.01, 0.025], "noise": [0.0, 0.1]}, engine="reduced")
     make_sweep("one-pinned", {"dt": [0.01, 0.025], "mass_ratio": [1e-4, 1e-3]}, engine="mujoco")
-    base = ["sweep", "one-pinned", "--grid", "sigma=0.3", "--engine", "reduced", "--out", str(tmp_path / "e.nc"),
-            "--quiet"]
+    base = [
+        "sweep",
+        "one-pinned",
+        "--grid",
+        "sigma=0.3",
+        "--engine",
+        "reduced",
+        "--out",
+        str(tmp_path / "e.nc"),
+        "--quiet",
+    ]
     for option, value in (("--dt", "0.001"), ("--integrator", "RK4")):
         assert main(base + [option, value]) == 2
         err = capsys.readouterr().err
@@ -288,8 +374,25 @@ def test_out_under_a_file_is_one_line(tmp_path, capsys):
     `run` does (it was a FileExistsError / PermissionError traceback)."""
     afile = tmp_path / "afile"
     afile.write_text("not a folder")
-    args = ["sweep", "one-pinned", "--grid", "sigma=0.3", "--n", "3", "--engine", "reduced", "--preset", "fast",
-            "--duration", "20", "--workers", "1", "--quiet", "--out", str(afile / "x.nc")]
+    args = [
+        "sweep",
+        "one-pinned",
+        "--grid",
+        "sigma=0.3",
+        "--n",
+        "3",
+        "--engine",
+        "reduced",
+        "--preset",
+        "fast",
+        "--duration",
+        "20",
+        "--workers",
+        "1",
+        "--quiet",
+        "--out",
+        str(afile / "x.nc"),
+    ]
     assert main(args) == 2
     err = capsys.readouterr().err.strip()
     assert err.count("\n") == 0 and "--out" in err and "is a file" in err
@@ -309,8 +412,28 @@ def test_file_size_limit_is_one_line_before_h5py_writes(tmp_path):
         resource.setrlimit(resource.RLIMIT_FSIZE, (limit, limit))
 
     out = tmp_path / "x.nc"
-    args = [sys.executable, "-m", "elastoactive", "sweep", "one-pinned", "--grid", "sigma=0.3:1.0:8", "--n", "3",
-            "--engine", "reduced", "--preset", "fast", "--duration", "20", "--workers", "1", "--quiet", "--out", str(out)]
+    args = [
+        sys.executable,
+        "-m",
+        "elastoactive",
+        "sweep",
+        "one-pinned",
+        "--grid",
+        "sigma=0.3:1.0:8",
+        "--n",
+        "3",
+        "--engine",
+        "reduced",
+        "--preset",
+        "fast",
+        "--duration",
+        "20",
+        "--workers",
+        "1",
+        "--quiet",
+        "--out",
+        str(out),
+    ]
     done = subprocess.run(args, capture_output=True, text=True, preexec_fn=limited, timeout=120)
     assert done.returncode == 2, done.stderr[-2000:]
     assert done.stderr.count("\n") == 1 and "file-size limit" in done.stderr and str(out) in done.stderr
@@ -326,8 +449,17 @@ def test_unreachable_dask_scheduler_is_one_line(tmp_path, capsys, monkeypatch):
 
     monkeypatch.setattr(sweep_runners, "DASK_CONNECT_S", 1.0, raising=False)
     out = tmp_path / "d.nc"
-    args = ["sweep", "two-pinned", "--grid", "delta=0:0.3:7", "--out", str(out), "--quiet",
-            "--scheduler", "tcp://127.0.0.1:9"]
+    args = [
+        "sweep",
+        "two-pinned",
+        "--grid",
+        "delta=0:0.3:7",
+        "--out",
+        str(out),
+        "--quiet",
+        "--scheduler",
+        "tcp://127.0.0.1:9",
+    ]
     start = time.monotonic()
     assert main(args) == 2
     assert time.monotonic() - start < 15
@@ -345,8 +477,23 @@ def test_a_sweep_whose_every_point_is_refused_is_refused_before_any_runs(tmp_pat
     ran = []
     monkeypatch.setattr(sweep_points, "run_chunk", lambda *a, **k: ran.append(a), raising=False)
     out = tmp_path / "ring.nc"
-    argv = ["sweep", "ring", "--n", "20", "--preset", "fast", "--grid", "sigma=0.5,0.8", "--duration", "1",
-            "--workers", "1", "--quiet", "--out", str(out)]
+    argv = [
+        "sweep",
+        "ring",
+        "--n",
+        "20",
+        "--preset",
+        "fast",
+        "--grid",
+        "sigma=0.5,0.8",
+        "--duration",
+        "1",
+        "--workers",
+        "1",
+        "--quiet",
+        "--out",
+        str(out),
+    ]
     assert main(argv) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "refuses every point of the sweep (2)" in err and "does not resolve" in err
@@ -370,8 +517,9 @@ def test_a_refused_point_is_checked_again_by_a_rerun(tmp_path):
     ds = run_sweep("one-pinned", {"sigma": [0.3, 5.0]}, on_point=lambda c, r: again.append(c), **kw)
     assert again == [{"sigma": 5.0}] and ds["status"].values.tolist() == ["ok", "error"]
     again.clear()
-    ds = run_sweep("one-pinned", {"sigma": [0.3, 5.0]}, on_point=lambda c, r: again.append(c), timestep_check=False,
-                   **kw)
+    ds = run_sweep(
+        "one-pinned", {"sigma": [0.3, 5.0]}, on_point=lambda c, r: again.append(c), timestep_check=False, **kw
+    )
     assert again == [{"sigma": 5.0}] and ds["status"].values.tolist() == ["ok", "ok"]
     again.clear()
     run_sweep("one-pinned", {"sigma": [0.3, 5.0]}, on_point=lambda c, r: again.append(c), **kw)

@@ -23,8 +23,10 @@ from elastoactive.terms import Term
 class UniformField(Term):
     name = "toy-uniform-field"
     summary = "the same force on every particle (a test's toy term)"
-    parameters = (Parameter("field_x", 0.0, "uniform force on every particle, x component (C1 / l)", quiet_default=True),
-                  Parameter("field_y", 0.0, "uniform force on every particle, y component (C1 / l)", quiet_default=True))
+    parameters = (
+        Parameter("field_x", 0.0, "uniform force on every particle, x component (C1 / l)", quiet_default=True),
+        Parameter("field_y", 0.0, "uniform force on every particle, y component (C1 / l)", quiet_default=True),
+    )
     observables = ("tip_y",)
 
     def build(self, spec, physics, numerics):
@@ -71,13 +73,33 @@ def test_field_bends_the_chain_alike_in_both_engines(field):
     tips = {e: ea.measure(tr).extra["tip_y"] for e, tr in runs.items()}
     assert tips["reduced"] > 0.3  # the field pushes the chain up (it hangs straight along x without it)
     assert tips["mujoco"] == pytest.approx(tips["reduced"], rel=0.01)
-    np.testing.assert_allclose(runs["mujoco"].theta, runs["reduced"].theta, atol=0.01 * np.abs(runs["reduced"].theta).max())
+    np.testing.assert_allclose(
+        runs["mujoco"].theta, runs["reduced"].theta, atol=0.01 * np.abs(runs["reduced"].theta).max()
+    )
 
 
 def test_field_through_run(field, tmp_path):
     out = tmp_path / "run"
-    assert main(["run", "one-pinned", "--n", "5", "--sigma", "0.3", "--field-y", "0.05", "--duration", "20",
-                 "--out", str(out), "--quiet"]) == 0
+    assert (
+        main(
+            [
+                "run",
+                "one-pinned",
+                "--n",
+                "5",
+                "--sigma",
+                "0.3",
+                "--field-y",
+                "0.05",
+                "--duration",
+                "20",
+                "--out",
+                str(out),
+                "--quiet",
+            ]
+        )
+        == 0
+    )
     summary = json.loads((out / "summary.json").read_text())
     assert summary["parameters"]["field_y"] == 0.05
     assert summary["results"]["tip_y"] > 0.3
@@ -90,8 +112,16 @@ def test_field_through_validate(field, capsys):
 
 
 def test_field_through_sweep(field, tmp_path):
-    ds = run_sweep("one-pinned", {"field_y": [0.02, 0.05]}, fixed={"n": 5, "sigma": 0.3}, numerics="fast",
-                   duration=20.0, out=tmp_path / "field.nc", workers=1, progress=False)
+    ds = run_sweep(
+        "one-pinned",
+        {"field_y": [0.02, 0.05]},
+        fixed={"n": 5, "sigma": 0.3},
+        numerics="fast",
+        duration=20.0,
+        out=tmp_path / "field.nc",
+        workers=1,
+        progress=False,
+    )
     assert (ds["status"].values == "ok").all()
     tip = ds["tip_y"].values
     assert tip[1] > tip[0] > 0
@@ -106,8 +136,10 @@ class StiffTether(Term):
 
     name = "toy-stiff-tether"
     summary = "a capped stiff spring from every particle to its rest point (a test's toy term)"
-    parameters = (Parameter("tether_k", 0.0, "tether stiffness (C1 / l^2)", low=0.0, quiet_default=True),
-                  Parameter("tether_cap", 1e9, "largest tether force (C1 / l)", low=0.0, quiet_default=True))
+    parameters = (
+        Parameter("tether_k", 0.0, "tether stiffness (C1 / l^2)", low=0.0, quiet_default=True),
+        Parameter("tether_cap", 1e9, "largest tether force (C1 / l)", low=0.0, quiet_default=True),
+    )
 
     def build(self, spec, physics, numerics):
         import mujoco
@@ -117,8 +149,9 @@ class StiffTether(Term):
             tendon = spec.add_tendon(name=f"tether_{i}")
             tendon.wrap_site(f"particle_{i}")
             tendon.wrap_site(f"tether_anchor_{i}")
-            actuator = spec.add_actuator(name=f"tether_pull_{i}", target=f"tether_{i}",
-                                         trntype=mujoco.mjtTrn.mjTRN_TENDON)
+            actuator = spec.add_actuator(
+                name=f"tether_pull_{i}", target=f"tether_{i}", trntype=mujoco.mjtTrn.mjTRN_TENDON
+            )
             actuator.gainprm[0] = 0.0
             actuator.biastype = mujoco.mjtBias.mjBIAS_AFFINE
             actuator.biasprm[:3] = [0.0, -physics.tether_k, 0.0]
@@ -152,8 +185,9 @@ def test_a_finite_runaway_state_is_a_divergence(tether):
     with pytest.raises(ea.SimulationDiverged, match="one step moved the state by .* an accurate run moves less") as err:
         ea.simulate(physics, duration=5.0, engine="mujoco")
     assert "Term.rate" in str(err.value) and "reduce dt" in str(err.value)
-    batched = simulate_mujoco_batch([physics, ea.Physics(n=5, sigma=0.8, tether_k=1.0, tether_cap=2000.0)],
-                                    ea.Numerics(), 5.0, threads=1)
+    batched = simulate_mujoco_batch(
+        [physics, ea.Physics(n=5, sigma=0.8, tether_k=1.0, tether_cap=2000.0)], ea.Numerics(), 5.0, threads=1
+    )
     assert isinstance(batched[0], ea.SimulationDiverged) and str(batched[0]) == str(err.value)
     assert np.abs(batched[1].theta).max() < 0.05  # a soft tether runs: the check reads the state, not the term
 

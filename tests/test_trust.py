@@ -10,14 +10,13 @@ import json
 
 import numpy as np
 import pytest
+from conftest import refused  # the shared one-line-refusal check
 
 import elastoactive as ea
-from elastoactive.io import progress
 from elastoactive.cli import main
 from elastoactive.engines.timestep import check_timestep
+from elastoactive.io import progress
 from elastoactive.results import load_trajectory
-
-from conftest import refused  # the shared one-line-refusal check
 
 RUN = ["run", "one-pinned", "--n", "4", "--sigma", "1.2", "--duration", "60", "--quiet"]
 
@@ -26,7 +25,9 @@ RUN = ["run", "one-pinned", "--n", "4", "--sigma", "1.2", "--duration", "60", "-
 
 
 def test_short_window_gives_null_frequency_naming_the_fix(tmp_path, capsys):
-    assert main(["run", "one-pinned", "--duration", "50", "--engine", "reduced", "--quiet", "--out", str(tmp_path)]) == 0
+    assert (
+        main(["run", "one-pinned", "--duration", "50", "--engine", "reduced", "--quiet", "--out", str(tmp_path)]) == 0
+    )
     captured = capsys.readouterr()
     results = json.loads((tmp_path / "summary.json").read_text())["results"]
     assert results["frequency"] is None and results["amplitude"] > 2  # clearly beating, but < 2 periods
@@ -49,7 +50,9 @@ def test_a_rigid_rotation_has_no_beat_frequency():
 
     t = np.arange(0.0, 200.0, 0.05)
     shape = np.array([0.0, 0.3, 0.5])
-    turning = Trajectory(t=t, theta=shape + 0.08 * t[:, None], physics=ea.Physics(scene="rotating-pin", n=3), engine="x")
+    turning = Trajectory(
+        t=t, theta=shape + 0.08 * t[:, None], physics=ea.Physics(scene="rotating-pin", n=3), engine="x"
+    )
     res = ea.measure(turning)
     assert res.frequency is None and res.rotation_rate == pytest.approx(0.08)
     assert len(res.notes) == 1 and "no beat" in res.notes[0] and "rotation_rate" in res.notes[0]
@@ -219,8 +222,32 @@ def test_summary_records_provenance(tmp_path):
 
 def test_from_reruns_a_recorded_mujoco_run_bit_identically(tmp_path):
     first, again = tmp_path / "first", tmp_path / "again"
-    assert main(["run", "two-pinned", "--n", "5", "--sigma", "0.9", "--delta", "0.15", "--seed", "3", "--duration", "20",
-                 "--dt", "0.005", "--sample-dt", "0.05", "--quiet", "--out", str(first)]) == 0
+    assert (
+        main(
+            [
+                "run",
+                "two-pinned",
+                "--n",
+                "5",
+                "--sigma",
+                "0.9",
+                "--delta",
+                "0.15",
+                "--seed",
+                "3",
+                "--duration",
+                "20",
+                "--dt",
+                "0.005",
+                "--sample-dt",
+                "0.05",
+                "--quiet",
+                "--out",
+                str(first),
+            ]
+        )
+        == 0
+    )
     assert main(["run", "--from", str(first / "summary.json"), "--out", str(again), "--quiet"]) == 0
     with np.load(first / "trajectory.npz") as a, np.load(again / "trajectory.npz") as b:
         np.testing.assert_array_equal(a["theta"], b["theta"])

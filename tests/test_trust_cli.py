@@ -15,12 +15,11 @@ import sys
 
 import numpy as np
 import pytest
+from conftest import refused  # the shared one-line-refusal check
 
 import elastoactive as ea
 from elastoactive.cli import main
 from elastoactive.results import load_trajectory, settings_digest
-
-from conftest import refused  # the shared one-line-refusal check
 
 RUN = ["run", "one-pinned", "--n", "4", "--sigma", "1.2", "--duration", "60", "--quiet", "--engine", "reduced"]
 
@@ -104,14 +103,25 @@ def test_an_edited_summary_is_refused(recorded, tmp_path, capsys, no_simulation)
         load_trajectory(edited)
     refused(capsys, ["run", "--from", str(edited), "--out", str(tmp_path / "again")], "settings_sha256")
     (edited / "trajectory.npz").unlink()  # nor does a summary alone, without the trajectory that knows its digest
-    refused(capsys, ["run", "--from", str(edited / "summary.json"), "--out", str(tmp_path / "again")],
-            "settings_sha256", "changed after the run")
+    refused(
+        capsys,
+        ["run", "--from", str(edited / "summary.json"), "--out", str(tmp_path / "again")],
+        "settings_sha256",
+        "changed after the run",
+    )
     assert not (tmp_path / "again").exists()
     load_trajectory(recorded)  # the untouched record loads
 
 
-@pytest.mark.parametrize("command", [RUN + ["--out"], ["sweep", "one-pinned", "--grid", "sigma=1", "--out"],
-                                     ["reproduce", "--tiny", "--out"], RUN + ["--video"]])
+@pytest.mark.parametrize(
+    "command",
+    [
+        RUN + ["--out"],
+        ["sweep", "one-pinned", "--grid", "sigma=1", "--out"],
+        ["reproduce", "--tiny", "--out"],
+        RUN + ["--video"],
+    ],
+)
 @pytest.mark.parametrize("empty", ["", " "])
 def test_an_empty_output_path_is_refused(tmp_path, capsys, no_simulation, monkeypatch, command, empty):
     """An empty output path is not the working folder (Path('') is '.'): one line naming the option, nothing
@@ -161,10 +171,12 @@ def test_a_file_size_limit_gives_one_line_not_a_traceback(tmp_path):
     small = RUN[:6] + ["--duration", "20"] + RUN[8:]
     out = tmp_path / "run"
     assert subprocess.run(base + small + ["--out", str(out)], capture_output=True, timeout=120).returncode == 0
-    commands = (RUN + ["--duration", "2000", "--out", str(tmp_path / "big")],
-                RUN + ["--duration", "2000", "--out", str(out), "--force"],
-                ["render", str(out), "--still", str(tmp_path / "s.png"), "--width", "2048", "--height", "2048"],
-                ["render", str(out), "-o", str(tmp_path / "v.mp4"), "--width", "512", "--height", "512", "--quiet"])
+    commands = (
+        RUN + ["--duration", "2000", "--out", str(tmp_path / "big")],
+        RUN + ["--duration", "2000", "--out", str(out), "--force"],
+        ["render", str(out), "--still", str(tmp_path / "s.png"), "--width", "2048", "--height", "2048"],
+        ["render", str(out), "-o", str(tmp_path / "v.mp4"), "--width", "512", "--height", "512", "--quiet"],
+    )
     for argv in commands:
         if argv[0] == "render" and os.environ.get("MUJOCO_GL") == "disabled":
             continue
@@ -180,8 +192,9 @@ def test_a_file_size_limit_gives_one_line_not_a_traceback(tmp_path):
     assert not (tmp_path / "big").exists()
 
 
-def test_a_run_whose_trajectory_cannot_be_stored_is_refused_before_it_simulates(tmp_path, capsys, monkeypatch,
-                                                                                no_simulation):
+def test_a_run_whose_trajectory_cannot_be_stored_is_refused_before_it_simulates(
+    tmp_path, capsys, monkeypatch, no_simulation
+):
     """The trajectory's size is known before the run (samples x columns): a file-size limit or a free space below it
     is one line naming --out, before anything is simulated."""
     import shutil
@@ -224,7 +237,9 @@ def test_a_trajectory_that_cannot_be_written_leaves_the_summary(tmp_path, capsys
 
 
 def test_what_cannot_be_measured_is_refused_before_simulating(capsys, no_simulation):
-    refused(capsys, ["run", "one-pinned", "--transient", "29.99", "--duration", "30", "--quiet"], "--transient", "sample(s)")
+    refused(
+        capsys, ["run", "one-pinned", "--transient", "29.99", "--duration", "30", "--quiet"], "--transient", "sample(s)"
+    )
     refused(capsys, ["run", "paraboloid", "--n", "1", "--duration", "20", "--quiet"], "n = 1", "curvature")
     with pytest.raises(ea.ParameterError, match="curvature"):
         ea.simulate(ea.Physics(scene="paraboloid", n=1), duration=20)
@@ -238,10 +253,12 @@ def test_the_front_door_takes_the_obvious_forms_or_names_the_argument():
     assert by_dict.t[1] == pytest.approx(0.1)
     by_name = ea.simulate("one-pinned", duration=2, engine="reduced")
     assert by_name.physics == ea.Physics(scene="one-pinned")
-    for call, argument in ((lambda: ea.simulate(physics, {"dt_": 0.01}, duration=2), "numerics"),
-                           (lambda: ea.simulate(7, duration=2), "physics"),
-                           (lambda: ea.measure(None), "trajectory"),
-                           (lambda: ea.measure(np.zeros((10, 7))), "trajectory")):
+    for call, argument in (
+        (lambda: ea.simulate(physics, {"dt_": 0.01}, duration=2), "numerics"),
+        (lambda: ea.simulate(7, duration=2), "physics"),
+        (lambda: ea.measure(None), "trajectory"),
+        (lambda: ea.measure(np.zeros((10, 7))), "trajectory"),
+    ):
         with pytest.raises(TypeError, match=argument):
             call()
     with pytest.raises(ea.ParameterError, match="transient"):
@@ -252,8 +269,26 @@ def test_from_reruns_every_recorded_run_or_refuses(tmp_path, capsys):
     """The reduced engine's mass ratio is recorded (an inertial chain re-runs inertial); a record that lacks a setting
     the re-run needs (here an older summary without its duration) is refused, not filled with a default."""
     heavy, again = tmp_path / "heavy", tmp_path / "again"
-    assert main(["run", "one-pinned", "--n", "4", "--mass-ratio", "10", "--duration", "40", "--engine", "reduced",
-                 "--quiet", "--out", str(heavy)]) == 0
+    assert (
+        main(
+            [
+                "run",
+                "one-pinned",
+                "--n",
+                "4",
+                "--mass-ratio",
+                "10",
+                "--duration",
+                "40",
+                "--engine",
+                "reduced",
+                "--quiet",
+                "--out",
+                str(heavy),
+            ]
+        )
+        == 0
+    )
     assert json.loads((heavy / "summary.json").read_text())["numerics"]["mass_ratio"] == 10
     assert main(["run", "--from", str(heavy), "--out", str(again), "--quiet"]) == 0
     with np.load(heavy / "trajectory.npz") as a, np.load(again / "trajectory.npz") as b:
@@ -265,8 +300,23 @@ def test_from_reruns_every_recorded_run_or_refuses(tmp_path, capsys):
     older["settings_sha256"] = settings_digest(older)  # a record of a version that did not write them
     (heavy / "summary.json").write_text(json.dumps(older))
     refused(capsys, ["run", "--from", str(heavy), "--quiet"], "duration", "mass_ratio", "--duration", "--mass-ratio")
-    assert main(["run", "--from", str(heavy), "--duration", "40", "--mass-ratio", "10", "--out", str(tmp_path / "given"),
-                 "--quiet"]) == 0
+    assert (
+        main(
+            [
+                "run",
+                "--from",
+                str(heavy),
+                "--duration",
+                "40",
+                "--mass-ratio",
+                "10",
+                "--out",
+                str(tmp_path / "given"),
+                "--quiet",
+            ]
+        )
+        == 0
+    )
     with np.load(heavy / "trajectory.npz") as a, np.load(tmp_path / "given" / "trajectory.npz") as b:
         np.testing.assert_array_equal(a["theta"], b["theta"])
 

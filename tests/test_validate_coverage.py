@@ -4,10 +4,17 @@ import math
 
 import pytest
 
+from elastoactive.checks.validate import (
+    Comparison,
+    format_table,
+    inertial_gap,
+    inertial_plan,
+    not_run,
+    validation_cases,
+    verdict,
+)
 from elastoactive.cli import main
 from elastoactive.params import Numerics
-from elastoactive.checks.validate import (Comparison, format_table, inertial_gap, inertial_plan, not_run, validation_cases,
-                                   verdict)
 
 
 def test_inertial_plan_keeps_every_case_with_its_reason():
@@ -23,8 +30,17 @@ def test_inertial_plan_keeps_every_case_with_its_reason():
 
 
 def _ran(case, error: float) -> Comparison:
-    return Comparison(case.physics, Numerics(), case.duration, None, None, 1.0, 1.0,
-                      {"amplitude": error, "angle": error, "angle_rad": error, "window": 20.0}, None)
+    return Comparison(
+        case.physics,
+        Numerics(),
+        case.duration,
+        None,
+        None,
+        1.0,
+        1.0,
+        {"amplitude": error, "angle": error, "angle_rad": error, "window": 20.0},
+        None,
+    )
 
 
 def test_verdict_names_cases_not_run():
@@ -39,8 +55,9 @@ def test_verdict_names_cases_not_run():
     assert verdict(rows[:1], 0.01) == ("largest relative error 0.100% (tolerance 1%): PASS", True)
 
 
-@pytest.mark.parametrize("argv", [["validate", "lattice", "--inertial"],
-                                  ["validate", "trapped-unit", "--mass-ratio", "0.01"]])
+@pytest.mark.parametrize(
+    "argv", [["validate", "lattice", "--inertial"], ["validate", "trapped-unit", "--mass-ratio", "0.01"]]
+)
 def test_validate_refuses_a_scene_with_no_case_at_the_mass(argv, capsys):
     assert main(argv) == 2
     captured = capsys.readouterr()
@@ -52,8 +69,13 @@ def test_validate_refuses_a_scene_with_no_case_at_the_mass(argv, capsys):
 def test_validate_reports_a_case_it_cannot_run(monkeypatch, capsys):
     import elastoactive.checks.validate as validate
 
-    monkeypatch.setattr(validate, "compare", lambda physics, numerics, duration, inertial=None: _ran(
-        next(c for c in validation_cases("ring") if c.physics == physics), 0.001))
+    monkeypatch.setattr(
+        validate,
+        "compare",
+        lambda physics, numerics, duration, inertial=None: _ran(
+            next(c for c in validation_cases("ring") if c.physics == physics), 0.001
+        ),
+    )
     assert main(["validate", "ring", "--mass-ratio", "0.001", "--quiet"]) == 0
     out = capsys.readouterr().out
     assert "ring N=7 sigma=0.8 free | not run: " in out and "1 NOT RUN" in out

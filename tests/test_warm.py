@@ -1,7 +1,7 @@
 """elastoactive.cli.warm: the kernels' warm-up that scripts/setup.sh runs covers every scene and term and runs through."""
 
-from elastoactive.cli import warm
 from elastoactive.checks.validate import validation_cases
+from elastoactive.cli import warm
 
 
 def test_warm_up_runs_every_validation_case_and_the_other_paths():

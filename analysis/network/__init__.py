@@ -4,5 +4,13 @@ the reduced overdamped model, its linear stability and observables. Pure functio
 from ...networks.geometry import BOUNDARIES, MAX_RINGS, Network, hexagonal_patch, ring_index, trap_unit
 from ...networks.state import NetworkState, initial_state
 
-__all__ = ["BOUNDARIES", "MAX_RINGS", "Network", "NetworkState", "hexagonal_patch", "initial_state", "ring_index",
-           "trap_unit"]
+__all__ = [
+    "BOUNDARIES",
+    "MAX_RINGS",
+    "Network",
+    "NetworkState",
+    "hexagonal_patch",
+    "initial_state",
+    "ring_index",
+    "trap_unit",
+]

@@ -1,20 +1,20 @@
 """Observables of a network run, as pure functions of its record (times, node positions, polarities).
 
-  polarization        time mean of |(1/A) sum_i n_i|: the units' polar order (1: all point the same way)
-  polarity_rate       mean over the window and the units of dpsi_i/dt (rad per gamma / k): the polarities' common
-                      turning rate, its sign the sense of rotation (0 at a fixed point, and near 0 when as many units
-                      turn one way as the other)
-  polarity_speed      mean over the window and the units of |dpsi_i/dt|: how fast the units turn whatever their sense
-                      (actuation ~ |polarity_rate| / polarity_speed)
-  actuation           |<dpsi/dt>| / <|dpsi/dt|> over the units and the window: 1 when every unit turns the same way
-                      at the same rate (collective actuation), near 0 for incoherent turning, 0 for still units
-  mode energies       the displacements from rest (the patch's rigid motion taken out, `body_positions`) projected on
-                      the dynamical matrix's normal modes, energy lambda_m <a_m^2> / 2 per mode, canonical within a
-                      degenerate eigenspace (its principal axes); `condensation` is the share of the two most energetic
-                      modes (1: the dynamics has condensed on two modes), `dominant_modes` their 1-based ranks by
-                      stiffness (1: the softest; 0: none, an undeformed patch)
-  rotation, drift     the patch's rigid motion: its rotation angle about a point (its least-squares rotation of the
-                      displacements) and mean rate, and its centroid's drift (distance over the window's length)
+polarization        time mean of |(1/A) sum_i n_i|: the units' polar order (1: all point the same way)
+polarity_rate       mean over the window and the units of dpsi_i/dt (rad per gamma / k): the polarities' common
+                    turning rate, its sign the sense of rotation (0 at a fixed point, and near 0 when as many units
+                    turn one way as the other)
+polarity_speed      mean over the window and the units of |dpsi_i/dt|: how fast the units turn whatever their sense
+                    (actuation ~ |polarity_rate| / polarity_speed)
+actuation           |<dpsi/dt>| / <|dpsi/dt|> over the units and the window: 1 when every unit turns the same way
+                    at the same rate (collective actuation), near 0 for incoherent turning, 0 for still units
+mode energies       the displacements from rest (the patch's rigid motion taken out, `body_positions`) projected on
+                    the dynamical matrix's normal modes, energy lambda_m <a_m^2> / 2 per mode, canonical within a
+                    degenerate eigenspace (its principal axes); `condensation` is the share of the two most energetic
+                    modes (1: the dynamics has condensed on two modes), `dominant_modes` their 1-based ranks by
+                    stiffness (1: the softest; 0: none, an undeformed patch)
+rotation, drift     the patch's rigid motion: its rotation angle about a point (its least-squares rotation of the
+                    displacements) and mean rate, and its centroid's drift (distance over the window's length)
 """
 
 from __future__ import annotations
@@ -76,8 +76,8 @@ condense on (condensation NaN, dominant modes 0). A freely translating patch who
 
 
 class ModeEnergies(NamedTuple):
-    energy: np.ndarray            # (M,) time-mean elastic energy per normal mode, ascending stiffness
-    condensation: float           # share of the total in the two most energetic modes (NaN: undeformed)
+    energy: np.ndarray  # (M,) time-mean elastic energy per normal mode, ascending stiffness
+    condensation: float  # share of the total in the two most energetic modes (NaN: undeformed)
     dominant_modes: tuple[int, int]  # their 1-based ranks by stiffness, the most energetic first (0: none)
 
 
@@ -91,8 +91,9 @@ def eigenspaces(values: np.ndarray) -> list[np.ndarray]:
     return np.split(np.arange(values.size), cuts)
 
 
-def mode_energies(displacements: np.ndarray, values: np.ndarray, vectors: np.ndarray,
-                  floor: float = 0.0) -> ModeEnergies:
+def mode_energies(
+    displacements: np.ndarray, values: np.ndarray, vectors: np.ndarray, floor: float = 0.0
+) -> ModeEnergies:
     """Energy per normal mode of the free nodes' displacements from rest ((T, 2F), node-interleaved) on the modes
     (values ascending, vectors as columns): E_m = lambda_m <a_m^2> / 2 with a_m = u . v_m.
 

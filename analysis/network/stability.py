@@ -133,8 +133,9 @@ def unit_ceiling(network: Network) -> float:
     M = N_perp^T D^-1 N_perp, and lambda_max(M) >= M_uu = n_perp_u^T (D^-1)_uu n_perp_u >= lambda_min((D^-1)_uu)
     for every unit u ((D^-1)_uu: the 2 x 2 block of unit u's node)."""
     inverse = np.linalg.inv(dynamical_matrix(network))
-    floor = max(float(np.linalg.eigvalsh(inverse[2 * s : 2 * s + 2, 2 * s : 2 * s + 2])[0])
-                for s in unit_slots(network))
+    floor = max(
+        float(np.linalg.eigvalsh(inverse[2 * s : 2 * s + 2, 2 * s : 2 * s + 2])[0]) for s in unit_slots(network)
+    )
     return 1.0 / floor
 
 
@@ -145,17 +146,18 @@ def coupling_ceiling(network: Network) -> float:
 
 
 class Threshold(NamedTuple):
-    softest: float        # lambda_1: below it every fixed point is stable (proved)
-    coupling: float       # the best Pi_c found: some fixed point is stable up to at least this (Pi* >= coupling)
+    softest: float  # lambda_1: below it every fixed point is stable (proved)
+    coupling: float  # the best Pi_c found: some fixed point is stable up to at least this (Pi* >= coupling)
     polarities: np.ndarray  # that fixed point's psi
-    typical: float        # median of Pi_c over uniformly random polarities
-    ceiling: float        # coupling_ceiling: no fixed point is stable above it (proved, Pi* <= ceiling)
-    starts: int           # searches run
-    reached: int          # searches that ended within REACHED of the best
+    typical: float  # median of Pi_c over uniformly random polarities
+    ceiling: float  # coupling_ceiling: no fixed point is stable above it (proved, Pi* <= ceiling)
+    starts: int  # searches run
+    reached: int  # searches that ended within REACHED of the best
 
 
-def threshold(network: Network, starts: int | None = None, seed: int = 0, samples: int = 400,
-              iterations: int = 3000) -> Threshold:
+def threshold(
+    network: Network, starts: int | None = None, seed: int = 0, samples: int = 400, iterations: int = 3000
+) -> Threshold:
     """lambda_1; the best Pi_c found by searches over the polarities from `starts` seeded random polarities
     (default search_starts): from each, L-BFGS on the analytic gradient of mu_max (at most `iterations` steps), then
     the same through the SMOOTHING temperatures and again plain, keeping the better end; the median Pi_c of `samples`
@@ -175,11 +177,17 @@ def threshold(network: Network, starts: int | None = None, seed: int = 0, sample
             scale = temperature * objective(x)[0]
             x = minimize(objective, x, args=(scale,), jac=True, method="L-BFGS-B", options=options).x
         smoothed = minimize(objective, x, jac=True, method="L-BFGS-B", options=options)
-        ends.append(min((float(objective(plain.x)[0]), plain.x), (float(objective(smoothed.x)[0]), smoothed.x),
-                        key=lambda end: end[0]))
+        ends.append(
+            min(
+                (float(objective(plain.x)[0]), plain.x),
+                (float(objective(smoothed.x)[0]), smoothed.x),
+                key=lambda end: end[0],
+            )
+        )
     best, polarities = min(ends, key=lambda end: end[0])
     reached = sum(mu <= best * (1.0 + REACHED) for mu, _ in ends)
     typical = float(np.median([1.0 / objective(rng.uniform(0, 2 * np.pi, count))[0] for _ in range(samples)]))
     softest = float(np.linalg.eigvalsh(dynamical_matrix(network))[0])
-    return Threshold(softest, 1.0 / best, np.mod(polarities, 2 * np.pi), typical, coupling_ceiling(network), starts,
-                     reached)
+    return Threshold(
+        softest, 1.0 / best, np.mod(polarities, 2 * np.pi), typical, coupling_ceiling(network), starts, reached
+    )

@@ -31,24 +31,21 @@ import csv
 import json
 import math
 import os
-import sys
 import time
 from dataclasses import asdict, dataclass
 from pathlib import Path
 
-import numpy as np
-
 from ..batch import default_workers
-from ..engines.timestep import check_accuracy, check_timestep
 from ..engines.mujoco import simulate_mujoco
 from ..engines.reduced import simulate_reduced
+from ..engines.timestep import check_accuracy, check_timestep
 from ..errors import ParameterError, SimulationDiverged
 from ..io.executor import imap
-from ..params import PRESETS, Numerics, Physics
 from ..io.outputs import atomic_file, provenance, provenance_line, utc_now, write_text
 from ..io.progress import progress_bar
-from ..results import default_transient, measure
+from ..params import PRESETS, Numerics, Physics
 from ..registry import get as get_scene
+from ..results import default_transient, measure
 from .validate import angle_errors, observable_errors
 
 REFERENCE = dict(method="numba-DOP853", rtol=1e-11, atol=1e-13)
@@ -112,9 +109,13 @@ def mujoco_grid(quick: bool | str = False) -> list[Setting]:
     grid: list[tuple[str, float, float]] = []
     size = _size(quick)
     if size == "tiny":
-        return [Setting("mujoco", "implicitfast", dt=dt, mass_ratio=m)
-                for dt, m in ((DEFAULT_MUJOCO["dt"], DEFAULT_MUJOCO["mass_ratio"]),
-                              (FAST_MUJOCO["dt"], FAST_MUJOCO["mass_ratio"]))]
+        return [
+            Setting("mujoco", "implicitfast", dt=dt, mass_ratio=m)
+            for dt, m in (
+                (DEFAULT_MUJOCO["dt"], DEFAULT_MUJOCO["mass_ratio"]),
+                (FAST_MUJOCO["dt"], FAST_MUJOCO["mass_ratio"]),
+            )
+        ]
     if size == "quick":
         for m in (1e-3, 1e-4, 1e-5):
             grid += [("implicitfast", dt, m) for dt in (0.04, 0.01, 0.0025, 0.000625)]
@@ -160,8 +161,11 @@ def paper_cases(quick: bool | str = False) -> list[tuple[Physics, float]]:
     """The study's (physics, duration): the validation cases of STUDY_SCENES, shortened (DURATION_FRACTION); the
     first one only at the tiny size."""
     size = _size(quick)
-    cases = [(c.physics, round(DURATION_FRACTION[size] * c.duration, 9))
-             for name in STUDY_SCENES for c in get_scene(name).validation_cases()]
+    cases = [
+        (c.physics, round(DURATION_FRACTION[size] * c.duration, 9))
+        for name in STUDY_SCENES
+        for c in get_scene(name).validation_cases()
+    ]
     return cases[:1] if size == "tiny" else cases
 
 
@@ -184,8 +188,13 @@ def reference_method(physics: Physics) -> str:
 
 def reference_solution(physics: Physics, duration: float, sample_dt: float = SAMPLE_DT):
     """The tight reduced-model solution every setting is measured against (the paper's overdamped model)."""
-    return simulate_reduced(physics, Numerics(sample_dt=sample_dt), duration, inertial=False,
-                            **{**REFERENCE, "method": reference_method(physics)})
+    return simulate_reduced(
+        physics,
+        Numerics(sample_dt=sample_dt),
+        duration,
+        inertial=False,
+        **{**REFERENCE, "method": reference_method(physics)},
+    )
 
 
 def errors_against(traj, reference, transient: float | None = None, reference_measure=None) -> dict:
@@ -209,15 +218,32 @@ def errors_against(traj, reference, transient: float | None = None, reference_me
 def _simulate(physics: Physics, duration: float, setting: Setting):
     if setting.engine == "mujoco":
         return simulate_mujoco(physics, setting.numerics(), duration)
-    return simulate_reduced(physics, setting.numerics(), duration, method=setting.series,
-                            rtol=setting.rtol, atol=setting.rtol * 1e-2)
+    return simulate_reduced(
+        physics, setting.numerics(), duration, method=setting.series, rtol=setting.rtol, atol=setting.rtol * 1e-2
+    )
 
 
-def run_setting(physics: Physics, duration: float, setting: Setting, reference, reference_measure=None,
-                repeats: int = 3, min_time: float = 0.5) -> dict:
+def run_setting(
+    physics: Physics,
+    duration: float,
+    setting: Setting,
+    reference,
+    reference_measure=None,
+    repeats: int = 3,
+    min_time: float = 0.5,
+) -> dict:
     """Errors and wall time of one setting on one case; never raises for an unstable setting."""
-    row = {"case": case_name(physics), "scene": physics.scene, "duration": duration, **asdict(setting),
-           "label": setting.label, "status": "ok", "wall_s": math.nan, "message": "", "guard": ""}
+    row = {
+        "case": case_name(physics),
+        "scene": physics.scene,
+        "duration": duration,
+        **asdict(setting),
+        "label": setting.label,
+        "status": "ok",
+        "wall_s": math.nan,
+        "message": "",
+        "guard": "",
+    }
     try:
         if setting.engine == "mujoco":
             # stability only: the study measures the error of every stable setting, and records whether
@@ -257,8 +283,15 @@ def _task(args):
     return run_setting(physics, duration, setting, reference, repeats=repeats)
 
 
-def run_study(quick: bool | str = False, workers: int | None = None, progress: bool = True,
-              cases=None, mujoco=None, reduced=None, repeats: int = 3) -> tuple[list[dict], dict]:
+def run_study(
+    quick: bool | str = False,
+    workers: int | None = None,
+    progress: bool = True,
+    cases=None,
+    mujoco=None,
+    reduced=None,
+    repeats: int = 3,
+) -> tuple[list[dict], dict]:
     """All settings on all cases (`quick`: a size of SIZES, or True for quick); returns (rows, meta)."""
     size = _size(quick)
     cases = paper_cases(size) if cases is None else cases
@@ -286,10 +319,18 @@ def run_study(quick: bool | str = False, workers: int | None = None, progress: b
                 bar.update()
     if bar:
         bar.close()
-    meta = {"quick": size != "full", "size": size, "workers": workers, "elapsed_s": time.perf_counter() - start,
-            "started_utc": started,
-            "cases": [(case_name(p), d) for p, d in cases], "reference": REFERENCE, "sample_dt": SAMPLE_DT,
-            "reference_wall_s": [r.wall_time_s for r in references], "cpu_count": os.cpu_count()}
+    meta = {
+        "quick": size != "full",
+        "size": size,
+        "workers": workers,
+        "elapsed_s": time.perf_counter() - start,
+        "started_utc": started,
+        "cases": [(case_name(p), d) for p, d in cases],
+        "reference": REFERENCE,
+        "sample_dt": SAMPLE_DT,
+        "reference_wall_s": [r.wall_time_s for r in references],
+        "cpu_count": os.cpu_count(),
+    }
     return rows, meta  # type: ignore[return-value]
 
 
@@ -309,7 +350,7 @@ def summarise(rows: list[dict]) -> list[dict]:
     for r in rows:
         by_label.setdefault(r["label"], []).append(r)
     out = []
-    for label, rs in by_label.items():
+    for rs in by_label.values():
         first = rs[0]
         ok = all(r["status"] == "ok" for r in rs)
         status = "ok" if ok else "/".join(sorted({r["status"] for r in rs if r["status"] != "ok"}))
@@ -336,8 +377,11 @@ def recommend(summary: list[dict], levels=LEVELS, key: str = "worst") -> list[di
         for engine in ("mujoco", "reduced"):
             series = sorted({s["series"] for s in summary if s["engine"] == engine})
             for name in series:
-                cands = [s for s in summary if s["engine"] == engine and s["series"] == name and s["status"] == "ok"
-                         and s[key] <= level]
+                cands = [
+                    s
+                    for s in summary
+                    if s["engine"] == engine and s["series"] == name and s["status"] == "ok" and s[key] <= level
+                ]
                 best = min(cands, key=lambda s: s["wall_s"]) if cands else None
                 out.append({"level": level, "engine": engine, "series": name, "setting": best})
     return out
@@ -356,60 +400,102 @@ def _pct(x):
 
 
 def format_recommendations(recs: list[dict], key: str = "worst") -> str:
-    lines = [f"| target ({key} error) | engine | integrator / method | cheapest setting | {key} error "
-             "| wall s per 100 tau |",
-             "|---|---|---|---|---|---|"]
+    lines = [
+        f"| target ({key} error) | engine | integrator / method | cheapest setting | {key} error "
+        "| wall s per 100 tau |",
+        "|---|---|---|---|---|---|",
+    ]
     for r in recs:
         s = r["setting"]
         if s is None:
             lines.append(f"| {_pct(r['level'])} | {r['engine']} | {r['series']} | not reached in the grid | - | - |")
             continue
         setting = f"dt={s['dt']:g}, m={s['mass_ratio']:g}" if r["engine"] == "mujoco" else f"rtol={s['rtol']:g}"
-        lines.append(f"| {_pct(r['level'])} | {r['engine']} | {r['series']} | {setting} | {_pct(s[key])} "
-                     f"| {s['wall_per_100tau']:.3g} |")
+        lines.append(
+            f"| {_pct(r['level'])} | {r['engine']} | {r['series']} | {setting} | {_pct(s[key])} "
+            f"| {s['wall_per_100tau']:.3g} |"
+        )
     return "\n".join(lines)
 
 
 def format_summary(summary: list[dict]) -> str:
-    lines = ["| engine | integrator / method | dt | mass ratio | rtol | status | worst err | amplitude | frequency "
-             "| rotation rate | angle (transient) | pin violation | wall s / 100 tau | pre-flight accuracy guard |",
-             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
-    for s in sorted(summary, key=lambda s: (s["engine"], s["series"], -(s["mass_ratio"] or 0), -(s["dt"] or 0),
-                                             -(s["rtol"] or 0))):
+    lines = [
+        "| engine | integrator / method | dt | mass ratio | rtol | status | worst err | amplitude | frequency "
+        "| rotation rate | angle (transient) | pin violation | wall s / 100 tau | pre-flight accuracy guard |",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
+    ]
+    for s in sorted(
+        summary, key=lambda s: (s["engine"], s["series"], -(s["mass_ratio"] or 0), -(s["dt"] or 0), -(s["rtol"] or 0))
+    ):
         lines.append(
             f"| {s['engine']} | {s['series']} | {_fmt(s['dt'], 'g')} | {_fmt(s['mass_ratio'], 'g')} "
             f"| {_fmt(s['rtol'], 'g')} "
             f"| {s['status']} | {_pct(s['worst'])} | {_pct(s['amplitude'])} | {_pct(s['frequency'])} "
             f"| {_pct(s['rotation_rate'])} | {_pct(s['angle'])} | {_fmt(s['pin_violation'], '.1e')} "
-            f"| {_fmt(s['wall_per_100tau'], '.3g')} | {s.get('guard', '-')} |")
+            f"| {_fmt(s['wall_per_100tau'], '.3g')} | {s.get('guard', '-')} |"
+        )
     return "\n".join(lines)
 
 
 def format_defaults(summary: list[dict]) -> str:
     wanted = [
-        ("MuJoCo default ('accurate')", "mujoco", DEFAULT_MUJOCO["integrator"], DEFAULT_MUJOCO["dt"],
-         DEFAULT_MUJOCO["mass_ratio"], None),
-        ("MuJoCo 'fast' preset", "mujoco", FAST_MUJOCO["integrator"], FAST_MUJOCO["dt"], FAST_MUJOCO["mass_ratio"],
-         None),
+        (
+            "MuJoCo default ('accurate')",
+            "mujoco",
+            DEFAULT_MUJOCO["integrator"],
+            DEFAULT_MUJOCO["dt"],
+            DEFAULT_MUJOCO["mass_ratio"],
+            None,
+        ),
+        (
+            "MuJoCo 'fast' preset",
+            "mujoco",
+            FAST_MUJOCO["integrator"],
+            FAST_MUJOCO["dt"],
+            FAST_MUJOCO["mass_ratio"],
+            None,
+        ),
         ("reduced default", "reduced", DEFAULT_REDUCED["method"], None, None, DEFAULT_REDUCED["rtol"]),
     ]
-    lines = ["| setting | worst err | amplitude | frequency | rotation rate | angle (transient) | wall s per 100 tau "
-             "| simulated tau per wall s |", "|---|---|---|---|---|---|---|---|"]
+    lines = [
+        "| setting | worst err | amplitude | frequency | rotation rate | angle (transient) | wall s per 100 tau "
+        "| simulated tau per wall s |",
+        "|---|---|---|---|---|---|---|---|",
+    ]
     for name, engine, series, dt, m, rtol in wanted:
-        match = [s for s in summary if s["engine"] == engine and s["series"] == series and s["dt"] == dt
-                 and s["mass_ratio"] == m and s["rtol"] == rtol]
+        match = [
+            s
+            for s in summary
+            if s["engine"] == engine
+            and s["series"] == series
+            and s["dt"] == dt
+            and s["mass_ratio"] == m
+            and s["rtol"] == rtol
+        ]
         if not match:
             continue
         s = match[0]
         rate = 100.0 / s["wall_per_100tau"] if s["wall_per_100tau"] else math.nan
-        lines.append(f"| {name} | {_pct(s['worst'])} | {_pct(s['amplitude'])} | {_pct(s['frequency'])} "
-                     f"| {_pct(s['rotation_rate'])} | {_pct(s['angle'])} | {_fmt(s['wall_per_100tau'], '.3g')} "
-                     f"| {_fmt(rate, '.0f')} |")
+        lines.append(
+            f"| {name} | {_pct(s['worst'])} | {_pct(s['amplitude'])} | {_pct(s['frequency'])} "
+            f"| {_pct(s['rotation_rate'])} | {_pct(s['angle'])} | {_fmt(s['wall_per_100tau'], '.3g')} "
+            f"| {_fmt(rate, '.0f')} |"
+        )
     return "\n".join(lines)
 
 
-MARKERS = {"implicitfast": "o", "implicit": "s", "discrete": "D", "Euler": "v", "RK4": "^",
-           "numba-DOP853": "*", "DOP853": "P", "RK45": "X", "Radau": "h", "LSODA": "<"}
+MARKERS = {
+    "implicitfast": "o",
+    "implicit": "s",
+    "discrete": "D",
+    "Euler": "v",
+    "RK4": "^",
+    "numba-DOP853": "*",
+    "DOP853": "P",
+    "RK45": "X",
+    "Radau": "h",
+    "LSODA": "<",
+}
 
 
 def plot(rows: list[dict], summary: list[dict], path: Path, key: str = "worst") -> None:
@@ -428,19 +514,29 @@ def plot(rows: list[dict], summary: list[dict], path: Path, key: str = "worst") 
     for ax, panel in zip(axes.flat, panels):
         data = summary if panel.startswith("all") else [r for r in rows if r["case"] == panel]
         for name, marker in MARKERS.items():
-            pts = [d for d in data
-                   if d["series"] == name and d["status"] == "ok" and math.isfinite(d.get(key, math.nan))]
+            pts = [
+                d for d in data if d["series"] == name and d["status"] == "ok" and math.isfinite(d.get(key, math.nan))
+            ]
             if not pts:
                 continue
             groups: dict = {}
             for d in pts:
                 groups.setdefault(d["mass_ratio"] if d["engine"] == "mujoco" else None, []).append(d)
             first = True
-            for mass, g in groups.items():
+            for g in groups.values():
                 g = sorted(g, key=lambda d: d["wall_s"])
                 label = (f"{name} (MuJoCo)" if g[0]["engine"] == "mujoco" else f"{name} (reduced)") if first else None
-                ax.plot([d["wall_s"] for d in g], [max(d[key], 1e-12) for d in g], marker=marker, ls="-", lw=0.6,
-                        ms=5, color=colours[name], label=label, alpha=0.85)
+                ax.plot(
+                    [d["wall_s"] for d in g],
+                    [max(d[key], 1e-12) for d in g],
+                    marker=marker,
+                    ls="-",
+                    lw=0.6,
+                    ms=5,
+                    color=colours[name],
+                    label=label,
+                    alpha=0.85,
+                )
                 first = False
         for level in LEVELS:
             ax.axhline(level, color="0.7", lw=0.6, ls=":")
@@ -450,12 +546,14 @@ def plot(rows: list[dict], summary: list[dict], path: Path, key: str = "worst") 
         ax.set_xlabel("wall time, s")
         ax.set_ylabel(f"{key} relative error")
         ax.grid(True, which="major", alpha=0.3)
-    for ax in list(axes.flat)[len(panels):]:
+    for ax in list(axes.flat)[len(panels) :]:
         ax.axis("off")
     handles, labels = axes.flat[len(panels) - 1].get_legend_handles_labels()
     fig.legend(handles, labels, loc="lower center", fontsize=9, ncol=5, frameon=False)
-    fig.suptitle(f"Error against the reduced model (rtol 1e-11) vs wall time; MuJoCo lines join dt at fixed mass ratio",
-                 fontsize=11)
+    fig.suptitle(
+        "Error against the reduced model (rtol 1e-11) vs wall time; MuJoCo lines join dt at fixed mass ratio",
+        fontsize=11,
+    )
     fig.tight_layout(rect=(0, 0.07, 1, 0.97))
     path.parent.mkdir(parents=True, exist_ok=True)
     with atomic_file(Path(path)) as tmp:
@@ -463,9 +561,30 @@ def plot(rows: list[dict], summary: list[dict], path: Path, key: str = "worst") 
     plt.close(fig)
 
 
-CSV_FIELDS = ("case", "scene", "duration", "engine", "series", "dt", "mass_ratio", "rtol", "status", "wall_s", "runs",
-              "worst", "steady", "amplitude", "frequency", "rotation_rate", "angle", "angle_rad", "window",
-              "pin_violation", "guard", "message")
+CSV_FIELDS = (
+    "case",
+    "scene",
+    "duration",
+    "engine",
+    "series",
+    "dt",
+    "mass_ratio",
+    "rtol",
+    "status",
+    "wall_s",
+    "runs",
+    "worst",
+    "steady",
+    "amplitude",
+    "frequency",
+    "rotation_rate",
+    "angle",
+    "angle_rad",
+    "window",
+    "pin_violation",
+    "guard",
+    "message",
+)
 
 
 def write_outputs(out: Path, rows: list[dict], meta: dict) -> dict:

@@ -36,14 +36,14 @@ import mujoco
 import numpy as np
 
 from .. import registry
-from .accuracy import errors_against
-from ..engines.timestep import INERTIA_RESOLUTION, PIN_DT3_PER_MASS, check_timestep, stability_limits
 from ..engines.mujoco import simulate_mujoco
 from ..engines.reduced import simulate_reduced
+from ..engines.timestep import INERTIA_RESOLUTION, PIN_DT3_PER_MASS, check_timestep, stability_limits
 from ..errors import ParameterError, SimulationDiverged
 from ..params import Numerics, Physics, replace
 from ..results import measure
 from ..trajectory import Trajectory
+from .accuracy import errors_against
 from .validate import comparison_window
 
 TOLERANCE = {"statistics": 0.05, "angle": 0.10, "pin": 0.02}
@@ -66,8 +66,10 @@ NUMERICS = {
 }
 INTEGRATORS = ("implicitfast", "implicit", "discrete", "Euler", "RK4")
 
-WARNINGS = {mujoco.mjtWarning.mjWARN_INERTIA: "inertia/effective-metric solve",
-            mujoco.mjtWarning.mjWARN_BADQACC: "bad qacc"}
+WARNINGS = {
+    mujoco.mjtWarning.mjWARN_INERTIA: "inertia/effective-metric solve",
+    mujoco.mjtWarning.mjWARN_BADQACC: "bad qacc",
+}
 
 
 def cell_duration(physics: Physics) -> float:
@@ -149,7 +151,6 @@ def reference(physics: Physics, duration: float, sample_dt: float, seed: int = 0
     left = gap > HORIZON_FRACTION * scale
     horizon = float(ref.t[np.argmax(left)]) if np.any(left) else math.inf
     try:
-
         e = errors_against(kicked, ref)
         stat_change = max(e.get(k, 0.0) for k in ("amplitude", "frequency", "rotation_rate"))
     except ValueError:
@@ -215,8 +216,15 @@ def compare_to_reference(traj, ref: Reference) -> dict:
     return errors
 
 
-def run_cell(physics: Physics, numerics: Numerics, ref: Reference, column: str = "", duration: float | None = None,
-             preflight: bool = True, accuracy_guard: bool = True) -> CellResult:
+def run_cell(
+    physics: Physics,
+    numerics: Numerics,
+    ref: Reference,
+    column: str = "",
+    duration: float | None = None,
+    preflight: bool = True,
+    accuracy_guard: bool = True,
+) -> CellResult:
     """Pre-flight check, MuJoCo run and comparison; never raises for an unstable or refused setting.
     accuracy_guard=False: the pre-flight check without diagnose.check_accuracy (stability only)."""
 
@@ -267,8 +275,11 @@ def numerics_for(column: str, integrator: str, duration: float) -> Numerics:
 
 
 PER_STEP_US = {  # measured us per step (compiled callback), N = 7 / 30 / 100; for the cost cap below
-    "implicitfast": (4, 38, 920), "implicit": (6, 74, 1420), "discrete": (6, 206, 3470),
-    "Euler": (3.3, 15, 130), "RK4": (14, 63, 510),
+    "implicitfast": (4, 38, 920),
+    "implicit": (6, 74, 1420),
+    "discrete": (6, 206, 3470),
+    "Euler": (3.3, 15, 130),
+    "RK4": (14, 63, 510),
 }
 
 
@@ -325,13 +336,21 @@ def is_stable(physics: Physics, integrator: str, dt: float, mass_ratio: float, d
     return True
 
 
-def largest_stable_dt(physics: Physics, integrator: str, mass_ratio: float, duration: float, guess: float,
-                      ceiling: float = 0.1, floor: float = 1e-6, ratio: float = 1.15, env="auto") -> tuple[float, float | None]:
+def largest_stable_dt(
+    physics: Physics,
+    integrator: str,
+    mass_ratio: float,
+    duration: float,
+    guess: float,
+    ceiling: float = 0.1,
+    floor: float = 1e-6,
+    ratio: float = 1.15,
+    env="auto",
+) -> tuple[float, float | None]:
     """(largest dt that ran stably, smallest dt that did not) by geometric bracketing around `guess`
     and bisection in log(dt) to within `ratio`; (ceiling, None) when the Numerics ceiling 0.1 is stable.
     env="auto": the burst check against a reduced-model reference (numba-DOP853) of the same run."""
     if isinstance(env, str):
-    
         ref = simulate_reduced(physics, Numerics(dt=1e-3, sample_dt=1e-3), duration, **REFERENCE)
         env = envelope(ref)
 

@@ -15,11 +15,11 @@ import numpy as np
 
 from .. import registry, terms
 from ..analysis import observables as obs
-from ..engines.timestep import PIN_DT3_PER_MASS
 from ..engines.mujoco import simulate_mujoco
-from ..gate import preflight
 from ..engines.reduced import simulate_reduced
+from ..engines.timestep import PIN_DT3_PER_MASS
 from ..errors import SimulationDiverged
+from ..gate import preflight
 from ..params import Numerics, Physics
 from ..results import OBSERVABLES, Results, default_transient, measure
 from ..scenes.base import ValidationCase
@@ -30,9 +30,12 @@ def validation_cases(scene: str | None = None) -> list[ValidationCase]:
     one scene's."""
     chosen = registry.scenes() if scene is None else (registry.get(scene),)
     cases = [case for s in chosen for case in s.validation_cases()]
-    return cases + [case for t in terms.terms() for case in t.validation_cases(Physics)
-                    if scene is None or case.physics.scene == scene]
-
+    return cases + [
+        case
+        for t in terms.terms()
+        for case in t.validation_cases(Physics)
+        if scene is None or case.physics.scene == scene
+    ]
 
 
 def inertial_duration(duration: float, mass_ratio: float) -> float:
@@ -59,8 +62,10 @@ def inertial_plan(mass_ratio: float, scene: str | None = None) -> list[tuple[Val
     """Every validation case (validation_cases) at a finite mass, its duration lengthened for heavy chains
     (inertial_duration), with the reason it cannot run there (inertial_gap; '' for a case that runs). A case that
     cannot run is reported as not run, never left out."""
-    return [(ValidationCase(c.physics, inertial_duration(c.duration, mass_ratio), c.convergence),
-             inertial_gap(c.physics)) for c in validation_cases(scene)]
+    return [
+        (ValidationCase(c.physics, inertial_duration(c.duration, mass_ratio), c.convergence), inertial_gap(c.physics))
+        for c in validation_cases(scene)
+    ]
 
 
 def inertial_cases(mass_ratio: float, scene: str | None = None) -> list[ValidationCase]:
@@ -138,8 +143,11 @@ def angle_errors(traj, reference) -> dict[str, float]:
         scale = np.abs(reference.nodes[:n][early] - rest).max()
         return {"angle_rad": float(diff), "angle": float(diff / max(scale, 1e-12)), "window": float(window)}
     diff = np.abs(traj.theta[:n][early] - reference.theta[:n][early]).max()
-    return {"angle_rad": float(diff), "angle": float(diff / max(np.abs(reference.theta[:n][early]).max(), 1e-12)),
-            "window": float(window)}
+    return {
+        "angle_rad": float(diff),
+        "angle": float(diff / max(np.abs(reference.theta[:n][early]).max(), 1e-12)),
+        "window": float(window),
+    }
 
 
 @dataclass
@@ -191,8 +199,15 @@ def cycle_statistics(traj_a, traj_b, transient: float) -> dict:
             f = obs.frequency(traj.t, x, transient)
             amp = obs.amplitude(traj.t, x, transient)
             n = max(c.count, 1)
-            stats.append((f, f * np.nan_to_num(c.period_spread) / math.sqrt(n),
-                          amp, amp * np.nan_to_num(c.amplitude_spread) / math.sqrt(n), c.count))
+            stats.append(
+                (
+                    f,
+                    f * np.nan_to_num(c.period_spread) / math.sqrt(n),
+                    amp,
+                    amp * np.nan_to_num(c.amplitude_spread) / math.sqrt(n),
+                    c.count,
+                )
+            )
         (fa, sfa, aa, saa, na), (fb, sfb, ab, sab, nb) = stats
         zf = abs(fa - fb) / max(math.hypot(sfa, sfb), 1e-12)
         za = abs(aa - ab) / max(math.hypot(saa, sab), 1e-12)
@@ -201,9 +216,15 @@ def cycle_statistics(traj_a, traj_b, transient: float) -> dict:
     return {"chains": rows, "z": z}
 
 
-def compare(physics: Physics, numerics: Numerics = Numerics(), duration: float = 300.0,
-            transient: float | None = None, reference=None, inertial: bool | None = None,
-            timestep: bool = True) -> Comparison:
+def compare(
+    physics: Physics,
+    numerics: Numerics = Numerics(),
+    duration: float = 300.0,
+    transient: float | None = None,
+    reference=None,
+    inertial: bool | None = None,
+    timestep: bool = True,
+) -> Comparison:
     """Run both engines from the same initial state and measure MuJoCo's error. The reduced model is the
     overdamped or the inertial one at numerics.mass_ratio as engines.reduced.regime decides (inertial: the
     override of simulate_reduced). The MuJoCo run passes the gate first (timestep=False: all of it but the
@@ -212,15 +233,27 @@ def compare(physics: Physics, numerics: Numerics = Numerics(), duration: float =
     run = preflight(physics, numerics, duration, "mujoco", timestep=timestep, given=False)
     physics, numerics, duration = run.physics, run.numerics, run.duration
     mj = simulate_mujoco(physics, numerics, duration)
-    red = reference if reference is not None else simulate_reduced(physics, numerics, duration, inertial=inertial,
-                                                                   **REFERENCE_TOLERANCE)
+    red = (
+        reference
+        if reference is not None
+        else simulate_reduced(physics, numerics, duration, inertial=inertial, **REFERENCE_TOLERANCE)
+    )
     a, b = measure(mj, transient), measure(red, transient)
     errors = observable_errors(physics, a, b)
     errors.update(angle_errors(mj, red))
     irregular = a.periodic is False or b.periodic is False
-    return Comparison(physics, numerics, duration, a, b, mj.wall_time_s, red.wall_time_s, errors,
-                      mj.info.get("constraint_violation"),
-                      statistics=cycle_statistics(mj, red, transient) if irregular else None)
+    return Comparison(
+        physics,
+        numerics,
+        duration,
+        a,
+        b,
+        mj.wall_time_s,
+        red.wall_time_s,
+        errors,
+        mj.info.get("constraint_violation"),
+        statistics=cycle_statistics(mj, red, transient) if irregular else None,
+    )
 
 
 _SHOWN = ("amplitude", "frequency", "rotation_rate")
@@ -229,8 +262,10 @@ _SHOWN = ("amplitude", "frequency", "rotation_rate")
 
 def format_table(rows: list[Comparison]) -> str:
     """Markdown table, one line per case."""
-    head = ("| case | MuJoCo wall s | reduced wall s | amplitude err | frequency err | rotation-rate err | other err "
-            "| max angle diff over transient [0, T] | pin violation |")
+    head = (
+        "| case | MuJoCo wall s | reduced wall s | amplitude err | frequency err | rotation-rate err | other err "
+        "| max angle diff over transient [0, T] | pin violation |"
+    )
     lines = [head, "|" + "---|" * 9]
     for c in rows:
         case = c.physics.scene_def.label(c.physics)
@@ -255,8 +290,9 @@ def format_table(rows: list[Comparison]) -> str:
 
 def not_run(case: ValidationCase, numerics: Numerics, reason: str) -> Comparison:
     """A table row for a case the engines could not run at this setting, saying why."""
-    return Comparison(case.physics, numerics, case.duration, None, None, math.nan, math.nan, {}, None,
-                      note=f"not run: {reason}")
+    return Comparison(
+        case.physics, numerics, case.duration, None, None, math.nan, math.nan, {}, None, note=f"not run: {reason}"
+    )
 
 
 def verdict(rows: list[Comparison], tolerance: float) -> tuple[str, bool]:
@@ -279,8 +315,15 @@ CONVERGENCE_DT = (0.02, 0.01, 0.005, 0.0025, 0.00125)
 CONVERGENCE_MASS = (1e-2, 1e-3, 1e-4, 1e-5)
 
 
-def convergence(physics: Physics, duration: float, *, dts=CONVERGENCE_DT, masses=CONVERGENCE_MASS,
-                fixed_dt: float = 0.00125, fixed_mass: float = 1e-5) -> list[Comparison]:
+def convergence(
+    physics: Physics,
+    duration: float,
+    *,
+    dts=CONVERGENCE_DT,
+    masses=CONVERGENCE_MASS,
+    fixed_dt: float = 0.00125,
+    fixed_mass: float = 1e-5,
+) -> list[Comparison]:
     """Errors as dt shrinks (mass fixed small) and as the mass ratio shrinks (dt fixed small).
 
     A pinned scene's dt series runs at the smallest mass ratio whose soft pin holds at the largest dt
@@ -289,8 +332,9 @@ def convergence(physics: Physics, duration: float, *, dts=CONVERGENCE_DT, masses
         fixed_mass = max(fixed_mass, float(f"{1.01 * max(dts) ** 3 / PIN_DT3_PER_MASS:.1g}"))
     sample_dt = 0.04  # a whole number of steps for every dt in the study
     # the overdamped model: this study measures how MuJoCo approaches it as dt and the mass ratio shrink
-    reference = simulate_reduced(physics, Numerics(sample_dt=sample_dt), duration, inertial=False,
-                                 **REFERENCE_TOLERANCE)
+    reference = simulate_reduced(
+        physics, Numerics(sample_dt=sample_dt), duration, inertial=False, **REFERENCE_TOLERANCE
+    )
     settings = [Numerics(dt=dt, mass_ratio=fixed_mass, sample_dt=sample_dt) for dt in dts]
     settings += [Numerics(dt=fixed_dt, mass_ratio=m, sample_dt=sample_dt) for m in masses]
     rows = []
@@ -298,8 +342,20 @@ def convergence(physics: Physics, duration: float, *, dts=CONVERGENCE_DT, masses
         try:
             rows.append(compare(physics, numerics, duration, reference=reference, timestep=False))
         except SimulationDiverged as err:  # e.g. a pin that cannot hold at the coarsest dt: a row, not an abort
-            rows.append(Comparison(physics, numerics, duration, None, None, math.nan, math.nan, {}, None,
-                                   note=f"stopped: {_first_clause(str(err))}"))
+            rows.append(
+                Comparison(
+                    physics,
+                    numerics,
+                    duration,
+                    None,
+                    None,
+                    math.nan,
+                    math.nan,
+                    {},
+                    None,
+                    note=f"stopped: {_first_clause(str(err))}",
+                )
+            )
     return rows
 
 
@@ -308,9 +364,11 @@ def _first_clause(message: str) -> str:
 
 
 def format_convergence(rows: list[Comparison]) -> str:
-    lines = ["| dt | mass ratio | amplitude err | frequency err | rotation-rate err | angle diff (transient) "
-             "| pin violation | MuJoCo wall s |",
-             "|" + "---|" * 8]
+    lines = [
+        "| dt | mass ratio | amplitude err | frequency err | rotation-rate err | angle diff (transient) "
+        "| pin violation | MuJoCo wall s |",
+        "|" + "---|" * 8,
+    ]
     for c in rows:
         e = c.errors
         if c.note:
@@ -318,6 +376,8 @@ def format_convergence(rows: list[Comparison]) -> str:
             continue
         pct = lambda k: f"{100 * e[k]:.4f}%" if k in e else "-"
         viol = f"{c.constraint_violation:.1e}" if c.constraint_violation is not None else "-"
-        lines.append(f"| {c.numerics.dt:g} | {c.numerics.mass_ratio:g} | {pct('amplitude')} | {pct('frequency')} "
-                     f"| {pct('rotation_rate')} | {pct('angle')} | {viol} | {c.mujoco_wall_s:.2f} |")
+        lines.append(
+            f"| {c.numerics.dt:g} | {c.numerics.mass_ratio:g} | {pct('amplitude')} | {pct('frequency')} "
+            f"| {pct('rotation_rate')} | {pct('angle')} | {viol} | {c.mujoco_wall_s:.2f} |"
+        )
     return "\n".join(lines)

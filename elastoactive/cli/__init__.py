@@ -63,4 +63,3 @@ def main(argv: list[str] | None = None) -> int:
         where = f"{err.filename}: " if err.filename else ""
         print(f"elastoactive: error: {where}{err.strerror or err}", file=sys.stderr)
         return 1
-

@@ -9,7 +9,14 @@ from .options import workers_argument
 
 def main(args) -> int:
     # start-up time: both engines, matplotlib and the process pool load only when the study runs
-    from ..checks.accuracy import format_defaults, format_recommendations, recommend, run_study, summarise, write_outputs
+    from ..checks.accuracy import (
+        format_defaults,
+        format_recommendations,
+        recommend,
+        run_study,
+        summarise,
+        write_outputs,
+    )
     from ..io.outputs import check_folder
 
     check_folder(args.out)
@@ -21,8 +28,10 @@ def main(args) -> int:
     print()
     print(format_recommendations(recommend(summary, key="worst"), "worst"))
     bad = [r for r in rows if r["status"] != "ok"]
-    print(f"\n{len(rows)} runs in {meta['elapsed_s']:.0f} s ({len(bad)} refused/diverged/failed, recorded); "
-          f"wrote {args.out / 'accuracy.md'}, accuracy.csv, accuracy.png, accuracy_steady.png")
+    print(
+        f"\n{len(rows)} runs in {meta['elapsed_s']:.0f} s ({len(bad)} refused/diverged/failed, recorded); "
+        f"wrote {args.out / 'accuracy.md'}, accuracy.csv, accuracy.png, accuracy_steady.png"
+    )
     return 0
 
 
@@ -36,10 +45,12 @@ def register(sub) -> None:
     )
     p.add_argument("--out", type=Path, default=Path("results/accuracy"), help="output folder (default %(default)s)")
     size = p.add_mutually_exclusive_group()
-    size.add_argument("--quick", action="store_true",
-                      help="coarser grid and shorter runs (about 2-2.5 min on 2 cores)")
-    size.add_argument("--tiny", action="store_true",
-                      help="one case, two settings per engine (a smoke test, a few seconds; numbers are rough)")
+    size.add_argument("--quick", action="store_true", help="coarser grid and shorter runs (about 2-2.5 min on 2 cores)")
+    size.add_argument(
+        "--tiny",
+        action="store_true",
+        help="one case, two settings per engine (a smoke test, a few seconds; numbers are rough)",
+    )
     workers_argument(p, "processes (default: every core)")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=main)

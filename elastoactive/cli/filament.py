@@ -68,13 +68,20 @@ class Rung:
 
 def register(subparsers) -> None:
     p = subparsers.add_parser(
-        "filament", help="the clamped filament's beat and onset, extrapolated from a ladder of chains",
+        "filament",
+        help="the clamped filament's beat and onset, extrapolated from a ladder of chains",
         description="Run the reduced engine on chains of N particles at sigma = S / N^3 and extrapolate the beat "
         "(omega in B / (zeta L^4), amplitude of Theta) and the onset to the continuum filament in 1/N "
-        "(docs/filament.md).", formatter_class=argparse.RawDescriptionHelpFormatter)
+        "(docs/filament.md).",
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
     p.add_argument("--S", dest="S", type=float, required=True, help="follower load f L^3 / B (onset 76.10)")
-    p.add_argument("--ns", type=_ladder, default=DEFAULT_LADDER,
-                   help=f"the ladder of N, comma separated (default {','.join(map(str, DEFAULT_LADDER))})")
+    p.add_argument(
+        "--ns",
+        type=_ladder,
+        default=DEFAULT_LADDER,
+        help=f"the ladder of N, comma separated (default {','.join(map(str, DEFAULT_LADDER))})",
+    )
     p.add_argument("--json", action="store_true", help="print the result as JSON instead of a table")
     p.add_argument("--quiet", action="store_true", help="no progress lines")
     p.set_defaults(func=main)
@@ -105,7 +112,6 @@ def _first_shape(n: int, sigma: float):
 def _crossing_period(t, x) -> float | None:
     """A rough period of x from its upward crossings of its mid-range (None with fewer than three): where a chunk's
     planned period was wrong, the next chunk is planned with this one."""
-    import numpy as np  # start-up time: numpy loads only when the command runs
 
     centred = x - 0.5 * (x.max() + x.min())
     up = t[1:][(centred[:-1] < 0) & (centred[1:] >= 0)]
@@ -148,18 +154,34 @@ def _rung(n: int, S: float, start, progress: bool, period: float | None = None) 
         b = beat(traj.t, signal)
         period = b.period
         if previous is not None:
-            settled = (abs(b.period / previous.period - 1) < SETTLE_TOLERANCE
-                       and abs(b.amplitude / previous.amplitude - 1) < SETTLE_TOLERANCE)
+            settled = (
+                abs(b.period / previous.period - 1) < SETTLE_TOLERANCE
+                and abs(b.amplitude / previous.amplitude - 1) < SETTLE_TOLERANCE
+            )
         previous = b
     if previous is None:
-        raise ParameterError(f"--S {S:g}: the chain with N = {n} found no beat in {chunks} chunks of up to "
-                             f"{CHUNK_PERIODS} planned periods")
-    rung = Rung(n=n, sigma=sigma, omega=2 * math.pi / previous.period * n**4, amplitude=previous.amplitude,
-                onset=n**3 * onset, chunks=chunks, settled=settled, method=method,
-                wall_time_s=time.perf_counter() - clock)
+        raise ParameterError(
+            f"--S {S:g}: the chain with N = {n} found no beat in {chunks} chunks of up to "
+            f"{CHUNK_PERIODS} planned periods"
+        )
+    rung = Rung(
+        n=n,
+        sigma=sigma,
+        omega=2 * math.pi / previous.period * n**4,
+        amplitude=previous.amplitude,
+        onset=n**3 * onset,
+        chunks=chunks,
+        settled=settled,
+        method=method,
+        wall_time_s=time.perf_counter() - clock,
+    )
     if progress:
-        print(f"elastoactive: N = {n}: omega = {rung.omega:.6f}, amplitude = {rung.amplitude:.7f} rad "
-              f"({chunks} x {CHUNK_PERIODS} beats, {method}, {rung.wall_time_s:.1f} s)", file=sys.stderr, flush=True)
+        print(
+            f"elastoactive: N = {n}: omega = {rung.omega:.6f}, amplitude = {rung.amplitude:.7f} rad "
+            f"({chunks} x {CHUNK_PERIODS} beats, {method}, {rung.wall_time_s:.1f} s)",
+            file=sys.stderr,
+            flush=True,
+        )
     return rung, theta
 
 
@@ -180,7 +202,8 @@ def check_resolution(S: float, ns) -> None:
             f"{coarsest / S ** (1 / 3):.2g} links per bending length L S^(-1/3) (at least {LINKS_PER_BENDING_LENGTH:g} "
             f"needed), so its beat is not in the 1/N regime; this ladder resolves S up to "
             f"{largest_resolved_S(coarsest):.4g}, or give --ns from N = {need} on (e.g. --ns "
-            f"{','.join(str(need * 2**k) for k in range(len(tuple(ns))))})")
+            f"{','.join(str(need * 2**k) for k in range(len(tuple(ns))))})"
+        )
 
 
 def converging(values) -> bool:
@@ -201,9 +224,11 @@ def ladder(S: float, ns=DEFAULT_LADDER, progress: bool = False) -> list[Rung]:
     check_resolution(S, ns)
     below = [n for n in ns if S <= n**3 * stab.onset(n)[0]]
     if below:
-        raise ParameterError(f"S = {S:g} is at or below the onset of the chain with N = {below[0]} (N^3 sigma_c = "
-                             f"{below[0]**3 * stab.onset(below[0])[0]:.4g}): it does not beat; raise --S (the "
-                             "filament's onset is 76.10) or drop that N from --ns")
+        raise ParameterError(
+            f"S = {S:g} is at or below the onset of the chain with N = {below[0]} (N^3 sigma_c = "
+            f"{below[0] ** 3 * stab.onset(below[0])[0]:.4g}): it does not beat; raise --S (the "
+            "filament's onset is 76.10) or drop that N from --ns"
+        )
     rungs, shape = [], None
     with one_blas_thread():
         for n in ns:
@@ -223,9 +248,11 @@ def main(args) -> int:
     clock = time.perf_counter()
     s_c, w_c = continuum_critical()
     if args.S <= s_c:
-        raise ParameterError(f"S = {args.S:g} is at or below the filament's onset S_c = {s_c:.2f}: the filament "
-                             "does not beat (short chains still may, below their own onset N^3 sigma_c: "
-                             "`elastoactive stability one-pinned --n N`); give --S above it")
+        raise ParameterError(
+            f"S = {args.S:g} is at or below the filament's onset S_c = {s_c:.2f}: the filament "
+            "does not beat (short chains still may, below their own onset N^3 sigma_c: "
+            "`elastoactive stability one-pinned --n N`); give --S above it"
+        )
     check_resolution(args.S, args.ns)
     rungs = ladder(args.S, args.ns, progress=not args.quiet)
     ns = [r.n for r in rungs]
@@ -235,26 +262,43 @@ def main(args) -> int:
     wall = time.perf_counter() - clock
     trend = {name: converging(x.values) for name, x in (("omega", omega), ("amplitude", amplitude))}
     if args.json:
-        print(json.dumps({"S": args.S, "rungs": [asdict(r) for r in rungs],
-                          "omega": {**omega._asdict(), "converging": trend["omega"]},
-                          "amplitude": {**amplitude._asdict(), "converging": trend["amplitude"]},
-                          "onset": onset._asdict(),
-                          "continuum_onset": {"S_c": s_c, "omega_c": w_c}, "wall_time_s": wall}, indent=2))
+        print(
+            json.dumps(
+                {
+                    "S": args.S,
+                    "rungs": [asdict(r) for r in rungs],
+                    "omega": {**omega._asdict(), "converging": trend["omega"]},
+                    "amplitude": {**amplitude._asdict(), "converging": trend["amplitude"]},
+                    "onset": onset._asdict(),
+                    "continuum_onset": {"S_c": s_c, "omega_c": w_c},
+                    "wall_time_s": wall,
+                },
+                indent=2,
+            )
+        )
         return 0
     print(f"clamped filament at S = f L^3 / B = {args.S:g}: chains of N at sigma = S / N^3 (reduced engine)")
-    print(f"{'N':>6} {'sigma':>12} {'omega N^4':>12} {'amplitude':>11} {'N^3 sigma_c':>12} {'method':>13} "
-          f"{'wall s':>7}")
+    print(
+        f"{'N':>6} {'sigma':>12} {'omega N^4':>12} {'amplitude':>11} {'N^3 sigma_c':>12} {'method':>13} {'wall s':>7}"
+    )
     for r in rungs:
         flag = "" if r.settled else "  (not settled)"
-        print(f"{r.n:>6} {r.sigma:>12.6g} {r.omega:>12.6f} {r.amplitude:>11.7f} {r.onset:>12.6f} {r.method:>13} "
-              f"{r.wall_time_s:>7.2f}{flag}")
+        print(
+            f"{r.n:>6} {r.sigma:>12.6g} {r.omega:>12.6f} {r.amplitude:>11.7f} {r.onset:>12.6f} {r.method:>13} "
+            f"{r.wall_time_s:>7.2f}{flag}"
+        )
     print(f"continuum (Richardson in 1/N over N = {', '.join(map(str, ns))}):")
-    print(f"  omega     = {omega.value:.4f} +- {omega.error:.2g} B / (zeta L^4)  ({_rel(omega)})"
-          f"{_trend(trend['omega'])}")
-    print(f"  amplitude = {amplitude.value:.5f} +- {amplitude.error:.2g} rad  ({_rel(amplitude)})"
-          f"{_trend(trend['amplitude'])}")
-    print(f"  onset S_c = {onset.value:.4f} +- {onset.error:.2g}  (the continuum eigenproblem: {s_c:.4f}, "
-          f"omega_c = {w_c:.4f})")
+    print(
+        f"  omega     = {omega.value:.4f} +- {omega.error:.2g} B / (zeta L^4)  ({_rel(omega)}){_trend(trend['omega'])}"
+    )
+    print(
+        f"  amplitude = {amplitude.value:.5f} +- {amplitude.error:.2g} rad  ({_rel(amplitude)})"
+        f"{_trend(trend['amplitude'])}"
+    )
+    print(
+        f"  onset S_c = {onset.value:.4f} +- {onset.error:.2g}  (the continuum eigenproblem: {s_c:.4f}, "
+        f"omega_c = {w_c:.4f})"
+    )
     print(f"wall time {wall:.1f} s")
     return 0
 

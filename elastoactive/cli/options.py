@@ -34,15 +34,23 @@ def add_fields(group, cls, *, defaults: bool = True) -> None:
         value = getattr(default, f.name)
         option = f"--{f.name.replace('_', '-')}"
         if isinstance(value, bool):  # a switch: --contact / --no-contact
-            group.add_argument(option, action=argparse.BooleanOptionalAction, default=value if defaults else None,
-                               help=f"{f.metadata['help']} (default {'on' if value else 'off'})")
+            group.add_argument(
+                option,
+                action=argparse.BooleanOptionalAction,
+                default=value if defaults else None,
+                help=f"{f.metadata['help']} (default {'on' if value else 'off'})",
+            )
             continue
         kind = int if isinstance(value, int) else (str if isinstance(value, str) else float)
         shown = f"{value:.4g}" if kind is float else value
         # argparse passes a str default through `type`: str() would drop a Numerics default's mark (automatic)
-        group.add_argument(option, type=_text if kind is str else kind, default=value if defaults else None,
-                           choices=f.metadata.get("choices"),
-                           help=f"{f.metadata['help']} (default {shown}{_used_by(f.name) if cls is Physics else ''})")
+        group.add_argument(
+            option,
+            type=_text if kind is str else kind,
+            default=value if defaults else None,
+            choices=f.metadata.get("choices"),
+            help=f"{f.metadata['help']} (default {shown}{_used_by(f.name) if cls is Physics else ''})",
+        )
 
 
 def numerics_args(p: argparse.ArgumentParser) -> None:
@@ -51,7 +59,9 @@ def numerics_args(p: argparse.ArgumentParser) -> None:
 
 def scene_argument(p: argparse.ArgumentParser, **kw) -> None:
     """The positional SCENE, one of the registered scenes."""
-    p.add_argument("scene", choices=registry.names(), metavar="SCENE", help="one of: " + ", ".join(registry.names()), **kw)
+    p.add_argument(
+        "scene", choices=registry.names(), metavar="SCENE", help="one of: " + ", ".join(registry.names()), **kw
+    )
 
 
 def numerics_from(args) -> Numerics:
@@ -60,6 +70,7 @@ def numerics_from(args) -> Numerics:
 
 def workers_argument(p: argparse.ArgumentParser, help_text: str = "worker processes (default: every core)") -> None:
     """--workers K, K >= 1 (None: every core)."""
+
     def workers(text: str) -> int:
         try:
             value = int(text)

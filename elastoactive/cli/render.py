@@ -32,22 +32,34 @@ def check_mujoco_gl() -> None:
     except RuntimeError as err:
         if "MUJOCO_GL" not in str(err):
             raise
-        raise ParameterError(f"environment variable MUJOCO_GL={value!r} is not a value MuJoCo accepts ({err}); "
-                             "unset it (rendering then tries egl, then osmesa) or set egl, osmesa or glfw") from None
+        raise ParameterError(
+            f"environment variable MUJOCO_GL={value!r} is not a value MuJoCo accepts ({err}); "
+            "unset it (rendering then tries egl, then osmesa) or set egl, osmesa or glfw"
+        ) from None
 
 
 def add_video_args(p: argparse.ArgumentParser, *, still: bool = False) -> None:
     """Options of the picture (shared by `run --video` and `render`)."""
     g = p.add_argument_group("video (off-screen rendering, MP4 via mediapy + imageio-ffmpeg)")
     g.add_argument("--fps", type=float, default=30.0, help="frames per second of video (default %(default)s)")
-    g.add_argument("--rate", type=float, default=None,
-                   help="tau of simulated time per second of video (default: one beat per second)")
+    g.add_argument(
+        "--rate",
+        type=float,
+        default=None,
+        help="tau of simulated time per second of video (default: one beat per second)",
+    )
     g.add_argument("--width", type=int, default=640, help="frame width in pixels, even (default %(default)s)")
     g.add_argument("--height", type=int, default=480, help="frame height in pixels, even (default %(default)s)")
-    g.add_argument("--trail", type=float, default=1.0,
-                   help="length of the particles' fading trails, in seconds of video; 0: none (default %(default)s)")
+    g.add_argument(
+        "--trail",
+        type=float,
+        default=1.0,
+        help="length of the particles' fading trails, in seconds of video; 0: none (default %(default)s)",
+    )
     if still:
-        g.add_argument("--start", type=float, default=None, help="first time rendered, tau (default: start of the record)")
+        g.add_argument(
+            "--start", type=float, default=None, help="first time rendered, tau (default: start of the record)"
+        )
         g.add_argument("--end", type=float, default=None, help="last time rendered, tau (default: end of the record)")
         g.add_argument("--still", type=Path, help="also (or instead) write one frame to this PNG")
         g.add_argument("--time", type=float, default=None, help="time of the still, tau (default: end of the record)")
@@ -57,11 +69,19 @@ def _render(traj, args, video: Path | None, still: Path | None, numerics=None) -
     from ..render import RenderError, render_still, render_trajectory  # start-up time: matplotlib, MuJoCo, GL
     from ..results import jsonable
 
-    common = dict(rate=args.rate, fps=args.fps, width=args.width, height=args.height, trail=args.trail, numerics=numerics)
+    common = dict(
+        rate=args.rate, fps=args.fps, width=args.width, height=args.height, trail=args.trail, numerics=numerics
+    )
     try:
         if video is not None:
-            out = render_trajectory(traj, video, start=getattr(args, "start", None), end=getattr(args, "end", None),
-                                    progress=not args.quiet, **common)
+            out = render_trajectory(
+                traj,
+                video,
+                start=getattr(args, "start", None),
+                end=getattr(args, "end", None),
+                progress=not args.quiet,
+                **common,
+            )
             out["wall_time_s"] = round(out["wall_time_s"], 2)
             print(json.dumps(jsonable(out)))
         if still is not None:
@@ -85,9 +105,8 @@ def video_after_run(args, traj, numerics=None) -> int:
 
 
 def main(args) -> int:
-    from ..results import load_trajectory  # start-up time: results loads the analysis
-
     from ..io.outputs import check_file  # start-up time: only when rendering
+    from ..results import load_trajectory  # start-up time: results loads the analysis
 
     if args.output is None and args.still is None:
         raise ParameterError("give -o/--output (MP4) and/or --still (PNG)")
@@ -101,11 +120,14 @@ def main(args) -> int:
 
 def register(sub) -> None:
     p = sub.add_parser(
-        "render", help="render a saved run (folder or trajectory.npz) to an MP4 video and/or a PNG still",
+        "render",
+        help="render a saved run (folder or trajectory.npz) to an MP4 video and/or a PNG still",
         description="Render a saved run off-screen. The physics comes from summary.json beside "
         "trajectory.npz. " + RENDER_HELP,
     )
-    p.add_argument("run", type=Path, metavar="RUN_DIR_OR_NPZ", help="folder written by `run --out`, or its trajectory.npz")
+    p.add_argument(
+        "run", type=Path, metavar="RUN_DIR_OR_NPZ", help="folder written by `run --out`, or its trajectory.npz"
+    )
     p.add_argument("-o", "--output", type=Path, help="MP4 file to write")
     add_video_args(p, still=True)
     p.add_argument("--force", action="store_true", help="replace an existing video or still")

@@ -29,16 +29,23 @@ def register(subparsers) -> None:
         help="regenerate the paper's figures, their data and report.md (claim by claim)",
         description=DESCRIPTION,
     )
-    p.add_argument("--out", type=output_path, default=Path("results/reproduction"),
-                   help="output folder (default %(default)s)")
+    p.add_argument(
+        "--out", type=output_path, default=Path("results/reproduction"), help="output folder (default %(default)s)"
+    )
     g = p.add_mutually_exclusive_group()
     g.add_argument("--full", action="store_true", help="publication resolution (finer grids, longer runs: much slower)")
     g.add_argument("--tiny", action="store_true", help="smallest grids and runs (a smoke test; numbers are rough)")
     workers_argument(p)
-    p.add_argument("--only", default=None,
-                   help="comma-separated subset of studies, e.g. hopf,sync (merged with the others already in --out)")
-    p.add_argument("--force", action="store_true",
-                   help="rerun studies whose data in --out would be kept, and replace a folder of another size")
+    p.add_argument(
+        "--only",
+        default=None,
+        help="comma-separated subset of studies, e.g. hopf,sync (merged with the others already in --out)",
+    )
+    p.add_argument(
+        "--force",
+        action="store_true",
+        help="rerun studies whose data in --out would be kept, and replace a folder of another size",
+    )
     p.add_argument("--quiet", action="store_true", help="no progress output")
     p.set_defaults(func=main)
 
@@ -50,8 +57,10 @@ def _only(text: str | None, known: tuple[str, ...]) -> list[str] | None:
     only = [name.strip() for name in text.split(",") if name.strip()]
     unknown = [name for name in only if name not in known]
     if not only or unknown:
-        raise ParameterError(f"--only: {'unknown studies ' + ', '.join(map(repr, unknown)) if unknown else 'no study named'}"
-                             f"; choose from {', '.join(known)}")
+        raise ParameterError(
+            f"--only: {'unknown studies ' + ', '.join(map(repr, unknown)) if unknown else 'no study named'}"
+            f"; choose from {', '.join(known)}"
+        )
     return only
 
 

@@ -13,11 +13,11 @@ import sys
 import time
 from pathlib import Path
 
-from ..reduced.settings import METHODS
 from ..engines import ENGINES
 from ..errors import ParameterError
 from ..io.outputs import output_path
 from ..params import Numerics, Physics, parameter_fields
+from ..reduced.settings import METHODS
 from .options import UNITS, add_fields, scene_argument, scene_help
 from .render import add_video_args
 
@@ -25,24 +25,44 @@ DEFAULT_DURATION = 300.0
 
 
 def register(subparsers) -> None:
-    run = subparsers.add_parser("run", help="simulate one scene and write summary.json + trajectory.npz",
-                                description="Simulate one scene. " + UNITS, epilog=scene_help(),
-                                formatter_class=argparse.RawDescriptionHelpFormatter)
+    run = subparsers.add_parser(
+        "run",
+        help="simulate one scene and write summary.json + trajectory.npz",
+        description="Simulate one scene. " + UNITS,
+        epilog=scene_help(),
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
     scene_argument(run, nargs="?")
     add_fields(run.add_argument_group("physics (the paper's dimensionless numbers)"), Physics, defaults=False)
     add_fields(run.add_argument_group("numerics"), Numerics, defaults=False)
-    run.add_argument("--duration", type=float, default=None, help=f"simulated time in tau (default {DEFAULT_DURATION:g})")
-    run.add_argument("--transient", type=float, default=None, help="time discarded before measuring, tau (default: half the run)")
+    run.add_argument(
+        "--duration", type=float, default=None, help=f"simulated time in tau (default {DEFAULT_DURATION:g})"
+    )
+    run.add_argument(
+        "--transient", type=float, default=None, help="time discarded before measuring, tau (default: half the run)"
+    )
     run.add_argument("--engine", choices=ENGINES, default=None, help="MuJoCo scene or the reduced ODE (default mujoco)")
-    run.add_argument("--method", choices=METHODS, default=None,
-                     help="the reduced engine's ODE method (default: chosen from the stiffness at the start: "
-                     "numba-DOP853, or the implicit LSODA for long chains near their onset); summary.json records it")
+    run.add_argument(
+        "--method",
+        choices=METHODS,
+        default=None,
+        help="the reduced engine's ODE method (default: chosen from the stiffness at the start: "
+        "numba-DOP853, or the implicit LSODA for long chains near their onset); summary.json records it",
+    )
     run.add_argument("--out", type=output_path, help="folder for summary.json and trajectory.npz")
-    run.add_argument("--force", action="store_true",
-                     help="replace a run with other settings already in --out, or an existing --video file")
-    run.add_argument("--from", dest="source", type=Path, metavar="SUMMARY",
-                     help="re-run a recorded run (its folder or summary.json) with the same scene, parameters, numerics, "
-                     "engine and duration; options given beside it override the recorded ones")
+    run.add_argument(
+        "--force",
+        action="store_true",
+        help="replace a run with other settings already in --out, or an existing --video file",
+    )
+    run.add_argument(
+        "--from",
+        dest="source",
+        type=Path,
+        metavar="SUMMARY",
+        help="re-run a recorded run (its folder or summary.json) with the same scene, parameters, numerics, "
+        "engine and duration; options given beside it override the recorded ones",
+    )
     run.add_argument("--quiet", action="store_true", help="no progress bar")
     run.add_argument("--video", type=output_path, help="also render the run to this MP4 (see `elastoactive render -h`)")
     add_video_args(run)
@@ -56,20 +76,30 @@ def _recorded(path: Path) -> dict:
     s = read_summary(path)
     numerics = dict(s.get("numerics", {}))
     method = (s.get("solver") or {}).get("method")  # the reduced engine's ODE method, as it ran
-    return {"physics": dict(s["parameters"]), "duration": numerics.pop("duration", None),
-            "transient": numerics.pop("transient", None), "numerics": numerics, "engine": s.get("engine", "mujoco"),
-            "method": method if method in METHODS else None}
+    return {
+        "physics": dict(s["parameters"]),
+        "duration": numerics.pop("duration", None),
+        "transient": numerics.pop("transient", None),
+        "numerics": numerics,
+        "engine": s.get("engine", "mujoco"),
+        "method": method if method in METHODS else None,
+    }
 
 
 def settings_from(args) -> tuple[Physics, Numerics, str, float, float | None]:
     """physics, numerics, engine, duration, transient: the recorded run's (--from), overridden by options given."""
-    base = _recorded(args.source) if args.source else {"physics": {}, "numerics": {}, "engine": None, "duration": None,
-                                                         "transient": None}
+    base = (
+        _recorded(args.source)
+        if args.source
+        else {"physics": {}, "numerics": {}, "engine": None, "duration": None, "transient": None}
+    )
     recorded_scene = base["physics"].pop("scene", None)
     scene = args.scene or recorded_scene
     if scene is None:
         raise ParameterError("give a SCENE (or --from a recorded run)")
-    given = lambda cls: {f.name: getattr(args, f.name) for f in parameter_fields(cls) if getattr(args, f.name) is not None}
+    given = lambda cls: {
+        f.name: getattr(args, f.name) for f in parameter_fields(cls) if getattr(args, f.name) is not None
+    }
     # the recorded physics, then the options given (a value that stops acting, like contact_radius once --no-contact
     # is given, is dropped; one given where it does not act is refused)
     physics = Physics(scene=recorded_scene or scene, **base["physics"]).replace(scene=scene, **given(Physics))
@@ -93,21 +123,35 @@ def check_rerun(args, physics: Physics, engine: str) -> None:
 
     s = read_summary(args.source)
     numerics = s.get("numerics") or {}
-    needed = {"engine": s.get("engine") is None and args.engine is None,
-              "duration": numerics.get("duration") is None and args.duration is None}
-    needed.update({name: name not in s["parameters"] and getattr(args, name, None) is None
-                   for name in physics.relevant() if name != "scene"})
-    needed.update({name: numerics.get(name) is None and getattr(args, name) is None
-                   for name in (recorded_numerics(engine, physics) if engine in ENGINES else ())})
+    needed = {
+        "engine": s.get("engine") is None and args.engine is None,
+        "duration": numerics.get("duration") is None and args.duration is None,
+    }
+    needed.update(
+        {
+            name: name not in s["parameters"] and getattr(args, name, None) is None
+            for name in physics.relevant()
+            if name != "scene"
+        }
+    )
+    needed.update(
+        {
+            name: numerics.get(name) is None and getattr(args, name) is None
+            for name in (recorded_numerics(engine, physics) if engine in ENGINES else ())
+        }
+    )
     missing = [name for name, lacking in needed.items() if lacking]
     if missing:
         options = " ".join(f"--{name.replace('_', '-')}" for name in missing)
-        raise ParameterError(f"--from {args.source}: the record has no {', '.join(missing)}, so it cannot be re-run "
-                             f"exactly; give {options}")
+        raise ParameterError(
+            f"--from {args.source}: the record has no {', '.join(missing)}, so it cannot be re-run "
+            f"exactly; give {options}"
+        )
 
 
-def _check_destination(out: Path, physics: Physics, numerics: Numerics, engine: str, duration: float,
-                       transient: float, force: bool) -> None:
+def _check_destination(
+    out: Path, physics: Physics, numerics: Numerics, engine: str, duration: float, transient: float, force: bool
+) -> None:
     """Refuse, before simulating, an --out that cannot be written or that holds another run."""
     from ..io.outputs import check_folder  # start-up time: only when a run writes files
     from ..results import read_summary
@@ -120,16 +164,21 @@ def _check_destination(out: Path, physics: Physics, numerics: Numerics, engine: 
     except ParameterError:
         old = {}
     new_settings = {"engine": engine, "parameters": physics.relevant(), "duration": duration, "transient": transient}
-    old_settings = {"engine": old.get("engine"), "parameters": old.get("parameters"),
-                    "duration": (old.get("numerics") or {}).get("duration"),
-                    "transient": (old.get("numerics") or {}).get("transient")}
+    old_settings = {
+        "engine": old.get("engine"),
+        "parameters": old.get("parameters"),
+        "duration": (old.get("numerics") or {}).get("duration"),
+        "transient": (old.get("numerics") or {}).get("transient"),
+    }
     old_numerics = {k: v for k, v in (old.get("numerics") or {}).items() if k not in ("duration", "transient")}
     new_numerics = {k: getattr(numerics, k) for k in old_numerics if hasattr(numerics, k)}
     differences = [k for k in new_settings if new_settings[k] != old_settings[k]]
     differences += [k for k in old_numerics if old_numerics[k] != new_numerics.get(k)]
     if differences:
-        raise ParameterError(f"--out {out} already holds a run with other settings ({', '.join(differences)} differ); "
-                             "choose another folder, or pass --force to replace it")
+        raise ParameterError(
+            f"--out {out} already holds a run with other settings ({', '.join(differences)} differ); "
+            "choose another folder, or pass --force to replace it"
+        )
 
 
 def trajectory_bytes(physics: Physics, samples: int) -> int:
@@ -154,7 +203,7 @@ def _run(args, out: Path | None) -> int:
     # start-up time: the engines and analysis load only when a command runs, not for --help
     from ..api import simulate
     from ..io.outputs import check_file, check_space, provenance, utc_now
-    from ..results import jsonable, summary, write_run, check_transient
+    from ..results import check_transient, jsonable, summary, write_run
 
     started, clock = utc_now(), time.perf_counter()
     physics, numerics, engine, duration, transient = settings_from(args)
@@ -164,8 +213,12 @@ def _run(args, out: Path | None) -> int:
     transient = check_transient(duration, transient, samples)
     if out:
         _check_destination(out, physics, numerics, engine, duration, transient, args.force)
-        check_space(out, trajectory_bytes(physics, samples.size), "trajectory.npz",
-                    advice=", or record fewer samples (--sample-dt, --duration)")
+        check_space(
+            out,
+            trajectory_bytes(physics, samples.size),
+            "trajectory.npz",
+            advice=", or record fewer samples (--sample-dt, --duration)",
+        )
     if args.video:
         check_file(args.video, "--video", (".mp4",), force=args.force)
         from .render import check_video_options  # start-up time: rendering loads matplotlib and GL

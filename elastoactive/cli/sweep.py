@@ -41,32 +41,56 @@ runs, naming a --dt that passes), or an unusable --out."""
 
 def register(subparsers) -> None:
     p = subparsers.add_parser(
-        "sweep", help="run a scene over a grid of parameters (every core or a Dask cluster) into a netCDF file",
+        "sweep",
+        help="run a scene over a grid of parameters (every core or a Dask cluster) into a netCDF file",
         description="Run a scene at every point of a parameter grid and write the measurements (amplitude, "
         "frequency, ...) as an xarray Dataset to netCDF, point by point; resumable. Units: l = C1 = gamma = 1.",
-        epilog=EXAMPLES, formatter_class=argparse.RawDescriptionHelpFormatter)
+        epilog=EXAMPLES,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
     scene_argument(p)
-    p.add_argument("--grid", action="append", required=True, metavar="NAME=VALUES",
-                   help=f"a grid axis (repeat for more); NAME one of {', '.join(grid_keys())}")
+    p.add_argument(
+        "--grid",
+        action="append",
+        required=True,
+        metavar="NAME=VALUES",
+        help=f"a grid axis (repeat for more); NAME one of {', '.join(grid_keys())}",
+    )
     add_fields(p.add_argument_group("fixed physics (off the grid; defaults as in `run`)"), Physics, defaults=False)
     g = p.add_argument_group("numerics (default: the preset's; a given option overrides it)")
-    g.add_argument("--preset", choices=tuple(PRESETS), default="accurate",
-                   help="numerical settings (default %(default)s; fast: dt 0.01, ~4x quicker, results within 0.3%% "
-                   "for the paper's N = 7 chains; stiffer chains need a smaller --dt, which a refusal names)")
+    g.add_argument(
+        "--preset",
+        choices=tuple(PRESETS),
+        default="accurate",
+        help="numerical settings (default %(default)s; fast: dt 0.01, ~4x quicker, results within 0.3%% "
+        "for the paper's N = 7 chains; stiffer chains need a smaller --dt, which a refusal names)",
+    )
     add_fields(g, Numerics, defaults=False)
     g = p.add_argument_group("run")
     g.add_argument("--engine", choices=ENGINES, default="mujoco", help="(default %(default)s)")
     g.add_argument("--duration", type=float, default=300.0, help="simulated time per point, tau (default %(default)s)")
     g.add_argument("--transient", type=float, help="time discarded before measuring, tau (default: half the run)")
     g.add_argument("--out", type=output_path, required=True, help="netCDF file (resumed if it holds the same sweep)")
-    g.add_argument("--workers", type=int, help="local threads (MuJoCo: mujoco.batch) or processes (reduced engine), >= 1 "
-                   "(default: every core; unused with --scheduler)")
-    g.add_argument("--batch-size", type=int, metavar="POINTS",
-                   help="most MuJoCo points stepped together in one mujoco.batch (default: 8 per thread); a batch's "
-                   "points are saved when it ends, so an interrupted sweep loses at most the running batches")
-    g.add_argument("--scheduler", metavar="ADDRESS", help="Dask scheduler address, e.g. tcp://host:8786 (default: this machine)")
+    g.add_argument(
+        "--workers",
+        type=int,
+        help="local threads (MuJoCo: mujoco.batch) or processes (reduced engine), >= 1 "
+        "(default: every core; unused with --scheduler)",
+    )
+    g.add_argument(
+        "--batch-size",
+        type=int,
+        metavar="POINTS",
+        help="most MuJoCo points stepped together in one mujoco.batch (default: 8 per thread); a batch's "
+        "points are saved when it ends, so an interrupted sweep loses at most the running batches",
+    )
+    g.add_argument(
+        "--scheduler", metavar="ADDRESS", help="Dask scheduler address, e.g. tcp://host:8786 (default: this machine)"
+    )
     g.add_argument("--retry-errors", action="store_true", help="when resuming, run failed points again")
-    g.add_argument("--no-timestep-check", action="store_true", help="run MuJoCo points beyond the linear stability limit of dt")
+    g.add_argument(
+        "--no-timestep-check", action="store_true", help="run MuJoCo points beyond the linear stability limit of dt"
+    )
     g.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=main)
 
@@ -101,24 +125,40 @@ def main(args) -> int:
     if both:
         raise ParameterError(f"{', '.join(both)} given both as an option and on the grid")
     noisy = bool((grid["noise"] > 0).any()) if "noise" in grid else fixed.get("noise", Physics().noise) > 0
-    check_engine_numerics(args.engine, [k for k in overrides if k in MUJOCO_ONLY], noisy,
-                          lambda k: f"--{k.replace('_', '-')}")
+    check_engine_numerics(
+        args.engine, [k for k in overrides if k in MUJOCO_ONLY], noisy, lambda k: f"--{k.replace('_', '-')}"
+    )
     numerics = Numerics.preset(args.preset, **overrides)
     if args.engine == "mujoco":
         _import_mujoco_headless()
     # run_sweep_outcome: what run_sweep does, without building the xarray Dataset (which would load xarray and
     # pandas, ~0.4 s of CPU, for three numbers and two texts)
-    outcome = run_sweep_outcome(args.scene, grid, fixed=fixed, numerics=numerics, duration=args.duration,
-                                engine=args.engine, transient=args.transient, out=args.out, workers=args.workers,
-                                scheduler=args.scheduler, progress=not args.quiet, retry_errors=args.retry_errors,
-                                timestep_check=not args.no_timestep_check, batch_size=args.batch_size)
+    outcome = run_sweep_outcome(
+        args.scene,
+        grid,
+        fixed=fixed,
+        numerics=numerics,
+        duration=args.duration,
+        engine=args.engine,
+        transient=args.transient,
+        out=args.out,
+        workers=args.workers,
+        scheduler=args.scheduler,
+        progress=not args.quiet,
+        retry_errors=args.retry_errors,
+        timestep_check=not args.no_timestep_check,
+        batch_size=args.batch_size,
+    )
     status, errors = outcome.status, outcome.error
     failed = status == "error"
-    print(f"wrote {args.out}: {outcome.points_done} of {outcome.points_total} points over "
-          f"{' x '.join(f'{k}[{v.size}]' for k, v in grid.items())}, {int(failed.sum())} failed")
+    print(
+        f"wrote {args.out}: {outcome.points_done} of {outcome.points_total} points over "
+        f"{' x '.join(f'{k}[{v.size}]' for k, v in grid.items())}, {int(failed.sum())} failed"
+    )
     if failed.size and failed.all():
-        print(f"elastoactive: all {failed.size} points of the sweep failed; the first error: {errors[0]}",
-              file=sys.stderr)
+        print(
+            f"elastoactive: all {failed.size} points of the sweep failed; the first error: {errors[0]}", file=sys.stderr
+        )
         return 1
     for err in list(dict.fromkeys(errors[failed]))[:3]:
         print(f"  failed: {err}", file=sys.stderr)

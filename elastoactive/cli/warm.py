@@ -16,9 +16,9 @@ from __future__ import annotations
 
 import time
 
+from ..checks.validate import validation_cases
 from ..engines.reduced import simulate_reduced
 from ..params import Numerics, Physics
-from ..checks.validate import validation_cases
 
 DURATION = 1.0
 """tau of each run: a few steps of every loop."""
@@ -29,16 +29,21 @@ def runs() -> list[tuple[Physics, Numerics, dict]]:
     sampled = Numerics(sample_dt=0.1)
     out = [(case.physics, sampled, {}) for case in validation_cases()]
     chain = Physics(n=7, sigma=0.8)
-    out += [(Physics(n=7, sigma=0.8, noise=0.1), sampled, {}),
-            (Physics(n=7, sigma=0.8, noise=0.1, noise_calculus="stratonovich"), sampled, {}),
-            (Physics(n=7, sigma=0.8, noise=0.1, noise_correlation=0.5), sampled, {}),
-            (chain, Numerics(sample_dt=0.1, mass_ratio=0.5), {"inertial": True}),
-            (Physics(n=7, sigma=0.8, noise=0.1), Numerics(sample_dt=0.1, mass_ratio=0.5), {"inertial": True}),
-            (Physics(n=24, sigma=0.8), sampled, {}),
-            (Physics(n=24, sigma=0.8), sampled, {"method": "LSODA"}),
-            (chain, sampled, {"method": "Radau"})]
-    out += [(case.physics, sampled, {"method": "BDF"}) for case in validation_cases()  # the pinned constraints'
-            if case.physics.scene_def.pinned and case.physics.scene_def.network(case.physics) is None][:1]  # Jacobian
+    out += [
+        (Physics(n=7, sigma=0.8, noise=0.1), sampled, {}),
+        (Physics(n=7, sigma=0.8, noise=0.1, noise_calculus="stratonovich"), sampled, {}),
+        (Physics(n=7, sigma=0.8, noise=0.1, noise_correlation=0.5), sampled, {}),
+        (chain, Numerics(sample_dt=0.1, mass_ratio=0.5), {"inertial": True}),
+        (Physics(n=7, sigma=0.8, noise=0.1), Numerics(sample_dt=0.1, mass_ratio=0.5), {"inertial": True}),
+        (Physics(n=24, sigma=0.8), sampled, {}),
+        (Physics(n=24, sigma=0.8), sampled, {"method": "LSODA"}),
+        (chain, sampled, {"method": "Radau"}),
+    ]
+    out += [
+        (case.physics, sampled, {"method": "BDF"})
+        for case in validation_cases()  # the pinned constraints'
+        if case.physics.scene_def.pinned and case.physics.scene_def.network(case.physics) is None
+    ][:1]  # Jacobian
     return out
 
 
@@ -58,8 +63,10 @@ def warm() -> tuple[int, int, float]:
 def main() -> None:
     count, failed, seconds = warm()
     note = f" ({failed} could not run)" if failed else ""
-    print(f"elastoactive: the reduced model's kernels compiled into numba's cache: {count} short runs{note}, "
-          f"{seconds:.0f} s")
+    print(
+        f"elastoactive: the reduced model's kernels compiled into numba's cache: {count} short runs{note}, "
+        f"{seconds:.0f} s"
+    )
 
 
 if __name__ == "__main__":

@@ -17,9 +17,13 @@ def check_steps(numerics: Numerics, duration: float) -> int:
     """The MuJoCo steps of a run (numerics as they run: a long chain's automatic ones), refused beyond MAX_STEPS."""
     steps = (numerics.sample_count(duration) - 1) * numerics.steps_per_sample
     if steps > MAX_STEPS:
-        raise ParameterError(f"dt = {numerics.dt:g} over duration = {duration:g} tau is {steps:.2g} MuJoCo steps (limit "
-                             f"{MAX_STEPS:.0e}, hours of computing); raise --dt or shorten --duration")
+        raise ParameterError(
+            f"dt = {numerics.dt:g} over duration = {duration:g} tau is {steps:.2g} MuJoCo steps (limit "
+            f"{MAX_STEPS:.0e}, hours of computing); raise --dt or shorten --duration"
+        )
     return steps
+
+
 MUJOCO_ONLY = ("dt", "integrator")
 """Numerical settings only the MuJoCo engine reads (the reduced engine uses dt only when noise > 0; it does use
 mass_ratio, which decides whether a run is overdamped or inertial: docs/mujoco.md section 5)."""
@@ -34,10 +38,15 @@ def check_engine_numerics(engine: str, names, noisy: bool, label=str) -> None:
     for name in names:
         if name not in MUJOCO_ONLY or (name == "dt" and noisy):
             continue
-        why = " (the reduced engine integrates noise-free runs adaptively; it uses dt only when noise > 0)" \
-            if name == "dt" else ""
-        raise ParameterError(f"{label(name)}: {name} only affects the MuJoCo engine and changes nothing with "
-                             f"engine reduced{why}; remove it or use engine mujoco")
+        why = (
+            " (the reduced engine integrates noise-free runs adaptively; it uses dt only when noise > 0)"
+            if name == "dt"
+            else ""
+        )
+        raise ParameterError(
+            f"{label(name)}: {name} only affects the MuJoCo engine and changes nothing with "
+            f"engine reduced{why}; remove it or use engine mujoco"
+        )
 
 
 def check_engine(engine: str) -> str:

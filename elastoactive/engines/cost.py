@@ -131,8 +131,10 @@ def check_announcement(physics: Physics) -> str | None:
     seconds = check_seconds(physics.n_angles)
     if seconds < ANNOUNCED_CHECK_SECONDS:
         return None
-    return (f"checking dt against the stability limits of the N = {physics.n} model (about "
-            f"{_duration_text(max(seconds, 1.0))})...")
+    return (
+        f"checking dt against the stability limits of the N = {physics.n} model (about "
+        f"{_duration_text(max(seconds, 1.0))})..."
+    )
 
 
 def _duration_text(seconds: float) -> str:
@@ -148,9 +150,13 @@ def cost_note(mujoco_estimate: MujocoCost, reduced_s: float | None) -> str | Non
     reduced engine's where that is more than FAR_BEYOND times quicker."""
     if mujoco_estimate.wall_s < NOTE_SECONDS:
         return None
-    line = (f"this MuJoCo run will take about {_duration_text(mujoco_estimate.wall_s)} ({mujoco_estimate.steps:.3g} "
-            f"steps at {mujoco_estimate.us_per_step:.3g} us)")
+    line = (
+        f"this MuJoCo run will take about {_duration_text(mujoco_estimate.wall_s)} ({mujoco_estimate.steps:.3g} "
+        f"steps at {mujoco_estimate.us_per_step:.3g} us)"
+    )
     if reduced_s is None or mujoco_estimate.wall_s < FAR_BEYOND * reduced_s:
         return line
-    return (f"{line}; the reduced engine gives the same observables in about {_duration_text(reduced_s)} "
-            "(--engine reduced, or engine='reduced'). Running it anyway")
+    return (
+        f"{line}; the reduced engine gives the same observables in about {_duration_text(reduced_s)} "
+        "(--engine reduced, or engine='reduced'). Running it anyway"
+    )

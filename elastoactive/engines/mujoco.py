@@ -10,24 +10,23 @@ from __future__ import annotations
 
 import sys
 import time
-from typing import Callable
+from collections.abc import Callable
 
 import mujoco
 import numpy as np
 
 from ..controllers import follower_forces
-from .timestep import divergence_cause
 from ..errors import ParameterError, SimulationDiverged
+from ..io.progress import progress_bar
 from ..mjcf.chain import prepare, state_of
 from ..params import Numerics, Physics
-from ..io.progress import progress_bar
 from ..terms.self_aligning import polarity_addresses
 from ..trajectory import Trajectory
 from . import check_steps
 from .cost import NOTE_SECONDS, cost_note, mujoco_cost, reduced_cost
-from .monitor import BAD_STATE_WARNINGS, CHECK_EVERY, PROGRESS_EVERY  # noqa: F401 (the batch engine imports them here)
+from .monitor import BAD_STATE_WARNINGS, CHECK_EVERY, PROGRESS_EVERY, is_check, runaway, step_last_apart  # noqa: F401 (the batch engine imports them here)
 from .monitor import bad_state as _bad_state
-from .monitor import is_check, runaway, step_last_apart
+from .timestep import divergence_cause
 
 PIN_DRIFT_LIMIT = 0.05  # l: beyond this the two-pinned end has left its pin (the exact model: 0)
 
@@ -47,8 +46,14 @@ def numerics_info(given: Numerics, used: Numerics) -> dict:
     run used the numerics it was given."""
     if used is given:
         return {}
-    return {"automatic_numerics": {"integrator": used.integrator, "dt": float(used.dt),
-                                   "mass_ratio": float(used.mass_ratio), "reason": "long chain (Numerics.for_physics)"}}
+    return {
+        "automatic_numerics": {
+            "integrator": used.integrator,
+            "dt": float(used.dt),
+            "mass_ratio": float(used.mass_ratio),
+            "reason": "long chain (Numerics.for_physics)",
+        }
+    }
 
 
 def pin_violation(model: mujoco.MjModel, data: mujoco.MjData) -> float:
@@ -87,8 +92,9 @@ def simulate_mujoco(
 
         if theta0 is not None:
             raise ParameterError(f"theta0: {physics.scene} is a network (its initial state: Scene.initial_network)")
-        return simulate_network_mujoco(physics, numerics, duration, network=network, progress=progress,
-                                       on_sample=on_sample)
+        return simulate_network_mujoco(
+            physics, numerics, duration, network=network, progress=progress, on_sample=on_sample
+        )
     given, numerics = numerics, numerics.for_physics(physics)  # long chains: automatic numerics (Numerics)
     t = numerics.sample_times(duration)
     check_steps(numerics, duration)
@@ -129,8 +135,9 @@ def simulate_mujoco(
             if check and _bad_state(data):
                 raise SimulationDiverged(divergence_cause(physics, numerics, float(data.time), model, data))
             if check and (change := runaway(qpos, k, nstep, before)) is not None:
-                raise SimulationDiverged(divergence_cause(physics, numerics, float(data.time), model, data,
-                                                          step_change=change))
+                raise SimulationDiverged(
+                    divergence_cause(physics, numerics, float(data.time), model, data, step_change=change)
+                )
             if bar is not None and (k == t.size - 1 or time.perf_counter() - last_shown >= PROGRESS_EVERY):
                 bar.update(k - shown)
                 shown, last_shown = k, time.perf_counter()
@@ -151,8 +158,9 @@ def simulate_mujoco(
     if pinned:
         info["constraint_violation"] = violation
     info.update(numerics_info(given, numerics))
-    return Trajectory(t=t, theta=theta, physics=physics, engine="mujoco", wall_time_s=wall, info=info, head=head,
-                      polarity=polarity)
+    return Trajectory(
+        t=t, theta=theta, physics=physics, engine="mujoco", wall_time_s=wall, info=info, head=head, polarity=polarity
+    )
 
 
 __all__ = ["simulate_mujoco", "prepare", "SimulationDiverged"]

@@ -40,22 +40,23 @@ import queue
 import threading
 import time
 from collections import defaultdict, deque
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import dataclass, field
-from typing import Any, Callable, Iterable, Iterator, Sequence
+from typing import Any
 
 import mujoco
 import numpy as np
 from mujoco import batch as mjbatch
 
 from ..controllers import follower_forces
-from .timestep import divergence_cause
 from ..errors import ParameterError, SimulationDiverged
 from ..mjcf.chain import prepare, state_of
-from ..terms.self_aligning import polarity_addresses
 from ..params import Numerics, Physics, check_start
+from ..terms.self_aligning import polarity_addresses
 from ..trajectory import Trajectory
-from .mujoco import BAD_STATE_WARNINGS, CHECK_EVERY, PIN_DRIFT_LIMIT, numerics_info, pin_drift_message, pin_violation
 from .monitor import is_check, runaway
+from .mujoco import BAD_STATE_WARNINGS, CHECK_EVERY, PIN_DRIFT_LIMIT, numerics_info, pin_drift_message, pin_violation
+from .timestep import divergence_cause
 
 RECORD_BYTES = 32 << 20
 """Bytes of records one rollout call of a batch may fill, in buffers reused from call to call. It sets
@@ -171,8 +172,14 @@ def batch_key(run: Run) -> tuple:
     ratio (stat.meaninertia), the integrator and the sampling, of the numerics the run uses (Run.used).
     `signature` decides. `run`: a Run or anything with physics, numerics and duration (batch.Case)."""
     num = run.numerics.for_physics(run.physics)
-    return (run.physics.scene, run.physics.n, num.mass_ratio, num.integrator, num.steps_per_sample,
-            num.sample_count(run.duration))
+    return (
+        run.physics.scene,
+        run.physics.n,
+        num.mass_ratio,
+        num.integrator,
+        num.steps_per_sample,
+        num.sample_count(run.duration),
+    )
 
 
 def run_weight(run: Run) -> float:
@@ -232,7 +239,7 @@ class _Counts:
     def __init__(self, counts: np.ndarray):
         self._counts = counts
 
-    def __getitem__(self, w) -> "_Count":
+    def __getitem__(self, w) -> _Count:
         return _Count(int(self._counts[int(w)]))
 
 
@@ -301,10 +308,16 @@ def run_batch(
     record = ["qpos", _TIME] + (["site_xpos"] if pinned else []) + (["act"] if units is not None else [])
     # one buffer per recorded field, for the largest call, reused by every call (fresh arrays would
     # cost their page faults and zeroing at every call, ~2% of the stepping)
-    shapes = {"qpos": (nq,), _TIME: (1,), **({"site_xpos": (nsite, 3)} if pinned else {}),
-              **({"act": (model.na,)} if units is not None else {})}
-    buffers = {name: (np.empty(nsim * chunk * nstep * math.prod(shape)), math.prod(shape), shape)
-               for name, shape in shapes.items()}
+    shapes = {
+        "qpos": (nq,),
+        _TIME: (1,),
+        **({"site_xpos": (nsite, 3)} if pinned else {}),
+        **({"act": (model.na,)} if units is not None else {}),
+    }
+    buffers = {
+        name: (np.empty(nsim * chunk * nstep * math.prod(shape)), math.prod(shape), shape)
+        for name, shape in shapes.items()
+    }
     k0 = 1  # the first sample of the chunk
     while k0 < samples and active.any():
         if cancel is not None and cancel.is_set():
@@ -321,8 +334,10 @@ def run_batch(
         n = ids.size
         saved_state = b.state[ids].copy()
         saved_warning = b.warning[ids].copy()
-        out = {name: buffer[: n * count * nstep * size].reshape(n, count * nstep, *shape)
-               for name, (buffer, size, shape) in buffers.items()}
+        out = {
+            name: buffer[: n * count * nstep * size].reshape(n, count * nstep, *shape)
+            for name, (buffer, size, shape) in buffers.items()
+        }
         failed: dict[int, str] = {}
         if on_start is not None and k0 == 1:
             on_start()
@@ -355,14 +370,27 @@ def run_batch(
                 s = int(s)
                 t_s = float(out[_TIME][j, s * nstep + nstep - 1, 0])
                 if bad_before or not np.isfinite(q[s]).all():
-                    event = (s, divergence_cause(sims[k].run.physics, sims[k].run.used, t_s, None,
-                                                 _Warnings(b.warning[k, :, 1])))
+                    event = (
+                        s,
+                        divergence_cause(
+                            sims[k].run.physics, sims[k].run.used, t_s, None, _Warnings(b.warning[k, :, 1])
+                        ),
+                    )
                     break
                 before = out["qpos"][j, s * nstep + nstep - 2] if nstep > 1 else sims[k].qpos[k0 + s - 1]
                 change = runaway(sims[k].qpos, k0 + s, nstep, before)
                 if change is not None:
-                    event = (s, divergence_cause(sims[k].run.physics, sims[k].run.used, t_s, None,
-                                                 _Warnings(b.warning[k, :, 1]), step_change=change))
+                    event = (
+                        s,
+                        divergence_cause(
+                            sims[k].run.physics,
+                            sims[k].run.used,
+                            t_s,
+                            None,
+                            _Warnings(b.warning[k, :, 1]),
+                            step_change=change,
+                        ),
+                    )
                     break
             if pinned:
                 drift = _pin_drift(out["site_xpos"][j, nstep - 1 :: nstep], ends, violation, k)
@@ -380,16 +408,31 @@ def run_batch(
             continue
         physics, numerics = s.run.physics, s.run.used
         steps = int((samples - 1) * nstep)
-        info = {"steps": steps, "integrator": numerics.integrator, "us_per_step": 1e6 * share / max(steps, 1),
-                "batch": {"size": nsim, "threads": min(threads, nsim), "wall_s": wall}}
+        info = {
+            "steps": steps,
+            "integrator": numerics.integrator,
+            "us_per_step": 1e6 * share / max(steps, 1),
+            "batch": {"size": nsim, "threads": min(threads, nsim), "wall_s": wall},
+        }
         if pinned:
             info["constraint_violation"] = float(violation[k])
         info.update(numerics_info(s.run.numerics, numerics))
         theta, head = state_of(physics, s.qpos)
         s.qpos = None
         done[k] = True
-        on_done(s.index, Trajectory(t=s.t, theta=theta, physics=physics, engine="mujoco", wall_time_s=share,
-                                    info=info, head=head, polarity=s.polarity))
+        on_done(
+            s.index,
+            Trajectory(
+                t=s.t,
+                theta=theta,
+                physics=physics,
+                engine="mujoco",
+                wall_time_s=share,
+                info=info,
+                head=head,
+                polarity=s.polarity,
+            ),
+        )
 
 
 def _pin_drift(xpos: np.ndarray, ends: tuple[int, int], violation: np.ndarray, k: int) -> int | None:
@@ -411,8 +454,17 @@ def _pin_drift(xpos: np.ndarray, ends: tuple[int, int], violation: np.ndarray, k
     return None
 
 
-def _replay(b: mjbatch.Batch, k: int, sim: _Sim, k0: int, count: int, nstep: int, ends, violation: np.ndarray,
-            units: np.ndarray | None = None):
+def _replay(
+    b: mjbatch.Batch,
+    k: int,
+    sim: _Sim,
+    k0: int,
+    count: int,
+    nstep: int,
+    ends,
+    violation: np.ndarray,
+    units: np.ndarray | None = None,
+):
     """Step simulation k sample by sample over samples k0 .. k0 + count - 1 with simulate_mujoco's
     checks; returns its SimulationDiverged, or None if it went through."""
     ids = np.array([k], np.int32)
@@ -435,11 +487,14 @@ def _replay(b: mjbatch.Batch, k: int, sim: _Sim, k0: int, count: int, nstep: int
         if check:
             counts = b.warning[k, :, 1]
             if counts[_BAD].any() or not np.all(np.isfinite(qpos)):
-                return SimulationDiverged(divergence_cause(physics, numerics, float(b.time[k]), None, _Warnings(counts)))
+                return SimulationDiverged(
+                    divergence_cause(physics, numerics, float(b.time[k]), None, _Warnings(counts))
+                )
             change = runaway(sim.qpos, kk, nstep, before)
             if change is not None:
-                return SimulationDiverged(divergence_cause(physics, numerics, float(b.time[k]), None, _Warnings(counts),
-                                                           step_change=change))
+                return SimulationDiverged(
+                    divergence_cause(physics, numerics, float(b.time[k]), None, _Warnings(counts), step_change=change)
+                )
         if ends is not None:
             value = float(np.linalg.norm(xpos[k, ends[0]] - xpos[k, ends[1]]))
             violation[k] = max(violation[k], value)
@@ -625,5 +680,14 @@ def iter_mujoco_batch(
     yield from run_chunks(chunks, int(threads), task, weight=lambda chunk: sum(weights[i] for i in chunk))
 
 
-__all__ = ["simulate_mujoco_batch", "iter_mujoco_batch", "Run", "plan", "run_weight", "run_chunk", "run_chunks", "signature",
-           "Cancelled"]
+__all__ = [
+    "simulate_mujoco_batch",
+    "iter_mujoco_batch",
+    "Run",
+    "plan",
+    "run_weight",
+    "run_chunk",
+    "run_chunks",
+    "signature",
+    "Cancelled",
+]

@@ -15,24 +15,23 @@ import dataclasses
 import math
 import sys
 import time
-from typing import Callable
+from collections.abc import Callable
 
 import mujoco
 import numpy as np
 
 from ..controllers import follower_forces
 from ..errors import ParameterError, SimulationDiverged
-from ..mjcf.network import build_network_model, node_positions, qpos_of_positions, set_polarity
-from ..terms.self_aligning import polarity_addresses, turning_rate
-from .network_reduced import network_rate
-from ..reduced import INERTIA_RESOLUTION
-from ..params import RESOLUTION, Numerics, Physics
 from ..io.progress import progress_bar
+from ..mjcf.network import build_network_model, node_positions, qpos_of_positions, set_polarity
+from ..params import RESOLUTION, Numerics, Physics
+from ..reduced import INERTIA_RESOLUTION
+from ..terms.self_aligning import polarity_addresses, turning_rate
 from ..trajectory import Trajectory
 from . import check_steps
 from .cost import NOTE_SECONDS, mujoco_cost
 from .monitor import MAX_STEP_CHANGE, PROGRESS_EVERY, bad_state, is_check, runaway, step_last_apart
-
+from .network_reduced import network_rate
 
 AUTOMATIC_INTEGRATOR = "Euler"
 """The integrator a network run uses when dt, mass_ratio and integrator are all left at their defaults
@@ -68,23 +67,35 @@ def check_network_timestep(physics: Physics, numerics: Numerics) -> float:
     numerics = network_numerics(physics, numerics)
     rate = network_rate(physics)
     if numerics.dt * rate > RESOLUTION:
-        raise ParameterError(f"dt = {numerics.dt:g} does not resolve the {physics.scene} network's fastest rate "
-                             f"{rate:.3g} (gamma / k)^-1 (springs, trap, or the units' turning sigma / l_a): use dt <= "
-                             f"{RESOLUTION / rate:.3g}")
+        raise ParameterError(
+            f"dt = {numerics.dt:g} does not resolve the {physics.scene} network's fastest rate "
+            f"{rate:.3g} (gamma / k)^-1 (springs, trap, or the units' turning sigma / l_a): use dt <= "
+            f"{RESOLUTION / rate:.3g}"
+        )
     if numerics.mass_ratio * rate > INERTIA_RESOLUTION:
         turning = turning_rate(physics)
-        cause = (f"; the units' turning sigma / l_a sets it: use alignment_length >= "
-                 f"{physics.sigma * numerics.mass_ratio / INERTIA_RESOLUTION:.3g} or mass_ratio <= "
-                 f"{INERTIA_RESOLUTION / rate:.3g}" if turning >= rate else
-                 f": use mass_ratio <= {INERTIA_RESOLUTION / rate:.3g}")
-        raise ParameterError(f"mass_ratio = {numerics.mass_ratio:g} is outside the overdamped limit of the "
-                             f"{physics.scene} network (m x rate = {numerics.mass_ratio * rate:.2g} > "
-                             f"{INERTIA_RESOLUTION:g}; the network model is overdamped){cause}")
+        cause = (
+            f"; the units' turning sigma / l_a sets it: use alignment_length >= "
+            f"{physics.sigma * numerics.mass_ratio / INERTIA_RESOLUTION:.3g} or mass_ratio <= "
+            f"{INERTIA_RESOLUTION / rate:.3g}"
+            if turning >= rate
+            else f": use mass_ratio <= {INERTIA_RESOLUTION / rate:.3g}"
+        )
+        raise ParameterError(
+            f"mass_ratio = {numerics.mass_ratio:g} is outside the overdamped limit of the "
+            f"{physics.scene} network (m x rate = {numerics.mass_ratio * rate:.2g} > "
+            f"{INERTIA_RESOLUTION:g}; the network model is overdamped){cause}"
+        )
     return rate
 
 
-def prepare_network(physics: Physics, numerics: Numerics, network=None, positions0: np.ndarray | None = None,
-                    polarity0: np.ndarray | None = None):
+def prepare_network(
+    physics: Physics,
+    numerics: Numerics,
+    network=None,
+    positions0: np.ndarray | None = None,
+    polarity0: np.ndarray | None = None,
+):
     """(network, model, data) at the initial state: node positions (P, 2) and the active units' polarities (A,),
     in node order, as given, else the scene's (Scene.initial_network: what both engines start from)."""
     scene = physics.scene_def
@@ -104,12 +115,17 @@ def prepare_network(physics: Physics, numerics: Numerics, network=None, position
 def _divergence_message(physics: Physics, numerics: Numerics, time_now: float, step_change: float | None = None) -> str:
     """Why a network run stopped: a non-finite state or MuJoCo's limits, or (step_change) a node that moved farther in
     one step than any accurate run does (monitor.MAX_STEP_CHANGE)."""
-    what = ("the {} network's state became non-finite or exceeded MuJoCo's limits" if step_change is None else
-            "the {} network's nodes moved " + f"{step_change:.3g} in one step (an accurate run moves less than "
-            f"{MAX_STEP_CHANGE:g})").format(physics.scene)
-    return (f"{what} at t = {time_now:.4g} "
-            f"(dt = {numerics.dt:g}, mass_ratio = {numerics.mass_ratio:g}, integrator {numerics.integrator}): the "
-            "springs and the trap are explicit, stable for dt x (fastest relaxation rate) < 2; reduce dt")
+    what = (
+        "the {} network's state became non-finite or exceeded MuJoCo's limits"
+        if step_change is None
+        else "the {} network's nodes moved " + f"{step_change:.3g} in one step (an accurate run moves less than "
+        f"{MAX_STEP_CHANGE:g})"
+    ).format(physics.scene)
+    return (
+        f"{what} at t = {time_now:.4g} "
+        f"(dt = {numerics.dt:g}, mass_ratio = {numerics.mass_ratio:g}, integrator {numerics.integrator}): the "
+        "springs and the trap are explicit, stable for dt x (fastest relaxation rate) < 2; reduce dt"
+    )
 
 
 def simulate_network_mujoco(
@@ -142,8 +158,11 @@ def simulate_network_mujoco(
     if progress:
         estimate = mujoco_cost(model, data, numerics, t.size - 1)
         if estimate.wall_s >= NOTE_SECONDS:
-            print(f"elastoactive: note: this MuJoCo run should take about {estimate.wall_s:.0f} s", file=sys.stderr,
-                  flush=True)
+            print(
+                f"elastoactive: note: this MuJoCo run should take about {estimate.wall_s:.0f} s",
+                file=sys.stderr,
+                flush=True,
+            )
     bar = progress_bar(t.size - 1, f"mujoco {physics.scene}", "sample") if progress else None
     shown = 0
     nstep = numerics.steps_per_sample
@@ -179,13 +198,22 @@ def simulate_network_mujoco(
     if estimate is not None:
         info["estimated_wall_s"] = estimate.wall_s
     if numerics is not given:
-        info["automatic_numerics"] = {"integrator": numerics.integrator, "dt": float(numerics.dt),
-                                      "mass_ratio": float(numerics.mass_ratio),
-                                      "reason": "network: Euler's implicit drag, dt resolving the units' turning "
-                                                "(network_numerics)"}
-    return Trajectory(t=t, theta=np.empty((t.size, 0)), physics=physics, engine="mujoco", wall_time_s=wall,
-                      info=info, nodes=node_positions(network, qpos),
-                      polarity=polarity if units.size else None)
+        info["automatic_numerics"] = {
+            "integrator": numerics.integrator,
+            "dt": float(numerics.dt),
+            "mass_ratio": float(numerics.mass_ratio),
+            "reason": "network: Euler's implicit drag, dt resolving the units' turning (network_numerics)",
+        }
+    return Trajectory(
+        t=t,
+        theta=np.empty((t.size, 0)),
+        physics=physics,
+        engine="mujoco",
+        wall_time_s=wall,
+        info=info,
+        nodes=node_positions(network, qpos),
+        polarity=polarity if units.size else None,
+    )
 
 
 __all__ = ["simulate_network_mujoco", "prepare_network"]

@@ -13,10 +13,10 @@ import time
 
 import numpy as np
 
-from ..reduced import network as _model
 from ..errors import ParameterError
 from ..params import Numerics, Physics
 from ..reduced import INERTIA_RESOLUTION
+from ..reduced import network as _model
 from ..terms.self_aligning import check_reduced_span, turning_rate
 from ..trajectory import Trajectory
 
@@ -46,23 +46,35 @@ def network_rate(physics: Physics) -> float:
     return max(springs, turning_rate(physics))
 
 
-def simulate_network_reduced(physics: Physics, numerics: Numerics, duration: float, *, theta0=None,
-                             rtol: float = 1e-8, atol: float = 1e-10, method: str | None = None) -> Trajectory:
+def simulate_network_reduced(
+    physics: Physics,
+    numerics: Numerics,
+    duration: float,
+    *,
+    theta0=None,
+    rtol: float = 1e-8,
+    atol: float = 1e-10,
+    method: str | None = None,
+) -> Trajectory:
     """Integrate the network model from the scene's initial state and sample every numerics.sample_dt."""
     if theta0 is not None:
         raise ParameterError(f"theta0: {physics.scene} is a network (its initial state: Scene.initial_network)")
     method = DEFAULT_METHOD if method is None else method
     if method not in METHODS:
-        raise ParameterError(f"method must be one of {', '.join(METHODS)} for a network scene (or left out: "
-                             f"{DEFAULT_METHOD}), got {method!r}")
+        raise ParameterError(
+            f"method must be one of {', '.join(METHODS)} for a network scene (or left out: "
+            f"{DEFAULT_METHOD}), got {method!r}"
+        )
     if physics.noise > 0:
         raise ParameterError("noise: the network scenes are deterministic (noise must be 0)")
     check_reduced_span(physics, duration)
     rate = network_rate(physics) if "mass_ratio" in numerics.given() else 0.0  # the model is massless: a mass given
     if numerics.mass_ratio * rate > INERTIA_RESOLUTION:  # where its inertia would matter is refused, as MuJoCo does
-        raise ParameterError(f"mass_ratio = {numerics.mass_ratio:g}: the reduced engine's {physics.scene} network is "
-                             f"overdamped (m x rate = {numerics.mass_ratio * rate:.2g} > {INERTIA_RESOLUTION:g}); use "
-                             f"mass_ratio <= {INERTIA_RESOLUTION / rate:.3g}, where the inertia is negligible")
+        raise ParameterError(
+            f"mass_ratio = {numerics.mass_ratio:g}: the reduced engine's {physics.scene} network is "
+            f"overdamped (m x rate = {numerics.mass_ratio * rate:.2g} > {INERTIA_RESOLUTION:g}); use "
+            f"mass_ratio <= {INERTIA_RESOLUTION / rate:.3g}, where the inertia is negligible"
+        )
     system = system_of(physics)
     t = numerics.sample_times(duration)
     y0 = _model.pack(system, physics.scene_def.initial_network(physics, numerics))
@@ -73,5 +85,13 @@ def simulate_network_reduced(physics: Physics, numerics: Numerics, duration: flo
     if not np.all(np.isfinite(solution.y)):
         raise ParameterError(f"the {physics.scene} network's state became non-finite (sigma = {physics.sigma:g})")
     info = {"method": method, "rtol": rtol, "atol": atol, "nfev": solution.nfev, "model": "overdamped"}
-    return Trajectory(t=t, theta=np.empty((t.size, 0)), physics=physics, engine="reduced", wall_time_s=wall,
-                      info=info, nodes=nodes, polarity=polarity if polarity.shape[1] else None)
+    return Trajectory(
+        t=t,
+        theta=np.empty((t.size, 0)),
+        physics=physics,
+        engine="reduced",
+        wall_time_s=wall,
+        info=info,
+        nodes=nodes,
+        polarity=polarity if polarity.shape[1] else None,
+    )

@@ -44,9 +44,9 @@ def positions(physics: Physics, theta: np.ndarray) -> np.ndarray:
     n = physics.n
     out = np.empty((physics.n_angles, 2))
     for k in range(physics.n_chains):
-        x, y = chain_positions(theta[k * n:(k + 1) * n])
-        out[k * n:(k + 1) * n, 0] = x
-        out[k * n:(k + 1) * n, 1] = y + physics.scene_def.chain_offset(physics, k)
+        x, y = chain_positions(theta[k * n : (k + 1) * n])
+        out[k * n : (k + 1) * n, 0] = x
+        out[k * n : (k + 1) * n, 1] = y + physics.scene_def.chain_offset(physics, k)
     return out
 
 
@@ -75,20 +75,29 @@ def time_law(law):
 
 def check(physics: Physics, system, noisy: bool) -> None:
     """Refuse, in one line, what this path does not cover."""
-    names = ", ".join(t.name for t in physics.active_terms()
-                      if t.node_forces(physics) is not None or t.clamp_motion(physics) is not None)
+    names = ", ".join(
+        t.name
+        for t in physics.active_terms()
+        if t.node_forces(physics) is not None or t.clamp_motion(physics) is not None
+    )
     if noisy:
-        raise ParameterError(f"the reduced engine adds the forces of {names} to noise-free runs only; set noise 0 or "
-                             "use the MuJoCo engine")
+        raise ParameterError(
+            f"the reduced engine adds the forces of {names} to noise-free runs only; set noise 0 or "
+            "use the MuJoCo engine"
+        )
     if system.inertial:
-        raise ParameterError(f"the reduced engine adds the forces of {names} to the overdamped model only, and "
-                             f"mass_ratio = {system.mass_ratio:g} is outside the overdamped limit here; give a smaller "
-                             "--mass-ratio or use the MuJoCo engine")
+        raise ParameterError(
+            f"the reduced engine adds the forces of {names} to the overdamped model only, and "
+            f"mass_ratio = {system.mass_ratio:g} is outside the overdamped limit here; give a smaller "
+            "--mass-ratio or use the MuJoCo engine"
+        )
     if system.pinned or system.head_free or system.hub_free:
         has = "pins its far end" if system.pinned else ("slides its head" if system.head_free else "turns its hub")
-        raise ParameterError(f"the reduced engine adds the forces of {names} to the overdamped model of a chain "
-                             f"without pins, a sliding head or a turning hub, and scene {physics.scene} {has}; use the "
-                             "MuJoCo engine")
+        raise ParameterError(
+            f"the reduced engine adds the forces of {names} to the overdamped model of a chain "
+            f"without pins, a sliding head or a turning hub, and scene {physics.scene} {has}; use the "
+            "MuJoCo engine"
+        )
 
 
 def clamp_of(physics: Physics):
@@ -114,8 +123,19 @@ def clamp_drag(physics: Physics, system, theta: np.ndarray, velocity) -> np.ndar
     return forces
 
 
-def solve(physics: Physics, system, t: np.ndarray, theta0: np.ndarray, laws, *, rtol: float, atol: float,
-          beta: float, loads, clamp=None) -> tuple[np.ndarray, dict]:
+def solve(
+    physics: Physics,
+    system,
+    t: np.ndarray,
+    theta0: np.ndarray,
+    laws,
+    *,
+    rtol: float,
+    atol: float,
+    beta: float,
+    loads,
+    clamp=None,
+) -> tuple[np.ndarray, dict]:
     """Sampled angles (len(t), n_angles) and solver info, the node forces `laws` (callables) added, and the drag
     and clamp-spring terms of a moving clamp (`clamp`: elastoactive.terms.base.ClampMotion, or None)."""
     # start-up time: scipy.integrate costs ~0.4 s to import; only runs with such a term need it
@@ -146,8 +166,22 @@ def _compiled(system, beta: float, loads, laws):
 
     def f(time, theta):
         out = np.empty(size)
-        node_kernels.periodic_rhs(float(time), np.ascontiguousarray(theta, dtype=float), fac, system, beta, out,
-                                  L, D, X, lam, table, Lc, Dc, q)
+        node_kernels.periodic_rhs(
+            float(time),
+            np.ascontiguousarray(theta, dtype=float),
+            fac,
+            system,
+            beta,
+            out,
+            L,
+            D,
+            X,
+            lam,
+            table,
+            Lc,
+            Dc,
+            q,
+        )
         return out
 
     return f

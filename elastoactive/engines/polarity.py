@@ -32,17 +32,25 @@ from .node_forces import generalised, positions, time_law
 def check(physics: Physics, system, noisy: bool) -> None:
     """Refuse, in one line, what this path does not cover."""
     if noisy:
-        raise ParameterError("active = self-aligning: the reduced engine integrates noise-free runs only; set noise 0 "
-                             "or use the MuJoCo engine")
+        raise ParameterError(
+            "active = self-aligning: the reduced engine integrates noise-free runs only; set noise 0 "
+            "or use the MuJoCo engine"
+        )
     if system.inertial:
-        raise ParameterError("active = self-aligning: the reduced engine has the overdamped model only; give a mass "
-                             "ratio inside the overdamped limit or use the MuJoCo engine")
+        raise ParameterError(
+            "active = self-aligning: the reduced engine has the overdamped model only; give a mass "
+            "ratio inside the overdamped limit or use the MuJoCo engine"
+        )
     if system.head_free or system.extended:
-        raise ParameterError(f"active = self-aligning: the reduced engine does not combine the units with scene "
-                             f"{physics.scene}'s {' and '.join(system.extensions)}; use the MuJoCo engine")
+        raise ParameterError(
+            f"active = self-aligning: the reduced engine does not combine the units with scene "
+            f"{physics.scene}'s {' and '.join(system.extensions)}; use the MuJoCo engine"
+        )
     if any(getattr(term, "clamp_motion", lambda _: None)(physics) is not None for term in physics.active_terms()):
-        raise ParameterError("active = self-aligning: the reduced engine does not combine the units with a moving "
-                             "clamp; use the MuJoCo engine")
+        raise ParameterError(
+            "active = self-aligning: the reduced engine does not combine the units with a moving "
+            "clamp; use the MuJoCo engine"
+        )
 
 
 def unit_indices(physics: Physics) -> np.ndarray:
@@ -97,8 +105,9 @@ def rhs(physics: Physics, system, *, beta: float, laws=()):
     return f
 
 
-def solve(physics: Physics, system, t: np.ndarray, theta0: np.ndarray, laws, *, rtol: float, atol: float,
-          beta: float) -> tuple[np.ndarray, np.ndarray, dict]:
+def solve(
+    physics: Physics, system, t: np.ndarray, theta0: np.ndarray, laws, *, rtol: float, atol: float, beta: float
+) -> tuple[np.ndarray, np.ndarray, dict]:
     """(sampled angles (len(t), n_angles), sampled polarities (len(t), units), solver info) from theta0, every
     polarity along the follower direction of theta0."""
     from scipy.integrate import solve_ivp  # start-up time: scipy.integrate costs ~0.4 s to import

@@ -24,17 +24,17 @@ import time
 import numpy as np
 
 from .. import reduced as _math
-from ..reduced import DEFAULT_BETA, INERTIA_RESOLUTION, STIFF_RADIUS, ChainSystem
-from ..reduced.settings import METHODS
+from ..controllers.noise import ColouredNoise, force_factor
 from ..errors import ParameterError
 from ..initial import initial_angles
-from ..controllers.noise import ColouredNoise, force_factor
 from ..params import Numerics, Physics
-from .regime import Regime, base_state, regime  # re-exported: the engine runs the model these choose
-from ..trajectory import Trajectory
+from ..reduced import DEFAULT_BETA, INERTIA_RESOLUTION, STIFF_RADIUS, ChainSystem
+from ..reduced.settings import METHODS
 from ..terms.self_aligning import SELF_ALIGNING, check_reduced_span
+from ..trajectory import Trajectory
 from . import node_forces
 from . import polarity as polarity_engine
+from .regime import Regime, base_state, regime  # re-exported: the engine runs the model these choose
 
 __all__ = [
     "DEFAULT_BETA",
@@ -71,25 +71,36 @@ def _use_inertia(physics: Physics, numerics: Numerics, inertial: bool | None) ->
     """(whether to run the inertial model, what to record in Trajectory.info) for simulate_reduced's `inertial`;
     refuses what the reduced model does not have (friction between capsules)."""
     if physics.contact and physics.contact_friction > 0:
-        raise ParameterError(f"contact_friction = {physics.contact_friction:g}: the reduced model's self-contact is "
-                             "frictionless (a penalty along the capsules' separation); use the MuJoCo engine, or 0")
+        raise ParameterError(
+            f"contact_friction = {physics.contact_friction:g}: the reduced model's self-contact is "
+            "frictionless (a penalty along the capsules' separation); use the MuJoCo engine, or 0"
+        )
     if system_of(physics).extended:
-        _check_dense_size(physics, "a free head, a trap or self-contact makes the reduced model dense (O(N^3) per "
-                          "evaluation, its Jacobian by central differences: 10 tau took 8 s at N = 50, 170 s at 150)",
-                          "run it with the MuJoCo engine, or on a shorter chain")
+        _check_dense_size(
+            physics,
+            "a free head, a trap or self-contact makes the reduced model dense (O(N^3) per "
+            "evaluation, its Jacobian by central differences: 10 tau took 8 s at N = 50, 170 s at 150)",
+            "run it with the MuJoCo engine, or on a shorter chain",
+        )
     if inertial is None:
         r = regime(physics, numerics)
         if r.inertial:
-            _check_dense_size(physics, r.describe() + f"; its largest mass inside the limit is {r.mass_limit:.2g}; "
-                              "the reduced engine's inertial model solves a dense mass matrix at every evaluation",
-                              "give a smaller --mass-ratio (the overdamped chain), a smaller --sigma, or use MuJoCo")
+            _check_dense_size(
+                physics,
+                r.describe() + f"; its largest mass inside the limit is {r.mass_limit:.2g}; "
+                "the reduced engine's inertial model solves a dense mass matrix at every evaluation",
+                "give a smaller --mass-ratio (the overdamped chain), a smaller --sigma, or use MuJoCo",
+            )
         key = "inertia_number_bound" if r.rate_is_bound else "inertia_number"
         return r.inertial, {key: r.inertia_number}
     if inertial not in (True, False):
         raise ParameterError(f"inertial must be True, False or None (automatic), got {inertial!r}")
     if inertial:
-        _check_dense_size(physics, "the reduced engine's inertial model solves a dense mass matrix at every evaluation",
-                          "leave the model to the overdamped limit (inertial=None), or use MuJoCo")
+        _check_dense_size(
+            physics,
+            "the reduced engine's inertial model solves a dense mass matrix at every evaluation",
+            "leave the model to the overdamped limit (inertial=None), or use MuJoCo",
+        )
     return bool(inertial), {"inertial_override": bool(inertial)}
 
 
@@ -198,8 +209,10 @@ def check_method(physics: Physics, method: str | None) -> None:
     if method not in METHODS:
         raise ParameterError(f"method must be one of {', '.join(METHODS)} (or left out: automatic), got {method!r}")
     if physics.noise > 0:
-        raise ParameterError(f"method = {method}: with noise the reduced engine takes fixed steps of --dt "
-                             "(Euler-Maruyama or Heun); leave --method out")
+        raise ParameterError(
+            f"method = {method}: with noise the reduced engine takes fixed steps of --dt "
+            "(Euler-Maruyama or Heun); leave --method out"
+        )
 
 
 def simulate_reduced(
@@ -231,8 +244,7 @@ def simulate_reduced(
     if physics.scene_def.network(physics) is not None:  # a network scene: its own model (engines.network_reduced)
         from .network_reduced import simulate_network_reduced  # start-up time: chain runs never load it
 
-        return simulate_network_reduced(physics, numerics, duration, theta0=theta0, rtol=rtol, atol=atol,
-                                        method=method)
+        return simulate_network_reduced(physics, numerics, duration, theta0=theta0, rtol=rtol, atol=atol, method=method)
     check_method(physics, method)
     use_inertia, record = _use_inertia(physics, numerics, inertial)
     system = system_of(physics, numerics.mass_ratio if use_inertia else 0.0)
@@ -250,8 +262,7 @@ def simulate_reduced(
         check_reduced_span(physics, duration)
     start = time.perf_counter()
     if physics.active == SELF_ALIGNING:  # the state (theta, psi)
-        theta, polarity, info = polarity_engine.solve(physics, system, t, theta0, laws, rtol=rtol, atol=atol,
-                                                      beta=beta)
+        theta, polarity, info = polarity_engine.solve(physics, system, t, theta0, laws, rtol=rtol, atol=atol, beta=beta)
     elif physics.noise > 0:
         dt = numerics.dt
         scheme = "euler"
@@ -264,20 +275,23 @@ def simulate_reduced(
             def factors(steps: np.ndarray) -> np.ndarray:
                 return force_factor(numerics.seed, steps, count, physics.noise, dt)
 
-        theta, info = _math.solve_sde(system, t, theta0, dt=dt, factors=_loaded_noise(factors, loads), beta=beta,
-                                      scheme=scheme)
+        theta, info = _math.solve_sde(
+            system, t, theta0, dt=dt, factors=_loaded_noise(factors, loads), beta=beta, scheme=scheme
+        )
         info["seed"] = numerics.seed
         if physics.noise_correlation > 0:
             info["noise_correlation"] = physics.noise_correlation
         else:
             info["noise_calculus"] = physics.noise_calculus
     elif laws or clamp is not None:  # plug-in terms' forces on the particles, a moving clamp (engines.node_forces)
-        theta, info = node_forces.solve(physics, system, t, theta0, laws, rtol=rtol, atol=atol, beta=beta, loads=loads,
-                                        clamp=clamp)
+        theta, info = node_forces.solve(
+            physics, system, t, theta0, laws, rtol=rtol, atol=atol, beta=beta, loads=loads, clamp=clamp
+        )
     else:
         try:
-            theta, info = _math.solve_ode(system, t, theta0, rtol=rtol, atol=atol, method=method, beta=beta,
-                                          loads=loads)
+            theta, info = _math.solve_ode(
+                system, t, theta0, rtol=rtol, atol=atol, method=method, beta=beta, loads=loads
+            )
         except KeyboardInterrupt as err:  # Ctrl-C (numba-DOP853 sees it within ~0.1 s): keep the samples computed
             raise _interrupted(err, system, t, physics, time.perf_counter() - start) from None
     wall = time.perf_counter() - start
@@ -290,8 +304,9 @@ def simulate_reduced(
         head = np.asarray(clamp.displacement(t), dtype=float).reshape(t.size, 2)
     if head is None and physics.scene_def.head_count(physics):  # a star's clamped hub: phi = 0, as MuJoCo's idle hinge
         head = np.zeros((t.size, physics.scene_def.head_count(physics)))
-    return Trajectory(t=t, theta=theta, physics=physics, engine="reduced", wall_time_s=wall, info=info, head=head,
-                      polarity=polarity)
+    return Trajectory(
+        t=t, theta=theta, physics=physics, engine="reduced", wall_time_s=wall, info=info, head=head, polarity=polarity
+    )
 
 
 class Interrupted(KeyboardInterrupt):
@@ -303,18 +318,29 @@ class Interrupted(KeyboardInterrupt):
         self.trajectory = trajectory
 
 
-def _interrupted(err: KeyboardInterrupt, system: ChainSystem, t: np.ndarray, physics: Physics,
-                 wall: float) -> Interrupted:
+def _interrupted(
+    err: KeyboardInterrupt, system: ChainSystem, t: np.ndarray, physics: Physics, wall: float
+) -> Interrupted:
     """The Interrupted of a Ctrl-C during the deterministic solve (numba-DOP853's Interrupted carries its samples)."""
     samples = getattr(err, "samples", None)
     if samples is None or len(samples) < 2:  # scipy's solvers keep no partial samples; or none was reached yet
         return Interrupted(f"the reduced run was interrupted after {wall:.1f} s, with no samples kept", None)
     theta, head = _split_head(system, np.asarray(samples))
     reached = t[: len(theta)]
-    partial = Trajectory(t=reached, theta=theta, physics=physics, engine="reduced", wall_time_s=wall,
-                         info={"interrupted": True}, head=head)
-    return Interrupted(f"the reduced run was interrupted at t = {reached[-1]:.6g} of {t[-1]:.6g} tau "
-                       f"({len(reached)} samples computed)", partial)
+    partial = Trajectory(
+        t=reached,
+        theta=theta,
+        physics=physics,
+        engine="reduced",
+        wall_time_s=wall,
+        info={"interrupted": True},
+        head=head,
+    )
+    return Interrupted(
+        f"the reduced run was interrupted at t = {reached[-1]:.6g} of {t[-1]:.6g} tau "
+        f"({len(reached)} samples computed)",
+        partial,
+    )
 
 
 def _split_head(system: ChainSystem, state: np.ndarray) -> tuple[np.ndarray, np.ndarray | None]:
@@ -361,10 +387,19 @@ def simulate_reference(
     wall = time.perf_counter() - start
     if not sol.success:
         raise RuntimeError(f"solve_ivp ({method}) failed: {sol.message}")
-    info = {"method": method, "rtol": rtol, "atol": atol, "nfev": int(sol.nfev), "rhs": "numpy reference",
-            "model": "inertial" if use_inertia else "overdamped", "mass_ratio": float(numerics.mass_ratio), **record}
+    info = {
+        "method": method,
+        "rtol": rtol,
+        "atol": atol,
+        "nfev": int(sol.nfev),
+        "rhs": "numpy reference",
+        "model": "inertial" if use_inertia else "overdamped",
+        "mass_ratio": float(numerics.mass_ratio),
+        **record,
+    }
     theta, head = _split_head(system, sol.y.T[:, : system.state_size if not use_inertia else theta0.size])
     if system.pinned:
         info["constraint_violation"] = _math.constraint_violation(system, theta)
-    return Trajectory(t=t, theta=theta, physics=physics, engine="reduced-reference", wall_time_s=wall, info=info,
-                      head=head)
+    return Trajectory(
+        t=t, theta=theta, physics=physics, engine="reduced-reference", wall_time_s=wall, info=info, head=head
+    )

@@ -14,8 +14,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import reduced as _math
-from ..reduced import INERTIA_RESOLUTION
 from ..params import Numerics, Physics
+from ..reduced import INERTIA_RESOLUTION
 
 EXACT_RATE_ANGLES = 50
 """From this many angles on, regime tries the cheap upper bound of the rate before its eigenvalues (which cost ~1 s
@@ -57,9 +57,11 @@ class Regime:
 
     def describe(self) -> str:
         where = "outside" if self.inertial else "inside"
-        return (f"mass_ratio = {self.mass_ratio:g} is {where} the overdamped limit (m x fastest overdamped rate = "
-                f"{self.mass_ratio:g} x {self.rate:.3g} = {self.inertia_number:.2g}, limit {INERTIA_RESOLUTION:g}): "
-                f"both engines model the {self.model} chain")
+        return (
+            f"mass_ratio = {self.mass_ratio:g} is {where} the overdamped limit (m x fastest overdamped rate = "
+            f"{self.mass_ratio:g} x {self.rate:.3g} = {self.inertia_number:.2g}, limit {INERTIA_RESOLUTION:g}): "
+            f"both engines model the {self.model} chain"
+        )
 
 
 def regime(physics: Physics, numerics: Numerics) -> Regime:

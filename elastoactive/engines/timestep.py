@@ -60,20 +60,19 @@ classifies a run:
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
-from dataclasses import replace
+from dataclasses import dataclass, field, replace
 
 import mujoco
 import numpy as np
 
-from ..reduced import INERTIA_RESOLUTION  # noqa: F401  (re-exported: the overdamped limit)
 from ..controllers import follower_forces
 from ..errors import ParameterError
 from ..mjcf.chain import build_model, prepare
 from ..params import RESOLUTION, Numerics, Physics
-from .regime import regime  # noqa: F401  (re-exported: which physics a mass ratio gives)
-from .monitor import MAX_STEP_CHANGE
+from ..reduced import INERTIA_RESOLUTION  # noqa: F401  (re-exported: the overdamped limit)
 from ..terms.base import fastest_term, slower_advice
+from .monitor import MAX_STEP_CHANGE
+from .regime import regime  # noqa: F401  (re-exported: which physics a mass ratio gives)
 
 
 def no_log_file() -> None:
@@ -213,8 +212,9 @@ def linear_operators(model: mujoco.MjModel, data: mujoco.MjData, eps: float = 1e
     return M, D, F
 
 
-def stability_limits(physics: Physics, numerics: Numerics, qpos: np.ndarray | None = None, *,
-                     model: mujoco.MjModel | None = None) -> StabilityLimits:
+def stability_limits(
+    physics: Physics, numerics: Numerics, qpos: np.ndarray | None = None, *, model: mujoco.MjModel | None = None
+) -> StabilityLimits:
     """Linear stability limits of the timestep at a state (default: the base state), for the numerics a run
     uses (numerics.for_physics: automatic numerics of a long chain resolved). `model`: the compiled model of
     this physics and numerics if there is one already (model.build_model's; only read), else it is built."""
@@ -233,7 +233,7 @@ def stability_limits(physics: Physics, numerics: Numerics, qpos: np.ndarray | No
         jac = np.zeros((3, model.nv))
         mujoco.mj_jacSite(model, data, jac, None, model.eq_obj1id[0])
         _, s, vt = np.linalg.svd(jac[:2])
-        basis = vt[np.sum(s > 1e-9):].T
+        basis = vt[np.sum(s > 1e-9) :].T
         if basis.shape[1] == 0:  # e.g. N = 2 on two pins: no free motion, nothing to destabilise
             return StabilityLimits(spring_dt=np.inf, drag_dt=np.inf, follower_dt=np.inf, fastest_rate=0.0)
         M, D, F = (basis.T @ X @ basis for X in (M, D, F))
@@ -246,8 +246,12 @@ def stability_limits(physics: Physics, numerics: Numerics, qpos: np.ndarray | No
     extra = {}
     if reg.inertial:
         resolved, oscillating, growing_in = inertial_rates(M, D, F)
-        extra = dict(inertial_rate=resolved, oscillation_rate=oscillating, inertial_growing_rate=growing_in,
-                     step_limits={name: step_limit(M, D, F, name) for name in INERTIAL_STEP_INTEGRATORS})
+        extra = dict(
+            inertial_rate=resolved,
+            oscillation_rate=oscillating,
+            inertial_growing_rate=growing_in,
+            step_limits={name: step_limit(M, D, F, name) for name in INERTIAL_STEP_INTEGRATORS},
+        )
     return StabilityLimits(
         spring_dt=_explicit_limit(overdamped),
         drag_dt=2.0 / float(np.max(inertial)),
@@ -256,7 +260,9 @@ def stability_limits(physics: Physics, numerics: Numerics, qpos: np.ndarray | No
         growing_rate=float(np.max(np.abs(growing))) if growing.size else 0.0,
         follower_rate=float(np.max(np.abs(follower.imag))) if follower.size else 0.0,
         pinned=bool(model.neq),
-        model=reg.model, mass_ratio=reg.mass_ratio, inertia_number=reg.inertia_number,
+        model=reg.model,
+        mass_ratio=reg.mass_ratio,
+        inertia_number=reg.inertia_number,
         term_rate=fastest_term(physics)[0],
         **extra,
     )
@@ -414,12 +420,21 @@ def _suggest(physics: Physics, limits: StabilityLimits, numerics: Numerics) -> s
     if setting is None:
         return ""
     dt, m = setting
-    return (f" (a setting that passes every check: --dt {dt:.{SUGGESTION_DIGITS}g} --mass-ratio {m:.6g} "
-            f"--integrator {numerics.integrator})")
+    return (
+        f" (a setting that passes every check: --dt {dt:.{SUGGESTION_DIGITS}g} --mass-ratio {m:.6g} "
+        f"--integrator {numerics.integrator})"
+    )
 
 
-def check_timestep(physics: Physics, numerics: Numerics, safety: float = 1.0, accuracy: bool = True, *,
-                   model: mujoco.MjModel | None = None, suggest: bool = True) -> StabilityLimits:
+def check_timestep(
+    physics: Physics,
+    numerics: Numerics,
+    safety: float = 1.0,
+    accuracy: bool = True,
+    *,
+    model: mujoco.MjModel | None = None,
+    suggest: bool = True,
+) -> StabilityLimits:
     """Refuse a timestep beyond the linear stability limit of the chosen integrator and, with
     accuracy=True, settings that are stable but measured to give wrong answers (module docstring). Numerics left
     at their defaults are checked as a run uses them (numerics.for_physics: a long chain's automatic numerics).
@@ -455,8 +470,9 @@ def check_timestep(physics: Physics, numerics: Numerics, safety: float = 1.0, ac
     return limits
 
 
-def check_accuracy(physics: Physics, numerics: Numerics, limits: StabilityLimits | None = None, *,
-                   suggest: bool = True) -> StabilityLimits:
+def check_accuracy(
+    physics: Physics, numerics: Numerics, limits: StabilityLimits | None = None, *, suggest: bool = True
+) -> StabilityLimits:
     """Refuse stable settings that are known to give wrong answers: an unresolved fastest rate (of the
     overdamped chain, or of the inertial one outside the overdamped limit), a pin that cannot hold,
     discrete's unconverged solve. A mass ratio outside the overdamped limit is not refused: it makes the
@@ -480,8 +496,11 @@ def check_accuracy(physics: Physics, numerics: Numerics, limits: StabilityLimits
             f"limit, m x rate = {limits.inertia_number:.2g}: both engines model the chain with this mass): its fastest "
             f"resolved mode, {kind}, has rate {rate:.3g}/tau (integrator {integrator}: dt x rate = {dt * rate:.2g} > "
             f"{bound:g}); the run would be inaccurate. Use dt <= {largest_dt(limits, numerics):.2g}"
-            + (" (the straight chain's active modes grow this fast at high sigma or N)"
-               if limits.inertial_growing_rate >= 0.5 * rate and limits.inertial_growing_rate > 20 else "")
+            + (
+                " (the straight chain's active modes grow this fast at high sigma or N)"
+                if limits.inertial_growing_rate >= 0.5 * rate and limits.inertial_growing_rate > 20
+                else ""
+            )
             + (_suggest(physics, limits, numerics) if suggest else "")
         )
     if dt > dt_ok and rate <= limits.term_rate:
@@ -498,8 +517,11 @@ def check_accuracy(physics: Physics, numerics: Numerics, limits: StabilityLimits
             f"dt = {dt:g} does not resolve the fastest overdamped rate {rate:.3g}/tau {where} (integrator {integrator}: "
             f"dt x rate = {dt * rate:.2g} > {bound:g}); the run would be stable but inaccurate. Use dt <= "
             f"{largest_dt(limits, numerics):.2g}"
-            + (" (the straight chain's active modes grow this fast at high sigma or N)"
-               if limits.growing_rate >= 0.5 * rate and limits.growing_rate > 20 else "")
+            + (
+                " (the straight chain's active modes grow this fast at high sigma or N)"
+                if limits.growing_rate >= 0.5 * rate and limits.growing_rate > 20
+                else ""
+            )
             + (_suggest(physics, limits, numerics) if suggest else "")
         )
     if limits.pinned and integrator != "discrete" and dt**3 / m > PIN_DT3_PER_MASS:
@@ -533,8 +555,9 @@ def _describe(physics: Physics) -> str:
     return ", ".join(f"{k} = {v:g}" if isinstance(v, float) else f"{k} = {v}" for k, v in physics.relevant().items())
 
 
-def divergence_cause(physics: Physics, numerics: Numerics, time: float, model=None, data=None, *,
-                     step_change: float | None = None) -> str:
+def divergence_cause(
+    physics: Physics, numerics: Numerics, time: float, model=None, data=None, *, step_change: float | None = None
+) -> str:
     """Message for a run that blew up: what happened and the likely cause. step_change: the state stayed finite but
     one step moved a coordinate this far (rad or l), more than any accurate run does
     (engines.monitor.MAX_STEP_CHANGE)."""
@@ -542,32 +565,47 @@ def divergence_cause(physics: Physics, numerics: Numerics, time: float, model=No
     what = "NaN or |value| > 1e10 in the state"
     if step_change is not None:
         data = None  # the state is finite: its warnings, if any, are not what stopped it
-        what = (f"one step moved the state by {step_change:.3g} rad or l, where an accurate run moves less than "
-                f"{MAX_STEP_CHANGE:g}")
+        what = (
+            f"one step moved the state by {step_change:.3g} rad or l, where an accurate run moves less than "
+            f"{MAX_STEP_CHANGE:g}"
+        )
     if data is not None:
-        names = {mujoco.mjtWarning.mjWARN_BADQACC: "qacc", mujoco.mjtWarning.mjWARN_BADQVEL: "qvel",
-                 mujoco.mjtWarning.mjWARN_BADQPOS: "qpos",
-                 mujoco.mjtWarning.mjWARN_INERTIA: "the implicit solve (mass matrix not positive definite)"}
+        names = {
+            mujoco.mjtWarning.mjWARN_BADQACC: "qacc",
+            mujoco.mjtWarning.mjWARN_BADQVEL: "qvel",
+            mujoco.mjtWarning.mjWARN_BADQPOS: "qpos",
+            mujoco.mjtWarning.mjWARN_INERTIA: "the implicit solve (mass matrix not positive definite)",
+        }
         bad = [n for w, n in names.items() if data.warning[w].number]
         if bad:
             what = f"NaN or |value| > 1e10 in {', '.join(bad)}"
-    head = f"MuJoCo run diverged by t = {time:.4g} tau (checked every few samples; {what}) for {_describe(physics)}, " \
-           f"dt = {numerics.dt:g}, " \
-           f"mass_ratio = {numerics.mass_ratio:g}, integrator {numerics.integrator}. "
+    head = (
+        f"MuJoCo run diverged by t = {time:.4g} tau (checked every few samples; {what}) for {_describe(physics)}, "
+        f"dt = {numerics.dt:g}, "
+        f"mass_ratio = {numerics.mass_ratio:g}, integrator {numerics.integrator}. "
+    )
     try:
         limits = stability_limits(physics, numerics)
     except Exception:  # the diagnosis must not hide the divergence itself
         return head + "Likely cause: dt too large or mass_ratio too small; reduce dt."
     dt_max = limits.limit(numerics.integrator)
     if numerics.integrator in EXPLICIT_DRAG and limits.drag_dt < limits.spring_dt and numerics.dt > 0.5 * dt_max:
-        return head + (f"Likely cause: mass_ratio too small for dt: {numerics.integrator} treats the drag explicitly "
-                       f"(stable only for dt < {dt_max:.3g}); use integrator implicitfast or raise mass_ratio.")
+        return head + (
+            f"Likely cause: mass_ratio too small for dt: {numerics.integrator} treats the drag explicitly "
+            f"(stable only for dt < {dt_max:.3g}); use integrator implicitfast or raise mass_ratio."
+        )
     if numerics.dt > 0.5 * dt_max:
-        return head + (f"Likely cause: dt too large: the linear stability limit here is {dt_max:.3g} "
-                       f"(fastest overdamped rate {limits.fastest_rate:.3g}/tau); reduce dt.")
+        return head + (
+            f"Likely cause: dt too large: the linear stability limit here is {dt_max:.3g} "
+            f"(fastest overdamped rate {limits.fastest_rate:.3g}/tau); reduce dt."
+        )
     if step_change is not None:
-        return head + ("Likely cause: a force stiffer than dt resolves that the pre-flight check, linearised at the "
-                       "base state, did not see (a term's force away from that state or outside MuJoCo's passive "
-                       "forces, a term whose rate is not declared: Term.rate); reduce dt.")
-    return head + ("Likely cause: a nonlinear instability or mass_ratio too small (accelerations ~ force / mass "
-                   "exceed 1e10); reduce dt, raise mass_ratio, or reduce sigma.")
+        return head + (
+            "Likely cause: a force stiffer than dt resolves that the pre-flight check, linearised at the "
+            "base state, did not see (a term's force away from that state or outside MuJoCo's passive "
+            "forces, a term whose rate is not declared: Term.rate); reduce dt."
+        )
+    return head + (
+        "Likely cause: a nonlinear instability or mass_ratio too small (accelerations ~ force / mass "
+        "exceed 1e10); reduce dt, raise mass_ratio, or reduce sigma."
+    )

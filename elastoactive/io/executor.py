@@ -19,7 +19,8 @@ from __future__ import annotations
 import contextlib
 import os
 import signal
-from typing import TYPE_CHECKING, Callable, Iterable, Iterator
+from collections.abc import Callable, Iterable, Iterator
+from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:  # typing only: the pools' modules load when a pool starts (every command imports this one)
     from concurrent.futures import Future, ProcessPoolExecutor
@@ -40,8 +41,9 @@ def forks() -> bool:
 
 
 @contextlib.contextmanager
-def process_pool(workers: int, initializer: Callable | None = None, initargs: tuple = (),
-                 warm: Callable[[], object] | None = None) -> Iterator[ProcessPoolExecutor]:
+def process_pool(
+    workers: int, initializer: Callable | None = None, initargs: tuple = (), warm: Callable[[], object] | None = None
+) -> Iterator[ProcessPoolExecutor]:
     """A ProcessPoolExecutor of `workers` processes (see the module docstring). `initializer(*initargs)`
     runs in every worker as it starts; `warm()` once in the parent before the workers fork (a failure
     of it only means the workers load what it would have)."""
@@ -50,8 +52,9 @@ def process_pool(workers: int, initializer: Callable | None = None, initargs: tu
     if warm is not None and forks():
         with contextlib.suppress(Exception):
             warm()
-    pool = ProcessPoolExecutor(max_workers=workers, initializer=_worker_start,
-                               initargs=(os.getpid(), initializer, initargs))
+    pool = ProcessPoolExecutor(
+        max_workers=workers, initializer=_worker_start, initargs=(os.getpid(), initializer, initargs)
+    )
     try:
         yield pool
     except BaseException:
@@ -60,9 +63,17 @@ def process_pool(workers: int, initializer: Callable | None = None, initargs: tu
     pool.shutdown(wait=True)
 
 
-def imap(fn: Callable, items: Iterable, workers: int, *, completed: bool = False, errors: bool = False,
-         initializer: Callable | None = None, initargs: tuple = (),
-         warm: Callable[[], object] | None = None) -> Iterator[tuple[int, object]]:
+def imap(
+    fn: Callable,
+    items: Iterable,
+    workers: int,
+    *,
+    completed: bool = False,
+    errors: bool = False,
+    initializer: Callable | None = None,
+    initargs: tuple = (),
+    warm: Callable[[], object] | None = None,
+) -> Iterator[tuple[int, object]]:
     """(index, fn(item)) for every item, computed on a process_pool of `workers` processes: in input order,
     or with `completed=True` as each finishes. `errors=True`: a task's exception is yielded as its result
     (the others go on) instead of raised. Closing the iterator early stops the pool at once."""
@@ -71,7 +82,7 @@ def imap(fn: Callable, items: Iterable, workers: int, *, completed: bool = False
     items = list(items)
     with process_pool(min(workers, max(1, len(items))), initializer, initargs, warm) as pool:
         futures = {pool.submit(fn, item): i for i, item in enumerate(items)}
-        for future in (as_completed(futures) if completed else futures):
+        for future in as_completed(futures) if completed else futures:
             yield futures[future], _outcome(future, errors)
 
 

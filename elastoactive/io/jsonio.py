@@ -88,8 +88,13 @@ def from_jsonable(tp, v):
         return math.nan if tp is float else None
     if isinstance(tp, type) and dataclasses.is_dataclass(tp):
         hints = typing.get_type_hints(tp)
-        return tp(**{f.name: from_jsonable(hints[f.name], v[f.name]) for f in dataclasses.fields(tp)
-                     if f.init and f.name in v})
+        return tp(
+            **{
+                f.name: from_jsonable(hints[f.name], v[f.name])
+                for f in dataclasses.fields(tp)
+                if f.init and f.name in v
+            }
+        )
     if tp is float:
         return _TEXT[v] if isinstance(v, str) else float(v)
     if tp is complex:

@@ -27,9 +27,9 @@ import shutil
 import subprocess
 import sys
 import tempfile
+from collections.abc import Callable, Iterator
 from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
-from typing import Callable, Iterator
 
 import numpy as np
 
@@ -40,7 +40,7 @@ PACKAGES = ("elastoactive", "mujoco", "numpy", "scipy", "numba")
 
 
 def utc_now() -> str:
-    return _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds")
+    return _dt.datetime.now(_dt.UTC).isoformat(timespec="seconds")
 
 
 def _version(name: str) -> str | None:
@@ -57,13 +57,17 @@ def git_commit(root: Path | None = None) -> str | None:
     if not (root / ".git").exists():
         return None
     try:
-        head = subprocess.run(["git", "-C", str(root), "rev-parse", "HEAD"], capture_output=True, text=True,
-                              timeout=5, check=True).stdout.strip()
+        head = subprocess.run(
+            ["git", "-C", str(root), "rev-parse", "HEAD"], capture_output=True, text=True, timeout=5, check=True
+        ).stdout.strip()
         # --no-optional-locks: reading the state must not write the index (a full disk or a file-size limit would
         # leave .git/index.lock behind, and a concurrent git command in the checkout would find it locked)
-        dirty = subprocess.run(["git", "-C", str(root), "--no-optional-locks", "status", "--porcelain",
-                                "--untracked-files=no"],
-                               capture_output=True, text=True, timeout=5).stdout.strip()
+        dirty = subprocess.run(
+            ["git", "-C", str(root), "--no-optional-locks", "status", "--porcelain", "--untracked-files=no"],
+            capture_output=True,
+            text=True,
+            timeout=5,
+        ).stdout.strip()
     except (OSError, subprocess.SubprocessError):
         return None
     return head + ("+dirty" if dirty else "")
@@ -154,8 +158,10 @@ def check_space(folder: Path, needed: int, what: str, option: str = "--out", adv
     limit = file_size_limit()
     size = f"{needed / 1e6:.2g} MB" if needed >= 1e5 else f"{needed} bytes"
     if limit is not None and limit < needed:
-        raise ParameterError(f"{option} {folder}: {what} takes about {size}, and this process may not write files over "
-                             f"{limit} bytes (the file-size limit, ulimit -f); raise the limit{advice}")
+        raise ParameterError(
+            f"{option} {folder}: {what} takes about {size}, and this process may not write files over "
+            f"{limit} bytes (the file-size limit, ulimit -f); raise the limit{advice}"
+        )
     existing = folder
     while not existing.exists() and existing != existing.parent:
         existing = existing.parent
@@ -164,8 +170,10 @@ def check_space(folder: Path, needed: int, what: str, option: str = "--out", adv
     except OSError:
         return
     if free < needed:
-        raise ParameterError(f"{option} {folder}: {what} takes about {size} and only {free / 1e6:.2g} MB are free "
-                             f"there; free some space or choose another folder{advice}")
+        raise ParameterError(
+            f"{option} {folder}: {what} takes about {size} and only {free / 1e6:.2g} MB are free "
+            f"there; free some space or choose another folder{advice}"
+        )
 
 
 @contextlib.contextmanager
@@ -186,8 +194,10 @@ def folder_lock(folder: Path, option: str = "--out") -> Iterator[Path]:
             fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
         except OSError as err:
             if err.errno in (_errno.EWOULDBLOCK, _errno.EAGAIN, _errno.EACCES):
-                raise ParameterError(f"{option} {folder}: another run is writing into it right now; wait for it to "
-                                     "finish or choose another folder") from None
+                raise ParameterError(
+                    f"{option} {folder}: another run is writing into it right now; wait for it to "
+                    "finish or choose another folder"
+                ) from None
             raise
         try:
             yield folder
@@ -211,8 +221,9 @@ def lock_file(path: Path, what: str, option: str = "--out") -> Iterator[Path]:
         try:
             handle = open(path, "a+", encoding="utf-8")
         except OSError as err:
-            raise ParameterError(f"{option} {path.parent}: cannot create the lock file {path.name} "
-                                 f"({err.strerror or err})") from None
+            raise ParameterError(
+                f"{option} {path.parent}: cannot create the lock file {path.name} ({err.strerror or err})"
+            ) from None
         try:
             fcntl.lockf(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
         except OSError as err:
@@ -220,8 +231,10 @@ def lock_file(path: Path, what: str, option: str = "--out") -> Iterator[Path]:
             holder = handle.read().strip() or "unknown"
             handle.close()
             if err.errno in (_errno.EACCES, _errno.EAGAIN):
-                raise ParameterError(f"{option} {path.parent}: another {what} is writing into it right now ({holder}); "
-                                     f"wait for it to finish or choose another folder") from None
+                raise ParameterError(
+                    f"{option} {path.parent}: another {what} is writing into it right now ({holder}); "
+                    f"wait for it to finish or choose another folder"
+                ) from None
             raise
         try:  # the holder before us may have removed the file between our open and our lock: lock the one there now
             same = os.path.samestat(os.fstat(handle.fileno()), os.stat(path))
@@ -354,8 +367,10 @@ def provenance_line(record: dict, sidecar: str = "provenance.json") -> str:
     """One line naming what made an output (elastoactive.io.outputs.provenance)."""
     versions = ", ".join(f"{k} {v}" for k, v in record.get("versions", {}).items() if v)
     commit = f", git {record['git_commit']}" if record.get("git_commit") else ""
-    return (f"Made by `{' '.join(record.get('command', []))}` on {record.get('platform')} at {record.get('started_utc')} "
-            f"UTC ({versions}{commit}); also in {sidecar}.")
+    return (
+        f"Made by `{' '.join(record.get('command', []))}` on {record.get('platform')} at {record.get('started_utc')} "
+        f"UTC ({versions}{commit}); also in {sidecar}."
+    )
 
 
 # ------------------------------------------------------------------------------------------------ netCDF

@@ -26,15 +26,21 @@ class LineProgress:
         if now - self.last >= LOG_INTERVAL:
             self.last = now
             share = f"{100 * self.n / self.total:.0f}% " if self.total else ""
-            print(f"{self.desc}: {share}({self.n}/{self.total} {self.unit}s, {now - self.start:.0f} s)",
-                  file=sys.stderr, flush=True)
+            print(
+                f"{self.desc}: {share}({self.n}/{self.total} {self.unit}s, {now - self.start:.0f} s)",
+                file=sys.stderr,
+                flush=True,
+            )
 
     def close(self) -> None:
         """The closing line, only when every item finished: close also runs on an error or Ctrl-C, whose own
         one line says what happened."""
         if self.n >= self.total and time.monotonic() - self.start >= LOG_INTERVAL:
-            print(f"{self.desc}: done ({self.n} {self.unit}s in {time.monotonic() - self.start:.0f} s)",
-                  file=sys.stderr, flush=True)
+            print(
+                f"{self.desc}: done ({self.n} {self.unit}s in {time.monotonic() - self.start:.0f} s)",
+                file=sys.stderr,
+                flush=True,
+            )
 
 
 def progress_bar(total: int, desc: str, unit: str = "it"):

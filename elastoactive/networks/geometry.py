@@ -27,14 +27,14 @@ _NEIGHBOURS = ((1, 0), (0, 1), (-1, 1))
 class Network(NamedTuple):
     """An elastic network of active units (units k = 1, a = 1)."""
 
-    positions: np.ndarray     # (P, 2) rest positions of the nodes
-    bonds: np.ndarray         # (B, 2) int: node indices joined by a spring
+    positions: np.ndarray  # (P, 2) rest positions of the nodes
+    bonds: np.ndarray  # (B, 2) int: node indices joined by a spring
     rest_lengths: np.ndarray  # (B,)
-    stiffness: np.ndarray     # (B,) spring stiffness (units k)
-    pinned: np.ndarray        # (P,) bool: node held fixed at its rest position
-    active: np.ndarray        # (P,) bool: node carries an active unit
-    anchors: np.ndarray       # (P, 2) the trap's centre for each node
-    trap: float               # stiffness of an isotropic harmonic trap pulling each free node to its anchor (0: none)
+    stiffness: np.ndarray  # (B,) spring stiffness (units k)
+    pinned: np.ndarray  # (P,) bool: node held fixed at its rest position
+    active: np.ndarray  # (P,) bool: node carries an active unit
+    anchors: np.ndarray  # (P, 2) the trap's centre for each node
+    trap: float  # stiffness of an isotropic harmonic trap pulling each free node to its anchor (0: none)
 
     @property
     def n_nodes(self) -> int:
@@ -71,8 +71,9 @@ def hexagonal_patch(rings: int, boundary: str = "pinned") -> Network:
     3R(3R+1) unit springs. boundary "pinned": the outer ring pinned and passive, the inner nodes active; "free":
     every node free and active; "centre": the centre node pinned and passive, the others active. No trap."""
     if isinstance(rings, bool) or not isinstance(rings, (int, np.integer)) or not 1 <= rings <= MAX_RINGS:
-        raise ParameterError(f"rings (rings of the hexagonal patch R) must be an integer in 1..{MAX_RINGS}, "
-                             f"got {rings!r}")
+        raise ParameterError(
+            f"rings (rings of the hexagonal patch R) must be an integer in 1..{MAX_RINGS}, got {rings!r}"
+        )
     if boundary not in BOUNDARIES:
         raise ParameterError(f"boundary must be one of {', '.join(BOUNDARIES)}, got {boundary!r}")
     axial = hexagonal_axial(int(rings))
@@ -93,8 +94,14 @@ def hexagonal_patch(rings: int, boundary: str = "pinned") -> Network:
     else:
         pinned = np.zeros(len(axial), dtype=bool)
     return Network(
-        positions=positions, bonds=bonds, rest_lengths=np.ones(len(bonds)), stiffness=np.ones(len(bonds)),
-        pinned=pinned, active=~pinned, anchors=positions.copy(), trap=0.0,
+        positions=positions,
+        bonds=bonds,
+        rest_lengths=np.ones(len(bonds)),
+        stiffness=np.ones(len(bonds)),
+        pinned=pinned,
+        active=~pinned,
+        anchors=positions.copy(),
+        trap=0.0,
     )
 
 
@@ -104,7 +111,12 @@ def trap_unit(trap: float = 1.0) -> Network:
     if not np.isfinite(trap) or trap <= 0:
         raise ParameterError(f"trap (stiffness of the harmonic trap) must be > 0, got {trap}")
     return Network(
-        positions=np.zeros((1, 2)), bonds=np.empty((0, 2), dtype=int), rest_lengths=np.empty(0),
-        stiffness=np.empty(0), pinned=np.zeros(1, dtype=bool), active=np.ones(1, dtype=bool),
-        anchors=np.zeros((1, 2)), trap=trap,
+        positions=np.zeros((1, 2)),
+        bonds=np.empty((0, 2), dtype=int),
+        rest_lengths=np.empty(0),
+        stiffness=np.empty(0),
+        pinned=np.zeros(1, dtype=bool),
+        active=np.ones(1, dtype=bool),
+        anchors=np.zeros((1, 2)),
+        trap=trap,
     )

@@ -15,7 +15,7 @@ class NetworkState(NamedTuple):
     angles psi of the active units, in node order."""
 
     positions: np.ndarray  # (P, 2)
-    polarity: np.ndarray   # (A,) with A = network.active.sum()
+    polarity: np.ndarray  # (A,) with A = network.active.sum()
 
 
 def initial_state(network: Network, perturbation: float, seed: int) -> NetworkState:

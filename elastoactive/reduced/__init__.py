@@ -63,12 +63,46 @@ SOLVE_NAMES = (  # the public names of solve.py (its __all__), loaded on first u
     "stiffness_ratio",
 )
 
-__all__ = sorted(SOLVE_NAMES + (
-    "BEAD_INERTIA_FACTOR", "CONTACT_LENGTH", "ChainSystem", "DEFAULT_BETA", "IMPLICIT_RATIO", "INERTIA_RESOLUTION", "STIFF_RADIUS", "capsule_clearance",
-    "drag_and_forces_reference", "potential_reference", "force_jacobian", "inertia_number", "needs_inertia",
-    "outside_overdamped_limit", "overdamped_rate", "pin_jacobian", "rate_bound", "pin_residual", "project_on_pins",
-    "rhs_inertial_reference", "rhs_reference",
-))
+__all__ = [
+    "BEAD_INERTIA_FACTOR",
+    "COMPILED_METHODS",
+    "CONTACT_LENGTH",
+    "ChainSystem",
+    "DEFAULT_BETA",
+    "IMPLICIT_METHODS",
+    "IMPLICIT_RATIO",
+    "INERTIA_RESOLUTION",
+    "RK4_STEP",
+    "SCIPY_METHODS",
+    "SDE_SCHEMES",
+    "STIFF_RADIUS",
+    "STIFF_RATIO",
+    "capsule_clearance",
+    "constraint_violation",
+    "drag_and_forces_reference",
+    "drag_matrix",
+    "force_jacobian",
+    "inertia_number",
+    "jacobian",
+    "mass_matrix",
+    "needs_inertia",
+    "outside_overdamped_limit",
+    "overdamped_rate",
+    "pin_jacobian",
+    "pin_residual",
+    "potential_reference",
+    "project_on_pins",
+    "rate_bound",
+    "rhs",
+    "rhs_inertial_reference",
+    "rhs_reference",
+    "solve_inertial",
+    "solve_ode",
+    "solve_sde",
+    "spectral_radius",
+    "stiffness",
+    "stiffness_ratio",
+]
 
 
 def __getattr__(name: str):

@@ -57,7 +57,12 @@ import numpy as np
 from .system import CONTACT_LENGTH
 
 __all__ = [
-    "CROSSING_DISTANCE", "capsule_clearance", "contact_forces", "contact_pairs", "core_span", "point_segment",
+    "CROSSING_DISTANCE",
+    "capsule_clearance",
+    "contact_forces",
+    "contact_pairs",
+    "core_span",
+    "point_segment",
     "segment_closest",
 ]
 

@@ -30,8 +30,9 @@ __all__ = ["Interrupted", "integrate"]
 _TABLEAU = (np.ascontiguousarray(coef.A), coef.B, coef.C, coef.E3, coef.E5, coef.D)
 
 
-def integrate(system: ChainSystem, ts: np.ndarray, y0: np.ndarray, *, rtol: float, atol: float, beta: float,
-              loads=None):
+def integrate(
+    system: ChainSystem, ts: np.ndarray, y0: np.ndarray, *, rtol: float, atol: float, beta: float, loads=None
+):
     """Integrate the deterministic model (force factors 1) from y0 at t = 0 and sample it at ts (y0: the angles
     of the overdamped model, then the head's position with a free head; or angles then rates of the inertial
     one, system.mass_ratio > 0).
@@ -60,8 +61,9 @@ def integrate(system: ChainSystem, ts: np.ndarray, y0: np.ndarray, *, rtol: floa
     status = PAUSED
     try:
         while status == PAUSED:  # the compiled loop returns every `steps` steps: Ctrl-C is seen in between
-            status = _dop853(y, f, clock, counts, ts, system, float(beta), float(rtol), float(atol), *_TABLEAU, out,
-                             fac, steps)
+            status = _dop853(
+                y, f, clock, counts, ts, system, float(beta), float(rtol), float(atol), *_TABLEAU, out, fac, steps
+            )
     except KeyboardInterrupt:
         raise Interrupted(out[: int(counts[0])].copy()) from None
     return out, int(status), int(counts[1]), int(counts[2]), int(counts[3])

@@ -265,6 +265,7 @@ def rhs_reference(system: ChainSystem, *, beta: float, factor=None):
         return D, Q - _chain_spring_gradient(th, c, system.clamped)
 
     if system.extended:  # a free head, a trap or self-contact: D and f over every coordinate
+
         def f_extended(t, y):
             y = np.asarray(y, dtype=float)
             D, force = drag_and_forces_reference(system, y, fac)
@@ -294,7 +295,6 @@ def rhs_reference(system: ChainSystem, *, beta: float, factor=None):
         return _pinned_rates(Dfull, force, theta, beta, system.delta)
 
     return f
-
 
 
 def rhs_inertial_reference(system: ChainSystem, *, beta: float, factor=None):
@@ -470,7 +470,7 @@ def potential_reference(system: ChainSystem, y) -> float:
         for ch in range(system.n_chains):
             ref = 2.0 * np.pi * ch / system.n_chains + phi
             energy += 0.5 * system.stiffness(ch) * ((y[ch * n] - ref) ** 2 - y[ch * n] ** 2)
-        energy += 0.5 * system.hub_stiffness * phi ** 2
+        energy += 0.5 * system.hub_stiffness * phi**2
     return float(energy)
 
 

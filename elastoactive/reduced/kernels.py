@@ -59,13 +59,34 @@ import numpy as np
 from numba import njit
 
 from .kernels_chain import (  # noqa: F401  (re-exported: the package imports every kernel from here)
-    RECURSIVE_MIN_N, _chain_forces, articulated_solve, chol_solve, chol_solve_cols, cholesky, drag_block,
-    eval_jacobian, eval_jacobian_recursive, eval_rhs_dense, eval_rhs_recursive, forces, make_workspace,
+    RECURSIVE_MIN_N,
+    _chain_forces,
+    articulated_solve,
+    chol_solve,
+    chol_solve_cols,
+    cholesky,
+    drag_block,
+    eval_jacobian,
+    eval_jacobian_recursive,
+    eval_rhs_dense,
+    eval_rhs_recursive,
+    forces,
+    make_workspace,
     uses_recursive,
 )
 from .kernels_extended import (  # noqa: F401  (re-exported, _general_geometry for solve.py)
-    CONTACT_LENGTH, CROSSING_DISTANCE, _general_geometry, _particle_forces, _pin_acceleration, eval_rhs_general,
-    eval_rhs_inertial_general, general_drag, general_forces, general_mass, is_extended, make_general_workspace,
+    CONTACT_LENGTH,
+    CROSSING_DISTANCE,
+    _general_geometry,
+    _particle_forces,
+    _pin_acceleration,
+    eval_rhs_general,
+    eval_rhs_inertial_general,
+    general_drag,
+    general_forces,
+    general_mass,
+    is_extended,
+    make_general_workspace,
 )
 from .system import ChainSystem
 

@@ -432,7 +432,7 @@ def eval_jacobian_recursive(th, system, beta, J, U, X, lam):
         for m in range(n * nch):
             for i in range(n):
                 col[i] = J[off + i, m]
-            articulated_solve(0, n, system.gamma_l, system.gamma_t, col, U[off:off + n], X, 0)  # X untouched
+            articulated_solve(0, n, system.gamma_l, system.gamma_t, col, U[off : off + n], X, 0)  # X untouched
             for i in range(n):
                 J[off + i, m] = col[i]
     _jacobian_pins(th, w, system, beta, J, X)

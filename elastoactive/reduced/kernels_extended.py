@@ -355,9 +355,10 @@ def eval_rhs_inertial_general(y, fac, system, beta, out, L, C, X, lam):
     m = system.mass_ratio
     gl = system.gamma_l
     gt = system.gamma_t
-    if (L.shape[0] < 2 or L.shape[1] != nq or L.shape[2] != nq or C.shape[0] < na or C.shape[1] < 8
-            or X.shape[0] < nq):
-        raise ValueError("eval_rhs_inertial_general needs make_general_workspace's arrays: L (2, nq, nq), C (n_angles, 8), X (nq, 2)")
+    if L.shape[0] < 2 or L.shape[1] != nq or L.shape[2] != nq or C.shape[0] < na or C.shape[1] < 8 or X.shape[0] < nq:
+        raise ValueError(
+            "eval_rhs_inertial_general needs make_general_workspace's arrays: L (2, nq, nq), C (n_angles, 8), X (nq, 2)"
+        )
     if y.size < 2 * nq or out.size < 2 * nq:
         raise ValueError("eval_rhs_inertial_general: the state holds 2 nq numbers (positions, then rates)")
     for i in range(nq):
@@ -446,9 +447,10 @@ def eval_rhs_general(y, fac, system, beta, out, L, C, X, lam):
     n = system.n
     na = n * system.n_chains
     nq = na + _n_after(system)
-    if (L.shape[0] < 2 or L.shape[1] != nq or L.shape[2] != nq or C.shape[0] < na or C.shape[1] < 8
-            or X.shape[0] < nq):
-        raise ValueError("eval_rhs_general needs make_general_workspace's arrays: L (2, nq, nq), C (n_angles, 8), X (nq, 2)")
+    if L.shape[0] < 2 or L.shape[1] != nq or L.shape[2] != nq or C.shape[0] < na or C.shape[1] < 8 or X.shape[0] < nq:
+        raise ValueError(
+            "eval_rhs_general needs make_general_workspace's arrays: L (2, nq, nq), C (n_angles, 8), X (nq, 2)"
+        )
     if y.size < nq or out.size < nq:
         raise ValueError("eval_rhs_general: the state holds n_angles numbers, plus 2 with a free head (1 with a hub)")
     general_forces(y, fac, system, C, out)

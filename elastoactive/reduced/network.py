@@ -29,15 +29,15 @@ from ..networks.state import NetworkState
 class NetworkSystem(NamedTuple):
     """Everything the kernels read: the network as flat arrays, the activity and the alignment length."""
 
-    rest: np.ndarray        # (P, 2) rest positions (the pinned nodes' fixed positions)
-    bonds: np.ndarray       # (B, 2) int
+    rest: np.ndarray  # (P, 2) rest positions (the pinned nodes' fixed positions)
+    bonds: np.ndarray  # (B, 2) int
     rest_lengths: np.ndarray  # (B,)
-    stiffness: np.ndarray   # (B,)
-    anchors: np.ndarray     # (P, 2)
+    stiffness: np.ndarray  # (B,)
+    anchors: np.ndarray  # (P, 2)
     trap: float
-    slot: np.ndarray        # (P,) int: index of the node among the free nodes (-1: pinned)
-    unit: np.ndarray        # (P,) int: index of the node's active unit (-1: none)
-    sigma: float            # active force F_a / (k a)
+    slot: np.ndarray  # (P,) int: index of the node among the free nodes (-1: pinned)
+    unit: np.ndarray  # (P,) int: index of the node's active unit (-1: none)
+    sigma: float  # active force F_a / (k a)
     alignment_length: float  # l_a / a
 
     @property
@@ -67,7 +67,11 @@ def network_system(network: Network, sigma: float, alignment_length: float) -> N
         rest_lengths=np.ascontiguousarray(network.rest_lengths, dtype=float),
         stiffness=np.ascontiguousarray(network.stiffness, dtype=float),
         anchors=np.ascontiguousarray(network.anchors, dtype=float),
-        trap=float(network.trap), slot=slot, unit=unit, sigma=float(sigma), alignment_length=float(alignment_length),
+        trap=float(network.trap),
+        slot=slot,
+        unit=unit,
+        sigma=float(sigma),
+        alignment_length=float(alignment_length),
     )
 
 
@@ -75,8 +79,9 @@ def network_system(network: Network, sigma: float, alignment_length: float) -> N
 def pack(system: NetworkSystem, state: NetworkState) -> np.ndarray:
     """The solver's state vector of a NetworkState (free nodes' positions, then polarities)."""
     free = system.slot >= 0
-    return np.concatenate([np.asarray(state.positions, dtype=float)[free].reshape(-1),
-                           np.asarray(state.polarity, dtype=float)])
+    return np.concatenate(
+        [np.asarray(state.positions, dtype=float)[free].reshape(-1), np.asarray(state.polarity, dtype=float)]
+    )
 
 
 def unpack(system: NetworkSystem, y: np.ndarray) -> NetworkState:
@@ -169,8 +174,18 @@ def _rhs(y, out, rest, bonds, rest_lengths, stiffness, anchors, trap, slot, unit
 
 def rhs(system: NetworkSystem):
     """Compiled f(t, y) -> dy/dt of the model (numba kernel)."""
-    args = (system.rest, system.bonds, system.rest_lengths, system.stiffness, system.anchors, float(system.trap),
-            system.slot, system.unit, float(system.sigma), 1.0 / float(system.alignment_length))
+    args = (
+        system.rest,
+        system.bonds,
+        system.rest_lengths,
+        system.stiffness,
+        system.anchors,
+        float(system.trap),
+        system.slot,
+        system.unit,
+        float(system.sigma),
+        1.0 / float(system.alignment_length),
+    )
 
     def f(t, y):
         out = np.empty(y.size)
@@ -253,21 +268,36 @@ METHODS = ("DOP853", "LSODA", "Radau")
 
 
 class Solution(NamedTuple):
-    y: np.ndarray   # (T, S) states at the sample times
+    y: np.ndarray  # (T, S) states at the sample times
     nfev: int
     method: str
 
 
-def solve(system: NetworkSystem, t: np.ndarray, y0: np.ndarray, *, rtol: float = 1e-8, atol: float = 1e-10,
-          method: str = "DOP853") -> Solution:
+def solve(
+    system: NetworkSystem,
+    t: np.ndarray,
+    y0: np.ndarray,
+    *,
+    rtol: float = 1e-8,
+    atol: float = 1e-10,
+    method: str = "DOP853",
+) -> Solution:
     """Integrate from y0 at t[0] and sample at t (scipy's solve_ivp with the compiled right-hand side)."""
     from scipy.integrate import solve_ivp  # start-up time: scipy.integrate costs ~0.4 s to import
 
     if method not in METHODS:
         raise ValueError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
     options = {} if method == "DOP853" else {"jac": lambda t, y: jacobian(system, y)}
-    sol = solve_ivp(rhs(system), (float(t[0]), float(t[-1])), np.asarray(y0, dtype=float), method=method, t_eval=t,
-                    rtol=rtol, atol=atol, **options)
+    sol = solve_ivp(
+        rhs(system),
+        (float(t[0]), float(t[-1])),
+        np.asarray(y0, dtype=float),
+        method=method,
+        t_eval=t,
+        rtol=rtol,
+        atol=atol,
+        **options,
+    )
     if not sol.success:
         raise RuntimeError(f"solve_ivp ({method}) failed on the network model: {sol.message}")
     return Solution(sol.y.T, int(sol.nfev), method)

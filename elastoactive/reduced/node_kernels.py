@@ -23,8 +23,9 @@ __all__ = ["force_table", "periodic_rhs", "workspace"]
 
 def force_table(laws) -> np.ndarray:
     """The PeriodicForces as rows (particle, F_x, F_y, omega, phase) for periodic_rhs."""
-    return np.array([[law.particle, law.vector[0], law.vector[1], law.omega, law.phase] for law in laws],
-                    dtype=float).reshape(len(laws), 5)
+    return np.array(
+        [[law.particle, law.vector[0], law.vector[1], law.omega, law.phase] for law in laws], dtype=float
+    ).reshape(len(laws), 5)
 
 
 @njit(cache=True)

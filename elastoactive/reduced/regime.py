@@ -25,8 +25,13 @@ from .equations import drag_and_forces_reference
 from .system import ChainSystem
 
 __all__ = [
-    "INERTIA_RESOLUTION", "force_jacobian", "inertia_number", "needs_inertia", "outside_overdamped_limit",
-    "overdamped_rate", "rate_bound",
+    "INERTIA_RESOLUTION",
+    "force_jacobian",
+    "inertia_number",
+    "needs_inertia",
+    "outside_overdamped_limit",
+    "overdamped_rate",
+    "rate_bound",
 ]
 
 INERTIA_RESOLUTION = 0.1
@@ -95,7 +100,8 @@ def _extended_operators(system: ChainSystem, theta) -> tuple[np.ndarray, np.ndar
         step = np.zeros(y.size)
         step[k] = FD_STEP
         F[:, k] = (drag_and_forces_reference(system, y + step)[1] - drag_and_forces_reference(system, y - step)[1]) / (
-            2.0 * FD_STEP)
+            2.0 * FD_STEP
+        )
     return D, F
 
 
@@ -114,7 +120,7 @@ def _operators(system: ChainSystem, theta) -> tuple[np.ndarray, np.ndarray] | No
         if D.shape[0] > G.shape[1]:  # the free ring: its head's columns of G are zero
             G = np.hstack([G, np.zeros((2, D.shape[0] - G.shape[1]))])
         _, sv, vt = np.linalg.svd(G)
-        basis = vt[np.sum(sv > 1e-9):].T
+        basis = vt[np.sum(sv > 1e-9) :].T
         if basis.shape[1] == 0:  # N = 2 on two pins: no free motion
             return None
         D, F = basis.T @ D @ basis, basis.T @ F @ basis

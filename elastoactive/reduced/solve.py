@@ -68,7 +68,7 @@ set of field types and compile once.
 
 from __future__ import annotations
 
-from typing import Callable
+from collections.abc import Callable
 
 import numpy as np
 
@@ -190,8 +190,9 @@ def drag_matrix(system: ChainSystem, theta) -> np.ndarray:
         kernels.general_drag(system, C, L[1])
         return L[1].copy()
     theta = np.ascontiguousarray(theta, dtype=float)
-    return _block_diagonal(system, theta, lambda th, off, n, D: kernels.drag_block(th, off, n, system.gamma_l,
-                                                                                     system.gamma_t, D))
+    return _block_diagonal(
+        system, theta, lambda th, off, n, D: kernels.drag_block(th, off, n, system.gamma_l, system.gamma_t, D)
+    )
 
 
 def mass_matrix(system: ChainSystem, theta) -> np.ndarray:
@@ -208,8 +209,9 @@ def mass_matrix(system: ChainSystem, theta) -> np.ndarray:
         kernels.general_mass(system, C, L[1])
         return L[1].copy()
     theta = np.ascontiguousarray(theta, dtype=float)[: system.n_angles]
-    return _block_diagonal(system, theta, lambda th, off, n, M: kernels.mass_block(th, off, n, system.mass_ratio,
-                                                                                     system.inertia_factor, M))
+    return _block_diagonal(
+        system, theta, lambda th, off, n, M: kernels.mass_block(th, off, n, system.mass_ratio, system.inertia_factor, M)
+    )
 
 
 def _state(system: ChainSystem, y) -> np.ndarray:
@@ -305,16 +307,20 @@ def _samples_and_state(system: ChainSystem, t, theta0, head0=None) -> tuple[np.n
             if head.size != 2 or not np.all(np.isfinite(head)):
                 raise ParameterError(f"head0 must be a finite point (x_h, y_h), got {head0!r}")
             return t, np.concatenate([theta0, head])
-        raise ParameterError(f"theta0 must have {system.n_angles} angles (plus head0), or {system.n_angles + 2} "
-                             f"numbers (the angles, then the head), got {theta0.size}")
+        raise ParameterError(
+            f"theta0 must have {system.n_angles} angles (plus head0), or {system.n_angles + 2} "
+            f"numbers (the angles, then the head), got {theta0.size}"
+        )
     if system.hub_free:  # a star's turning hub: its angle phi after the arms' angles (head0: (phi,), default 0)
         if theta0.size == system.n_angles + 1 and head0 is None:
             return t, theta0
         phi = np.zeros(1) if head0 is None else np.array(head0, dtype=float).reshape(-1)
         if theta0.size != system.n_angles or phi.size != 1 or not np.all(np.isfinite(phi)):
-            raise ParameterError(f"theta0 must have {system.n_angles} angles (plus head0 = (phi,), the hub's angle), "
-                                 f"or {system.n_angles + 1} numbers (the angles, then phi), got {theta0.size} and "
-                                 f"head0 = {head0!r}")
+            raise ParameterError(
+                f"theta0 must have {system.n_angles} angles (plus head0 = (phi,), the hub's angle), "
+                f"or {system.n_angles + 1} numbers (the angles, then phi), got {theta0.size} and "
+                f"head0 = {head0!r}"
+            )
         return t, np.concatenate([theta0, phi])
     if head0 is not None:
         raise ParameterError("head0: only a system with a free head (head_free) has a head position")
@@ -324,8 +330,16 @@ def _samples_and_state(system: ChainSystem, t, theta0, head0=None) -> tuple[np.n
 
 
 def solve_ode(
-    system: ChainSystem, t, theta0, *, rtol: float, atol: float, method: str | None = None, beta: float,
-    loads=None, head0=None,
+    system: ChainSystem,
+    t,
+    theta0,
+    *,
+    rtol: float,
+    atol: float,
+    method: str | None = None,
+    beta: float,
+    loads=None,
+    head0=None,
 ) -> tuple[np.ndarray, dict]:
     """Integrate the deterministic model from theta0 at t = 0; returns (theta at the times t, info).
     The inertial model (system.mass_ratio > 0) starts at rest: solve_inertial, of which the angles are returned.
@@ -400,8 +414,17 @@ def _overdamped_method(stiffness: float, ratio: float, duration: float) -> str:
     return "numba-DOP853"
 
 
-def _integrate(system: ChainSystem, t: np.ndarray, y0: np.ndarray, method: str, rtol: float, atol: float,
-               beta: float, info: dict, loads: np.ndarray | None = None) -> tuple[np.ndarray, dict]:
+def _integrate(
+    system: ChainSystem,
+    t: np.ndarray,
+    y0: np.ndarray,
+    method: str,
+    rtol: float,
+    atol: float,
+    beta: float,
+    info: dict,
+    loads: np.ndarray | None = None,
+) -> tuple[np.ndarray, dict]:
     """The states at the times t from y0 at t = 0 by `method` (the compiled DOP853 or scipy's solve_ivp on the
     compiled right-hand side, implicit methods with the Jacobian), the solver's counts added to info.
     loads: per-particle load factors (_loads; None: every particle loaded)."""
@@ -421,8 +444,16 @@ def _integrate(system: ChainSystem, t: np.ndarray, y0: np.ndarray, method: str, 
     if method in IMPLICIT_METHODS:
         kw["jac"] = jacobian(system, beta=beta) if loads is None else _numeric_jacobian(system, beta, loads)
     with one_blas_thread():  # the implicit methods' LU factorisations (blas.py)
-        sol = solve_ivp(rhs(system, beta=beta, factor=loads), (0.0, float(t[-1])), y0, method=method, t_eval=t,
-                        rtol=rtol, atol=atol, **kw)
+        sol = solve_ivp(
+            rhs(system, beta=beta, factor=loads),
+            (0.0, float(t[-1])),
+            y0,
+            method=method,
+            t_eval=t,
+            rtol=rtol,
+            atol=atol,
+            **kw,
+        )
     if not sol.success:
         raise SimulationDiverged(_gave_up(system, method, sol.message.rstrip(".").lower()))
     info.update(nfev=int(sol.nfev), njev=int(sol.njev), nlu=int(sol.nlu), status=int(sol.status))
@@ -437,8 +468,10 @@ def _gave_up(system: ChainSystem, method: str, why: str) -> str:
     if system.inertial:
         terms.append(f"inertial model, mass_ratio = {system.mass_ratio:g}")
     others = [m for m in ("LSODA", "Radau", "numba-DOP853") if m != method]
-    return (f"the reduced engine's solver {method} gave up ({why}) at {', '.join(terms)}: the motion is too stiff or "
-            f"singular for it; try --method {others[0]} (or {others[1]}), a smaller --sigma, or the MuJoCo engine")
+    return (
+        f"the reduced engine's solver {method} gave up ({why}) at {', '.join(terms)}: the motion is too stiff or "
+        f"singular for it; try --method {others[0]} (or {others[1]}), a smaller --sigma, or the MuJoCo engine"
+    )
 
 
 STIFF_RATIO = 10.0
@@ -460,8 +493,17 @@ def _inertial_method(eig: np.ndarray) -> str:
 
 
 def solve_inertial(
-    system: ChainSystem, t, theta0, *, rtol: float, atol: float, method: str | None = None, beta: float,
-    omega0=None, loads=None, head0=None,
+    system: ChainSystem,
+    t,
+    theta0,
+    *,
+    rtol: float,
+    atol: float,
+    method: str | None = None,
+    beta: float,
+    omega0=None,
+    loads=None,
+    head0=None,
 ) -> tuple[np.ndarray, dict]:
     """Integrate the inertial model (system.mass_ratio > 0) from (theta0, omega0) at t = 0 (omega0 default 0:
     at rest, as MuJoCo starts); returns (the states (theta, omega) at the times t, shape (len(t), 2 n_angles),
@@ -502,8 +544,15 @@ SDE_SCHEMES = ("euler", "heun")
 
 
 def solve_sde(
-    system: ChainSystem, t, theta0, *, dt: float, factors: Callable[[np.ndarray], np.ndarray], beta: float,
-    scheme: str = "euler", head0=None,
+    system: ChainSystem,
+    t,
+    theta0,
+    *,
+    dt: float,
+    factors: Callable[[np.ndarray], np.ndarray],
+    beta: float,
+    scheme: str = "euler",
+    head0=None,
 ) -> tuple[np.ndarray, dict]:
     """Euler-Maruyama (scheme "euler") or stochastic Heun ("heun") from theta0 at t = 0 with step dt; returns
     (theta at the times t, info).
@@ -569,6 +618,13 @@ def _solve_sde_inertial(system, t, theta0, dt, factors, beta, sidx, total, out):
     while jptr < t.size:
         out[jptr] = y[: theta0.size]
         jptr += 1
-    info = {"method": "RK4 (noise constant over each step)", "dt": dt, "substeps": nsub, "nsteps": total * nsub,
-            "nfev": 4 * total * nsub, "model": "inertial", "mass_ratio": system.mass_ratio}
+    info = {
+        "method": "RK4 (noise constant over each step)",
+        "dt": dt,
+        "substeps": nsub,
+        "nsteps": total * nsub,
+        "nfev": 4 * total * nsub,
+        "model": "inertial",
+        "mass_ratio": system.mass_ratio,
+    }
     return out, info

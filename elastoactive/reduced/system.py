@@ -11,9 +11,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..errors import ParameterError
-
 from ..constants import BEAD_INERTIA_FACTOR, CONTACT_LENGTH  # the models' constants, one place for each
+from ..errors import ParameterError
 
 
 class ChainSystem(NamedTuple):
@@ -111,8 +110,12 @@ class ChainSystem(NamedTuple):
     @property
     def extensions(self) -> tuple[str, ...]:
         """The extended terms that are on, in words (for a refusal that names them)."""
-        named = (("free head", bool(self.head_free)), ("trap", self.trap > 0),
-                 ("self-contact", self.contact_radius > 0), ("turning hub", bool(self.hub_free)))
+        named = (
+            ("free head", bool(self.head_free)),
+            ("trap", self.trap > 0),
+            ("self-contact", self.contact_radius > 0),
+            ("turning hub", bool(self.hub_free)),
+        )
         return tuple(name for name, on in named if on)
 
     @property
@@ -131,7 +134,7 @@ class ChainSystem(NamedTuple):
         """Joint stiffness of chain `chain` (0 or 1; every arm of a star: 1) in units of C1."""
         return 1.0 if chain == 0 else self.rho
 
-    def typed(self) -> "ChainSystem":
+    def typed(self) -> ChainSystem:
         """This record with the field types the compiled kernels are compiled for (int n and n_chains,
         bool clamped, pinned and head_free, float the rest), so that a numpy integer or an integer sigma does
         not compile a second specialisation. The solvers call it on every record they are given; it raises a
@@ -140,19 +143,30 @@ class ChainSystem(NamedTuple):
             raise ParameterError(f"n (particles per chain) must be an integer >= 1, got {self.n!r}")
         if self.n_chains not in (1, 2) and not (self.star and int(self.n_chains) == self.n_chains >= 1):
             raise ParameterError(f"n_chains must be 1 or 2 (any number >= 1 for a star), got {self.n_chains!r}")
-        if self.star and (not self.clamped or self.pinned or self.head_free or self.closed or self.kappa != 0
-                          or self.rho != 1 or self.trap > 0 or self.contact_radius > 0):
+        if self.star and (
+            not self.clamped
+            or self.pinned
+            or self.head_free
+            or self.closed
+            or self.kappa != 0
+            or self.rho != 1
+            or self.trap > 0
+            or self.contact_radius > 0
+        ):
             raise ParameterError(
                 "star: the arms are clamped to the hub, unpinned, unit stiffness, without coupling kappa, trap or "
                 f"self-contact; got clamped={self.clamped!r}, pinned={self.pinned!r}, head_free={self.head_free!r}, "
                 f"closed={self.closed!r}, kappa={self.kappa!r}, rho={self.rho!r}, trap={self.trap!r}, "
-                f"contact_radius={self.contact_radius!r}")
+                f"contact_radius={self.contact_radius!r}"
+            )
         if self.hub_free and not self.star:
             raise ParameterError("hub_free: only the arms of a star (star = True) have a hub")
         if not (self.hub_stiffness >= 0 and np.isfinite(self.hub_stiffness)):
             raise ParameterError(f"hub_stiffness (C1) must be finite and >= 0, got {self.hub_stiffness!r}")
         if self.hub_free and not (self.hub_drag > 0 and np.isfinite(self.hub_drag)):
-            raise ParameterError(f"hub_drag (gamma l^2) must be finite and > 0 for a turning hub, got {self.hub_drag!r}")
+            raise ParameterError(
+                f"hub_drag (gamma l^2) must be finite and > 0 for a turning hub, got {self.hub_drag!r}"
+            )
         if self.pinned and self.n_chains != 1:
             raise ParameterError("pinned: only a single chain can be held at both ends")
         if not (self.mass_ratio >= 0 and np.isfinite(self.mass_ratio)):
@@ -167,7 +181,8 @@ class ChainSystem(NamedTuple):
         if self.head_free and self.pinned and (self.delta != 1 or self.mass_ratio > 0):
             raise ParameterError(
                 "head_free with pinned: the free ring holds its last particle on the moving pivot (delta = 1) in the "
-                f"overdamped model only (mass_ratio = 0); got delta={self.delta!r}, mass_ratio={self.mass_ratio!r}")
+                f"overdamped model only (mass_ratio = 0); got delta={self.delta!r}, mass_ratio={self.mass_ratio!r}"
+            )
         if not (self.trap >= 0 and np.isfinite(self.trap)):
             raise ParameterError(f"trap (k l^2 / C1) must be finite and >= 0, got {self.trap!r}")
         if not (0 <= self.contact_radius < CONTACT_LENGTH / 2):
@@ -179,22 +194,42 @@ class ChainSystem(NamedTuple):
             raise ParameterError(f"contact_stiffness must be finite and >= 0, got {self.contact_stiffness!r}")
         if self.contact_radius > 0 and not self.contact_stiffness > 0:
             raise ParameterError("contact_radius > 0 needs contact_stiffness > 0 (the penalty of an overlap)")
-        if self.closed and (self.n_chains != 1 or self.clamped or (self.head_free and not self.pinned) or self.n < 3
-                            or self.trap > 0 or self.contact_radius > 0):
+        if self.closed and (
+            self.n_chains != 1
+            or self.clamped
+            or (self.head_free and not self.pinned)
+            or self.n < 3
+            or self.trap > 0
+            or self.contact_radius > 0
+        ):
             raise ParameterError(
                 "closed: the reduced model's ring is one chain of N >= 3 on a free pin (n_chains = 1, clamped = False; "
                 "a free head only with its last particle pinned to it) without a trap or self-contact (use the MuJoCo "
                 f"engine for those); got n={self.n!r}, "
                 f"n_chains={self.n_chains!r}, clamped={self.clamped!r}, head_free={self.head_free!r}, trap={self.trap!r}, "
-                f"contact_radius={self.contact_radius!r}")
+                f"contact_radius={self.contact_radius!r}"
+            )
         return ChainSystem(
-            n=int(self.n), n_chains=int(self.n_chains), clamped=bool(self.clamped), pinned=bool(self.pinned),
-            sigma=float(self.sigma), gamma_l=float(self.gamma_l), gamma_t=float(self.gamma_t),
-            kappa=float(self.kappa), rho=float(self.rho), delta=float(self.delta),
-            mass_ratio=float(self.mass_ratio), inertia_factor=float(self.inertia_factor),
-            head_free=bool(self.head_free), trap=float(self.trap), contact_radius=float(self.contact_radius),
-            contact_stiffness=float(self.contact_stiffness), closed=bool(self.closed),
-            star=bool(self.star), hub_free=bool(self.hub_free), hub_stiffness=float(self.hub_stiffness),
+            n=int(self.n),
+            n_chains=int(self.n_chains),
+            clamped=bool(self.clamped),
+            pinned=bool(self.pinned),
+            sigma=float(self.sigma),
+            gamma_l=float(self.gamma_l),
+            gamma_t=float(self.gamma_t),
+            kappa=float(self.kappa),
+            rho=float(self.rho),
+            delta=float(self.delta),
+            mass_ratio=float(self.mass_ratio),
+            inertia_factor=float(self.inertia_factor),
+            head_free=bool(self.head_free),
+            trap=float(self.trap),
+            contact_radius=float(self.contact_radius),
+            contact_stiffness=float(self.contact_stiffness),
+            closed=bool(self.closed),
+            star=bool(self.star),
+            hub_free=bool(self.hub_free),
+            hub_stiffness=float(self.hub_stiffness),
             hub_drag=float(self.hub_drag),
         )
 

@@ -38,15 +38,28 @@ import numpy as np
 
 from ..analysis import observables as obs
 from ..errors import ParameterError
-from ..mjcf.chain import build_model, qpos_of
 from ..io.outputs import atomic_file
 from ..io.progress import progress_bar
+from ..mjcf.chain import build_model, qpos_of
 from ..params import Numerics, Physics
-from .network import NetworkPainter
-from .gl import (ARROW_MAX, ARROW_PER_SIGMA, ARROW_RGBA, GL_BACKENDS, INSTALL_HINT,  # noqa: F401 (API)
-                        RenderError, _add_geom, _Caption, _interpolate, _renderer, gl_backend, prepare_visual,
-                        probe_backend, top_camera)
 from ..trajectory import Trajectory
+from .gl import (  # noqa: F401 (API)
+    ARROW_MAX,
+    ARROW_PER_SIGMA,
+    ARROW_RGBA,
+    GL_BACKENDS,
+    INSTALL_HINT,
+    RenderError,
+    _add_geom,
+    _Caption,
+    _interpolate,
+    _renderer,
+    gl_backend,
+    prepare_visual,
+    probe_backend,
+    top_camera,
+)
+from .network import NetworkPainter
 
 DEFAULT_RATE = 10.0  # tau per second of video when there is no oscillation to time it by
 TRAIL_POINTS = 40  # samples per trail
@@ -124,7 +137,8 @@ def check_frames(span: float, fps: float, rate: float) -> None:
         raise ParameterError(
             f"rate = {rate:g} tau per second of video at {fps:g} fps makes {count + 1:.3g} frames of the {span:g} tau "
             f"rendered (limit {MAX_FRAMES}: an hour at 30 fps); raise --rate, or render part of the run with "
-            "--start/--end")
+            "--start/--end"
+        )
 
 
 def frame_times(t_start: float, t_end: float, fps: float, rate: float) -> np.ndarray:
@@ -169,8 +183,17 @@ def _trail_colours(n: int) -> np.ndarray:
 class _Painter:
     """Builds the render model and draws frames (one per time) of one trajectory."""
 
-    def __init__(self, traj: Trajectory, *, width: int, height: int, rate: float, trail: float,
-                 numerics: Numerics | None, bounds_times: np.ndarray):
+    def __init__(
+        self,
+        traj: Trajectory,
+        *,
+        width: int,
+        height: int,
+        rate: float,
+        trail: float,
+        numerics: Numerics | None,
+        bounds_times: np.ndarray,
+    ):
         check_picture(width=width, height=height, trail=trail)
         physics = traj.physics
         self.traj, self.physics = traj, physics
@@ -178,8 +201,10 @@ class _Painter:
         prepare_visual(self.model, width, height)
         self.data = mujoco.MjData(self.model)  # the render's own state: never the simulating one
         self._scene = None  # the mjvScene of the frame being made (for spring)
-        self.sites = [[self.model.site(f"{p}particle_{i}").id for i in range(physics.n)]
-                      for p in physics.scene_def.chain_prefixes()[: physics.n_chains]]  # the star: k of its arms
+        self.sites = [
+            [self.model.site(f"{p}particle_{i}").id for i in range(physics.n)]
+            for p in physics.scene_def.chain_prefixes()[: physics.n_chains]
+        ]  # the star: k of its arms
         self.trail_tau = trail * rate
         self.line_px = max(1.5, height / 160)  # trails are GL lines (width in pixels): capsules cost 5x more
         stride = max(1, math.ceil(physics.n / MAX_TRAILS))
@@ -296,7 +321,9 @@ def _window(traj: Trajectory, start: float | None, end: float | None) -> tuple[f
     t0 = traj.t[0] if start is None else float(start)
     t1 = traj.t[-1] if end is None else float(end)
     if not (math.isfinite(t0) and math.isfinite(t1) and traj.t[0] - 1e-9 <= t0 <= t1 <= traj.t[-1] + 1e-9):
-        raise ParameterError(f"render window [{t0}, {t1}] must have start <= end and lie inside the record [{traj.t[0]}, {traj.t[-1]}]")
+        raise ParameterError(
+            f"render window [{t0}, {t1}] must have start <= end and lie inside the record [{traj.t[0]}, {traj.t[-1]}]"
+        )
     return t0, t1
 
 
@@ -307,8 +334,15 @@ MAX_SIDE = 8192
 MAX_FPS = 240.0
 
 
-def check_picture(*, fps: float = 30.0, rate: float | None = None, width: int = 640, height: int = 480,
-                  trail: float = 1.0, span: float | None = None) -> None:
+def check_picture(
+    *,
+    fps: float = 30.0,
+    rate: float | None = None,
+    width: int = 640,
+    height: int = 480,
+    trail: float = 1.0,
+    span: float | None = None,
+) -> None:
     """Refuse, naming the option, a picture that cannot be made (before any simulation or rendering); `span`: the
     tau a video will show, when known (its number of frames is then checked too)."""
     if not (math.isfinite(fps) and 0 < fps <= MAX_FPS):
@@ -352,11 +386,14 @@ def render_frames(
         if times.min() < traj.t[0] - 1e-9 or times.max() > traj.t[-1] + 1e-9:
             raise ParameterError(f"times must lie inside the record [{traj.t[0]}, {traj.t[-1]}]")
     if times.size * width * height * 3 > MAX_FRAME_BYTES:
-        raise ParameterError(f"{times.size} frames of {width}x{height} pixels take {times.size * width * height * 3:.3g} "
-                             f"bytes (limit {MAX_FRAME_BYTES:.3g}); render fewer times or write a video "
-                             "(render_trajectory streams its frames)")
-    painter = _painter(traj, width=width, height=height, rate=rate, trail=trail, numerics=numerics,
-                       bounds_times=np.sort(times))
+        raise ParameterError(
+            f"{times.size} frames of {width}x{height} pixels take {times.size * width * height * 3:.3g} "
+            f"bytes (limit {MAX_FRAME_BYTES:.3g}); render fewer times or write a video "
+            "(render_trajectory streams its frames)"
+        )
+    painter = _painter(
+        traj, width=width, height=height, rate=rate, trail=trail, numerics=numerics, bounds_times=np.sort(times)
+    )
     try:
         return np.stack([painter.frame(float(t)) for t in times])
     finally:
@@ -369,7 +406,9 @@ def render_still(traj: Trajectory, path, *, time: float | None = None, **kwargs)
 
     time = traj.t[-1] if time is None else float(time)
     if not (math.isfinite(time) and traj.t[0] - 1e-9 <= time <= traj.t[-1] + 1e-9):
-        raise ParameterError(f"time of the still must lie inside the record [{traj.t[0]:g}, {traj.t[-1]:g}] tau, got {time}")
+        raise ParameterError(
+            f"time of the still must lie inside the record [{traj.t[0]:g}, {traj.t[-1]:g}] tau, got {time}"
+        )
     frame = render_frames(traj, np.array([time]), **kwargs)[0]
     path = Path(path)
     with atomic_file(path) as tmp:
@@ -447,13 +486,28 @@ def render_trajectory(
         if bar is not None:
             bar.close()
     return {
-        "path": str(path), "frames": int(times.size), "seconds": float(times.size / fps), "fps": float(fps),
-        "rate": rate, "backend": gl_backend(), "wall_time_s": time.perf_counter() - begin,
+        "path": str(path),
+        "frames": int(times.size),
+        "seconds": float(times.size / fps),
+        "fps": float(fps),
+        "rate": rate,
+        "backend": gl_backend(),
+        "wall_time_s": time.perf_counter() - begin,
     }
 
 
 __all__ = [
-    "RenderError", "gl_backend", "probe_backend", "render_frames", "render_still", "render_trajectory",
-    "default_rate", "frame_times", "particle_positions", "interpolate", "interpolate_head", "setup_ffmpeg",
+    "RenderError",
+    "gl_backend",
+    "probe_backend",
+    "render_frames",
+    "render_still",
+    "render_trajectory",
+    "default_rate",
+    "frame_times",
+    "particle_positions",
+    "interpolate",
+    "interpolate_head",
+    "setup_ffmpeg",
     "INSTALL_HINT",
 ]

@@ -23,9 +23,18 @@ import numpy as np
 from ..errors import ParameterError
 from ..mjcf.network import build_network_model, qpos_of_positions
 from ..params import Numerics
-from .gl import (ARROW_MAX, ARROW_PER_SIGMA, ARROW_RGBA, _add_geom, _Caption, _interpolate, _renderer,
-                        prepare_visual, top_camera)
 from ..trajectory import Trajectory
+from .gl import (
+    ARROW_MAX,
+    ARROW_PER_SIGMA,
+    ARROW_RGBA,
+    _add_geom,
+    _Caption,
+    _interpolate,
+    _renderer,
+    prepare_visual,
+    top_camera,
+)
 
 ARROW_MIN = 0.35
 """Shortest arrow (units a): a unit's polarity stays visible beside its bead at small sigma."""
@@ -55,8 +64,12 @@ def _unwrapped_polarity(traj: Trajectory) -> np.ndarray | None:
 
 def network_caption(traj: Trajectory, network) -> str:
     physics = traj.physics
-    parts = [physics.scene, f"{len(network.positions)} nodes", f"σ = {physics.sigma:.3g}",
-             *physics.scene_def.caption(physics)]  # the network scenes' caption names l_a
+    parts = [
+        physics.scene,
+        f"{len(network.positions)} nodes",
+        f"σ = {physics.sigma:.3g}",
+        *physics.scene_def.caption(physics),
+    ]  # the network scenes' caption names l_a
     return "   ".join(parts)
 
 
@@ -70,16 +83,27 @@ class NetworkPainter:
     """Builds the network's render model and draws frames (one per time) of one trajectory; the interface of
     elastoactive.render's chain painter (frame(t), close())."""
 
-    def __init__(self, traj: Trajectory, *, width: int, height: int, rate: float, trail: float,
-                 numerics: Numerics | None, bounds_times: np.ndarray):
+    def __init__(
+        self,
+        traj: Trajectory,
+        *,
+        width: int,
+        height: int,
+        rate: float,
+        trail: float,
+        numerics: Numerics | None,
+        bounds_times: np.ndarray,
+    ):
         """As the chain painter's; `rate` and `trail` are not used (a network's nodes leave no trails)."""
         physics = traj.physics
         network = physics.scene_def.network(physics)
         if network is None or traj.nodes is None:
             raise ParameterError(f"render: {physics.scene} has no network to draw (a chain: elastoactive.render)")
         if traj.nodes.shape[1:] != (len(network.positions), 2):
-            raise ParameterError(f"render: the trajectory's nodes {traj.nodes.shape[1:]} do not match the "
-                                 f"{physics.scene} network's {len(network.positions)} nodes")
+            raise ParameterError(
+                f"render: the trajectory's nodes {traj.nodes.shape[1:]} do not match the "
+                f"{physics.scene} network's {len(network.positions)} nodes"
+            )
         self.traj, self.network = traj, network
         self.nodes = np.asarray(traj.nodes, dtype=float).reshape(traj.t.size, -1)
         self.polarity = _unwrapped_polarity(traj)
@@ -93,8 +117,9 @@ class NetworkPainter:
         self.caption = _Caption(width, height, network_caption(traj, network))
         span = np.concatenate([bounds_times, traj.t[(traj.t >= bounds_times[0]) & (traj.t <= bounds_times[-1])]])
         xy = _interpolate(traj.t, self.nodes, span).reshape(span.size, -1, 2)
-        self.camera = _camera(xy, width, height, self.caption.h, float(self.model.vis.global_.fovy),
-                              pad=0.4 + self.arrow)
+        self.camera = _camera(
+            xy, width, height, self.caption.h, float(self.model.vis.global_.fovy), pad=0.4 + self.arrow
+        )
         extra = len(network.bonds) + 2 * len(network.positions) + 16
         self.renderer = _renderer(self.model, height, width, self.model.ngeom + extra + 100)
         self.options = mujoco.MjvOption()

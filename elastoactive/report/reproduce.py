@@ -84,8 +84,13 @@ def source_files() -> dict[str, Path]:
     for name in SOURCE_PACKAGES:
         spec = importlib.util.find_spec(name)
         for root in (Path(p).resolve() for p in ((spec.submodule_search_locations or []) if spec else [])):
-            out.update({f"{name}:{f.relative_to(root).as_posix()}": f for f in root.rglob("*")
-                        if f.suffix in SOURCE_SUFFIXES and f.is_file()})
+            out.update(
+                {
+                    f"{name}:{f.relative_to(root).as_posix()}": f
+                    for f in root.rglob("*")
+                    if f.suffix in SOURCE_SUFFIXES and f.is_file()
+                }
+            )
     return out
 
 
@@ -138,16 +143,29 @@ def _plan(out: Path, names: list[str], every: tuple[str, ...], size: str, code: 
     other = [n for n in every if n in saved and saved[n].complete and saved[n].size != size]
     if other and not force:
         sizes = sorted({saved[n].size for n in other})
-        raise ParameterError(f"--out {out} holds {'/'.join(sizes)}-size studies ({', '.join(other)}), not {size}: "
-                             "one report cannot mix sizes; choose another --out or pass --force to rerun or drop them")
+        raise ParameterError(
+            f"--out {out} holds {'/'.join(sizes)}-size studies ({', '.join(other)}), not {size}: "
+            "one report cannot mix sizes; choose another --out or pass --force to rerun or drop them"
+        )
     current = {n for n, s in saved.items() if s.complete and s.size == size}
     keep = [n for n in names if n in current and saved[n].code == code and not force]
-    return Plan([n for n in names if n not in keep], keep, [n for n in every if n in current and n not in names],
-                [n for n in other if n not in names])
+    return Plan(
+        [n for n in names if n not in keep],
+        keep,
+        [n for n in every if n in current and n not in names],
+        [n for n in other if n not in names],
+    )
 
 
-def reproduce(out: Path, size: str = "quick", workers: int | None = None, only: list[str] | None = None,
-              progress: bool = True, log=print, force: bool = False) -> Reproduction:
+def reproduce(
+    out: Path,
+    size: str = "quick",
+    workers: int | None = None,
+    only: list[str] | None = None,
+    progress: bool = True,
+    log=print,
+    force: bool = False,
+) -> Reproduction:
     """Run the studies (all, or those in `only`) into `out`: data, figures and files of each, then report.md
     and provenance.json over every study of the folder (see the module's docstring for resume and merge)."""
     from ..studies import SIZES, registry  # start-up time: the studies load both engines
@@ -168,12 +186,13 @@ def reproduce(out: Path, size: str = "quick", workers: int | None = None, only: 
         return _reproduce(out, size, workers, names, progress, log, force)
 
 
-def _reproduce(out: Path, size: str, workers: int | None, names: list[str], progress: bool, log,
-               force: bool) -> Reproduction:
+def _reproduce(
+    out: Path, size: str, workers: int | None, names: list[str], progress: bool, log, force: bool
+) -> Reproduction:
     """reproduce's work on the folder `out`, which this process holds (`names`: the studies asked for, checked)."""
-    from . import claims  # start-up time: the studies load both engines (and matplotlib when drawing)
     from ..batch import default_workers
     from ..studies import Study, load_study, registry
+    from . import claims  # start-up time: the studies load both engines (and matplotlib when drawing)
 
     every = registry.names()
     code = source_digest()
@@ -217,15 +236,19 @@ def _reproduce(out: Path, size: str, workers: int | None, names: list[str], prog
             entry.write_files(study, out)
         except KeyboardInterrupt:
             kept = result.ran + ([name] if saved else []) + to_keep
-            raise Interrupted(f"interrupted during {name} ({i}/{len(to_run)}): "
-                              + ("its data are saved, its figures not; " if saved else "its data were not saved; ")
-                              + f"kept in {out}: {', '.join(kept) or 'no finished study'}; "
-                              "rerun the same command to resume") from None
+            raise Interrupted(
+                f"interrupted during {name} ({i}/{len(to_run)}): "
+                + ("its data are saved, its figures not; " if saved else "its data were not saved; ")
+                + f"kept in {out}: {', '.join(kept) or 'no finished study'}; "
+                "rerun the same command to resume"
+            ) from None
         result.studies[name] = study
         result.ran.append(name)
         result.timings[name] = Timing(t1 - t0, time.perf_counter() - t1)
-        log(f"[{i}/{len(to_run)}] {name} done in {t1 - t0:.1f} s (figures {time.perf_counter() - t1:.1f} s) -> "
-            f"{', '.join(p.name for p in result.figures[name])}")
+        log(
+            f"[{i}/{len(to_run)}] {name} done in {t1 - t0:.1f} s (figures {time.perf_counter() - t1:.1f} s) -> "
+            f"{', '.join(p.name for p in result.figures[name])}"
+        )
 
     for name in report_names:  # the studies not run now: their figures and files, drawn again from their data
         if name not in result.figures:
@@ -238,12 +261,32 @@ def _reproduce(out: Path, size: str, workers: int | None, names: list[str], prog
     result.studies = {n: result.studies[n] for n in report_names}
     result.wall_s = time.perf_counter() - start
     command = "elastoactive reproduce" + (" --full" if size == "full" else "") + (" --tiny" if size == "tiny" else "")
-    record = {**provenance(started, result.wall_s), CODE_KEY: code, "studies_run": result.ran, "studies_kept": result.kept}
+    record = {
+        **provenance(started, result.wall_s),
+        CODE_KEY: code,
+        "studies_run": result.ran,
+        "studies_kept": result.kept,
+    }
     write_text(out / "provenance.json", json.dumps(record, indent=2) + "\n")
     result.report = out / "report.md"
-    write_text(result.report, claims.render_report(result.studies, result.figures, {
-        "size": size, "workers": workers, "wall_s": result.wall_s, "command": command, "provenance": record,
-        "timings": result.timings, "kept": result.kept, "unreadable": unreadable, "other_size": dropped}))
+    write_text(
+        result.report,
+        claims.render_report(
+            result.studies,
+            result.figures,
+            {
+                "size": size,
+                "workers": workers,
+                "wall_s": result.wall_s,
+                "command": command,
+                "provenance": record,
+                "timings": result.timings,
+                "kept": result.kept,
+                "unreadable": unreadable,
+                "other_size": dropped,
+            },
+        ),
+    )
     log(f"wrote {result.report} ({result.wall_s:.0f} s)")
     return result
 

@@ -14,8 +14,17 @@ from ..registry import UnknownScene, get, names, register, scenes, unregister
 from . import coupled_pair, lattice, one_pinned, paraboloid, ring, rotating_pin, star, trap, two_pinned
 from .base import Scene, ValidationCase
 
-for _module in (one_pinned, two_pinned, rotating_pin, coupled_pair, paraboloid, ring, lattice, trap, star):  # the paper's order, then ours
+for _module in (
+    one_pinned,
+    two_pinned,
+    rotating_pin,
+    coupled_pair,
+    paraboloid,
+    ring,
+    lattice,
+    trap,
+    star,
+):  # the paper's order, then ours
     register(_module.SCENE)
 
-__all__ = ["Scene", "UnknownScene", "ValidationCase", "get", "names", "register", "scenes",
-           "unregister"]
+__all__ = ["Scene", "UnknownScene", "ValidationCase", "get", "names", "register", "scenes", "unregister"]

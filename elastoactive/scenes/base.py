@@ -37,16 +37,17 @@ import numpy as np
 
 from ..analysis import observables as obs
 from ..analysis.network import Network, NetworkState, initial_state
-from ..reduced.system import ChainSystem
 from ..cases import ValidationCase
 from ..constants import BEAD_INERTIA_FACTOR
 from ..errors import ParameterError
 from ..parameters import Parameter
 from ..parameters import get as parameter_spec
+from ..reduced.system import ChainSystem
 
 if TYPE_CHECKING:  # typing only: these modules import the registry that holds scenes
     from ..params import Numerics, Physics
     from ..trajectory import Trajectory
+
 
 @dataclass(frozen=True)
 class Onset:
@@ -109,36 +110,36 @@ class Scene:
         """Names of the scene's own parameters (`parameters`)."""
         return tuple(p.name if isinstance(p, Parameter) else p for p in cls.parameters)
 
-    def check(self, physics: "Physics") -> None:
+    def check(self, physics: Physics) -> None:
         """Scene-specific checks of the parameters (the generic ranges are checked by Physics)."""
         if physics.n < self.min_n:
             raise ParameterError(f"n (number of particles N) must be >= {self.min_n} for {self.name}, got {physics.n}")
 
-    def head_count(self, physics: "Physics") -> int:
+    def head_count(self, physics: Physics) -> int:
         """Coordinates of the moving pivot for this physics (head_coordinates; a scene whose pivot moves only for some
         parameter values, the free ring, overrides it)."""
         return self.head_coordinates
 
-    def chain_count(self, physics: "Physics") -> int:
+    def chain_count(self, physics: Physics) -> int:
         """Number of chains of this physics (Physics.n_chains): n_chains, or a parameter's value (the star's arms)."""
         return self.n_chains
 
-    def stiffness(self, physics: "Physics") -> tuple[float, ...]:
+    def stiffness(self, physics: Physics) -> tuple[float, ...]:
         """Joint stiffness of each chain in units of C1 (one per chain that elastoactive.mjcf.chain builds)."""
         return (1.0,) * self.chain_count(physics)
 
-    def physics(self, **values: Any) -> "Physics":
+    def physics(self, **values: Any) -> Physics:
         """Physics of this scene with the given parameters (the others at their defaults)."""
         from ..params import Physics  # params imports the registry that holds this class
 
         return Physics(scene=self.name, **values)
 
-    def base_physics(self) -> "Physics":
+    def base_physics(self) -> Physics:
         """The physics the base file describes (the builder at it reproduces the file's model: tests/test_scenes.py):
         the paper's N = 7, sigma = 0.8, the other parameters at their defaults."""
         return self.physics(n=7, sigma=0.8)
 
-    def label(self, physics: "Physics") -> str:
+    def label(self, physics: Physics) -> str:
         """Short description of a case, e.g. 'two-pinned N=7 sigma=0.8 delta=0.1'."""
         text = f"{self.name} N={physics.n} sigma={physics.sigma:g}"
         for key in self.own_parameter_names():
@@ -155,41 +156,50 @@ class Scene:
         """Name prefix of each chain's elements in the MJCF."""
         return ("",) if self.n_chains == 1 else tuple(f"chain{k + 1}_" for k in range(self.n_chains))
 
-    def chain_offset(self, physics: "Physics", k: int) -> float:
+    def chain_offset(self, physics: Physics, k: int) -> float:
         """Lateral (y) position of chain k's clamp: side by side, far enough apart to see both."""
         return -float(max(physics.n, 3)) * k
 
-    def build(self, spec, physics: "Physics", numerics: "Numerics") -> None:
+    def build(self, spec, physics: Physics, numerics: Numerics) -> None:
         """Add the scene's own elements to `spec` (an mujoco.MjSpec holding the generated chains)."""
 
     # ------------------------------------------------------------------ reduced model
-    def reduced_system(self, physics: "Physics") -> ChainSystem:
+    def reduced_system(self, physics: Physics) -> ChainSystem:
         """The reduced model of this scene: overdamped (mass_ratio 0); the engine sets the particle mass for the
         inertial model (engines.reduced.system_of), whose beads have MuJoCo's rotational inertia (mjcf/common.xml)."""
         system = ChainSystem(
-            n=physics.n, n_chains=self.chain_count(physics), clamped=self.clamped, pinned=self.pinned, sigma=0.0,
-            gamma_l=1.0, gamma_t=1.0, kappa=0.0, rho=1.0, delta=0.0,
-            mass_ratio=0.0, inertia_factor=BEAD_INERTIA_FACTOR,
+            n=physics.n,
+            n_chains=self.chain_count(physics),
+            clamped=self.clamped,
+            pinned=self.pinned,
+            sigma=0.0,
+            gamma_l=1.0,
+            gamma_t=1.0,
+            kappa=0.0,
+            rho=1.0,
+            delta=0.0,
+            mass_ratio=0.0,
+            inertia_factor=BEAD_INERTIA_FACTOR,
         )
         for term in physics.active_terms():  # the follower's sigma, the drag's gamma_l, the contact's penalty, ...
             system = term.reduced_system(system, physics)
         return system
 
-    def inertial_model(self, physics: "Physics") -> bool:
+    def inertial_model(self, physics: Physics) -> bool:
         """Whether the reduced engine has an inertial model of the scene with these parameters (particles of mass
         mass_ratio, engines.reduced): a chain scene's does; a network's model is overdamped only, and so is the free
         ring's (their engines refuse a mass outside that limit)."""
         return True
 
     # ------------------------------------------------------------------ initial state
-    def initial_angles(self, physics: "Physics", numerics: "Numerics") -> np.ndarray:
+    def initial_angles(self, physics: Physics, numerics: Numerics) -> np.ndarray:
         """Absolute angles at t = 0: each chain's static shape under seeded small pushes."""
         from ..initial import pushed_chains  # initial imports scipy (start-up time)
 
         return pushed_chains(physics.n, self.chain_count(physics), numerics.perturbation, numerics.seed)
 
     # ------------------------------------------------------------------ observables
-    def measure_extra(self, traj: "Trajectory", transient: float) -> dict[str, float | str]:
+    def measure_extra(self, traj: Trajectory, transient: float) -> dict[str, float | str]:
         """Values of `observables` (amplitude and frequency are measured for every scene)."""
         return {}
 
@@ -198,29 +208,31 @@ class Scene:
         """The cases `validate` runs for this scene."""
         return ()
 
-    def extreme_cases(self, quick: bool = False) -> tuple["Physics", ...]:
+    def extreme_cases(self, quick: bool = False) -> tuple[Physics, ...]:
         """Stiff and extreme parameter sets of the stability grid (scripts/stability_grid.py)."""
         return ()
 
     # ------------------------------------------------------------------ linear stability
-    def onset(self, physics: "Physics") -> Onset:
+    def onset(self, physics: Physics) -> Onset:
         """Where the base state loses stability (sigma_c, omega_c) for these parameters (sigma aside)."""
         raise ParameterError(f"stability: {self.name} has no linear operator here ({self.no_linear_operator})")
 
-    def leading_eigenvalue(self, physics: "Physics", sigma: float) -> complex:
+    def leading_eigenvalue(self, physics: Physics, sigma: float) -> complex:
         """The least stable eigenvalue of the linear operator about the base state at sigma."""
         raise ParameterError(f"stability: {self.name} has no linear operator here ({self.no_linear_operator})")
 
     # ------------------------------------------------------------------ drawing
-    def caption(self, physics: "Physics") -> list[str]:
+    def caption(self, physics: Physics) -> list[str]:
         """Parameter parts of a video caption, after scene, N and sigma."""
         parts = [f"{parameter_spec(k).symbol or k} = {getattr(physics, k):.3g}" for k in self.own_parameter_names()]
         if physics.contact:
-            parts.append(f"contact R = {physics.contact_radius:.3g}"
-                         + (f" μ = {physics.contact_friction:.3g}" if physics.contact_friction > 0 else ""))
+            parts.append(
+                f"contact R = {physics.contact_radius:.3g}"
+                + (f" μ = {physics.contact_friction:.3g}" if physics.contact_friction > 0 else "")
+            )
         return parts
 
-    def extent_points(self, physics: "Physics") -> np.ndarray:
+    def extent_points(self, physics: Physics) -> np.ndarray:
         """Fixed points (k, 2) besides the particles that a camera must keep in view (e.g. a pin)."""
         return np.empty((0, 2))
 
@@ -228,17 +240,17 @@ class Scene:
         """Draw scene-specific extras into a video frame; `frame` is the renderer's painter, which offers
         frame.spring(chain_a, particle_a, chain_b, particle_b)."""
 
-    def video_period(self, traj: "Trajectory") -> float | None:
+    def video_period(self, traj: Trajectory) -> float | None:
         """Time (tau) one second of video shows when the chain does not beat (None: the default)."""
         return None
 
     # ------------------------------------------------------------------ networks
-    def network(self, physics: "Physics") -> Network | None:
+    def network(self, physics: Physics) -> Network | None:
         """The elastic network of active units this scene simulates, or None for a chain scene (the default); both
         engines dispatch on it."""
         return None
 
-    def initial_network(self, physics: "Physics", numerics: "Numerics") -> NetworkState:
+    def initial_network(self, physics: Physics, numerics: Numerics) -> NetworkState:
         """A network scene's state at t = 0, read by both engines: nodes at rest plus seeded pushes of up to
         numerics.perturbation (units a), polarities seeded uniformly on the circle (numerics.seed)."""
         network = self.network(physics)
@@ -246,11 +258,11 @@ class Scene:
             raise ParameterError(f"{self.name} is a chain scene: it has no network")
         return initial_state(network, numerics.perturbation, numerics.seed)
 
-    def angle_count(self, physics: "Physics") -> int:
+    def angle_count(self, physics: Physics) -> int:
         """Columns of Trajectory.theta: N per chain (a network scene: 0, its state is Trajectory.nodes)."""
         return 0 if self.network(physics) is not None else physics.n * self.chain_count(physics)
 
-    def beat_signals(self, traj: "Trajectory") -> list[np.ndarray]:
+    def beat_signals(self, traj: Trajectory) -> list[np.ndarray]:
         """The scalar signals whose beat (amplitude, frequency, periodicity) results.measure reports, one per chain:
         Theta = theta_N - theta_1 of each chain."""
         return [obs.curvature(traj.chain(k)) for k in range(self.chain_count(traj.physics))]

@@ -10,25 +10,39 @@ frequency_mismatch f_2 - f_1 from the Hilbert phases.
 
 from __future__ import annotations
 
-
 from ..analysis import observables as obs
-from ..reduced.system import ChainSystem
 from ..parameters import Parameter
 from ..params import Numerics, Physics
+from ..reduced.system import ChainSystem
 from ..trajectory import Trajectory
 from .base import Onset, Scene, ValidationCase
 
 
 class CoupledPair(Scene):
     name = "coupled-pair"
-    summary = ("two chains (stiffness C1, C2 = rho C1) joined by a spring kappa between their first\n"
-               "                pendula: frequency entrainment above kappa_c = 0.078 (sigma 0.8, rho 4/3) [paper: ~1.1]")
+    summary = (
+        "two chains (stiffness C1, C2 = rho C1) joined by a spring kappa between their first\n"
+        "                pendula: frequency entrainment above kappa_c = 0.078 (sigma 0.8, rho 4/3) [paper: ~1.1]"
+    )
     base_file = "coupled-pair.xml"
     parameters = (
-        Parameter("kappa", 1.0, "coupling stiffness K l^2 / C1 of the pair's first pendula", low=0.0,
-                  title="coupling stiffness", symbol="κ"),
-        Parameter("rho", 4.0 / 3.0, "stiffness ratio C2 / C1 of the pair; chain 2 has sigma/rho", low=0.0,
-                  low_open=True, title="stiffness ratio C2/C1", symbol="ρ"),
+        Parameter(
+            "kappa",
+            1.0,
+            "coupling stiffness K l^2 / C1 of the pair's first pendula",
+            low=0.0,
+            title="coupling stiffness",
+            symbol="κ",
+        ),
+        Parameter(
+            "rho",
+            4.0 / 3.0,
+            "stiffness ratio C2 / C1 of the pair; chain 2 has sigma/rho",
+            low=0.0,
+            low_open=True,
+            title="stiffness ratio C2/C1",
+            symbol="ρ",
+        ),
     )
     n_chains = 2
     observables = ("frequency_mismatch",)

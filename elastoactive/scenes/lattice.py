@@ -36,17 +36,38 @@ from ..terms.self_aligning import SELF_ALIGNING, turning_rate
 from ..trajectory import Trajectory
 from .base import Onset, Scene, ValidationCase
 
-RINGS = Parameter("rings", 2, f"rings R of the hexagonal patch (1 + 3R(R+1) nodes, R = 1..{MAX_RINGS})", kind=int,
-                  low=1, high=MAX_RINGS, title="rings of the hexagonal patch R", symbol="R")
-BOUNDARY = Parameter("boundary", "pinned", "how the patch is held: pinned (its outer ring), free, or centre (only its "
-                     "centre node, so it can turn)", kind=str, choices=BOUNDARIES, title="the patch's boundary")
+RINGS = Parameter(
+    "rings",
+    2,
+    f"rings R of the hexagonal patch (1 + 3R(R+1) nodes, R = 1..{MAX_RINGS})",
+    kind=int,
+    low=1,
+    high=MAX_RINGS,
+    title="rings of the hexagonal patch R",
+    symbol="R",
+)
+BOUNDARY = Parameter(
+    "boundary",
+    "pinned",
+    "how the patch is held: pinned (its outer ring), free, or centre (only its centre node, so it can turn)",
+    kind=str,
+    choices=BOUNDARIES,
+    title="the patch's boundary",
+)
 
 NETWORK_TERMS = ("sigma", "active", "alignment_length")
 """The terms' parameters that act on a network: the active force and the units' direction law and length."""
 SELF_ALIGNING_ONLY = (("active", SELF_ALIGNING, "a network's active units are self-aligning"),)
 
-NETWORK_OBSERVABLES = ("polarization", "polarity_rate", "polarity_speed", "actuation", "condensation", "dominant_mode",
-                       "second_mode")
+NETWORK_OBSERVABLES = (
+    "polarization",
+    "polarity_rate",
+    "polarity_speed",
+    "actuation",
+    "condensation",
+    "dominant_mode",
+    "second_mode",
+)
 
 
 class NetworkScene(Scene):
@@ -57,9 +78,11 @@ class NetworkScene(Scene):
     fixed: ClassVar[tuple[tuple[str, Any, str], ...]] = SELF_ALIGNING_ONLY
     observables: ClassVar[tuple[str, ...]] = NETWORK_OBSERVABLES
     compared: ClassVar[tuple[str, ...]] = ("amplitude", "frequency", "polarity_rate")
-    no_linear_operator = ("its fixed points form a family (one per choice of the polarities): "
-                          "elastoactive.analysis.network.stability gives the coupling where the last one loses "
-                          "stability (docs/network.md)")
+    no_linear_operator = (
+        "its fixed points form a family (one per choice of the polarities): "
+        "elastoactive.analysis.network.stability gives the coupling where the last one loses "
+        "stability (docs/network.md)"
+    )
 
     def check(self, physics: Physics) -> None:
         network = self.network(physics)
@@ -70,8 +93,10 @@ class NetworkScene(Scene):
         return False  # analysis.network.model: overdamped nodes
 
     def label(self, physics: Physics) -> str:
-        own = " ".join(f"{k}={getattr(physics, k):.4g}" if isinstance(getattr(physics, k), float)
-                       else f"{k}={getattr(physics, k)}" for k in self.own_parameter_names())
+        own = " ".join(
+            f"{k}={getattr(physics, k):.4g}" if isinstance(getattr(physics, k), float) else f"{k}={getattr(physics, k)}"
+            for k in self.own_parameter_names()
+        )
         return f"{self.name} {own} sigma={physics.sigma:g} l_a={physics.alignment_length:g}".replace("  ", " ")
 
     coupling_formula: ClassVar[str] = "σ / l_a"
@@ -129,8 +154,9 @@ class NetworkScene(Scene):
 
 class Lattice(NetworkScene):
     name = "lattice"
-    summary = ("a hexagonal patch of triangular lattice with self-aligning active units (Baconnier et al.'s active "
-               "solid)")
+    summary = (
+        "a hexagonal patch of triangular lattice with self-aligning active units (Baconnier et al.'s active solid)"
+    )
     parameters = (RINGS, BOUNDARY)
     observables = NETWORK_OBSERVABLES + ("patch_rotation_rate", "patch_drift")
 
@@ -176,8 +202,10 @@ class Lattice(NetworkScene):
         from ..analysis.network import stability  # start-up time: scipy only for the stability analysis
 
         if physics.boundary != "pinned":
-            raise ParameterError(f"stability: boundary must be pinned for the lattice's linear stability, got "
-                                 f"{physics.boundary!r} (a patch free to move or turn has zero modes: no threshold)")
+            raise ParameterError(
+                f"stability: boundary must be pinned for the lattice's linear stability, got "
+                f"{physics.boundary!r} (a patch free to move or turn has zero modes: no threshold)"
+            )
         return stability.threshold(self.network(physics), samples=1)
 
     def onset(self, physics: Physics) -> Onset:
@@ -188,11 +216,15 @@ class Lattice(NetworkScene):
         (analysis.network.stability, docs/network.md)."""
         bracket = self._threshold(physics)
         la = physics.alignment_length
-        return Onset(sigma_c=bracket.softest * la, omega_c=0.0, sigma_all=bracket.coupling * la,
-                     sigma_ceiling=bracket.ceiling * la,
-                     kind=f"a family of fixed points (one per choice of polarities), each through a real "
-                          f"eigenvalue (searched over the polarities from {bracket.starts} starts, {bracket.reached} "
-                          "ending at the best found)")
+        return Onset(
+            sigma_c=bracket.softest * la,
+            omega_c=0.0,
+            sigma_all=bracket.coupling * la,
+            sigma_ceiling=bracket.ceiling * la,
+            kind=f"a family of fixed points (one per choice of polarities), each through a real "
+            f"eigenvalue (searched over the polarities from {bracket.starts} starts, {bracket.reached} "
+            "ending at the best found)",
+        )
 
     def leading_eigenvalue(self, physics: Physics, sigma: float) -> complex:
         """The least stable fixed point's largest growth rate, Pi - lambda_1 (Q <= I, with equality on the softest

@@ -36,8 +36,11 @@ class OnePinned(Scene):
         from ..analysis import stability  # start-up time: scipy
 
         n = physics.n
-        lam = stability.eigenvalues(n, sigma) if n <= DENSE_GROWTH_MAX else \
-            stability.slow_eigenvalues(n, sigma, SLOW_GROWTH_MODES)
+        lam = (
+            stability.eigenvalues(n, sigma)
+            if n <= DENSE_GROWTH_MAX
+            else stability.slow_eigenvalues(n, sigma, SLOW_GROWTH_MODES)
+        )
         return complex(lam[np.argmax(lam.real)])
 
     def validation_cases(self) -> tuple[ValidationCase, ...]:

@@ -25,9 +25,9 @@ import numpy as np
 
 from ..analysis import dish
 from ..analysis import observables as obs
-from ..reduced.system import ChainSystem
 from ..parameters import Parameter
 from ..params import Numerics, Physics
+from ..reduced.system import ChainSystem
 from ..trajectory import Trajectory
 from .base import Scene, ValidationCase
 
@@ -51,9 +51,17 @@ class Paraboloid(Scene):
     name = "paraboloid"
     summary = "free chain in a dish: sliding head, harmonic trap -k r (the supplement's satellite dish)"
     base_file = "paraboloid.xml"
-    parameters = (Parameter("trap", 0.1, "stiffness k l^2 / C1 of the harmonic trap -k r (the dish's on every particle "
-                            "and the head; the trapped unit's k_t / k on its node)", low=0.0, low_open=True,
-                            title="harmonic trap stiffness; without it the active bodies swim away"),)
+    parameters = (
+        Parameter(
+            "trap",
+            0.1,
+            "stiffness k l^2 / C1 of the harmonic trap -k r (the dish's on every particle "
+            "and the head; the trapped unit's k_t / k on its node)",
+            low=0.0,
+            low_open=True,
+            title="harmonic trap stiffness; without it the active bodies swim away",
+        ),
+    )
     clamped = False
     head_coordinates = HEAD_COORDINATES
     observables = ("rotation_rate", "orbit_rate", "orbit_radius", "curvature", "dish_state")
@@ -112,7 +120,10 @@ class Paraboloid(Scene):
 
     def video_period(self, traj: Trajectory) -> float | None:
         """One orbit (or one turn of the body) per second of video."""
-        rates = (obs.rotation_rate(traj.t, traj.theta), dish.orbit_rate(traj.t, traj.theta, traj.head, include_head=False))
+        rates = (
+            obs.rotation_rate(traj.t, traj.theta),
+            dish.orbit_rate(traj.t, traj.theta, traj.head, include_head=False),
+        )
         omega = max((abs(r) for r in rates if not math.isnan(r)), default=0.0)  # the orbit rate: NaN at the centre
         return 2.0 * math.pi / omega if omega > 1e-3 else None
 

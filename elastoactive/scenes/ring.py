@@ -36,12 +36,12 @@ import math
 import numpy as np
 
 from ..analysis import observables as obs
-from ..reduced.constraints import project_on_pins
-from ..reduced.system import ChainSystem
 from ..errors import ParameterError
 from ..initial import pushed_chains
 from ..parameters import Parameter
 from ..params import Numerics, Physics
+from ..reduced.constraints import project_on_pins
+from ..reduced.system import ChainSystem
 from ..trajectory import Trajectory
 from .base import Onset, Scene, ValidationCase
 from .two_pinned import PIN_SOLIMP
@@ -52,9 +52,16 @@ CLOSED = 1.0
 
 PINNED = "pinned"
 FREE = "free"
-PIN = Parameter("pin", PINNED, "the ring's root: on a free pin at the origin (pinned: it turns about it), or free in "
-                "the plane (free: it may translate and turn; the root carries one particle's drag)", kind=str,
-                choices=(PINNED, FREE), title="the ring's root", quiet_default=True)
+PIN = Parameter(
+    "pin",
+    PINNED,
+    "the ring's root: on a free pin at the origin (pinned: it turns about it), or free in "
+    "the plane (free: it may translate and turn; the root carries one particle's drag)",
+    kind=str,
+    choices=(PINNED, FREE),
+    title="the ring's root",
+    quiet_default=True,
+)
 SCAN_MAX = 100.0
 """sigma up to which onset follows the pinned ring's rigid rotation from the polygon (the rings study goes to 80)."""
 HEAD_COORDINATES = 2
@@ -100,8 +107,10 @@ class Ring(Scene):
     def check(self, physics: Physics) -> None:
         super().check(physics)
         if physics.contact:  # the reduced model's contact path has no closing spring (ChainSystem.typed refuses it)
-            raise ParameterError("contact: self-contact is not built for the ring (the reduced model that checks its "
-                                 "numerics and cross-validates it has no closing spring with contact)")
+            raise ParameterError(
+                "contact: self-contact is not built for the ring (the reduced model that checks its "
+                "numerics and cross-validates it has no closing spring with contact)"
+            )
 
     @staticmethod
     def free(physics: Physics) -> bool:
@@ -130,8 +139,13 @@ class Ring(Scene):
             spec.delete(spec.geom("pin_marker"))
             anchor = "head"
         spec.add_equality(
-            name="pin", type=mujoco.mjtEq.mjEQ_CONNECT, objtype=mujoco.mjtObj.mjOBJ_SITE,
-            name1=f"particle_{physics.n - 1}", name2=anchor, solref=[2.0 * numerics.dt, 1.0], solimp=list(PIN_SOLIMP),
+            name="pin",
+            type=mujoco.mjtEq.mjEQ_CONNECT,
+            objtype=mujoco.mjtObj.mjOBJ_SITE,
+            name1=f"particle_{physics.n - 1}",
+            name2=anchor,
+            solref=[2.0 * numerics.dt, 1.0],
+            solimp=list(PIN_SOLIMP),
         )
         closure = spec.add_tendon(name="closure", stiffness=[1.0, 0, 0], springlength=[2.0 * math.pi, 2.0 * math.pi])
         for i in range(1, physics.n):
@@ -159,12 +173,16 @@ class Ring(Scene):
         """The longitudinal drag of the pinned ring whose shape modes are asked for; refuses the free ring and the
         triangle."""
         if self.free(physics):
-            raise ParameterError("stability: the free ring (pin = free) has no linear operator here: its steady "
-                                 "turning carries its root round the centre of drag, a relative equilibrium of the "
-                                 "plane's rotations and translations that is not written (the pinned ring's is)")
+            raise ParameterError(
+                "stability: the free ring (pin = free) has no linear operator here: its steady "
+                "turning carries its root round the centre of drag, a relative equilibrium of the "
+                "plane's rotations and translations that is not written (the pinned ring's is)"
+            )
         if physics.n < 4:
-            raise ParameterError(f"stability: a ring of N = {physics.n} links is rigid (N - 3 = 0 shape modes): it "
-                                 "turns without deforming at every sigma")
+            raise ParameterError(
+                f"stability: a ring of N = {physics.n} links is rigid (N - 3 = 0 shape modes): it "
+                "turns without deforming at every sigma"
+            )
         return self.reduced_system(physics).gamma_l
 
     def onset(self, physics: Physics) -> Onset:
@@ -175,17 +193,25 @@ class Ring(Scene):
         gamma_l = self._shape_modes(physics)
         sigma_c, omega_c, branch = ring_stability.onset(physics.n, SCAN_MAX, gamma_l)
         if not branch.crossings:
-            return Onset(math.inf, math.nan, f"none: the rigid rotation, followed from the regular polygon, stays "
-                                             f"linearly stable up to sigma = {SCAN_MAX:g} (the scan's end)")
+            return Onset(
+                math.inf,
+                math.nan,
+                f"none: the rigid rotation, followed from the regular polygon, stays "
+                f"linearly stable up to sigma = {SCAN_MAX:g} (the scan's end)",
+            )
         first = branch.crossings[0]
-        how = {"Hopf": "Hopf: the turning ring's shape beats", "fold": "fold: the rigid rotation ceases to exist",
-               "real": "a real eigenvalue: the turning ring's shape buckles"}[first.kind]
+        how = {
+            "Hopf": "Hopf: the turning ring's shape beats",
+            "fold": "fold: the rigid rotation ceases to exist",
+            "real": "a real eigenvalue: the turning ring's shape buckles",
+        }[first.kind]
         last = float(branch.sigma[-1])
         if len(branch.crossings) > 1:
             after = f"stable again from sigma = {branch.crossings[1].sigma:.6g} along the branch"
         else:
-            after = f"unstable from there up to sigma = {last:.6g}, " + ("the scan's end" if last >= SCAN_MAX else
-                                                                           "where the continuation stopped")
+            after = f"unstable from there up to sigma = {last:.6g}, " + (
+                "the scan's end" if last >= SCAN_MAX else "where the continuation stopped"
+            )
         return Onset(sigma_c, omega_c, f"{how} ({after})")
 
     def leading_eigenvalue(self, physics: Physics, sigma: float) -> complex:
@@ -196,8 +222,10 @@ class Ring(Scene):
         return ring_stability.linearise(physics.n, sigma, gamma_l=self._shape_modes(physics)).leading
 
     def validation_cases(self) -> tuple[ValidationCase, ...]:
-        return (ValidationCase(self.physics(n=7, sigma=0.8), 300.0),
-                ValidationCase(self.physics(n=7, sigma=0.8, pin=FREE), 300.0, convergence=False))
+        return (
+            ValidationCase(self.physics(n=7, sigma=0.8), 300.0),
+            ValidationCase(self.physics(n=7, sigma=0.8, pin=FREE), 300.0, convergence=False),
+        )
 
     def extent_points(self, physics: Physics) -> np.ndarray:
         return np.empty((0, 2)) if self.free(physics) else np.zeros((1, 2))

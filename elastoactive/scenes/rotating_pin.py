@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import math
 
-
 from ..analysis import observables as obs
 from ..params import Physics
 from ..trajectory import Trajectory

@@ -39,11 +39,11 @@ import numpy as np
 
 from ..analysis import observables as obs
 from ..analysis import star as sync
-from ..reduced.system import ChainSystem
 from ..constants import BEAD_INERTIA_FACTOR
 from ..errors import ParameterError
 from ..parameters import Parameter
 from ..params import Numerics, Physics
+from ..reduced.system import ChainSystem
 from ..trajectory import Trajectory
 from .base import Onset, Scene, ValidationCase
 
@@ -74,16 +74,46 @@ class Star(Scene):
     summary = "beyond the paper: k one-pinned arms on one hub (clamped, or turning on a spring): arm synchrony"
     base_file = "star.xml"
     parameters = (
-        Parameter("arms", 3, f"number of arms k on the hub (2 .. {MAX_ARMS}), clamped at 2 pi j / k", kind=int, low=2,
-                  high=MAX_ARMS, title="number of arms k", symbol="k"),
-        Parameter("hub", HUB_TURNING, "the hub: turning about the origin on a spring (hub_stiffness, hub_drag), or "
-                  "clamped (the arms are then k independent one-pinned chains)", kind=str,
-                  choices=(HUB_TURNING, HUB_CLAMPED), title="the hub"),
-        Parameter("hub_stiffness", 1.0, "the turning hub's torsional spring to the lab, in C1", low=0.0,
-                  title="hub stiffness (C1)", symbol="K_h", needs="hub", needs_value=HUB_TURNING),
-        Parameter("hub_drag", 1.0, "the turning hub's rotational drag, in gamma l^2 (> 0: the hub's angle has a finite "
-                  "rate)", low=0.0, low_open=True, title="hub drag (gamma l^2)", symbol="γ_h", needs="hub",
-                  needs_value=HUB_TURNING),
+        Parameter(
+            "arms",
+            3,
+            f"number of arms k on the hub (2 .. {MAX_ARMS}), clamped at 2 pi j / k",
+            kind=int,
+            low=2,
+            high=MAX_ARMS,
+            title="number of arms k",
+            symbol="k",
+        ),
+        Parameter(
+            "hub",
+            HUB_TURNING,
+            "the hub: turning about the origin on a spring (hub_stiffness, hub_drag), or "
+            "clamped (the arms are then k independent one-pinned chains)",
+            kind=str,
+            choices=(HUB_TURNING, HUB_CLAMPED),
+            title="the hub",
+        ),
+        Parameter(
+            "hub_stiffness",
+            1.0,
+            "the turning hub's torsional spring to the lab, in C1",
+            low=0.0,
+            title="hub stiffness (C1)",
+            symbol="K_h",
+            needs="hub",
+            needs_value=HUB_TURNING,
+        ),
+        Parameter(
+            "hub_drag",
+            1.0,
+            "the turning hub's rotational drag, in gamma l^2 (> 0: the hub's angle has a finite rate)",
+            low=0.0,
+            low_open=True,
+            title="hub drag (gamma l^2)",
+            symbol="γ_h",
+            needs="hub",
+            needs_value=HUB_TURNING,
+        ),
     )
     n_chains = MAX_ARMS
     observables = ("sync_order", "splay_order", "phase_locking", "phase_lag", "sync_state", "hub_amplitude", "hub_rate")
@@ -95,8 +125,10 @@ class Star(Scene):
     def check(self, physics: Physics) -> None:
         super().check(physics)
         if physics.contact:
-            raise ParameterError("contact: the star's arms meet at the hub, and self-contact between arms is not "
-                                 "modelled; run the star without --contact")
+            raise ParameterError(
+                "contact: the star's arms meet at the hub, and self-contact between arms is not "
+                "modelled; run the star without --contact"
+            )
 
     def chain_count(self, physics: Physics) -> int:
         return physics.arms
@@ -109,8 +141,11 @@ class Star(Scene):
         return 0.0  # every arm starts at the hub
 
     def label(self, physics: Physics) -> str:
-        hub = (f"hub K_h={physics.hub_stiffness:.4g} drag={physics.hub_drag:.4g}" if self.turning(physics)
-               else "hub clamped")
+        hub = (
+            f"hub K_h={physics.hub_stiffness:.4g} drag={physics.hub_drag:.4g}"
+            if self.turning(physics)
+            else "hub clamped"
+        )
         return f"{self.name} k={physics.arms} N={physics.n} sigma={physics.sigma:g} {hub}"
 
     @staticmethod
@@ -127,8 +162,14 @@ class Star(Scene):
         hub.inertia = [numerics.mass_ratio * BEAD_INERTIA_FACTOR] * 3
         spec.joint("hub_hinge").stiffness = [physics.hub_stiffness if turning else 0.0, 0.0, 0.0]
         gamma = physics.hub_drag if turning else 1.0  # a clamped hub's idle hinge: no force ever turns it
-        spec.add_actuator(name="hub_drag", default=spec.find_default("drag"), target="hub_hinge",
-                          trntype=mujoco.mjtTrn.mjTRN_JOINT, gainprm=[gamma] + [0] * 9, biasprm=[0, 0, -gamma] + [0] * 7)
+        spec.add_actuator(
+            name="hub_drag",
+            default=spec.find_default("drag"),
+            target="hub_hinge",
+            trntype=mujoco.mjtTrn.mjTRN_JOINT,
+            gainprm=[gamma] + [0] * 9,
+            biasprm=[0, 0, -gamma] + [0] * 7,
+        )
         for j, (prefix, alpha) in enumerate(zip(self.chain_prefixes(), clamp_angles(physics.arms))):
             spec.body(f"{prefix}segment_0").quat = [math.cos(alpha / 2), 0.0, 0.0, math.sin(alpha / 2)]
             hinge = spec.joint(f"{prefix}hinge_0")
@@ -165,8 +206,15 @@ class Star(Scene):
         curvatures = np.stack([obs.curvature(traj.chain(j)) for j in range(physics.arms)])
         nan = math.nan
         if min(obs.amplitude(t, x, transient) for x in curvatures) <= BEATING:
-            return {"sync_order": nan, "splay_order": nan, "phase_locking": nan, "phase_lag": (nan,) * physics.arms,
-                    "sync_state": "rest", "hub_amplitude": hub, "hub_rate": rate}
+            return {
+                "sync_order": nan,
+                "splay_order": nan,
+                "phase_locking": nan,
+                "phase_lag": (nan,) * physics.arms,
+                "sync_state": "rest",
+                "hub_amplitude": hub,
+                "hub_rate": rate,
+            }
         _, phases = sync.arm_phases(t, curvatures, transient)
         lags = (0.0, *(float(-d) for d in sync.phase_differences(phases)))
         coupled = self.turning(physics)  # a clamped hub couples nothing: no locking to measure, no state to name

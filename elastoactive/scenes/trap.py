@@ -69,15 +69,20 @@ class Trap(NetworkScene):
 
     def onset(self, physics: Physics) -> Onset:
         """sigma_c = trap l_a (Pi = 1), where the rest state's one non-zero eigenvalue trap (Pi - 1) crosses zero."""
-        return Onset(sigma_c=physics.trap * physics.alignment_length, omega_c=0.0,
-                     kind="real eigenvalue trap (Pi - 1) through zero; the circular orbit grows from radius l_a")
+        return Onset(
+            sigma_c=physics.trap * physics.alignment_length,
+            omega_c=0.0,
+            kind="real eigenvalue trap (Pi - 1) through zero; the circular orbit grows from radius l_a",
+        )
 
     def leading_eigenvalue(self, physics: Physics, sigma: float) -> complex:
         return complex(physics.trap * (sigma / (physics.trap * physics.alignment_length) - 1.0))
 
     def validation_cases(self) -> tuple[ValidationCase, ...]:
-        return (ValidationCase(self.physics(sigma=0.8, trap=0.1, alignment_length=1.0), 300.0),
-                ValidationCase(self.physics(sigma=0.2, trap=1.0, alignment_length=0.1), 100.0, convergence=False))
+        return (
+            ValidationCase(self.physics(sigma=0.8, trap=0.1, alignment_length=1.0), 300.0),
+            ValidationCase(self.physics(sigma=0.2, trap=1.0, alignment_length=0.1), 100.0, convergence=False),
+        )
 
 
 SCENE = Trap()

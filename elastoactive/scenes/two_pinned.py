@@ -12,10 +12,10 @@ from __future__ import annotations
 import numpy as np
 
 from ..analysis import observables as obs
-from ..reduced.system import ChainSystem
 from ..initial import buckled_arch, project_on_pins, pushed_chains
 from ..parameters import Parameter
 from ..params import Numerics, Physics
+from ..reduced.system import ChainSystem
 from ..trajectory import Trajectory
 from .base import Scene, ValidationCase
 
@@ -29,8 +29,18 @@ class TwoPinned(Scene):
     name = "two-pinned"
     summary = "last particle also pinned at (N l (1-delta), 0): self-snapping"
     base_file = "two-pinned.xml"
-    parameters = (Parameter("delta", 0.1, "compression of the two-pinned chain, in [0, 1)", low=0.0, high=1.0,
-                            high_open=True, title="compression", symbol="δ"),)
+    parameters = (
+        Parameter(
+            "delta",
+            0.1,
+            "compression of the two-pinned chain, in [0, 1)",
+            low=0.0,
+            high=1.0,
+            high_open=True,
+            title="compression",
+            symbol="δ",
+        ),
+    )
     min_n = 2
     pinned = True
     no_linear_operator = "its base state, the buckled arch, is held by the pins and moves with the load"
@@ -46,8 +56,13 @@ class TwoPinned(Scene):
         spec.site("pin").pos = end
         spec.geom("pin_marker").pos = end
         spec.add_equality(
-            name="pin", type=mujoco.mjtEq.mjEQ_CONNECT, objtype=mujoco.mjtObj.mjOBJ_SITE,
-            name1=f"particle_{physics.n - 1}", name2="pin", solref=[2.0 * numerics.dt, 1.0], solimp=list(PIN_SOLIMP),
+            name="pin",
+            type=mujoco.mjtEq.mjEQ_CONNECT,
+            objtype=mujoco.mjtObj.mjOBJ_SITE,
+            name1=f"particle_{physics.n - 1}",
+            name2="pin",
+            solref=[2.0 * numerics.dt, 1.0],
+            solimp=list(PIN_SOLIMP),
         )
         arch = buckled_arch(physics.n, physics.delta)
         spec.add_key(name="buckled", qpos=np.diff(arch, prepend=0.0).tolist())

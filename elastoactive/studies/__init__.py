@@ -39,8 +39,8 @@ formatting). docs/studies.md describes the contract and the diff a new study nee
 
 from __future__ import annotations
 
+from collections.abc import Callable, Mapping
 from pathlib import Path
-from typing import Callable, Mapping
 
 from . import registry
 from .base import ENGINES, SIZES, Study, Summary
@@ -50,26 +50,80 @@ from .hopf import HopfSummary, hopf_study
 from .inertia import InertiaSummary, inertia_study
 from .lattice import ActiveSolidSummary, active_solid_study
 from .linear import GrowthSummary, StabilitySummary, growth_study, stability_study
-from .noise import AnisotropySummary, NoiseReadingsSummary, NoiseSummary, anisotropy_study, noise_readings_study, noise_study
+from .noise import (
+    AnisotropySummary,
+    NoiseReadingsSummary,
+    NoiseSummary,
+    anisotropy_study,
+    noise_readings_study,
+    noise_study,
+)
 from .normal_form import NormalFormSummary, normal_form_study
-from .rotation import RotationSummary, rotation_study
-from .self_contact import LongChainSummary, long_chain_study
 from .response import EntrainmentSummary, ResponseSummary, entrainment_study, response_study
 from .ring import RingSummary, ring_study
+from .rotation import RotationSummary, rotation_study
 from .self_aligning import SelfAligningSummary, self_aligning_study
+from .self_contact import LongChainSummary, long_chain_study
 from .skin import SkinSummary, skin_study
 from .snapping import SnappingSummary, snapping_study
 from .star import StarSummary, star_study
 from .sync import SyncN2Summary, SyncSummary, TongueSummary, sync_n2_study, sync_study, tongue_study
 
 __all__ = [
-    "ENGINES", "SIZES", "STUDIES", "SUMMARIES", "Study", "Summary", "load_study", "registry",
-    "stability_study", "growth_study", "hopf_study", "normal_form_study", "snapping_study", "rotation_study",
-    "sync_study", "tongue_study", "sync_n2_study", "noise_study", "anisotropy_study",
-    "inertia_study", "noise_readings_study", "long_chain_study", "dish_study",
-    "DishSummary", "HopfSummary", "InertiaSummary", "GrowthSummary", "StabilitySummary", "AnisotropySummary",
-    "NoiseReadingsSummary", "NoiseSummary", "NormalFormSummary", "RotationSummary", "LongChainSummary",
-    "SnappingSummary", "SyncN2Summary", "SyncSummary", "TongueSummary",
+    "ENGINES",
+    "SIZES",
+    "STUDIES",
+    "SUMMARIES",
+    "Study",
+    "Summary",
+    "load_study",
+    "registry",
+    "stability_study",
+    "growth_study",
+    "hopf_study",
+    "normal_form_study",
+    "snapping_study",
+    "rotation_study",
+    "sync_study",
+    "tongue_study",
+    "sync_n2_study",
+    "noise_study",
+    "anisotropy_study",
+    "inertia_study",
+    "noise_readings_study",
+    "long_chain_study",
+    "dish_study",
+    "DishSummary",
+    "HopfSummary",
+    "InertiaSummary",
+    "GrowthSummary",
+    "StabilitySummary",
+    "AnisotropySummary",
+    "NoiseReadingsSummary",
+    "NoiseSummary",
+    "NormalFormSummary",
+    "RotationSummary",
+    "LongChainSummary",
+    "SnappingSummary",
+    "SyncN2Summary",
+    "SyncSummary",
+    "TongueSummary",
+    "ClampTongueSummary",
+    "clamp_tongue_study",
+    "ActiveSolidSummary",
+    "active_solid_study",
+    "EntrainmentSummary",
+    "ResponseSummary",
+    "entrainment_study",
+    "response_study",
+    "RingSummary",
+    "ring_study",
+    "SelfAligningSummary",
+    "self_aligning_study",
+    "SkinSummary",
+    "skin_study",
+    "StarSummary",
+    "star_study",
 ]
 
 

@@ -11,24 +11,36 @@ from the dataclass's type hints.
 from __future__ import annotations
 
 import json
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Callable, TypeVar
+from typing import TypeVar
 
 import numpy as np
-
-from ..io.jsonio import from_jsonable, to_jsonable
-from ..io.outputs import write_files
 
 from ..analysis.fits import Fit
 from ..batch import Case, CaseResult, run_cases
 from ..engines import ENGINES
+from ..io.jsonio import from_jsonable, to_jsonable
+from ..io.outputs import write_files
 from ..params import Numerics
 from ..trajectory import Trajectory
 
 __all__ = [
-    "ENGINES", "SIZES", "Study", "Summary", "EngineParts", "check_size", "pick", "run", "fast", "safe", "try_fit",
-    "downsample", "to_jsonable", "from_jsonable",
+    "ENGINES",
+    "SIZES",
+    "Study",
+    "Summary",
+    "EngineParts",
+    "check_size",
+    "pick",
+    "run",
+    "fast",
+    "safe",
+    "try_fit",
+    "downsample",
+    "to_jsonable",
+    "from_jsonable",
 ]
 
 SIZES = ("tiny", "quick", "full")
@@ -80,17 +92,26 @@ class Study:
     def save(self, folder: Path, provenance: dict | None = None) -> list[Path]:
         """<name>.npz and <name>.json in `folder`, written atomically together (the JSON, which may carry
         the provenance record of elastoactive.io.outputs, last)."""
-        record = {"study": self.name, "size": self.size, "wall_s": to_jsonable(self.wall_s),
-                  "summary": to_jsonable(self.summary)}
+        record = {
+            "study": self.name,
+            "size": self.size,
+            "wall_s": to_jsonable(self.wall_s),
+            "summary": to_jsonable(self.summary),
+        }
         if provenance is not None:
             record["provenance"] = provenance
-        return write_files(Path(folder), {
-            f"{self.name}.npz": lambda tmp: np.savez_compressed(tmp, **{k: np.asarray(v) for k, v in self.data.items()}),
-            f"{self.name}.json": lambda tmp: tmp.write_text(json.dumps(record, indent=2) + "\n"),
-        })
+        return write_files(
+            Path(folder),
+            {
+                f"{self.name}.npz": lambda tmp: np.savez_compressed(
+                    tmp, **{k: np.asarray(v) for k, v in self.data.items()}
+                ),
+                f"{self.name}.json": lambda tmp: tmp.write_text(json.dumps(record, indent=2) + "\n"),
+            },
+        )
 
     @classmethod
-    def load(cls, folder: Path, name: str, summary_type: type[Summary]) -> "Study":
+    def load(cls, folder: Path, name: str, summary_type: type[Summary]) -> Study:
         """Read back a study saved by `save`, its summary as `summary_type`."""
         folder = Path(folder)
         meta = json.loads((folder / f"{name}.json").read_text())
@@ -123,7 +144,9 @@ def run(cases: list[Case], workers, progress: bool, desc: str) -> list[Trajector
     return [r.trajectory for r in res]
 
 
-def run_measured(cases: list[Case], workers, progress: bool, desc: str, keep_trajectory: bool = False) -> list[CaseResult]:
+def run_measured(
+    cases: list[Case], workers, progress: bool, desc: str, keep_trajectory: bool = False
+) -> list[CaseResult]:
     """The cases run and measured by results.measure (over each case's transient) in the workers, in input order;
     their trajectories too with keep_trajectory (a study that needs measure's numbers gets them computed in
     parallel, not one after the other in this process)."""

@@ -28,14 +28,16 @@ class Claim:
     """The smallest reproduce size (studies.base.SIZES) whose grids and runs can meet the verdict's rule (a fit's
     error bars, a power law's range); at a smaller size the row's verdict is NOT_JUDGED (judge)."""
 
-    def judge(self, size: str) -> "Claim":
+    def judge(self, size: str) -> Claim:
         """The row as a study of `size` reports it: its numbers, and its verdict only if that size can judge it."""
         from .base import SIZES  # the sizes' order
 
         if size not in SIZES or SIZES.index(size) >= SIZES.index(self.judged_from):
             return self
-        why = (f"not judged at the {size} size: its grids and runs are too coarse for this rule (verdict from the "
-               f"{self.judged_from} size on; the numbers are shown as measured)")
+        why = (
+            f"not judged at the {size} size: its grids and runs are too coarse for this rule (verdict from the "
+            f"{self.judged_from} size on; the numbers are shown as measured)"
+        )
         return dataclasses.replace(self, agree=NOT_JUDGED, note=f"{why}. {self.note}" if self.note else why)
 
 

@@ -21,9 +21,9 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Mapping
 
 import numpy as np
 
@@ -128,8 +128,17 @@ def phase_response(physics, count: int, sample_dt: float = 0.02) -> tuple[float,
         at = up[-2] + k * period / count  # phase 0: Theta's upward crossing
         j = int(np.argmin(np.abs(free.t - at)))
         theta = free.theta[j]
-        runs = [simulate(physics, numerics, duration=RELAX * period, engine="reduced", theta0=theta + s * clamp_kick(
-            physics, theta, KICK), check=False) for s in (0.0, 1.0, -1.0)]
+        runs = [
+            simulate(
+                physics,
+                numerics,
+                duration=RELAX * period,
+                engine="reduced",
+                theta0=theta + s * clamp_kick(physics, theta, KICK),
+                check=False,
+            )
+            for s in (0.0, 1.0, -1.0)
+        ]
         xs = [obs.curvature(r.theta) for r in runs]
         lead = [locking.asymptotic_phase_shift(runs[0].t, xs[0], xs[i], omega) for i in (1, 2)]
         phases.append(omega * (free.t[j] - up[-2]))
@@ -141,6 +150,7 @@ def _edges(fractions: np.ndarray, locked: np.ndarray, adler: float) -> tuple[flo
     inside = fractions[locked]
     low_out, high_out = fractions[(~locked) & (fractions < 0)], fractions[(~locked) & (fractions > 0)]
     nan = math.nan
+
     def scaled(values: np.ndarray, pick_one) -> float:
         return float(pick_one(values) * adler) if values.size else nan
 
@@ -162,7 +172,7 @@ def clamp_tongue_study(size: str = "quick", workers=None, progress: bool = True)
     f0, phases, z, prc_wall = phase_response(physics, pick(size, 8, 16, 32))
     coupling = locking.coupling_amplitude(phases, z)
     centred = z - z.mean()
-    harmonic = coupling * 2 / math.sqrt(2) / float(np.sqrt(np.mean(centred ** 2)))
+    harmonic = coupling * 2 / math.sqrt(2) / float(np.sqrt(np.mean(centred**2)))
     per_amplitude = coupling  # Adler's A Omega c / (2 pi f_0), relative to f_0, with Omega = 2 pi f_0
     numerics = Numerics.preset("fast")
     free_mj = run([Case(physics, numerics, FREE, "mujoco")], workers, progress, "free beat")[0]
@@ -204,14 +214,31 @@ def clamp_tongue_study(size: str = "quick", workers=None, progress: bool = True)
             data[f"spread_{eng}_{amp:g}"] = np.array([locked[(amp, f, eng)][2] for f in fractions])
         mask = data[f"locked_mujoco_{amp:g}"]
         agree = all(np.array_equal(mask, data[f"locked_{e}_{amp:g}"]) for e in engines)
-        rows.append(TongueRow(float(amp), float(adler), *_edges(fractions, mask, adler), float(duration),
-                              float(transient), bool(agree)))
+        rows.append(
+            TongueRow(
+                float(amp),
+                float(adler),
+                *_edges(fractions, mask, adler),
+                float(duration),
+                float(transient),
+                bool(agree),
+            )
+        )
     summary = ClampTongueSummary(
-        n=N, sigma=sigma, free_frequency=float(f0), mujoco_free_frequency=f_mj, phases=int(phases.size),
-        coupling=float(coupling), harmonic_fraction=float(harmonic), adler_per_amplitude=float(per_amplitude),
+        n=N,
+        sigma=sigma,
+        free_frequency=float(f0),
+        mujoco_free_frequency=f_mj,
+        phases=int(phases.size),
+        coupling=float(coupling),
+        harmonic_fraction=float(harmonic),
+        adler_per_amplitude=float(per_amplitude),
         rows=rows,
-        tracking_error=track, reduced_checked="reduced" in engines, prc_wall_s=float(prc_wall),
-        scan_wall_s=float(scan_wall))
+        tracking_error=track,
+        reduced_checked="reduced" in engines,
+        prc_wall_s=float(prc_wall),
+        scan_wall_s=float(scan_wall),
+    )
     return Study("clamp_tongue", size, data, summary, time.perf_counter() - start)
 
 
@@ -225,15 +252,26 @@ def clamp_tongue_figure(study: Study, out: Path) -> list[Path]:
     top = 1.15 * amps.max()
     line = np.linspace(0, top, 50)
     for sign in (-1, 1):
-        a1.plot(1 + sign * line * s.adler_per_amplitude, line, "k--", lw=1,
-                label="Adler: $|f/f_0-1| = A\\,\\max|H|/2\\pi f_0$" if sign > 0 else None)
+        a1.plot(
+            1 + sign * line * s.adler_per_amplitude,
+            line,
+            "k--",
+            lw=1,
+            label="Adler: $|f/f_0-1| = A\\,\\max|H|/2\\pi f_0$" if sign > 0 else None,
+        )
     for r in s.rows:
         f = 1 + d["fractions"] * r.adler
         mask = d[f"locked_mujoco_{r.amplitude:g}"]
         first = r is s.rows[0]
         a1.plot(f[mask], np.full(mask.sum(), r.amplitude), "o", color="C0", label="locked (MuJoCo)" if first else None)
-        a1.plot(f[~mask], np.full((~mask).sum(), r.amplitude), "o", mfc="none", color="C3",
-                label="not locked (MuJoCo)" if first else None)
+        a1.plot(
+            f[~mask],
+            np.full((~mask).sum(), r.amplitude),
+            "o",
+            mfc="none",
+            color="C3",
+            label="not locked (MuJoCo)" if first else None,
+        )
     a1.set_xlabel(r"drive frequency $f / f_0$")
     a1.set_ylabel(r"clamp amplitude $A$ ($l$)")
     a1.set_ylim(0, top)
@@ -261,37 +299,64 @@ def clamp_tongue_claims(study: Study, read: Mapping[str, Study]) -> list[Claim]:
         return (r.unlocked_low <= -r.adler <= r.locked_low) and (r.locked_high <= r.adler <= r.unlocked_high)
 
     def edges(rows) -> str:
-        return "; ".join(f"A = {r.amplitude:g} l: locked from {r.locked_low:+.4f} to {r.locked_high:+.4f} (not at "
-                         f"{r.unlocked_low:+.4f}, {r.unlocked_high:+.4f}) against Adler +-{r.adler:.4f}" for r in rows)
+        return "; ".join(
+            f"A = {r.amplitude:g} l: locked from {r.locked_low:+.4f} to {r.locked_high:+.4f} (not at "
+            f"{r.unlocked_low:+.4f}, {r.unlocked_high:+.4f}) against Adler +-{r.adler:.4f}"
+            for r in rows
+        )
 
     weak = [r for r in s.rows if r.adler <= WEAK]
     strong = [r for r in s.rows if r.adler > WEAK]
     text = edges(weak)
-    reduced = ("the reduced engine locks at the same detunings" if all(r.engines_agree for r in s.rows)
-               else "the reduced engine locks at other detunings") if s.reduced_checked else (
-        "phase response measured here; the tongue's engine agreement: validate (both within 0.12%)")
+    reduced = (
+        (
+            "the reduced engine locks at the same detunings"
+            if all(r.engines_agree for r in s.rows)
+            else "the reduced engine locks at other detunings"
+        )
+        if s.reduced_checked
+        else ("phase response measured here; the tongue's engine agreement: validate (both within 0.12%)")
+    )
     return [
-        Claim("A clamp oscillating across the chain entrains the beat inside an Arnold tongue of Adler's width",
-              outlook, text, reduced,
-              verdict(bool(weak) and all(bracketed(r) for r in weak) and all(r.engines_agree for r in s.rows)),
-              f"N = {s.n}, sigma = {s.sigma:g} ({RATIO:g} sigma_c), y_c = A sin(2 pi f t); detunings f / f_0 - 1 "
-              f"(f_0 tau = {s.mujoco_free_frequency:.5f} in MuJoCo's fast preset, {s.free_frequency:.5f} reduced), "
-              f"weak drives (Adler's half width <= {WEAK:g} f_0). "
-              f"Adler: |f / f_0 - 1| <= A max|H| / (2 pi f_0) = {s.adler_per_amplitude:.4f} A/l, from the phase "
-              f"response Z(phi) measured by +-{KICK:g} l clamp jumps at {s.phases} phases (reduced model): "
-              f"max|H| / Omega = "
-              f"{s.coupling:.4f} rad/l, Z's first harmonic {100 * s.harmonic_fraction:.1f}% of its RMS. Locked: "
-              f"|f_beat / f - 1| < {LOCKED:g} and phase spread < {SPREAD:g} rad over the window after the transient."),
-        *([Claim("A strong clamp drive bends the tongue toward higher frequencies (beyond Adler's first order)",
-                 outlook, edges(strong), "-" if not s.reduced_checked else reduced,
-                 verdict(all(r.locked_high > r.adler or r.unlocked_low > -r.adler for r in strong)),
-                 f"Adler's half width above {WEAK:g} f_0: the drive is no longer weak. The locked band is no longer "
-                 "symmetric about f_0: it reaches beyond Adler's upper edge and stops short of its lower one (the "
-                 "drive changes the beat's amplitude, on which its frequency depends). docs/clamp.md quotes the "
-                 "reduced engine at the two outer points.")] if strong else []),
-        Claim("MuJoCo's servo moves the clamp along its prescribed path", "-",
-              f"within {s.tracking_error:.1e} l over the tongue's runs", "prescribed exactly",
-              verdict(s.tracking_error < 1e-3 * max(r.amplitude for r in s.rows)),
-              "the root on two slides, implicit damping B = 1e4 and the callback's B u(t) + K (y_c(t) - q), "
-              "K = 0.1 B / dt (docs/clamp.md)"),
+        Claim(
+            "A clamp oscillating across the chain entrains the beat inside an Arnold tongue of Adler's width",
+            outlook,
+            text,
+            reduced,
+            verdict(bool(weak) and all(bracketed(r) for r in weak) and all(r.engines_agree for r in s.rows)),
+            f"N = {s.n}, sigma = {s.sigma:g} ({RATIO:g} sigma_c), y_c = A sin(2 pi f t); detunings f / f_0 - 1 "
+            f"(f_0 tau = {s.mujoco_free_frequency:.5f} in MuJoCo's fast preset, {s.free_frequency:.5f} reduced), "
+            f"weak drives (Adler's half width <= {WEAK:g} f_0). "
+            f"Adler: |f / f_0 - 1| <= A max|H| / (2 pi f_0) = {s.adler_per_amplitude:.4f} A/l, from the phase "
+            f"response Z(phi) measured by +-{KICK:g} l clamp jumps at {s.phases} phases (reduced model): "
+            f"max|H| / Omega = "
+            f"{s.coupling:.4f} rad/l, Z's first harmonic {100 * s.harmonic_fraction:.1f}% of its RMS. Locked: "
+            f"|f_beat / f - 1| < {LOCKED:g} and phase spread < {SPREAD:g} rad over the window after the transient.",
+        ),
+        *(
+            [
+                Claim(
+                    "A strong clamp drive bends the tongue toward higher frequencies (beyond Adler's first order)",
+                    outlook,
+                    edges(strong),
+                    "-" if not s.reduced_checked else reduced,
+                    verdict(all(r.locked_high > r.adler or r.unlocked_low > -r.adler for r in strong)),
+                    f"Adler's half width above {WEAK:g} f_0: the drive is no longer weak. The locked band is no longer "
+                    "symmetric about f_0: it reaches beyond Adler's upper edge and stops short of its lower one (the "
+                    "drive changes the beat's amplitude, on which its frequency depends). docs/clamp.md quotes the "
+                    "reduced engine at the two outer points.",
+                )
+            ]
+            if strong
+            else []
+        ),
+        Claim(
+            "MuJoCo's servo moves the clamp along its prescribed path",
+            "-",
+            f"within {s.tracking_error:.1e} l over the tongue's runs",
+            "prescribed exactly",
+            verdict(s.tracking_error < 1e-3 * max(r.amplitude for r in s.rows)),
+            "the root on two slides, implicit damping B = 1e4 and the callback's B u(t) + K (y_c(t) - q), "
+            "K = 0.1 B / dt (docs/clamp.md)",
+        ),
     ]

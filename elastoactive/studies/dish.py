@@ -15,23 +15,23 @@ from __future__ import annotations
 import dataclasses
 import math
 import time
+from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Mapping
 
 import numpy as np
 
 from ..analysis import dish
 from ..batch import Case
-from ..report.paper import PAPER
 from ..params import Numerics
+from ..report.paper import PAPER
 from ..results import Results
 from ..scenes import paraboloid
 from . import plotting as plots
 from . import registry
 from .base import Study, Summary, pick, run_measured
-from .inertia import HEXBUG_MASS_KG
 from .claim_rows import Claim, verdict
+from .inertia import HEXBUG_MASS_KG
 
 __all__ = ["DishPoint", "DishSummary", "dish_study", "focal_length_m"]
 
@@ -107,8 +107,18 @@ def _point(case: Case, r: Results) -> DishPoint:
     """The point of a case measured (by results.measure) in the workers."""
     p = case.physics
     end = float(case.numerics.sample_times(case.duration)[-1])
-    return DishPoint(p.sigma, p.trap, case.engine, end, r.dish_state, r.rotation_rate, r.orbit_rate,
-                     r.orbit_radius, r.curvature, float(r.amplitude))
+    return DishPoint(
+        p.sigma,
+        p.trap,
+        case.engine,
+        end,
+        r.dish_state,
+        r.rotation_rate,
+        r.orbit_rate,
+        r.orbit_radius,
+        r.curvature,
+        float(r.amplitude),
+    )
 
 
 DISH = registry.declare("dish", summary=DishSummary, order=150)
@@ -118,20 +128,38 @@ DISH = registry.declare("dish", summary=DishSummary, order=150)
 def dish_study(size: str = "quick", workers=None, progress: bool = True) -> Study:
     """The (sigma, trap) phase diagram of N = 7 (reduced model) and both engines at the supplement's sigma = 0.30."""
     start = time.perf_counter()
-    sigmas = pick(size, (0.3, 1.2), (0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.8, 1.0, 1.2, 1.6, 2.0),
-                  tuple(np.round(np.geomspace(0.1, 3.0, 25), 4)))
-    traps = pick(size, (0.1, 0.3), tuple(np.round(np.geomspace(0.003, 3.0, 13), 5)),
-                 tuple(np.round(np.geomspace(0.003, 3.0, 31), 5)))
+    sigmas = pick(
+        size,
+        (0.3, 1.2),
+        (0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.8, 1.0, 1.2, 1.6, 2.0),
+        tuple(np.round(np.geomspace(0.1, 3.0, 25), 4)),
+    )
+    traps = pick(
+        size,
+        (0.1, 0.3),
+        tuple(np.round(np.geomspace(0.003, 3.0, 13), 5)),
+        tuple(np.round(np.geomspace(0.003, 3.0, 31), 5)),
+    )
     if SUPPLEMENT_SIGMA not in sigmas:
         sigmas = tuple(sorted(sigmas + (SUPPLEMENT_SIGMA,)))
-    checks = pick(size, ((SUPPLEMENT_SIGMA, 0.1),), tuple((SUPPLEMENT_SIGMA, k) for k in (0.03, 0.1, 0.3)) + ((1.2, 0.3),),
-                  tuple((SUPPLEMENT_SIGMA, k) for k in (0.003, 0.01, 0.03, 0.1, 0.2, 0.3, 1.0, 3.0)) + ((1.2, 0.3), (0.5, 0.1)))
+    checks = pick(
+        size,
+        ((SUPPLEMENT_SIGMA, 0.1),),
+        tuple((SUPPLEMENT_SIGMA, k) for k in (0.03, 0.1, 0.3)) + ((1.2, 0.3),),
+        tuple((SUPPLEMENT_SIGMA, k) for k in (0.003, 0.01, 0.03, 0.1, 0.2, 0.3, 1.0, 3.0)) + ((1.2, 0.3), (0.5, 0.1)),
+    )
     scan = tuple(float(k) for k in np.round(np.geomspace(0.03, 0.6, pick(size, 4, 19, 41)), 5))
     scene = paraboloid.SCENE
     numerics = Numerics(sample_dt=SAMPLE_DT)
-    cases = [Case(scene.physics(n=N, sigma=s, trap=k), numerics, _duration(k), "reduced") for s in sigmas for k in traps]
+    cases = [
+        Case(scene.physics(n=N, sigma=s, trap=k), numerics, _duration(k), "reduced") for s in sigmas for k in traps
+    ]
     cases += [Case(scene.physics(n=N, sigma=SUPPLEMENT_SIGMA, trap=k), numerics, _duration(k), "reduced") for k in scan]
-    cases += [Case(scene.physics(n=N, sigma=s, trap=k), numerics, _duration(k), e) for s, k in checks for e in ("mujoco", "reduced")]
+    cases += [
+        Case(scene.physics(n=N, sigma=s, trap=k), numerics, _duration(k), e)
+        for s, k in checks
+        for e in ("mujoco", "reduced")
+    ]
     points = [_point(c, r.results) for c, r in zip(cases, run_measured(cases, workers, progress, "dish N=7"))]
     unsettled = [i for i, p in enumerate(points) if p.state == "irregular"]
     for _ in range(SETTLE_RETRIES):  # next to a threshold the motion settles slowly: run those points longer
@@ -162,12 +190,21 @@ def dish_study(size: str = "quick", workers=None, progress: bool = True) -> Stud
             if math.isfinite(a) and math.isfinite(b) and abs(b) > dish.REST_RATE:
                 diffs.append(abs(a / b - 1))
     summary = DishSummary(
-        N, tuple(float(s) for s in sigmas), tuple(float(k) for k in traps), counts, counts["crawl"] > 0,
-        SUPPLEMENT_SIGMA, (min(orbiting), max(orbiting)) if orbiting else (math.nan, math.nan),
+        N,
+        tuple(float(s) for s in sigmas),
+        tuple(float(k) for k in traps),
+        counts,
+        counts["crawl"] > 0,
+        SUPPLEMENT_SIGMA,
+        (min(orbiting), max(orbiting)) if orbiting else (math.nan, math.nan),
         (focal_length_m(max(orbiting), SUPPLEMENT_SIGMA), focal_length_m(min(orbiting), SUPPLEMENT_SIGMA))
-        if orbiting else (math.nan, math.nan),
-        {f"{k:g}": p.state for k, p in sorted(at.items())}, check,
-        float(max(diffs)) if diffs else math.nan, bool(same))
+        if orbiting
+        else (math.nan, math.nan),
+        {f"{k:g}": p.state for k, p in sorted(at.items())},
+        check,
+        float(max(diffs)) if diffs else math.nan,
+        bool(same),
+    )
     return Study("dish", size, data, summary, time.perf_counter() - start)
 
 
@@ -188,8 +225,15 @@ def dish_figures(study: Study, out: Path) -> list[Path]:
     sig, trap = np.asarray(d["sigma"]), np.asarray(d["trap"])
     fig, (a1, a2) = plt.subplots(1, 2, figsize=(11.0, 4.4))
     cmap = mpl.colors.ListedColormap([DISH_COLOURS[n] for n in names])
-    a1.pcolormesh(plots.edges(trap, log=True), plots.edges(sig, log=True), d["state"], cmap=cmap, vmin=-0.5,
-                  vmax=len(names) - 0.5, shading="flat")
+    a1.pcolormesh(
+        plots.edges(trap, log=True),
+        plots.edges(sig, log=True),
+        d["state"],
+        cmap=cmap,
+        vmin=-0.5,
+        vmax=len(names) - 0.5,
+        shading="flat",
+    )
     for p in s.checks:
         if p.engine == "mujoco":
             a1.plot(p.trap, p.sigma, "o", mfc="none", mec="w", ms=9, mew=1.5)
@@ -233,24 +277,35 @@ def dish_claims(st: Study, read: Mapping[str, Study]) -> list[Claim]:
     lo, hi = s.supplement_orbit_traps
     states = ", ".join(f"{k}: {v}" for k, v in s.supplement_states.items())
     mj = [p for p in s.checks if p.engine == "mujoco" and p.sigma == s.supplement_sigma]
-    mj_txt = "; ".join(f"trap {p.trap:g}: {p.state}, body {p.rotation_rate:+.4f}, orbit {p.orbit_rate:+.4f} rad/tau, "
-                       f"R {p.orbit_radius:.3g}" for p in mj)
+    mj_txt = "; ".join(
+        f"trap {p.trap:g}: {p.state}, body {p.rotation_rate:+.4f}, orbit {p.orbit_rate:+.4f} rad/tau, "
+        f"R {p.orbit_radius:.3g}"
+        for p in mj
+    )
     counts = ", ".join(f"{k} {v}" for k, v in s.states.items() if v)
-    return [Claim(
-        f"Chain in a paraboloid dish (sigma = {s.supplement_sigma:g}): goes round the centre and crawls in circles",
-        f'"{PAPER.dish_words}"', mj_txt, f"by trap: {states}",
-        verdict(math.isfinite(lo)),
-        f"The dish as a harmonic trap -k r (its small-slope limit), N = {s.n}. At sigma = {s.supplement_sigma:g} the chain "
-        f"goes round the centre, its bent body crawling head first along the circle, for trap {lo:g}-{hi:g} (of a "
-        f"fine scan); weaker traps hold it still far out, "
-        f"pointing outward; stiffer ones curl it into a spin near the centre. "
-        f"A real dish z = r^2 / (4 f) gives trap = m g l sigma / (2 f F_a): with an ASSUMED 7 g bug and the paper's F_a "
-        f"and pitch, the orbit band is a focal length of {s.supplement_focal_length_m[0]:.2f}-"
-        f"{s.supplement_focal_length_m[1]:.2f} m, comparable to a household satellite dish (f / D ~ 0.6 at "
-        "0.6-1 m across). "
-        f"Phase diagram over {len(s.sigmas)} x {len(s.traps)} (sigma, trap) points: {counts}. "
-        + ("A crawl with a body rotation different from the orbit occurs. " if s.crawl_found else
-           "Nowhere does the body turn at a rate other than the orbit's: the steady crawl of the dish is a rigid orbit, "
-           "so the supplement's two motions are one. ")
-        + f"Engines: rates within {100 * s.engines_max_rel_diff:.2g}%, "
-        + ("the same state at every check" if s.engines_same_state else "states differ at some checks"))]
+    return [
+        Claim(
+            f"Chain in a paraboloid dish (sigma = {s.supplement_sigma:g}): goes round the centre and crawls in circles",
+            f'"{PAPER.dish_words}"',
+            mj_txt,
+            f"by trap: {states}",
+            verdict(math.isfinite(lo)),
+            f"The dish as a harmonic trap -k r (its small-slope limit), N = {s.n}. At sigma = {s.supplement_sigma:g} the chain "
+            f"goes round the centre, its bent body crawling head first along the circle, for trap {lo:g}-{hi:g} (of a "
+            f"fine scan); weaker traps hold it still far out, "
+            f"pointing outward; stiffer ones curl it into a spin near the centre. "
+            f"A real dish z = r^2 / (4 f) gives trap = m g l sigma / (2 f F_a): with an ASSUMED 7 g bug and the paper's F_a "
+            f"and pitch, the orbit band is a focal length of {s.supplement_focal_length_m[0]:.2f}-"
+            f"{s.supplement_focal_length_m[1]:.2f} m, comparable to a household satellite dish (f / D ~ 0.6 at "
+            "0.6-1 m across). "
+            f"Phase diagram over {len(s.sigmas)} x {len(s.traps)} (sigma, trap) points: {counts}. "
+            + (
+                "A crawl with a body rotation different from the orbit occurs. "
+                if s.crawl_found
+                else "Nowhere does the body turn at a rate other than the orbit's: the steady crawl of the dish is a rigid orbit, "
+                "so the supplement's two motions are one. "
+            )
+            + f"Engines: rates within {100 * s.engines_max_rel_diff:.2g}%, "
+            + ("the same state at every check" if s.engines_same_state else "states differ at some checks"),
+        )
+    ]

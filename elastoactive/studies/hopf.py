@@ -6,9 +6,9 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Mapping
 
 import numpy as np
 
@@ -71,7 +71,9 @@ class HopfSummary(EngineParts):
     reduced: HopfEngine
 
 
-def _hopf_duration(n: int, sigma: float, cap: float, min_window: float, max_window: float = 3000.0) -> tuple[float, float]:
+def _hopf_duration(
+    n: int, sigma: float, cap: float, min_window: float, max_window: float = 3000.0
+) -> tuple[float, float]:
     lam = stab.eigenvalues(n, sigma)[0]
     rate = max(abs(lam.real), 1e-5)
     period = 2 * np.pi / max(abs(lam.imag), 1e-6)
@@ -92,11 +94,53 @@ def hopf_study(size: str = "quick", workers=None, progress: bool = True) -> Stud
     sigmas = pick(
         size,
         (0.15, 0.166, 0.2, 0.3, 0.8),
-        (0.14, 0.15, 0.155, 0.1585, 0.1595, 0.161, 0.1625, 0.164, 0.166, 0.17, 0.175, 0.18, 0.19, 0.2, 0.25, 0.3,
-         0.4, 0.5, 0.6, 0.695, 0.8, 1.0),
-        tuple(np.round(np.r_[0.13, 0.14, 0.15, 0.155, 0.1578, 0.158, 0.1585, 0.159, 0.1595, 0.1605, 0.161, 0.1625,
-                            np.arange(0.164, 0.2, 0.002), np.arange(0.2, 0.5, 0.025),
-                            np.arange(0.5, 1.21, 0.05), PAPER.fig2_sigmas], 4)),
+        (
+            0.14,
+            0.15,
+            0.155,
+            0.1585,
+            0.1595,
+            0.161,
+            0.1625,
+            0.164,
+            0.166,
+            0.17,
+            0.175,
+            0.18,
+            0.19,
+            0.2,
+            0.25,
+            0.3,
+            0.4,
+            0.5,
+            0.6,
+            0.695,
+            0.8,
+            1.0,
+        ),
+        tuple(
+            np.round(
+                np.r_[
+                    0.13,
+                    0.14,
+                    0.15,
+                    0.155,
+                    0.1578,
+                    0.158,
+                    0.1585,
+                    0.159,
+                    0.1595,
+                    0.1605,
+                    0.161,
+                    0.1625,
+                    np.arange(0.164, 0.2, 0.002),
+                    np.arange(0.2, 0.5, 0.025),
+                    np.arange(0.5, 1.21, 0.05),
+                    PAPER.fig2_sigmas,
+                ],
+                4,
+            )
+        ),
     )
     sigmas = tuple(sorted(set(float(s) for s in sigmas)))
     cap = pick(size, 500.0, 8000.0, 20000.0)
@@ -113,7 +157,9 @@ def hopf_study(size: str = "quick", workers=None, progress: bool = True) -> Stud
         # from a first pass) so that the slow approach near onset only has a small gap to close
         kick = float(np.clip(0.73 * 5.0 * math.sqrt(max(s - s_lin, 0.0)), 0.05, 0.5))
         for eng in ENGINES:
-            cases.append(Case(one_pinned.SCENE.physics(n=n, sigma=s), fast(perturbation=kick, sample_dt=0.1), dur, eng, tr_))
+            cases.append(
+                Case(one_pinned.SCENE.physics(n=n, sigma=s), fast(perturbation=kick, sample_dt=0.1), dur, eng, tr_)
+            )
             meta.append((s, eng, tr_))
     trajs = run(cases, workers, progress, "Hopf N=7")
     data = {"sigma": np.array(sigmas)}
@@ -151,8 +197,11 @@ def hopf_study(size: str = "quick", workers=None, progress: bool = True) -> Stud
         for wmax in windows:
             f = try_fit(fits.onset_power_law_fit, sig[ok & (sig <= wmax)], amp[ok & (sig <= wmax)])
             if f:
-                by_window.append(BetaWindow(sigma_max=wmax, n=f.n, onset=f.params["onset"], beta=f.params["beta"],
-                                            beta_err=f.errors["beta"]))
+                by_window.append(
+                    BetaWindow(
+                        sigma_max=wmax, n=f.n, onset=f.params["onset"], beta=f.params["beta"], beta_err=f.errors["beta"]
+                    )
+                )
         sq = try_fit(fits.square_root_onset_fit, sig[near & (sig <= 0.175)], amp[near & (sig <= 0.175)])
         lin = try_fit(fits.linear_fit, sig[ok], freq[ok])
         lin_far = try_fit(fits.linear_fit, sig[ok & (sig >= 0.4)], freq[ok & (sig >= 0.4)])
@@ -164,12 +213,26 @@ def hopf_study(size: str = "quick", workers=None, progress: bool = True) -> Stud
         if pl is not None and lin_near:
             f_onset = lin_near.params["intercept"] + lin_near.params["slope"] * pl.params["onset"]
         parts[eng] = HopfEngine(
-            power_law=pl, power_law_corrected=plc, sqrt_fit=sq, beta_by_window=by_window, freq_linear_all=lin,
-            freq_linear_far=lin_far, freq_linear_near=lin_near, last_stable_sigma=last_off, first_oscillating_sigma=first_on,
-            amplitude_at_fig2_sigma=float(amp[at_fig2]), frequency_at_fig2_sigma=float(freq[at_fig2]),
-            f_at_onset_from_near_fit=f_onset)
-    summary = HopfSummary(sigma_c_linear=s7, f_c_linear=w7 / (2 * np.pi), fit_sigma_max=fit_max,
-                          fit_sigma_max_corrected=fit_max_corr, **parts)
+            power_law=pl,
+            power_law_corrected=plc,
+            sqrt_fit=sq,
+            beta_by_window=by_window,
+            freq_linear_all=lin,
+            freq_linear_far=lin_far,
+            freq_linear_near=lin_near,
+            last_stable_sigma=last_off,
+            first_oscillating_sigma=first_on,
+            amplitude_at_fig2_sigma=float(amp[at_fig2]),
+            frequency_at_fig2_sigma=float(freq[at_fig2]),
+            f_at_onset_from_near_fit=f_onset,
+        )
+    summary = HopfSummary(
+        sigma_c_linear=s7,
+        f_c_linear=w7 / (2 * np.pi),
+        fit_sigma_max=fit_max,
+        fit_sigma_max_corrected=fit_max_corr,
+        **parts,
+    )
     return Study("hopf", size, data, summary, time.perf_counter() - start)
 
 
@@ -209,9 +272,16 @@ def hopf_figures(study: Study, out: Path) -> list[Path]:
     if plc:
         p = plc.params
         xx = np.linspace(p["onset"] + 1e-7, s.fit_sigma_max_corrected, 200)
-        a1.plot(xx, p["prefactor"] * (xx - p["onset"]) ** p["beta"] * (1 + p["c"] * (xx - p["onset"])), "C0-", lw=1,
-                label="fit " r"$a\Delta^\beta(1+c\Delta)$, $\Delta=\sigma-\sigma_c$:" "\n"
-                      rf"$\sigma_c$ = {p['onset']:.5f}, $\beta$ = {p['beta']:.3f}")
+        a1.plot(
+            xx,
+            p["prefactor"] * (xx - p["onset"]) ** p["beta"] * (1 + p["c"] * (xx - p["onset"])),
+            "C0-",
+            lw=1,
+            label="fit "
+            r"$a\Delta^\beta(1+c\Delta)$, $\Delta=\sigma-\sigma_c$:"
+            "\n"
+            rf"$\sigma_c$ = {p['onset']:.5f}, $\beta$ = {p['beta']:.3f}",
+        )
     a1.axvline(sc, color="C3", ls="--", lw=0.8, label=rf"$\sigma_c$, linear stability: {sc:.4f}")
     a1.set_ylabel(r"amplitude of $\Theta=\theta_N-\theta_1$ (rad)")
     plots.add_handle(a1, plots.stable_patch(), loc="upper left", bbox_to_anchor=(0.06, 1.0))
@@ -233,10 +303,24 @@ def hopf_figures(study: Study, out: Path) -> list[Path]:
     lin = s.mujoco.freq_linear_all
     if lin:
         xx = np.linspace(sc, sig.max(), 50)
-        a2.plot(xx, lin.params["intercept"] + lin.params["slope"] * xx, "k-", lw=0.7,
-                label=f"straight-line fit (MuJoCo), R² = {lin.r2:.4f}")
-    a2.plot([sc], [s.f_c_linear], "*", color="gold", mec="k", mew=0.6, ms=13, zorder=5,
-            label=rf"onset, linear stability: $f\tau$ = {s.f_c_linear:.5f}")
+        a2.plot(
+            xx,
+            lin.params["intercept"] + lin.params["slope"] * xx,
+            "k-",
+            lw=0.7,
+            label=f"straight-line fit (MuJoCo), R² = {lin.r2:.4f}",
+        )
+    a2.plot(
+        [sc],
+        [s.f_c_linear],
+        "*",
+        color="gold",
+        mec="k",
+        mew=0.6,
+        ms=13,
+        zorder=5,
+        label=rf"onset, linear stability: $f\tau$ = {s.f_c_linear:.5f}",
+    )
     a2.set_ylabel(r"beat frequency $f\tau$ (cycles per $\tau$)")
     plots.add_handle(a2, plots.stable_patch(), loc="upper left")
     a2.set_title("Fig. 3b: N = 7, frequency of the beat")
@@ -293,31 +377,54 @@ def hopf_claims(h: Study, read: Mapping[str, Study]) -> list[Claim]:
     po, po_e = fit_value(m.power_law, "onset")
     pb, pb_e = fit_value(m.power_law, "beta")
     model = "A = a (sigma - sigma_c)^beta (1 + c (sigma - sigma_c))" if corrected else "A = a (sigma - sigma_c)^beta"
-    rows.append(Claim(
-        "N = 7 simulations: onset sigma_c", f"{PAPER.sigma_c_7_sim:g} ± {PAPER.sigma_c_7_sim_err:g}",
-        pm(mo, mo_e, 6), pm(ro, ro_e, 6),
-        verdict(mo is not None and abs(mo - PAPER.sigma_c_7_sim) <= PAPER.sigma_c_7_sim_err + 2 * (mo_e or 0)),
-        f"fit of {model} to the sustained beats with sigma <= {wmax} (MuJoCo fast preset); linear stability "
-        f"{s.sigma_c_linear:.6f}; last stable / first oscillating grid point: {m.last_stable_sigma} / "
-        f"{m.first_oscillating_sigma}", judged_from="quick"))  # the tiny size: short runs, a coarse grid far from onset
+    rows.append(
+        Claim(
+            "N = 7 simulations: onset sigma_c",
+            f"{PAPER.sigma_c_7_sim:g} ± {PAPER.sigma_c_7_sim_err:g}",
+            pm(mo, mo_e, 6),
+            pm(ro, ro_e, 6),
+            verdict(mo is not None and abs(mo - PAPER.sigma_c_7_sim) <= PAPER.sigma_c_7_sim_err + 2 * (mo_e or 0)),
+            f"fit of {model} to the sustained beats with sigma <= {wmax} (MuJoCo fast preset); linear stability "
+            f"{s.sigma_c_linear:.6f}; last stable / first oscillating grid point: {m.last_stable_sigma} / "
+            f"{m.first_oscillating_sigma}",
+            judged_from="quick",
+        )
+    )  # the tiny size: short runs, a coarse grid far from onset
     trend = ", ".join(f"{w.beta:.3f} (sigma <= {w.sigma_max:g})" for w in m.beta_by_window)
-    rows.append(Claim(
-        f"Amplitude grows as (sigma - sigma_c)^{PAPER.hopf_exponent:g} (supercritical Hopf)", f"{PAPER.hopf_exponent:g}",
-        pm(mb, mb_e, 3), pm(rb, rb_e, 3),
-        verdict(mb is not None and abs(mb - PAPER.hopf_exponent) <= max(3 * (mb_e or 0), 0.01)),
-        f"exponent of the same fit. Without the correction term the fitted exponent depends on the window, because the "
-        f"amplitude (~6 sqrt(sigma - sigma_c) rad) saturates early: {trend} (MuJoCo; sigma_c "
-        f"{pm(po, po_e, 5)} for sigma <= {s.fit_sigma_max})", judged_from="quick"))
+    rows.append(
+        Claim(
+            f"Amplitude grows as (sigma - sigma_c)^{PAPER.hopf_exponent:g} (supercritical Hopf)",
+            f"{PAPER.hopf_exponent:g}",
+            pm(mb, mb_e, 3),
+            pm(rb, rb_e, 3),
+            verdict(mb is not None and abs(mb - PAPER.hopf_exponent) <= max(3 * (mb_e or 0), 0.01)),
+            f"exponent of the same fit. Without the correction term the fitted exponent depends on the window, because the "
+            f"amplitude (~6 sqrt(sigma - sigma_c) rad) saturates early: {trend} (MuJoCo; sigma_c "
+            f"{pm(po, po_e, 5)} for sigma <= {s.fit_sigma_max})",
+            judged_from="quick",
+        )
+    )
     lin_m, lin_r = m.freq_linear_all, r.freq_linear_all
     near, far = m.freq_linear_near, m.freq_linear_far
     if lin_m:
         r2 = lin_m.r2
         txt = f"R^2 = {r2:.4f} over the oscillating range"
-        note = (f"slope of f tau vs sigma: {near.params['slope']:.4f} near onset (sigma <= {s.fit_sigma_max}), "
-                f"{far.params['slope']:.4f} for sigma >= 0.4; onset f tau = {s.f_c_linear:.5f} (linear stability); "
-                f"f tau at sigma = {PAPER.fig2_sigma_simulation:g}: {m.frequency_at_fig2_sigma:.5f}" if near and far else "")
+        note = (
+            f"slope of f tau vs sigma: {near.params['slope']:.4f} near onset (sigma <= {s.fit_sigma_max}), "
+            f"{far.params['slope']:.4f} for sigma >= 0.4; onset f tau = {s.f_c_linear:.5f} (linear stability); "
+            f"f tau at sigma = {PAPER.fig2_sigma_simulation:g}: {m.frequency_at_fig2_sigma:.5f}"
+            if near and far
+            else ""
+        )
         ok = r2 > 0.999
-        rows.append(Claim("Rescaled frequency f tau grows linearly with sigma", "linear", txt,
-                          f"R^2 = {lin_r.r2:.4f}" if lin_r else "-", verdict(ok, partly=r2 > 0.99),
-                          note + ("" if ok else ": linear above sigma ~ 0.3, but the slope near onset is less than half")))
+        rows.append(
+            Claim(
+                "Rescaled frequency f tau grows linearly with sigma",
+                "linear",
+                txt,
+                f"R^2 = {lin_r.r2:.4f}" if lin_r else "-",
+                verdict(ok, partly=r2 > 0.99),
+                note + ("" if ok else ": linear above sigma ~ 0.3, but the slope near onset is less than half"),
+            )
+        )
     return rows

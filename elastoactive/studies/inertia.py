@@ -16,17 +16,17 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Mapping
 
 import numpy as np
 
 from ..analysis import flutter as fl
 from ..analysis import observables as obs
 from ..batch import Case
-from ..report.paper import PAPER
 from ..params import Numerics
+from ..report.paper import PAPER
 from ..scenes import one_pinned
 from . import plotting as plots
 from . import registry
@@ -72,14 +72,14 @@ class ExperimentScales(Summary):
 
 def experiment_scales(mass_kg: float = HEXBUG_MASS_KG) -> ExperimentScales:
     """tau and m / (gamma tau) of the experiment's chains (PAPER's gamma, F_a, pitch, sigmas; `mass_kg` assumed)."""
-    l, g, f = PAPER.link_pitch_m, PAPER.drag_n_s_per_m, PAPER.active_force_n
+    pitch, g, f = PAPER.link_pitch_m, PAPER.drag_n_s_per_m, PAPER.active_force_n
     sigmas = tuple(PAPER.experiment_sigmas)
-    taus = tuple(g * l * s / f for s in sigmas)
+    taus = tuple(g * pitch * s / f for s in sigmas)
     ratios = tuple(mass_kg / (g * t) for t in taus)
     m_max = max(ratios)
     s0 = fl.critical_sigma(7, 0.0)[0]
     shift = fl.critical_sigma(7, m_max)[0] / s0 - 1.0
-    return ExperimentScales(mass_kg, l, g, f, sigmas, taus, ratios, m_max, float(shift))
+    return ExperimentScales(mass_kg, pitch, g, f, sigmas, taus, ratios, m_max, float(shift))
 
 
 @dataclass(frozen=True)
@@ -169,8 +169,15 @@ def inertia_study(size: str = "quick", workers=None, progress: bool = True) -> S
     for m in sims:
         dur = _duration(base, m)
         for eng in ENGINES:
-            cases.append(Case(one_pinned.SCENE.physics(n=7, sigma=SIM_SIGMA), Numerics(mass_ratio=m, sample_dt=0.05),
-                              dur, eng, dur / 2))
+            cases.append(
+                Case(
+                    one_pinned.SCENE.physics(n=7, sigma=SIM_SIGMA),
+                    Numerics(mass_ratio=m, sample_dt=0.05),
+                    dur,
+                    eng,
+                    dur / 2,
+                )
+            )
             meta.append((m, dur, eng))
     trajs = run(cases, workers, progress, "inertia N=7")
     res = {}
@@ -179,9 +186,15 @@ def inertia_study(size: str = "quick", workers=None, progress: bool = True) -> S
         res[(m, eng)] = (obs.amplitude(tr.t, x, dur / 2), obs.frequency(tr.t, x, dur / 2), dur)
     points = []
     for m in sims:
-        points.append(InertiaSimPoint(
-            float(m), res[(m, "mujoco")][2], {e: float(res[(m, e)][0]) for e in ENGINES},
-            {e: float(res[(m, e)][1]) for e in ENGINES}, fl.critical_sigma(7, m)[1] / (2 * np.pi)))
+        points.append(
+            InertiaSimPoint(
+                float(m),
+                res[(m, "mujoco")][2],
+                {e: float(res[(m, e)][0]) for e in ENGINES},
+                {e: float(res[(m, e)][1]) for e in ENGINES},
+                fl.critical_sigma(7, m)[1] / (2 * np.pi),
+            )
+        )
     for eng in ENGINES:
         data[f"sim_amplitude_{eng}"] = np.array([p.amplitude[eng] for p in points])
         data[f"sim_frequency_{eng}"] = np.array([p.frequency[eng] for p in points])
@@ -191,10 +204,18 @@ def inertia_study(size: str = "quick", workers=None, progress: bool = True) -> S
     exp = experiment_scales()
     data["experiment_mass_ratio"] = np.array(exp.mass_ratio)
     summary = InertiaSummary(
-        sigma_c_0=s0, shift_mass_ratio=shift, sigma_c_at_largest_mass=s_big, largest_mass_ratio=float(masses[-1]),
-        ziegler=zieg, ziegler_max_rel_err=max(abs(z.computed / z.closed_form - 1) for z in zieg),
-        sim_sigma=SIM_SIGMA, sim=points, engines_max_rel_diff=float(np.nanmax(diffs)) if diffs else math.nan,
-        experiment=exp, overdamped_justified=bool(exp.mass_ratio_max < shift["7"]))
+        sigma_c_0=s0,
+        shift_mass_ratio=shift,
+        sigma_c_at_largest_mass=s_big,
+        largest_mass_ratio=float(masses[-1]),
+        ziegler=zieg,
+        ziegler_max_rel_err=max(abs(z.computed / z.closed_form - 1) for z in zieg),
+        sim_sigma=SIM_SIGMA,
+        sim=points,
+        engines_max_rel_diff=float(np.nanmax(diffs)) if diffs else math.nan,
+        experiment=exp,
+        overdamped_justified=bool(exp.mass_ratio_max < shift["7"]),
+    )
     return Study("inertia", size, data, summary, time.perf_counter() - start)
 
 
@@ -246,35 +267,51 @@ def inertia_claims(st: Study, read: Mapping[str, Study]) -> list[Claim]:
     s = st.summary
     e = s.experiment
     x7, x2 = s.shift_mass_ratio["7"], s.shift_mass_ratio["2"]
-    rows = [Claim(
-        f"Overdamped limit: inertia shifts the onset by < 1% below mass ratio {x7:.3g} (N = 7; {x2:.3g} for N = 2)",
-        "no inertia (assumed)", "-",
-        f"1% shift at m/(gamma tau) = {x7:.4g} (N = 7), {x2:.4g} (N = 2); experiment {min(e.mass_ratio):.3g}-"
-        f"{e.mass_ratio_max:.3g} -> sigma_c(7) shifts {100 * e.sigma_c_7_shift_at_max:+.2g}%",
-        verdict(s.overdamped_justified),
-        f"linear stability with inertia (quadratic eigenproblem, analysis.flutter). Experiment: tau = gamma l^2 / C = "
-        f"gamma l sigma / F_a with gamma = {e.gamma:g} N s/m, F_a = {1e3 * e.force_n:g} mN, l = L/7 = {100 * e.pitch_m:.2g} cm "
-        f"(paper) and sigma = {', '.join(f'{x:g}' for x in e.sigmas)} -> tau = {min(e.tau_s):.2f}-{max(e.tau_s):.2f} s; "
-        f"ASSUMED bug mass m = {1e3 * e.mass_kg:g} g (Hexbug Nano, commonly quoted; not in the paper) -> "
-        f"m/(gamma tau) = {min(e.mass_ratio):.3g}-{e.mass_ratio_max:.3g}, "
-        f"{x7 / e.mass_ratio_max:.0f}x below the N = 7 1% mass ratio: the overdamped model was justified for the onset. "
-        f"At m = {s.largest_mass_ratio:g}: sigma_c = {s.sigma_c_at_largest_mass['7']:.4g} (N = 7), "
-        f"{s.sigma_c_at_largest_mass['2']:.4g} (N = 2; the undamped flutter load 2 is the heavy limit)")]
+    rows = [
+        Claim(
+            f"Overdamped limit: inertia shifts the onset by < 1% below mass ratio {x7:.3g} (N = 7; {x2:.3g} for N = 2)",
+            "no inertia (assumed)",
+            "-",
+            f"1% shift at m/(gamma tau) = {x7:.4g} (N = 7), {x2:.4g} (N = 2); experiment {min(e.mass_ratio):.3g}-"
+            f"{e.mass_ratio_max:.3g} -> sigma_c(7) shifts {100 * e.sigma_c_7_shift_at_max:+.2g}%",
+            verdict(s.overdamped_justified),
+            f"linear stability with inertia (quadratic eigenproblem, analysis.flutter). Experiment: tau = gamma l^2 / C = "
+            f"gamma l sigma / F_a with gamma = {e.gamma:g} N s/m, F_a = {1e3 * e.force_n:g} mN, l = L/7 = {100 * e.pitch_m:.2g} cm "
+            f"(paper) and sigma = {', '.join(f'{x:g}' for x in e.sigmas)} -> tau = {min(e.tau_s):.2f}-{max(e.tau_s):.2f} s; "
+            f"ASSUMED bug mass m = {1e3 * e.mass_kg:g} g (Hexbug Nano, commonly quoted; not in the paper) -> "
+            f"m/(gamma tau) = {min(e.mass_ratio):.3g}-{e.mass_ratio_max:.3g}, "
+            f"{x7 / e.mass_ratio_max:.0f}x below the N = 7 1% mass ratio: the overdamped model was justified for the onset. "
+            f"At m = {s.largest_mass_ratio:g}: sigma_c = {s.sigma_c_at_largest_mass['7']:.4g} (N = 7), "
+            f"{s.sigma_c_at_largest_mass['2']:.4g} (N = 2; the undamped flutter load 2 is the heavy limit)",
+        )
+    ]
     z = {c.label: c for c in s.ziegler}
     u, d, g = z["undamped"], z["joint damping c -> 0"], z["lab-frame drag -> 0"]
-    rows.append(Claim(
-        "Ziegler's column: flutter at 7/2 - sqrt 2 (undamped), 41/28 with vanishing damping",
-        f"{PAPER.ziegler_undamped:.6f}, {PAPER.ziegler_damped_limit:.6f} C/l (Ziegler 1952; literature)", "-",
-        f"{u.computed:.6f}; {d.computed:.6f} (c = {d.parameter:g}); lab-frame drag {g.parameter:g}: {g.computed:.6f}",
-        verdict(abs(u.computed - u.limit) < 1e-6 and abs(d.computed - d.limit) < 1e-6),
-        f"the chain's stability code on Ziegler's double pendulum (masses 2m, m, tip load, point masses) against the "
-        f"closed forms: max relative error {s.ziegler_max_rel_err:.1g}; joint damping c: 41/28 + c^2/2; this model's "
-        f"lab-frame drag tends to (15 - 3 sqrt 5)/4 = {g.limit:.6f} (a -0.6% paradox, against -30% for joint damping)"))
-    amp = lambda eng: ", ".join(f"m = {p.mass_ratio:g}: A {p.amplitude[eng]:.4f}, f {p.frequency[eng]:.4g}" for p in s.sim)  # noqa: E731
-    rows.append(Claim(
-        f"MuJoCo = inertial model at finite mass (N = 7, sigma = {s.sim_sigma:g})", "- (overdamped only)",
-        amp("mujoco"), amp("reduced"), verdict(s.engines_max_rel_diff < 0.01),
-        f"MuJoCo at its default dt = 0.0025 against the reduced engine's inertial model at the same mass: amplitude "
-        f"and f tau agree within {100 * s.engines_max_rel_diff:.2g}%; runs lengthened ~ sqrt(m) above m = 1 (the beat "
-        "slows: its period grows ~ sqrt(m))"))
+    rows.append(
+        Claim(
+            "Ziegler's column: flutter at 7/2 - sqrt 2 (undamped), 41/28 with vanishing damping",
+            f"{PAPER.ziegler_undamped:.6f}, {PAPER.ziegler_damped_limit:.6f} C/l (Ziegler 1952; literature)",
+            "-",
+            f"{u.computed:.6f}; {d.computed:.6f} (c = {d.parameter:g}); lab-frame drag {g.parameter:g}: {g.computed:.6f}",
+            verdict(abs(u.computed - u.limit) < 1e-6 and abs(d.computed - d.limit) < 1e-6),
+            f"the chain's stability code on Ziegler's double pendulum (masses 2m, m, tip load, point masses) against the "
+            f"closed forms: max relative error {s.ziegler_max_rel_err:.1g}; joint damping c: 41/28 + c^2/2; this model's "
+            f"lab-frame drag tends to (15 - 3 sqrt 5)/4 = {g.limit:.6f} (a -0.6% paradox, against -30% for joint damping)",
+        )
+    )
+    amp = lambda eng: ", ".join(
+        f"m = {p.mass_ratio:g}: A {p.amplitude[eng]:.4f}, f {p.frequency[eng]:.4g}" for p in s.sim
+    )  # noqa: E731
+    rows.append(
+        Claim(
+            f"MuJoCo = inertial model at finite mass (N = 7, sigma = {s.sim_sigma:g})",
+            "- (overdamped only)",
+            amp("mujoco"),
+            amp("reduced"),
+            verdict(s.engines_max_rel_diff < 0.01),
+            f"MuJoCo at its default dt = 0.0025 against the reduced engine's inertial model at the same mass: amplitude "
+            f"and f tau agree within {100 * s.engines_max_rel_diff:.2g}%; runs lengthened ~ sqrt(m) above m = 1 (the beat "
+            "slows: its period grows ~ sqrt(m))",
+        )
+    )
     return rows

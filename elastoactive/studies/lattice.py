@@ -15,14 +15,13 @@ bracket and of the selected modes.
 from __future__ import annotations
 
 import time
+from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Mapping
 
 import numpy as np
 
-from ..analysis.network import hexagonal_patch
-from ..analysis.network import stability
+from ..analysis.network import hexagonal_patch, stability
 from ..params import Numerics
 from ..scenes import lattice, trap
 from . import plotting as plots
@@ -80,27 +79,34 @@ ACTIVE_SOLID = registry.declare("active_solid", summary=ActiveSolidSummary, orde
 def active_solid_study(size: str = "quick", workers=None, progress: bool = True) -> Study:
     """Collective actuation of the pinned hexagon against Pi, its linear bracket, the trapped unit's transition."""
     start = time.perf_counter()
-    couplings = pick(size, (1.0, 1.5, 2.0), (1.0, 1.2, 1.4, 1.5, 1.6, 2.0, 2.5),
-                     tuple(np.round(np.arange(1.0, 2.61, 0.1), 2)))
+    couplings = pick(
+        size, (1.0, 1.5, 2.0), (1.0, 1.2, 1.4, 1.5, 1.6, 2.0, 2.5), tuple(np.round(np.arange(1.0, 2.61, 0.1), 2))
+    )
     seeds = pick(size, (0,), (0, 1), tuple(range(8)))
     duration = pick(size, 200.0, 300.0, 1000.0)
-    cases = [lattice.SCENE.physics(rings=2, boundary="pinned", sigma=c * ALIGNMENT, alignment_length=ALIGNMENT)
-             for c in couplings for _ in seeds]
+    cases = [
+        lattice.SCENE.physics(rings=2, boundary="pinned", sigma=c * ALIGNMENT, alignment_length=ALIGNMENT)
+        for c in couplings
+        for _ in seeds
+    ]
     numerics = [Numerics(sample_dt=0.25, seed=s) for _ in couplings for s in seeds]
-    trap_couplings = pick(size, (0.5, 2.0), (0.5, 0.9, 1.1, 2.0, 4.0), (0.25, 0.5, 0.8, 0.9, 0.95, 1.05, 1.1, 1.5, 2.0,
-                                                                         4.0, 8.0))
+    trap_couplings = pick(
+        size, (0.5, 2.0), (0.5, 0.9, 1.1, 2.0, 4.0), (0.25, 0.5, 0.8, 0.9, 0.95, 1.05, 1.1, 1.5, 2.0, 4.0, 8.0)
+    )
     trap_cases = [trap.SCENE.physics(sigma=c * 0.5, trap=1.0, alignment_length=0.5) for c in trap_couplings]
     from ..batch import Case  # start-up time: the batch runner loads with the run
 
     checked = pick(size, *(MUJOCO_COUPLINGS[k] for k in ("tiny", "quick", "full")))
     batch = [Case(p, n, duration, "reduced", duration / 2) for p, n in zip(cases, numerics)]
     batch += [Case(p, Numerics(sample_dt=0.1), 300.0, "reduced", 150.0) for p in trap_cases]
-    batch += [Case(cases[couplings.index(c) * len(seeds)], Numerics(sample_dt=0.25, seed=0), duration, "mujoco",
-                   duration / 2) for c in checked]
+    batch += [
+        Case(cases[couplings.index(c) * len(seeds)], Numerics(sample_dt=0.25, seed=0), duration, "mujoco", duration / 2)
+        for c in checked
+    ]
     results = [r.results for r in run_measured(batch, workers, progress, "active solid")]
     lattice_results = results[: len(cases)]
-    trap_results = results[len(cases): len(cases) + len(trap_cases)]
-    mujoco_results = results[len(cases) + len(trap_cases):]
+    trap_results = results[len(cases) : len(cases) + len(trap_cases)]
+    mujoco_results = results[len(cases) + len(trap_cases) :]
     twins = [lattice_results[couplings.index(c) * len(seeds)] for c in checked]
     actuation = np.array([r.extra["actuation"] for r in lattice_results]).reshape(len(couplings), len(seeds))
     modes = np.array([[r.extra["dominant_mode"], r.extra["second_mode"]] for r in lattice_results])
@@ -112,20 +118,33 @@ def active_solid_study(size: str = "quick", workers=None, progress: bool = True)
     rate = np.abs([r.orbit_rate for r in trap_results])
     expected = np.array([trap.orbit(p.sigma, p.trap, p.alignment_length) for p in trap_cases])
     moving_trap = expected[:, 1] > 0
-    rate_error = np.where(moving_trap, np.abs(rate - expected[:, 1]) / np.where(moving_trap, expected[:, 1], 1.0),
-                          np.abs(rate - expected[:, 1]))
-    data = {"couplings": np.array(couplings), "actuation": actuation, "fraction": fraction,
-            "modes": modes.reshape(len(couplings), len(seeds), 2),
-            "polarization": np.array([r.extra["polarization"] for r in lattice_results]).reshape(actuation.shape),
-            "frequency": np.array([np.nan if r.frequency is None else r.frequency for r in lattice_results]).reshape(
-                actuation.shape),
-            "trap_couplings": np.array(trap_couplings), "trap_radius": radius, "trap_rate": rate,
-            "trap_expected": expected}
+    rate_error = np.where(
+        moving_trap,
+        np.abs(rate - expected[:, 1]) / np.where(moving_trap, expected[:, 1], 1.0),
+        np.abs(rate - expected[:, 1]),
+    )
+    data = {
+        "couplings": np.array(couplings),
+        "actuation": actuation,
+        "fraction": fraction,
+        "modes": modes.reshape(len(couplings), len(seeds), 2),
+        "polarization": np.array([r.extra["polarization"] for r in lattice_results]).reshape(actuation.shape),
+        "frequency": np.array([np.nan if r.frequency is None else r.frequency for r in lattice_results]).reshape(
+            actuation.shape
+        ),
+        "trap_couplings": np.array(trap_couplings),
+        "trap_radius": radius,
+        "trap_rate": rate,
+        "trap_expected": expected,
+    }
     summary = ActiveSolidSummary(
-        couplings=[float(c) for c in couplings], actuated_fraction=[float(f) for f in fraction],
+        couplings=[float(c) for c in couplings],
+        actuated_fraction=[float(f) for f in fraction],
         still_below=float(max(still)) if still else float("nan"),
         actuated_above=float(min(moving)) if moving else float("nan"),
-        softest=bracket.softest, linear_threshold=bracket.coupling, typical_threshold=bracket.typical,
+        softest=bracket.softest,
+        linear_threshold=bracket.coupling,
+        typical_threshold=bracket.typical,
         modes=[[int(a), int(b)] for (a, b), act in zip(modes, actuation.reshape(-1)) if act > ACTUATED],
         trap_couplings=[float(c) for c in trap_couplings],
         trap_radius_error=float(np.max(np.abs(radius - expected[:, 0]) / expected[:, 0])),
@@ -134,7 +153,8 @@ def active_solid_study(size: str = "quick", workers=None, progress: bool = True)
         mujoco_actuation=[float(r.extra["actuation"]) for r in mujoco_results],
         reduced_actuation=[float(r.extra["actuation"]) for r in twins],
         mujoco_modes=[[int(r.extra["dominant_mode"]), int(r.extra["second_mode"])] for r in mujoco_results],
-        reduced_modes=[[int(r.extra["dominant_mode"]), int(r.extra["second_mode"])] for r in twins])
+        reduced_modes=[[int(r.extra["dominant_mode"]), int(r.extra["second_mode"])] for r in twins],
+    )
     return Study("active_solid", size, data, summary, time.perf_counter() - start)
 
 
@@ -177,32 +197,44 @@ def active_solid_claims(study: Study, read: Mapping[str, Study]) -> list[Claim]:
     runs = [f"Pi = {fmt(c, 3)}: {fmt(a, 2)}" for c, a in zip(s.mujoco_couplings, s.mujoco_actuation)]
     mj_still = [c for c, on in zip(s.mujoco_couplings, mj_on) if not on]
     mj_moving = [c for c, on in zip(s.mujoco_couplings, mj_on) if on]
-    mujoco_row = (f"seed 0, actuation {'; '.join(runs)} (still at Pi <= {fmt(max(mj_still), 3) if mj_still else '-'}, "
-                  f"actuated from {fmt(min(mj_moving), 3) if mj_moving else '-'}; the reduced engine: "
-                  f"{'; '.join(fmt(a, 2) for a in s.reduced_actuation)})")
+    mujoco_row = (
+        f"seed 0, actuation {'; '.join(runs)} (still at Pi <= {fmt(max(mj_still), 3) if mj_still else '-'}, "
+        f"actuated from {fmt(min(mj_moving), 3) if mj_moving else '-'}; the reduced engine: "
+        f"{'; '.join(fmt(a, 2) for a in s.reduced_actuation)})"
+    )
     modes_mj = [m for m, on in zip(s.mujoco_modes, mj_on) if on]
     modes_same = all(sorted(a) == sorted(b) for a, b, on in zip(s.mujoco_modes, s.reduced_modes, mj_on) if on)
     return [
-        Claim("Pinned hexagon (R = 2): rest below a critical Pi = l_e / l_a, collective actuation above", source,
-              mujoco_row,
-              f"all seeds still at Pi <= {fmt(s.still_below, 3)}, all actuated from Pi = {fmt(s.actuated_above, 3)}",
-              verdict(inside and same_side, partly=np.isfinite(s.actuated_above)),
-              f"linear: every fixed point stable below lambda_1 = {s.softest:.4f}; some stable up to at least "
-              f"Pi = {s.linear_threshold:.4f} (the best found over the polarities); median Pi_c over random "
-              f"polarities {s.typical_threshold:.3f}; l_a = "
-              f"{ALIGNMENT:g} a; MuJoCo reruns the reduced engine's seed 0 (its automatic numerics); the source's numerical "
-              "threshold for its own lattice is not quoted here (docs/network.md)"),
-        Claim("The actuated dynamics condenses on few modes", "selected modes not necessarily the lowest-energy ones",
-              "modes of each actuated run: " + (", ".join("+".join(str(x) for x in sorted(m)) for m in modes_mj) or "-")
-              + (" (the reduced engine's, same cases)" if modes_same else " (differ from the reduced engine's)"),
-              "modes (by stiffness) of each actuated run: " + ", ".join(
-                  "+".join(str(x) for x in m) for m in sorted(set(tuple(sorted(m)) for m in s.modes))),
-              verdict(bool(s.modes) and modes_same),
-              "the two softest (degenerate) modes of this small patch" + ("" if softest_pair else
-                                                                          "; other pairs in some runs")),
-        Claim("Trapped unit: rest at l_e below Pi = 1, circle of radius sqrt(l_e l_a) at k_t sqrt(Pi - 1) above",
-              "derived here (docs/network.md)", "-",
-              f"radius within {100 * s.trap_radius_error:.2g}%, rate within {s.trap_rate_error:.2g}",
-              verdict(s.trap_radius_error < 1e-2 and s.trap_rate_error < 1e-2),
-              f"Pi = {', '.join(fmt(c, 3) for c in s.trap_couplings)}"),
+        Claim(
+            "Pinned hexagon (R = 2): rest below a critical Pi = l_e / l_a, collective actuation above",
+            source,
+            mujoco_row,
+            f"all seeds still at Pi <= {fmt(s.still_below, 3)}, all actuated from Pi = {fmt(s.actuated_above, 3)}",
+            verdict(inside and same_side, partly=np.isfinite(s.actuated_above)),
+            f"linear: every fixed point stable below lambda_1 = {s.softest:.4f}; some stable up to at least "
+            f"Pi = {s.linear_threshold:.4f} (the best found over the polarities); median Pi_c over random "
+            f"polarities {s.typical_threshold:.3f}; l_a = "
+            f"{ALIGNMENT:g} a; MuJoCo reruns the reduced engine's seed 0 (its automatic numerics); the source's numerical "
+            "threshold for its own lattice is not quoted here (docs/network.md)",
+        ),
+        Claim(
+            "The actuated dynamics condenses on few modes",
+            "selected modes not necessarily the lowest-energy ones",
+            "modes of each actuated run: "
+            + (", ".join("+".join(str(x) for x in sorted(m)) for m in modes_mj) or "-")
+            + (" (the reduced engine's, same cases)" if modes_same else " (differ from the reduced engine's)"),
+            "modes (by stiffness) of each actuated run: "
+            + ", ".join("+".join(str(x) for x in m) for m in sorted(set(tuple(sorted(m)) for m in s.modes))),
+            verdict(bool(s.modes) and modes_same),
+            "the two softest (degenerate) modes of this small patch"
+            + ("" if softest_pair else "; other pairs in some runs"),
+        ),
+        Claim(
+            "Trapped unit: rest at l_e below Pi = 1, circle of radius sqrt(l_e l_a) at k_t sqrt(Pi - 1) above",
+            "derived here (docs/network.md)",
+            "-",
+            f"radius within {100 * s.trap_radius_error:.2g}%, rate within {s.trap_rate_error:.2g}",
+            verdict(s.trap_radius_error < 1e-2 and s.trap_rate_error < 1e-2),
+            f"Pi = {', '.join(fmt(c, 3) for c in s.trap_couplings)}",
+        ),
     ]

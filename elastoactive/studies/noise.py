@@ -11,9 +11,9 @@ whatever the ratio), interpolated to the onset sigma.
 from __future__ import annotations
 
 import time
+from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Mapping
 
 import numpy as np
 
@@ -22,14 +22,14 @@ from ..analysis import measures as ms
 from ..analysis import observables as obs
 from ..analysis import stability as stab
 from ..batch import Case
-from ..report.paper import PAPER
 from ..params import Numerics
+from ..report.paper import PAPER
 from ..scenes import one_pinned
 from . import plotting as plots
 from . import registry
 from .base import ENGINES, EngineParts, Study, Summary, fast, pick, run, safe
-from .inertia import experiment_scales
 from .claim_rows import Claim, fmt, verdict
+from .inertia import experiment_scales
 
 PROBE_SIGMAS = (2.8, 3.2)
 """The growth-rate probes of the anisotropy study: the N = 2 onset sigma = 3 -/+ 0.2."""
@@ -92,8 +92,15 @@ def noise_study(size: str = "quick", workers=None, progress: bool = True) -> Stu
     cases, meta = [], []
     for a in amps:
         for eng in ENGINES:
-            cases.append(Case(one_pinned.SCENE.physics(n=2, sigma=PAPER.noise_sigma, noise=a),
-                              fast(perturbation=0.5, sample_dt=0.05, seed=seed), dur, eng, transient))
+            cases.append(
+                Case(
+                    one_pinned.SCENE.physics(n=2, sigma=PAPER.noise_sigma, noise=a),
+                    fast(perturbation=0.5, sample_dt=0.05, seed=seed),
+                    dur,
+                    eng,
+                    transient,
+                )
+            )
             meta.append((a, eng))
     trajs = run(cases, workers, progress, "noise N=2")
     data = {"noise": np.array(amps)}
@@ -102,8 +109,12 @@ def noise_study(size: str = "quick", workers=None, progress: bool = True) -> Stu
         x = obs.curvature(tr.theta)
         amp = obs.amplitude(tr.t, x, transient)
         osc = obs.is_oscillating(tr.t, x, threshold=1e-2, transient=transient)
-        out[(a, eng)] = (amp, safe(ms.period_variability, tr.t, x, transient) if osc else np.nan,
-                         safe(ms.amplitude_variability, tr.t, x, transient) if osc else np.nan, osc)
+        out[(a, eng)] = (
+            amp,
+            safe(ms.period_variability, tr.t, x, transient) if osc else np.nan,
+            safe(ms.amplitude_variability, tr.t, x, transient) if osc else np.nan,
+            osc,
+        )
         if eng == "mujoco":
             m = tr.t >= transient
             m &= tr.t <= transient + min(150.0, dur - transient)
@@ -120,7 +131,8 @@ def noise_study(size: str = "quick", workers=None, progress: bool = True) -> Stu
             amplitude={f"{a:g}": float(v) for a, v in zip(amps, data[f"amplitude_{eng}"])},
             not_sustained=[f"{a:g}" for a, v in zip(amps, data[f"sustained_{eng}"]) if not v],
             amplitude_cv={f"{a:g}": float(v) for a, v in zip(amps, data[f"amplitude_cv_{eng}"])},
-            irregularity_increases=bool(np.all(np.diff(cv[ok]) > 0)) if ok.sum() >= 2 else None)
+            irregularity_increases=bool(np.all(np.diff(cv[ok]) > 0)) if ok.sum() >= 2 else None,
+        )
     summary = NoiseSummary(sigma=PAPER.noise_sigma, seed=seed, **parts)
     return Study("noise", size, data, summary, time.perf_counter() - start)
 
@@ -140,12 +152,26 @@ def anisotropy_study(size: str = "quick", workers=None, progress: bool = True) -
     cases, meta = [], []
     for r in ratios:
         for eng in ENGINES:
-            cases.append(Case(one_pinned.SCENE.physics(n=2, sigma=PAPER.anisotropy_sigma, drag_ratio=r),
-                              fast(perturbation=0.5, sample_dt=0.05), dur, eng, transient))
+            cases.append(
+                Case(
+                    one_pinned.SCENE.physics(n=2, sigma=PAPER.anisotropy_sigma, drag_ratio=r),
+                    fast(perturbation=0.5, sample_dt=0.05),
+                    dur,
+                    eng,
+                    transient,
+                )
+            )
             meta.append(("cycle", r, 0.0, eng))
             for s in PROBE_SIGMAS:
-                cases.append(Case(one_pinned.SCENE.physics(n=2, sigma=s, drag_ratio=r),
-                                  Numerics.preset("accurate", perturbation=1e-5, sample_dt=0.05), 25.0, eng, 0.0))
+                cases.append(
+                    Case(
+                        one_pinned.SCENE.physics(n=2, sigma=s, drag_ratio=r),
+                        Numerics.preset("accurate", perturbation=1e-5, sample_dt=0.05),
+                        25.0,
+                        eng,
+                        0.0,
+                    )
+                )
                 meta.append(("growth", r, s, eng))
     trajs = run(cases, workers, progress, "anisotropic drag N=2")
     data = {"ratio": np.array(ratios)}
@@ -174,9 +200,14 @@ def anisotropy_study(size: str = "quick", workers=None, progress: bool = True) -
             amplitude={f"{r:g}": float(a) for r, a in zip(ratios, amp)},
             amplitude_decreasing=bool(np.all(np.diff(amp) < 0)),
             onset={f"{r:g}": float(o) for r, o in zip(ratios, onset)},
-            onset_max_dev=float(np.max(np.abs(onset - PAPER.sigma_c_2))))
-    summary = AnisotropySummary(sigma=PAPER.anisotropy_sigma, probe_sigmas=PROBE_SIGMAS,
-                                linear_rate_at_upper_probe=float(stab.eigenvalues(2, s_hi)[0].real), **parts)
+            onset_max_dev=float(np.max(np.abs(onset - PAPER.sigma_c_2))),
+        )
+    summary = AnisotropySummary(
+        sigma=PAPER.anisotropy_sigma,
+        probe_sigmas=PROBE_SIGMAS,
+        linear_rate_at_upper_probe=float(stab.eigenvalues(2, s_hi)[0].real),
+        **parts,
+    )
     return Study("anisotropy", size, data, summary, time.perf_counter() - start)
 
 
@@ -231,8 +262,9 @@ def experiment_noise() -> ExperimentNoise:
     t_lo, t_hi = min(taus), max(taus)
     tc = (min(HEXBUG_NOISE_CORRELATION_S) / t_hi, max(HEXBUG_NOISE_CORRELATION_S) / t_lo)
     s = PAPER.force_relative_spread
-    return ExperimentNoise(s, HEXBUG_NOISE_CORRELATION_S, (t_lo, t_hi), tc,
-                           (s * float(np.sqrt(2 * tc[0])), s * float(np.sqrt(2 * tc[1]))))
+    return ExperimentNoise(
+        s, HEXBUG_NOISE_CORRELATION_S, (t_lo, t_hi), tc, (s * float(np.sqrt(2 * tc[0])), s * float(np.sqrt(2 * tc[1])))
+    )
 
 
 def _reading_engine(amps, rows) -> NoiseEngine:
@@ -243,7 +275,8 @@ def _reading_engine(amps, rows) -> NoiseEngine:
         amplitude={f"{a:g}": float(r[0]) for a, r in zip(amps, rows)},
         not_sustained=[f"{a:g}" for a, r in zip(amps, rows) if not r[3]],
         amplitude_cv={f"{a:g}": float(r[2]) for a, r in zip(amps, rows)},
-        irregularity_increases=bool(np.all(np.diff(cv[ok]) > 0)) if ok.sum() >= 2 else None)
+        irregularity_increases=bool(np.all(np.diff(cv[ok]) > 0)) if ok.sum() >= 2 else None,
+    )
 
 
 NOISE_READINGS = registry.declare("noise_readings", summary=NoiseReadingsSummary, order=120)
@@ -273,9 +306,12 @@ def noise_readings_study(size: str = "quick", workers=None, progress: bool = Tru
     for key, tr in zip(meta, trajs):
         x = obs.curvature(tr.theta)
         osc = obs.is_oscillating(tr.t, x, threshold=1e-2, transient=transient)
-        out[key] = (obs.amplitude(tr.t, x, transient),
-                    safe(ms.period_variability, tr.t, x, transient) if osc else np.nan,
-                    safe(ms.amplitude_variability, tr.t, x, transient) if osc else np.nan, bool(osc))
+        out[key] = (
+            obs.amplitude(tr.t, x, transient),
+            safe(ms.period_variability, tr.t, x, transient) if osc else np.nan,
+            safe(ms.amplitude_variability, tr.t, x, transient) if osc else np.nan,
+            bool(osc),
+        )
     data = {"noise": np.array(amps)}
     parts = []
     for name, tc, calc, engines in readings:
@@ -285,8 +321,16 @@ def noise_readings_study(size: str = "quick", workers=None, progress: bool = Tru
             eng_parts[eng] = _reading_engine(amps, rows)
             data[f"period_cv_{name}_{eng}"] = np.array([r[1] for r in rows])
             data[f"sustained_{name}_{eng}"] = np.array([r[3] for r in rows])
-        parts.append(NoiseReading(name, tc, calc, eng_parts.get("mujoco"), eng_parts["reduced"],
-                                  all(not p.not_sustained for p in eng_parts.values())))
+        parts.append(
+            NoiseReading(
+                name,
+                tc,
+                calc,
+                eng_parts.get("mujoco"),
+                eng_parts["reduced"],
+                all(not p.not_sustained for p in eng_parts.values()),
+            )
+        )
     data["readings"] = np.array([r[0] for r in readings])
     summary = NoiseReadingsSummary(PAPER.noise_sigma, 2, seed, tuple(amps), parts, experiment_noise())
     return Study("noise_readings", size, data, summary, time.perf_counter() - start)
@@ -345,11 +389,14 @@ def noise_figures(study: Study, out: Path) -> list[Path]:
     top = np.nanmax([np.nanmax(np.r_[d[f"period_cv_{e}"], 0.0]) for e in plots.engines(d, "period_cv")] + [1e-3])
     extra.set_ylim(-0.05 * top, 1.6 * top)  # room for the legend above the points
     extra.legend(loc="upper left")
-    for ax in flat[len(amps) + 1:]:
+    for ax in flat[len(amps) + 1 :]:
         ax.set_visible(False)
-    fig.suptitle(rf"Fig. A-noise: N = 2, $\sigma$ = {study.summary.sigma:g}, active force $F_a(1+\eta)$ with "
-                 r"$\langle\eta(t)\eta(t')\rangle=a^2\delta(t-t')$" "\n"
-                 r"limit cycles over 150 $\tau$ after the transient (MuJoCo); $\Omega$: mean polarisation")
+    fig.suptitle(
+        rf"Fig. A-noise: N = 2, $\sigma$ = {study.summary.sigma:g}, active force $F_a(1+\eta)$ with "
+        r"$\langle\eta(t)\eta(t')\rangle=a^2\delta(t-t')$"
+        "\n"
+        r"limit cycles over 150 $\tau$ after the transient (MuJoCo); $\Omega$: mean polarisation"
+    )
     fig.tight_layout()
     return [plots.save(fig, out, "figA_noise.png")]
 
@@ -365,8 +412,17 @@ def anisotropy_figures(study: Study, out: Path) -> list[Path]:
         om, th = d[f"cycle_{r:g}_omega"], d[f"cycle_{r:g}_theta"]
         (line,) = a1.plot(om, th, lw=1.2)
         j = int(np.argmax(th))
-        a1.annotate(f"{r:g}", (om[j], th[j]), xytext=(0, 1), textcoords="offset points", ha="center", va="bottom",
-                    fontsize=8.5, color=line.get_color(), fontweight="bold")
+        a1.annotate(
+            f"{r:g}",
+            (om[j], th[j]),
+            xytext=(0, 1),
+            textcoords="offset points",
+            ha="center",
+            va="bottom",
+            fontsize=8.5,
+            color=line.get_color(),
+            fontweight="bold",
+        )
     a1.set_xlabel(plots.OMEGA_DEF + " (rad)")
     a1.set_ylabel(r"$\Theta=\theta_2-\theta_1$ (rad)")
     a1.set_ylim(a1.get_ylim()[0], a1.get_ylim()[1] + 0.08)
@@ -390,7 +446,9 @@ def anisotropy_figures(study: Study, out: Path) -> list[Path]:
     a4.set_ylim(PAPER.sigma_c_2 - 0.1, PAPER.sigma_c_2 + 0.1)
     a4.set_ylabel(r"onset $\sigma_c$")
     a4.legend()
-    a4.set_title(rf"onset: growth rates at $\sigma$ = {s.probe_sigmas[0]:g}, {s.probe_sigmas[1]:g}" "\n" "interpolated to 0")
+    a4.set_title(
+        rf"onset: growth rates at $\sigma$ = {s.probe_sigmas[0]:g}, {s.probe_sigmas[1]:g}" "\n" "interpolated to 0"
+    )
     fig.suptitle("Fig. A-anisotropy: N = 2 with drag anisotropy (longitudinal / transverse drag)")
     fig.tight_layout()
     return [plots.save(fig, out, "figA_anisotropy.png")]
@@ -410,8 +468,12 @@ def noise_readings_figures(study: Study, out: Path) -> list[Path]:
                 continue
             cv = np.asarray(d[key], dtype=float)
             ok = np.isfinite(cv)
-            st = dict(marker="o" if eng == "mujoco" else "x", mfc="none" if eng == "mujoco" else None,
-                      ls="-" if eng == "mujoco" else "--", color=f"C{i}")
+            st = dict(
+                marker="o" if eng == "mujoco" else "x",
+                mfc="none" if eng == "mujoco" else None,
+                ls="-" if eng == "mujoco" else "--",
+                color=f"C{i}",
+            )
             ax.plot(amps[ok], cv[ok], label=f"{r.reading} ({'MuJoCo' if eng == 'mujoco' else 'reduced'})", **st)
             for a in amps[~ok]:
                 ax.plot([a], [0], marker="v", color=f"C{i}", ms=9, ls="none")
@@ -435,30 +497,52 @@ def noise_claims(no: Study, read: Mapping[str, Study]) -> list[Claim]:
     m, r = s.mujoco, s.reduced
     cv = lambda e: ", ".join(f"{k}: {fmt(v, 3)}" for k, v in e.period_cv.items())  # noqa: E731
     dead = m.not_sustained
-    rows.append(Claim("Multiplicative noise makes the limit cycle increasingly irregular", "increasingly irregular",
-                      f"period CV by a: {cv(m)}", cv(r), verdict(bool(m.irregularity_increases)),
-                      f"N = 2, sigma = {s.sigma:g}, a = noise amplitude (<eta eta'> = a^2 delta(t - t'), Ito), same seeded "
-                      "noise in both engines; CV = std/mean of the cycle periods ('-': no sustained oscillation)"
-                      + (f". At a = {', '.join(dead)} the chain mostly sits straight with noise-driven bursts: in the "
-                         "Ito reading multiplicative noise lowers the growth rate of small bends by ~(a sigma)^2 / 2 (scalar "
-                         "estimate, 0.55 at a = 0.3 against mu = 0.5), so the straight state turns stable (the Stratonovich "
-                         "reading has no such shift in that estimate). The paper does not say which calculus it uses" if dead else "")))
+    rows.append(
+        Claim(
+            "Multiplicative noise makes the limit cycle increasingly irregular",
+            "increasingly irregular",
+            f"period CV by a: {cv(m)}",
+            cv(r),
+            verdict(bool(m.irregularity_increases)),
+            f"N = 2, sigma = {s.sigma:g}, a = noise amplitude (<eta eta'> = a^2 delta(t - t'), Ito), same seeded "
+            "noise in both engines; CV = std/mean of the cycle periods ('-': no sustained oscillation)"
+            + (
+                f". At a = {', '.join(dead)} the chain mostly sits straight with noise-driven bursts: in the "
+                "Ito reading multiplicative noise lowers the growth rate of small bends by ~(a sigma)^2 / 2 (scalar "
+                "estimate, 0.55 at a = 0.3 against mu = 0.5), so the straight state turns stable (the Stratonovich "
+                "reading has no such shift in that estimate). The paper does not say which calculus it uses"
+                if dead
+                else ""
+            ),
+        )
+    )
     if an:
         a = an.summary
         am, ar = a.mujoco, a.reduced
         amp = lambda e: ", ".join(f"{k}: {v:.3f}" for k, v in e.amplitude.items())  # noqa: E731
-        rows.append(Claim("Anisotropic drag: onset unchanged", f"unchanged (sigma_c = {PAPER.sigma_c_2:g})",
-                          f"onset {min(am.onset.values()):.4f}-{max(am.onset.values()):.4f}",
-                          f"{min(ar.onset.values()):.4f}-{max(ar.onset.values()):.4f}",
-                          verdict(am.onset_max_dev < 0.01 and ar.onset_max_dev < 0.01),
-                          f"growth rates of a small kick at sigma = {a.probe_sigmas[0]:g} and {a.probe_sigmas[1]:g} for "
-                          f"each tau_L/tau_T, interpolated to 0 (linear theory: ±{a.linear_rate_at_upper_probe:.2f} "
-                          "whatever the ratio)"))
-        rows.append(Claim(f"Anisotropic drag: amplitude shrinks as tau_L/tau_T grows (sigma = {a.sigma:g})", "shrinks",
-                          f"amplitude of Theta by ratio: {amp(am)}", amp(ar),
-                          verdict(am.amplitude_decreasing and ar.amplitude_decreasing),
-                          "uses the correct drag matrix; the supplement's printed N = 2 anisotropic equations are not "
-                          "rotation invariant (docs/errata.md, item 4) but agree at linear order"))
+        rows.append(
+            Claim(
+                "Anisotropic drag: onset unchanged",
+                f"unchanged (sigma_c = {PAPER.sigma_c_2:g})",
+                f"onset {min(am.onset.values()):.4f}-{max(am.onset.values()):.4f}",
+                f"{min(ar.onset.values()):.4f}-{max(ar.onset.values()):.4f}",
+                verdict(am.onset_max_dev < 0.01 and ar.onset_max_dev < 0.01),
+                f"growth rates of a small kick at sigma = {a.probe_sigmas[0]:g} and {a.probe_sigmas[1]:g} for "
+                f"each tau_L/tau_T, interpolated to 0 (linear theory: ±{a.linear_rate_at_upper_probe:.2f} "
+                "whatever the ratio)",
+            )
+        )
+        rows.append(
+            Claim(
+                f"Anisotropic drag: amplitude shrinks as tau_L/tau_T grows (sigma = {a.sigma:g})",
+                "shrinks",
+                f"amplitude of Theta by ratio: {amp(am)}",
+                amp(ar),
+                verdict(am.amplitude_decreasing and ar.amplitude_decreasing),
+                "uses the correct drag matrix; the supplement's printed N = 2 anisotropic equations are not "
+                "rotation invariant (docs/errata.md, item 4) but agree at linear order",
+            )
+        )
     return rows
 
 
@@ -478,19 +562,27 @@ def noise_readings_claims(st: Study, read: Mapping[str, Study]) -> list[Claim]:
         return "; ".join(parts)
 
     dead = [r.reading for r in s.readings if not r.survives]
-    grows = [r.reading for r in s.readings if r.survives and all(
-        e is None or e.irregularity_increases for e in (r.mujoco, r.reduced))]
+    grows = [
+        r.reading
+        for r in s.readings
+        if r.survives and all(e is None or e.irregularity_increases for e in (r.mujoco, r.reduced))
+    ]
     x = s.experiment
-    return [Claim(
-        "Claim 21 under Ito / Stratonovich / coloured noise: the cycle grows increasingly irregular",
-        "increasingly chaotic (white noise, calculus unstated)", f"period CV by a: {txt('mujoco')}", txt("reduced"),
-        verdict(not dead and len(grows) == len(s.readings), partly=bool(grows)),
-        f"N = {s.n}, sigma = {s.sigma:g}, seed {s.seed}, one realisation per a. Irregularity grows with a and the beat "
-        f"survives up to a = {amax} under: {', '.join(grows) or 'none'}; the beat dies under: {', '.join(dead) or 'none'} "
-        "(Ito's drift lowers the growth rate of small bends; Stratonovich and coloured noise, its physical white limit "
-        "by Wong-Zakai, keep the cycle). So the claim holds in the Stratonovich / coloured readings; under Ito it holds "
-        f"only up to the a where the beat dies. Experiment: force spread {x.relative_spread:.3f} (paper, 3.1/15.7); "
-        f"ASSUMED correlation {1e3 * min(x.correlation_s):g}-{1e3 * max(x.correlation_s):g} ms (vibration gait) over "
-        f"tau = {x.tau_s[0]:.2f}-{x.tau_s[1]:.2f} s -> tau_c = {x.tau_c[0]:.3f}-{x.tau_c[1]:.2f} tau << 1: the white "
-        f"(Stratonovich) regime, of equivalent amplitude a = spread sqrt(2 tau_c) = {x.amplitude[0]:.2f}-"
-        f"{x.amplitude[1]:.2f}, well below the a where Ito and Stratonovich part")]
+    return [
+        Claim(
+            "Claim 21 under Ito / Stratonovich / coloured noise: the cycle grows increasingly irregular",
+            "increasingly chaotic (white noise, calculus unstated)",
+            f"period CV by a: {txt('mujoco')}",
+            txt("reduced"),
+            verdict(not dead and len(grows) == len(s.readings), partly=bool(grows)),
+            f"N = {s.n}, sigma = {s.sigma:g}, seed {s.seed}, one realisation per a. Irregularity grows with a and the beat "
+            f"survives up to a = {amax} under: {', '.join(grows) or 'none'}; the beat dies under: {', '.join(dead) or 'none'} "
+            "(Ito's drift lowers the growth rate of small bends; Stratonovich and coloured noise, its physical white limit "
+            "by Wong-Zakai, keep the cycle). So the claim holds in the Stratonovich / coloured readings; under Ito it holds "
+            f"only up to the a where the beat dies. Experiment: force spread {x.relative_spread:.3f} (paper, 3.1/15.7); "
+            f"ASSUMED correlation {1e3 * min(x.correlation_s):g}-{1e3 * max(x.correlation_s):g} ms (vibration gait) over "
+            f"tau = {x.tau_s[0]:.2f}-{x.tau_s[1]:.2f} s -> tau_c = {x.tau_c[0]:.3f}-{x.tau_c[1]:.2f} tau << 1: the white "
+            f"(Stratonovich) regime, of equivalent amplitude a = spread sqrt(2 tau_c) = {x.amplitude[0]:.2f}-"
+            f"{x.amplitude[1]:.2f}, well below the a where Ito and Stratonovich part",
+        )
+    ]

@@ -22,9 +22,10 @@ built-in studies register when `elastoactive.studies` is imported.
 
 from __future__ import annotations
 
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Callable, Mapping
+from typing import Any
 
 from ..registry import UnknownName
 
@@ -105,8 +106,9 @@ class UnknownStudy(UnknownName):
     kind, kinds = "study", "studies"
 
 
-def declare(name: str, *, summary: type, order: float, reads: tuple[str, ...] | list[str] = (),
-            replace: bool = False) -> StudyEntry:
+def declare(
+    name: str, *, summary: type, order: float, reads: tuple[str, ...] | list[str] = (), replace: bool = False
+) -> StudyEntry:
     """Register a study called `name` with its summary type, its place in reproduce (`order`, ascending) and
     the other studies its claim rows read; returns the entry whose decorators attach its pieces."""
     if not isinstance(name, str) or not name.isidentifier():

@@ -11,9 +11,9 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Mapping
 
 import numpy as np
 
@@ -93,17 +93,30 @@ RESPONSE = registry.declare("response", summary=ResponseSummary, order=170)
 
 def _omegas(res: rs.Resonance) -> list[float]:
     named = {"low": res.low, "high": res.high}
-    return [float(named[f]) if isinstance(f, str) else f * res.omega for f in FREQUENCIES
-            if not (isinstance(f, str) and not math.isfinite(named[f]))]
+    return [
+        float(named[f]) if isinstance(f, str) else f * res.omega
+        for f in FREQUENCIES
+        if not (isinstance(f, str) and not math.isfinite(named[f]))
+    ]
 
 
-def _case(n: int, sigma: float, omega: float, amplitude: float, gamma: float, sample_dt: float, engine: str,
-          size: str, direction: str = "transverse") -> tuple[Case, float]:
+def _case(
+    n: int,
+    sigma: float,
+    omega: float,
+    amplitude: float,
+    gamma: float,
+    sample_dt: float,
+    engine: str,
+    size: str,
+    direction: str = "transverse",
+) -> tuple[Case, float]:
     period = 2 * math.pi / omega
     settle = SETTLE[size] / gamma
     duration = math.ceil((settle + WINDOW[size] * period) / sample_dt) * sample_dt
-    physics = one_pinned.SCENE.physics(n=n, sigma=sigma, drive_amplitude=amplitude,
-                                       drive_frequency=omega / (2 * math.pi), drive_direction=direction)
+    physics = one_pinned.SCENE.physics(
+        n=n, sigma=sigma, drive_amplitude=amplitude, drive_frequency=omega / (2 * math.pi), drive_direction=direction
+    )
     coarse = {"dt": MUJOCO_DT[size]} if engine == "mujoco" and size in MUJOCO_DT else {}
     numerics = Numerics(sample_dt=sample_dt, perturbation=1e-4, **coarse)
     return Case(physics, numerics, duration, engine), duration - WINDOW[size] * period
@@ -146,7 +159,7 @@ def response_study(size: str = "quick", workers=None, progress: bool = True) -> 
     per = len(omegas) + 1
     sims, longitudinal = {}, {}
     for k, eng in enumerate(ENGINES):
-        part, begins = trajs[k * per:(k + 1) * per], starts[k * per:(k + 1) * per]
+        part, begins = trajs[k * per : (k + 1) * per], starts[k * per : (k + 1) * per]
         sims[eng] = np.array([_fit(tr, b, w, a) for tr, b, w, a in zip(part, begins, omegas, amps)])
         longitudinal[eng] = abs(_fit(part[-1], begins[-1], res.omega, long_amp, "longitudinal"))
 
@@ -166,9 +179,18 @@ def response_study(size: str = "quick", workers=None, progress: bool = True) -> 
     eps = 1e-6
     slope = (stab.eigenvalues(n, sigma_c * (1 - eps))[0].real - stab.eigenvalues(n, sigma_c)[0].real) / (-eps * sigma_c)
     i_peak = omegas.index(res.omega)
-    data = {"omega": np.array(omegas), "gain_theory": np.abs(theory), "phase_theory": np.angle(theory),
-            "fine_omega": fine, "fine_gain": np.abs(curve), "fine_phase": np.angle(curve), "distance": distances,
-            "half_width": widths, "peak_gain": peaks, "gamma": gammas}
+    data = {
+        "omega": np.array(omegas),
+        "gain_theory": np.abs(theory),
+        "phase_theory": np.angle(theory),
+        "fine_omega": fine,
+        "fine_gain": np.abs(curve),
+        "fine_phase": np.angle(curve),
+        "distance": distances,
+        "half_width": widths,
+        "peak_gain": peaks,
+        "gamma": gammas,
+    }
     parts = {}
     for eng, sim in sims.items():
         data[f"gain_{eng}"], data[f"phase_{eng}"] = np.abs(sim), np.angle(sim)
@@ -176,14 +198,27 @@ def response_study(size: str = "quick", workers=None, progress: bool = True) -> 
             max_gain_error=float(np.max(np.abs(np.abs(sim) / np.abs(theory) - 1))),
             max_phase_error=float(np.max(np.abs(np.angle(sim / theory)))),
             max_complex_error=float(np.max(np.abs(sim / theory - 1))),
-            sim_half_power=[float(abs(sim[omegas.index(w)]) ** 2 / abs(sim[i_peak]) ** 2)
-                            for w in (res.low, res.high) if w in omegas],
-            longitudinal_gain=float(longitudinal[eng]))
+            sim_half_power=[
+                float(abs(sim[omegas.index(w)]) ** 2 / abs(sim[i_peak]) ** 2)
+                for w in (res.low, res.high)
+                if w in omegas
+            ],
+            longitudinal_gain=float(longitudinal[eng]),
+        )
     summary = ResponseSummary(
-        n=int(n), ratio=ratio, sigma=float(sigma), peak_omega=res.omega, peak_gain=res.gain, half_width=res.half_width,
-        gamma=float(gamma), width_exponent=width_law["exponent"],
-        width_per_distance=float(widths[0] / (distances[0] * sigma_c)), gamma_per_distance=float(slope),
-        peak_exponent=peak_law["exponent"], **parts)
+        n=int(n),
+        ratio=ratio,
+        sigma=float(sigma),
+        peak_omega=res.omega,
+        peak_gain=res.gain,
+        half_width=res.half_width,
+        gamma=float(gamma),
+        width_exponent=width_law["exponent"],
+        width_per_distance=float(widths[0] / (distances[0] * sigma_c)),
+        gamma_per_distance=float(slope),
+        peak_exponent=peak_law["exponent"],
+        **parts,
+    )
     return Study("response", size, data, summary, time.perf_counter() - start)
 
 
@@ -196,8 +231,13 @@ def response_figure(study: Study, out: Path) -> list[Path]:
     a1.loglog(d["fine_omega"], d["fine_gain"], "k-", lw=1, label=r"transfer function $|G(\omega)|$")
     for eng in plots.engines(d, "gain"):
         a1.loglog(d["omega"], d[f"gain_{eng}"], **plots.ENGINE_STYLE[eng])
-    a1.axvspan(s.peak_omega - s.half_width, s.peak_omega + s.half_width, color="C0", alpha=0.12,
-               label=rf"half width {s.half_width:.3g}/$\tau$")
+    a1.axvspan(
+        s.peak_omega - s.half_width,
+        s.peak_omega + s.half_width,
+        color="C0",
+        alpha=0.12,
+        label=rf"half width {s.half_width:.3g}/$\tau$",
+    )
     a1.set_xlabel(r"drive $\omega\,\tau$")
     a1.set_ylabel(r"gain $|y_N| / |F_y|$ ($l^2/C_1$)")
     a1.legend(fontsize=8)
@@ -227,29 +267,45 @@ def response_claims(study: Study, read: Mapping[str, Study]) -> list[Claim]:
     outlook = "outlook: 'mechanical responses such as longitudinal or transverse excitations'"
 
     def column(e: ResponseEngine) -> str:
-        return (f"|G_sim / G - 1| <= {e.max_complex_error:.1e} over {len(FREQUENCIES)} frequencies; |G|^2 at G's "
-                "half-power points " + ", ".join(f"{h:.4f}" for h in e.sim_half_power) + " of the peak's")
+        return (
+            f"|G_sim / G - 1| <= {e.max_complex_error:.1e} over {len(FREQUENCIES)} frequencies; |G|^2 at G's "
+            "half-power points " + ", ".join(f"{h:.4f}" for h in e.sim_half_power) + " of the peak's"
+        )
 
     ok = all(s.engine(e).max_complex_error < AGREEMENT for e in ENGINES)
-    rows = [Claim(
-        "Below onset a transverse tip force gets the linear operator's response (gain and phase)", outlook,
-        column(s.mujoco), column(s.reduced), verdict(ok),
-        f"N = {s.n}, sigma = {s.ratio:g} sigma_c, drives from 0.25 to 2 times the peak at omega = {s.peak_omega:.4g}/tau "
-        f"(|G| = {s.peak_gain:.4g}) against G(omega) = e_N^T (i omega - M)^-1 e_N (tip displacement over tip force): "
-        + "; ".join(f"{ENGINE_NAMES[e]} gain within {100 * s.engine(e).max_gain_error:.2g}%, phase within "
-                    f"{s.engine(e).max_phase_error:.1e} rad" for e in ENGINES)
-        + ". A longitudinal force of the same size at the peak frequency moves the tip along the chain by "
-        + " and ".join(f"{s.engine(e).longitudinal_gain:.1e}" for e in ENGINES)
-        + " l per unit force (MuJoCo, reduced) at the drive's frequency: no linear response (it enters as "
-        "-F_x theta_j, a parametric drive, and the straight chain stays straight).")]
-    rows.append(Claim(
-        "The resonance sharpens as sigma -> sigma_c: its width vanishes linearly in sigma_c - sigma", outlook, "-",
-        f"width ~ (sigma_c - sigma)^{s.width_exponent:.3f}",
-        verdict(abs(s.width_exponent - 1) < 0.05 and abs(s.width_per_distance / s.gamma_per_distance - 1) < 0.05),
-        f"half width at half maximum of |G|^2 against sigma_c - sigma (N = {s.n}, from G): exponent "
-        f"{s.width_exponent:.3f}, width / (sigma_c - sigma) = {s.width_per_distance:.4g} at the closest point against "
-        f"-d Re lambda / d sigma = {s.gamma_per_distance:.4g} at the onset; at {s.ratio:g} sigma_c the width "
-        f"{s.half_width:.4g} against gamma = {s.gamma:.4g}; the peak gain grows as (sigma_c - sigma)^{s.peak_exponent:.3f}."))
+    rows = [
+        Claim(
+            "Below onset a transverse tip force gets the linear operator's response (gain and phase)",
+            outlook,
+            column(s.mujoco),
+            column(s.reduced),
+            verdict(ok),
+            f"N = {s.n}, sigma = {s.ratio:g} sigma_c, drives from 0.25 to 2 times the peak at omega = {s.peak_omega:.4g}/tau "
+            f"(|G| = {s.peak_gain:.4g}) against G(omega) = e_N^T (i omega - M)^-1 e_N (tip displacement over tip force): "
+            + "; ".join(
+                f"{ENGINE_NAMES[e]} gain within {100 * s.engine(e).max_gain_error:.2g}%, phase within "
+                f"{s.engine(e).max_phase_error:.1e} rad"
+                for e in ENGINES
+            )
+            + ". A longitudinal force of the same size at the peak frequency moves the tip along the chain by "
+            + " and ".join(f"{s.engine(e).longitudinal_gain:.1e}" for e in ENGINES)
+            + " l per unit force (MuJoCo, reduced) at the drive's frequency: no linear response (it enters as "
+            "-F_x theta_j, a parametric drive, and the straight chain stays straight).",
+        )
+    ]
+    rows.append(
+        Claim(
+            "The resonance sharpens as sigma -> sigma_c: its width vanishes linearly in sigma_c - sigma",
+            outlook,
+            "-",
+            f"width ~ (sigma_c - sigma)^{s.width_exponent:.3f}",
+            verdict(abs(s.width_exponent - 1) < 0.05 and abs(s.width_per_distance / s.gamma_per_distance - 1) < 0.05),
+            f"half width at half maximum of |G|^2 against sigma_c - sigma (N = {s.n}, from G): exponent "
+            f"{s.width_exponent:.3f}, width / (sigma_c - sigma) = {s.width_per_distance:.4g} at the closest point against "
+            f"-d Re lambda / d sigma = {s.gamma_per_distance:.4g} at the onset; at {s.ratio:g} sigma_c the width "
+            f"{s.half_width:.4g} against gamma = {s.gamma:.4g}; the peak gain grows as (sigma_c - sigma)^{s.peak_exponent:.3f}.",
+        )
+    )
     return rows
 
 
@@ -315,8 +371,12 @@ def entrainment_study(size: str = "quick", workers=None, progress: bool = True) 
     n, sigma = ENTRAIN_N, ENTRAIN_SIGMA
     numerics = Numerics(sample_dt=0.05)
     duration, transient = pick(size, *(ENTRAIN_RUN[k] for k in ("tiny", "quick", "full")))
-    free = run([Case(one_pinned.SCENE.physics(n=n, sigma=sigma), numerics, ENTRAIN_FREE, "reduced")], workers,
-               progress, "free beat")[0]
+    free = run(
+        [Case(one_pinned.SCENE.physics(n=n, sigma=sigma), numerics, ENTRAIN_FREE, "reduced")],
+        workers,
+        progress,
+        "free beat",
+    )[0]
     steady = free.t >= ENTRAIN_FREE / 2
     tip = rs.tip_displacement(free.theta[steady])
     a = float(0.5 * (tip.max() - tip.min()))
@@ -349,15 +409,27 @@ def entrainment_study(size: str = "quick", workers=None, progress: bool = True) 
         inside = fractions[lock]
         low_out = fractions[(~lock) & (fractions < 0)]
         high_out = fractions[(~lock) & (fractions > 0)]
-        edges.append(TongueEdge(
-            amplitude=float(amp), adler=float(adler),
-            locked_low=float(inside.min() * adler) if inside.size else math.nan,
-            unlocked_low=float(low_out.max() * adler) if low_out.size else math.nan,
-            locked_high=float(inside.max() * adler) if inside.size else math.nan,
-            unlocked_high=float(high_out.min() * adler) if high_out.size else math.nan,
-            engines_agree=bool(np.array_equal(locked["mujoco"], locked["reduced"]))))
-    summary = EntrainmentSummary(n=n, sigma=sigma, free_frequency=f0, tip_amplitude=a, duration=duration,
-                                 transient=transient, residue=abs(rs.tip_residue(n, sigma)), edges=edges)
+        edges.append(
+            TongueEdge(
+                amplitude=float(amp),
+                adler=float(adler),
+                locked_low=float(inside.min() * adler) if inside.size else math.nan,
+                unlocked_low=float(low_out.max() * adler) if low_out.size else math.nan,
+                locked_high=float(inside.max() * adler) if inside.size else math.nan,
+                unlocked_high=float(high_out.min() * adler) if high_out.size else math.nan,
+                engines_agree=bool(np.array_equal(locked["mujoco"], locked["reduced"])),
+            )
+        )
+    summary = EntrainmentSummary(
+        n=n,
+        sigma=sigma,
+        free_frequency=f0,
+        tip_amplitude=a,
+        duration=duration,
+        transient=transient,
+        residue=abs(rs.tip_residue(n, sigma)),
+        edges=edges,
+    )
     return Study("entrainment", size, data, summary, time.perf_counter() - start)
 
 
@@ -394,13 +466,22 @@ def entrainment_claims(study: Study, read: Mapping[str, Study]) -> list[Claim]:
 
     ok = all(bracketed(e) for e in s.edges)
     agree = all(e.engines_agree for e in s.edges)
-    text = "; ".join(f"A = {e.amplitude:g}: locked from {e.locked_low:+.4f} to {e.locked_high:+.4f} (unlocked at "
-                     f"{e.unlocked_low:+.4f}, {e.unlocked_high:+.4f}) against Adler +-{e.adler:.4f}" for e in s.edges)
-    return [Claim(
-        "Above onset a tip force entrains the beat inside an Arnold tongue (Adler's width from the linear residue)",
-        outlook, "locks at the same detunings" if agree else "locks at other detunings", text, verdict(ok and agree),
-        f"N = {s.n}, sigma = {s.sigma:g} (sigma_c = 3): free beat f tau = {s.free_frequency:.5f}, tip amplitude "
-        f"a = {s.tip_amplitude:.4f} l; detunings relative to f tau. Adler: |Omega - omega_beat| <= |R| A / a with "
-        f"|R| = {s.residue:.4f} the residue of G at its leading pair (the non-isochronicity, which widens the tongue by "
-        f"sqrt(1 + alpha^2), left out). Locked: |f_beat / f_drive - 1| < {LOCKED:g} after {s.transient:g} tau of "
-        f"{s.duration:g}.")]
+    text = "; ".join(
+        f"A = {e.amplitude:g}: locked from {e.locked_low:+.4f} to {e.locked_high:+.4f} (unlocked at "
+        f"{e.unlocked_low:+.4f}, {e.unlocked_high:+.4f}) against Adler +-{e.adler:.4f}"
+        for e in s.edges
+    )
+    return [
+        Claim(
+            "Above onset a tip force entrains the beat inside an Arnold tongue (Adler's width from the linear residue)",
+            outlook,
+            "locks at the same detunings" if agree else "locks at other detunings",
+            text,
+            verdict(ok and agree),
+            f"N = {s.n}, sigma = {s.sigma:g} (sigma_c = 3): free beat f tau = {s.free_frequency:.5f}, tip amplitude "
+            f"a = {s.tip_amplitude:.4f} l; detunings relative to f tau. Adler: |Omega - omega_beat| <= |R| A / a with "
+            f"|R| = {s.residue:.4f} the residue of G at its leading pair (the non-isochronicity, which widens the tongue by "
+            f"sqrt(1 + alpha^2), left out). Locked: |f_beat / f_drive - 1| < {LOCKED:g} after {s.transient:g} tau of "
+            f"{s.duration:g}.",
+        )
+    ]

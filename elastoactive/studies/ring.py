@@ -10,9 +10,9 @@ from the same start; the claim rows compare the two.
 from __future__ import annotations
 
 import time
+from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Mapping
 
 import numpy as np
 
@@ -76,18 +76,21 @@ def ring_study(size: str = "quick", workers=None, progress: bool = True) -> Stud
     numerics = Numerics(dt=0.001, sample_dt=0.1)  # resolves the N = 24 ring's fastest rate up to sigma = 8 (~120/tau)
     grid = [(n, s, ring.PINNED) for n, sigmas in zip(SIZES_N, (small, large)) for s in sigmas]
     grid += [(SIZES_N[0], s, ring.FREE) for s in free]  # the free ring, after the pinned ones
-    cases = [Case(ring.SCENE.physics(n=n, sigma=s, pin=pin), numerics, duration, eng, transient)
-             for n, s, pin in grid for eng in ENGINES]
+    cases = [
+        Case(ring.SCENE.physics(n=n, sigma=s, pin=pin), numerics, duration, eng, transient)
+        for n, s, pin in grid
+        for eng in ENGINES
+    ]
     results = [r.results for r in run_cases(cases, workers=workers, progress=progress, desc="rings")]
     data = {"sigma_small": np.array(small), "sigma_large": np.array(large), "sigma_free": np.array(free)}
     for k, eng in enumerate(ENGINES):
-        mine = results[k::len(ENGINES)]
+        mine = results[k :: len(ENGINES)]
         for n, count, offset in ((SIZES_N[0], len(small), 0), (SIZES_N[1], len(large), len(small))):
-            part = mine[offset: offset + count]
+            part = mine[offset : offset + count]
             data[f"rate_{n}_{eng}"] = np.array([r.rotation_rate for r in part])
             data[f"amplitude_{n}_{eng}"] = np.array([r.amplitude for r in part])
             data[f"frequency_{n}_{eng}"] = np.array([np.nan if r.frequency is None else r.frequency for r in part])
-        loose = mine[len(small) + len(large):]
+        loose = mine[len(small) + len(large) :]
         data[f"rate_free_{eng}"] = np.array([r.rotation_rate for r in loose])
         data[f"drift_free_{eng}"] = np.array([r.extra["centre_drift"] for r in loose])
         data[f"amplitude_free_{eng}"] = np.array([r.amplitude for r in loose])
@@ -95,7 +98,9 @@ def ring_study(size: str = "quick", workers=None, progress: bool = True) -> Stud
     rigid = np.array(free) * n_free * np.sin(2.0 * np.pi / n_free) / (n_free + 1)  # a rigid regular ring's |rate|
     rates = {eng: np.r_[data[f"rate_7_{eng}"], data[f"rate_24_{eng}"]] for eng in ENGINES}
     summary = RingSummary(
-        sigma_small=[float(s) for s in small], sigma_large=[float(s) for s in large], sigma_free=[float(s) for s in free],
+        sigma_small=[float(s) for s in small],
+        sigma_large=[float(s) for s in large],
+        sigma_free=[float(s) for s in free],
         rigid_amplitude_mujoco=float(np.max(data["amplitude_7_mujoco"])),
         rigid_amplitude_reduced=float(np.max(data["amplitude_7_reduced"])),
         rate_per_sigma_mujoco=float(data["rate_7_mujoco"][0] / small[0]),
@@ -105,8 +110,9 @@ def ring_study(size: str = "quick", workers=None, progress: bool = True) -> Stud
         beating_reduced=[float(s) for s, a in zip(large, data["amplitude_24_reduced"]) if a > BEATING],
         free_rate_ratio_mujoco=float(np.max(np.abs(np.abs(data["rate_free_mujoco"]) / rigid - 1.0))),
         free_rate_ratio_reduced=float(np.max(np.abs(np.abs(data["rate_free_reduced"]) / rigid - 1.0))),
-        free_rate_difference=float(np.max(np.abs(data["rate_free_mujoco"] - data["rate_free_reduced"])
-                                          / np.abs(data["rate_free_reduced"]))),
+        free_rate_difference=float(
+            np.max(np.abs(data["rate_free_mujoco"] - data["rate_free_reduced"]) / np.abs(data["rate_free_reduced"]))
+        ),
         free_drift=float(max(np.max(data[f"drift_free_{eng}"]) for eng in ENGINES)),
         free_rigid_amplitude=float(max(np.max(data[f"amplitude_free_{eng}"]) for eng in ENGINES)),
     )
@@ -162,24 +168,37 @@ def ring_claims(study: Study, read: Mapping[str, Study]) -> list[Claim]:
     s = study.summary
     outlook = "outlook: more intricate connections (not simulated)"
     return [
-        Claim("A ring held at one particle turns about it as a rigid polygon (N = 7)", outlook,
-              f"Theta amplitude <= {fmt(s.rigid_amplitude_mujoco, 2)} rad for sigma {fmt(min(s.sigma_small))}-"
-              f"{fmt(max(s.sigma_small))}; rate / sigma = {rate_per_sigma(study, 'mujoco')}",
-              f"<= {fmt(s.rigid_amplitude_reduced, 2)} rad; {rate_per_sigma(study, 'reduced')}",
-              verdict(max(s.rigid_amplitude_mujoco, s.rigid_amplitude_reduced) < 1e-3 and s.rate_difference < 0.01),
-              f"the follower forces sum to zero round a closed ring, their torque does not; rates of the two engines "
-              f"within {100 * s.rate_difference:.2g}% at every point (N = 7 and 24)"),
-        Claim("A longer ring deforms and beats while it turns (N = 24)", outlook,
-              f"beats at sigma = {', '.join(fmt(x) for x in s.beating_mujoco) or 'none'}",
-              f"{', '.join(fmt(x) for x in s.beating_reduced) or 'none'}",
-              verdict(bool(s.beating_mujoco) and s.beating_mujoco == s.beating_reduced),
-              f"Theta amplitude > {BEATING:g} rad; at the largest sigma it turns rigidly again"),
-        Claim("A free ring (no pin) turns steadily about its centre of drag and does not drift (N = 7)", outlook,
-              f"rate within {100 * s.free_rate_ratio_mujoco:.2g}% of sigma N sin(2 pi/N) / (N + 1)",
-              f"within {100 * s.free_rate_ratio_reduced:.2g}%",
-              verdict(max(s.free_rate_ratio_mujoco, s.free_rate_ratio_reduced) < 0.05 and s.free_rate_difference < 0.01
-                      and s.free_drift < 1e-3 and s.free_rigid_amplitude < 1e-2),
-              f"the rigid regular polygon's rate with the root's bead (N + 1 drag points); centre drift <= "
-              f"{fmt(s.free_drift, 2)} l/tau, Theta amplitude <= {fmt(s.free_rigid_amplitude, 2)} rad; engines within "
-              f"{100 * s.free_rate_difference:.2g}%"),
+        Claim(
+            "A ring held at one particle turns about it as a rigid polygon (N = 7)",
+            outlook,
+            f"Theta amplitude <= {fmt(s.rigid_amplitude_mujoco, 2)} rad for sigma {fmt(min(s.sigma_small))}-"
+            f"{fmt(max(s.sigma_small))}; rate / sigma = {rate_per_sigma(study, 'mujoco')}",
+            f"<= {fmt(s.rigid_amplitude_reduced, 2)} rad; {rate_per_sigma(study, 'reduced')}",
+            verdict(max(s.rigid_amplitude_mujoco, s.rigid_amplitude_reduced) < 1e-3 and s.rate_difference < 0.01),
+            f"the follower forces sum to zero round a closed ring, their torque does not; rates of the two engines "
+            f"within {100 * s.rate_difference:.2g}% at every point (N = 7 and 24)",
+        ),
+        Claim(
+            "A longer ring deforms and beats while it turns (N = 24)",
+            outlook,
+            f"beats at sigma = {', '.join(fmt(x) for x in s.beating_mujoco) or 'none'}",
+            f"{', '.join(fmt(x) for x in s.beating_reduced) or 'none'}",
+            verdict(bool(s.beating_mujoco) and s.beating_mujoco == s.beating_reduced),
+            f"Theta amplitude > {BEATING:g} rad; at the largest sigma it turns rigidly again",
+        ),
+        Claim(
+            "A free ring (no pin) turns steadily about its centre of drag and does not drift (N = 7)",
+            outlook,
+            f"rate within {100 * s.free_rate_ratio_mujoco:.2g}% of sigma N sin(2 pi/N) / (N + 1)",
+            f"within {100 * s.free_rate_ratio_reduced:.2g}%",
+            verdict(
+                max(s.free_rate_ratio_mujoco, s.free_rate_ratio_reduced) < 0.05
+                and s.free_rate_difference < 0.01
+                and s.free_drift < 1e-3
+                and s.free_rigid_amplitude < 1e-2
+            ),
+            f"the rigid regular polygon's rate with the root's bead (N + 1 drag points); centre drift <= "
+            f"{fmt(s.free_drift, 2)} l/tau, Theta amplitude <= {fmt(s.free_rigid_amplitude, 2)} rad; engines within "
+            f"{100 * s.free_rate_difference:.2g}%",
+        ),
     ]

@@ -5,17 +5,17 @@ sigma = 0.33."""
 from __future__ import annotations
 
 import time
+from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Mapping
 
 import numpy as np
 
 from ..analysis import fits
 from ..analysis import measures as ms
-from ..analysis.measures import chain_positions
 from ..analysis import observables as obs
 from ..analysis.fits import Fit
+from ..analysis.measures import chain_positions
 from ..analysis.stability import rotating_operator, rotation_threshold
 from ..batch import Case
 from ..report.paper import PAPER
@@ -59,9 +59,30 @@ def rotation_study(size: str = "quick", workers=None, progress: bool = True) -> 
     """Rotation rate and steady shape against sigma (N = 7); the sense of rotation for several seeds."""
     start = time.perf_counter()
     n = 7
-    sigmas = pick(size, (0.05, 0.2, 0.8), (0.03, 0.06, 0.075, 0.0825, 0.09, 0.1, 0.125, 0.15, 0.2, 0.33, 0.5, 0.8, 1.2),
-                  tuple(np.round(np.r_[0.02, 0.04, 0.06, np.arange(0.07, 0.13, 0.005), np.arange(0.15, 0.41, 0.05), 0.33,
-                                      0.5, 0.65, 0.8, 1.0, 1.2, 1.5], 4)))
+    sigmas = pick(
+        size,
+        (0.05, 0.2, 0.8),
+        (0.03, 0.06, 0.075, 0.0825, 0.09, 0.1, 0.125, 0.15, 0.2, 0.33, 0.5, 0.8, 1.2),
+        tuple(
+            np.round(
+                np.r_[
+                    0.02,
+                    0.04,
+                    0.06,
+                    np.arange(0.07, 0.13, 0.005),
+                    np.arange(0.15, 0.41, 0.05),
+                    0.33,
+                    0.5,
+                    0.65,
+                    0.8,
+                    1.0,
+                    1.2,
+                    1.5,
+                ],
+                4,
+            )
+        ),
+    )
     sigmas = tuple(sorted(set(float(s) for s in sigmas)))
     seeds = pick(size, (0, 1, 2, 3), tuple(range(8)), tuple(range(16)))
     s_r = rotation_threshold(n)
@@ -71,19 +92,33 @@ def rotation_study(size: str = "quick", workers=None, progress: bool = True) -> 
         grow = 12.0 / rate if rate > 0 else 0.0
         dur = float(np.ceil(min(8000.0, 300.0 + grow)))
         for eng in ENGINES:
-            cases.append(Case(rotating_pin.SCENE.physics(n=n, sigma=s), fast(perturbation=0.01, sample_dt=0.1), dur, eng,
-                              dur - 150.0))
+            cases.append(
+                Case(
+                    rotating_pin.SCENE.physics(n=n, sigma=s),
+                    fast(perturbation=0.01, sample_dt=0.1),
+                    dur,
+                    eng,
+                    dur - 150.0,
+                )
+            )
             meta.append(("sigma", s, 0, eng))
     s_exp = PAPER.rotation_sigma
     for seed in seeds:
         for eng in ENGINES:
-            cases.append(Case(rotating_pin.SCENE.physics(n=n, sigma=s_exp), fast(perturbation=0.01, sample_dt=0.1, seed=seed),
-                              400.0, eng, 250.0))
+            cases.append(
+                Case(
+                    rotating_pin.SCENE.physics(n=n, sigma=s_exp),
+                    fast(perturbation=0.01, sample_dt=0.1, seed=seed),
+                    400.0,
+                    eng,
+                    250.0,
+                )
+            )
             meta.append(("seed", s_exp, seed, eng))
     trajs = run(cases, workers, progress, "rotating pin")
     res = {}
     signs = {eng: [] for eng in ENGINES}
-    for (kind, s, seed, eng), tr in zip(meta, trajs):
+    for (kind, s, _seed, eng), tr in zip(meta, trajs):
         transient = tr.t[-1] - 150.0
         rate = obs.rotation_rate(tr.t, tr.theta, transient)
         if kind == "sigma":
@@ -107,9 +142,11 @@ def rotation_study(size: str = "quick", workers=None, progress: bool = True) -> 
         on = sig[turning].min() if turning.any() else np.nan
         off = sig[~turning & (sig < on)].max() if np.any(~turning & (sig < on)) else np.nan
         parts[eng] = RotationEngine(
-            first_rotating_sigma=float(on), last_still_sigma=float(off),
+            first_rotating_sigma=float(on),
+            last_still_sigma=float(off),
             onset_fit=try_fit(fits.onset_power_law_fit, sig[near], np.abs(rate[near])),
-            n_positive=int(np.sum(np.array(signs[eng]) > 0)), n_negative=int(np.sum(np.array(signs[eng]) < 0)),
+            n_positive=int(np.sum(np.array(signs[eng]) > 0)),
+            n_negative=int(np.sum(np.array(signs[eng]) < 0)),
             rate_abs_at_seed_sigma=float(np.mean(np.abs(signs[eng]))),
             max_uniformity=float(np.nanmax(data[f"uniformity_{eng}"][turning])) if turning.any() else None,
             max_shape_spread=float(np.max(data[f"shape_spread_{eng}"][turning])) if turning.any() else None,
@@ -134,10 +171,22 @@ def rotation_figures(study: Study, out: Path) -> list[Path]:
         seeds = d[f"seed_rate_{eng}"]
         x = np.full(seeds.size, s.sigma_seeds)
         if eng == "mujoco":
-            a1.plot(x[seeds > 0] + 0.03, seeds[seeds > 0], "^", color="C2", ms=6,
-                    label=rf"{seeds.size} random starts at $\sigma$ = {s.sigma_seeds:g}: {(seeds > 0).sum()} turn ccw")
-            a1.plot(x[seeds < 0] + 0.06, -seeds[seeds < 0], "v", color="C4", ms=6,
-                    label=f"... and {(seeds < 0).sum()} turn cw (|rate| shown)")
+            a1.plot(
+                x[seeds > 0] + 0.03,
+                seeds[seeds > 0],
+                "^",
+                color="C2",
+                ms=6,
+                label=rf"{seeds.size} random starts at $\sigma$ = {s.sigma_seeds:g}: {(seeds > 0).sum()} turn ccw",
+            )
+            a1.plot(
+                x[seeds < 0] + 0.06,
+                -seeds[seeds < 0],
+                "v",
+                color="C4",
+                ms=6,
+                label=f"... and {(seeds < 0).sum()} turn cw (|rate| shown)",
+            )
     a1.axvline(s.sigma_r_linear, color="C3", ls="--", lw=0.8, label=f"linear threshold {s.sigma_r_linear:.4f}")
     a1.set_xlabel(r"$\sigma$")
     a1.set_ylabel(r"|rotation rate| $|\dot\theta_1|$ (rad/$\tau$)")
@@ -169,15 +218,22 @@ def rotation_claims(ro: Study, read: Mapping[str, Study]) -> list[Claim]:
     s = ro.summary
     m, r = s.mujoco, s.reduced
     return [
-        Claim("Freely rotating pin: rotation at constant speed", f"constant speed (sigma = {PAPER.rotation_sigma:g})",
-              f"|rate| = {m.rate_abs_at_seed_sigma:.5f} rad/tau at {s.sigma_seeds:g}; speed spread std/mean <= "
-              f"{fmt(m.max_uniformity, 2)}",
-              f"{r.rate_abs_at_seed_sigma:.5f}; <= {fmt(r.max_uniformity, 2)}",
-              verdict((m.max_uniformity or 1) < 1e-3),
-              f"the straight chain turns unstable through a real eigenvalue at sigma_r = {s.sigma_r_linear:.5f} "
-              f"(linear stability); above it the bent chain turns rigidly (shape spread <= {fmt(m.max_shape_spread, 2)} rad)"),
-        Claim("Rotation direction chosen spontaneously", "either sense",
-              f"{m.n_positive} counter-clockwise, {m.n_negative} clockwise of {m.n_positive + m.n_negative} seeds",
-              f"{r.n_positive} / {r.n_negative}", verdict(m.n_positive > 0 and m.n_negative > 0),
-              "seeded random initial kicks; same |rate| for both senses (mirror symmetry)"),
+        Claim(
+            "Freely rotating pin: rotation at constant speed",
+            f"constant speed (sigma = {PAPER.rotation_sigma:g})",
+            f"|rate| = {m.rate_abs_at_seed_sigma:.5f} rad/tau at {s.sigma_seeds:g}; speed spread std/mean <= "
+            f"{fmt(m.max_uniformity, 2)}",
+            f"{r.rate_abs_at_seed_sigma:.5f}; <= {fmt(r.max_uniformity, 2)}",
+            verdict((m.max_uniformity or 1) < 1e-3),
+            f"the straight chain turns unstable through a real eigenvalue at sigma_r = {s.sigma_r_linear:.5f} "
+            f"(linear stability); above it the bent chain turns rigidly (shape spread <= {fmt(m.max_shape_spread, 2)} rad)",
+        ),
+        Claim(
+            "Rotation direction chosen spontaneously",
+            "either sense",
+            f"{m.n_positive} counter-clockwise, {m.n_negative} clockwise of {m.n_positive + m.n_negative} seeds",
+            f"{r.n_positive} / {r.n_negative}",
+            verdict(m.n_positive > 0 and m.n_negative > 0),
+            "seeded random initial kicks; same |rate| for both senses (mirror symmetry)",
+        ),
     ]

@@ -18,9 +18,9 @@ or beating); one point also runs in the reduced model and the claim rows compare
 from __future__ import annotations
 
 import time
+from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Mapping
 
 import numpy as np
 
@@ -119,10 +119,18 @@ def self_aligning_study(size: str = "quick", workers=None, progress: bool = True
     numerics = Numerics()
     grid = [(la, s) for la in las for s in sigmas]
     check = (2.0, 0.8) if (2.0, 0.8) in grid else grid[-1]
-    cases = [Case(Physics(n=N, sigma=s, active=SELF_ALIGNING, alignment_length=la), numerics, duration, "mujoco")
-             for la, s in grid]
-    cases.append(Case(Physics(n=N, sigma=check[1], active=SELF_ALIGNING, alignment_length=check[0]), numerics,
-                      min(duration, 40.0), "reduced"))
+    cases = [
+        Case(Physics(n=N, sigma=s, active=SELF_ALIGNING, alignment_length=la), numerics, duration, "mujoco")
+        for la, s in grid
+    ]
+    cases.append(
+        Case(
+            Physics(n=N, sigma=check[1], active=SELF_ALIGNING, alignment_length=check[0]),
+            numerics,
+            min(duration, 40.0),
+            "reduced",
+        )
+    )
     trajs = run(cases, workers, progress, "self-aligning")
     states = [classify(tr.t, tr.theta) for tr in trajs[:-1]]
     reduced = trajs[-1]
@@ -131,15 +139,23 @@ def self_aligning_study(size: str = "quick", workers=None, progress: bool = True
     diff = float(np.abs(mujoco.theta[:common] - reduced.theta[:common]).max())
     onsets = [onset(N, la) for la in las]
     single = [onset(1, la) for la in las]
-    data = {"sigma": np.array(sigmas), "alignment_length": np.array(las), "onset": np.array(onsets),
-            "onset_single": np.array(single),
-            "state": np.array([STATES.index(s) for s in states]).reshape(len(las), len(sigmas))}
+    data = {
+        "sigma": np.array(sigmas),
+        "alignment_length": np.array(las),
+        "onset": np.array(onsets),
+        "onset_single": np.array(single),
+        "state": np.array([STATES.index(s) for s in states]).reshape(len(las), len(sigmas)),
+    }
     summary = SelfAligningSummary(
-        sigma=[float(s) for s in sigmas], alignment_length=[float(x) for x in las],
-        states=[states[i * len(sigmas):(i + 1) * len(sigmas)] for i in range(len(las))],
-        onset=[float(x) for x in onsets], onset_single=[float(x) for x in single],
-        follower_onset=onset(N, 1.0, law="follower"), check_angle_difference=diff,
-        check_point=[float(check[0]), float(check[1])])
+        sigma=[float(s) for s in sigmas],
+        alignment_length=[float(x) for x in las],
+        states=[states[i * len(sigmas) : (i + 1) * len(sigmas)] for i in range(len(las))],
+        onset=[float(x) for x in onsets],
+        onset_single=[float(x) for x in single],
+        follower_onset=onset(N, 1.0, law="follower"),
+        check_angle_difference=diff,
+        check_point=[float(check[0]), float(check[1])],
+    )
     return Study("self_aligning", size, data, summary, time.perf_counter() - start)
 
 
@@ -153,8 +169,14 @@ def self_aligning_figures(study: Study, out: Path) -> list[Path]:
     for i, la in enumerate(d["alignment_length"]):
         for j, sigma in enumerate(d["sigma"]):
             name = STATES[int(d["state"][i, j])]
-            ax.scatter(sigma, la, marker=markers[name][0], color=markers[name][1], s=70,
-                       label=name if name not in ax.get_legend_handles_labels()[1] else None)
+            ax.scatter(
+                sigma,
+                la,
+                marker=markers[name][0],
+                color=markers[name][1],
+                s=70,
+                label=name if name not in ax.get_legend_handles_labels()[1] else None,
+            )
     ax.plot(d["onset"], d["alignment_length"], "k-", lw=1, label=r"onset $\sigma_{sa}(l_a)$, N = 7")
     ax.plot(d["onset_single"], d["alignment_length"], "k:", lw=1, label=r"N = 1: $l_a / (1 + l_a)$")
     ax.axvline(s.follower_onset, color="C1", ls="--", lw=1, label=rf"follower $\sigma_c$ = {s.follower_onset:.3f}")
@@ -175,18 +197,31 @@ def self_aligning_claims(study: Study, read: Mapping[str, Study]) -> list[Claim]
     exact = [la / (1 + la) for la in s.alignment_length]
     single_error = max(abs(a - b) / b for a, b in zip(s.onset_single, exact))
     below = [la for la, x in zip(s.alignment_length, s.onset) if x < s.follower_onset]
-    moving = sorted({(la, sg) for la, row in zip(s.alignment_length, s.states)
-                     for sg, st in zip(s.sigma, row) if st in ("moving", "rotating")})
+    moving = sorted(
+        {
+            (la, sg)
+            for la, row in zip(s.alignment_length, s.states)
+            for sg, st in zip(s.sigma, row)
+            if st in ("moving", "rotating")
+        }
+    )
     return [
-        Claim("Self-aligning units destabilise the straight chain below the follower onset (new result)", outlook,
-              "sigma_sa(l_a) = " + ", ".join(f"{fmt(x, 3)} (l_a = {fmt(la)})" for la, x in zip(s.alignment_length, s.onset)),
-              f"N = 1: {', '.join(fmt(x, 4) for x in s.onset_single)} = l_a / (1 + l_a) within {single_error:.1g}",
-              verdict(len(below) == len(s.alignment_length) and single_error < 1e-3),
-              f"follower sigma_c = {s.follower_onset:.4f} (N = 7); linear stability of the reduced model"),
-        Claim("Beyond onset the chain bends and either freezes (long l_a) or keeps moving (short l_a) (new result)",
-              outlook, f"moving or rotating at (l_a, sigma) = {', '.join(f'({fmt(a)}, {fmt(b)})' for a, b in moving) or 'none'}",
-              f"angles within {s.check_angle_difference:.2g} rad of MuJoCo at (l_a, sigma) = "
-              f"({fmt(s.check_point[0])}, {fmt(s.check_point[1])}) over 40 tau",
-              verdict(s.check_angle_difference < 0.05),
-              "states from the last tenth of each MuJoCo run; the polarity freezes with the shape"),
+        Claim(
+            "Self-aligning units destabilise the straight chain below the follower onset (new result)",
+            outlook,
+            "sigma_sa(l_a) = "
+            + ", ".join(f"{fmt(x, 3)} (l_a = {fmt(la)})" for la, x in zip(s.alignment_length, s.onset)),
+            f"N = 1: {', '.join(fmt(x, 4) for x in s.onset_single)} = l_a / (1 + l_a) within {single_error:.1g}",
+            verdict(len(below) == len(s.alignment_length) and single_error < 1e-3),
+            f"follower sigma_c = {s.follower_onset:.4f} (N = 7); linear stability of the reduced model",
+        ),
+        Claim(
+            "Beyond onset the chain bends and either freezes (long l_a) or keeps moving (short l_a) (new result)",
+            outlook,
+            f"moving or rotating at (l_a, sigma) = {', '.join(f'({fmt(a)}, {fmt(b)})' for a, b in moving) or 'none'}",
+            f"angles within {s.check_angle_difference:.2g} rad of MuJoCo at (l_a, sigma) = "
+            f"({fmt(s.check_point[0])}, {fmt(s.check_point[1])}) over 40 tau",
+            verdict(s.check_angle_difference < 0.05),
+            "states from the last tenth of each MuJoCo run; the polarity freezes with the shape",
+        ),
     ]

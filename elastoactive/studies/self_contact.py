@@ -14,18 +14,18 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Mapping
 
 import numpy as np
 
 from ..analysis import observables as obs
 from ..analysis import spectrum
-from ..reduced.contact import capsule_clearance, contact_pairs, link_distance
 from ..batch import Case
-from ..report.paper import PAPER
 from ..params import Numerics
+from ..reduced.contact import capsule_clearance, contact_pairs, link_distance
+from ..report.paper import PAPER
 from ..results import HARMONICS, Results
 from ..scenes import one_pinned
 from . import plotting as plots
@@ -135,11 +135,24 @@ def _run(tr, r: Results, transient: float) -> ContactRun:
     big = obs.curvature(tr.theta)
     mid = spectrum.harmonics(tr.t, tr.theta[:, min(MID, p.n - 1)], transient, HARMONICS)
     return ContactRun(
-        p.n, p.sigma, p.contact, tr.engine, float(tr.t[-1]), float(r.amplitude),
-        math.nan if r.frequency is None else float(r.frequency), bool(r.periodic), tuple(float(h) for h in r.harmonics),
-        tuple(float(h) for h in mid), float(np.mean(links < CROSSING)), float(links.min()), float(particles.min()),
-        fraction, clearance,
-        float(big.max() - big.min()), float(tr.wall_time_s))
+        p.n,
+        p.sigma,
+        p.contact,
+        tr.engine,
+        float(tr.t[-1]),
+        float(r.amplitude),
+        math.nan if r.frequency is None else float(r.frequency),
+        bool(r.periodic),
+        tuple(float(h) for h in r.harmonics),
+        tuple(float(h) for h in mid),
+        float(np.mean(links < CROSSING)),
+        float(links.min()),
+        float(particles.min()),
+        fraction,
+        clearance,
+        float(big.max() - big.min()),
+        float(tr.wall_time_s),
+    )
 
 
 LONG_CHAIN = registry.declare("long_chain", summary=LongChainSummary, order=140)
@@ -153,29 +166,49 @@ def long_chain_study(size: str = "quick", workers=None, progress: bool = True) -
     sigmas = pick(size, (LONG_SIGMA,), (0.2, 0.4, 0.8, 2.0), (0.2, 0.3, 0.4, 0.5, 0.6, 0.8, 1.0, 1.2, 1.6, 2.0, 3.0))
     duration = pick(size, 150.0, 300.0, 1200.0)
     compared = pick(size, (), (0.4, 0.8), (0.4, 0.6, 0.8, 1.2))
-    steps = pick(size, ((0.0025, 1e-4), (0.00125, 1e-4)),
-                 tuple((dt, m) for dt in (0.0025, 0.00125) for m in (1e-4, 1e-5)),
-                 tuple((dt, m) for dt in (0.0025, 0.00125, 0.000625, 0.0003125) for m in (1e-4, 1e-5, 1e-6)))
+    steps = pick(
+        size,
+        ((0.0025, 1e-4), (0.00125, 1e-4)),
+        tuple((dt, m) for dt in (0.0025, 0.00125) for m in (1e-4, 1e-5)),
+        tuple((dt, m) for dt in (0.0025, 0.00125, 0.000625, 0.0003125) for m in (1e-4, 1e-5, 1e-6)),
+    )
     conv_duration = pick(size, 100.0, 200.0, 600.0)
     wind_duration = pick(size, 40.0, 100.0, 200.0)
     scene = one_pinned.SCENE
     cases, meta = [], []
     for s in sigmas:
         for contact in (False, True):
-            cases.append(Case(scene.physics(n=LONG_N, sigma=s, contact=contact), Numerics(), duration, "mujoco",
-                              duration / 2))
+            cases.append(
+                Case(scene.physics(n=LONG_N, sigma=s, contact=contact), Numerics(), duration, "mujoco", duration / 2)
+            )
             meta.append(("sweep", contact, duration))
     for s in compared:
-        cases.append(Case(scene.physics(n=LONG_N, sigma=s, contact=True), Numerics(), duration, "reduced", duration / 2))
+        cases.append(
+            Case(scene.physics(n=LONG_N, sigma=s, contact=True), Numerics(), duration, "reduced", duration / 2)
+        )
         meta.append(("sweep", True, duration))
     for dt, m in steps:
-        cases.append(Case(scene.physics(n=LONG_N, sigma=LONG_SIGMA, contact=True), Numerics(dt=dt, mass_ratio=m),
-                          conv_duration, "mujoco", conv_duration / 2))
+        cases.append(
+            Case(
+                scene.physics(n=LONG_N, sigma=LONG_SIGMA, contact=True),
+                Numerics(dt=dt, mass_ratio=m),
+                conv_duration,
+                "mujoco",
+                conv_duration / 2,
+            )
+        )
         meta.append(("convergence", True, conv_duration))
     for contact in (False, True):
         for engine in ("mujoco",) + (("reduced",) if contact else ()):
-            cases.append(Case(scene.physics(n=WIND_N, sigma=WIND_SIGMA, contact=contact), Numerics(), wind_duration,
-                              engine, wind_duration / 2))
+            cases.append(
+                Case(
+                    scene.physics(n=WIND_N, sigma=WIND_SIGMA, contact=contact),
+                    Numerics(),
+                    wind_duration,
+                    engine,
+                    wind_duration / 2,
+                )
+            )
             meta.append(("winding", contact, wind_duration))
     done = run_measured(cases, workers, progress, "long chain, self-contact", keep_trajectory=True)
     runs, winding, conv = [], [], []
@@ -188,8 +221,18 @@ def long_chain_study(size: str = "quick", workers=None, progress: bool = True) -
         elif kind == "winding":
             winding.append(item)
         else:
-            conv.append(ConvergenceRow(case.numerics.dt, case.numerics.mass_ratio, -item.min_clearance, item.amplitude,
-                                       item.frequency, item.harmonics[2], item.contact_fraction, item.wall_s))
+            conv.append(
+                ConvergenceRow(
+                    case.numerics.dt,
+                    case.numerics.mass_ratio,
+                    -item.min_clearance,
+                    item.amplitude,
+                    item.frequency,
+                    item.harmonics[2],
+                    item.contact_fraction,
+                    item.wall_s,
+                )
+            )
         if kind == "sweep" and case.physics.sigma == LONG_SIGMA and case.engine == "mujoco":
             key = "contact" if contact else "free"
             keep = tr.t >= tr.t[-1] - 4.0 / max(item.frequency, 1e-3) if math.isfinite(item.frequency) else tr.t >= 0
@@ -203,7 +246,9 @@ def long_chain_study(size: str = "quick", workers=None, progress: bool = True) -
             data[f"{key}_{'contact' if contact else 'free'}"] = np.array([getattr(mj[s, contact], key) for s in sigmas])
     for contact in (False, True):
         data[f"harmonics_{'contact' if contact else 'free'}"] = np.array([mj[s, contact].harmonics for s in sigmas])
-        data[f"harmonics_mid_{'contact' if contact else 'free'}"] = np.array([mj[s, contact].harmonics_mid for s in sigmas])
+        data[f"harmonics_mid_{'contact' if contact else 'free'}"] = np.array(
+            [mj[s, contact].harmonics_mid for s in sigmas]
+        )
     data["sigma"] = np.array(sigmas)
     free, touch = mj[LONG_SIGMA, False], mj[LONG_SIGMA, True]
     diffs = []
@@ -213,10 +258,16 @@ def long_chain_study(size: str = "quick", workers=None, progress: bool = True) -
             diffs += [abs(m.amplitude / r.amplitude - 1), abs(m.frequency / r.frequency - 1)]
     onset = [s for s in sigmas if mj[s, False].crossing_fraction > 0]
     summary = LongChainSummary(
-        LONG_N, LONG_SIGMA, runs, conv, winding, passes_through=free.crossing_fraction > 0,
+        LONG_N,
+        LONG_SIGMA,
+        runs,
+        conv,
+        winding,
+        passes_through=free.crossing_fraction > 0,
         odd_harmonics_raised=bool(touch.harmonics[2] > free.harmonics[2] and touch.harmonics[4] > free.harmonics[4]),
         contact_onset_sigma=float(min(onset)) if onset else math.nan,
-        engines_max_rel_diff=float(np.nanmax(diffs)) if diffs else math.nan)
+        engines_max_rel_diff=float(np.nanmax(diffs)) if diffs else math.nan,
+    )
     return Study("long_chain", size, data, summary, time.perf_counter() - start)
 
 
@@ -229,8 +280,10 @@ def long_chain_figures(study: Study, out: Path) -> list[Path]:
     plt = plots.pyplot()
     d, s = study.data, study.summary
     fig, (a1, a2, a3) = plt.subplots(1, 3, figsize=(14.0, 4.2))
-    for key, label, style in (("free", "without contact (passes through itself)", dict(color="C0")),
-                              ("contact", "with self-contact", dict(color="C3"))):
+    for key, label, style in (
+        ("free", "without contact (passes through itself)", dict(color="C0")),
+        ("contact", "with self-contact", dict(color="C3")),
+    ):
         if f"t_{key}" in d:
             t = d[f"t_{key}"]
             a1.plot(t - t[0], d[f"Theta_{key}"], label=label, **style)
@@ -241,13 +294,24 @@ def long_chain_figures(study: Study, out: Path) -> list[Path]:
     runs = {(r.contact, r.engine): r for r in s.runs if r.sigma == s.sigma}
     k = np.arange(1, 6)
     width = 0.2
-    bars = [("Theta, free", runs[False, "mujoco"].harmonics, "C0", None),
-            ("Theta, contact", runs[True, "mujoco"].harmonics, "C3", None),
-            (rf"$\theta_{{{s.n // 2 + 1}}}$, free", runs[False, "mujoco"].harmonics_mid, "C0", "//"),
-            (rf"$\theta_{{{s.n // 2 + 1}}}$, contact", runs[True, "mujoco"].harmonics_mid, "C3", "//")]
+    bars = [
+        ("Theta, free", runs[False, "mujoco"].harmonics, "C0", None),
+        ("Theta, contact", runs[True, "mujoco"].harmonics, "C3", None),
+        (rf"$\theta_{{{s.n // 2 + 1}}}$, free", runs[False, "mujoco"].harmonics_mid, "C0", "//"),
+        (rf"$\theta_{{{s.n // 2 + 1}}}$, contact", runs[True, "mujoco"].harmonics_mid, "C3", "//"),
+    ]
     for i, (label, h, colour, hatch) in enumerate(bars):
-        a2.bar(k + (i - 1.5) * width, np.nan_to_num(h), width, color=colour, alpha=0.85 if hatch is None else 0.45,
-               hatch=hatch, label=label, edgecolor="k", lw=0.4)
+        a2.bar(
+            k + (i - 1.5) * width,
+            np.nan_to_num(h),
+            width,
+            color=colour,
+            alpha=0.85 if hatch is None else 0.45,
+            hatch=hatch,
+            label=label,
+            edgecolor="k",
+            lw=0.4,
+        )
     a2.set_yscale("log")
     a2.set_ylim(1e-4, 2)
     a2.set_xticks(k)
@@ -287,34 +351,46 @@ def long_chain_claims(st: Study, read: Mapping[str, Study]) -> list[Claim]:
     at = {(r.contact, r.engine): r for r in s.runs if r.sigma == s.sigma}
     free, touch, red = at[False, "mujoco"], at[True, "mujoco"], at.get((True, "reduced"))
     conv = sorted(s.convergence, key=lambda c: (c.mass_ratio, -c.dt))
-    table = "; ".join(f"dt {c.dt:g}, m {c.mass_ratio:g}: overlap {c.overlap:.2g} l, A {c.amplitude:.4f}, f {c.frequency:.4g}"
-                      for c in conv)
+    table = "; ".join(
+        f"dt {c.dt:g}, m {c.mass_ratio:g}: overlap {c.overlap:.2g} l, A {c.amplitude:.4f}, f {c.frequency:.4g}"
+        for c in conv
+    )
     wind = {(w.contact, w.engine): w for w in s.winding}
-    rows = [Claim(
-        f"N = {s.n}, sigma = {s.sigma:g}: higher harmonics, 'due to self-contact' (the supplement's speculation)",
-        f'"{PAPER.long_chain_words}"',
-        f"without contact: Theta {_harm(free.harmonics)} (relative to A1), links cross in {_pct(free.crossing_fraction)} of "
-        f"the samples (it passes through itself); with contact: {_harm(touch.harmonics)}, in contact "
-        f"{_pct(touch.contact_fraction)} of the time; mid-chain theta_{s.n // 2 + 1}: {_harm(free.harmonics_mid)} -> "
-        f"{_harm(touch.harmonics_mid)}",
-        "-" if red is None else f"with contact (penalty): {_harm(red.harmonics)}, A {red.amplitude:.4f}, f {red.frequency:.4g} "
-        f"(MuJoCo {touch.amplitude:.4f}, {touch.frequency:.4g})",
-        verdict(s.passes_through and s.odd_harmonics_raised),
-        f"Yes, self-contact explains them: the beat of Theta is odd-symmetric, so only odd harmonics exist; contact "
-        f"multiplies A3/A1 by {touch.harmonics[2] / free.harmonics[2]:.1f} and A5/A1 by "
-        f"{touch.harmonics[4] / free.harmonics[4]:.0f} and lowers the amplitude {free.amplitude:.3f} -> {touch.amplitude:.3f} rad "
-        f"and f tau {free.frequency:.4g} -> {touch.frequency:.4g}. Without contact the chain passes through itself from "
-        f"sigma = {s.contact_onset_sigma:g} on (of the sweep). Contact convergence (MuJoCo): {table}")]
+    rows = [
+        Claim(
+            f"N = {s.n}, sigma = {s.sigma:g}: higher harmonics, 'due to self-contact' (the supplement's speculation)",
+            f'"{PAPER.long_chain_words}"',
+            f"without contact: Theta {_harm(free.harmonics)} (relative to A1), links cross in {_pct(free.crossing_fraction)} of "
+            f"the samples (it passes through itself); with contact: {_harm(touch.harmonics)}, in contact "
+            f"{_pct(touch.contact_fraction)} of the time; mid-chain theta_{s.n // 2 + 1}: {_harm(free.harmonics_mid)} -> "
+            f"{_harm(touch.harmonics_mid)}",
+            "-"
+            if red is None
+            else f"with contact (penalty): {_harm(red.harmonics)}, A {red.amplitude:.4f}, f {red.frequency:.4g} "
+            f"(MuJoCo {touch.amplitude:.4f}, {touch.frequency:.4g})",
+            verdict(s.passes_through and s.odd_harmonics_raised),
+            f"Yes, self-contact explains them: the beat of Theta is odd-symmetric, so only odd harmonics exist; contact "
+            f"multiplies A3/A1 by {touch.harmonics[2] / free.harmonics[2]:.1f} and A5/A1 by "
+            f"{touch.harmonics[4] / free.harmonics[4]:.0f} and lowers the amplitude {free.amplitude:.3f} -> {touch.amplitude:.3f} rad "
+            f"and f tau {free.frequency:.4g} -> {touch.frequency:.4g}. Without contact the chain passes through itself from "
+            f"sigma = {s.contact_onset_sigma:g} on (of the sweep). Contact convergence (MuJoCo): {table}",
+        )
+    ]
     if (False, "mujoco") in wind and (True, "mujoco") in wind:
         wf, wc, wr = wind[False, "mujoco"], wind[True, "mujoco"], wind.get((True, "reduced"))
-        rows.append(Claim(
-            f"N = {wf.n}, sigma = {wf.sigma:g}: without contact the chain winds through itself", "- (not in the paper)",
-            f"Theta spans {wf.theta_span:.0f} rad without contact ({wf.theta_span / (2 * math.pi):.0f} turns, links crossing in "
-            f"{_pct(wf.crossing_fraction)} of the samples); {wc.theta_span:.1f} rad with it, a "
-            + ("periodic" if wc.periodic else "non-periodic") + f" beat at f tau {wc.frequency:.3g}",
-            "-" if wr is None else f"with contact: Theta spans {wr.theta_span:.1f} rad, f tau {wr.frequency:.3g}",
-            verdict(wc.theta_span < 0.5 * wf.theta_span),
-            f"contact stops the winding: the chain coils against itself and beats; deepest overlap {-wc.min_clearance:.2g} l "
-            f"(MuJoCo; forces ~ sigma N), links still cross in {_pct(wc.crossing_fraction)} of the samples near the "
-            "joints, which the 0.7 l capsules leave bare"))
+        rows.append(
+            Claim(
+                f"N = {wf.n}, sigma = {wf.sigma:g}: without contact the chain winds through itself",
+                "- (not in the paper)",
+                f"Theta spans {wf.theta_span:.0f} rad without contact ({wf.theta_span / (2 * math.pi):.0f} turns, links crossing in "
+                f"{_pct(wf.crossing_fraction)} of the samples); {wc.theta_span:.1f} rad with it, a "
+                + ("periodic" if wc.periodic else "non-periodic")
+                + f" beat at f tau {wc.frequency:.3g}",
+                "-" if wr is None else f"with contact: Theta spans {wr.theta_span:.1f} rad, f tau {wr.frequency:.3g}",
+                verdict(wc.theta_span < 0.5 * wf.theta_span),
+                f"contact stops the winding: the chain coils against itself and beats; deepest overlap {-wc.min_clearance:.2g} l "
+                f"(MuJoCo; forces ~ sigma N), links still cross in {_pct(wc.crossing_fraction)} of the samples near the "
+                "joints, which the 0.7 l capsules leave bare",
+            )
+        )
     return rows

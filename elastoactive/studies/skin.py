@@ -12,9 +12,9 @@ from __future__ import annotations
 import functools
 import math
 import time
+from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Mapping
 
 import numpy as np
 
@@ -129,15 +129,21 @@ def _kick_case(n: int, engine: str = "reduced") -> Case:
     """The mid-chain kick at KICK_RATIO sigma_c(N) in `engine` (its initial state: `skin.kick`)."""
     duration = KICK_DURATION * n**4
     sample_dt = max(0.05, round(duration / KICK_SAMPLES / 0.05) * 0.05)  # a whole number of default steps
-    return Case(one_pinned.SCENE.physics(n=n, sigma=KICK_RATIO * onset(n)[0]), Numerics(sample_dt=sample_dt), duration,
-                engine)
+    return Case(
+        one_pinned.SCENE.physics(n=n, sigma=KICK_RATIO * onset(n)[0]), Numerics(sample_dt=sample_dt), duration, engine
+    )
 
 
 def _kick(job: tuple[int, str]) -> Trajectory:
     """The trajectory of the kick of N = job[0] in engine job[1] (a pool task)."""
     case = _kick_case(*job)
-    return run_engine(case.engine, case.physics, case.numerics, case.duration,
-                      theta0=skin.angles_from_displacements(skin.kick(job[0], **KICK)))
+    return run_engine(
+        case.engine,
+        case.physics,
+        case.numerics,
+        case.duration,
+        theta0=skin.angles_from_displacements(skin.kick(job[0], **KICK)),
+    )
 
 
 @SKIN.run
@@ -145,7 +151,9 @@ def skin_study(size: str = "quick", workers=None, progress: bool = True) -> Stud
     """Mode localisation against N (open chain, its Hermitian part, the open stencil, the ring), the ring's winding,
     the open chain's pseudospectrum, and simulated kicks below onset against the linear prediction."""
     start = time.perf_counter()
-    ns = pick(size, (10, 20, 40), (10, 14, 20, 30, 40, 60, 80, 100, 140, 200), (10, 14, 20, 30, 40, 60, 80, 100, 140, 200))
+    ns = pick(
+        size, (10, 20, 40), (10, 14, 20, 30, 40, 60, 80, 100, 140, 200), (10, 14, 20, 30, 40, 60, 80, 100, 140, 200)
+    )
     seg_ns = pick(size, (20, 40, 80), (20, 30, 40, 60, 80, 100, 140, 200), (20, 30, 40, 60, 80, 100, 140, 200))
     n_decay = pick(size, 80, 200, 200)
     n_spec = pick(size, 20, 40, 60)
@@ -153,9 +161,13 @@ def skin_study(size: str = "quick", workers=None, progress: bool = True) -> Stud
     kick_ns = pick(size, (12,), (12, 20, 30), (12, 20, 30))
     mujoco_ns = pick(size, (12,), (12,), (12, 20, 30))  # quick: N = 20 (3200 tau in MuJoCo) was the critical path
     # the kicks run on the workers (the longest first) while this process does the linear algebra
-    jobs = [(n, "mujoco") for n in sorted(mujoco_ns, reverse=True)] + [(n, "reduced") for n in sorted(kick_ns, reverse=True)]
-    with process_pool(max(1, min(default_workers() if workers is None else workers, len(jobs))),
-                      warm=functools.partial(load_engine, _kick_case(kick_ns[0]))) as pool:
+    jobs = [(n, "mujoco") for n in sorted(mujoco_ns, reverse=True)] + [
+        (n, "reduced") for n in sorted(kick_ns, reverse=True)
+    ]
+    with process_pool(
+        max(1, min(default_workers() if workers is None else workers, len(jobs))),
+        warm=functools.partial(load_engine, _kick_case(kick_ns[0])),
+    ) as pool:
         pending = {job: pool.submit(_kick, job) for job in jobs}
         data, summary = _skin_analysis(ns, seg_ns, n_decay, n_spec, grid, kick_ns, mujoco_ns, pending)
     return Study("skin", size, data, summary, time.perf_counter() - start)
@@ -169,16 +181,25 @@ def _skin_analysis(ns, seg_ns, n_decay, n_spec, grid, kick_ns, mujoco_ns, pendin
         rows = _chain_rows(ns, r)
         for k, v in rows.items():
             data[f"chain_{k}_{r:g}"] = v
-        chains.append(ChainLocalisation(
-            ratio=r, n_small=int(ns[0]), n_large=int(ns[-1]), participation_small=float(rows["pr"][0]),
-            participation_large=float(rows["pr"][-1]), centre_small=float(rows["centre"][0]),
-            centre_large=float(rows["centre"][-1]), hermitian_centre_large=float(rows["herm_centre"][-1]),
-            condition_max=float(rows["cond"].max())))
+        chains.append(
+            ChainLocalisation(
+                ratio=r,
+                n_small=int(ns[0]),
+                n_large=int(ns[-1]),
+                participation_small=float(rows["pr"][0]),
+                participation_large=float(rows["pr"][-1]),
+                centre_small=float(rows["centre"][0]),
+                centre_large=float(rows["centre"][-1]),
+                hermitian_centre_large=float(rows["herm_centre"][-1]),
+                condition_max=float(rows["cond"].max()),
+            )
+        )
     seg = [skin.localisation(skin.segment_operator(n, SEGMENT_SIGMA, 0.0)) for n in seg_ns]
     data["segment_pr"] = np.array([s.participation[0] for s in seg])
     data["segment_centre"] = np.array([s.centre[0] for s in seg])
-    data["ring_pr"] = np.array([skin.localisation(skin.ring_operator(n, SEGMENT_SIGMA, 0.0)).participation.min()
-                                for n in seg_ns])
+    data["ring_pr"] = np.array(
+        [skin.localisation(skin.ring_operator(n, SEGMENT_SIGMA, 0.0)).participation.min() for n in seg_ns]
+    )
     xi = []
     for s in DECAY_SIGMAS:
         lam, vec = np.linalg.eig(skin.segment_operator(n_decay, s, 0.0))
@@ -229,18 +250,33 @@ def _skin_analysis(ns, seg_ns, n_decay, n_spec, grid, kick_ns, mujoco_ns, pendin
         dev = max(dev, float(np.abs(sim.gain - lin.gain).max()))
     s_c = ns[-1] ** 3 * onset(ns[-1])[0]
     summary = SkinSummary(
-        chains=chains, segment_sigma=SEGMENT_SIGMA,
+        chains=chains,
+        segment_sigma=SEGMENT_SIGMA,
         segment_participation_small=float(data["segment_pr"][0]),
         segment_participation_large=float(data["segment_pr"][-1]),
         segment_centre_large=float(data["segment_centre"][-1]),
-        segment_n_small=int(seg_ns[0]), segment_n_large=int(seg_ns[-1]),
-        decay_prefactor=float(prefactor.mean()), decay_prefactor_spread=float(prefactor.max() - prefactor.min()),
+        segment_n_small=int(seg_ns[0]),
+        segment_n_large=int(seg_ns[-1]),
+        decay_prefactor=float(prefactor.mean()),
+        decay_prefactor_spread=float(prefactor.max() - prefactor.min()),
         onset_lengths=float(s_c ** (1.0 / 3.0) / prefactor.mean()),
-        winding=winding, winding_hermitian=winding_h, spectrum_n=int(n_spec),
-        spectrum_condition_max=float(loc.condition.max()), nonnormality=nonnormal,
-        kick_ratio=KICK_RATIO, kick_n=[int(n) for n in kick_ns], kick_peak_sim=peaks_sim, kick_peak_linear=peaks_lin,
-        kick_peak_time=times, kick_peak_centre=centres, kick_worst=worsts, kick_max_deviation=dev,
-        kick_mujoco_n=[int(n) for n in mujoco_ns], kick_peak_mujoco=peaks_mj, kick_mujoco_deviation=dev_mj)
+        winding=winding,
+        winding_hermitian=winding_h,
+        spectrum_n=int(n_spec),
+        spectrum_condition_max=float(loc.condition.max()),
+        nonnormality=nonnormal,
+        kick_ratio=KICK_RATIO,
+        kick_n=[int(n) for n in kick_ns],
+        kick_peak_sim=peaks_sim,
+        kick_peak_linear=peaks_lin,
+        kick_peak_time=times,
+        kick_peak_centre=centres,
+        kick_worst=worsts,
+        kick_max_deviation=dev,
+        kick_mujoco_n=[int(n) for n in mujoco_ns],
+        kick_peak_mujoco=peaks_mj,
+        kick_mujoco_deviation=dev_mj,
+    )
     return data, summary
 
 
@@ -254,13 +290,20 @@ def skin_localisation_figure(study: Study, out: Path) -> list[Path]:
     d, s = study.data, study.summary
     fig, (a1, a2) = plt.subplots(1, 2, figsize=(9.5, 4))
     for i, r in enumerate(d["ratios"]):
-        a1.plot(d["n"], d[f"chain_pr_{r:g}"], "o-", color=f"C{i}", ms=3,
-                label=rf"chain, $\sigma$ = {r:g} $\sigma_c(N)$")
+        a1.plot(
+            d["n"], d[f"chain_pr_{r:g}"], "o-", color=f"C{i}", ms=3, label=rf"chain, $\sigma$ = {r:g} $\sigma_c(N)$"
+        )
         a1.plot(d["n"], d[f"chain_herm_pr_{r:g}"], "--", color=f"C{i}", lw=1, label="  its Hermitian part")
         a2.plot(d["n"], d[f"chain_centre_{r:g}"], "o-", color=f"C{i}", ms=3)
         a2.plot(d["n"], d[f"chain_herm_centre_{r:g}"], "--", color=f"C{i}", lw=1)
-    a1.plot(d["segment_n"], d["segment_pr"], "s-", color="C3", ms=3,
-            label=rf"open bulk stencil, $\sigma$ = {s.segment_sigma:g}")
+    a1.plot(
+        d["segment_n"],
+        d["segment_pr"],
+        "s-",
+        color="C3",
+        ms=3,
+        label=rf"open bulk stencil, $\sigma$ = {s.segment_sigma:g}",
+    )
     a1.plot(d["segment_n"], d["ring_pr"], "k:", label="ring (periodic): every mode")
     a2.plot(d["segment_n"], d["segment_centre"], "s-", color="C3", ms=3)
     a2.axhline(0.5, color="k", ls=":", lw=1)
@@ -274,7 +317,9 @@ def skin_localisation_figure(study: Study, out: Path) -> list[Path]:
     a1.legend(fontsize=8)
     a1.set_title("localisation of the slowest mode")
     a2.set_title("where it sits")
-    fig.suptitle("Below onset the chain's modes keep their shape as N grows; the open bulk stencil's localise at the tip")
+    fig.suptitle(
+        "Below onset the chain's modes keep their shape as N grows; the open bulk stencil's localise at the tip"
+    )
     fig.tight_layout()
     return [plots.save(fig, out, "skin_localisation.png")]
 
@@ -347,35 +392,48 @@ def skin_claims(study: Study, read: Mapping[str, Study]) -> list[Claim]:
     chains = "; ".join(
         f"sigma = {c.ratio:g} sigma_c: PR/N {c.participation_small:.3f} (N = {c.n_small}) -> {c.participation_large:.3f} "
         f"(N = {c.n_large}), centre {c.centre_small:.3f} -> {c.centre_large:.3f} (Hermitian part: "
-        f"{c.hermitian_centre_large:.3f}), condition numbers <= {c.condition_max:.2f}" for c in s.chains)
-    rows = [Claim(
-        "Skin effect: the follower load's non-reciprocity localises the modes at one end", outlook, "-",
-        f"ring winds {s.winding} (Hermitian part {s.winding_hermitian}); open stencil PR/N "
-        f"{fmt(s.segment_participation_small, 3)} -> {fmt(s.segment_participation_large, 3)}; chain below onset: "
-        f"PR/N {fmt(top.participation_small, 3)} -> {fmt(top.participation_large, 3)}",
-        verdict(False, partly=s.winding != 0 and skin_seg and steady),
-        f"The chain's non-conservative part is uniform, sigma (y_(k-1) - y_(k+1)) / 2 per particle; on a ring it makes "
-        f"the spectrum wind ({s.winding}) and the open stencil at sigma = {s.segment_sigma:g} piles its slowest mode at "
-        f"the tip (centre {s.segment_centre_large:.3f} at N = {s.segment_n_large}), decaying over "
-        f"xi = {s.decay_prefactor:.2f} sigma^(-1/3) sites (spread {s.decay_prefactor_spread:.2f} over sigma = "
-        f"{', '.join(f'{x:g}' for x in DECAY_SIGMAS)}). But a chain below onset is at most S_c^(1/3) / "
-        f"{s.decay_prefactor:.2f} = {s.onset_lengths:.2f} decay lengths long, so its modes keep their shape as N grows: "
-        f"{chains}. Pushed toward the tip, not localised.")]
+        f"{c.hermitian_centre_large:.3f}), condition numbers <= {c.condition_max:.2f}"
+        for c in s.chains
+    )
+    rows = [
+        Claim(
+            "Skin effect: the follower load's non-reciprocity localises the modes at one end",
+            outlook,
+            "-",
+            f"ring winds {s.winding} (Hermitian part {s.winding_hermitian}); open stencil PR/N "
+            f"{fmt(s.segment_participation_small, 3)} -> {fmt(s.segment_participation_large, 3)}; chain below onset: "
+            f"PR/N {fmt(top.participation_small, 3)} -> {fmt(top.participation_large, 3)}",
+            verdict(False, partly=s.winding != 0 and skin_seg and steady),
+            f"The chain's non-conservative part is uniform, sigma (y_(k-1) - y_(k+1)) / 2 per particle; on a ring it makes "
+            f"the spectrum wind ({s.winding}) and the open stencil at sigma = {s.segment_sigma:g} piles its slowest mode at "
+            f"the tip (centre {s.segment_centre_large:.3f} at N = {s.segment_n_large}), decaying over "
+            f"xi = {s.decay_prefactor:.2f} sigma^(-1/3) sites (spread {s.decay_prefactor_spread:.2f} over sigma = "
+            f"{', '.join(f'{x:g}' for x in DECAY_SIGMAS)}). But a chain below onset is at most S_c^(1/3) / "
+            f"{s.decay_prefactor:.2f} = {s.onset_lengths:.2f} decay lengths long, so its modes keep their shape as N grows: "
+            f"{chains}. Pushed toward the tip, not localised.",
+        )
+    ]
     lin_ok = s.kick_max_deviation < 1e-3 and s.kick_mujoco_deviation < 1e-3
-    rows.append(Claim(
-        "Below onset a localised kick is amplified transiently while it travels to the tip", outlook,
-        ", ".join(f"N = {n}: x{g:.3f}" for n, g in zip(s.kick_mujoco_n, s.kick_peak_mujoco))
-        + f" (gain within {s.kick_mujoco_deviation:.1e} of the reduced engine's)",
-        ", ".join(f"N = {n}: x{g:.3f}" for n, g in zip(s.kick_n, s.kick_peak_sim)),
-        verdict(lin_ok and min(s.kick_peak_sim) > 1.0),
-        f"mid-chain Gaussian kick at sigma = {s.kick_ratio:g} sigma_c(N) in the reduced engine: |y| peaks at "
-        + ", ".join(f"x{g:.4f} (linear x{gl:.4f}) at t = {t:.4f} N^4 tau with its centre at {c:.3f} N"
-                    for g, gl, t, c in zip(s.kick_peak_sim, s.kick_peak_linear, s.kick_peak_time, s.kick_peak_centre))
-        + f" for N = {', '.join(str(n) for n in s.kick_n)}; simulation and linear operator differ by at most "
-        f"{s.kick_max_deviation:.1e} in gain; the largest gain of any disturbance, max_t ||exp(M t)||, is "
-        + ", ".join(f"{w:.3f}" for w in s.kick_worst)
-        + f". A normal operator with this spectrum could not amplify at all; here the eigenvalue condition numbers "
-        f"stay below {max(c.condition_max for c in s.chains):.2f} (N = {top.n_small}..{top.n_large}) and the "
-        f"pseudospectrum of N = {s.spectrum_n} is at most {s.nonnormality:.2f} times wider than the spectrum's "
-        "eps-neighbourhood: weak, N-independent non-normality, no exponential boundary sensitivity."))
+    rows.append(
+        Claim(
+            "Below onset a localised kick is amplified transiently while it travels to the tip",
+            outlook,
+            ", ".join(f"N = {n}: x{g:.3f}" for n, g in zip(s.kick_mujoco_n, s.kick_peak_mujoco))
+            + f" (gain within {s.kick_mujoco_deviation:.1e} of the reduced engine's)",
+            ", ".join(f"N = {n}: x{g:.3f}" for n, g in zip(s.kick_n, s.kick_peak_sim)),
+            verdict(lin_ok and min(s.kick_peak_sim) > 1.0),
+            f"mid-chain Gaussian kick at sigma = {s.kick_ratio:g} sigma_c(N) in the reduced engine: |y| peaks at "
+            + ", ".join(
+                f"x{g:.4f} (linear x{gl:.4f}) at t = {t:.4f} N^4 tau with its centre at {c:.3f} N"
+                for g, gl, t, c in zip(s.kick_peak_sim, s.kick_peak_linear, s.kick_peak_time, s.kick_peak_centre)
+            )
+            + f" for N = {', '.join(str(n) for n in s.kick_n)}; simulation and linear operator differ by at most "
+            f"{s.kick_max_deviation:.1e} in gain; the largest gain of any disturbance, max_t ||exp(M t)||, is "
+            + ", ".join(f"{w:.3f}" for w in s.kick_worst)
+            + f". A normal operator with this spectrum could not amplify at all; here the eigenvalue condition numbers "
+            f"stay below {max(c.condition_max for c in s.chains):.2f} (N = {top.n_small}..{top.n_large}) and the "
+            f"pseudospectrum of N = {s.spectrum_n} is at most {s.nonnormality:.2f} times wider than the spectrum's "
+            "eps-neighbourhood: weak, N-independent non-normality, no exponential boundary sensitivity.",
+        )
+    )
     return rows

@@ -9,9 +9,9 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Mapping
 
 import numpy as np
 
@@ -101,27 +101,51 @@ def snapping_study(size: str = "quick", workers=None, progress: bool = True) -> 
     """Snapping against delta (N = 7), the N = 9 map and the N = 9 snapping threshold in sigma."""
     start = time.perf_counter()
     sigmas7 = PAPER.snapping_sigmas
-    deltas = pick(size, (0.0, 0.1, 0.3), (0.0, 0.01, 0.02, 0.05, 0.1, 0.15, 0.2, 0.3),
-                  tuple(np.round(np.r_[0.0, 0.005, 0.01, 0.02, np.arange(0.03, 0.401, 0.025)], 4)))
+    deltas = pick(
+        size,
+        (0.0, 0.1, 0.3),
+        (0.0, 0.01, 0.02, 0.05, 0.1, 0.15, 0.2, 0.3),
+        tuple(np.round(np.r_[0.0, 0.005, 0.01, 0.02, np.arange(0.03, 0.401, 0.025)], 4)),
+    )
     dur7 = pick(size, 300.0, 800.0, 2000.0)
     cases, meta = [], []
     for s in sigmas7:
         for d in deltas:
             for eng in ENGINES:
-                cases.append(Case(two_pinned.SCENE.physics(n=7, sigma=s, delta=d), fast(perturbation=0.05, sample_dt=0.1),
-                                  dur7, eng, dur7 / 2))
+                cases.append(
+                    Case(
+                        two_pinned.SCENE.physics(n=7, sigma=s, delta=d),
+                        fast(perturbation=0.05, sample_dt=0.1),
+                        dur7,
+                        eng,
+                        dur7 / 2,
+                    )
+                )
                 meta.append(("n7", s, d, eng))
     n9 = PAPER.snapping_map_n
-    map_sig = pick(size, (0.1, 0.3, 0.8), (0.1, 0.15, 0.2, 0.3, 0.8),
-                   tuple(np.round(np.r_[0.05, 0.1, 0.125, 0.15, 0.16, 0.17, 0.18, 0.19, 0.2, 0.25, 0.3, 0.4, 0.5, 0.65, 0.8, 1.0], 4)))
+    map_sig = pick(
+        size,
+        (0.1, 0.3, 0.8),
+        (0.1, 0.15, 0.2, 0.3, 0.8),
+        tuple(
+            np.round(np.r_[0.05, 0.1, 0.125, 0.15, 0.16, 0.17, 0.18, 0.19, 0.2, 0.25, 0.3, 0.4, 0.5, 0.65, 0.8, 1.0], 4)
+        ),
+    )
     map_del = pick(size, (0.0, 0.1, 0.3), (0.0, 0.1, 0.2, 0.3), tuple(np.round(np.arange(0.0, 0.401, 0.04), 4)))
     map_engines = pick(size, ("mujoco",), ("mujoco",), ENGINES)
     dur9 = pick(size, 300.0, 1000.0, 3000.0)
     for s in map_sig:
         for d in map_del:
             for eng in map_engines:
-                cases.append(Case(two_pinned.SCENE.physics(n=n9, sigma=s, delta=d), fast(perturbation=0.05, sample_dt=0.1),
-                                  dur9, eng, dur9 / 2))
+                cases.append(
+                    Case(
+                        two_pinned.SCENE.physics(n=n9, sigma=s, delta=d),
+                        fast(perturbation=0.05, sample_dt=0.1),
+                        dur9,
+                        eng,
+                        dur9 / 2,
+                    )
+                )
                 meta.append(("n9", s, d, eng))
     trajs = run(cases, workers, progress, "self-snapping")
     data = {"delta": np.array(deltas), "map_sigma": np.array(map_sig), "map_delta": np.array(map_del)}
@@ -159,12 +183,25 @@ def snapping_study(size: str = "quick", workers=None, progress: bool = True) -> 
     hi = {eng: 0.3 for eng in ENGINES}
     dur_thr = pick(size, 400.0, 2000.0, 6000.0)
     for step in range(steps):
-        probes = [(e, lo[e] + (hi[e] - lo[e]) * (j + 1) / (THRESHOLD_PROBES + 1))
-                  for e in ENGINES for j in range(THRESHOLD_PROBES)]
-        cs = [Case(two_pinned.SCENE.physics(n=n9, sigma=sig, delta=d_thr), fast(perturbation=0.05, sample_dt=0.1),
-                   dur_thr, e, dur_thr / 2) for e, sig in probes]
-        snaps = [_snap_measures(tr, dur_thr / 2)[0] > SNAP_THRESHOLD
-                 for tr in run(cs, workers, progress, f"snap threshold (step {step + 1}/{steps})")]
+        probes = [
+            (e, lo[e] + (hi[e] - lo[e]) * (j + 1) / (THRESHOLD_PROBES + 1))
+            for e in ENGINES
+            for j in range(THRESHOLD_PROBES)
+        ]
+        cs = [
+            Case(
+                two_pinned.SCENE.physics(n=n9, sigma=sig, delta=d_thr),
+                fast(perturbation=0.05, sample_dt=0.1),
+                dur_thr,
+                e,
+                dur_thr / 2,
+            )
+            for e, sig in probes
+        ]
+        snaps = [
+            _snap_measures(tr, dur_thr / 2)[0] > SNAP_THRESHOLD
+            for tr in run(cs, workers, progress, f"snap threshold (step {step + 1}/{steps})")
+        ]
         for e in ENGINES:
             lo[e], hi[e] = narrow(lo[e], hi[e], [(sig, snap) for (f, sig), snap in zip(probes, snaps) if f == e])
 
@@ -176,26 +213,40 @@ def snapping_study(size: str = "quick", workers=None, progress: bool = True) -> 
         for s in sigmas7:
             snap = data[f"snap_{s:g}_{eng}"]
             freq = data[f"freq_{s:g}_{eng}"]
-            series.append(SnapSeries(
-                sigma=s,
-                snap_at_delta0=float(snap[d == 0][0]) if np.any(d == 0) else None,
-                snap_monotonic_in_delta=bool(np.all(np.diff(snap[pos]) > 0)),
-                snap_min_positive_delta=float(snap[pos][0]), snap_max_delta=float(snap[pos][-1]),
-                freq_min_positive_delta=float(freq[pos][0]), freq_max_delta=float(freq[pos][-1]),
-                delta_min=float(d[pos][0]), delta_max=float(d[pos][-1]),
-                snap_exponent=safe(lambda: fits.power_law_fit(d[pos], snap[pos])["exponent"]),  # noqa: B023
-            ))
+            series.append(
+                SnapSeries(
+                    sigma=s,
+                    snap_at_delta0=float(snap[d == 0][0]) if np.any(d == 0) else None,
+                    snap_monotonic_in_delta=bool(np.all(np.diff(snap[pos]) > 0)),
+                    snap_min_positive_delta=float(snap[pos][0]),
+                    snap_max_delta=float(snap[pos][-1]),
+                    freq_min_positive_delta=float(freq[pos][0]),
+                    freq_max_delta=float(freq[pos][-1]),
+                    delta_min=float(d[pos][0]),
+                    delta_max=float(d[pos][-1]),
+                    snap_exponent=safe(lambda: fits.power_law_fit(d[pos], snap[pos])["exponent"]),  # noqa: B023
+                )
+            )
         snap_map = None
         if eng in map_engines:
             m = maps[eng]
             snaps = m > SNAP_THRESHOLD
             snap_map = SnapMap(
-                sigmas_snapping_at_all_delta_gt0=[float(s) for s, row in zip(map_sig, snaps) if row[np.array(map_del) > 0].all()],
+                sigmas_snapping_at_all_delta_gt0=[
+                    float(s) for s, row in zip(map_sig, snaps) if row[np.array(map_del) > 0].all()
+                ],
                 sigmas_never_snapping=[float(s) for s, row in zip(map_sig, snaps) if not row.any()],
-                delta0_max_snap=float(np.nanmax(m[:, np.array(map_del) == 0])) if 0.0 in map_del else None)
-        parts[eng] = SnappingEngine(sigma_snap_n9=0.5 * (lo[eng] + hi[eng]), sigma_snap_n9_halfwidth=0.5 * (hi[eng] - lo[eng]),
-                                    n7=tuple(series), map=snap_map)
-    summary = SnappingSummary(snap_threshold_rad=SNAP_THRESHOLD, threshold_delta=d_thr, n7_sigmas=tuple(sigmas7), **parts)
+                delta0_max_snap=float(np.nanmax(m[:, np.array(map_del) == 0])) if 0.0 in map_del else None,
+            )
+        parts[eng] = SnappingEngine(
+            sigma_snap_n9=0.5 * (lo[eng] + hi[eng]),
+            sigma_snap_n9_halfwidth=0.5 * (hi[eng] - lo[eng]),
+            n7=tuple(series),
+            map=snap_map,
+        )
+    summary = SnappingSummary(
+        snap_threshold_rad=SNAP_THRESHOLD, threshold_delta=d_thr, n7_sigmas=tuple(sigmas7), **parts
+    )
     return Study("snapping", size, data, summary, time.perf_counter() - start)
 
 
@@ -212,7 +263,11 @@ def snapping_figures(study: Study, out: Path) -> list[Path]:
     fig, (a1, a2) = plt.subplots(1, 2, figsize=(9.5, 4))
     for s_, c in zip(s.n7_sigmas, ("C0", "C1")):
         for eng in ("mujoco", "reduced"):
-            st = {**plots.ENGINE_STYLE[eng], "color": c, "label": rf"$\sigma$ = {s_:g}, {plots.ENGINE_STYLE[eng]['label']}"}
+            st = {
+                **plots.ENGINE_STYLE[eng],
+                "color": c,
+                "label": rf"$\sigma$ = {s_:g}, {plots.ENGINE_STYLE[eng]['label']}",
+            }
             a1.plot(d["delta"], d[f"snap_{s_:g}_{eng}"], **st)
             a2.plot(d["delta"], d[f"freq_{s_:g}_{eng}"], **st)
     a1.set_xlabel(r"compression $\delta$")
@@ -238,8 +293,12 @@ def snapping_figures(study: Study, out: Path) -> list[Path]:
         ax.set_ylabel("y / l")
         sm = mpl.cm.ScalarMappable(cmap=cmap, norm=mpl.colors.Normalize(0, 1))
         fig.colorbar(sm, ax=ax, label="time / period", shrink=0.8, pad=0.02)
-        ax.set_title(rf"Fig. 4b: one snapping period, N = 7, $\sigma$ = {PAPER.snapping_sigma:g}, "
-                     r"$\delta$ = 0.1 (MuJoCo)" "\n" r"(both ends pinned; 8 frames, $T/8$ apart)")
+        ax.set_title(
+            rf"Fig. 4b: one snapping period, N = 7, $\sigma$ = {PAPER.snapping_sigma:g}, "
+            r"$\delta$ = 0.1 (MuJoCo)"
+            "\n"
+            r"(both ends pinned; 8 frames, $T/8$ apart)"
+        )
         paths.append(plots.save(fig, out, "fig4b_snapping_shapes.png"))
 
     engines = plots.engines(d, "map_snap")
@@ -253,8 +312,15 @@ def snapping_figures(study: Study, out: Path) -> list[Path]:
             ax.plot(gx.ravel(), gy.ravel(), ".", color="0.6", ms=2.5, label="simulated (cell centres)")
             thr = s.engine(eng).sigma_snap_n9
             if thr:
-                ax.plot([s.threshold_delta], [thr], "c*", ms=12, mec="k", mew=0.5,
-                        label=rf"threshold at $\delta$ = {s.threshold_delta:g}: $\sigma$ = {thr:.3f}")
+                ax.plot(
+                    [s.threshold_delta],
+                    [thr],
+                    "c*",
+                    ms=12,
+                    mec="k",
+                    mew=0.5,
+                    label=rf"threshold at $\delta$ = {s.threshold_delta:g}: $\sigma$ = {thr:.3f}",
+                )
             ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.16), ncol=1)
             ax.set_xlabel(r"compression $\delta$")
             ax.set_ylabel(r"$\sigma$")
@@ -274,39 +340,58 @@ def snapping_claims(sn: Study, read: Mapping[str, Study]) -> list[Claim]:
     m6, m8 = s.mujoco.n7
     r6, r8 = s.reduced.n7
     s6, s8 = s.n7_sigmas
-    rows.append(Claim(
-        "Two pinned ends: no oscillation at delta = 0", "none",
-        f"std theta_3 = {m6.snap_at_delta0:.1e} ({s6:g}), {m8.snap_at_delta0:.1e} ({s8:g}) rad",
-        f"{r6.snap_at_delta0:.0e}, {r8.snap_at_delta0:.0e} rad",
-        verdict(max(m6.snap_at_delta0, m8.snap_at_delta0) < 0.02 * m8.snap_min_positive_delta + 0.005),
-        f"at delta = 0 the pins admit only the straight chain. MuJoCo's soft pin yields by ~4e-5 l under the "
-        f"active load (N sigma), an effective compression ~5e-6 that leaves a 0.003 rad wobble, against "
-        f"{m8.snap_min_positive_delta:.2f} rad at delta = {m8.delta_min:g}"))
-    rows.append(Claim(
-        f"Larger compression delta gives larger oscillation (N = 7, sigma = {s6:g}, {s8:g})", "increasing",
-        f"{m6.snap_min_positive_delta:.3f} -> {m6.snap_max_delta:.3f} ({s6:g}); {m8.snap_min_positive_delta:.3f} -> "
-        f"{m8.snap_max_delta:.3f} ({s8:g}) rad",
-        f"{r6.snap_min_positive_delta:.3f} -> {r6.snap_max_delta:.3f}; {r8.snap_min_positive_delta:.3f} -> {r8.snap_max_delta:.3f}",
-        verdict(all(x.snap_monotonic_in_delta for x in (m6, m8, r6, r8))),
-        f"delta = {m6.delta_min:g} .. {m6.delta_max:g}; "
-        + (f"std theta_3 ~ delta^{m8.snap_exponent:.2f} (sigma = {s8:g}, MuJoCo)" if math.isfinite(m8.snap_exponent)
-           else f"no power law in delta fitted (too few delta > 0 at sigma = {s8:g})")))
+    rows.append(
+        Claim(
+            "Two pinned ends: no oscillation at delta = 0",
+            "none",
+            f"std theta_3 = {m6.snap_at_delta0:.1e} ({s6:g}), {m8.snap_at_delta0:.1e} ({s8:g}) rad",
+            f"{r6.snap_at_delta0:.0e}, {r8.snap_at_delta0:.0e} rad",
+            verdict(max(m6.snap_at_delta0, m8.snap_at_delta0) < 0.02 * m8.snap_min_positive_delta + 0.005),
+            f"at delta = 0 the pins admit only the straight chain. MuJoCo's soft pin yields by ~4e-5 l under the "
+            f"active load (N sigma), an effective compression ~5e-6 that leaves a 0.003 rad wobble, against "
+            f"{m8.snap_min_positive_delta:.2f} rad at delta = {m8.delta_min:g}",
+        )
+    )
+    rows.append(
+        Claim(
+            f"Larger compression delta gives larger oscillation (N = 7, sigma = {s6:g}, {s8:g})",
+            "increasing",
+            f"{m6.snap_min_positive_delta:.3f} -> {m6.snap_max_delta:.3f} ({s6:g}); {m8.snap_min_positive_delta:.3f} -> "
+            f"{m8.snap_max_delta:.3f} ({s8:g}) rad",
+            f"{r6.snap_min_positive_delta:.3f} -> {r6.snap_max_delta:.3f}; {r8.snap_min_positive_delta:.3f} -> {r8.snap_max_delta:.3f}",
+            verdict(all(x.snap_monotonic_in_delta for x in (m6, m8, r6, r8))),
+            f"delta = {m6.delta_min:g} .. {m6.delta_max:g}; "
+            + (
+                f"std theta_3 ~ delta^{m8.snap_exponent:.2f} (sigma = {s8:g}, MuJoCo)"
+                if math.isfinite(m8.snap_exponent)
+                else f"no power law in delta fitted (too few delta > 0 at sigma = {s8:g})"
+            ),
+        )
+    )
     rel = lambda x: 100 * (x.freq_max_delta / x.freq_min_positive_delta - 1)  # noqa: E731
-    rows.append(Claim(
-        "Snapping slows with compression (experiment); 'the model fails to capture' it (footnote)",
-        "experiment: slower; model: not slower",
-        f"f tau {m6.freq_min_positive_delta:.4f} -> {m6.freq_max_delta:.4f} ({rel(m6):+.0f}%) at {s6:g}; "
-        f"{m8.freq_min_positive_delta:.4f} -> {m8.freq_max_delta:.4f} ({rel(m8):+.0f}%) at {s8:g}",
-        f"{rel(r6):+.0f}%, {rel(r8):+.0f}%", "partly",
-        "the model does slow down with compression, but only by ~10-20% over delta = 0.01..0.3; the footnote's "
-        "'fails to capture' is too strong"))
+    rows.append(
+        Claim(
+            "Snapping slows with compression (experiment); 'the model fails to capture' it (footnote)",
+            "experiment: slower; model: not slower",
+            f"f tau {m6.freq_min_positive_delta:.4f} -> {m6.freq_max_delta:.4f} ({rel(m6):+.0f}%) at {s6:g}; "
+            f"{m8.freq_min_positive_delta:.4f} -> {m8.freq_max_delta:.4f} ({rel(m8):+.0f}%) at {s8:g}",
+            f"{rel(r6):+.0f}%, {rel(r8):+.0f}%",
+            "partly",
+            "the model does slow down with compression, but only by ~10-20% over delta = 0.01..0.3; the footnote's "
+            "'fails to capture' is too strong",
+        )
+    )
     mj, rd = s.mujoco, s.reduced
-    rows.append(Claim(
-        f"Self-snapping only for large enough sigma (N = {PAPER.snapping_map_n} map)", "threshold in sigma",
-        f"snaps above sigma = {mj.sigma_snap_n9:.3f} ± {mj.sigma_snap_n9_halfwidth:.1g} (delta = {s.threshold_delta}); "
-        f"map: never at sigma in {mj.map.sigmas_never_snapping if mj.map else None}",
-        f"{rd.sigma_snap_n9:.3f} ± {rd.sigma_snap_n9_halfwidth:.1g}",
-        verdict(mj.sigma_snap_n9 > 0.05 and abs(mj.sigma_snap_n9 - rd.sigma_snap_n9) < 0.02),
-        "below the threshold the compressed chain sits still in a buckled arch; at the threshold the snapping starts with "
-        "a finite amplitude and a vanishing frequency (an infinite-period onset, not a Hopf; see figA_snapping_map.png)"))
+    rows.append(
+        Claim(
+            f"Self-snapping only for large enough sigma (N = {PAPER.snapping_map_n} map)",
+            "threshold in sigma",
+            f"snaps above sigma = {mj.sigma_snap_n9:.3f} ± {mj.sigma_snap_n9_halfwidth:.1g} (delta = {s.threshold_delta}); "
+            f"map: never at sigma in {mj.map.sigmas_never_snapping if mj.map else None}",
+            f"{rd.sigma_snap_n9:.3f} ± {rd.sigma_snap_n9_halfwidth:.1g}",
+            verdict(mj.sigma_snap_n9 > 0.05 and abs(mj.sigma_snap_n9 - rd.sigma_snap_n9) < 0.02),
+            "below the threshold the compressed chain sits still in a buckled arch; at the threshold the snapping starts with "
+            "a finite amplitude and a vanishing frequency (an infinite-period onset, not a Hopf; see figA_snapping_map.png)",
+        )
+    )
     return rows

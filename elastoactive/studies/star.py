@@ -10,9 +10,9 @@ so no synchrony is put in by hand. These are new results, not the paper's.
 from __future__ import annotations
 
 import time
+from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Mapping
 
 import numpy as np
 
@@ -66,11 +66,17 @@ def _point(results) -> dict:
     extra = results.extra
     rate = extra["hub_rate"]
     frequency = [0.0 if f is None else f for f in results.frequency]  # null: a spinning star's arms turn, no beat
-    return dict(state="spin" if extra["sync_state"] == "rest" and abs(rate) > 1e-3 else extra["sync_state"],
-                frequency=float(np.mean(frequency)), amplitude=float(np.mean(results.amplitude)),
-                hub_amplitude=float(extra["hub_amplitude"]), hub_rate=float(rate), sync_order=float(extra["sync_order"]),
-                spread=float(max(np.ptp(results.amplitude) / np.mean(results.amplitude),
-                                 np.ptp(frequency) / np.mean(frequency))))
+    return dict(
+        state="spin" if extra["sync_state"] == "rest" and abs(rate) > 1e-3 else extra["sync_state"],
+        frequency=float(np.mean(frequency)),
+        amplitude=float(np.mean(results.amplitude)),
+        hub_amplitude=float(extra["hub_amplitude"]),
+        hub_rate=float(rate),
+        sync_order=float(extra["sync_order"]),
+        spread=float(
+            max(np.ptp(results.amplitude) / np.mean(results.amplitude), np.ptp(frequency) / np.mean(frequency))
+        ),
+    )
 
 
 @STAR.run
@@ -87,8 +93,11 @@ def star_study(size: str = "quick", workers=None, progress: bool = True) -> Stud
     grid = [(k, K) for k in arms for K in (*stiffness, None)]
     cases = [Case(_physics(k, K), reduced, duration, "reduced", duration / 2) for k, K in grid]
     checks = [(k, K) for k in pick(size, (3,), (3,), arms) for K in checked]
-    cases += [Case(_physics(k, K), Numerics(sample_dt=0.1), check_duration, engine, check_duration / 2)
-              for k, K in checks for engine in ("mujoco", "reduced")]
+    cases += [
+        Case(_physics(k, K), Numerics(sample_dt=0.1), check_duration, engine, check_duration / 2)
+        for k, K in checks
+        for engine in ("mujoco", "reduced")
+    ]
     results = [r.results for r in run_cases(cases, workers=workers, progress=progress, desc="star arms")]
     points = [_point(r) for r in results[: len(grid)]]
     data: dict[str, np.ndarray] = {"hub_stiffness": np.array(stiffness)}
@@ -100,15 +109,26 @@ def star_study(size: str = "quick", workers=None, progress: bool = True) -> Stud
             data[f"{name}_{k}"] = np.array([p[name] for p in ps])
     rows = []
     for i, (k, K) in enumerate(checks):
-        mj, rd = (_point(r) for r in results[len(grid) + 2 * i: len(grid) + 2 * i + 2])
+        mj, rd = (_point(r) for r in results[len(grid) + 2 * i : len(grid) + 2 * i + 2])
         diff = max(abs(mj[x] - rd[x]) / max(abs(rd[x]), 1e-9) for x in ("frequency", "amplitude", "hub_amplitude"))
-        rows.append(dict(arms=k, hub_stiffness=K, mujoco=mj["state"], reduced=rd["state"], difference=float(diff),
-                         frequency_mujoco=mj["frequency"], frequency_reduced=rd["frequency"]))
+        rows.append(
+            dict(
+                arms=k,
+                hub_stiffness=K,
+                mujoco=mj["state"],
+                reduced=rd["state"],
+                difference=float(diff),
+                frequency_mujoco=mj["frequency"],
+                frequency_reduced=rd["frequency"],
+            )
+        )
     summary = StarSummary(
-        arms=list(arms), hub_stiffness=[float(K) for K in stiffness],
+        arms=list(arms),
+        hub_stiffness=[float(K) for K in stiffness],
         states={k: [p["state"] for p in ps] for k, ps in by_k.items()},
-        in_phase={k: [float(K) for K, p in zip(stiffness, ps) if K > 0 and p["state"] == "in-phase"]
-                  for k, ps in by_k.items()},
+        in_phase={
+            k: [float(K) for K, p in zip(stiffness, ps) if K > 0 and p["state"] == "in-phase"] for k, ps in by_k.items()
+        },
         frequency={k: [p["frequency"] for p in ps] for k, ps in by_k.items()},
         amplitude={k: [p["amplitude"] for p in ps] for k, ps in by_k.items()},
         hub_amplitude={k: [p["hub_amplitude"] for p in ps] for k, ps in by_k.items()},
@@ -136,8 +156,9 @@ def star_figures(study: Study, out: Path) -> list[Path]:
         a2.loglog(K[shown], d[f"hub_amplitude_{k}"][:-1][shown], "o-", color=colour, label=f"k = {k}")
         for row in s.checks:
             if row["arms"] == k and row["hub_stiffness"] > 0:
-                a1.semilogx([row["hub_stiffness"]], [row["frequency_mujoco"]], "x", color=colour, ms=9,
-                            label=f"k = {k}, MuJoCo")
+                a1.semilogx(
+                    [row["hub_stiffness"]], [row["frequency_mujoco"]], "x", color=colour, ms=9, label=f"k = {k}, MuJoCo"
+                )
     a1.set_xlabel(r"hub stiffness $K_h$ ($C_1$)")
     a1.set_ylabel(r"beat frequency $f\tau$ (arms in phase)")
     a1.set_title("The hub slows the in-phase beat")
@@ -161,37 +182,62 @@ def star_claims(study: Study, read: Mapping[str, Study]) -> list[Claim]:
     checked = "; ".join(f"k = {r['arms']}, K_h = {fmt(r['hub_stiffness'])}: {r['mujoco']}" for r in s.checks)
     checked_reduced = "; ".join(f"{r['reduced']}" for r in s.checks)
     slow = {k: s.frequency[k][s.hub_stiffness.index(1.0)] / s.frequency[k][-1] for k in ks if 1.0 in s.hub_stiffness}
-    free = ", ".join(f"k = {k}: {s.free_hub[k]}" + (f" at {fmt(s.spin_rate[k], 3)} rad/tau" if s.free_hub[k] == "spin"
-                                                     else "") for k in ks)
+    free = ", ".join(
+        f"k = {k}: {s.free_hub[k]}" + (f" at {fmt(s.spin_rate[k], 3)} rad/tau" if s.free_hub[k] == "spin" else "")
+        for k in ks
+    )
     return [
-        Claim("A star on a clamped hub is k independent one-pinned chains", NEW,
-              "tests/test_star.py: every arm's amplitude and frequency = the one-pinned chain's to 0.1%",
-              f"arms' amplitudes and frequencies within {100 * s.clamped_spread:.2g}% of each other "
-              f"(f tau = {', '.join(fmt(s.frequency[k][-1], 4) for k in ks)})",
-              verdict(s.clamped_spread < 1e-3),
-              "the arms share nothing; their phases keep what the seeded start gave them (no state is selected)"),
-        Claim(f"A turning hub locks the arms in phase (K_h = {fmt(min(stiff))}-{fmt(max(stiff))}, "
-              f"k = {', '.join(ks)})", NEW, checked, f"{checked_reduced}; in phase at every K_h > 0: "
-              f"{'yes' if all_in_phase else ', '.join(f'k = {k}: {s.in_phase[k]}' for k in ks)}",
-              verdict(all_in_phase and checks_agree and worst < 0.01),
-              f"from seeded, different pushes; R_1 = 1; frequency, amplitude and hub swing of the engines within "
-              f"{100 * worst:.2g}%; no antiphase or splay state was found at K_h > 0"),
-        Claim("The in-phase beat is slower and larger than a lone arm's, and the hub swings with it", NEW, "-",
-              "; ".join(f"k = {k}: f(K_h = 1) / f(clamped) = {fmt(slow[k], 3)}, amplitude "
-                        f"{fmt(s.amplitude[k][s.hub_stiffness.index(1.0)], 3)} vs {fmt(s.amplitude[k][-1], 3)} rad, "
-                        f"hub {fmt(s.hub_amplitude[k][s.hub_stiffness.index(1.0)], 3)} rad" for k in slow),
-              verdict(all(v < 1 for v in slow.values())),
-              "the arms bend together and turn the hub: a softer hub is a softer clamp for the in-phase mode"),
-        Claim("On a free hub (K_h = 0) two arms beat in antiphase; three or more spin as a rigid star", NEW, "-", free,
-              verdict(s.free_hub.get("2") == "antiphase" and all(s.free_hub[k] == "spin" for k in ks if int(k) >= 3)),
-              "k = 2: the arms form one 2N chain through the hub, beating mirror-symmetrically with the hub nearly "
-              "still; k >= 3: the follower forces' torque turns the hub and the straight arms with it"),
-        Claim("The hub couples the arms like the pair's spring, kappa_eff = 1 / (K_h + k), without detuning", NEW,
-              "-", f"kappa_eff = {fmt(1 / (max(stiff) + 2), 3)}-{fmt(1 / (min(stiff) + 2), 3)} (k = 2) all lock",
-              verdict(all_in_phase),
-              "eliminating a fast hub (hub_drag -> 0) leaves clamps K_h / (K_h + k) and springs 1 / (K_h + k) between "
-              "every pair of first links; identical arms have no detuning, so unlike the pair (kappa_c = 0.078 at "
-              "rho = 4/3, study tongue) no threshold appears: the hub selects the in-phase state"),
+        Claim(
+            "A star on a clamped hub is k independent one-pinned chains",
+            NEW,
+            "tests/test_star.py: every arm's amplitude and frequency = the one-pinned chain's to 0.1%",
+            f"arms' amplitudes and frequencies within {100 * s.clamped_spread:.2g}% of each other "
+            f"(f tau = {', '.join(fmt(s.frequency[k][-1], 4) for k in ks)})",
+            verdict(s.clamped_spread < 1e-3),
+            "the arms share nothing; their phases keep what the seeded start gave them (no state is selected)",
+        ),
+        Claim(
+            f"A turning hub locks the arms in phase (K_h = {fmt(min(stiff))}-{fmt(max(stiff))}, k = {', '.join(ks)})",
+            NEW,
+            checked,
+            f"{checked_reduced}; in phase at every K_h > 0: "
+            f"{'yes' if all_in_phase else ', '.join(f'k = {k}: {s.in_phase[k]}' for k in ks)}",
+            verdict(all_in_phase and checks_agree and worst < 0.01),
+            f"from seeded, different pushes; R_1 = 1; frequency, amplitude and hub swing of the engines within "
+            f"{100 * worst:.2g}%; no antiphase or splay state was found at K_h > 0",
+        ),
+        Claim(
+            "The in-phase beat is slower and larger than a lone arm's, and the hub swings with it",
+            NEW,
+            "-",
+            "; ".join(
+                f"k = {k}: f(K_h = 1) / f(clamped) = {fmt(slow[k], 3)}, amplitude "
+                f"{fmt(s.amplitude[k][s.hub_stiffness.index(1.0)], 3)} vs {fmt(s.amplitude[k][-1], 3)} rad, "
+                f"hub {fmt(s.hub_amplitude[k][s.hub_stiffness.index(1.0)], 3)} rad"
+                for k in slow
+            ),
+            verdict(all(v < 1 for v in slow.values())),
+            "the arms bend together and turn the hub: a softer hub is a softer clamp for the in-phase mode",
+        ),
+        Claim(
+            "On a free hub (K_h = 0) two arms beat in antiphase; three or more spin as a rigid star",
+            NEW,
+            "-",
+            free,
+            verdict(s.free_hub.get("2") == "antiphase" and all(s.free_hub[k] == "spin" for k in ks if int(k) >= 3)),
+            "k = 2: the arms form one 2N chain through the hub, beating mirror-symmetrically with the hub nearly "
+            "still; k >= 3: the follower forces' torque turns the hub and the straight arms with it",
+        ),
+        Claim(
+            "The hub couples the arms like the pair's spring, kappa_eff = 1 / (K_h + k), without detuning",
+            NEW,
+            "-",
+            f"kappa_eff = {fmt(1 / (max(stiff) + 2), 3)}-{fmt(1 / (min(stiff) + 2), 3)} (k = 2) all lock",
+            verdict(all_in_phase),
+            "eliminating a fast hub (hub_drag -> 0) leaves clamps K_h / (K_h + k) and springs 1 / (K_h + k) between "
+            "every pair of first links; identical arms have no detuning, so unlike the pair (kappa_c = 0.078 at "
+            "rho = 4/3, study tongue) no threshold appears: the hub selects the in-phase state",
+        ),
         _onset_claim(ks, stiff, all_in_phase),
     ]
 
@@ -204,11 +250,17 @@ def _onset_claim(ks: list[str], stiff: list[float], all_in_phase: bool) -> Claim
     onsets = {(k, K): star_stability.star_onset(N, int(k), K, HUB_DRAG) for k in ks for K in stiff}
     first = {mode for _, _, mode in onsets.values()}
     lone = star_stability.mode_onsets(N, 2, None, None)["in-phase"][0]
-    text = "; ".join(f"k = {k}: sigma_c = {fmt(onsets[(k, min(stiff))][0], 4)}-{fmt(onsets[(k, max(stiff))][0], 4)}"
-                     for k in ks)
-    return Claim(f"The in-phase mode leaves the straight star first (linear operator, N = {N}, K_h = "
-                 f"{fmt(min(stiff))}-{fmt(max(stiff))})", NEW, "-", f"{text}; first: {', '.join(sorted(first))}",
-                 verdict(first == {star_stability.IN_PHASE} and all_in_phase),
-                 f"antiphase and splay modes leave the hub still and keep the one-pinned onset {fmt(lone, 6)}; the "
-                 f"in-phase mode, bordered by the hub, goes first at every K_h, as the simulations at sigma = {SIGMA:g} "
-                 "lock in phase")
+    text = "; ".join(
+        f"k = {k}: sigma_c = {fmt(onsets[(k, min(stiff))][0], 4)}-{fmt(onsets[(k, max(stiff))][0], 4)}" for k in ks
+    )
+    return Claim(
+        f"The in-phase mode leaves the straight star first (linear operator, N = {N}, K_h = "
+        f"{fmt(min(stiff))}-{fmt(max(stiff))})",
+        NEW,
+        "-",
+        f"{text}; first: {', '.join(sorted(first))}",
+        verdict(first == {star_stability.IN_PHASE} and all_in_phase),
+        f"antiphase and splay modes leave the hub still and keep the one-pinned onset {fmt(lone, 6)}; the "
+        f"in-phase mode, bordered by the hub, goes first at every K_h, as the simulations at sigma = {SIGMA:g} "
+        "lock in phase",
+    )

@@ -12,9 +12,9 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Mapping
 
 import numpy as np
 from scipy.integrate import solve_ivp
@@ -24,11 +24,11 @@ from ..analysis import measures as ms
 from ..analysis import observables as obs
 from ..analysis import synchronisation as syn
 from ..batch import Case, default_workers
-from ..io.executor import imap
 from ..engines.reduced import rhs
 from ..initial import initial_angles
-from ..report.paper import PAPER
+from ..io.executor import imap
 from ..params import Numerics
+from ..report.paper import PAPER
 from ..scenes import coupled_pair
 from . import plotting as plots
 from . import registry
@@ -167,8 +167,12 @@ def _alt_pair_run(args):
     sol = solve_ivp(f, (0.0, t[-1]), th0, method="DOP853", t_eval=t, rtol=1e-7, atol=1e-9)
     th = sol.y.T
     x1, x2 = th[:, n - 1] - th[:, 0], th[:, 2 * n - 1] - th[:, n]
-    return {"mismatch": obs.frequency_mismatch(t, x1, x2, transient), "slips": ms.phase_slips(t, x1, x2, transient),
-            "f1": obs.frequency(t, x1, transient), "f2": obs.frequency(t, x2, transient)}
+    return {
+        "mismatch": obs.frequency_mismatch(t, x1, x2, transient),
+        "slips": ms.phase_slips(t, x1, x2, transient),
+        "f1": obs.frequency(t, x1, transient),
+        "f2": obs.frequency(t, x2, transient),
+    }
 
 
 # --------------------------------------------------------------------------------------------------
@@ -183,18 +187,40 @@ def sync_study(size: str = "quick", workers=None, progress: bool = True) -> Stud
     start = time.perf_counter()
     n, sigma, rho = 7, PAPER.sync_sigma_1, PAPER.sync_rho
     k_weak, k_strong = PAPER.fig5_kappas
-    kappas = pick(size, (0.0, 0.04, 0.1, 1.1),
-                  (0.0, 0.03, 0.05, 0.065, 0.07, 0.075, 0.08, 0.8, 1.1),
-                  tuple(np.round(np.r_[np.arange(0.0, 0.05, 0.01), np.arange(0.05, 0.09, 0.0025), np.arange(0.09, 0.2, 0.02),
-                                      np.arange(0.2, 2.51, 0.1), k_weak, PAPER.kappa_c_7, k_strong], 4)))
+    kappas = pick(
+        size,
+        (0.0, 0.04, 0.1, 1.1),
+        (0.0, 0.03, 0.05, 0.065, 0.07, 0.075, 0.08, 0.8, 1.1),
+        tuple(
+            np.round(
+                np.r_[
+                    np.arange(0.0, 0.05, 0.01),
+                    np.arange(0.05, 0.09, 0.0025),
+                    np.arange(0.09, 0.2, 0.02),
+                    np.arange(0.2, 2.51, 0.1),
+                    k_weak,
+                    PAPER.kappa_c_7,
+                    k_strong,
+                ],
+                4,
+            )
+        ),
+    )
     kappas = tuple(sorted(set(float(k) for k in kappas)))
     dur = pick(size, 800.0, 3000.0, 6000.0)
     tr_ = dur / 2
     cases, meta = [], []
     for k in kappas:
         for eng in ENGINES:
-            cases.append(Case(coupled_pair.SCENE.physics(n=n, sigma=sigma, rho=rho, kappa=k),
-                              fast(perturbation=0.3, sample_dt=0.1), dur, eng, tr_))
+            cases.append(
+                Case(
+                    coupled_pair.SCENE.physics(n=n, sigma=sigma, rho=rho, kappa=k),
+                    fast(perturbation=0.3, sample_dt=0.1),
+                    dur,
+                    eng,
+                    tr_,
+                )
+            )
             meta.append((k, eng))
     trajs = run(cases, workers, progress, "sync N=7")
     data = {"kappa": np.array(kappas)}
@@ -221,19 +247,26 @@ def sync_study(size: str = "quick", workers=None, progress: bool = True) -> Stud
         i0 = int(np.argmin(kap))
         i_paper = int(np.argmin(np.abs(kap - PAPER.kappa_c_7)))
         parts[eng] = SyncEngine(
-            kappa_c_bracket=(lo, hi), kappa_c=0.5 * (lo + hi) if np.isfinite(hi) else float("nan"),
+            kappa_c_bracket=(lo, hi),
+            kappa_c=0.5 * (lo + hi) if np.isfinite(hi) else float("nan"),
             kappa_c_adler=-adler.params["onset"] if adler else None,
             mismatch_uncoupled=float(data[f"mismatch_{eng}"][i0]),
-            f1_uncoupled=float(data[f"f1_{eng}"][i0]), f2_uncoupled=float(data[f"f2_{eng}"][i0]),
+            f1_uncoupled=float(data[f"f1_{eng}"][i0]),
+            f2_uncoupled=float(data[f"f2_{eng}"][i0]),
             f_locked_at_paper_kappa_c=float(data[f"f1_{eng}"][i_paper]) if data[f"locked_{eng}"][i_paper] else None,
-            locked_at_fig5_weak_kappa=(bool(data[f"locked_{eng}"][int(np.argmin(np.abs(kap - k_weak)))])
-                                       if size != "tiny" else None),
+            locked_at_fig5_weak_kappa=(
+                bool(data[f"locked_{eng}"][int(np.argmin(np.abs(kap - k_weak)))]) if size != "tiny" else None
+            ),
         )
     # phase differences of one unlocked and two locked cases (the paper's K = 0.8 and 1.2 analogues)
     lo_m = parts["mujoco"].kappa_c_bracket[0]
     picks = [k for k in kappas if k in psi_keep]
-    chosen = sorted({min(picks, key=lambda k: abs(k - target))
-                     for target in (0.5 * lo_m if np.isfinite(lo_m) else 0.0, k_weak, k_strong)})
+    chosen = sorted(
+        {
+            min(picks, key=lambda k: abs(k - target))
+            for target in (0.5 * lo_m if np.isfinite(lo_m) else 0.0, k_weak, k_strong)
+        }
+    )
     for k in chosen:
         data[f"psi_{k:g}_t"], data[f"psi_{k:g}"] = psi_keep[k]
     data["psi_kappas"] = np.array(chosen)
@@ -253,10 +286,17 @@ def sync_study(size: str = "quick", workers=None, progress: bool = True) -> Stud
         data["alt_locked"] = np.array([a["slips"] < 0.5 for a in runs])
         data["alt_f1"] = np.array([a["f1"] for a in runs])
         lo_a, hi_a = syn.locking_threshold(alt_k, data["alt_locked"])
-        alt = AltPair(kappa_c_bracket=(lo_a, hi_a), kappa_c=0.5 * (lo_a + hi_a),
-                      mismatch_lowest_kappa=float(data["alt_mismatch"][0]), kappa_lowest=float(alt_k[0]),
-                      kappa_max=float(alt_k[-1]), f_locked_kappa_max=float(data["alt_f1"][-1]))
-    summary = SyncSummary(n=n, sigma_1=sigma, rho=rho, sigma_2=sigma / rho, duration=dur, alt_same_stiffness=alt, **parts)
+        alt = AltPair(
+            kappa_c_bracket=(lo_a, hi_a),
+            kappa_c=0.5 * (lo_a + hi_a),
+            mismatch_lowest_kappa=float(data["alt_mismatch"][0]),
+            kappa_lowest=float(alt_k[0]),
+            kappa_max=float(alt_k[-1]),
+            f_locked_kappa_max=float(data["alt_f1"][-1]),
+        )
+    summary = SyncSummary(
+        n=n, sigma_1=sigma, rho=rho, sigma_2=sigma / rho, duration=dur, alt_same_stiffness=alt, **parts
+    )
     return Study("sync", size, data, summary, time.perf_counter() - start)
 
 
@@ -271,23 +311,40 @@ def tongue_study(size: str = "quick", workers=None, progress: bool = True) -> St
     """|frequency mismatch| and locking over (rho, kappa) for N = 7, sigma_1 = 0.8 (quick: reduced
     model; full: both engines)."""
     start = time.perf_counter()
-    rhos = pick(size, (0.5, 1.0, 3.0), (0.5, 0.75, 1.0, PAPER.sync_rho, 2.0, 3.0),
-                tuple(np.r_[np.geomspace(0.4, 4.0, 15), PAPER.sync_rho]))
+    rhos = pick(
+        size,
+        (0.5, 1.0, 3.0),
+        (0.5, 0.75, 1.0, PAPER.sync_rho, 2.0, 3.0),
+        tuple(np.r_[np.geomspace(0.4, 4.0, 15), PAPER.sync_rho]),
+    )
     rhos = tuple(sorted(set(round(float(r), 6) for r in rhos)))
-    kappas = pick(size, (0.0, 0.1, 0.5), (0.0, 0.03, 0.07, 0.15, 0.3, 0.6),
-                  (0.0, 0.01, 0.02, 0.035, 0.05, 0.075, 0.1, 0.15, 0.2, 0.3, 0.4, 0.6, 0.8, 1.1, 1.5))
+    kappas = pick(
+        size,
+        (0.0, 0.1, 0.5),
+        (0.0, 0.03, 0.07, 0.15, 0.3, 0.6),
+        (0.0, 0.01, 0.02, 0.035, 0.05, 0.075, 0.1, 0.15, 0.2, 0.3, 0.4, 0.6, 0.8, 1.1, 1.5),
+    )
     engines = pick(size, ("reduced",), ("reduced",), ENGINES)
     dur = pick(size, 600.0, 2400.0, 6000.0)
     cases, meta = [], []
     for r in rhos:
         for k in kappas:
             for eng in engines:
-                cases.append(Case(coupled_pair.SCENE.physics(n=7, sigma=PAPER.sync_sigma_1, rho=r, kappa=k),
-                                  fast(perturbation=0.3, sample_dt=0.2), dur, eng, dur / 2))
+                cases.append(
+                    Case(
+                        coupled_pair.SCENE.physics(n=7, sigma=PAPER.sync_sigma_1, rho=r, kappa=k),
+                        fast(perturbation=0.3, sample_dt=0.2),
+                        dur,
+                        eng,
+                        dur / 2,
+                    )
+                )
                 meta.append((r, k, eng))
     trajs = run(cases, workers, progress, "Arnold tongue")
     data = {"rho": np.array(rhos), "kappa": np.array(kappas)}
-    grids = {eng: (np.full((len(rhos), len(kappas)), np.nan), np.zeros((len(rhos), len(kappas)), bool)) for eng in engines}
+    grids = {
+        eng: (np.full((len(rhos), len(kappas)), np.nan), np.zeros((len(rhos), len(kappas)), bool)) for eng in engines
+    }
     for (r, k, eng), tr in zip(meta, trajs):
         m = _pair_measures(tr, dur / 2)
         i, j = rhos.index(r), kappas.index(k)
@@ -302,7 +359,8 @@ def tongue_study(size: str = "quick", workers=None, progress: bool = True) -> St
         parts[eng] = TongueEngine(
             kappa_c_by_rho={f"{x:.4g}": float(y) for x, y in zip(rhos, kc)},
             tongue_widens=bool(np.all(np.diff(kc[r >= 1]) >= 0) and np.all(np.diff(kc[r <= 1]) <= 0)),
-            kappa_c_min_rho=float(r[int(np.argmin(kc))]))
+            kappa_c_min_rho=float(r[int(np.argmin(kc))]),
+        )
     summary = TongueSummary(engines=list(engines), duration=dur, **parts)
     return Study("tongue", size, data, summary, time.perf_counter() - start)
 
@@ -334,35 +392,64 @@ def sync_n2_study(size: str = "quick", workers=None, progress: bool = True) -> S
     by bisection on kappa with the reduced model, checked with MuJoCo, against
     kappa_c = 11 / (4 sqrt 6) sqrt(mu |1 - rho|)."""
     start = time.perf_counter()
-    combos = pick(size, ((0.1, 0.98),), tuple((m, r) for m in (0.05, 0.1, 0.2) for r in (0.97, 0.99)),
-                  tuple((m, r) for m in (0.05, 0.1, 0.2) for r in (0.97, 0.98, 0.99)))
+    combos = pick(
+        size,
+        ((0.1, 0.98),),
+        tuple((m, r) for m in (0.05, 0.1, 0.2) for r in (0.97, 0.99)),
+        tuple((m, r) for m in (0.05, 0.1, 0.2) for r in (0.97, 0.98, 0.99)),
+    )
     steps = pick(size, 5, 9, 12)
     dur = pick(size, 1500.0, 6000.0, 12000.0)
 
     def make(c, k, engine="reduced", dt=0.01, duration=dur):
         mu, rho = c
-        num = Numerics(dt=dt, mass_ratio=1e-5 if engine == "mujoco" else 1e-4, perturbation=math.sqrt(mu), sample_dt=0.1)
-        return Case(coupled_pair.SCENE.physics(n=2, sigma=3.0 + mu, rho=rho, kappa=k), num, duration, engine, duration / 2)
+        num = Numerics(
+            dt=dt, mass_ratio=1e-5 if engine == "mujoco" else 1e-4, perturbation=math.sqrt(mu), sample_dt=0.1
+        )
+        return Case(
+            coupled_pair.SCENE.physics(n=2, sigma=3.0 + mu, rho=rho, kappa=k), num, duration, engine, duration / 2
+        )
 
     hi0 = {c: 2.0 * float(kappa_c_formula(*c)) for c in combos}
-    lo, hi = _bisect_locking(combos, make, {c: 0.0 for c in combos}, hi0, steps, workers, progress, "kappa_c N=2",
-                             lambda case: case.duration / 2)
+    lo, hi = _bisect_locking(
+        combos,
+        make,
+        {c: 0.0 for c in combos},
+        hi0,
+        steps,
+        workers,
+        progress,
+        "kappa_c N=2",
+        lambda case: case.duration / 2,
+    )
     kc_red = {c: 0.5 * (lo[c] + hi[c]) for c in combos}
     # MuJoCo: quick checks the classification just below and above the reduced threshold for one combo;
     # full bisects every combo (dt small: implicitfast shifts the N = 2 onset by ~dt/2 in mu)
     mj_dt = 0.00125
     if size == "full":
         mj_dur = pick(size, 600.0, 3000.0, 6000.0)
-        mlo, mhi = _bisect_locking(combos, lambda c, k: make(c, k, "mujoco", mj_dt, mj_dur), {c: 0.7 * kc_red[c] for c in combos},
-                                   {c: 1.3 * kc_red[c] for c in combos}, 6, workers, progress, "kappa_c N=2 MuJoCo",
-                                   lambda case: case.duration / 2)
+        mlo, mhi = _bisect_locking(
+            combos,
+            lambda c, k: make(c, k, "mujoco", mj_dt, mj_dur),
+            {c: 0.7 * kc_red[c] for c in combos},
+            {c: 1.3 * kc_red[c] for c in combos},
+            6,
+            workers,
+            progress,
+            "kappa_c N=2 MuJoCo",
+            lambda case: case.duration / 2,
+        )
         mj = {c: N2MujocoCheck(kappa_c=0.5 * (mlo[c] + mhi[c]), halfwidth=0.5 * (mhi[c] - mlo[c])) for c in combos}
     else:
         c = combos[0] if size == "tiny" else (0.1, 0.97)
         probe = (0.85, 1.15)
         probe_dur = pick(size, 1000.0, 1500.0, 3000.0)  # quick: ~3 slips in the window at 0.85 x, none at 1.15 x
-        trajs = run([make(c, f * kc_red[c], "mujoco", mj_dt, probe_dur) for f in probe], workers, progress,
-                    "kappa_c N=2 MuJoCo check")
+        trajs = run(
+            [make(c, f * kc_red[c], "mujoco", mj_dt, probe_dur) for f in probe],
+            workers,
+            progress,
+            "kappa_c N=2 MuJoCo check",
+        )
         checks = [_pair_measures(tr, probe_dur / 2)["locked"] for tr in trajs]
         mj = {c: N2MujocoCheck(probe_factors=list(probe), locked=checks, consistent=(not checks[0]) and checks[1])}
     mus = np.array([c[0] for c in combos])
@@ -371,8 +458,14 @@ def sync_n2_study(size: str = "quick", workers=None, progress: bool = True) -> S
     half = np.array([0.5 * (hi[c] - lo[c]) for c in combos])
     formula = kappa_c_formula(mus, rhos)
     phase_eq = kappa_c_phase_equation(mus, rhos)
-    data = {"mu": mus, "rho": rhos, "kappa_c_reduced": kc, "kappa_c_halfwidth": half, "kappa_c_formula": formula,
-            "kappa_c_phase_equation": phase_eq}
+    data = {
+        "mu": mus,
+        "rho": rhos,
+        "kappa_c_reduced": kc,
+        "kappa_c_halfwidth": half,
+        "kappa_c_formula": formula,
+        "kappa_c_phase_equation": phase_eq,
+    }
     if size == "full":
         data["kappa_c_mujoco"] = np.array([mj[c].kappa_c for c in combos])
     x = np.sqrt(mus * np.abs(1 - rhos))
@@ -381,19 +474,27 @@ def sync_n2_study(size: str = "quick", workers=None, progress: bool = True) -> S
     if len(set(mus)) >= 2 and len(set(rhos)) >= 2:
         A = np.column_stack([np.ones_like(mus), np.log(mus), np.log(np.abs(1 - rhos))])
         coef, cov = fits._lstsq(A, np.log(kc))
-        exponents = {"exponent_mu": float(coef[1]), "exponent_mu_err": float(math.sqrt(cov[1, 1])),
-                     "exponent_rho": float(coef[2]), "exponent_rho_err": float(math.sqrt(cov[2, 2]))}
+        exponents = {
+            "exponent_mu": float(coef[1]),
+            "exponent_mu_err": float(math.sqrt(cov[1, 1])),
+            "exponent_rho": float(coef[2]),
+            "exponent_rho_err": float(math.sqrt(cov[2, 2])),
+        }
     summary = SyncN2Summary(
-        duration=dur, combos=[tuple(c) for c in combos],
+        duration=dur,
+        combos=[tuple(c) for c in combos],
         prefactor_formula=PAPER.kappa_c_n2_prefactor,
         prefactor_fit=float(np.sum(kc * x) / np.sum(x * x)),
-        prefactor_mean=float(prefactor.mean()), prefactor_std=float(prefactor.std()),
+        prefactor_mean=float(prefactor.mean()),
+        prefactor_std=float(prefactor.std()),
         ratio_sim_over_formula=[float(v) for v in kc / formula],
         ratio_sim_over_phase_equation=[float(v) for v in kc / phase_eq],
-        kappa_c=[float(v) for v in kc], kappa_c_formula=[float(v) for v in formula],
+        kappa_c=[float(v) for v in kc],
+        kappa_c_formula=[float(v) for v in formula],
         kappa_c_phase_equation=[float(v) for v in phase_eq],
         mujoco={f"{c[0]:g},{c[1]:g}": v for c, v in mj.items()},
-        **exponents)
+        **exponents,
+    )
     return Study("sync_n2", size, data, summary, time.perf_counter() - start)
 
 
@@ -421,17 +522,38 @@ def sync_figures(study: Study, out: Path) -> list[Path]:
     a1.set_xlabel(r"$t/\tau$")
     a1.set_ylabel(r"$\Psi=\Phi_2-\Phi_1$ (rad)")
     a1.legend(loc="lower left")
-    a1.set_title(rf"Fig. 5e: phase difference, N = 7, $\sigma_1$ = {PAPER.sync_sigma_1:g}, "
-                 rf"$\sigma_2$ = {PAPER.sync_sigma_2:g}" "\n" r"($\rho=C_2/C_1$ = 4/3; MuJoCo)")
+    a1.set_title(
+        rf"Fig. 5e: phase difference, N = 7, $\sigma_1$ = {PAPER.sync_sigma_1:g}, "
+        rf"$\sigma_2$ = {PAPER.sync_sigma_2:g}"
+        "\n"
+        r"($\rho=C_2/C_1$ = 4/3; MuJoCo)"
+    )
 
     # mismatch: log-log for the pairs that slip; the locked runs (mismatch ~ 0) in the strip below;
     # kappa = 0 (uncoupled) as a horizontal line, since a log axis has no 0
     pos = kap > 0
     kmin = kap[pos].min() if pos.any() else 0.01
-    series = [(eng, kap, d[f"mismatch_{eng}"], d[f"locked_{eng}"].astype(bool), plots.ENGINE_STYLE[eng]) for eng in ("mujoco", "reduced")]
+    series = [
+        (eng, kap, d[f"mismatch_{eng}"], d[f"locked_{eng}"].astype(bool), plots.ENGINE_STYLE[eng])
+        for eng in ("mujoco", "reduced")
+    ]
     if "alt_kappa" in d:
-        series.append(("alt", d["alt_kappa"], d["alt_mismatch"], d["alt_locked"].astype(bool),
-                       dict(marker="s", ls="-", color="C2", ms=4, mfc="none", label="what-if: $C_2=C_1$, $F_2=0.75F_1$ (reduced)")))
+        series.append(
+            (
+                "alt",
+                d["alt_kappa"],
+                d["alt_mismatch"],
+                d["alt_locked"].astype(bool),
+                dict(
+                    marker="s",
+                    ls="-",
+                    color="C2",
+                    ms=4,
+                    mfc="none",
+                    label="what-if: $C_2=C_1$, $F_2=0.75F_1$ (reduced)",
+                ),
+            )
+        )
     for eng, kk, mm, lk, style in series:
         slip = (kk > 0) & ~lk
         a2.plot(kk[slip], np.abs(mm[slip]), **style)
@@ -445,15 +567,37 @@ def sync_figures(study: Study, out: Path) -> list[Path]:
     if kc:
         same = len(set(round(v, 6) for v in kc.values())) == 1
         for eng, v in list(kc.items())[: 1 if same else None]:
-            lab = (rf"$\kappa_c$ = {v:.3g} (both engines)" if same else rf"$\kappa_c$ = {v:.3g} ({plots.ENGINE_STYLE[eng]['label']})")
+            lab = (
+                rf"$\kappa_c$ = {v:.3g} (both engines)"
+                if same
+                else rf"$\kappa_c$ = {v:.3g} ({plots.ENGINE_STYLE[eng]['label']})"
+            )
             for ax in (a2, a3):
-                ax.axvline(v, color="C4" if same else plots.ENGINE_STYLE[eng]["color"], lw=1.2, ls="-.", label=lab if ax is a2 else None)
+                ax.axvline(
+                    v,
+                    color="C4" if same else plots.ENGINE_STYLE[eng]["color"],
+                    lw=1.2,
+                    ls="-.",
+                    label=lab if ax is a2 else None,
+                )
     alt = s.alt_same_stiffness
     if alt is not None and np.isfinite(alt.kappa_c):
         for ax in (a2, a3):
-            ax.axvline(alt.kappa_c, color="C2", lw=1, ls="-.", label=rf"what-if $\kappa_c$ = {alt.kappa_c:.2g}" if ax is a2 else None)
+            ax.axvline(
+                alt.kappa_c,
+                color="C2",
+                lw=1,
+                ls="-.",
+                label=rf"what-if $\kappa_c$ = {alt.kappa_c:.2g}" if ax is a2 else None,
+            )
     for ax in (a2, a3):
-        ax.axvline(PAPER.kappa_c_7, color="k", ls="--", lw=1, label=rf"paper's $\kappa_c$ = {PAPER.kappa_c_7:g}" if ax is a2 else None)
+        ax.axvline(
+            PAPER.kappa_c_7,
+            color="k",
+            ls="--",
+            lw=1,
+            label=rf"paper's $\kappa_c$ = {PAPER.kappa_c_7:g}" if ax is a2 else None,
+        )
     a2.set_xscale("log")
     a2.set_yscale("log")
     xmax = max(kap.max(), d["alt_kappa"].max() if "alt_kappa" in d else 0, PAPER.kappa_c_7)
@@ -493,10 +637,18 @@ def tongue_figures(study: Study, out: Path) -> list[Path]:
         ax.plot(gx.ravel(), gy.ravel(), "k.", ms=2)
         kc = d[f"kappa_c_{eng}"]
         ok = np.isfinite(kc)
-        ax.plot(rho[ok], kc[ok], "o-", color="C3", ms=5, lw=1.3, label=r"$\kappa_c(\rho)$: lowest grid $\kappa$ that locks")
+        ax.plot(
+            rho[ok], kc[ok], "o-", color="C3", ms=5, lw=1.3, label=r"$\kappa_c(\rho)$: lowest grid $\kappa$ that locks"
+        )
         if (~ok).any():
-            ax.plot(rho[~ok], np.full((~ok).sum(), 0.5 * (kap.max() + ke[-1])), "^", color="C3", ms=8,
-                    label=rf"no locking up to $\kappa$ = {kap.max():g}")
+            ax.plot(
+                rho[~ok],
+                np.full((~ok).sum(), 0.5 * (kap.max() + ke[-1])),
+                "^",
+                color="C3",
+                ms=8,
+                label=rf"no locking up to $\kappa$ = {kap.max():g}",
+            )
         h, lab = ax.get_legend_handles_labels()
         lp = plots.patch(facecolor="0.85", edgecolor="0.6", label="locked")
         ax.legend([lp] + h, [lp.get_label()] + lab, loc="upper center", bbox_to_anchor=(0.5, -0.17))
@@ -508,8 +660,10 @@ def tongue_figures(study: Study, out: Path) -> list[Path]:
         ax.set_xticklabels([f"{r:.3g}" for r in ticks])
         ax.set_xlabel(rf"$\rho = C_2/C_1$ (log scale; $\sigma_2 = {PAPER.sync_sigma_1:g}/\rho$)")
         ax.set_ylabel(r"coupling $\kappa$")
-        ax.set_title(f"Fig. 5f inset: Arnold tongue, N = 7, $\\sigma_1$ = {PAPER.sync_sigma_1:g}\n"
-                     f"({plots.ENGINE_STYLE[eng]['label']}; cells centred on the simulated points)")
+        ax.set_title(
+            f"Fig. 5f inset: Arnold tongue, N = 7, $\\sigma_1$ = {PAPER.sync_sigma_1:g}\n"
+            f"({plots.ENGINE_STYLE[eng]['label']}; cells centred on the simulated points)"
+        )
     fig.tight_layout()
     return [plots.save(fig, out, "fig5f_tongue.png")]
 
@@ -523,9 +677,13 @@ def sync_n2_figures(study: Study, out: Path) -> list[Path]:
     x = np.sqrt(d["mu"] * np.abs(1 - d["rho"]))
     xx = np.linspace(0, x.max() * 1.15, 50)
     printed = r"$\frac{11}{4\sqrt{6}}\sqrt{\mu|1-\rho|}$"  # PAPER.kappa_c_n2_printed, typeset
-    ax.plot(xx, s.prefactor_formula * xx, "k--", lw=1, label=f"supplement: {printed} (prefactor {s.prefactor_formula:.3f})")
+    ax.plot(
+        xx, s.prefactor_formula * xx, "k--", lw=1, label=f"supplement: {printed} (prefactor {s.prefactor_formula:.3f})"
+    )
     ax.plot(xx, s.prefactor_fit * xx, "C3-", lw=0.8, label=f"fit through 0: prefactor {s.prefactor_fit:.3f}")
-    ax.errorbar(x, d["kappa_c_reduced"], yerr=d["kappa_c_halfwidth"], fmt="x", color="C3", label="reduced model (bisection)")
+    ax.errorbar(
+        x, d["kappa_c_reduced"], yerr=d["kappa_c_halfwidth"], fmt="x", color="C3", label="reduced model (bisection)"
+    )
     ax.plot(x, d["kappa_c_phase_equation"], "+", color="C2", ms=9, label="supplement's phase equation, solved exactly")
     if "kappa_c_mujoco" in d:
         ax.plot(x, d["kappa_c_mujoco"], **plots.ENGINE_STYLE["mujoco"])
@@ -533,8 +691,16 @@ def sync_n2_figures(study: Study, out: Path) -> list[Path]:
     for xi, yi, yp, mu, rho in zip(x, d["kappa_c_reduced"], d["kappa_c_phase_equation"], d["mu"], d["rho"]):
         # label above the higher of the two markers for the larger |1 - rho|, below the lower one otherwise
         up = np.isclose(rho, rhos[0])
-        ax.annotate(f"μ={mu:g}\nρ={rho:g}", (xi, max(yi, yp) if up else min(yi, yp)), fontsize=7, ha="center",
-                    va="bottom" if up else "top", xytext=(0, 5 if up else -6), textcoords="offset points", color="0.3")
+        ax.annotate(
+            f"μ={mu:g}\nρ={rho:g}",
+            (xi, max(yi, yp) if up else min(yi, yp)),
+            fontsize=7,
+            ha="center",
+            va="bottom" if up else "top",
+            xytext=(0, 5 if up else -6),
+            textcoords="offset points",
+            color="0.3",
+        )
     ax.set_xlabel(r"$\sqrt{\mu|1-\rho|}$")
     ax.set_ylabel(r"locking threshold $\kappa_c$")
     ax.set_ylim(-0.005, ax.get_ylim()[1])
@@ -554,31 +720,49 @@ def sync_claims(sy: Study, read: Mapping[str, Study]) -> list[Claim]:
     m, r = s.mujoco, s.reduced
     rows = []
     alt = s.alt_same_stiffness
-    alt_txt = (f" If chain 2 were as stiff as chain 1 with a weaker force (sigma_2 = {PAPER.sync_sigma_2:g} at the same tau, "
-               f"the main text's 'rho = ratio of elasto-active numbers' read literally), the mismatch at kappa = "
-               f"{alt.kappa_lowest:g} is {abs(alt.mismatch_lowest_kappa):.4f} and kappa_c = {alt.kappa_c:.2f} (bracket "
-               f"{alt.kappa_c_bracket[0]:g}-{alt.kappa_c_bracket[1]:g}), the paper's order of magnitude.") if alt else ""
-    rows.append(Claim(
-        f"Pair N = 7, sigma_1 = {PAPER.sync_sigma_1:g}, sigma_2 = {PAPER.sync_sigma_2:g}: entrainment above kappa_c",
-        f"~{PAPER.kappa_c_7:g}",
-        f"{fmt(m.kappa_c, 3)} (locked from {m.kappa_c_bracket[1]:g}, slipping at {m.kappa_c_bracket[0]:g})"
-        + (f"; Adler fit {m.kappa_c_adler:.3f}" if m.kappa_c_adler else ""),
-        f"{fmt(r.kappa_c, 3)}" + (f"; Adler {r.kappa_c_adler:.3f}" if r.kappa_c_adler else ""),
-        verdict(abs((m.kappa_c or 0) - PAPER.kappa_c_7) < 0.2),
-        f"with C2 = rho C1 (rho = {frac(PAPER.sync_rho)}) chain 2 has sigma/rho = {PAPER.sync_sigma_2:g} but also a faster time "
-        f"unit tau/rho, so the uncoupled frequencies are f1 = {m.f1_uncoupled:.5f}, f2 = {m.f2_uncoupled:.5f} (mismatch "
-        f"{m.mismatch_uncoupled:.5f}, 4%): a weak spring already locks them. Both engines agree.{alt_txt}"))
+    alt_txt = (
+        (
+            f" If chain 2 were as stiff as chain 1 with a weaker force (sigma_2 = {PAPER.sync_sigma_2:g} at the same tau, "
+            f"the main text's 'rho = ratio of elasto-active numbers' read literally), the mismatch at kappa = "
+            f"{alt.kappa_lowest:g} is {abs(alt.mismatch_lowest_kappa):.4f} and kappa_c = {alt.kappa_c:.2f} (bracket "
+            f"{alt.kappa_c_bracket[0]:g}-{alt.kappa_c_bracket[1]:g}), the paper's order of magnitude."
+        )
+        if alt
+        else ""
+    )
+    rows.append(
+        Claim(
+            f"Pair N = 7, sigma_1 = {PAPER.sync_sigma_1:g}, sigma_2 = {PAPER.sync_sigma_2:g}: entrainment above kappa_c",
+            f"~{PAPER.kappa_c_7:g}",
+            f"{fmt(m.kappa_c, 3)} (locked from {m.kappa_c_bracket[1]:g}, slipping at {m.kappa_c_bracket[0]:g})"
+            + (f"; Adler fit {m.kappa_c_adler:.3f}" if m.kappa_c_adler else ""),
+            f"{fmt(r.kappa_c, 3)}" + (f"; Adler {r.kappa_c_adler:.3f}" if r.kappa_c_adler else ""),
+            verdict(abs((m.kappa_c or 0) - PAPER.kappa_c_7) < 0.2),
+            f"with C2 = rho C1 (rho = {frac(PAPER.sync_rho)}) chain 2 has sigma/rho = {PAPER.sync_sigma_2:g} but also a faster time "
+            f"unit tau/rho, so the uncoupled frequencies are f1 = {m.f1_uncoupled:.5f}, f2 = {m.f2_uncoupled:.5f} (mismatch "
+            f"{m.mismatch_uncoupled:.5f}, 4%): a weak spring already locks them. Both engines agree.{alt_txt}",
+        )
+    )
     fl = m.f_locked_at_paper_kappa_c
     if fl:
         lower = min(m.f1_uncoupled, m.f2_uncoupled)
-        rows.append(Claim(
-            "Entrained chains beat at the lower of the two frequencies", f"lower ({lower:.5f})",
-            f"f = {fl:.5f} at kappa = {PAPER.kappa_c_7:g} (uncoupled {m.f1_uncoupled:.5f}, {m.f2_uncoupled:.5f})",
-            f"{r.f_locked_at_paper_kappa_c:.5f}" if r.f_locked_at_paper_kappa_c else "-",
-            verdict(abs(fl - lower) < 0.1 * abs(m.mismatch_uncoupled)),
-            "the common frequency lies between the two uncoupled ones (the coupling spring also stiffens pendulum 1, "
-            "which shifts both)" + (f"; in the same-stiffness what-if too: f = {alt.f_locked_kappa_max:.4f} at kappa = "
-                                    f"{alt.kappa_max:g} against uncoupled 0.0425 and 0.0306" if alt else "")))
+        rows.append(
+            Claim(
+                "Entrained chains beat at the lower of the two frequencies",
+                f"lower ({lower:.5f})",
+                f"f = {fl:.5f} at kappa = {PAPER.kappa_c_7:g} (uncoupled {m.f1_uncoupled:.5f}, {m.f2_uncoupled:.5f})",
+                f"{r.f_locked_at_paper_kappa_c:.5f}" if r.f_locked_at_paper_kappa_c else "-",
+                verdict(abs(fl - lower) < 0.1 * abs(m.mismatch_uncoupled)),
+                "the common frequency lies between the two uncoupled ones (the coupling spring also stiffens pendulum 1, "
+                "which shifts both)"
+                + (
+                    f"; in the same-stiffness what-if too: f = {alt.f_locked_kappa_max:.4f} at kappa = "
+                    f"{alt.kappa_max:g} against uncoupled 0.0425 and 0.0306"
+                    if alt
+                    else ""
+                ),
+            )
+        )
     if tongue:
         t = tongue.summary
         kmax = max(tongue.data["kappa"])
@@ -589,33 +773,62 @@ def sync_claims(sy: Study, read: Mapping[str, Study]) -> list[Claim]:
                 return "- (quick size: reduced model only)"
             return "kappa_c (grid) " + ", ".join(
                 f"rho {k}: " + (f"{v:g}" if v is not None and math.isfinite(v) else f"> {kmax:g}")
-                for k, v in part.kappa_c_by_rho.items())
+                for k, v in part.kappa_c_by_rho.items()
+            )
 
-        rows.append(Claim(
-            "Synchronised region is an Arnold tongue in (rho, kappa)", "tongue about rho = 1",
-            tongue_txt("mujoco"), tongue_txt("reduced"), verdict(all(t.engine(e).tongue_widens for e in t.engines)),
-            f"{' and '.join(t.engines)} on a {len(tongue.data['rho'])} x {len(tongue.data['kappa'])} grid; kappa_c = smallest grid kappa "
-            "from which all larger ones lock; the uncoupled mismatch stays small for 0.5 < rho < 2 because chain 2's "
-            "lower sigma and faster time unit nearly cancel, so the tongue is wide"))
+        rows.append(
+            Claim(
+                "Synchronised region is an Arnold tongue in (rho, kappa)",
+                "tongue about rho = 1",
+                tongue_txt("mujoco"),
+                tongue_txt("reduced"),
+                verdict(all(t.engine(e).tongue_widens for e in t.engines)),
+                f"{' and '.join(t.engines)} on a {len(tongue.data['rho'])} x {len(tongue.data['kappa'])} grid; kappa_c = smallest grid kappa "
+                "from which all larger ones lock; the uncoupled mismatch stays small for 0.5 < rho < 2 because chain 2's "
+                "lower sigma and faster time unit nearly cancel, so the tongue is wide",
+            )
+        )
     if n2:
         q = n2.summary
         ratios = q.ratio_sim_over_formula
-        exp_txt = (f"; fit kappa_c ~ mu^{q.exponent_mu:.2f}±{q.exponent_mu_err:.1g} |1-rho|^{q.exponent_rho:.2f}±"
-                   f"{q.exponent_rho_err:.1g}") if q.exponent_mu is not None else ""
-        mj = "; ".join(f"{k}: " + (f"kappa_c = {v.kappa_c:.4f}" if v.kappa_c is not None else
-                                   f"slips at {v.probe_factors[0]} x, locks at {v.probe_factors[1]} x reduced kappa_c: "
-                                   f"{'consistent' if v.consistent else 'INCONSISTENT'}") for k, v in q.mujoco.items())
-        per = "; ".join(f"({a:g}, {b:g}): {k:.4f} vs {f:.4f} (phase eq. {p:.4f})" for (a, b), k, f, p in
-                        zip(q.combos, q.kappa_c, q.kappa_c_formula, q.kappa_c_phase_equation))
+        exp_txt = (
+            (
+                f"; fit kappa_c ~ mu^{q.exponent_mu:.2f}±{q.exponent_mu_err:.1g} |1-rho|^{q.exponent_rho:.2f}±"
+                f"{q.exponent_rho_err:.1g}"
+            )
+            if q.exponent_mu is not None
+            else ""
+        )
+        mj = "; ".join(
+            f"{k}: "
+            + (
+                f"kappa_c = {v.kappa_c:.4f}"
+                if v.kappa_c is not None
+                else f"slips at {v.probe_factors[0]} x, locks at {v.probe_factors[1]} x reduced kappa_c: "
+                f"{'consistent' if v.consistent else 'INCONSISTENT'}"
+            )
+            for k, v in q.mujoco.items()
+        )
+        per = "; ".join(
+            f"({a:g}, {b:g}): {k:.4f} vs {f:.4f} (phase eq. {p:.4f})"
+            for (a, b), k, f, p in zip(q.combos, q.kappa_c, q.kappa_c_formula, q.kappa_c_phase_equation)
+        )
         detuning = frac(PAPER.phase_detuning)
-        rows.append(Claim(
-            f"N = 2 near onset: kappa_c = {PAPER.kappa_c_n2_printed}", f"prefactor {q.prefactor_formula:.3f}",
-            mj, f"prefactor {q.prefactor_fit:.3f} (per point {min(ratios):.2f}-{max(ratios):.2f} x formula; "
+        rows.append(
+            Claim(
+                f"N = 2 near onset: kappa_c = {PAPER.kappa_c_n2_printed}",
+                f"prefactor {q.prefactor_formula:.3f}",
+                mj,
+                f"prefactor {q.prefactor_fit:.3f} (per point {min(ratios):.2f}-{max(ratios):.2f} x formula; "
                 f"{min(q.ratio_sim_over_phase_equation):.2f}-{max(q.ratio_sim_over_phase_equation):.2f} x the phase "
                 f"equation's){exp_txt}",
-            "partly" if 0.35 < q.prefactor_fit / q.prefactor_formula < 0.8 else verdict(abs(q.prefactor_fit / q.prefactor_formula - 1) < 0.15),
-            f"(mu, rho): simulated kappa_c vs formula: {per}. Bisection on kappa, {q.duration:g} tau per run. The "
-            "threshold grows with mu and |1 - rho| roughly as the formula says, but is about half of it. The formula does "
-            f"not follow from the supplement's own phase equation either (d nu = {detuning} (rho - 1), eps / cos Psi_0 -> kappa "
-            f"for |rho - 1| << mu, giving kappa_c -> {detuning} |1 - rho| independent of mu: 'phase eq.' above)."))
+                "partly"
+                if 0.35 < q.prefactor_fit / q.prefactor_formula < 0.8
+                else verdict(abs(q.prefactor_fit / q.prefactor_formula - 1) < 0.15),
+                f"(mu, rho): simulated kappa_c vs formula: {per}. Bisection on kappa, {q.duration:g} tau per run. The "
+                "threshold grows with mu and |1 - rho| roughly as the formula says, but is about half of it. The formula does "
+                f"not follow from the supplement's own phase equation either (d nu = {detuning} (rho - 1), eps / cos Psi_0 -> kappa "
+                f"for |rho - 1| << mu, giving kappa_c -> {detuning} |1 - rho| independent of mu: 'phase eq.' above).",
+            )
+        )
     return rows

@@ -27,8 +27,8 @@ from __future__ import annotations
 
 import dataclasses
 import os
+from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
-from typing import Callable, Mapping, Sequence
 
 import numpy as np
 
@@ -37,24 +37,70 @@ from ..errors import ParameterError
 from ..io.outputs import check_file
 from ..params import Numerics
 from .grid import (
-    DIMENSION_ATTRS, FORMAT, MUJOCO_ONLY, NUMERICS_KEYS, VARIABLE_ATTRS, VECTORS, Sweep, SweepMismatch,
-    SweepStorageError, check_engine_numerics, coordinate_attrs, grid_keys, make_sweep, normalize_grid,
-    parse_grid, parse_values, physics_keys, scene_variables,
+    DIMENSION_ATTRS,
+    FORMAT,
+    MUJOCO_ONLY,
+    NUMERICS_KEYS,
+    VARIABLE_ATTRS,
+    VECTORS,
+    Sweep,
+    SweepMismatch,
+    SweepStorageError,
+    check_engine_numerics,
+    coordinate_attrs,
+    grid_keys,
+    make_sweep,
+    normalize_grid,
+    parse_grid,
+    parse_values,
+    physics_keys,
+    scene_variables,
 )
 from .netcdf import SNAPSHOT_MARGIN
 from .points import (
-    BATCH_POINTS_PER_THREAD, TimestepChecks, refuse_if_all_refused, refused, run_point, run_points, run_points_task,
+    BATCH_POINTS_PER_THREAD,
+    TimestepChecks,
+    refuse_if_all_refused,
+    refused,
+    run_point,
+    run_points,
+    run_points_task,
 )
 from .runners import FLUSH, connect, run_dask, run_local, run_local_mujoco
 from .store import MUST_BE_FINITE, STATUSES, TEXT_VARIABLES, Store, SweepJournalWarning, sigint_deferred
 
 __all__ = [
-    "BATCH_POINTS_PER_THREAD", "DIMENSION_ATTRS", "FLUSH", "FORMAT", "MUJOCO_ONLY", "MUST_BE_FINITE",
-    "NUMERICS_KEYS", "SNAPSHOT_MARGIN", "STATUSES", "Sweep", "SweepJournalWarning", "SweepMismatch",
-    "SweepOutcome", "SweepStorageError", "TEXT_VARIABLES", "VARIABLE_ATTRS", "VECTORS",
-    "check_engine_numerics", "coordinate_attrs", "grid_keys", "make_sweep", "normalize_grid", "parse_grid",
-    "parse_values", "physics_keys", "run_point", "run_points", "run_points_task", "run_sweep",
-    "run_sweep_outcome", "scene_variables",
+    "BATCH_POINTS_PER_THREAD",
+    "DIMENSION_ATTRS",
+    "FLUSH",
+    "FORMAT",
+    "MUJOCO_ONLY",
+    "MUST_BE_FINITE",
+    "NUMERICS_KEYS",
+    "SNAPSHOT_MARGIN",
+    "STATUSES",
+    "Sweep",
+    "SweepJournalWarning",
+    "SweepMismatch",
+    "SweepOutcome",
+    "SweepStorageError",
+    "TEXT_VARIABLES",
+    "VARIABLE_ATTRS",
+    "VECTORS",
+    "check_engine_numerics",
+    "coordinate_attrs",
+    "grid_keys",
+    "make_sweep",
+    "normalize_grid",
+    "parse_grid",
+    "parse_values",
+    "physics_keys",
+    "run_point",
+    "run_points",
+    "run_points_task",
+    "run_sweep",
+    "run_sweep_outcome",
+    "scene_variables",
 ]
 
 
@@ -99,10 +145,24 @@ def run_sweep(
     another sweep or is corrupted, SweepStorageError when `out` cannot be written (full disk: the
     journal is kept, re-run to resume). A failed point is not an exception: its status is "error".
     """
-    return _run_sweep(scene, grid, fixed=fixed, numerics=numerics, duration=duration, engine=engine,
-                      transient=transient, out=out, workers=workers, scheduler=scheduler, progress=progress,
-                      retry_errors=retry_errors, timestep_check=timestep_check, snapshot_interval=snapshot_interval,
-                      on_point=on_point, batch_size=batch_size).dataset()
+    return _run_sweep(
+        scene,
+        grid,
+        fixed=fixed,
+        numerics=numerics,
+        duration=duration,
+        engine=engine,
+        transient=transient,
+        out=out,
+        workers=workers,
+        scheduler=scheduler,
+        progress=progress,
+        retry_errors=retry_errors,
+        timestep_check=timestep_check,
+        snapshot_interval=snapshot_interval,
+        on_point=on_point,
+        batch_size=batch_size,
+    ).dataset()
 
 
 @dataclasses.dataclass(frozen=True)
@@ -144,16 +204,18 @@ def _run_sweep(
     on_point: Callable[[dict, dict], None] | None = None,
     batch_size: int | None = None,
     dataset: bool = True,
-) -> "Store":
+) -> Store:
     """run_sweep's work; returns the closed store. `dataset`: the caller builds the xarray Dataset from it
     (then xarray is loaded in the background while MuJoCo points step)."""
     if workers is not None and (not isinstance(workers, (int, np.integer)) or isinstance(workers, bool) or workers < 1):
         raise ParameterError(f"workers must be an integer >= 1, got {workers!r}")
-    if batch_size is not None and (not isinstance(batch_size, (int, np.integer)) or isinstance(batch_size, bool)
-                                   or batch_size < 1):
+    if batch_size is not None and (
+        not isinstance(batch_size, (int, np.integer)) or isinstance(batch_size, bool) or batch_size < 1
+    ):
         raise ParameterError(f"batch_size must be an integer >= 1, got {batch_size!r}")
-    sweep = make_sweep(scene, grid, fixed=fixed, numerics=numerics, duration=duration, engine=engine,
-                       transient=transient)
+    sweep = make_sweep(
+        scene, grid, fixed=fixed, numerics=numerics, duration=duration, engine=engine, transient=transient
+    )
     for i in range(sweep.size):  # refuse an invalid point before starting
         sweep.case(i)
     # a file in a writable folder (created if need be), not under a file: one clear line, as for `run --out`
@@ -177,14 +239,20 @@ def _run_sweep(
         store.check_file_size()  # before any point runs: the limit does not change while this process runs
         status, errors = store.arrays["status"].reshape(-1), store.arrays["error"].reshape(-1)
         # a refused point (nothing simulated) is checked again: its settings' refusal is no result
-        todo = [i for i in range(sweep.size) if status[i] == "pending"
-                or (status[i] == "error" and (retry_errors or refused(errors[i])))]
+        todo = [
+            i
+            for i in range(sweep.size)
+            if status[i] == "pending" or (status[i] == "error" and (retry_errors or refused(errors[i])))
+        ]
         if todo and timestep_check and engine == "mujoco" and not (status == "ok").any():
             refuse_if_all_refused([sweep.case(i) for i in todo], checks, tuple(sweep.grid))
     except BaseException as err:
         # a sweep refused before any point ran leaves nothing behind (a new journal goes)
-        store.close(complete=fresh and isinstance(err, ParameterError)
-                    and not isinstance(err, (SweepMismatch, SweepStorageError)))
+        store.close(
+            complete=fresh
+            and isinstance(err, ParameterError)
+            and not isinstance(err, (SweepMismatch, SweepStorageError))
+        )
         if client is not None and client is not scheduler:
             client.close()
         raise
@@ -201,8 +269,9 @@ def _run_sweep(
             if scheduler is not None:
                 runner = run_dask(todo, sweep, client, timestep_check, batch_size)
             elif engine == "mujoco":
-                runner = run_local_mujoco(todo, sweep, local, timestep_check, batch_size, preload_xarray=dataset,
-                                          checks=checks)
+                runner = run_local_mujoco(
+                    todo, sweep, local, timestep_check, batch_size, preload_xarray=dataset, checks=checks
+                )
             else:
                 runner = run_local(todo, sweep, local, timestep_check)
             try:

@@ -12,8 +12,8 @@ from __future__ import annotations
 import dataclasses
 import json
 import math
+from collections.abc import Mapping, Sequence
 from pathlib import Path
-from typing import Mapping, Sequence
 
 import numpy as np
 
@@ -24,7 +24,6 @@ from ..errors import ParameterError
 from ..parameters import get as parameter_spec
 from ..params import Numerics, Physics, parameter_fields, scene_parameters
 from ..results import HARMONICS, OBSERVABLES
-
 
 NUMERICS_KEYS = ("seed", "dt", "mass_ratio", "perturbation", "sample_dt")
 
@@ -50,9 +49,6 @@ def _integer(name: str) -> bool:
     return name == "seed" or (name in physics_keys() and parameter_spec(name).kind is int)
 
 
-
-
-
 FORMAT = 1
 
 
@@ -72,20 +68,36 @@ def scene_variables(scene: str) -> tuple[str, ...]:
 
 VARIABLE_ATTRS = {
     **{name: dict(units=o.units, long_name=o.long_name) for name, o in OBSERVABLES.items()},
-    **{name: dict(units=o.units, long_name=o.long_name, flag_values=np.arange(len(o.categories), dtype=float),
-                  flag_meanings=" ".join(o.categories)) for name, o in OBSERVABLES.items() if o.categories},
+    **{
+        name: dict(
+            units=o.units,
+            long_name=o.long_name,
+            flag_values=np.arange(len(o.categories), dtype=float),
+            flag_meanings=" ".join(o.categories),
+        )
+        for name, o in OBSERVABLES.items()
+        if o.categories
+    },
     "periodic": dict(
-        units="1", long_name="whether the motion is periodic (results.Results.periodic)",
-        flag_values=np.array([1.0, 0.0]), flag_meanings="periodic irregular",
+        units="1",
+        long_name="whether the motion is periodic (results.Results.periodic)",
+        flag_values=np.array([1.0, 0.0]),
+        flag_meanings="periodic irregular",
         comment="1: a steady state or a regular beat (amplitude and frequency describe it); 0: irregular (cycle "
-                "periods or amplitudes vary by more than 1% - noise, chaos, or a beat still growing: amplitude and "
-                "frequency are averages); NaN: the measured window holds too few cycles to tell, or the point "
-                "failed"),
-    "notes": dict(long_name="what to know about the point's numbers (results.Results.notes, joined with '; '); "
-                            "empty when there is nothing to say"),
+        "periods or amplitudes vary by more than 1% - noise, chaos, or a beat still growing: amplitude and "
+        "frequency are averages); NaN: the measured window holds too few cycles to tell, or the point "
+        "failed",
+    ),
+    "notes": dict(
+        long_name="what to know about the point's numbers (results.Results.notes, joined with '; '); "
+        "empty when there is nothing to say"
+    ),
     "constraint_violation": dict(units="l", long_name="largest distance of the last particle from its pin"),
-    "wall_time_s": dict(units="s", long_name="wall time of the simulation (without measuring); for MuJoCo points run "
-                                             "together in one mujoco.batch, its share: batch wall time x threads / points"),
+    "wall_time_s": dict(
+        units="s",
+        long_name="wall time of the simulation (without measuring); for MuJoCo points run "
+        "together in one mujoco.batch, its share: batch wall time x threads / points",
+    ),
     "finished_at": dict(long_name="when the point finished"),
     "status": dict(long_name="ok, error (see error) or pending (not run yet)"),
     "error": dict(long_name="error text of a failed point (empty if ok)"),
@@ -154,8 +166,10 @@ def _check_size(sizes: Mapping[str, int]) -> None:
     total = math.prod(sizes.values())
     if total > MAX_GRID_POINTS:
         axes = " x ".join(f"{name} {size}" for name, size in sizes.items())
-        raise ParameterError(f"grid: {axes} = {total} points, more than {MAX_GRID_POINTS} (at 0.1-1 s a point, hours "
-                             "to days on 2 cores); use fewer values, or split the grid into several sweeps")
+        raise ParameterError(
+            f"grid: {axes} = {total} points, more than {MAX_GRID_POINTS} (at 0.1-1 s a point, hours "
+            "to days on 2 cores); use fewer values, or split the grid into several sweeps"
+        )
 
 
 def _axis(name: str, values) -> np.ndarray:
@@ -177,8 +191,10 @@ def _key(name: str) -> str:
     key = name.strip().replace("-", "_")
     if key not in grid_keys():
         if key in physics_keys():
-            raise ParameterError(f"grid: {key} is not a number and cannot be swept; give it as a fixed value "
-                                 f"({parameter_spec(key).option}) and run one sweep per value")
+            raise ParameterError(
+                f"grid: {key} is not a number and cannot be swept; give it as a fixed value "
+                f"({parameter_spec(key).option}) and run one sweep per value"
+            )
         raise ParameterError(f"grid: unknown parameter {name!r}; choose from {', '.join(grid_keys())}")
     return key
 
@@ -289,8 +305,9 @@ def _base_physics(scene: str, fixed: dict, grid: dict, first: dict) -> Physics:
     fixed value at the points where its switch is off, as Physics.replace does). Refused as the first point is when
     no such value exists."""
     swept = {k: v for k, v in first.items() if k in physics_keys()}
-    candidates = [swept] + [{**swept, key: value.item()} for key, values in grid.items() if key in physics_keys()
-                            for value in values[1:]]
+    candidates = [swept] + [
+        {**swept, key: value.item()} for key, values in grid.items() if key in physics_keys() for value in values[1:]
+    ]
     refusal = None
     for point in candidates:
         try:
@@ -324,16 +341,20 @@ def make_sweep(
         numerics = Numerics.preset(numerics)
     bad = sorted(set(fixed) - set(physics_keys()))
     if bad:
-        raise ParameterError(f"fixed: unknown physics parameter(s) {', '.join(bad)}; choose from {', '.join(physics_keys())} "
-                             "(numerical settings go in numerics)")
+        raise ParameterError(
+            f"fixed: unknown physics parameter(s) {', '.join(bad)}; choose from {', '.join(physics_keys())} "
+            "(numerical settings go in numerics)"
+        )
     both = [k for k in grid if k in fixed]
     if both:
         raise ParameterError(f"{', '.join(both)} given both as a fixed value and on the grid")
     used = set(scene_parameters(registry.get(scene))) | {"scene"}
     unused = [k for k in grid if k in physics_keys() and k not in used]
     if unused:
-        raise ParameterError(f"grid: {', '.join(unused)} has no effect on scene {scene} "
-                             f"(its parameters: {', '.join(sorted(used - {'scene'}))})")
+        raise ParameterError(
+            f"grid: {', '.join(unused)} has no effect on scene {scene} "
+            f"(its parameters: {', '.join(sorted(used - {'scene'}))})"
+        )
     first = {k: v[0].item() for k, v in grid.items()}
     try:
         numerics = dataclasses.replace(numerics, **{k: v for k, v in first.items() if k in NUMERICS_KEYS})
@@ -341,10 +362,13 @@ def make_sweep(
         raise ParameterError(f"grid point {first}: {err}") from None
     physics = _base_physics(scene, fixed, grid, first)
     for key, values in grid.items():  # the per-chain results have one shape: the chains may not change on the grid
-        if key in physics_keys() and any(_chains(physics, key, v.item()) not in (None, physics.n_chains)
-                                         for v in values):
-            raise ParameterError(f"grid: {key} changes the number of chains of scene {scene}; sweep one value of "
-                                 f"{key} at a time (--{key.replace('_', '-')} as a fixed value)")
+        if key in physics_keys() and any(
+            _chains(physics, key, v.item()) not in (None, physics.n_chains) for v in values
+        ):
+            raise ParameterError(
+                f"grid: {key} changes the number of chains of scene {scene}; sweep one value of "
+                f"{key} at a time (--{key.replace('_', '-')} as a fixed value)"
+            )
     noisy = bool(np.any(grid["noise"] > 0)) if "noise" in grid else physics.noise > 0
     check_engine_numerics(engine, [k for k in grid if k in MUJOCO_ONLY], noisy, lambda k: f"grid {k}")
     return Sweep(scene, grid, physics, numerics, duration, engine, None if transient is None else float(transient))
@@ -374,13 +398,17 @@ def spec_differences(mine: dict, theirs: dict) -> list[str]:
 
 def check_spec(path: Path, mine: dict, theirs: dict | None) -> None:
     if theirs is None:
-        raise SweepMismatch(f"{path} exists but is not an elastoactive sweep file; refusing to overwrite it. "
-                            "Choose another --out or remove the file.")
+        raise SweepMismatch(
+            f"{path} exists but is not an elastoactive sweep file; refusing to overwrite it. "
+            "Choose another --out or remove the file."
+        )
     if spec_text(mine) != spec_text(theirs):
         diff = "; ".join(spec_differences(mine, theirs)) or "format"
-        raise SweepMismatch(f"{path} holds a different sweep ({diff}). To resume it, repeat its exact grid and "
-                            "parameters; to start a new sweep, choose another --out or remove the file "
-                            f"(and {journal_path(path).name} if present).")
+        raise SweepMismatch(
+            f"{path} holds a different sweep ({diff}). To resume it, repeat its exact grid and "
+            "parameters; to start a new sweep, choose another --out or remove the file "
+            f"(and {journal_path(path).name} if present)."
+        )
 
 
 def journal_path(out: Path) -> Path:

@@ -14,16 +14,15 @@ import functools
 import json
 import os
 import shutil
+from collections.abc import Callable
 from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
-from typing import Callable
 
 import numpy as np
 
 from ..io.outputs import file_size_limit, write_netcdf
 from ..params import LONG_CHAIN
 from .grid import VARIABLE_ATTRS, VECTORS, SweepStorageError, coordinate_attrs, spec_text
-
 
 SNAPSHOT_MARGIN = 1 << 20
 """Bytes of free space asked for beyond twice the arrays' size before writing a snapshot."""
@@ -80,7 +79,8 @@ def check_file_size(out: Path, needed: int, kept: str) -> None:
         raise SweepStorageError(
             f"cannot write {out}: this process may not write files over {limit} bytes (the file-size limit, "
             f"ulimit -f), and about {megabytes(needed)} are asked for to write it. Nothing was written; raise the "
-            f"limit (ulimit -f unlimited); {kept}")
+            f"limit (ulimit -f unlimited); {kept}"
+        )
 
 
 def write(out: Path, contents: Callable[[], tuple[dict, dict, dict]], needed: int, kept: str) -> None:
@@ -99,7 +99,8 @@ def write(out: Path, contents: Callable[[], tuple[dict, dict, dict]], needed: in
     if free is not None and free < needed:
         raise SweepStorageError(
             f"not enough free space to write {out}: about {megabytes(needed)} needed, {megabytes(free)} "
-            f"free in {out.parent}. Nothing was written; {kept}")
+            f"free in {out.parent}. Nothing was written; {kept}"
+        )
     tmp = out.with_name(f".{out.name}.tmp-{os.getpid()}")
     try:
         write_netcdf(tmp, *contents())
@@ -108,8 +109,9 @@ def write(out: Path, contents: Callable[[], tuple[dict, dict, dict]], needed: in
         fsync_path(out.parent)
     except OSError as err:
         if is_disk_full(err):
-            raise SweepStorageError(f"no space left on the device to write {out} (about {megabytes(needed)} "
-                                    f"needed); {kept}") from err
+            raise SweepStorageError(
+                f"no space left on the device to write {out} (about {megabytes(needed)} needed); {kept}"
+            ) from err
         raise SweepStorageError(f"cannot write {out}: {os_reason(err)}; {kept}") from err
     finally:
         if tmp.exists():
@@ -135,26 +137,26 @@ def contents(sweep, arrays: dict, spec: dict, done: np.ndarray) -> tuple[dict, d
             dim, size = VECTORS[name]
             coords[dim] = ((dim,), np.arange(1, size + 1), coordinate_attrs(dim))
         attrs = {
-        "title": f"elastoactive sweep: {sweep.scene} over {', '.join(dims)}",
-        "scene": sweep.scene,
-        "engine": sweep.engine,
-        "duration": sweep.duration,
-        "transient": sweep.transient if sweep.transient is not None else 0.5 * sweep.duration,
-        "grid": " ".join(dims),
-        **{f"fixed_{k}": v for k, v in sweep.fixed.items()},
-        **{f"numerics_{k}": v for k, v in sweep.fixed_numerics.items()},
-        "package_version": package_version(),
-        "points_total": sweep.size,
-        "points_done": int(done.sum()),
-        "points_failed": int((arrays["status"] == "error").sum()),
-        "complete": int(done.all()),
-        "sweep_spec": spec_text(spec),
-        "units": "l = C1 = gamma = 1: times in tau = gamma l^2 / C1, frequencies f*tau",
-        "measurements": "per point, after the transient: amplitude and frequency of Theta = theta_N - theta_1; "
-                        "periodic (1: periodic, 0: irregular, NaN: too few cycles to tell or failed) with "
-                        "period_spread (std / mean of the cycle periods; per chain for the pair); notes (text: "
-                        "what to know about the numbers, '; '-separated); the scene's observables",
-    }
+            "title": f"elastoactive sweep: {sweep.scene} over {', '.join(dims)}",
+            "scene": sweep.scene,
+            "engine": sweep.engine,
+            "duration": sweep.duration,
+            "transient": sweep.transient if sweep.transient is not None else 0.5 * sweep.duration,
+            "grid": " ".join(dims),
+            **{f"fixed_{k}": v for k, v in sweep.fixed.items()},
+            **{f"numerics_{k}": v for k, v in sweep.fixed_numerics.items()},
+            "package_version": package_version(),
+            "points_total": sweep.size,
+            "points_done": int(done.sum()),
+            "points_failed": int((arrays["status"] == "error").sum()),
+            "complete": int(done.all()),
+            "sweep_spec": spec_text(spec),
+            "units": "l = C1 = gamma = 1: times in tau = gamma l^2 / C1, frequencies f*tau",
+            "measurements": "per point, after the transient: amplitude and frequency of Theta = theta_N - theta_1; "
+            "periodic (1: periodic, 0: irregular, NaN: too few cycles to tell or failed) with "
+            "period_spread (std / mean of the cycle periods; per chain for the pair); notes (text: "
+            "what to know about the numbers, '; '-separated); the scene's observables",
+        }
     if sweep.engine == "mujoco":
         import mujoco  # start-up time: loaded by now only for MuJoCo sweeps
 
@@ -164,7 +166,8 @@ def contents(sweep, arrays: dict, spec: dict, done: np.ndarray) -> tuple[dict, d
             attrs["numerics_automatic"] = (
                 f"points with n >= {LONG_CHAIN} run with the automatic long-chain numerics (Numerics.for_physics: "
                 "integrator Euler with a matched mass ratio and dt, where cheaper), not with the numerics_* "
-                "values, which are the defaults they replace")
+                "values, which are the defaults they replace"
+            )
     return data, coords, attrs
 
 
@@ -175,6 +178,8 @@ def dataset(contents: tuple[dict, dict, dict]):
     data, coords, attrs = contents
     # fastpath: the arrays are numpy arrays of the final dtypes already; the checks it skips would load
     # dask.array (~0.3 s of CPU) to ask whether they are dask arrays
-    return xr.Dataset({k: xr.Variable(d, v, a, fastpath=True) for k, (d, v, a) in data.items()},
-                      coords={k: xr.Variable(d, v, a, fastpath=True) for k, (d, v, a) in coords.items()},
-                      attrs=attrs)
+    return xr.Dataset(
+        {k: xr.Variable(d, v, a, fastpath=True) for k, (d, v, a) in data.items()},
+        coords={k: xr.Variable(d, v, a, fastpath=True) for k, (d, v, a) in coords.items()},
+        attrs=attrs,
+    )

@@ -14,7 +14,7 @@ import dataclasses
 import math
 import threading
 import time
-from typing import Callable, Sequence
+from collections.abc import Callable, Sequence
 
 import numpy as np
 
@@ -22,9 +22,7 @@ from ..batch import Case, checked, run_case
 from ..errors import ParameterError
 from ..gate import TimestepChecks
 from ..io.jsonio import to_jsonable
-from ..params import Numerics, Physics
 from ..results import OBSERVABLES
-
 
 BATCH_POINTS_PER_THREAD = 8
 """Default size of a local MuJoCo batch: this many points per thread (a killed sweep loses at most the
@@ -54,18 +52,35 @@ def _ok_record(results, info: dict, wall_time_s: float) -> dict:
     if "constraint_violation" in info:
         values["constraint_violation"] = info["constraint_violation"]
     notes = "; ".join(str(note) for note in (results.notes or ()))
-    return {"status": "ok", "error": "", "results": _measurements(values), "notes": notes,
-            "wall_time_s": float(wall_time_s)}
+    return {
+        "status": "ok",
+        "error": "",
+        "results": _measurements(values),
+        "notes": notes,
+        "wall_time_s": float(wall_time_s),
+    }
 
 
 def error_record(err: BaseException, wall_time_s: float) -> dict:
-    return {"status": "error", "error": f"{type(err).__name__}: {err}", "results": {}, "notes": "",
-            "wall_time_s": float(wall_time_s)}
+    return {
+        "status": "error",
+        "error": f"{type(err).__name__}: {err}",
+        "results": {},
+        "notes": "",
+        "wall_time_s": float(wall_time_s),
+    }
 
 
-def run_points(cases: Sequence[Case], timestep_check: bool = True, threads: int = 1, *,
-               on_record: Callable[[int, dict], None] | None = None, cancel: threading.Event | None = None,
-               checks: TimestepChecks | None = None, on_start: Callable[[], None] | None = None) -> list[dict]:
+def run_points(
+    cases: Sequence[Case],
+    timestep_check: bool = True,
+    threads: int = 1,
+    *,
+    on_record: Callable[[int, dict], None] | None = None,
+    cancel: threading.Event | None = None,
+    checks: TimestepChecks | None = None,
+    on_start: Callable[[], None] | None = None,
+) -> list[dict]:
     """MuJoCo grid points run together (engines.mujoco_batch, `threads` C threads); returns each point's
     record as run_point would (never raises for a failed point). on_record(j, record) is called as each
     is known: a point that fails at once, the others when their batch ends. The follower callback must
@@ -172,10 +187,16 @@ def _measurements(results: dict) -> dict:
     (a list). None ("could not be measured") becomes NaN, a bool 0 or 1, a categorical observable's value
     (OBSERVABLES' categories, e.g. dish_state) its index; other text (the notes) is left out: it is stored as
     the record's `notes`."""
-    coded = {name: float(OBSERVABLES[name].categories.index(value)) for name, value in results.items()
-             if name in OBSERVABLES and value in OBSERVABLES[name].categories}
-    return {name: _coded(to_jsonable(value, nonfinite="keep")) for name, value in {**results, **coded}.items()
-            if _numeric(value)}
+    coded = {
+        name: float(OBSERVABLES[name].categories.index(value))
+        for name, value in results.items()
+        if name in OBSERVABLES and value in OBSERVABLES[name].categories
+    }
+    return {
+        name: _coded(to_jsonable(value, nonfinite="keep"))
+        for name, value in {**results, **coded}.items()
+        if _numeric(value)
+    }
 
 
 def _numeric(value, depth: int = 2) -> bool:
@@ -227,8 +248,9 @@ def refuse_if_all_refused(cases: Sequence[Case], checks: TimestepChecks, grid_ke
     for case in {TimestepChecks.key(c.physics, c.numerics): c for c in cases}.values():
         numerics = case.numerics.for_physics(case.physics)
         try:
-            settings.append((passing_setting(case.physics, stability_limits(case.physics, numerics), numerics),
-                             numerics))
+            settings.append(
+                (passing_setting(case.physics, stability_limits(case.physics, numerics), numerics), numerics)
+            )
         except Exception:
             settings.append((None, numerics))
     advice = ""
@@ -249,5 +271,7 @@ def refuse_if_all_refused(cases: Sequence[Case], checks: TimestepChecks, grid_ke
             if len(integrators) == 1:
                 parts.append(f"--integrator {integrators.pop()}")
             advice = f"; a setting that passes every point: {' '.join(parts)}"
-    raise ParameterError(f"the pre-flight check refuses every point of the sweep ({len(cases)}), so none runs; "
-                         f"the first: {text.rstrip('.')}{advice}")
+    raise ParameterError(
+        f"the pre-flight check refuses every point of the sweep ({len(cases)}), so none runs; "
+        f"the first: {text.rstrip('.')}{advice}"
+    )

@@ -22,7 +22,7 @@ import contextlib
 import functools
 import threading
 import time
-from typing import Iterator
+from collections.abc import Iterator
 
 import numpy as np
 
@@ -31,7 +31,12 @@ from ..io.executor import imap
 from .grid import Sweep
 from .netcdf import package_version
 from .points import (
-    BATCH_POINTS_PER_THREAD, TimestepChecks, error_record, run_point, run_points, run_points_task,
+    BATCH_POINTS_PER_THREAD,
+    TimestepChecks,
+    error_record,
+    run_point,
+    run_points,
+    run_points_task,
 )
 
 
@@ -56,9 +61,15 @@ def _chunks(todo: list[int], sweep: Sweep, max_points: int, min_chunks: int = 1)
     return cases, [[todo[j] for j in chunk] for chunk in chunks]
 
 
-def run_local_mujoco(todo: list[int], sweep: Sweep, workers: int, check: bool,
-                  batch_size: int | None, preload_xarray: bool = True,
-                  checks: TimestepChecks | None = None) -> Iterator[tuple[int, dict]]:
+def run_local_mujoco(
+    todo: list[int],
+    sweep: Sweep,
+    workers: int,
+    check: bool,
+    batch_size: int | None,
+    preload_xarray: bool = True,
+    checks: TimestepChecks | None = None,
+) -> Iterator[tuple[int, dict]]:
     """MuJoCo points in mujoco.batch batches on `workers` threads of this process; each point's record is
     yielded (in this thread) as soon as it is known, so a killed sweep loses at most the running batches."""
     from ..engines.mujoco_batch import run_chunks  # start-up time: loads mujoco
@@ -70,13 +81,21 @@ def run_local_mujoco(todo: list[int], sweep: Sweep, workers: int, check: bool,
     # preload_xarray) is loaded while the C threads step, instead of after them; the loading waits until the
     # stepping has started (it needs the GIL, which the pre-flight checks and the preparation of the models need
     # too). It shares the cores with the stepping threads, so only what will be used is loaded
-    preload = threading.Thread(target=_preload_storage, args=(started, stop, preload_xarray),
-                               name="elastoactive-preload", daemon=True)
+    preload = threading.Thread(
+        target=_preload_storage, args=(started, stop, preload_xarray), name="elastoactive-preload", daemon=True
+    )
     preload.start()
 
     def task(chunk, threads, emit, cancel):
-        run_points([cases[i] for i in chunk], check, threads, cancel=cancel, checks=checks, on_start=started.set,
-                   on_record=lambda j, record: emit((chunk[j], record)))
+        run_points(
+            [cases[i] for i in chunk],
+            check,
+            threads,
+            cancel=cancel,
+            checks=checks,
+            on_start=started.set,
+            on_record=lambda j, record: emit((chunk[j], record)),
+        )
 
     try:
         yield from run_chunks(chunks, workers, task, idle=FLUSH)
@@ -125,12 +144,15 @@ def connect(scheduler):
         return Client(scheduler, timeout=DASK_CONNECT_S)
     except (OSError, TimeoutError, ValueError, TypeError) as err:
         reason = str(err).splitlines()[0] if str(err) else type(err).__name__
-        raise ParameterError(f"cannot reach the Dask scheduler at {scheduler} ({reason}); check the address and "
-                             "that the scheduler is running") from None
+        raise ParameterError(
+            f"cannot reach the Dask scheduler at {scheduler} ({reason}); check the address and "
+            "that the scheduler is running"
+        ) from None
 
 
-def run_dask(todo: list[int], sweep: Sweep, client, check: bool,
-             batch_size: int | None = None) -> Iterator[tuple[int, dict]]:
+def run_dask(
+    todo: list[int], sweep: Sweep, client, check: bool, batch_size: int | None = None
+) -> Iterator[tuple[int, dict]]:
     """Points on a Dask cluster (`client`, from `connect`): MuJoCo points one batch per task (run_points_task,
     on all the threads of the worker that runs it), at least one batch per worker; reduced-engine points one
     per task."""
@@ -142,13 +164,27 @@ def run_dask(todo: list[int], sweep: Sweep, client, check: bool,
             # a task runs on every thread of its worker, and a worker's tasks take turns: at least one
             # batch per worker, and batches of at most BATCH_POINTS_PER_THREAD points per worker thread
             nthreads = list(client.nthreads().values()) or [1]
-            cases, chunks = _chunks(todo, sweep, batch_size or BATCH_POINTS_PER_THREAD * max(nthreads),
-                                    min_chunks=len(nthreads))
-            futures = dict(zip(client.map(run_points_task, [[cases[i] for i in chunk] for chunk in chunks],
-                                          [check] * len(chunks), pure=False), chunks))
+            cases, chunks = _chunks(
+                todo, sweep, batch_size or BATCH_POINTS_PER_THREAD * max(nthreads), min_chunks=len(nthreads)
+            )
+            futures = dict(
+                zip(
+                    client.map(
+                        run_points_task,
+                        [[cases[i] for i in chunk] for chunk in chunks],
+                        [check] * len(chunks),
+                        pure=False,
+                    ),
+                    chunks,
+                )
+            )
         else:
-            futures = dict(zip(client.map(run_point, [sweep.case(i) for i in todo], [check] * len(todo), pure=False),
-                               [[i] for i in todo]))
+            futures = dict(
+                zip(
+                    client.map(run_point, [sweep.case(i) for i in todo], [check] * len(todo), pure=False),
+                    [[i] for i in todo],
+                )
+            )
         for future in dask_completed(futures):
             chunk = futures[future]
             try:
@@ -157,8 +193,7 @@ def run_dask(todo: list[int], sweep: Sweep, client, check: bool,
                     records = [records]
             except Exception as err:  # e.g. KilledWorker: the task took its worker down
                 records = [{**error_record(err, float("nan")), "finished_at": time.time()} for _ in chunk]
-            for i, record in zip(chunk, records):
-                yield i, record
+            yield from zip(chunk, records)
     finally:
         if futures:
             client.cancel(list(futures))

@@ -41,14 +41,20 @@ from pathlib import Path
 import numpy as np
 
 from .. import registry
-from . import netcdf as sweep_netcdf
 from ..results import OBSERVABLES
+from . import netcdf as sweep_netcdf
 from .grid import (
-    VECTORS, Sweep, SweepMismatch, SweepStorageError, check_spec, journal_path, scene_variables,
-    spec_differences, spec_text,
+    VECTORS,
+    Sweep,
+    SweepMismatch,
+    SweepStorageError,
+    check_spec,
+    journal_path,
+    scene_variables,
+    spec_differences,
+    spec_text,
 )
 from .netcdf import fsync_path, os_reason
-
 
 STATUSES = ("ok", "error")
 
@@ -76,7 +82,9 @@ class Store:
         self.spec = sweep.spec()
         shape = sweep.shape
         self.chains = sweep.chains
-        self.required = ("amplitude", "frequency") + (("constraint_violation",) if registry.get(sweep.scene).pinned else ())
+        self.required = ("amplitude", "frequency") + (
+            ("constraint_violation",) if registry.get(sweep.scene).pinned else ()
+        )
         self.arrays: dict[str, np.ndarray] = {}
         for name in scene_variables(sweep.scene):
             self._allocate(name, per_chain=self.chains > 1 and name in OBSERVABLES and OBSERVABLES[name].per_chain)
@@ -147,13 +155,15 @@ class Store:
                 f"the journal {path} is corrupted (its first line is not a sweep header), so the points recorded "
                 f"in it cannot be trusted. To proceed, restore {path.name} from a backup and re-run, or remove it "
                 f"to continue from {self.out.name if self.out.exists() else 'scratch'} (the points recorded only "
-                "in the journal then run again).")
+                "in the journal then run again)."
+            )
         if spec_text(self.spec) != spec_text(header):
             diff = "; ".join(spec_differences(self.spec, header)) or "format"
             raise SweepMismatch(
                 f"the journal {path} holds a different sweep ({diff}). To resume it, repeat its exact grid and "
                 f"parameters; to start a new sweep, choose another --out or remove {path.name} (and {self.out.name} "
-                "if present).")
+                "if present)."
+            )
         discarded: list[str] = []
         for line in lines[1:]:
             if not line.strip():
@@ -174,7 +184,10 @@ class Store:
         if discarded:
             warnings.warn(
                 f"{path.name}: discarded {len(discarded)} journal line(s) that failed validation "
-                f"(first: {discarded[0]}); the grid points they name run again", SweepJournalWarning, stacklevel=4)
+                f"(first: {discarded[0]}); the grid points they name run again",
+                SweepJournalWarning,
+                stacklevel=4,
+            )
         if not text.endswith("\n"):
             self.journal.write("\n")
             self._sync()
@@ -186,8 +199,10 @@ class Store:
             with xr.open_dataset(self.out, engine="h5netcdf") as ds:
                 ds = ds.load()
         except Exception as err:
-            raise SweepMismatch(f"{self.out} exists but cannot be read as netCDF ({err}); refusing to overwrite it. "
-                                "Choose another --out or remove the file.") from None
+            raise SweepMismatch(
+                f"{self.out} exists but cannot be read as netCDF ({err}); refusing to overwrite it. "
+                "Choose another --out or remove the file."
+            ) from None
         spec = ds.attrs.get("sweep_spec")
         try:
             spec = json.loads(spec) if isinstance(spec, str) else None
@@ -220,8 +235,11 @@ class Store:
         if not 0 <= i < self.sweep.size:
             return f"index i={i} outside the grid (0 to {self.sweep.size - 1})"
         coords, expected = entry.get("coords"), self.sweep.coords(i)
-        if not (isinstance(coords, dict) and set(coords) == set(expected)
-                and all(_is_number(coords[k]) and coords[k] == v for k, v in expected.items())):
+        if not (
+            isinstance(coords, dict)
+            and set(coords) == set(expected)
+            and all(_is_number(coords[k]) and coords[k] == v for k, v in expected.items())
+        ):
             return f"point {i}: coordinates {coords!r} do not match the grid's {expected}"
         status = entry.get("status")
         if status not in STATUSES:
@@ -330,9 +348,14 @@ class Store:
         line = {"i": flat, "coords": self.sweep.coords(flat), **entry}
         problem = self.problem(line)
         if problem is not None:
-            entry = {"status": "error", "error": f"invalid result: {problem}", "results": {}, "notes": "",
-                     "wall_time_s": _number_or_nan(entry.get("wall_time_s")),
-                     "finished_at": _number_or_nan(entry.get("finished_at"), time.time())}
+            entry = {
+                "status": "error",
+                "error": f"invalid result: {problem}",
+                "results": {},
+                "notes": "",
+                "wall_time_s": _number_or_nan(entry.get("wall_time_s")),
+                "finished_at": _number_or_nan(entry.get("finished_at"), time.time()),
+            }
             line = {"i": flat, "coords": self.sweep.coords(flat), **entry}
         self.set(flat, entry)
         if self.journal is not None:
@@ -358,7 +381,8 @@ class Store:
     def _journal_error(self, err: OSError) -> SweepStorageError:
         return SweepStorageError(
             f"cannot append to the journal {self.journal_path}: {os_reason(err)}. The points recorded "
-            "before are kept in it: fix this (e.g. free some space) and re-run the same sweep to resume.")
+            "before are kept in it: fix this (e.g. free some space) and re-run the same sweep to resume."
+        )
 
     def _sync(self) -> None:
         self.journal.flush()
@@ -382,8 +406,10 @@ class Store:
         self.last_snapshot = time.monotonic()
 
     def _kept(self) -> str:
-        return (f"the journal {self.journal_path} keeps every finished point: free some space (or fix the cause) "
-                "and re-run the same sweep to resume")
+        return (
+            f"the journal {self.journal_path} keeps every finished point: free some space (or fix the cause) "
+            "and re-run the same sweep to resume"
+        )
 
     def close(self, complete: bool) -> None:
         """Release the journal; `complete`: remove it (only once the final netCDF is on disk)."""

@@ -69,7 +69,15 @@ def parameter_names() -> tuple[str, ...]:
 
 from . import contact, drag, follower, moving_clamp, noise, self_aligning, tip_drive  # noqa: E402  (the built-in terms register into the table above)
 
-for _module in (drag, noise, follower, contact, tip_drive, self_aligning, moving_clamp):  # this order: the summaries list noise before loaded
+for _module in (
+    drag,
+    noise,
+    follower,
+    contact,
+    tip_drive,
+    self_aligning,
+    moving_clamp,
+):  # this order: the summaries list noise before loaded
     register(_module.TERM)
 
 __all__ = ["NodeForces", "Term", "get", "names", "parameter_names", "register", "terms", "unregister"]

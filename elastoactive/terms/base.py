@@ -22,12 +22,12 @@ elastoactive.scenes.base.Scene.parameters).
 
 from __future__ import annotations
 
-from typing import Callable, ClassVar, NamedTuple
+from collections.abc import Callable
+from typing import ClassVar, NamedTuple
 
 import numpy as np
 
 from ..parameters import Parameter
-
 
 NodeForces = Callable[[np.ndarray], np.ndarray]
 """positions (particles, 2) -> forces (particles, 2), in units C1 / l: the particles of chain 1, then chain 2."""
@@ -107,8 +107,11 @@ class Term:
         phrase that follows 'or' in a refusal (slower_advice). Default: the term's parameters, named, to be set so
         that its rate is at most `rate`."""
         names = ", ".join(p.name for p in self.parameters)
-        return (f"the {self.name} term's setting" + (f" ({names})" if names else "")
-                + f" that brings its rate to {rate:.2g}/tau or below")
+        return (
+            f"the {self.name} term's setting"
+            + (f" ({names})" if names else "")
+            + f" that brings its rate to {rate:.2g}/tau or below"
+        )
 
     def start(self, physics, model, data) -> None:
         """Set what the term needs in MuJoCo's initial state (`data` at the initial positions, before mj_forward;
@@ -148,10 +151,11 @@ class Term:
         return f"<term {self.name!r}>"
 
 
-def fastest_term(physics) -> tuple[float, "Term | None"]:
+def fastest_term(physics) -> tuple[float, Term | None]:
     """(rate, term): the active term with the fastest Term.rate, or (0.0, None) when no term imposes one."""
-    rate, term = max(((t.rate(physics), t) for t in physics.active_terms()), key=lambda pair: pair[0],
-                     default=(0.0, None))
+    rate, term = max(
+        ((t.rate(physics), t) for t in physics.active_terms()), key=lambda pair: pair[0], default=(0.0, None)
+    )
     return (rate, term) if rate > 0 else (0.0, None)
 
 

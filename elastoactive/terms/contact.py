@@ -13,19 +13,38 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..reduced.contact import capsule_clearance, core_span
 from ..constants import CONTACT_LENGTH, CONTACT_STIFFNESS
 from ..parameters import Parameter
+from ..reduced.contact import capsule_clearance, core_span
 from .base import Term
 
-CONTACT = Parameter("contact", False, "self-contact: the links' capsules collide with non-adjacent links of the same "
-                    "chain", kind=bool, quiet_default=True)
+CONTACT = Parameter(
+    "contact",
+    False,
+    "self-contact: the links' capsules collide with non-adjacent links of the same chain",
+    kind=bool,
+    quiet_default=True,
+)
 CONTACT_RADIUS = Parameter(
-    "contact_radius", 0.1, f"radius of each link's capsule, in l (with --contact; the capsule is {CONTACT_LENGTH:g} l "
-    "long)", low=0.0, high=CONTACT_LENGTH / 2, low_open=True, high_open=True, units="l", needs="contact",
-    title=f"capsule radius, in l; the capsule is {CONTACT_LENGTH:g} l long")
-CONTACT_FRICTION = Parameter("contact_friction", 0.0, "friction coefficient between capsules (with --contact; 0: "
-                             "frictionless)", low=0.0, title="friction coefficient", needs="contact")
+    "contact_radius",
+    0.1,
+    f"radius of each link's capsule, in l (with --contact; the capsule is {CONTACT_LENGTH:g} l long)",
+    low=0.0,
+    high=CONTACT_LENGTH / 2,
+    low_open=True,
+    high_open=True,
+    units="l",
+    needs="contact",
+    title=f"capsule radius, in l; the capsule is {CONTACT_LENGTH:g} l long",
+)
+CONTACT_FRICTION = Parameter(
+    "contact_friction",
+    0.0,
+    "friction coefficient between capsules (with --contact; 0: frictionless)",
+    low=0.0,
+    title="friction coefficient",
+    needs="contact",
+)
 
 
 CONTACT_IMPEDANCE = 0.99
@@ -68,8 +87,11 @@ class Contact(Term):
     def build(self, spec, physics, numerics):
         import mujoco  # start-up time: the CLI imports the terms for their parameters, not the engine
 
-        for flag in (mujoco.mjtDisableBit.mjDSBL_CONTACT, mujoco.mjtDisableBit.mjDSBL_FILTERPARENT,
-                     mujoco.mjtDisableBit.mjDSBL_CONSTRAINT):
+        for flag in (
+            mujoco.mjtDisableBit.mjDSBL_CONTACT,
+            mujoco.mjtDisableBit.mjDSBL_FILTERPARENT,
+            mujoco.mjtDisableBit.mjDSBL_CONSTRAINT,
+        ):
             spec.option.disableflags &= ~int(flag)
         start, end = core_span(physics.contact_radius)  # the reduced model's capsule: CONTACT_LENGTH long, centred
         d, friction = CONTACT_IMPEDANCE, physics.contact_friction
@@ -77,17 +99,29 @@ class Contact(Term):
             bits = 1 << chain
             for i in range(physics.n):
                 spec.body(f"{prefix}segment_{i}").add_geom(
-                    name=f"{prefix}capsule_{i}", default=spec.find_default("capsule"), fromto=[start, 0, 0, end, 0, 0],
-                    size=[physics.contact_radius, 0, 0], contype=bits, conaffinity=bits,
-                    condim=3 if friction > 0 else 1, friction=[friction, 0.005, 0.0001],
-                    solref=contact_solref(numerics), solimp=[d, d, 0.001, 0.5, 2])
+                    name=f"{prefix}capsule_{i}",
+                    default=spec.find_default("capsule"),
+                    fromto=[start, 0, 0, end, 0, 0],
+                    size=[physics.contact_radius, 0, 0],
+                    contype=bits,
+                    conaffinity=bits,
+                    condim=3 if friction > 0 else 1,
+                    friction=[friction, 0.005, 0.0001],
+                    solref=contact_solref(numerics),
+                    solimp=[d, d, 0.001, 0.5, 2],
+                )
 
     def measure(self, traj, transient):
         """contact_fraction and min_clearance, from the capsules' geometry (every chain) over the steady window."""
         steady = traj.t - traj.t[0] >= transient
         head = None if traj.head is None else traj.head[steady]
-        clearance = np.min([capsule_clearance(traj.chain(k)[steady], traj.physics.contact_radius, head)
-                            for k in range(traj.physics.n_chains)], axis=0)
+        clearance = np.min(
+            [
+                capsule_clearance(traj.chain(k)[steady], traj.physics.contact_radius, head)
+                for k in range(traj.physics.n_chains)
+            ],
+            axis=0,
+        )
         return {"contact_fraction": float(np.mean(clearance < 0.0)), "min_clearance": float(np.min(clearance))}
 
 

@@ -9,8 +9,14 @@ from __future__ import annotations
 from ..parameters import Parameter
 from .base import Term
 
-DRAG_RATIO = Parameter("drag_ratio", 1.0, "anisotropy gamma_L / gamma_T of the drag (1: isotropic)", low=0.0,
-                       low_open=True, title="gamma_L/gamma_T")
+DRAG_RATIO = Parameter(
+    "drag_ratio",
+    1.0,
+    "anisotropy gamma_L / gamma_T of the drag (1: isotropic)",
+    low=0.0,
+    low_open=True,
+    title="gamma_L/gamma_T",
+)
 
 
 class Drag(Term):

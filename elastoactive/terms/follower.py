@@ -15,8 +15,13 @@ from ..parameters import Parameter
 from .base import Term
 
 SIGMA = Parameter("sigma", 0.8, "elasto-active number F_a l / C1", low=0.0, title="elasto-active number", symbol="σ")
-LOADED = Parameter("loaded", "all", "particles carrying the follower force: all, tip, or 1-based indices like 1,3,7",
-                   kind=str, quiet_default=True)
+LOADED = Parameter(
+    "loaded",
+    "all",
+    "particles carrying the follower force: all, tip, or 1-based indices like 1,3,7",
+    kind=str,
+    quiet_default=True,
+)
 
 
 def loaded_indices(text: str, n: int) -> list[int]:
@@ -26,7 +31,8 @@ def loaded_indices(text: str, n: int) -> list[int]:
         idx = [int(p) for p in parts]
     except ValueError:
         raise ParameterError(
-            f"loaded must be all, tip, or comma-separated 1-based particle indices like 1,3,7; got {text!r}") from None
+            f"loaded must be all, tip, or comma-separated 1-based particle indices like 1,3,7; got {text!r}"
+        ) from None
     bad = [i for i in idx if not 1 <= i <= n]
     if bad:
         raise ParameterError(f"loaded: particle indices must lie in 1..{n} (N = {n}), got {bad[0]} in {text!r}")

@@ -60,19 +60,45 @@ clamp's slides."""
 HINGE_TEXT = "elastoactive_clamp_hinge"
 """The custom text naming chain 1's clamp hinge (the callback's angle drive acts on it)."""
 
-CLAMP_AMPLITUDE = Parameter("clamp_amplitude", 0.0, "amplitude A of the clamp's motion: l for a transverse or "
-                            "longitudinal clamp point, rad for the clamp angle (0: a fixed clamp)", low=0.0,
-                            title="clamp amplitude", units="l or rad", quiet_default=True)
+CLAMP_AMPLITUDE = Parameter(
+    "clamp_amplitude",
+    0.0,
+    "amplitude A of the clamp's motion: l for a transverse or "
+    "longitudinal clamp point, rad for the clamp angle (0: a fixed clamp)",
+    low=0.0,
+    title="clamp amplitude",
+    units="l or rad",
+    quiet_default=True,
+)
 """(clamp_motion rotating needs no amplitude: the term's switch is then the motion itself, CLAMP_FREQUENCY.or_needs)"""
-CLAMP_FREQUENCY = Parameter("clamp_frequency", 0.01, "frequency f tau of the clamp's motion A sin(2 pi f t), or of a "
-                            "rotating clamp's turns (cycles per tau; with --clamp-amplitude or --clamp-motion rotating)",
-                            low=0.0, low_open=True, title="clamp frequency f tau", units="1/tau",
-                            needs="clamp_amplitude", or_needs="clamp_motion", or_needs_value=ROTATING, quiet_default=True)
-CLAMP_MOTION = Parameter("clamp_motion", "transverse", "what moves: the clamp point across the chain (transverse, lab "
-                         "y) or along it (longitudinal, lab x), or the clamp's angle (angle) (with --clamp-amplitude); "
-                         "or the clamp turns steadily at --clamp-frequency (rotating, no amplitude)",
-                         kind=str, choices=MOTIONS, title="clamp motion", needs="clamp_amplitude",
-                         or_needs="clamp_motion", or_needs_value=ROTATING, quiet_default=True)
+CLAMP_FREQUENCY = Parameter(
+    "clamp_frequency",
+    0.01,
+    "frequency f tau of the clamp's motion A sin(2 pi f t), or of a "
+    "rotating clamp's turns (cycles per tau; with --clamp-amplitude or --clamp-motion rotating)",
+    low=0.0,
+    low_open=True,
+    title="clamp frequency f tau",
+    units="1/tau",
+    needs="clamp_amplitude",
+    or_needs="clamp_motion",
+    or_needs_value=ROTATING,
+    quiet_default=True,
+)
+CLAMP_MOTION = Parameter(
+    "clamp_motion",
+    "transverse",
+    "what moves: the clamp point across the chain (transverse, lab "
+    "y) or along it (longitudinal, lab x), or the clamp's angle (angle) (with --clamp-amplitude); "
+    "or the clamp turns steadily at --clamp-frequency (rotating, no amplitude)",
+    kind=str,
+    choices=MOTIONS,
+    title="clamp motion",
+    needs="clamp_amplitude",
+    or_needs="clamp_motion",
+    or_needs_value=ROTATING,
+    quiet_default=True,
+)
 
 
 def clamp_path(amplitude: float, frequency: float, motion: str) -> ClampMotion:
@@ -80,12 +106,20 @@ def clamp_path(amplitude: float, frequency: float, motion: str) -> ClampMotion:
     omega = 2.0 * math.pi * frequency
     if motion == ROTATING:
         zero2 = np.zeros(2)
-        return ClampMotion(displacement=lambda t: zero2, velocity=lambda t: zero2,
-                           angle=lambda t: omega * np.asarray(t, dtype=float), translates=False)
+        return ClampMotion(
+            displacement=lambda t: zero2,
+            velocity=lambda t: zero2,
+            angle=lambda t: omega * np.asarray(t, dtype=float),
+            translates=False,
+        )
     if motion == "angle":
         zero2 = np.zeros(2)
-        return ClampMotion(displacement=lambda t: zero2, velocity=lambda t: zero2,
-                           angle=lambda t: amplitude * np.sin(omega * t), translates=False)
+        return ClampMotion(
+            displacement=lambda t: zero2,
+            velocity=lambda t: zero2,
+            angle=lambda t: amplitude * np.sin(omega * t),
+            translates=False,
+        )
     along = np.array(DIRECTIONS[motion]) * amplitude
 
     def displacement(t):
@@ -114,37 +148,51 @@ def check_scene(physics) -> None:
     """Refuse, in one line, a scene whose clamp this term cannot move."""
     scene = physics.scene_def
     if not scene.clamped:
-        raise ParameterError(f"moving clamp: scene {physics.scene} has no clamp (its first pendulum turns freely "
-                             "on a pin); a moving clamp needs a chain that hangs from one (one-pinned, or the angle "
-                             "of coupled-pair's)")
+        raise ParameterError(
+            f"moving clamp: scene {physics.scene} has no clamp (its first pendulum turns freely "
+            "on a pin); a moving clamp needs a chain that hangs from one (one-pinned, or the angle "
+            "of coupled-pair's)"
+        )
     if scene.pinned:
-        raise ParameterError(f"moving clamp: scene {physics.scene} pins its chain's far end to the lab, and the "
-                             "reduced engine's pinned model has no moving clamp; use one-pinned")
+        raise ParameterError(
+            f"moving clamp: scene {physics.scene} pins its chain's far end to the lab, and the "
+            "reduced engine's pinned model has no moving clamp; use one-pinned"
+        )
     if scene.head_coordinates:
-        raise ParameterError(f"moving clamp: scene {physics.scene} holds its chains' roots on a coordinate of its own "
-                             "(a sliding head, or the star's hub), which a prescribed clamp motion would override; use "
-                             "one-pinned, or the angle of coupled-pair's clamp")
+        raise ParameterError(
+            f"moving clamp: scene {physics.scene} holds its chains' roots on a coordinate of its own "
+            "(a sliding head, or the star's hub), which a prescribed clamp motion would override; use "
+            "one-pinned, or the angle of coupled-pair's clamp"
+        )
     if scene.n_chains > 1 and physics.clamp_motion not in ("angle", ROTATING):
-        raise ParameterError(f"clamp_motion {physics.clamp_motion} on scene {physics.scene}: moving chain 1's clamp "
-                             "point would stretch the coupling spring, which the reduced model holds between fixed "
-                             "clamps; move its angle (clamp_motion angle), or use one-pinned")
+        raise ParameterError(
+            f"clamp_motion {physics.clamp_motion} on scene {physics.scene}: moving chain 1's clamp "
+            "point would stretch the coupling spring, which the reduced model holds between fixed "
+            "clamps; move its angle (clamp_motion angle), or use one-pinned"
+        )
 
 
 class MovingClamp(Term):
     name = "moving-clamp"
-    summary = ("chain 1's clamp moves: its point across or along the chain, or its angle, as A sin(2 pi f t); or it "
-               "turns steadily at f")
+    summary = (
+        "chain 1's clamp moves: its point across or along the chain, or its angle, as A sin(2 pi f t); or it "
+        "turns steadily at f"
+    )
     parameters = (CLAMP_AMPLITUDE, CLAMP_FREQUENCY, CLAMP_MOTION)
     observables = ("clamp_frequency_ratio", "clamp_phase_spread")
 
     def prepare(self, values: dict) -> None:
         if values.get("clamp_motion") == ROTATING and values.get("clamp_amplitude", 0.0) != 0:
-            raise ParameterError(f"clamp_amplitude has no effect with clamp_motion {ROTATING} (the clamp turns steadily "
-                                 "at clamp_frequency, 2 pi f t); leave clamp_amplitude out")
-        if (values.get("clamp_motion") == "angle" and values.get("clamp_amplitude", 0.0) >= ANGLE_LIMIT):
-            raise ParameterError(f"clamp_amplitude (clamp amplitude) must be < pi/2 = {ANGLE_LIMIT:.6g} rad for "
-                                 f"clamp_motion angle, got {values['clamp_amplitude']}: at pi/2 the clamp turns the "
-                                 "chain's first pendulum along the wall it is mounted on, beyond it into the wall")
+            raise ParameterError(
+                f"clamp_amplitude has no effect with clamp_motion {ROTATING} (the clamp turns steadily "
+                "at clamp_frequency, 2 pi f t); leave clamp_amplitude out"
+            )
+        if values.get("clamp_motion") == "angle" and values.get("clamp_amplitude", 0.0) >= ANGLE_LIMIT:
+            raise ParameterError(
+                f"clamp_amplitude (clamp amplitude) must be < pi/2 = {ANGLE_LIMIT:.6g} rad for "
+                f"clamp_motion angle, got {values['clamp_amplitude']}: at pi/2 the clamp turns the "
+                "chain's first pendulum along the wall it is mounted on, beyond it into the wall"
+            )
 
     def active(self, physics) -> bool:
         return physics.clamp_amplitude > 0 or physics.clamp_motion == ROTATING
@@ -202,23 +250,41 @@ class MovingClamp(Term):
             for axis in range(2):  # isotropic damping -B v of the clamp point (its site turns with theta_1)
                 gear = [0.0] * 6
                 gear[axis] = 1.0
-                spec.add_actuator(name=f"clamp_servo_{'xy'[axis]}", default=spec.find_default("drag"),
-                                  target=CLAMP_SITE, trntype=mujoco.mjtTrn.mjTRN_SITE, gear=gear,
-                                  gainprm=[SERVO_DAMPING] + [0] * 9, biasprm=[0, 0, -SERVO_DAMPING] + [0] * 7)
+                spec.add_actuator(
+                    name=f"clamp_servo_{'xy'[axis]}",
+                    default=spec.find_default("drag"),
+                    target=CLAMP_SITE,
+                    trntype=mujoco.mjtTrn.mjTRN_SITE,
+                    gear=gear,
+                    gainprm=[SERVO_DAMPING] + [0] * 9,
+                    biasprm=[0, 0, -SERVO_DAMPING] + [0] * 7,
+                )
         spec.add_text(name=HINGE_TEXT, data=f"{prefix}hinge_0")
         marker = spec.add_numeric(name="elastoactive_clamp")
-        marker.data = [amplitude, 2.0 * math.pi * physics.clamp_frequency, d_x * amplitude, d_y * amplitude, angle,
-                       SERVO_RATE * SERVO_DAMPING / numerics.dt, SERVO_DAMPING, rate]
+        marker.data = [
+            amplitude,
+            2.0 * math.pi * physics.clamp_frequency,
+            d_x * amplitude,
+            d_y * amplitude,
+            angle,
+            SERVO_RATE * SERVO_DAMPING / numerics.dt,
+            SERVO_DAMPING,
+            rate,
+        ]
 
     def validation_cases(self, physics):
         """N = 3 at 1.1 sigma_c (f tau ~ 0.072) with the clamp moving across the chain near the beat's frequency,
         its angle turning, and the clamp rotating steadily at f tau = 0.05."""
         base = dict(n=3, sigma=1.28, clamp_amplitude=0.1, clamp_frequency=0.07)
-        return (ValidationCase(physics(**base), 300.0, convergence=False),
-                ValidationCase(physics(**{**base, "clamp_amplitude": 0.2, "clamp_motion": "angle"}), 300.0,
-                               convergence=False),
-                ValidationCase(physics(n=3, sigma=1.28, clamp_motion=ROTATING, clamp_frequency=0.05), 300.0,
-                               convergence=False))
+        return (
+            ValidationCase(physics(**base), 300.0, convergence=False),
+            ValidationCase(
+                physics(**{**base, "clamp_amplitude": 0.2, "clamp_motion": "angle"}), 300.0, convergence=False
+            ),
+            ValidationCase(
+                physics(n=3, sigma=1.28, clamp_motion=ROTATING, clamp_frequency=0.05), 300.0, convergence=False
+            ),
+        )
 
     def measure(self, traj, transient):
         """clamp_frequency_ratio and clamp_phase_spread of Theta = theta_N - theta_1 against the drive, over the steady

@@ -15,13 +15,24 @@ from .base import Term
 NOISE_CALCULI = ("ito", "stratonovich")
 NOISE = Parameter("noise", 0.0, "amplitude a of multiplicative white noise on F_a", low=0.0, title="amplitude a")
 NOISE_CORRELATION = Parameter(
-    "noise_correlation", 0.0,
+    "noise_correlation",
+    0.0,
     "correlation time tau_c of the noise, in tau (0: white; > 0: Ornstein-Uhlenbeck of variance a^2 / (2 tau_c))",
-    low=0.0, title="tau_c, 0: white", units="tau", needs="noise")
+    low=0.0,
+    title="tau_c, 0: white",
+    units="tau",
+    needs="noise",
+)
 NOISE_CALCULUS = Parameter(
-    "noise_calculus", "ito", "reading of white noise (reduced engine; MuJoCo: ito, or stratonovich as small tau_c)",
-    kind=str, choices=NOISE_CALCULI, needs="noise", unless="noise_correlation",
-    unless_why="coloured noise is a smooth random force, read alike in either calculus")
+    "noise_calculus",
+    "ito",
+    "reading of white noise (reduced engine; MuJoCo: ito, or stratonovich as small tau_c)",
+    kind=str,
+    choices=NOISE_CALCULI,
+    needs="noise",
+    unless="noise_correlation",
+    unless_why="coloured noise is a smooth random force, read alike in either calculus",
+)
 
 
 class Noise(Term):
@@ -40,7 +51,8 @@ class Noise(Term):
             raise ParameterError(
                 "MuJoCo applies white noise in the Ito reading only (constant over each step); for the Stratonovich "
                 "reading give the noise a short correlation time (--noise-correlation, its Wong-Zakai limit), or "
-                "use the reduced engine")
+                "use the reduced engine"
+            )
         spec.numeric("elastoactive_follower").data = [physics.noise, float(numerics.seed), physics.noise_correlation]
         if physics.noise_correlation > 0:
             spec.nuserdata = 1 + physics.n_angles

@@ -29,12 +29,29 @@ FOLLOWER = "follower"
 SELF_ALIGNING = "self-aligning"
 LAWS = (FOLLOWER, SELF_ALIGNING)
 
-ACTIVE = Parameter("active", FOLLOWER, "direction law of the active force: follower (along each link, toward the "
-                   "clamp) or self-aligning (a polarity that turns toward its particle's velocity over the alignment "
-                   "length)", kind=str, choices=LAWS, title="active force's direction law", quiet_default=True)
-ALIGNMENT_LENGTH = Parameter("alignment_length", 1.0, "alignment length l_a / l of self-aligning units (with "
-                             "--active self-aligning)", low=0.0, low_open=True, title="alignment length l_a / l",
-                             symbol="l_a", units="l", needs="active", needs_value=SELF_ALIGNING)
+ACTIVE = Parameter(
+    "active",
+    FOLLOWER,
+    "direction law of the active force: follower (along each link, toward the "
+    "clamp) or self-aligning (a polarity that turns toward its particle's velocity over the alignment "
+    "length)",
+    kind=str,
+    choices=LAWS,
+    title="active force's direction law",
+    quiet_default=True,
+)
+ALIGNMENT_LENGTH = Parameter(
+    "alignment_length",
+    1.0,
+    "alignment length l_a / l of self-aligning units (with --active self-aligning)",
+    low=0.0,
+    low_open=True,
+    title="alignment length l_a / l",
+    symbol="l_a",
+    units="l",
+    needs="active",
+    needs_value=SELF_ALIGNING,
+)
 
 
 MAX_REDUCED_TURNS = 2e5
@@ -62,7 +79,8 @@ def check_reduced_span(physics, duration: float) -> None:
             f"would need steps in proportion to duration x sigma / l_a = {duration * rate:.2g} (at most "
             f"{MAX_REDUCED_TURNS:.0e}); use "
             f"alignment_length >= {float(physics.sigma) * duration / MAX_REDUCED_TURNS:.3g} or a duration <= "
-            f"{MAX_REDUCED_TURNS / rate:.3g}")
+            f"{MAX_REDUCED_TURNS / rate:.3g}"
+        )
 
 
 POLARITY_SUFFIX = "_polarity"
@@ -79,10 +97,17 @@ def add_unit(spec, site: str, alignment_length: float, slide: str | None = None)
     import mujoco  # start-up time: the CLI imports the terms
 
     target, transmission = (site, mujoco.mjtTrn.mjTRN_SITE) if slide is None else (slide, mujoco.mjtTrn.mjTRN_JOINT)
-    spec.add_actuator(name=site + POLARITY_SUFFIX, target=target, trntype=transmission,
-                      dyntype=mujoco.mjtDyn.mjDYN_USER, gaintype=mujoco.mjtGain.mjGAIN_FIXED,
-                      biastype=mujoco.mjtBias.mjBIAS_NONE, gainprm=[0.0] * 10,
-                      dynprm=[float(alignment_length)] + [0.0] * 9, actdim=1)
+    spec.add_actuator(
+        name=site + POLARITY_SUFFIX,
+        target=target,
+        trntype=transmission,
+        dyntype=mujoco.mjtDyn.mjDYN_USER,
+        gaintype=mujoco.mjtGain.mjGAIN_FIXED,
+        biastype=mujoco.mjtBias.mjBIAS_NONE,
+        gainprm=[0.0] * 10,
+        dynprm=[float(alignment_length)] + [0.0] * 9,
+        actdim=1,
+    )
 
 
 def unit_actuators(model) -> np.ndarray:
@@ -94,9 +119,13 @@ def unit_actuators(model) -> np.ndarray:
     target = model.actuator_trnid[:, 0]
     on_slide = (trn == mujoco.mjtTrn.mjTRN_JOINT) & (target >= 0)
     on_slide[on_slide] = model.jnt_type[target[on_slide]] == mujoco.mjtJoint.mjJNT_SLIDE
-    return np.flatnonzero((model.actuator_dyntype == mujoco.mjtDyn.mjDYN_USER)
-                          & ((trn == mujoco.mjtTrn.mjTRN_SITE) | on_slide) & (target >= 0)
-                          & (model.actuator_dynprm[:, 0] > 0) & (model.actuator_actadr >= 0))
+    return np.flatnonzero(
+        (model.actuator_dyntype == mujoco.mjtDyn.mjDYN_USER)
+        & ((trn == mujoco.mjtTrn.mjTRN_SITE) | on_slide)
+        & (target >= 0)
+        & (model.actuator_dynprm[:, 0] > 0)
+        & (model.actuator_actadr >= 0)
+    )
 
 
 def polarity_addresses(model) -> np.ndarray:
@@ -139,8 +168,13 @@ class SelfAligning(Term):
         Theta amplitude agrees to 0.02% over 100 tau at l_a = 2: docs/terms.md)."""
         from ..scenes import rotating_pin  # the scenes load after the terms (they read the terms' parameters)
 
-        return (ValidationCase(physics(scene=rotating_pin.SCENE.name, n=7, sigma=0.8, active=SELF_ALIGNING,
-                                       alignment_length=0.5), 100.0, convergence=False),)
+        return (
+            ValidationCase(
+                physics(scene=rotating_pin.SCENE.name, n=7, sigma=0.8, active=SELF_ALIGNING, alignment_length=0.5),
+                100.0,
+                convergence=False,
+            ),
+        )
 
     def rate(self, physics) -> float:
         return turning_rate(physics)

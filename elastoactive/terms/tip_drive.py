@@ -14,22 +14,45 @@ from __future__ import annotations
 import cmath
 import math
 
+from ..cases import ValidationCase
 from ..errors import ParameterError
 from ..parameters import Parameter
-from ..cases import ValidationCase
 from .base import PeriodicForce, Term
 
 DIRECTIONS = ("transverse", "longitudinal")
 DIRECTION_VECTORS = {"transverse": (0.0, 1.0), "longitudinal": (1.0, 0.0)}
 
-DRIVE_AMPLITUDE = Parameter("drive_amplitude", 0.0, "amplitude of a periodic force on the tip (C1 / l; 0: no drive)",
-                            low=0.0, title="tip force amplitude, C1 / l", units="C1/l", quiet_default=True)
-DRIVE_FREQUENCY = Parameter("drive_frequency", 0.01, "frequency f tau of the tip force (cycles per tau; with "
-                            "--drive-amplitude)", low=0.0, low_open=True, title="tip force frequency f tau",
-                            units="1/tau", needs="drive_amplitude", quiet_default=True)
-DRIVE_DIRECTION = Parameter("drive_direction", "transverse", "direction of the tip force: transverse (lab y, across "
-                            "the straight chain) or longitudinal (lab x, along it; with --drive-amplitude)", kind=str,
-                            choices=DIRECTIONS, title="tip force direction", needs="drive_amplitude", quiet_default=True)
+DRIVE_AMPLITUDE = Parameter(
+    "drive_amplitude",
+    0.0,
+    "amplitude of a periodic force on the tip (C1 / l; 0: no drive)",
+    low=0.0,
+    title="tip force amplitude, C1 / l",
+    units="C1/l",
+    quiet_default=True,
+)
+DRIVE_FREQUENCY = Parameter(
+    "drive_frequency",
+    0.01,
+    "frequency f tau of the tip force (cycles per tau; with --drive-amplitude)",
+    low=0.0,
+    low_open=True,
+    title="tip force frequency f tau",
+    units="1/tau",
+    needs="drive_amplitude",
+    quiet_default=True,
+)
+DRIVE_DIRECTION = Parameter(
+    "drive_direction",
+    "transverse",
+    "direction of the tip force: transverse (lab y, across "
+    "the straight chain) or longitudinal (lab x, along it; with --drive-amplitude)",
+    kind=str,
+    choices=DIRECTIONS,
+    title="tip force direction",
+    needs="drive_amplitude",
+    quiet_default=True,
+)
 
 
 class TipDrive(Term):
@@ -45,9 +68,11 @@ class TipDrive(Term):
         """The drive pushes chain 1's last particle: refused on a scene that holds that particle on a pin (its force
         would go to the pin, not the chain), in both engines."""
         if physics.scene_def.pinned:
-            raise ParameterError(f"drive_amplitude: the tip drive pushes chain 1's last particle, which scene "
-                                 f"{physics.scene} holds on a pin, so its force would go to the pin, not the chain; "
-                                 "use a scene whose tip is free (e.g. one-pinned)")
+            raise ParameterError(
+                f"drive_amplitude: the tip drive pushes chain 1's last particle, which scene "
+                f"{physics.scene} holds on a pin, so its force would go to the pin, not the chain; "
+                "use a scene whose tip is free (e.g. one-pinned)"
+            )
 
     def rate(self, physics) -> float:
         """The drive's angular frequency 2 pi f (the force is read at each step's time)."""
@@ -64,20 +89,29 @@ class TipDrive(Term):
         tip = spec.site(f"{prefix}particle_{physics.n - 1}")
         tip.userdata = [tip.userdata[0], 1.0]
         marker = spec.add_numeric(name="elastoactive_drive")
-        marker.data = [physics.drive_amplitude, 2.0 * math.pi * physics.drive_frequency,
-                       *DIRECTION_VECTORS[physics.drive_direction]]
+        marker.data = [
+            physics.drive_amplitude,
+            2.0 * math.pi * physics.drive_frequency,
+            *DIRECTION_VECTORS[physics.drive_direction],
+        ]
 
     def node_forces(self, physics):
         """A PeriodicForce on chain 1's last particle (the reduced engine evaluates it in its compiled right-hand
         side)."""
         x, y = DIRECTION_VECTORS[physics.drive_direction]
-        return PeriodicForce(physics.n - 1, (x * physics.drive_amplitude, y * physics.drive_amplitude),
-                             2.0 * math.pi * physics.drive_frequency)
+        return PeriodicForce(
+            physics.n - 1,
+            (x * physics.drive_amplitude, y * physics.drive_amplitude),
+            2.0 * math.pi * physics.drive_frequency,
+        )
 
     def validation_cases(self, physics):
         """N = 2 at 0.9 sigma_c driven across the chain near its resonance (omega ~ 0.99 / tau; decay time 3.3 tau)."""
-        return (ValidationCase(physics(n=2, sigma=2.7, drive_amplitude=5e-4, drive_frequency=0.157), 80.0,
-                               convergence=False),)
+        return (
+            ValidationCase(
+                physics(n=2, sigma=2.7, drive_amplitude=5e-4, drive_frequency=0.157), 80.0, convergence=False
+            ),
+        )
 
     def measure(self, traj, transient):
         """drive_gain and drive_phase (rad, the response's lead) over the whole drive periods of the steady window;
@@ -89,7 +123,10 @@ class TipDrive(Term):
         if periods < 1:
             return {"drive_gain": None, "drive_phase": None}
         keep = (traj.t >= start) & (traj.t <= start + periods / physics.drive_frequency + 1e-9)
-        from ..analysis.response import harmonic_response, tip_displacement  # start-up time: scipy (the CLI imports the terms)
+        from ..analysis.response import (  # start-up time: scipy (the CLI imports the terms)
+            harmonic_response,
+            tip_displacement,
+        )
 
         x = tip_displacement(traj.theta[keep, : physics.n], physics.drive_direction)
         fit = harmonic_response(traj.t[keep], x, omega, physics.drive_amplitude)

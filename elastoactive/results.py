@@ -298,8 +298,8 @@ def _aliasing(traj: Trajectory) -> list[str]:
     return [
         f"the record may alias the motion: the {term.name} term turns or drives at up to {rate:.3g} rad per unit "
         f"time, {rate * spacing:.2g} rad between samples (sample_dt = {spacing:g}); rates and frequencies may be "
-        f"wrong, even in sign: rerun with --sample-dt <= {ALIASING / rate:.2g} (and --dt; the reduced engine records no "
-        f"finer than the default dt) or a slower setting ({term.slower(traj.physics, ALIASING / spacing)})"
+        f"wrong, even in sign: rerun with --sample-dt <= {ALIASING / rate:.2g} (and --dt; the reduced engine records "
+        f"no finer than the default dt) or a slower setting ({term.slower(traj.physics, ALIASING / spacing)})"
     ]
 
 
@@ -407,9 +407,9 @@ def _beat(t: np.ndarray, theta_diff: np.ndarray, transient: float, rest: float =
             None,
             math.nan,
             (
-                f"periodicity and frequency not judged: Theta moves by {drift:.3g} rad one way over {window}, with fewer "
-                "than two cycles about its mean: a beat slower than the window, or a motion that creeps; run longer "
-                "(--duration) or discard less (--transient)",
+                f"periodicity and frequency not judged: Theta moves by {drift:.3g} rad one way over {window}, with "
+                "fewer than two cycles about its mean: a beat slower than the window, or a motion that creeps; run "
+                "longer (--duration) or discard less (--transient)",
             ),
         )
     if cycles.count < 1:

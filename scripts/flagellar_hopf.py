@@ -34,12 +34,13 @@ def main(argv=None):
         if fit:
             p, e = fit.params, fit.errors
             print(
-                f"Hopf N = 7 ({eng}): sigma_c = {p['onset']:.5f} +/- {e['onset']:.1g}, beta = {p['beta']:.3f} +/- {e['beta']:.1g}"
+                f"Hopf N = 7 ({eng}): sigma_c = {p['onset']:.5f} +/- {e['onset']:.1g}, beta = {p['beta']:.3f} +/- "
+                f"{e['beta']:.1g}"
             )
         c = nf.summary.engine(eng)
         print(
-            f"Landau-Stuart c ({eng}) = {c.re_c:.3f} {c.im_c:+.3f} i  (supplement: {_complex(PAPER.landau_supplement.at_onset)}; "
-            f"main text: {_complex(PAPER.landau_main.at_onset)})"
+            f"Landau-Stuart c ({eng}) = {c.re_c:.3f} {c.im_c:+.3f} i  (supplement: "
+            f"{_complex(PAPER.landau_supplement.at_onset)}; main text: {_complex(PAPER.landau_main.at_onset)})"
         )
 
 

@@ -257,7 +257,8 @@ def findings_markdown(rows: list[dict]) -> str:
     if not bad:
         return "No cell ran to the end with a wrong answer."
     out = [
-        "| physics | numerics | integrator | failed | amplitude | frequency | rotation | angle (window) | pin | warnings |",
+        "| physics | numerics | integrator | failed | amplitude | frequency | rotation | angle (window) | pin | "
+        "warnings |",
         "|---|---|---|---|---|---|---|---|---|---|",
     ]
     pct = lambda x: "-" if x is None or (isinstance(x, float) and not math.isfinite(x)) else f"{100 * x:.3g}%"
@@ -277,8 +278,8 @@ def limits_markdown(rows: list[dict]) -> str:
         return f"< {unstable:.2g}" if stable == 0 else _g(stable)
 
     out = [
-        "| N | sigma | integrator | mass ratio | predicted stability limit (stability_limits) | measured: no divergence "
-        "| measured: no divergence, no burst | accuracy limit (check_accuracy) | fastest rate 1/tau |",
+        "| N | sigma | integrator | mass ratio | predicted stability limit (stability_limits) | measured: no "
+        "divergence | measured: no divergence, no burst | accuracy limit (check_accuracy) | fastest rate 1/tau |",
         "|---|---|---|---|---|---|---|---|---|",
     ]
     for r in sorted(rows, key=lambda r: (r["n"], r["sigma"], X.INTEGRATORS.index(r["integrator"]))):

@@ -21,7 +21,8 @@ def main(argv=None):
     for eng in ("mujoco", "reduced"):
         s = sync.summary.engine(eng)
         print(
-            f"N = 7 pair ({eng}): kappa_c = {s.kappa_c:.4g} (bracket {list(s.kappa_c_bracket)}); paper {PAPER.kappa_c_7:g}"
+            f"N = 7 pair ({eng}): kappa_c = {s.kappa_c:.4g} (bracket {list(s.kappa_c_bracket)}); paper "
+            f"{PAPER.kappa_c_7:g}"
         )
     q = n2.summary
     print(f"N = 2: kappa_c / sqrt(mu |1 - rho|) = {q.prefactor_fit:.3f} (paper {q.prefactor_formula:.3f})")

@@ -514,9 +514,9 @@ def check_accuracy(
     if dt > dt_ok:
         bound = DISCRETE_RESOLUTION if integrator == "discrete" and not limits.pinned else RESOLUTION
         raise ParameterError(
-            f"dt = {dt:g} does not resolve the fastest overdamped rate {rate:.3g}/tau {where} (integrator {integrator}: "
-            f"dt x rate = {dt * rate:.2g} > {bound:g}); the run would be stable but inaccurate. Use dt <= "
-            f"{largest_dt(limits, numerics):.2g}"
+            f"dt = {dt:g} does not resolve the fastest overdamped rate {rate:.3g}/tau {where} (integrator "
+            f"{integrator}: dt x rate = {dt * rate:.2g} > {bound:g}); the run would be stable but inaccurate. Use dt "
+            f"<= {largest_dt(limits, numerics):.2g}"
             + (
                 " (the straight chain's active modes grow this fast at high sigma or N)"
                 if limits.growing_rate >= 0.5 * rate and limits.growing_rate > 20
@@ -528,8 +528,8 @@ def check_accuracy(
         raise ParameterError(
             f"the pin cannot hold {where} with dt = {dt:g}, mass_ratio = {m:g} and integrator {integrator}: "
             f"the soft pin's restoring force scales with mass_ratio / (2 dt)^2 and the end drifts off by about "
-            f"2 dt^3 / mass_ratio = {2 * dt**3 / m:.2g} l (> {2 * PIN_DT3_PER_MASS:g} l; beyond ~0.4 l it leaves the pin "
-            f"altogether). Use integrator discrete, dt <= {largest_dt(limits, numerics):.2g} or mass_ratio >= "
+            f"2 dt^3 / mass_ratio = {2 * dt**3 / m:.2g} l (> {2 * PIN_DT3_PER_MASS:g} l; beyond ~0.4 l it leaves the "
+            f"pin altogether). Use integrator discrete, dt <= {largest_dt(limits, numerics):.2g} or mass_ratio >= "
             f"{_up(dt**3 / PIN_DT3_PER_MASS):.2g}"
         )
     if integrator == "discrete":

@@ -206,8 +206,8 @@ class ChainSystem(NamedTuple):
                 "closed: the reduced model's ring is one chain of N >= 3 on a free pin (n_chains = 1, clamped = False; "
                 "a free head only with its last particle pinned to it) without a trap or self-contact (use the MuJoCo "
                 f"engine for those); got n={self.n!r}, "
-                f"n_chains={self.n_chains!r}, clamped={self.clamped!r}, head_free={self.head_free!r}, trap={self.trap!r}, "
-                f"contact_radius={self.contact_radius!r}"
+                f"n_chains={self.n_chains!r}, clamped={self.clamped!r}, head_free={self.head_free!r}, "
+                f"trap={self.trap!r}, contact_radius={self.contact_radius!r}"
             )
         return ChainSystem(
             n=int(self.n),

@@ -141,7 +141,8 @@ class Paper:
     )
     ziegler_damped_limit: float = _quoted(
         41.0 / 28.0,
-        "literature (not the paper): Ziegler 1952 / Kirillov (destabilisation paradox), P_c -> 41/28 C/l as joint damping vanishes",
+        "literature (not the paper): Ziegler 1952 / Kirillov (destabilisation paradox), P_c -> 41/28 C/l as joint "
+        "damping vanishes",
     )
 
     @property

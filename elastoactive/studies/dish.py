@@ -290,12 +290,12 @@ def dish_claims(st: Study, read: Mapping[str, Study]) -> list[Claim]:
             mj_txt,
             f"by trap: {states}",
             verdict(math.isfinite(lo)),
-            f"The dish as a harmonic trap -k r (its small-slope limit), N = {s.n}. At sigma = {s.supplement_sigma:g} the chain "
-            f"goes round the centre, its bent body crawling head first along the circle, for trap {lo:g}-{hi:g} (of a "
-            f"fine scan); weaker traps hold it still far out, "
+            f"The dish as a harmonic trap -k r (its small-slope limit), N = {s.n}. At sigma = {s.supplement_sigma:g} "
+            "the chain goes round the centre, its bent body crawling head first along the circle, for trap "
+            f"{lo:g}-{hi:g} (of a fine scan); weaker traps hold it still far out, "
             f"pointing outward; stiffer ones curl it into a spin near the centre. "
-            f"A real dish z = r^2 / (4 f) gives trap = m g l sigma / (2 f F_a): with an ASSUMED 7 g bug and the paper's F_a "
-            f"and pitch, the orbit band is a focal length of {s.supplement_focal_length_m[0]:.2f}-"
+            "A real dish z = r^2 / (4 f) gives trap = m g l sigma / (2 f F_a): with an ASSUMED 7 g bug and the paper's "
+            f"F_a and pitch, the orbit band is a focal length of {s.supplement_focal_length_m[0]:.2f}-"
             f"{s.supplement_focal_length_m[1]:.2f} m, comparable to a household satellite dish (f / D ~ 0.6 at "
             "0.6-1 m across). "
             f"Phase diagram over {len(s.sigmas)} x {len(s.traps)} (sigma, trap) points: {counts}. "

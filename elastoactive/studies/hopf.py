@@ -398,8 +398,8 @@ def hopf_claims(h: Study, read: Mapping[str, Study]) -> list[Claim]:
             pm(mb, mb_e, 3),
             pm(rb, rb_e, 3),
             verdict(mb is not None and abs(mb - PAPER.hopf_exponent) <= max(3 * (mb_e or 0), 0.01)),
-            f"exponent of the same fit. Without the correction term the fitted exponent depends on the window, because the "
-            f"amplitude (~6 sqrt(sigma - sigma_c) rad) saturates early: {trend} (MuJoCo; sigma_c "
+            "exponent of the same fit. Without the correction term the fitted exponent depends on the window, because "
+            f"the amplitude (~6 sqrt(sigma - sigma_c) rad) saturates early: {trend} (MuJoCo; sigma_c "
             f"{pm(po, po_e, 5)} for sigma <= {s.fit_sigma_max})",
             judged_from="quick",
         )

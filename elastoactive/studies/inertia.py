@@ -275,13 +275,13 @@ def inertia_claims(st: Study, read: Mapping[str, Study]) -> list[Claim]:
             f"1% shift at m/(gamma tau) = {x7:.4g} (N = 7), {x2:.4g} (N = 2); experiment {min(e.mass_ratio):.3g}-"
             f"{e.mass_ratio_max:.3g} -> sigma_c(7) shifts {100 * e.sigma_c_7_shift_at_max:+.2g}%",
             verdict(s.overdamped_justified),
-            f"linear stability with inertia (quadratic eigenproblem, analysis.flutter). Experiment: tau = gamma l^2 / C = "
-            f"gamma l sigma / F_a with gamma = {e.gamma:g} N s/m, F_a = {1e3 * e.force_n:g} mN, l = L/7 = {100 * e.pitch_m:.2g} cm "
-            f"(paper) and sigma = {', '.join(f'{x:g}' for x in e.sigmas)} -> tau = {min(e.tau_s):.2f}-{max(e.tau_s):.2f} s; "
-            f"ASSUMED bug mass m = {1e3 * e.mass_kg:g} g (Hexbug Nano, commonly quoted; not in the paper) -> "
-            f"m/(gamma tau) = {min(e.mass_ratio):.3g}-{e.mass_ratio_max:.3g}, "
-            f"{x7 / e.mass_ratio_max:.0f}x below the N = 7 1% mass ratio: the overdamped model was justified for the onset. "
-            f"At m = {s.largest_mass_ratio:g}: sigma_c = {s.sigma_c_at_largest_mass['7']:.4g} (N = 7), "
+            "linear stability with inertia (quadratic eigenproblem, analysis.flutter). Experiment: tau = gamma l^2 / C "
+            f"= gamma l sigma / F_a with gamma = {e.gamma:g} N s/m, F_a = {1e3 * e.force_n:g} mN, l = L/7 = "
+            f"{100 * e.pitch_m:.2g} cm (paper) and sigma = {', '.join(f'{x:g}' for x in e.sigmas)} -> tau = "
+            f"{min(e.tau_s):.2f}-{max(e.tau_s):.2f} s; ASSUMED bug mass m = {1e3 * e.mass_kg:g} g (Hexbug Nano, "
+            f"commonly quoted; not in the paper) -> m/(gamma tau) = {min(e.mass_ratio):.3g}-{e.mass_ratio_max:.3g}, "
+            f"{x7 / e.mass_ratio_max:.0f}x below the N = 7 1% mass ratio: the overdamped model was justified for the "
+            f"onset. At m = {s.largest_mass_ratio:g}: sigma_c = {s.sigma_c_at_largest_mass['7']:.4g} (N = 7), "
             f"{s.sigma_c_at_largest_mass['2']:.4g} (N = 2; the undamped flutter load 2 is the heavy limit)",
         )
     ]
@@ -292,11 +292,13 @@ def inertia_claims(st: Study, read: Mapping[str, Study]) -> list[Claim]:
             "Ziegler's column: flutter at 7/2 - sqrt 2 (undamped), 41/28 with vanishing damping",
             f"{PAPER.ziegler_undamped:.6f}, {PAPER.ziegler_damped_limit:.6f} C/l (Ziegler 1952; literature)",
             "-",
-            f"{u.computed:.6f}; {d.computed:.6f} (c = {d.parameter:g}); lab-frame drag {g.parameter:g}: {g.computed:.6f}",
+            f"{u.computed:.6f}; {d.computed:.6f} (c = {d.parameter:g}); lab-frame drag {g.parameter:g}: "
+            f"{g.computed:.6f}",
             verdict(abs(u.computed - u.limit) < 1e-6 and abs(d.computed - d.limit) < 1e-6),
-            f"the chain's stability code on Ziegler's double pendulum (masses 2m, m, tip load, point masses) against the "
-            f"closed forms: max relative error {s.ziegler_max_rel_err:.1g}; joint damping c: 41/28 + c^2/2; this model's "
-            f"lab-frame drag tends to (15 - 3 sqrt 5)/4 = {g.limit:.6f} (a -0.6% paradox, against -30% for joint damping)",
+            "the chain's stability code on Ziegler's double pendulum (masses 2m, m, tip load, point masses) against "
+            f"the closed forms: max relative error {s.ziegler_max_rel_err:.1g}; joint damping c: 41/28 + c^2/2; this "
+            f"model's lab-frame drag tends to (15 - 3 sqrt 5)/4 = {g.limit:.6f} (a -0.6% paradox, against -30% for "
+            "joint damping)",
         )
     )
     amp = lambda eng: ", ".join(
@@ -309,9 +311,9 @@ def inertia_claims(st: Study, read: Mapping[str, Study]) -> list[Claim]:
             amp("mujoco"),
             amp("reduced"),
             verdict(s.engines_max_rel_diff < 0.01),
-            f"MuJoCo at its default dt = 0.0025 against the reduced engine's inertial model at the same mass: amplitude "
-            f"and f tau agree within {100 * s.engines_max_rel_diff:.2g}%; runs lengthened ~ sqrt(m) above m = 1 (the beat "
-            "slows: its period grows ~ sqrt(m))",
+            "MuJoCo at its default dt = 0.0025 against the reduced engine's inertial model at the same mass: "
+            f"amplitude and f tau agree within {100 * s.engines_max_rel_diff:.2g}%; runs lengthened ~ sqrt(m) above m "
+            "= 1 (the beat slows: its period grows ~ sqrt(m))",
         )
     )
     return rows

@@ -214,8 +214,8 @@ def active_solid_claims(study: Study, read: Mapping[str, Study]) -> list[Claim]:
             f"linear: every fixed point stable below lambda_1 = {s.softest:.4f}; some stable up to at least "
             f"Pi = {s.linear_threshold:.4f} (the best found over the polarities); median Pi_c over random "
             f"polarities {s.typical_threshold:.3f}; l_a = "
-            f"{ALIGNMENT:g} a; MuJoCo reruns the reduced engine's seed 0 (its automatic numerics); the source's numerical "
-            "threshold for its own lattice is not quoted here (docs/network.md)",
+            f"{ALIGNMENT:g} a; MuJoCo reruns the reduced engine's seed 0 (its automatic numerics); the source's "
+            "numerical threshold for its own lattice is not quoted here (docs/network.md)",
         ),
         Claim(
             "The actuated dynamics condenses on few modes",

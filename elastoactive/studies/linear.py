@@ -391,9 +391,9 @@ def stability_claims(st: Study, read: Mapping[str, Study]) -> list[Claim]:
             f"{fmt(rd7)}" if growth else "-",
             verdict(abs(sc7 - PAPER.sigma_c_7_linear) <= _HALF_UNIT_2DP),
             f"eigenvalues of the correct linearisation: sigma_c = {sc7:.6f}, f_c tau = {s.f_c_7:.6f}. The paper's "
-            f"{PAPER.sigma_c_7_linear:g} is {sc7 - PAPER.sigma_c_7_linear:.4f} low; 0.1575 rounds to its simulated/experimental "
-            f"{PAPER.sigma_c_7_sim:g} ± {PAPER.sigma_c_7_sim_err:g}. (The misprinted matrices of Appendix C would give 0.187 or "
-            f"0.137, so they do not explain {PAPER.sigma_c_7_linear:g} either.)",
+            f"{PAPER.sigma_c_7_linear:g} is {sc7 - PAPER.sigma_c_7_linear:.4f} low; 0.1575 rounds to its "
+            f"simulated/experimental {PAPER.sigma_c_7_sim:g} ± {PAPER.sigma_c_7_sim_err:g}. (The misprinted matrices "
+            f"of Appendix C would give 0.187 or 0.137, so they do not explain {PAPER.sigma_c_7_linear:g} either.)",
         )
     )
     rows.append(
@@ -403,9 +403,9 @@ def stability_claims(st: Study, read: Mapping[str, Study]) -> list[Claim]:
             f"sigma_c = {fmt(g[2].sigma_c_mujoco if 2 in g else None, 5)}" if growth else "-",
             f"sigma_c = {fmt(g[2].sigma_c_reduced if 2 in g else None, 5)}" if growth else "-",
             verdict(abs(s.sigma_c_2 - PAPER.sigma_c_2) < 1e-6 and abs(s.omega_c_2 - PAPER.omega_c_2) < 1e-6),
-            f"linear stability: sigma_c = {s.sigma_c_2:.8f}, omega_c = {s.omega_c_2:.8f} (eigenvalues mu ± i sqrt(1 - mu^2)). "
-            "MuJoCo here runs at dt = 0.0025: its implicitfast step adds about +dt/2 to the growth rate of the N = 2 mode "
-            "(omega^2 dt / 2), which moves the onset down by ~0.0013 (see also the normal-form rows)",
+            f"linear stability: sigma_c = {s.sigma_c_2:.8f}, omega_c = {s.omega_c_2:.8f} (eigenvalues mu ± i sqrt(1 - "
+            "mu^2)). MuJoCo here runs at dt = 0.0025: its implicitfast step adds about +dt/2 to the growth rate of the "
+            "N = 2 mode (omega^2 dt / 2), which moves the onset down by ~0.0013 (see also the normal-form rows)",
         )
     )
     if growth:
@@ -417,9 +417,10 @@ def stability_claims(st: Study, read: Mapping[str, Study]) -> list[Claim]:
         mj_txt = f"sigma_c(N) within {100 * max(errs):.2g}% of linear stability (N = {ns})"
         rd_txt = f"within {100 * max(errs_r):.2g}%"
         gnote = (
-            f"measured growth rates vs Re lambda: MuJoCo max error {100 * growth.summary.mujoco.max_rel_err_rate:.2g}%, "
-            f"reduced {100 * growth.summary.reduced.max_rel_err_rate:.2g}% (interpolating the exact rates linearly "
-            f"costs up to {100 * max(meth):.2g}%)"
+            "measured growth rates vs Re lambda: MuJoCo max error "
+            f"{100 * growth.summary.mujoco.max_rel_err_rate:.2g}%, reduced "
+            f"{100 * growth.summary.reduced.max_rel_err_rate:.2g}% (interpolating the exact rates linearly costs up to "
+            f"{100 * max(meth):.2g}%)"
         )
     else:
         mj_txt = rd_txt = "-"
@@ -433,7 +434,8 @@ def stability_claims(st: Study, read: Mapping[str, Study]) -> list[Claim]:
             verdict(abs(s.local_exponent_at_nmax - PAPER.size_exponent) < 0.1),
             f"linear stability N = 2..{s.n_max}: log-log slope {s.exponent_large_n:.3f} ± {s.exponent_large_n_err:.1g} "
             f"for N >= {s.n_fit_min} (local slope at N = {s.n_max}: {s.local_exponent_at_nmax:.3f}, over all N "
-            f"{s.exponent_all_n:.2f}); {PAPER.size_exponent:g} holds asymptotically since N^3 sigma_c -> const. {gnote}",
+            f"{s.exponent_all_n:.2f}); {PAPER.size_exponent:g} holds asymptotically since N^3 sigma_c -> const. "
+            f"{gnote}",
             judged_from="quick",
         )
     )  # the tiny size stops at N = 20, too far from the asymptote
@@ -448,9 +450,10 @@ def stability_claims(st: Study, read: Mapping[str, Study]) -> list[Claim]:
                 and abs(s.continuum_onset - PAPER.continuum_onset) < 1.0
             ),
             f"fit N^3 sigma_c = a + b/N + c/N^2 (N >= {s.n_fit_min}): a = {s.n3_sigma_c_limit:.3f} ± "
-            f"{s.n3_sigma_c_limit_err:.1g}; independent continuum eigenproblem (Chebyshev): S_c = {s.continuum_onset:.4f}; "
-            f"N^4 omega_c -> {s.n4_omega_c_limit:.2f} vs continuum {s.continuum_omega:.2f}. (The supplement's continuum "
-            "equation prints +sigma (l - s) v'': a tension, which would never destabilise; the sign must be -.)",
+            f"{s.n3_sigma_c_limit_err:.1g}; independent continuum eigenproblem (Chebyshev): S_c = "
+            f"{s.continuum_onset:.4f}; N^4 omega_c -> {s.n4_omega_c_limit:.2f} vs continuum {s.continuum_omega:.2f}. "
+            "(The supplement's continuum equation prints +sigma (l - s) v'': a tension, which would never destabilise; "
+            "the sign must be -.)",
         )
     )
     return rows

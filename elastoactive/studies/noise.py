@@ -575,14 +575,15 @@ def noise_readings_claims(st: Study, read: Mapping[str, Study]) -> list[Claim]:
             f"period CV by a: {txt('mujoco')}",
             txt("reduced"),
             verdict(not dead and len(grows) == len(s.readings), partly=bool(grows)),
-            f"N = {s.n}, sigma = {s.sigma:g}, seed {s.seed}, one realisation per a. Irregularity grows with a and the beat "
-            f"survives up to a = {amax} under: {', '.join(grows) or 'none'}; the beat dies under: {', '.join(dead) or 'none'} "
-            "(Ito's drift lowers the growth rate of small bends; Stratonovich and coloured noise, its physical white limit "
-            "by Wong-Zakai, keep the cycle). So the claim holds in the Stratonovich / coloured readings; under Ito it holds "
-            f"only up to the a where the beat dies. Experiment: force spread {x.relative_spread:.3f} (paper, 3.1/15.7); "
-            f"ASSUMED correlation {1e3 * min(x.correlation_s):g}-{1e3 * max(x.correlation_s):g} ms (vibration gait) over "
-            f"tau = {x.tau_s[0]:.2f}-{x.tau_s[1]:.2f} s -> tau_c = {x.tau_c[0]:.3f}-{x.tau_c[1]:.2f} tau << 1: the white "
-            f"(Stratonovich) regime, of equivalent amplitude a = spread sqrt(2 tau_c) = {x.amplitude[0]:.2f}-"
-            f"{x.amplitude[1]:.2f}, well below the a where Ito and Stratonovich part",
+            f"N = {s.n}, sigma = {s.sigma:g}, seed {s.seed}, one realisation per a. Irregularity grows with a and the "
+            f"beat survives up to a = {amax} under: {', '.join(grows) or 'none'}; the beat dies under: "
+            f"{', '.join(dead) or 'none'} (Ito's drift lowers the growth rate of small bends; Stratonovich and "
+            "coloured noise, its physical white limit by Wong-Zakai, keep the cycle). So the claim holds in the "
+            "Stratonovich / coloured readings; under Ito it holds only up to the a where the beat dies. Experiment: "
+            f"force spread {x.relative_spread:.3f} (paper, 3.1/15.7); ASSUMED correlation "
+            f"{1e3 * min(x.correlation_s):g}-{1e3 * max(x.correlation_s):g} ms (vibration gait) over tau = "
+            f"{x.tau_s[0]:.2f}-{x.tau_s[1]:.2f} s -> tau_c = {x.tau_c[0]:.3f}-{x.tau_c[1]:.2f} tau << 1: the white "
+            "(Stratonovich) regime, of equivalent amplitude a = spread sqrt(2 tau_c) = "
+            f"{x.amplitude[0]:.2f}-{x.amplitude[1]:.2f}, well below the a where Ito and Stratonovich part",
         )
     ]

@@ -226,7 +226,8 @@ def normal_form_claims(nf: Study, read: Mapping[str, Study]) -> list[Claim]:
             "no",
             f"the main text's coefficient would give <|z|^2> = {z2_main:g} mu and a frequency rising as "
             f"{PAPER.omega_c_2:g} + {main.at_onset.imag * z2_main:g} mu; the simulations "
-            "give <|z|^2> ~ mu and omega ~ 1 - mu/8 (see normal_form_n2.png): the main text is wrong, the supplement right.",
+            "give <|z|^2> ~ mu and omega ~ 1 - mu/8 (see normal_form_n2.png): the main text is wrong, the supplement "
+            "right.",
         ),
     ]
     if m.sigma_c is not None:

@@ -280,8 +280,9 @@ def response_claims(study: Study, read: Mapping[str, Study]) -> list[Claim]:
             column(s.mujoco),
             column(s.reduced),
             verdict(ok),
-            f"N = {s.n}, sigma = {s.ratio:g} sigma_c, drives from 0.25 to 2 times the peak at omega = {s.peak_omega:.4g}/tau "
-            f"(|G| = {s.peak_gain:.4g}) against G(omega) = e_N^T (i omega - M)^-1 e_N (tip displacement over tip force): "
+            f"N = {s.n}, sigma = {s.ratio:g} sigma_c, drives from 0.25 to 2 times the peak at omega = "
+            f"{s.peak_omega:.4g}/tau (|G| = {s.peak_gain:.4g}) against G(omega) = e_N^T (i omega - M)^-1 e_N (tip "
+            "displacement over tip force): "
             + "; ".join(
                 f"{ENGINE_NAMES[e]} gain within {100 * s.engine(e).max_gain_error:.2g}%, phase within "
                 f"{s.engine(e).max_phase_error:.1e} rad"
@@ -301,9 +302,10 @@ def response_claims(study: Study, read: Mapping[str, Study]) -> list[Claim]:
             f"width ~ (sigma_c - sigma)^{s.width_exponent:.3f}",
             verdict(abs(s.width_exponent - 1) < 0.05 and abs(s.width_per_distance / s.gamma_per_distance - 1) < 0.05),
             f"half width at half maximum of |G|^2 against sigma_c - sigma (N = {s.n}, from G): exponent "
-            f"{s.width_exponent:.3f}, width / (sigma_c - sigma) = {s.width_per_distance:.4g} at the closest point against "
-            f"-d Re lambda / d sigma = {s.gamma_per_distance:.4g} at the onset; at {s.ratio:g} sigma_c the width "
-            f"{s.half_width:.4g} against gamma = {s.gamma:.4g}; the peak gain grows as (sigma_c - sigma)^{s.peak_exponent:.3f}.",
+            f"{s.width_exponent:.3f}, width / (sigma_c - sigma) = {s.width_per_distance:.4g} at the closest point "
+            f"against -d Re lambda / d sigma = {s.gamma_per_distance:.4g} at the onset; at {s.ratio:g} sigma_c the "
+            f"width {s.half_width:.4g} against gamma = {s.gamma:.4g}; the peak gain grows as (sigma_c - "
+            f"sigma)^{s.peak_exponent:.3f}.",
         )
     )
     return rows
@@ -480,8 +482,8 @@ def entrainment_claims(study: Study, read: Mapping[str, Study]) -> list[Claim]:
             verdict(ok and agree),
             f"N = {s.n}, sigma = {s.sigma:g} (sigma_c = 3): free beat f tau = {s.free_frequency:.5f}, tip amplitude "
             f"a = {s.tip_amplitude:.4f} l; detunings relative to f tau. Adler: |Omega - omega_beat| <= |R| A / a with "
-            f"|R| = {s.residue:.4f} the residue of G at its leading pair (the non-isochronicity, which widens the tongue by "
-            f"sqrt(1 + alpha^2), left out). Locked: |f_beat / f_drive - 1| < {LOCKED:g} after {s.transient:g} tau of "
-            f"{s.duration:g}.",
+            f"|R| = {s.residue:.4f} the residue of G at its leading pair (the non-isochronicity, which widens the "
+            f"tongue by sqrt(1 + alpha^2), left out). Locked: |f_beat / f_drive - 1| < {LOCKED:g} after "
+            f"{s.transient:g} tau of {s.duration:g}.",
         )
     ]

@@ -226,7 +226,8 @@ def rotation_claims(ro: Study, read: Mapping[str, Study]) -> list[Claim]:
             f"{r.rate_abs_at_seed_sigma:.5f}; <= {fmt(r.max_uniformity, 2)}",
             verdict((m.max_uniformity or 1) < 1e-3),
             f"the straight chain turns unstable through a real eigenvalue at sigma_r = {s.sigma_r_linear:.5f} "
-            f"(linear stability); above it the bent chain turns rigidly (shape spread <= {fmt(m.max_shape_spread, 2)} rad)",
+            f"(linear stability); above it the bent chain turns rigidly (shape spread <= {fmt(m.max_shape_spread, 2)} "
+            "rad)",
         ),
         Claim(
             "Rotation direction chosen spontaneously",

@@ -360,20 +360,21 @@ def long_chain_claims(st: Study, read: Mapping[str, Study]) -> list[Claim]:
         Claim(
             f"N = {s.n}, sigma = {s.sigma:g}: higher harmonics, 'due to self-contact' (the supplement's speculation)",
             f'"{PAPER.long_chain_words}"',
-            f"without contact: Theta {_harm(free.harmonics)} (relative to A1), links cross in {_pct(free.crossing_fraction)} of "
-            f"the samples (it passes through itself); with contact: {_harm(touch.harmonics)}, in contact "
-            f"{_pct(touch.contact_fraction)} of the time; mid-chain theta_{s.n // 2 + 1}: {_harm(free.harmonics_mid)} -> "
-            f"{_harm(touch.harmonics_mid)}",
+            f"without contact: Theta {_harm(free.harmonics)} (relative to A1), links cross in "
+            f"{_pct(free.crossing_fraction)} of the samples (it passes through itself); with contact: "
+            f"{_harm(touch.harmonics)}, in contact {_pct(touch.contact_fraction)} of the time; mid-chain "
+            f"theta_{s.n // 2 + 1}: {_harm(free.harmonics_mid)} -> {_harm(touch.harmonics_mid)}",
             "-"
             if red is None
             else f"with contact (penalty): {_harm(red.harmonics)}, A {red.amplitude:.4f}, f {red.frequency:.4g} "
             f"(MuJoCo {touch.amplitude:.4f}, {touch.frequency:.4g})",
             verdict(s.passes_through and s.odd_harmonics_raised),
-            f"Yes, self-contact explains them: the beat of Theta is odd-symmetric, so only odd harmonics exist; contact "
-            f"multiplies A3/A1 by {touch.harmonics[2] / free.harmonics[2]:.1f} and A5/A1 by "
-            f"{touch.harmonics[4] / free.harmonics[4]:.0f} and lowers the amplitude {free.amplitude:.3f} -> {touch.amplitude:.3f} rad "
-            f"and f tau {free.frequency:.4g} -> {touch.frequency:.4g}. Without contact the chain passes through itself from "
-            f"sigma = {s.contact_onset_sigma:g} on (of the sweep). Contact convergence (MuJoCo): {table}",
+            "Yes, self-contact explains them: the beat of Theta is odd-symmetric, so only odd harmonics exist; "
+            f"contact multiplies A3/A1 by {touch.harmonics[2] / free.harmonics[2]:.1f} and A5/A1 by "
+            f"{touch.harmonics[4] / free.harmonics[4]:.0f} and lowers the amplitude {free.amplitude:.3f} -> "
+            f"{touch.amplitude:.3f} rad and f tau {free.frequency:.4g} -> {touch.frequency:.4g}. Without contact the "
+            f"chain passes through itself from sigma = {s.contact_onset_sigma:g} on (of the sweep). Contact "
+            f"convergence (MuJoCo): {table}",
         )
     ]
     if (False, "mujoco") in wind and (True, "mujoco") in wind:
@@ -382,15 +383,15 @@ def long_chain_claims(st: Study, read: Mapping[str, Study]) -> list[Claim]:
             Claim(
                 f"N = {wf.n}, sigma = {wf.sigma:g}: without contact the chain winds through itself",
                 "- (not in the paper)",
-                f"Theta spans {wf.theta_span:.0f} rad without contact ({wf.theta_span / (2 * math.pi):.0f} turns, links crossing in "
-                f"{_pct(wf.crossing_fraction)} of the samples); {wc.theta_span:.1f} rad with it, a "
+                f"Theta spans {wf.theta_span:.0f} rad without contact ({wf.theta_span / (2 * math.pi):.0f} turns, "
+                f"links crossing in {_pct(wf.crossing_fraction)} of the samples); {wc.theta_span:.1f} rad with it, a "
                 + ("periodic" if wc.periodic else "non-periodic")
                 + f" beat at f tau {wc.frequency:.3g}",
                 "-" if wr is None else f"with contact: Theta spans {wr.theta_span:.1f} rad, f tau {wr.frequency:.3g}",
                 verdict(wc.theta_span < 0.5 * wf.theta_span),
-                f"contact stops the winding: the chain coils against itself and beats; deepest overlap {-wc.min_clearance:.2g} l "
-                f"(MuJoCo; forces ~ sigma N), links still cross in {_pct(wc.crossing_fraction)} of the samples near the "
-                "joints, which the 0.7 l capsules leave bare",
+                "contact stops the winding: the chain coils against itself and beats; deepest overlap "
+                f"{-wc.min_clearance:.2g} l (MuJoCo; forces ~ sigma N), links still cross in "
+                f"{_pct(wc.crossing_fraction)} of the samples near the joints, which the 0.7 l capsules leave bare",
             )
         )
     return rows

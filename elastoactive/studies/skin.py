@@ -390,9 +390,9 @@ def skin_claims(study: Study, read: Mapping[str, Study]) -> list[Claim]:
     steady = all(abs(c.participation_large - c.participation_small) < 0.1 for c in s.chains)
     skin_seg = s.segment_participation_large < 0.7 * s.segment_participation_small
     chains = "; ".join(
-        f"sigma = {c.ratio:g} sigma_c: PR/N {c.participation_small:.3f} (N = {c.n_small}) -> {c.participation_large:.3f} "
-        f"(N = {c.n_large}), centre {c.centre_small:.3f} -> {c.centre_large:.3f} (Hermitian part: "
-        f"{c.hermitian_centre_large:.3f}), condition numbers <= {c.condition_max:.2f}"
+        f"sigma = {c.ratio:g} sigma_c: PR/N {c.participation_small:.3f} (N = {c.n_small}) -> "
+        f"{c.participation_large:.3f} (N = {c.n_large}), centre {c.centre_small:.3f} -> {c.centre_large:.3f} "
+        f"(Hermitian part: {c.hermitian_centre_large:.3f}), condition numbers <= {c.condition_max:.2f}"
         for c in s.chains
     )
     rows = [
@@ -404,13 +404,13 @@ def skin_claims(study: Study, read: Mapping[str, Study]) -> list[Claim]:
             f"{fmt(s.segment_participation_small, 3)} -> {fmt(s.segment_participation_large, 3)}; chain below onset: "
             f"PR/N {fmt(top.participation_small, 3)} -> {fmt(top.participation_large, 3)}",
             verdict(False, partly=s.winding != 0 and skin_seg and steady),
-            f"The chain's non-conservative part is uniform, sigma (y_(k-1) - y_(k+1)) / 2 per particle; on a ring it makes "
-            f"the spectrum wind ({s.winding}) and the open stencil at sigma = {s.segment_sigma:g} piles its slowest mode at "
-            f"the tip (centre {s.segment_centre_large:.3f} at N = {s.segment_n_large}), decaying over "
+            "The chain's non-conservative part is uniform, sigma (y_(k-1) - y_(k+1)) / 2 per particle; on a ring it "
+            f"makes the spectrum wind ({s.winding}) and the open stencil at sigma = {s.segment_sigma:g} piles its "
+            f"slowest mode at the tip (centre {s.segment_centre_large:.3f} at N = {s.segment_n_large}), decaying over "
             f"xi = {s.decay_prefactor:.2f} sigma^(-1/3) sites (spread {s.decay_prefactor_spread:.2f} over sigma = "
             f"{', '.join(f'{x:g}' for x in DECAY_SIGMAS)}). But a chain below onset is at most S_c^(1/3) / "
-            f"{s.decay_prefactor:.2f} = {s.onset_lengths:.2f} decay lengths long, so its modes keep their shape as N grows: "
-            f"{chains}. Pushed toward the tip, not localised.",
+            f"{s.decay_prefactor:.2f} = {s.onset_lengths:.2f} decay lengths long, so its modes keep their shape as N "
+            f"grows: {chains}. Pushed toward the tip, not localised.",
         )
     ]
     lin_ok = s.kick_max_deviation < 1e-3 and s.kick_mujoco_deviation < 1e-3

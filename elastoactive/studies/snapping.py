@@ -356,9 +356,10 @@ def snapping_claims(sn: Study, read: Mapping[str, Study]) -> list[Claim]:
         Claim(
             f"Larger compression delta gives larger oscillation (N = 7, sigma = {s6:g}, {s8:g})",
             "increasing",
-            f"{m6.snap_min_positive_delta:.3f} -> {m6.snap_max_delta:.3f} ({s6:g}); {m8.snap_min_positive_delta:.3f} -> "
-            f"{m8.snap_max_delta:.3f} ({s8:g}) rad",
-            f"{r6.snap_min_positive_delta:.3f} -> {r6.snap_max_delta:.3f}; {r8.snap_min_positive_delta:.3f} -> {r8.snap_max_delta:.3f}",
+            f"{m6.snap_min_positive_delta:.3f} -> {m6.snap_max_delta:.3f} ({s6:g}); {m8.snap_min_positive_delta:.3f} "
+            f"-> {m8.snap_max_delta:.3f} ({s8:g}) rad",
+            f"{r6.snap_min_positive_delta:.3f} -> {r6.snap_max_delta:.3f}; {r8.snap_min_positive_delta:.3f} -> "
+            f"{r8.snap_max_delta:.3f}",
             verdict(all(x.snap_monotonic_in_delta for x in (m6, m8, r6, r8))),
             f"delta = {m6.delta_min:g} .. {m6.delta_max:g}; "
             + (
@@ -386,12 +387,13 @@ def snapping_claims(sn: Study, read: Mapping[str, Study]) -> list[Claim]:
         Claim(
             f"Self-snapping only for large enough sigma (N = {PAPER.snapping_map_n} map)",
             "threshold in sigma",
-            f"snaps above sigma = {mj.sigma_snap_n9:.3f} ± {mj.sigma_snap_n9_halfwidth:.1g} (delta = {s.threshold_delta}); "
-            f"map: never at sigma in {mj.map.sigmas_never_snapping if mj.map else None}",
+            f"snaps above sigma = {mj.sigma_snap_n9:.3f} ± {mj.sigma_snap_n9_halfwidth:.1g} (delta = "
+            f"{s.threshold_delta}); map: never at sigma in {mj.map.sigmas_never_snapping if mj.map else None}",
             f"{rd.sigma_snap_n9:.3f} ± {rd.sigma_snap_n9_halfwidth:.1g}",
             verdict(mj.sigma_snap_n9 > 0.05 and abs(mj.sigma_snap_n9 - rd.sigma_snap_n9) < 0.02),
-            "below the threshold the compressed chain sits still in a buckled arch; at the threshold the snapping starts with "
-            "a finite amplitude and a vanishing frequency (an infinite-period onset, not a Hopf; see figA_snapping_map.png)",
+            "below the threshold the compressed chain sits still in a buckled arch; at the threshold the snapping "
+            "starts with a finite amplitude and a vanishing frequency (an infinite-period onset, not a Hopf; see "
+            "figA_snapping_map.png)",
         )
     )
     return rows

@@ -722,8 +722,8 @@ def sync_claims(sy: Study, read: Mapping[str, Study]) -> list[Claim]:
     alt = s.alt_same_stiffness
     alt_txt = (
         (
-            f" If chain 2 were as stiff as chain 1 with a weaker force (sigma_2 = {PAPER.sync_sigma_2:g} at the same tau, "
-            f"the main text's 'rho = ratio of elasto-active numbers' read literally), the mismatch at kappa = "
+            f" If chain 2 were as stiff as chain 1 with a weaker force (sigma_2 = {PAPER.sync_sigma_2:g} at the same "
+            "tau, the main text's 'rho = ratio of elasto-active numbers' read literally), the mismatch at kappa = "
             f"{alt.kappa_lowest:g} is {abs(alt.mismatch_lowest_kappa):.4f} and kappa_c = {alt.kappa_c:.2f} (bracket "
             f"{alt.kappa_c_bracket[0]:g}-{alt.kappa_c_bracket[1]:g}), the paper's order of magnitude."
         )
@@ -732,15 +732,17 @@ def sync_claims(sy: Study, read: Mapping[str, Study]) -> list[Claim]:
     )
     rows.append(
         Claim(
-            f"Pair N = 7, sigma_1 = {PAPER.sync_sigma_1:g}, sigma_2 = {PAPER.sync_sigma_2:g}: entrainment above kappa_c",
+            f"Pair N = 7, sigma_1 = {PAPER.sync_sigma_1:g}, sigma_2 = {PAPER.sync_sigma_2:g}: entrainment above "
+            "kappa_c",
             f"~{PAPER.kappa_c_7:g}",
             f"{fmt(m.kappa_c, 3)} (locked from {m.kappa_c_bracket[1]:g}, slipping at {m.kappa_c_bracket[0]:g})"
             + (f"; Adler fit {m.kappa_c_adler:.3f}" if m.kappa_c_adler else ""),
             f"{fmt(r.kappa_c, 3)}" + (f"; Adler {r.kappa_c_adler:.3f}" if r.kappa_c_adler else ""),
             verdict(abs((m.kappa_c or 0) - PAPER.kappa_c_7) < 0.2),
-            f"with C2 = rho C1 (rho = {frac(PAPER.sync_rho)}) chain 2 has sigma/rho = {PAPER.sync_sigma_2:g} but also a faster time "
-            f"unit tau/rho, so the uncoupled frequencies are f1 = {m.f1_uncoupled:.5f}, f2 = {m.f2_uncoupled:.5f} (mismatch "
-            f"{m.mismatch_uncoupled:.5f}, 4%): a weak spring already locks them. Both engines agree.{alt_txt}",
+            f"with C2 = rho C1 (rho = {frac(PAPER.sync_rho)}) chain 2 has sigma/rho = {PAPER.sync_sigma_2:g} but also "
+            f"a faster time unit tau/rho, so the uncoupled frequencies are f1 = {m.f1_uncoupled:.5f}, f2 = "
+            f"{m.f2_uncoupled:.5f} (mismatch {m.mismatch_uncoupled:.5f}, 4%): a weak spring already locks them. Both "
+            f"engines agree.{alt_txt}",
         )
     )
     fl = m.f_locked_at_paper_kappa_c
@@ -753,8 +755,8 @@ def sync_claims(sy: Study, read: Mapping[str, Study]) -> list[Claim]:
                 f"f = {fl:.5f} at kappa = {PAPER.kappa_c_7:g} (uncoupled {m.f1_uncoupled:.5f}, {m.f2_uncoupled:.5f})",
                 f"{r.f_locked_at_paper_kappa_c:.5f}" if r.f_locked_at_paper_kappa_c else "-",
                 verdict(abs(fl - lower) < 0.1 * abs(m.mismatch_uncoupled)),
-                "the common frequency lies between the two uncoupled ones (the coupling spring also stiffens pendulum 1, "
-                "which shifts both)"
+                "the common frequency lies between the two uncoupled ones (the coupling spring also stiffens pendulum "
+                "1, which shifts both)"
                 + (
                     f"; in the same-stiffness what-if too: f = {alt.f_locked_kappa_max:.4f} at kappa = "
                     f"{alt.kappa_max:g} against uncoupled 0.0425 and 0.0306"
@@ -783,9 +785,9 @@ def sync_claims(sy: Study, read: Mapping[str, Study]) -> list[Claim]:
                 tongue_txt("mujoco"),
                 tongue_txt("reduced"),
                 verdict(all(t.engine(e).tongue_widens for e in t.engines)),
-                f"{' and '.join(t.engines)} on a {len(tongue.data['rho'])} x {len(tongue.data['kappa'])} grid; kappa_c = smallest grid kappa "
-                "from which all larger ones lock; the uncoupled mismatch stays small for 0.5 < rho < 2 because chain 2's "
-                "lower sigma and faster time unit nearly cancel, so the tongue is wide",
+                f"{' and '.join(t.engines)} on a {len(tongue.data['rho'])} x {len(tongue.data['kappa'])} grid; kappa_c "
+                "= smallest grid kappa from which all larger ones lock; the uncoupled mismatch stays small for 0.5 < "
+                "rho < 2 because chain 2's lower sigma and faster time unit nearly cancel, so the tongue is wide",
             )
         )
     if n2:
@@ -826,9 +828,10 @@ def sync_claims(sy: Study, read: Mapping[str, Study]) -> list[Claim]:
                 if 0.35 < q.prefactor_fit / q.prefactor_formula < 0.8
                 else verdict(abs(q.prefactor_fit / q.prefactor_formula - 1) < 0.15),
                 f"(mu, rho): simulated kappa_c vs formula: {per}. Bisection on kappa, {q.duration:g} tau per run. The "
-                "threshold grows with mu and |1 - rho| roughly as the formula says, but is about half of it. The formula does "
-                f"not follow from the supplement's own phase equation either (d nu = {detuning} (rho - 1), eps / cos Psi_0 -> kappa "
-                f"for |rho - 1| << mu, giving kappa_c -> {detuning} |1 - rho| independent of mu: 'phase eq.' above).",
+                "threshold grows with mu and |1 - rho| roughly as the formula says, but is about half of it. The "
+                f"formula does not follow from the supplement's own phase equation either (d nu = {detuning} (rho - "
+                f"1), eps / cos Psi_0 -> kappa for |rho - 1| << mu, giving kappa_c -> {detuning} |1 - rho| independent "
+                "of mu: 'phase eq.' above).",
             )
         )
     return rows

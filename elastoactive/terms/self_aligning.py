@@ -74,10 +74,10 @@ def check_reduced_span(physics, duration: float) -> None:
     rate = turning_rate(physics)
     if duration * rate > MAX_REDUCED_TURNS:
         raise ParameterError(
-            f"alignment_length = {physics.alignment_length:g} is too short for the reduced engine over a duration of {duration:g}: "
-            f"the self-aligning units turn at up to sigma / l_a = {rate:.3g} per unit time, so its explicit solver "
-            f"would need steps in proportion to duration x sigma / l_a = {duration * rate:.2g} (at most "
-            f"{MAX_REDUCED_TURNS:.0e}); use "
+            f"alignment_length = {physics.alignment_length:g} is too short for the reduced engine over a duration of "
+            f"{duration:g}: the self-aligning units turn at up to sigma / l_a = {rate:.3g} per unit time, so its "
+            f"explicit solver would need steps in proportion to duration x sigma / l_a = {duration * rate:.2g} (at "
+            f"most {MAX_REDUCED_TURNS:.0e}); use "
             f"alignment_length >= {float(physics.sigma) * duration / MAX_REDUCED_TURNS:.3g} or a duration <= "
             f"{MAX_REDUCED_TURNS / rate:.3g}"
         )

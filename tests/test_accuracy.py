@@ -164,7 +164,7 @@ def test_every_case_of_the_study_takes_every_setting_of_its_grid(size):
     """The study's cases are the ones its grids were made for: each case's reference and every reduced setting run
     (a short span), and each MuJoCo setting is within its stability limit or recorded as refused, never raised."""
     cases = A.paper_cases(size)
-    assert cases and {p.scene for p, _ in cases} <= set(A.STUDY_SCENES)
+    assert cases and {p.scene for p, _ in cases} <= set(A.study_scenes())
     for physics, _ in cases:
         reference = A.reference_solution(physics, 2.0)
         for setting in A.reduced_grid(size):

@@ -1,6 +1,6 @@
 """Error against wall time: which MuJoCo and reduced-model settings reach 1%, 0.1%, 0.01%.
 
-For each of the paper's cases (the validation cases of STUDY_SCENES, run for a shorter time) every setting is
+For each of the paper's cases (the validation cases of study_scenes(), run for a shorter time) every setting is
 compared with a tight reference solution of the reduced model (numba-DOP853, rtol 1e-11, atol 1e-13; a scene whose
 engine does not take that method is solved with one it takes: reference_method), using the error definitions of
 validate.compare:
@@ -45,6 +45,7 @@ from ..io.outputs import atomic_file, provenance, provenance_line, utc_now, writ
 from ..io.progress import progress_bar
 from ..params import PRESETS, Numerics, Physics
 from ..registry import get as get_scene
+from ..registry import names as scene_names
 from ..results import default_transient, measure
 from .validate import angle_errors, observable_errors
 
@@ -62,10 +63,13 @@ SIZES = ("full", "quick", "tiny")
 """Sizes of the study: full (the numbers of docs/performance.md, ~16 min on 2 cores), quick (a coarser grid, 2-2.5
 min) and tiny (one case, two settings per engine, a few seconds: a smoke test whose numbers say little)."""
 
-STUDY_SCENES = ("one-pinned", "two-pinned", "rotating-pin", "coupled-pair")
-"""The scenes whose own validation cases the study runs: the paper's chains, which every engine setting of the grids
-(MuJoCo integrators, the reduced engine's chain methods) can run. The other scenes and the terms add no numerics of
-their own to these (a network scene's engine takes other methods; `validate` checks every scene at the defaults)."""
+
+def study_scenes() -> tuple[str, ...]:
+    """The scenes whose own validation cases the study runs: the paper's chains (Scene.paper), which every engine
+    setting of the grids (MuJoCo integrators, the reduced engine's chain methods) can run. The other scenes and the
+    terms add no numerics of their own to these (a network scene's engine takes other methods; `validate` checks every
+    scene at the defaults)."""
+    return tuple(name for name in scene_names() if get_scene(name).paper)
 
 DEFAULT_MUJOCO = dict(integrator="implicitfast", dt=Numerics().dt, mass_ratio=Numerics().mass_ratio)
 FAST_MUJOCO = dict(integrator="implicitfast", dt=PRESETS["fast"]["dt"], mass_ratio=PRESETS["fast"]["mass_ratio"])
@@ -158,12 +162,12 @@ def reduced_grid(quick: bool | str = False) -> list[Setting]:
 
 
 def paper_cases(quick: bool | str = False) -> list[tuple[Physics, float]]:
-    """The study's (physics, duration): the validation cases of STUDY_SCENES, shortened (DURATION_FRACTION); the
+    """The study's (physics, duration): the validation cases of study_scenes(), shortened (DURATION_FRACTION); the
     first one only at the tiny size."""
     size = _size(quick)
     cases = [
         (c.physics, round(DURATION_FRACTION[size] * c.duration, 9))
-        for name in STUDY_SCENES
+        for name in study_scenes()
         for c in get_scene(name).validation_cases()
     ]
     return cases[:1] if size == "tiny" else cases

@@ -96,6 +96,9 @@ class Scene:
     `onset` and `leading_eigenvalue` are then overridden)."""
     filament: ClassVar[bool] = False
     """Whether the clamped continuum filament under a distributed follower load is the scene's large-N limit."""
+    paper: ClassVar[bool] = False
+    """One of the paper's own chains: its validation cases are the ones the accuracy study (checks.accuracy) times
+    every engine setting on."""
     term_parameters: ClassVar[tuple[str, ...] | None] = None
     """The chain's and the terms' parameters that act on the scene (None: all of them, n included: a chain scene). A
     network scene names the few that act on its units (sigma, active, alignment_length): n, the drag ratio, noise,

@@ -20,6 +20,7 @@ from .base import Onset, Scene, ValidationCase
 
 class CoupledPair(Scene):
     name = "coupled-pair"
+    paper = True
     summary = (
         "two chains (stiffness C1, C2 = rho C1) joined by a spring kappa between their first\n"
         "                pendula: frequency entrainment above kappa_c = 0.078 (sigma 0.8, rho 4/3) [paper: ~1.1]"

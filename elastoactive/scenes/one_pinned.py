@@ -21,6 +21,7 @@ SLOW_GROWTH_MODES = 16
 
 class OnePinned(Scene):
     name = "one-pinned"
+    paper = True
     summary = "chain clamped at one end: flagellar beating above sigma_c (N=7: 0.1575 [paper: 0.15])"
     base_file = "one-pinned.xml"
     no_linear_operator = ""

@@ -17,6 +17,7 @@ from .base import Onset, Scene, ValidationCase
 
 class RotatingPin(Scene):
     name = "rotating-pin"
+    paper = True
     summary = "first hinge free (no clamp spring): steady rotation about the pin"
     base_file = "rotating-pin.xml"
     clamped = False

@@ -27,6 +27,7 @@ PIN_SOLIMP = (0.9999, 0.999999, 0.001, 0.5, 2.0)
 
 class TwoPinned(Scene):
     name = "two-pinned"
+    paper = True
     summary = "last particle also pinned at (N l (1-delta), 0): self-snapping"
     base_file = "two-pinned.xml"
     parameters = (

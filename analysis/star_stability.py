@@ -79,7 +79,8 @@ def star_eigenvalues(n: int, k: int, sigma: float, hub_stiffness: float, hub_dra
 
 
 def _in_phase_onset(n: int, k: int, hub_stiffness: float, hub_drag: float) -> tuple[float, float]:
-    """(sigma_c, omega_c) of the in-phase block: a geometric scan from a quarter of the one-pinned onset, then brentq."""
+    """(sigma_c, omega_c) of the in-phase block: a geometric scan from a quarter of the one-pinned onset, then
+    brentq."""
 
     neutral = hub_stiffness == 0
 

@@ -3,8 +3,9 @@
 Kept as the specification the compiled callback is tested against. For every site s with
 user value F: force f = -F (1 + eta) x_s at the site, added to qfrc_passive as J_s^T f.
 Coloured noise (the marker's third entry tau_c > 0): eta held in data.userdata and advanced exactly as
-follower.c does (see there and elastoactive.controllers.noise.ColouredNoise). The tip drive (numeric elastoactive_drive =
-(A, omega, d_x, d_y)): the force A sin(omega t) (d_x, d_y, 0) on every site whose second user value is non-zero.
+follower.c does (see there and elastoactive.controllers.noise.ColouredNoise). The tip drive (numeric
+elastoactive_drive = (A, omega, d_x, d_y)): the force A sin(omega t) (d_x, d_y, 0) on every site whose second user value
+is non-zero.
 """
 
 from __future__ import annotations

@@ -7,9 +7,9 @@ hold the GIL, so threads would not help (processes gave 1.84x on 2 cores); the k
 once in this process before the workers fork (load_engine), not again in every worker of every
 batch. A list of both runs them at once: the reduced cases are handed to the pool first (its workers fork
 before any MuJoCo thread starts) and run beside the MuJoCo threads, so that neither engine's last cases
-leave a core idle while the other's wait (the cores are shared: each run's own wall time is then longer). Results come back in input
-order; with `on_result` each is handed over (in this thread) as soon as it is done, so a caller
-can write it out before the rest finish. A failed case (e.g. SimulationDiverged) raises, once
+leave a core idle while the other's wait (the cores are shared: each run's own wall time is then longer).
+Results come back in input order; with `on_result` each is handed over (in this thread) as soon as it is done, so a
+caller can write it out before the rest finish. A failed case (e.g. SimulationDiverged) raises, once
 the others have finished: the first failure in input order. Every case passes the gate (gate.preflight) before
 any of them runs, its MuJoCo timestep checked once per distinct model of the batch.
 """

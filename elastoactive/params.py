@@ -315,8 +315,8 @@ class Numerics:
     sample_dt: float = field(
         default=DEFAULT_SAMPLE_DT,
         metadata={
-            "help": "spacing of the recorded trajectory, tau (default 0.05, coarser for runs that would record more than "
-            "100000 samples)"
+            "help": "spacing of the recorded trajectory, tau (default 0.05, coarser for runs that would record more "
+            "than 100000 samples)"
         },
     )
     seed: int = field(default=0, metadata={"help": "seed of the initial perturbation and the noise"})

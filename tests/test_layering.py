@@ -127,7 +127,8 @@ def test_analysis_is_pure(name):
 
 
 PURE = ("elastoactive.reduced", "elastoactive.networks", "elastoactive.errors", "elastoactive.constants")
-"""The packages and leaves below the scenes: the reduced engine's mathematics, the network records, errors, constants."""
+"""The packages and leaves below the scenes: the reduced engine's mathematics, the network records, errors,
+constants."""
 
 
 @pytest.mark.parametrize("name", sorted(m for m in MODULES if m.startswith(PURE[:2])))

@@ -15,7 +15,8 @@ from elastoactive.errors import ParameterError
 
 
 def test_transfer_function_of_n2_in_closed_form():
-    """N = 2: G = e_2^T (i w - M)^-1 e_2 by hand, and at w = 0 the static compliance (K - sigma S)^-1 seen at the tip."""
+    """N = 2: G = e_2^T (i w - M)^-1 e_2 by hand, and at w = 0 the static compliance (K - sigma S)^-1 seen at the
+    tip."""
     sigma = 2.0
     m = np.array([[-5.0 + 2 * sigma, 2.0 - sigma], [2.0, -1.0]])  # M of N = 2: trace 2 (sigma - 3), det 1
     for w in (0.0, 0.3, 1.0, 4.0):

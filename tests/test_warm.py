@@ -1,4 +1,5 @@
-"""elastoactive.cli.warm: the kernels' warm-up that scripts/setup.sh runs covers every scene and term and runs through."""
+"""elastoactive.cli.warm: the kernels' warm-up that scripts/setup.sh runs covers every scene and term and runs
+through."""
 
 from elastoactive.checks.validate import validation_cases
 from elastoactive.cli import warm

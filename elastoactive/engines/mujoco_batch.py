@@ -28,8 +28,9 @@ SimulationDiverged), but runs them together:
 The runs are split into chunks, each group of runs that likely share a model into at least one chunk per
 thread (`plan`), and the chunks run on the threads, the costliest first (`run_chunks`, by `run_weight`: a
 thread that finishes a cheap group takes a share of a costly one rather than waiting while a single thread
-runs it); a chunk runs its batches one after another on the threads it was given. wall_time_s of a batched run is its share of its batch's wall time
-(batch wall x threads / simulations); info["batch"] has the batch's size, threads and wall time.
+runs it); a chunk runs its batches one after another on the threads it was given. wall_time_s of a batched run
+is its share of its batch's wall time (batch wall x threads / simulations); info["batch"] has the batch's size, threads
+and wall time.
 """
 
 from __future__ import annotations
@@ -572,9 +573,9 @@ def run_chunks(
     `threads` in all, with the follower callback installed; yields, in the caller's thread, every
     item a task passes to emit(item), as soon as it does. A task's exception is raised here.
 
-    Chunks run largest first (by `weight`, default their length). A chunk takes every free thread up to its size (one batch on all
-    threads is balanced within each call), but only one when other chunks wait and its size is not
-    a multiple of the free threads (two batches of 3 on 2 threads run side by side, rather than
+    Chunks run largest first (by `weight`, default their length). A chunk takes every free thread up to its
+    size (one batch on all threads is balanced within each call), but only one when other chunks wait and its size is
+    not a multiple of the free threads (two batches of 3 on 2 threads run side by side, rather than
     one after the other at 3/4 of the speed). Closing the generator sets `cancel` and waits for the
     running tasks (a batch stops at its next chunk of samples, raising Cancelled). With `idle` given,
     it is yielded whenever no item is waiting (e.g. to write out several items at once)."""

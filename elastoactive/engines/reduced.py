@@ -239,7 +239,8 @@ def simulate_reduced(
     method are then unused. White noise read as Stratonovich (physics.noise_calculus): stochastic Heun
     instead (the inertial model has no Ito-Stratonovich difference). Coloured noise (noise_correlation
     tau_c > 0): the Ornstein-Uhlenbeck realisation of elastoactive.controllers.noise.ColouredNoise, the one MuJoCo's
-    callback applies, constant over each step (Euler steps of the random ODE; dt << tau_c resolves it). info records "model" ("overdamped" / "inertial") and "mass_ratio".
+    callback applies, constant over each step (Euler steps of the random ODE; dt << tau_c resolves it). info
+    records "model" ("overdamped" / "inertial") and "mass_ratio".
     """
     if physics.scene_def.network(physics) is not None:  # a network scene: its own model (engines.network_reduced)
         from .network_reduced import simulate_network_reduced  # start-up time: chain runs never load it

@@ -141,7 +141,8 @@ class StabilityLimits:
         return self.fastest_rate
 
     def accuracy_limit(self, integrator: str) -> float:
-        """Largest dt that resolves accuracy_rate (RESOLUTION / rate; discrete, unpinned: DISCRETE_RESOLUTION / rate)."""
+        """Largest dt that resolves accuracy_rate (RESOLUTION / rate; discrete, unpinned:
+        DISCRETE_RESOLUTION / rate)."""
         bound = DISCRETE_RESOLUTION if integrator == "discrete" and not self.pinned else RESOLUTION
         rate = self.accuracy_rate(integrator)
         return bound / rate if rate > 0 else np.inf
@@ -454,7 +455,8 @@ def check_timestep(
             f"m x rate = {limits.inertia_number:.2g}) is unstable under {numerics.integrator} for larger dt (its "
             f"linearised step at the base state); use dt <= {largest_dt(limits, numerics, accuracy):.2g}"
             if limits.inertial and numerics.integrator in limits.step_limits
-            else f"the particle mass: {numerics.integrator} treats the drag explicitly and needs dt < {limits.drag_dt * EXPLICIT_DRAG.get(numerics.integrator, 2.0) / 2:.3g} "
+            else f"the particle mass: {numerics.integrator} treats the drag explicitly and needs dt < "
+            f"{limits.drag_dt * EXPLICIT_DRAG.get(numerics.integrator, 2.0) / 2:.3g} "
             f"at mass_ratio = {numerics.mass_ratio:g}; raise mass_ratio or use integrator implicitfast"
             if numerics.integrator in EXPLICIT_DRAG and dt_max < limits.spring_dt
             else f"the stiffest overdamped mode (rate {limits.fastest_rate:.3g}/tau) is integrated explicitly by "

@@ -18,7 +18,8 @@ Penalty (the reduced model's contact, kernels.eval_rhs_general, equations.rhs_re
 -----------------------------------------------------------------------------------------
 For every pair of non-adjacent links (i, j) the penalty acts on the four core ends against the other core:
 
-    U = K/2 sum_{pairs (i, j)} [ sum_{p in ends(i)} max(0, 2R - dist(p, core j))^2 + sum_{p in ends(j)} max(0, 2R - dist(p, core i))^2 ]
+    U = K/2 sum_{pairs (i, j)} [ sum_{p in ends(i)} max(0, 2R - dist(p, core j))^2
+                                + sum_{p in ends(j)} max(0, 2R - dist(p, core i))^2 ]
 
 (K = ChainSystem.contact_stiffness). The force of one end term is K (2R - dist) u on the end p and the opposite on
 its closest point c on the other core, u = (p - c) / dist: equal and opposite along the line joining the points,

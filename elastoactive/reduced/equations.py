@@ -11,10 +11,12 @@ Then dr_i/dth_k = n_k [k <= i] and v_i = dr_i/dt = sum_{j<=i} n_j th'_j.
   Q^d_k = sum_{i>=k} n_k . F^d_i = -sum_j D_kj th'_j with, using e_i.n_j = sin(th_i - th_j) and
   n_i.n_j = cos(th_i - th_j),
 
-      D_jk = sum_{i >= max(j,k)} [gamma_L sin(th_i - th_j) sin(th_i - th_k) + gamma_T cos(th_i - th_j) cos(th_i - th_k)],
+      D_jk = sum_{i >= max(j,k)} [gamma_L sin(th_i - th_j) sin(th_i - th_k)
+                                  + gamma_T cos(th_i - th_j) cos(th_i - th_k)],
 
   symmetric positive definite; isotropic drag gives D_jk = gamma (N - max(j,k) + 1) cos(th_j - th_k).
-* Follower force F^a_i = -sigma (1 + eta_i) e_i:  Q_k = sum_{i>=k} n_k . F^a_i = sigma sum_{i>=k} (1 + eta_i) sin(th_k - th_i).
+* Follower force F^a_i = -sigma (1 + eta_i) e_i:
+  Q_k = sum_{i>=k} n_k . F^a_i = sigma sum_{i>=k} (1 + eta_i) sin(th_k - th_i).
 * Springs: U = c/2 th_1^2 (absent on the rotating pin) + c/2 sum_i (th_{i+1} - th_i)^2 with c = 1 for chain 1
   (theta) and c = rho for chain 2 (phi) of the coupled pair, plus U_c = kappa/2 (th_1 - phi_1)^2.
 * Without inertia the virtual work of all forces vanishes for every dth, so
@@ -25,8 +27,8 @@ Then dr_i/dth_k = n_k [k <= i] and v_i = dr_i/dt = sum_{j<=i} n_j th'_j.
 * Two-pinned chain: g(th) = (sum cos th_i - N (1 - delta), sum sin th_i) = 0, G = dg/dth (2 x N). The
   index-2 DAE is replaced by its Baumgarte-stabilised index-1 form G th' = -beta g, i.e. each RHS
   evaluation solves the saddle-point system  [[D, G^T], [G, 0]] [th'; lam] = [f; -beta g]  (Schur
-  complement: th' = y - X lam with D y = f, D X = G^T, (G X) lam = G y + beta g). Drift off g = 0 decays at rate beta (default 10); the largest
-  |g| over the samples is reported by solve.constraint_violation (the engine's
+  complement: th' = y - X lam with D y = f, D X = G^T, (G X) lam = G y + beta g). Drift off g = 0 decays at
+  rate beta (default 10); the largest |g| over the samples is reported by solve.constraint_violation (the engine's
   Trajectory.info["constraint_violation"]).
 
 Solving D th' = f in O(N): articulated drag (kernels.articulated_solve)

@@ -7,9 +7,9 @@ side, Jacobian and RK4 steps.
 Every kernel that needs the model's parameters takes the `ChainSystem` record itself (numba compiles a
 NamedTuple as a typed record; fields are read by name) and the Baumgarte rate `beta` as a float
 argument. The record must come through `ChainSystem.typed()` (the functions of solve.py do that), so
-that the field types are always (int64, int64, bool, bool, float64 x 8, bool, float64 x 3, bool, bool, bool, float64 x 2) and each kernel is compiled,
-and cached on disk, once. The formulas are those of equations.py; rhs_reference there is the
-plain-numpy twin that tests hold these kernels to.
+that the field types are always (int64, int64, bool, bool, float64 x 8, bool, float64 x 3, bool, bool, bool,
+float64 x 2) and each kernel is compiled, and cached on disk, once. The formulas are those of equations.py;
+rhs_reference there is the plain-numpy twin that tests hold these kernels to.
 
 Two solvers of D(th) th' = f(th)
 --------------------------------
@@ -32,16 +32,16 @@ rk4_piecewise integrates it under step-wise constant noise forces.
 The extended terms (a free head, a harmonic trap, self-contact; ChainSystem.head_free, trap, contact_radius):
 whenever any is on, eval_rhs takes eval_rhs_general instead: it assembles D over all coordinates (the angles,
 then the head) in O(N^2) (_general_drag), the generalised forces with the trap and the contact penalty (O(N^2)
-pair loop with a bounding-circle skip, each core end against the other core; general_forces, contact.py), and solves by dense Cholesky (the pinned
-chain: the same Schur-complement Baumgarte correction). Measured (numba, one core, us per evaluation in a compiled
-loop, a clamped chain at sigma = 0.8, contact R = 0.1 on): N = 7: 0.67 out of contact, 0.84 folded into contact,
-against 0.59 for the dense path without the new terms; N = 17: 1.6 / 1.7 against 0.6 for the recursion. 600 tau of
-N = 17 at sigma = 0.8 with contact (rtol 1e-8) take 2.5 s at K = 1e3 and 15 s at K = 1e4 (the explicit default is
-then held to steps ~ 1 / K by the contact's stiffness; without contact 0.1 s). Its workspace is make_general_workspace's
-(state_workspace / workspace pick it). The inertial model with an extended term is eval_rhs_inertial_general
-(state (q, q'); M by general_mass, with the free head's bead; the particles' drag and centripetal forces as node
-forces), taken by eval_state and rk4_piecewise. With every extended term off, the paths below run exactly as
-before, bit for bit.
+pair loop with a bounding-circle skip, each core end against the other core; general_forces, contact.py), and
+solves by dense Cholesky (the pinned chain: the same Schur-complement Baumgarte correction). Measured (numba, one core,
+us per evaluation in a compiled loop, a clamped chain at sigma = 0.8, contact R = 0.1 on): N = 7: 0.67 out of contact,
+0.84 folded into contact, against 0.59 for the dense path without the new terms; N = 17: 1.6 / 1.7 against 0.6 for the
+recursion. 600 tau of N = 17 at sigma = 0.8 with contact (rtol 1e-8) take 2.5 s at K = 1e3 and 15 s at K = 1e4 (the
+explicit default is then held to steps ~ 1 / K by the contact's stiffness; without contact 0.1 s). Its workspace is
+make_general_workspace's (state_workspace / workspace pick it). The inertial model with an extended term is
+eval_rhs_inertial_general (state (q, q'); M by general_mass, with the free head's bead; the particles' drag and
+centripetal forces as node forces), taken by eval_state and rk4_piecewise. With every extended term off, the paths below
+run exactly as before, bit for bit.
 
 eval_rhs takes the path its workspace was sized for (`workspace`, `make_workspace`): dense below
 RECURSIVE_MIN_N particles per chain, recursive from there on. Below it the results are bit for bit

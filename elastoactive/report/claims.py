@@ -52,8 +52,9 @@ def claims_table(rows: list[Claim], explanations: bool = True) -> str:
 
 def render_report(studies: Mapping[str, Study], figures: Mapping[str, list], meta: dict) -> str:
     """report.md from the studies (by name), the figures each wrote and the run's record (`meta`: command, size,
-    workers, wall_s, provenance, `timings`: {name: reproduce.Timing}, `kept`: the studies whose saved data were reused, `unreadable`: those left
-    out because their saved data cannot be read, `other_size`: those left out as of another size)."""
+    workers, wall_s, provenance, `timings`: {name: reproduce.Timing}, `kept`: the studies whose saved data were
+    reused, `unreadable`: those left out because their saved data cannot be read, `other_size`: those left out as of
+    another size)."""
     rows = build_claims(studies)
     n_yes = sum(c.agree == "yes" for c in rows)
     out = [

@@ -103,7 +103,7 @@ class Paper:
     # ------------------------------------------------------------------ noise and anisotropic drag (supplement)
     noise_sigma: float = _quoted(3.5, "supplement, 'Role of noise' (N = 2; sigma as in the anisotropy figure, 3.5)")
     anisotropy_sigma: float = _quoted(3.5, "supplement, Fig. 'Role of anisotropy' caption: sigma = 3.5, tau_T = 1")
-    # ------------------------------------------------------------------ the experiment's own numbers (main text, supplement)
+    # ----------------------------------------------------------- the experiment's own numbers (main text, supplement)
     active_force_n: float = _quoted(
         0.0157, "main text and supplement Appendix B: pinned Hexbug force F_a = 15.7 +/- 3.1 mN (mean)"
     )

@@ -302,8 +302,8 @@ def dish_claims(st: Study, read: Mapping[str, Study]) -> list[Claim]:
             + (
                 "A crawl with a body rotation different from the orbit occurs. "
                 if s.crawl_found
-                else "Nowhere does the body turn at a rate other than the orbit's: the steady crawl of the dish is a rigid orbit, "
-                "so the supplement's two motions are one. "
+                else "Nowhere does the body turn at a rate other than the orbit's: the steady crawl of the dish is a "
+                "rigid orbit, so the supplement's two motions are one. "
             )
             + f"Engines: rates within {100 * s.engines_max_rel_diff:.2g}%, "
             + ("the same state at every check" if s.engines_same_state else "states differ at some checks"),

@@ -1,4 +1,5 @@
-"""The star: do k elasto-active arms on one hub synchronise through it, and in which pattern, against the hub's stiffness.
+"""The star: do k elasto-active arms on one hub synchronise through it, and in which pattern, against the hub's
+stiffness.
 
 Beyond the paper (its outlook's "more intricate geometrical connections between active particles"): k one-pinned
 arms (N = 7, sigma = 0.8) on a hub turning on a spring hub_stiffness K_h (C1) against its drag (1 gamma l^2), swept

@@ -9,8 +9,8 @@
   coordinates equal to the grid's at that index, the scene's measurements present (for "ok")
   with the right shape (one number per chain for the pair's per-chain values) and finite where
   they always are (NaN is allowed for snap_amplitude and frequency_mismatch, and for
-  measurements this module does not know), periodic 1, 0 or NaN, notes a text, wall time a number. A line that fails is discarded
-  with a SweepJournalWarning naming the count, and its point runs again. A point's record that
+  measurements this module does not know), periodic 1, 0 or NaN, notes a text, wall time a number. A line that
+  fails is discarded with a SweepJournalWarning naming the count, and its point runs again. A point's record that
   would fail this check is stored as an error ("invalid result: ..."), so what is written reads back.
 * `<out>` (netCDF) is the Dataset: rewritten atomically and durably (temporary file, fsync,
   os.replace, fsync of the directory) at most every `snapshot_interval` seconds while the sweep

@@ -7,8 +7,8 @@ clamp_motion (with clamp_amplitude A > 0 and clamp_frequency f, omega = 2 pi f):
   angle          the clamp turns about its point, phi_c(t) = A sin(omega t) (A in rad): the clamp spring acts as
                  C1 (theta_1 - phi_c(t)); |A| < pi/2, or the clamp would turn the chain's root into the wall it
                  is mounted on
-  rotating       the clamp turns steadily about its point, phi_c(t) = 2 pi f t (counterclockwise): it needs clamp_frequency
-                 alone (clamp_amplitude has no meaning and is refused); the chain is dragged round
+  rotating       the clamp turns steadily about its point, phi_c(t) = 2 pi f t (counterclockwise): it needs
+                 clamp_frequency alone (clamp_amplitude has no meaning and is refused); the chain is dragged round
 
 The physics (docs/clamp.md): in the overdamped chain the lab-frame drag acts on the particles' lab velocities
 u(t) + J_k theta', so a clamp moving with velocity u adds -Gamma_k(theta) u to every particle's force (both drag

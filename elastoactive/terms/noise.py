@@ -1,9 +1,9 @@
 """Multiplicative noise on the active force: F_a (1 + eta), white or coloured (Ornstein-Uhlenbeck).
 
-Both engines draw the same counter-based realisation (elastoactive.controllers.noise); MuJoCo's callback applies it (`build`
-gives it the amplitude, seed and correlation time), the
-reduced engine integrates the SDE (Euler-Maruyama, Heun for Stratonovich) or the random ODE of coloured noise.
-Its correlation time and calculus act only when the amplitude is > 0.
+Both engines draw the same counter-based realisation (elastoactive.controllers.noise); MuJoCo's callback applies
+it (`build` gives it the amplitude, seed and correlation time), the reduced engine integrates the SDE (Euler-Maruyama,
+Heun for Stratonovich) or the random ODE of coloured noise. Its correlation time and calculus act only when the
+amplitude is > 0.
 """
 
 from __future__ import annotations

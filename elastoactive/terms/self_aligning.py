@@ -58,7 +58,8 @@ MAX_REDUCED_TURNS = 2e5
 """Largest duration x turning_rate the reduced engine integrates with self-aligning units. A short alignment length
 makes the polarities stiff (they turn at up to sigma / l_a): the explicit DOP853 then needs steps in proportion to
 duration x sigma / l_a; at this bound a chain of N = 7 takes about 35 s and a network less (measured: 14 s for 8e4
-on the chain, 1.5 s on the trapped unit). Beyond it the run is refused in one line naming alignment_length, rather than left to hang."""
+on the chain, 1.5 s on the trapped unit). Beyond it the run is refused in one line naming alignment_length, rather
+than left to hang."""
 
 
 def turning_rate(physics) -> float:

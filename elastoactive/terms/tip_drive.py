@@ -3,10 +3,10 @@ last particle of chain 1 (transverse: the lab's y, across the straight chain; lo
 
 The reduced model adds it as a node force (elastoactive.engines.node_forces, a law of the time and the positions);
 MuJoCo's compiled callback applies it to the tip's site (controllers/follower.c: the site's second user value marks
-it, the numeric elastoactive_drive holds (A, omega, d_x, d_y)). Observables: drive_gain and drive_phase, the tip's displacement along the drive at
-the drive's frequency over the drive's amplitude and its phase lead (analysis.response.harmonic_response, over
-the whole drive periods of the steady window), which below onset the linear transfer function G(omega) predicts
-for the transverse drive (docs/outlook.md, section 2).
+it, the numeric elastoactive_drive holds (A, omega, d_x, d_y)). Observables: drive_gain and drive_phase, the
+tip's displacement along the drive at the drive's frequency over the drive's amplitude and its phase lead
+(analysis.response.harmonic_response, over the whole drive periods of the steady window), which below onset the linear
+transfer function G(omega) predicts for the transverse drive (docs/outlook.md, section 2).
 """
 
 from __future__ import annotations

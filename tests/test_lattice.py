@@ -1,6 +1,6 @@
-"""The network scenes `lattice` and `trapped-unit` in the reduced engine: their parameters (what acts, what is refused in
-one line), the trapped unit's transition against its derivation (docs/network.md), collective actuation of the
-pinned hexagon, the record's nodes saved and loaded."""
+"""The network scenes `lattice` and `trapped-unit` in the reduced engine: their parameters (what acts, what is
+refused in one line), the trapped unit's transition against its derivation (docs/network.md), collective actuation of
+the pinned hexagon, the record's nodes saved and loaded."""
 
 from __future__ import annotations
 

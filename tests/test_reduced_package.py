@@ -62,8 +62,8 @@ def test_kernels_compile_once_for_chain_systems():
     for dispatcher in (kernels.eval_rhs, kernels.eval_jacobian, kernels.euler_maruyama, dop853._dop853):
         assert len(dispatcher.signatures) == 1, (dispatcher, dispatcher.signatures)
         (record,) = _record_types(dispatcher)
-        # n, n_chains; clamped, pinned; sigma .. inertia_factor; head_free; trap, contact_radius, contact_stiffness; closed;
-        # star, hub_free; hub_stiffness, hub_drag
+        # n, n_chains; clamped, pinned; sigma .. inertia_factor; head_free; trap, contact_radius, contact_stiffness;
+        # closed; star, hub_free; hub_stiffness, hub_drag
         assert [str(ty) for ty in record.types] == (
             ["int64"] * 2 + ["bool"] * 2 + ["float64"] * 8 + ["bool"] + ["float64"] * 3 + ["bool"] * 3 + ["float64"] * 2
         )

@@ -36,7 +36,8 @@ FigureFn = Callable[[Any, Path], list]
 FileFn = Callable[[Any, Path], list]
 """file(study, out) -> the data files written besides the study's NPZ/JSON (e.g. a CSV table)."""
 ClaimsFn = Callable[[Any, Mapping[str, Any]], list]
-"""claims(study, read) -> claim rows (elastoactive.studies.claim_rows.Claim); `read`: the studies of `reads` that ran."""
+"""claims(study, read) -> claim rows (elastoactive.studies.claim_rows.Claim); `read`: the studies of `reads` that
+ran."""
 SectionFn = Callable[[Any], str]
 """section(study) -> a Markdown section of report.md, after the claims table."""
 

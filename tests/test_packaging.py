@@ -102,6 +102,10 @@ def test_wheel_installs_and_runs_outside_the_checkout(tmp_path):
     location = Path(where.stdout.splitlines()[0]).resolve()
     assert location.is_relative_to(venv.resolve()), f"imported from {location}, not from the installed wheel"
     assert ROOT not in location.parents
+    # typed (PEP 561) and licensed: the marker is installed beside the package, the license in its metadata
+    assert (location.parent / "py.typed").is_file()
+    (dist_info,) = location.parent.parent.glob("elastoactive-*.dist-info")
+    assert "MIT License" in next(dist_info.rglob("LICENSE")).read_text()
 
     run = subprocess.run(
         [str(venv / "bin" / "elastoactive"), "run", "one-pinned", "--duration", "2", "--out", "beat"],

@@ -225,19 +225,19 @@ def test_a_free_patch_drifts_at_sigma_in_the_reduced_engine():
     assert res.amplitude < 1e-4
 
 
-def test_the_readme_lattice_examples_show_what_their_table_says():
-    """The README's R = 3 examples (a table row per run: coupling, sigma, duration, state, reduced / MuJoCo numbers):
-    each run shows the state its row names (collective actuation: every unit turning the same way; mixed chirality:
-    the units turning, some each way), its reduced numbers are the run's, and it has settled: a run twice as long
-    gives the same numbers within a unit of their last quoted digit (the example had read as collective actuation
-    where it was the mixed state, and had been measured before it settled)."""
+def test_the_guide_lattice_examples_show_what_their_table_says():
+    """The R = 3 examples of docs/beyond.md (a table row per run: coupling, sigma, duration, state, reduced / MuJoCo
+    numbers): each run shows the state its row names (collective actuation: every unit turning the same way;
+    mixed chirality: the units turning, some each way), its reduced numbers are the run's, and it has settled: a
+    run twice as long gives the same numbers within a unit of their last quoted digit (the example had read as
+    collective actuation where it was the mixed state, and had been measured before it settled)."""
     import re
     from pathlib import Path
 
     from elastoactive.trajectory import Trajectory
 
-    readme = (Path(__file__).resolve().parents[1] / "README.md").read_text()
-    section = readme[readme.index("## Beyond the paper: active solids") :]
+    guide = (Path(__file__).resolve().parents[1] / "docs" / "beyond.md").read_text()
+    section = guide[guide.index("## Active solids") :]
     section = section[: section.index("\n## ", 1)]
     header = [h.strip() for h in re.search(r"^\| run \| state \|(.*)\|$", section, re.M).group(1).split("|")]
     rows = re.findall(r"^\| Pi = ([\d.]+) \(sigma ([\d.]+)\), ([\d.]+) tau \| ([a-z ]+) \|(.*)\|$", section, re.M)

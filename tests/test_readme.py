@@ -1,6 +1,7 @@
-"""Every command and code block in the README runs (at a small size), so a documented command can
-never fail unseen. The README's own set-up commands (scripts/setup.sh, scripts/test.sh) are what CI
-runs, so they are not run again here."""
+"""The README is the front page (short: what it is, the pictures, the two commands, ten lines of Python, what it
+reproduces, the code map, links into the site), and every command and code block in it and in the site's guides runs
+(at a small size), so a documented command can never fail unseen. The README's own set-up commands (scripts/setup.sh,
+scripts/test.sh) are what CI runs, so they are not run again here."""
 
 from __future__ import annotations
 
@@ -16,15 +17,26 @@ import pytest
 ROOT = Path(__file__).resolve().parents[1]
 README = (ROOT / "README.md").read_text()
 
+GUIDES = ("getting-started", "run", "sweep", "reproduce", "beyond", "network")
+"""The site's guide pages (docs/<name>.md) whose code blocks run here, beside the README's."""
 
-def _blocks(language: str) -> list[str]:
-    return re.findall(rf"```{language}\n(.*?)```", README, re.S)
+PAGES = {"README.md": README, **{f"docs/{name}.md": (ROOT / "docs" / f"{name}.md").read_text() for name in GUIDES}}
+
+FRONT_PAGE_LINES = 150
+"""The README is a front page: at most this many lines, the rest is on the site."""
+
+
+def _blocks(language: str) -> list[tuple[str, str]]:
+    """(page, code) of every fenced block in the language, page by page."""
+    return [
+        (page, code) for page, text in PAGES.items() for code in re.findall(rf"```{language}\n(.*?)```", text, re.S)
+    ]
 
 
 def _commands() -> list[list[str]]:
     """The `elastoactive ...` lines of the bash blocks, comments dropped, in order."""
     out = []
-    for block in _blocks("bash"):
+    for _, block in _blocks("bash"):
         for line in block.splitlines():
             line = line.split("  #")[0].strip()
             if line.startswith(("elastoactive ", ".venv/bin/elastoactive ")):
@@ -71,13 +83,32 @@ def _gl_works() -> bool:
 
 
 def test_readme_has_the_two_commands():
-    assert "bash scripts/setup.sh && .venv/bin/elastoactive reproduce" in README
-    assert "bash scripts/test.sh" in README
+    section = README[README.index("## Two commands") :]
+    section = section[: section.index("\n## ", 1)]
+    assert "bash scripts/setup.sh && .venv/bin/elastoactive reproduce" in section
+    assert "bash scripts/test.sh" in section
+
+
+def test_readme_is_a_front_page():
+    """Under FRONT_PAGE_LINES lines with the front page's sections, no generated block (those live on the site's
+    pages), and every link into docs/ names a file there (or the page the site writes from the parser)."""
+    lines = README.splitlines()
+    assert len(lines) < FRONT_PAGE_LINES, f"README.md has {len(lines)} lines: move the details to docs/"
+    headings = re.findall(r"^## (.*)$", README, re.M)
+    assert headings[:1] == ["Two commands"] and {"Ten lines of Python", "What it reproduces", "Code map"} <= set(
+        headings
+    )
+    assert "<!-- generated:" not in README
+    python = [code for page, code in _blocks("python") if page == "README.md"]
+    assert len(python) == 1 and len([line for line in python[0].splitlines() if line.strip()]) <= 10
+    assert "docs/reproduction/report.md" in README[README.index("## What it reproduces") :]
+    for target in re.findall(r"\]\((docs/[^)#\s]+)", README):
+        assert (ROOT / target).exists(), target
 
 
 @pytest.mark.slow
 def test_every_readme_command_runs(tmp_path):
-    from distributed import LocalCluster  # optional dependency, used here only for the README's Dask line
+    from distributed import LocalCluster  # optional dependency, used here only for the sweep's Dask line
 
     commands = _commands()
     assert len(commands) >= 10
@@ -103,14 +134,15 @@ def test_every_readme_command_runs(tmp_path):
 
 def test_every_readme_python_block_runs(tmp_path):
     blocks = _blocks("python")
-    assert blocks
-    for code in blocks:
+    assert {page for page, _ in blocks} >= {"README.md", "docs/run.md", "docs/getting-started.md"}
+    for page, code in blocks:
         result = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, capture_output=True, text=True, timeout=600)
-        assert result.returncode == 0, f"{code}\n{result.stderr[-2000:]}"
+        assert result.returncode == 0, f"{page}:\n{code}\n{result.stderr[-2000:]}"
 
 
-def test_readme_tables_come_from_the_committed_reports():
-    """The README's claims, validate and convergence tables equal the committed report files."""
+def test_generated_tables_come_from_the_committed_reports():
+    """The claims table of docs/reproduce.md and the validate and convergence tables of docs/accuracy.md equal the
+    committed report files."""
     result = subprocess.run(
         [sys.executable, str(ROOT / "scripts" / "update_readme.py"), "--check"],
         capture_output=True,

@@ -89,9 +89,9 @@ def test_progress_says_done_only_when_every_item_finished(capsys):
     assert "Hopf N = 7: done (44 cases" in capsys.readouterr().err
 
 
-def test_readme_claims_block_holds_only_the_claims_table():
-    """The generated README block is the claims table alone (it also carried report.md's sigma_c(N) table, untitled,
-    and its run-time table), one row per claim the committed study data make."""
+def test_the_claims_block_holds_only_the_claims_table():
+    """The generated claims block of docs/reproduce.md is the claims table alone (not report.md's sigma_c(N) table
+    nor its run-time table), one row per claim the committed study data make."""
     import importlib.util
 
     from elastoactive.report import claims
@@ -108,8 +108,8 @@ def test_readme_claims_block_holds_only_the_claims_table():
     )
     assert lines[0] == "| # | claim | paper | MuJoCo | reduced model | agree |" and len(lines) == 2 + len(rows)
     assert all(line.startswith(f"| {i} | ") for i, line in enumerate(lines[2:], 1))
-    readme = (ROOT / "README.md").read_text()
-    assert f"<!-- generated: claims -->\n{block}\n<!-- end -->" in readme
+    page = (ROOT / "docs" / "reproduce.md").read_text()
+    assert f"<!-- generated: claims -->\n{block}\n<!-- end -->" in page
 
 
 def test_the_code_digest_covers_every_source_that_makes_results():

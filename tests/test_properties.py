@@ -8,6 +8,7 @@ import functools
 import io
 import math
 
+import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
@@ -185,3 +186,11 @@ def test_api_measure_takes_a_transient_or_names_it(transient):
 @functools.lru_cache(maxsize=1)
 def _short_run():
     return ea.simulate(ea.Physics(n=3), duration=20, engine="reduced")
+
+
+@pytest.mark.parametrize("sample_dt", [0.0, -0.05])
+def test_a_sample_spacing_that_is_not_positive_is_named(sample_dt):
+    """With dt at its default, dt follows sample_dt (its largest whole fraction): a spacing of 0 or less is refused
+    in one line naming sample_dt, before anything divides by it."""
+    with pytest.raises(ea.ParameterError, match="sample_dt"):
+        ea.Numerics(sample_dt=sample_dt)

@@ -20,7 +20,7 @@ scenes                   the scene registry (elastoactive.scenes)
 ParameterError, SimulationDiverged
 """
 
-from . import _moved, scenes  # scenes first: registers the built-in scenes that Physics looks up
+from . import _moved, registry, scenes  # scenes first: registers the built-in scenes that Physics looks up
 from .api import measure, simulate
 from .errors import ParameterError, SimulationDiverged
 from .params import Numerics, Physics
@@ -28,6 +28,7 @@ from .results import Results
 from .trajectory import Trajectory
 
 _moved.install()  # old module paths keep working for one release
+registry.entry_points_ready()  # the entry points' scenes, terms and studies load when a registry is first listed
 
 __all__ = [
     "Numerics",

@@ -2,13 +2,17 @@
 it does not hold).
 
 A leaf module (it imports nothing of the package but the parameter table), so that `params` can look a scene up while
-the scene modules themselves import `params`. Scenes enter the table through `register`; the
-built-in ones when `elastoactive.scenes` is imported, which `import elastoactive` does first.
+the scene modules themselves import `params`. Scenes enter the table through `register`; the built-in ones when
+`elastoactive.scenes` is imported, which `import elastoactive` does first; those of the `elastoactive.scenes` entry
+points when the table is first listed (`load_entry_points`, which the term and study registries share).
 `elastoactive.scenes` is the public face of this table.
 """
 
 from __future__ import annotations
 
+import importlib.metadata
+import types
+import warnings
 from typing import Protocol
 
 from . import parameters as _parameters
@@ -21,6 +25,39 @@ class Scene(Protocol):
 
 
 _SCENES: dict[str, Scene] = {}
+
+
+ENTRY_POINT_GROUPS = {"scenes": "elastoactive.scenes", "terms": "elastoactive.terms", "studies": "elastoactive.studies"}
+"""The entry-point group of each registry: a distribution's entry point names a module (importing it registers what
+it defines) or a Scene or Term (an instance, or a class to instantiate), which its registry registers."""
+_entry_points = {"ready": False, "loaded": set()}
+"""Whether `import elastoactive` has finished (a plug-in imports the package itself), and the groups loaded."""
+
+
+def entry_points_ready() -> None:
+    """Let the entry points load from now on (`import elastoactive` calls this once the package is whole)."""
+    _entry_points["ready"] = True
+
+
+def load_entry_points(kind: str, register_object=None) -> None:
+    """Load the entry points of registry `kind` ("scenes", "terms" or "studies"), once, when the package is whole;
+    `register_object(obj)` registers what an entry point names unless it is a module. A plug-in that fails to load
+    is skipped with a RuntimeWarning naming it (a broken third-party package does not stop the others)."""
+    if not _entry_points["ready"] or kind in _entry_points["loaded"]:
+        return
+    _entry_points["loaded"].add(kind)  # before loading: a plug-in that lists the registry does not load it again
+    for point in importlib.metadata.entry_points(group=ENTRY_POINT_GROUPS[kind]):
+        try:
+            obj = point.load()
+            if register_object is not None and not isinstance(obj, types.ModuleType):
+                register_object(obj() if isinstance(obj, type) else obj)
+        except Exception as err:  # noqa: BLE001  (any plug-in's failure is reported, not raised)
+            warnings.warn(
+                f"elastoactive: the {ENTRY_POINT_GROUPS[kind]} entry point {point.name!r} ({point.value}) did not "
+                f"load: {err}",
+                RuntimeWarning,
+                stacklevel=3,
+            )
 
 
 class UnknownName(KeyError):
@@ -75,8 +112,23 @@ def unregister(name: str) -> None:
             _parameters.unregister(spec.name)
 
 
+def _register_new(scene: Scene) -> None:
+    if getattr(scene, "name", None) not in _SCENES:
+        register(scene)
+
+
+def _plugins() -> None:
+    """The scenes of the `elastoactive.scenes` entry points, loaded the first time the registry is listed."""
+    load_entry_points("scenes", _register_new)
+
+
 def get(name: str) -> Scene:
-    """The registered scene called `name`."""
+    """The registered scene called `name` (the entry points' scenes included)."""
+    try:
+        return _SCENES[name]
+    except (KeyError, TypeError):
+        pass
+    _plugins()
     try:
         return _SCENES[name]
     except (KeyError, TypeError):
@@ -84,10 +136,12 @@ def get(name: str) -> Scene:
 
 
 def names() -> tuple[str, ...]:
-    """Names of the registered scenes, in registration order."""
+    """Names of the registered scenes (the entry points' included), in registration order."""
+    _plugins()
     return tuple(_SCENES)
 
 
 def scenes() -> tuple[Scene, ...]:
-    """The registered scenes, in registration order."""
+    """The registered scenes (the entry points' included), in registration order."""
+    _plugins()
     return tuple(_SCENES.values())

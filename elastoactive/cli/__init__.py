@@ -12,7 +12,7 @@ import sys
 
 from ..errors import ParameterError, SimulationDiverged
 from . import accuracy, filament, render, reproduce, run, stability, sweep, validate
-from .options import UNITS, scene_help
+from .options import UNITS, plugin_argument, preload_plugins, scene_help
 
 COMMANDS = (run, validate, sweep, render, accuracy, reproduce, stability, filament)
 """The subcommands, in the order --help lists them."""
@@ -35,6 +35,7 @@ def build_parser() -> argparse.ArgumentParser:
         formatter_class=argparse.RawDescriptionHelpFormatter,
         epilog=scene_help(),
     )
+    plugin_argument(parser)
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
     for command in COMMANDS:
         command.register(sub)
@@ -42,6 +43,12 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: list[str] | None = None) -> int:
+    argv = sys.argv[1:] if argv is None else list(argv)
+    try:  # before the parser: a plug-in's scenes and terms are choices and options of the commands
+        argv = preload_plugins(argv)
+    except ParameterError as err:
+        print(f"elastoactive: error: {err}", file=sys.stderr)
+        return 2
     parser = build_parser()
     args = parser.parse_args(argv)
     try:

@@ -3,8 +3,11 @@
 from __future__ import annotations
 
 import argparse
+import json
+from pathlib import Path
 
-from .. import registry
+from .. import plugins, registry
+from ..errors import ParameterError
 from ..params import Numerics, Physics, parameter_fields
 
 UNITS = "Units: l = C1 = gamma = 1, so times are in tau = gamma l^2 / C1 and frequencies are f*tau."
@@ -81,3 +84,66 @@ def workers_argument(p: argparse.ArgumentParser, help_text: str = "worker proces
         return value
 
     p.add_argument("--workers", type=workers, default=None, help=help_text)
+
+
+PLUGIN_OPTION = "--plugin"
+"""The option naming a plug-in (a module or a .py file); repeatable, given before or after the command."""
+
+
+def plugin_argument(parser: argparse.ArgumentParser) -> None:
+    """--plugin MODULE_OR_FILE on the top-level parser (for --help: preload_plugins has taken every one out of the
+    arguments, wherever it stood, before the parser runs)."""
+    parser.add_argument(
+        PLUGIN_OPTION,
+        action="append",
+        metavar="MODULE_OR_FILE",
+        help="load a plug-in first: a module name or a .py file whose scenes, terms and studies register when "
+        "imported (repeatable; before or after the command). A run's summary.json records the plug-ins it "
+        "needs, and `run --from` or `render` of that run load them again",
+    )
+
+
+def recorded_plugins(path: Path) -> list[str]:
+    """The plug-ins a run's record (a run folder, its summary.json or its trajectory.npz) lists; none for a path
+    that is not one (the command itself then says what is wrong with it)."""
+    path = Path(path)
+    summary = path / "summary.json" if path.is_dir() else path.with_name("summary.json")
+    if path.is_file() and path.suffix not in (".json", ".npz"):
+        return []
+    try:
+        record = json.loads(summary.read_text())
+    except (OSError, UnicodeDecodeError, ValueError):
+        return []
+    specs = record.get("plugins") if isinstance(record, dict) else None
+    return [s for s in specs if isinstance(s, str)] if isinstance(specs, list) else []
+
+
+def preload_plugins(argv: list[str]) -> list[str]:
+    """Load the plug-ins that `argv` names (--plugin X or --plugin=X, anywhere) and those recorded by every run
+    named on it (--from RUN, render's RUN: any argument that is a run's folder or file); returns argv without the
+    --plugin options. A plug-in that cannot be loaded is a ParameterError naming it."""
+    rest, specs = [], []
+    items = iter(argv)
+    for item in items:
+        if item == PLUGIN_OPTION:
+            spec = next(items, None)
+            if spec is None:
+                raise ParameterError(f"{PLUGIN_OPTION} needs a module name or a .py file")
+            specs.append(spec)
+        elif item.startswith(PLUGIN_OPTION + "="):
+            specs.append(item.split("=", 1)[1])
+        else:
+            rest.append(item)
+    for spec in dict.fromkeys(specs):
+        plugins.load(spec)
+    for item in rest:
+        value = item.split("=", 1)[1] if item.startswith("--from=") else item
+        if value and not value.startswith("-") and (Path(value).is_dir() or Path(value).suffix in (".json", ".npz")):
+            for spec in recorded_plugins(Path(value)):
+                try:
+                    plugins.load(spec)
+                except ParameterError as err:
+                    raise ParameterError(
+                        f"{value} was run with the plug-in {spec}, which did not load: {err}"
+                    ) from None
+    return rest

@@ -13,6 +13,7 @@ import sys
 import time
 from pathlib import Path
 
+from .. import plugins
 from ..engines import ENGINES
 from ..errors import ParameterError
 from ..io.outputs import output_path
@@ -229,6 +230,8 @@ def _run(args, out: Path | None) -> int:
     traj = simulate(physics, numerics, duration=duration, engine=engine, progress=not args.quiet, method=method)
     s = summary(traj, numerics, duration, transient)
     s["provenance"] = provenance(started, time.perf_counter() - clock)
+    if needed := plugins.needed(physics):  # what `run --from` and `render` of this run load first
+        s["plugins"] = needed
     # the results first: shown even if the files cannot be written
     print(json.dumps(jsonable({"wall_time_s": round(s["wall_time_s"], 3), **s["results"]}), indent=2))
     for note in s["results"].get("notes", []):

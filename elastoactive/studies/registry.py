@@ -16,8 +16,9 @@ decorators (as dm_control's `suite` tags its tasks)::
 
 `order` places the study in reproduce and its claim rows in the table; `reads` names the other
 studies its claim rows read (they get them in `read`, a dict holding those that were run). A leaf
-module (it imports nothing of the package), so that any module can register a study; the
-built-in studies register when `elastoactive.studies` is imported.
+module (it imports nothing of the package but the registries' shared pieces), so that any module can register a
+study; the built-in studies register when `elastoactive.studies` is imported, those of the `elastoactive.studies`
+entry points when the registry is first listed (elastoactive.plugins).
 """
 
 from __future__ import annotations
@@ -27,7 +28,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from ..registry import UnknownName
+from ..registry import UnknownName, load_entry_points
 
 RunFn = Callable[..., Any]
 """run(size="quick", workers=None, progress=True) -> Study."""
@@ -126,9 +127,17 @@ def unregister(name: str) -> None:
     _STUDIES.pop(name, None)
 
 
+def _plugins() -> None:
+    """The studies of the `elastoactive.studies` entry points, loaded the first time the registry is listed."""
+    load_entry_points("studies")
+
+
 def get(name: str) -> StudyEntry:
-    """The registered study called `name` (it must have a run function)."""
+    """The registered study called `name` (the entry points' included; it must have a run function)."""
     entry = _STUDIES.get(name) if isinstance(name, str) else None
+    if entry is None:
+        _plugins()
+        entry = _STUDIES.get(name) if isinstance(name, str) else None
     if entry is None:
         raise UnknownStudy(name, names())
     if entry.run_fn is None:
@@ -142,5 +151,6 @@ def names() -> tuple[str, ...]:
 
 
 def entries() -> tuple[StudyEntry, ...]:
-    """The registered studies, in reproduce's order (ties: registration order)."""
+    """The registered studies (the entry points' included), in reproduce's order (ties: registration order)."""
+    _plugins()
     return tuple(sorted(_STUDIES.values(), key=lambda e: e.order))

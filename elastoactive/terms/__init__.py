@@ -7,13 +7,14 @@
 A new term is a subclass of `Term` (elastoactive.terms.base) registered with `register`: its parameters join every
 scene's (Physics, the CLI's options, sweeps), its `build` adds MJCF elements, its `reduced_system` or
 `node_forces` its reduced-model contribution, its `measure` its observables. See docs/terms.md for the contract
-and the diff a new term needs.
+and the diff a new term needs. Terms of the `elastoactive.terms` entry points join when the table is first listed
+(elastoactive.plugins).
 """
 
 from __future__ import annotations
 
 from .. import parameters as _parameters
-from ..registry import UnknownName
+from ..registry import UnknownName, load_entry_points
 from .base import NodeForces, Term
 
 _TERMS: dict[str, Term] = {}
@@ -45,8 +46,23 @@ class UnknownTerm(UnknownName):
     kind, kinds = "term", "terms"
 
 
+def _register_new(term: Term) -> None:
+    if getattr(term, "name", None) not in _TERMS:
+        register(term)
+
+
+def _plugins() -> None:
+    """The terms of the `elastoactive.terms` entry points, loaded the first time the registry is listed."""
+    load_entry_points("terms", _register_new)
+
+
 def get(name: str) -> Term:
-    """The registered term called `name`."""
+    """The registered term called `name` (the entry points' terms included)."""
+    try:
+        return _TERMS[name]
+    except (KeyError, TypeError):
+        pass
+    _plugins()
     try:
         return _TERMS[name]
     except (KeyError, TypeError):
@@ -54,16 +70,20 @@ def get(name: str) -> Term:
 
 
 def names() -> tuple[str, ...]:
-    """Names of the registered terms, in registration order."""
+    """Names of the registered terms (the entry points' included), in registration order."""
+    _plugins()
     return tuple(_TERMS)
 
 
 def terms() -> tuple[Term, ...]:
+    """The registered terms (the entry points' included), in registration order."""
+    _plugins()
     return tuple(_TERMS.values())
 
 
 def parameter_names() -> tuple[str, ...]:
-    """The parameters of every registered term, in registration order."""
+    """The parameters of every registered term (the entry points' included), in registration order."""
+    _plugins()
     return tuple(p.name for t in _TERMS.values() for p in t.parameters)
 
 

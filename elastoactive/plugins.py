@@ -1,0 +1,99 @@
+"""Plug-ins named by the user: a module or a .py file whose scenes, terms and studies register when it is imported.
+
+`load(spec)` imports one (the CLI's ``--plugin``) and remembers what it registered with its spec, so that a run's
+summary.json records the plug-ins it needs (`needed`) and ``run --from`` or ``render`` of that run load them again.
+Installed distributions need no naming: their entry points (groups ``elastoactive.scenes``, ``elastoactive.terms``,
+``elastoactive.studies``) load when a registry is first listed (elastoactive.registry.load_entry_points).
+"""
+
+from __future__ import annotations
+
+import importlib
+import importlib.util
+import sys
+from pathlib import Path
+
+from . import registry, terms
+from .errors import ParameterError
+
+_SOURCES: dict[tuple[str, str], str] = {}
+"""(registry, name) -> the spec of the plug-in that registered it (`load`)."""
+_LOADED: dict[str, str] = {}
+"""spec as resolved (a module name, or a file's absolute path) -> the module name it was imported under."""
+
+
+def _names() -> dict[str, set[str]]:
+    """The names each registry holds now (the studies' only once their registry is imported: not imported, it holds
+    none a plug-in registered)."""
+    studies = sys.modules.get("elastoactive.studies.registry")
+    return {
+        "scenes": set(registry._SCENES),
+        "terms": set(terms._TERMS),
+        "studies": set(studies._STUDIES) if studies is not None else set(),
+    }
+
+
+def _resolve(spec: str) -> str:
+    """A .py file as its absolute path; a module name as given."""
+    if spec.endswith(".py") or "/" in spec or "\\" in spec:
+        path = Path(spec).expanduser().resolve()
+        if not path.is_file():
+            raise ParameterError(f"--plugin: {spec} is not a file (give a module name or a .py file)")
+        return str(path)
+    return spec
+
+
+def load(spec: str) -> str:
+    """Import the plug-in `spec` (a module name, or a .py file), which registers its scenes, terms and studies;
+    remember which names it registered. Loading a spec twice imports it once. Returns the spec as resolved (a file's
+    absolute path), which is what a summary.json records."""
+    if not isinstance(spec, str) or not spec.strip():
+        raise ParameterError(f"--plugin must name a module or a .py file, got {spec!r}")
+    resolved = _resolve(spec.strip())
+    if resolved in _LOADED:
+        return resolved
+    before = _names()
+    try:
+        if resolved.endswith(".py"):
+            path = Path(resolved)
+            module_name = f"elastoactive_plugin_{path.stem}_{abs(hash(resolved)):x}"
+            found = importlib.util.spec_from_file_location(module_name, path)
+            module = importlib.util.module_from_spec(found)
+            sys.modules[module_name] = module  # registered objects' classes stay importable (pickling, workers)
+            try:
+                found.loader.exec_module(module)
+            except BaseException:
+                sys.modules.pop(module_name, None)
+                raise
+        else:
+            module_name = importlib.import_module(resolved).__name__
+    except ModuleNotFoundError as err:
+        if err.name and resolved.startswith(err.name):
+            raise ParameterError(f"--plugin: no module named {resolved!r} (give a module name or a .py file)") from None
+        raise
+    except ParameterError:
+        raise
+    except (SyntaxError, ValueError, TypeError, AttributeError, ImportError) as err:
+        raise ParameterError(f"--plugin {spec}: it did not load ({type(err).__name__}: {err})") from None
+    _LOADED[resolved] = module_name
+    for kind, names in _names().items():
+        for name in names - before[kind]:
+            _SOURCES[(kind, name)] = resolved
+    return resolved
+
+
+def source(kind: str, name: str) -> str | None:
+    """The spec of the plug-in (`load`) that registered `name` in registry `kind`; None for the package's own and
+    for entry points (found again without being named)."""
+    return _SOURCES.get((kind, name))
+
+
+def needed(physics) -> list[str]:
+    """The plug-ins (`load` specs) a run of `physics` needs to be re-created: its scene's, and those of the terms
+    that act in it or whose parameters it records."""
+    recorded = set(physics.relevant())
+    specs = [source("scenes", physics.scene)]
+    for term in terms.terms():
+        if term.active(physics) or any(p.name in recorded for p in term.parameters):
+            specs.append(source("terms", term.name))
+    return list(dict.fromkeys(s for s in specs if s))

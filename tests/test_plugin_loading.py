@@ -1,0 +1,208 @@
+"""Plug-ins from outside the package: a term written in a file of the working folder runs from the command line
+(``--plugin``) in both engines, a run records the plug-ins it needs so that ``run --from`` loads them, and terms,
+scenes and studies declared as entry points of an installed distribution join the registries when first listed.
+"""
+
+import json
+import subprocess
+import sys
+import textwrap
+
+import pytest
+
+import elastoactive as ea
+from elastoactive import plugins, registry
+from elastoactive.cli import main
+from elastoactive.cli.options import preload_plugins
+
+TETHER = '''
+"""A position-dependent force: the tip pulled toward an anchor by a spring of rest length 0, F = -k (r_tip - a)."""
+
+import numpy as np
+
+import elastoactive as ea
+from elastoactive.parameters import Parameter
+from elastoactive.terms import Term
+
+
+class Tether(Term):
+    name = "NAME"
+    summary = "the tip on a spring to an anchor"
+    parameters = (
+        Parameter("PREFIX_k", 0.0, "the tether's stiffness (C1 / l^2)", low=0.0, quiet_default=True),
+        Parameter("PREFIX_x", 3.0, "the anchor's x (l)", quiet_default=True),
+        Parameter("PREFIX_y", 2.0, "the anchor's y (l)", quiet_default=True),
+    )
+    observables = ("PREFIX_tip_y",)
+
+    def build(self, spec, physics, numerics):  # MuJoCo: a spatial tendon of rest length 0, anchor to tip site
+        anchor = [physics.PREFIX_x, physics.PREFIX_y, 0.0]
+        spec.worldbody.add_site(name="PREFIX_anchor", pos=anchor)
+        tendon = spec.add_tendon(name="PREFIX", stiffness=[physics.PREFIX_k, 0, 0], springlength=[0.0, 0.0])
+        tendon.wrap_site("PREFIX_anchor")
+        tendon.wrap_site(f"particle_{physics.n - 1}")
+
+    def node_forces(self, physics):  # the reduced model: the same force, from the particles' positions
+        anchor = np.array([physics.PREFIX_x, physics.PREFIX_y])
+
+        def forces(positions):
+            out = np.zeros_like(positions)
+            out[physics.n - 1] = -physics.PREFIX_k * (positions[physics.n - 1] - anchor)
+            return out
+
+        return forces
+
+    def measure(self, traj, transient):
+        keep = traj.t >= transient
+        return {"PREFIX_tip_y": float(np.sin(traj.theta[keep, : traj.physics.n]).sum(axis=1).mean())}
+
+
+ea.terms.register(Tether())
+'''
+
+
+def tether_source(name: str, prefix: str) -> str:
+    return TETHER.replace("NAME", name).replace("PREFIX", prefix)
+
+
+def _forget(spec: str) -> None:
+    """Unregister what the plug-in `spec` registered and let it load again."""
+    for (kind, name), source in list(plugins._SOURCES.items()):
+        if source == spec:
+            {"terms": ea.terms.unregister, "scenes": ea.scenes.unregister}[kind](name)
+            del plugins._SOURCES[(kind, name)]
+    module = plugins._LOADED.pop(spec, None)
+    sys.modules.pop(module, None)
+
+
+@pytest.fixture
+def tether_file(tmp_path, monkeypatch):
+    """tether.py in a temporary working folder (outside the package), unregistered afterwards."""
+    (tmp_path / "tether.py").write_text(tether_source("test-tether", "tether"))
+    monkeypatch.chdir(tmp_path)
+    yield tmp_path / "tether.py"
+    _forget(str((tmp_path / "tether.py").resolve()))
+
+
+def test_a_term_in_a_file_runs_from_the_cli_in_both_engines(tether_file, capsys):
+    """A position-dependent force written outside the package: MuJoCo (a tendon) and the reduced model (node
+    forces) bend the chain alike within 1%; the summary records the plug-in, so `run --from` needs no --plugin."""
+    tips = {}
+    for engine in ("mujoco", "reduced"):
+        out = tether_file.parent / engine
+        argv = ["run", "one-pinned", "--plugin", "tether.py", "--n", "4", "--sigma", "0.3", "--tether-k", "0.5"]
+        assert main([*argv, "--duration", "10", "--engine", engine, "--quiet", "--out", str(out)]) == 0
+        summary = json.loads((out / "summary.json").read_text())
+        assert summary["plugins"] == [str(tether_file.resolve())]
+        assert summary["parameters"]["tether_k"] == 0.5
+        tips[engine] = summary["results"]["tether_tip_y"]
+    assert tips["reduced"] > 1.0  # the tether pulls the tip up (the chain lies along x without it)
+    assert tips["mujoco"] == pytest.approx(tips["reduced"], rel=0.01)
+    capsys.readouterr()
+    # a fresh process, no --plugin: the record names the file, which --from loads before reading the options
+    rerun = subprocess.run(
+        [sys.executable, "-m", "elastoactive", "run", "--from", str(tether_file.parent / "reduced"), "--quiet"],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        cwd=tether_file.parent.parent,
+    )
+    assert rerun.returncode == 0, rerun.stderr
+    assert json.loads(rerun.stdout)["tether_tip_y"] == pytest.approx(tips["reduced"], rel=1e-6)
+    # render (any run named on the command line) loads the plug-ins its record names
+    spec = str(tether_file.resolve())
+    _forget(spec)
+    assert "test-tether" not in ea.terms.names()
+    preload_plugins(["render", str(tether_file.parent / "mujoco"), "--still", "tip.png"])
+    assert "test-tether" in ea.terms.names() and plugins.source("terms", "test-tether") == spec
+
+
+def test_a_term_in_a_file_is_swept(tether_file, capsys):
+    out = tether_file.parent / "sweep.nc"
+    argv = ["sweep", "one-pinned", "--plugin", "tether.py", "--n", "4", "--grid", "tether_k=0.5", "--duration", "10"]
+    assert main([*argv, "--engine", "reduced", "--workers", "1", "--quiet", "--out", str(out)]) == 0
+    import xarray as xr
+
+    with xr.open_dataset(out) as ds:
+        assert ds["tether_k"].attrs["long_name"].startswith("the tether's stiffness")
+        assert float(ds["amplitude"].values.ravel()[0]) >= 0
+
+
+def test_plugin_before_the_command_and_its_options_in_help(tether_file, capsys):
+    with pytest.raises(SystemExit):
+        main(["--plugin=tether.py", "run", "--help"])
+    assert "--tether-k" in capsys.readouterr().out
+
+
+def test_a_plugin_that_is_not_there_is_one_error_line(tmp_path, monkeypatch, capsys):
+    monkeypatch.chdir(tmp_path)
+    assert main(["run", "one-pinned", "--plugin", "absent.py"]) == 2
+    assert capsys.readouterr().err.strip().splitlines() == [
+        "elastoactive: error: --plugin: absent.py is not a file (give a module name or a .py file)"
+    ]
+    assert main(["run", "one-pinned", "--plugin", "no_such_plugin_module"]) == 2
+    assert "no module named 'no_such_plugin_module'" in capsys.readouterr().err
+
+
+def test_a_run_needs_no_plugin_it_does_not_use(tether_file):
+    plugins.load("tether.py")
+    assert plugins.needed(ea.Physics(n=5)) == []
+    assert plugins.needed(ea.Physics(n=5, tether_k=0.1)) == [str(tether_file.resolve())]
+
+
+def _distribution(folder, group: str, entry: str) -> None:
+    """An installed distribution in `folder` (a .dist-info folder) declaring one entry point of `group`."""
+    info = folder / "toy_elastoactive_plugin-0.1.dist-info"
+    info.mkdir()
+    (info / "METADATA").write_text("Metadata-Version: 2.1\nName: toy-elastoactive-plugin\nVersion: 0.1\n")
+    (info / "entry_points.txt").write_text(f"[{group}]\n{entry}\n")
+
+
+@pytest.fixture
+def fresh_group(monkeypatch):
+    """The entry points of every registry load again at their next listing (as in a fresh process)."""
+    monkeypatch.setitem(registry._entry_points, "loaded", set())
+
+
+def test_an_entry_point_term_is_found(tmp_path, monkeypatch, fresh_group):
+    (tmp_path / "toy_ep_tether.py").write_text(tether_source("entry-tether", "ep_tether"))
+    _distribution(tmp_path, "elastoactive.terms", "entry-tether = toy_ep_tether")
+    monkeypatch.syspath_prepend(str(tmp_path))
+    try:
+        assert "entry-tether" in ea.terms.names()
+        assert ea.Physics(n=5, ep_tether_k=0.1).ep_tether_k == 0.1
+    finally:
+        ea.terms.unregister("entry-tether")
+        sys.modules.pop("toy_ep_tether", None)
+
+
+def test_an_entry_point_object_is_registered(tmp_path, monkeypatch, fresh_group):
+    """An entry point naming a Scene (not a module that registers it): registered when the scenes are listed."""
+    (tmp_path / "toy_ep_scene.py").write_text(
+        textwrap.dedent(
+            """
+            from elastoactive.scenes.one_pinned import OnePinned
+
+            class Copy(OnePinned):
+                name = "entry-copy"
+            """
+        )
+    )
+    _distribution(tmp_path, "elastoactive.scenes", "entry-copy = toy_ep_scene:Copy")
+    monkeypatch.syspath_prepend(str(tmp_path))
+    try:
+        assert ea.scenes.get("entry-copy").name == "entry-copy"
+        assert "entry-copy" in ea.scenes.names()
+    finally:
+        ea.scenes.unregister("entry-copy")
+        sys.modules.pop("toy_ep_scene", None)
+
+
+def test_a_broken_entry_point_warns_and_the_others_load(tmp_path, monkeypatch, fresh_group):
+    _distribution(tmp_path, "elastoactive.studies", "broken = no_such_module_here")
+    monkeypatch.syspath_prepend(str(tmp_path))
+    from elastoactive.studies import registry as studies
+
+    with pytest.warns(RuntimeWarning, match="'broken'"):
+        names = studies.names()
+    assert "hopf" in names

@@ -337,7 +337,9 @@ class Numerics:
         if self.perturbation < 0:
             raise ParameterError(f"perturbation must be >= 0, got {self.perturbation}")
         if not self.sample_dt > 0:
-            raise ParameterError(f"sample_dt (spacing of the recorded samples, in tau) must be > 0, got {self.sample_dt}")
+            raise ParameterError(
+                f"sample_dt (spacing of the recorded samples, in tau) must be > 0, got {self.sample_dt}"
+            )
         ratio = self.sample_dt / self.dt
         if isinstance(self.dt, _Unset) and (ratio < 1 or abs(ratio - round(ratio)) > 1e-6 * ratio):
             # dt left at its default: the largest whole fraction of sample_dt below it (the reduced engine, which has

@@ -71,6 +71,7 @@ def study_scenes() -> tuple[str, ...]:
     scene at the defaults)."""
     return tuple(name for name in scene_names() if get_scene(name).paper)
 
+
 DEFAULT_MUJOCO = dict(integrator="implicitfast", dt=Numerics().dt, mass_ratio=Numerics().mass_ratio)
 FAST_MUJOCO = dict(integrator="implicitfast", dt=PRESETS["fast"]["dt"], mass_ratio=PRESETS["fast"]["mass_ratio"])
 DEFAULT_REDUCED = dict(method="numba-DOP853", rtol=1e-9)

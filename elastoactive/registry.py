@@ -15,6 +15,7 @@ import types
 import warnings
 from typing import Protocol
 
+from . import observables as _observables
 from . import parameters as _parameters
 
 
@@ -96,12 +97,14 @@ def register(scene: Scene, *, replace: bool = False) -> Scene:
                 f"scene {name!r} names the parameter {spec!r}, which nothing declares "
                 "(declare it as an elastoactive.parameters.Parameter in the scene's parameters)"
             )
+    declared = (*getattr(scene, "observables", ()), *getattr(scene, "occasional_observables", ()))
+    _observables.declare(declared, f"scene {name}")  # its specs, or names of declared ones
     _SCENES[name] = scene
     return scene
 
 
 def unregister(name: str) -> None:
-    """Remove a scene and the parameter specs it declared (tests that register a toy scene clean up with this)."""
+    """Remove a scene and the parameter and observable specs it declared (a test's toy scene cleans up with this)."""
     scene = _SCENES.pop(name, None)
     for spec in getattr(scene, "parameters", ()):
         if (
@@ -110,6 +113,8 @@ def unregister(name: str) -> None:
             and _parameters.owner(spec.name) == f"scene {name}"
         ):
             _parameters.unregister(spec.name)
+    declared = (*getattr(scene, "observables", ()), *getattr(scene, "occasional_observables", ()))
+    _observables.withdraw(declared, f"scene {name}")
 
 
 def _register_new(scene: Scene) -> None:

@@ -13,133 +13,18 @@ from pathlib import Path
 
 import numpy as np
 
-from . import quantities
-from .analysis import dish, spectrum
+from . import observables, quantities
 from .analysis import observables as obs
-from .analysis import star as star_sync
+from .analysis import spectrum
 from .errors import ParameterError
 from .io.jsonio import to_jsonable
 from .io.outputs import sha256, write_files
+from .observables import HARMONICS
 from .params import MIN_SAMPLES, Numerics, Physics
 from .sensitivity import estimate as estimate_sensitivity
 from .sensitivity import needs_estimate
 from .terms.base import fastest_term
 from .trajectory import Trajectory
-
-
-@dataclass(frozen=True)
-class Observable:
-    """What an observable means: netCDF attributes and how validate compares two values of it."""
-
-    units: str
-    long_name: str
-    per_chain: bool = False  # one value per chain for a coupled pair
-    error: str = "relative"  # validate: "relative" (absolute below `floor`), "absolute", or "none" (not compared)
-    floor: float = 1e-3
-    categories: tuple[str, ...] = ()  # a categorical observable's values (a sweep stores their index)
-    min_n: int = 1  # fewest particles per chain for which the observable is defined
-
-
-HARMONICS = 5
-"""Harmonics of Theta every run reports (Results.harmonics)."""
-
-OBSERVABLES: dict[str, Observable] = {
-    "amplitude": Observable("rad", "amplitude of Theta = theta_N - theta_1 (half peak-to-peak)", per_chain=True),
-    "frequency": Observable("1/tau", "oscillation frequency f*tau of Theta", per_chain=True),
-    "snap_amplitude": Observable("rad", "standard deviation of theta_3 (self-snapping; NaN for n < 3)"),
-    "rotation_rate": Observable("rad/tau", "mean d theta_1 / dt", floor=1e-6),
-    "frequency_mismatch": Observable(
-        "1/tau", "f_2 - f_1 from the Hilbert phases (NaN unless both oscillate)", error="absolute"
-    ),
-    "period_spread": Observable(
-        "1", "std / mean of the cycle periods of Theta (NaN with fewer than 2 cycles)", per_chain=True, error="none"
-    ),
-    "harmonics": Observable(
-        "1",
-        f"amplitudes of harmonics 1-{HARMONICS} of Theta relative to the fundamental (NaN without a periodic beat)",
-        per_chain=True,
-        error="none",
-    ),
-    "contact_fraction": Observable(
-        "1",
-        "share of recorded samples with at least one self-contact (overlapping capsules of non-adjacent links)",
-        error="absolute",
-        floor=0.0,
-    ),
-    "min_clearance": Observable(
-        "l",
-        "smallest clearance between capsules of non-adjacent links over the measured window (negative: overlap)",
-        error="none",
-    ),
-    "centre_drift": Observable(
-        "l/tau",
-        "mean speed of the free ring's centre (the mean of its particles) over the measured window",
-        error="absolute",
-        floor=0.0,
-    ),
-    "orbit_rate": Observable(
-        "rad/tau", "mean angular velocity of the N particles' centre of mass about the dish's centre", floor=1e-6
-    ),
-    "orbit_radius": Observable(
-        "l", "mean distance of the N particles' centre of mass from the dish's centre", floor=1e-3
-    ),
-    "curvature": Observable(
-        "1/l", "mean curvature of the chain (theta_{i+1} - theta_i per l, signed)", floor=1e-4, min_n=2
-    ),
-    "dish_state": Observable(
-        "1", "state of the chain in the dish (analysis.dish.dish_state)", error="none", categories=dish.STATES
-    ),
-    # network scenes (analysis.network.observables)
-    "polarization": Observable("1", "time mean of the active units' polar order |<n_i>|", error="absolute", floor=0.0),
-    "polarity_rate": Observable("rad/tau", "mean turning rate d psi / dt of the active units (signed)", floor=1e-4),
-    "polarity_speed": Observable(
-        "rad/tau", "mean |d psi / dt| of the active units: how fast they turn, either way", floor=1e-4
-    ),
-    "actuation": Observable(
-        "1",
-        "coherence of the units' turning |<d psi/dt>| / <|d psi/dt|> (1: collective actuation, 0: still)",
-        error="absolute",
-        floor=0.0,
-    ),
-    "condensation": Observable(
-        "1", "share of the elastic energy on the two most energetic normal modes", error="absolute", floor=0.0
-    ),
-    "dominant_mode": Observable(
-        "1",
-        "rank by stiffness (1: softest) of the most energetic normal mode of the deformation (0: none, undeformed)",
-        error="none",
-    ),
-    "second_mode": Observable(
-        "1", "rank by stiffness of the second most energetic normal mode (0: none)", error="none"
-    ),
-    "patch_rotation_rate": Observable("rad/tau", "mean rate of the patch's rigid rotation (least squares)", floor=1e-4),
-    "patch_drift": Observable(
-        "a/tau", "mean speed of the patch's centroid (its rigid translation) over the measured window", floor=1e-4
-    ),
-    "sync_order": Observable(
-        "1",
-        "the star's Kuramoto order parameter R_1 of the arms' beat phases (1: in phase; NaN unless every arm beats)",
-        error="absolute",
-    ),
-    "splay_order": Observable(
-        "1", "R_k of the star's arms' phases (1 with R_1 = 0: a k-fold splay state)", error="absolute"
-    ),
-    "phase_locking": Observable(
-        "1",
-        "smallest phase-locking value of the star's arms against arm 1 (1: steady "
-        "phase differences; NaN for uncoupled arms on a clamped hub)",
-        error="absolute",
-    ),
-    "phase_lag": Observable(
-        "rad", "mean phase of each of the star's arms behind arm 1, in (-pi, pi]", per_chain=True, error="none"
-    ),
-    "sync_state": Observable(
-        "1", "state of the star's arms (analysis.star.sync_state)", error="none", categories=star_sync.SYNC_STATES
-    ),
-    "hub_amplitude": Observable("rad", "half peak-to-peak of the star's hub angle phi (0 for a clamped hub)"),
-    "hub_rate": Observable("rad/tau", "mean d phi / dt of the star's hub (a star spinning as a whole)", floor=1e-6),
-}
-"""Every observable a scene can report, in one place (Scene.observables names them)."""
 
 PerChain = float | tuple[float, ...]
 
@@ -175,6 +60,9 @@ RIGID_FRACTION = 1e-3
 """A turning chain whose Theta oscillates by less than this fraction of the angle it turns through in one period of
 that oscillation (over the window, without a period) turns rigidly: the residue is the solver's jitter or the last of
 a transient decaying onto the rigid turn, not a beat; frequency is null and a note gives the residue."""
+TURNING = "rotation_rate"
+"""The observable whose value, when a scene reports it, is the chain's rigid turning rate (rad/tau) that RIGID_TURN
+and RIGID_FRACTION judge; without it the slope of each chain's first angle is used."""
 
 
 @dataclass(frozen=True)
@@ -192,13 +80,13 @@ class Results:
     period_spread         std / mean of the cycle periods of Theta (per chain; NaN below 2 cycles)
     harmonics             amplitudes of harmonics 1 .. HARMONICS of Theta relative to the fundamental (element 0
                           is 1; per chain for the pair); NaN without a periodic beat (analysis.spectrum)
-    contact_fraction      with self-contact on: the share of recorded samples (after the transient) with at least
-                          one overlap between capsules of non-adjacent links; min_clearance: their smallest
-                          clearance (negative: the deepest overlap). Measured on the trajectory's geometry, the
-                          same way for both engines
     notes                 what a user should know about these numbers (the CLI prints them as warnings)
-    the rest              set only for the scenes that report them (Scene.observables), else None
-    extra                 observables of plug-in scenes not listed in OBSERVABLES
+    extra                 the scene's and the active terms' own observables (Scene.measure_extra, Term.measure), in
+                          the order measured: the scene's, then each term's; their meaning is their spec
+                          (elastoactive.observables: declared by the scene or term that measures them)
+
+    A declared observable also reads as an attribute (results.rotation_rate, results.contact_fraction): its value in
+    `extra`, None when this run did not measure it.
     """
 
     amplitude: PerChain
@@ -207,19 +95,17 @@ class Results:
     period_spread: PerChain = math.nan
     notes: tuple[str, ...] = ()
     harmonics: tuple[float, ...] | tuple[tuple[float, ...], ...] = ()
-    snap_amplitude: float | None = None
-    rotation_rate: float | None = None
-    frequency_mismatch: float | None = None
-    contact_fraction: float | None = None
-    min_clearance: float | None = None
-    orbit_rate: float | None = None
-    orbit_radius: float | None = None
-    curvature: float | None = None
-    dish_state: str | None = None
     extra: Mapping[str, float] = field(default_factory=dict)
 
+    def __getattr__(self, name: str):
+        """A declared observable that is not a field: its value in `extra` (None when not measured)."""
+        if name.startswith("_") or name == "extra" or not observables.known(name):
+            raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
+        return self.extra.get(name)
+
     def as_dict(self) -> dict:
-        """The observables that are set, as summary.json's `results` holds them (lists per chain)."""
+        """The observables that are set, as summary.json's `results` holds them (lists per chain): the beat's, the
+        notes, then `extra` in its order."""
         out: dict = {}
         for f in fields(self):
             value = getattr(self, f.name)
@@ -230,10 +116,14 @@ class Results:
         return out
 
     def value(self, name: str):
-        """An observable by name (for code that loops over Scene.observables)."""
-        if name in {f.name for f in fields(self)} and name != "extra":
+        """An observable by name (for code that loops over Scene.observables): a field, else its value in `extra`
+        (None when not measured)."""
+        if name in _FIELDS:
             return getattr(self, name)
         return self.extra.get(name)
+
+
+_FIELDS = frozenset(f.name for f in fields(Results)) - {"extra"}
 
 
 def _listed(value):
@@ -260,10 +150,9 @@ def measure(traj: Trajectory, transient: float | None = None) -> Results:
     extra = scene.measure_extra(traj, transient)
     for term in physics.active_terms():  # the terms' own observables (self-contact's clearance, a plug-in's)
         extra.update(term.measure(traj, transient))
-    known = {k: extra.pop(k) for k in list(extra) if k in _RESULT_FIELDS}
     window = float(t[-1] - t[0] - transient)
-    turns = _turning(traj, transient, known.get("rotation_rate"))
-    reported = "rotation_rate" in known
+    turns = _turning(traj, transient, extra.get(TURNING))
+    reported = TURNING in extra
     beats = [_rigid(b, rate, window, reported) for b, rate in zip(beats, turns)]
     verdicts = [b.periodic for b in beats]
     periodic = False if False in verdicts else (None if None in verdicts else True)
@@ -279,7 +168,7 @@ def measure(traj: Trajectory, transient: float | None = None) -> Results:
     else:
         amplitude, frequency, spread = (tuple(c) for c in columns)
     harmonics = spectra[0] if physics.n_chains == 1 else tuple(spectra)
-    return Results(amplitude, frequency, periodic, spread, tuple(notes), harmonics, **known, extra=extra)
+    return Results(amplitude, frequency, periodic, spread, tuple(notes), harmonics, extra=extra)
 
 
 ALIASING = 1.0
@@ -484,19 +373,6 @@ def _rigid(beat: _Beat, rotation_rate: float | None, window: float, reported: bo
     )
 
 
-_RESULT_FIELDS = {
-    "snap_amplitude",
-    "rotation_rate",
-    "frequency_mismatch",
-    "contact_fraction",
-    "min_clearance",
-    "orbit_rate",
-    "orbit_radius",
-    "curvature",
-    "dish_state",
-}
-
-
 def check_transient(duration: float, transient: float | None, times: np.ndarray | None = None) -> float:
     """The transient a run will discard: default half the run; refused unless 0 <= transient < duration and, given
     the run's sample times (from its start), unless at least MIN_SAMPLES samples remain after it to be measured."""
@@ -520,8 +396,9 @@ def check_transient(duration: float, transient: float | None, times: np.ndarray 
 
 def check_measurable(physics: Physics) -> None:
     """Refuse, before simulating, a chain too short for one of its scene's observables (Observable.min_n)."""
-    for name in physics.scene_def.observables:
-        need = OBSERVABLES[name].min_n if name in OBSERVABLES else 1
+    for name in physics.scene_def.observable_names():
+        spec = observables.find(name)
+        need = spec.min_n if spec is not None else 1
         if physics.n < need:
             raise ParameterError(
                 f"n = {physics.n} is too short for scene {physics.scene}: it measures {name}, which needs "

@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 import elastoactive as ea
+from elastoactive import observables
 from elastoactive.errors import ParameterError
 from elastoactive.results import load_trajectory, summary, write_run
 from elastoactive.scenes.trap import orbit
@@ -131,7 +132,6 @@ def test_polarity_speed_reports_how_fast_units_turn_either_way():
     """Half the units turning one way, half the other: the signed mean rate is ~0, but the units turn at their rate;
     polarity_speed (mean |dpsi/dt|) says so beside it, and actuation is their ratio. Declared as every observable."""
     from elastoactive.analysis.network import observables as nobs
-    from elastoactive.results import OBSERVABLES
 
     t = np.linspace(0.0, 50.0, 1001)
     rates = np.array([0.5, -0.5, 0.55, -0.55, 0.5, -0.5])
@@ -140,7 +140,7 @@ def test_polarity_speed_reports_how_fast_units_turn_either_way():
     assert nobs.polarity_speed(t, psi) == pytest.approx(np.abs(rates).mean(), rel=1e-9)
     assert nobs.actuation(t, psi) < 1e-9
     for scene in ("lattice", "trapped-unit"):
-        assert "polarity_speed" in ea.scenes.get(scene).observables and "polarity_speed" in OBSERVABLES
+        assert "polarity_speed" in ea.scenes.get(scene).observable_names() and observables.known("polarity_speed")
 
 
 def _degenerate_pair():
@@ -212,7 +212,7 @@ def test_a_patch_moving_rigidly_is_measured_apart_from_its_deformation(boundary,
     assert res.amplitude < 1e-9 and res.frequency == 0.0
     assert res.extra["dominant_mode"] == 0.0 and res.extra["second_mode"] == 0.0
     assert math.isnan(res.extra["condensation"])
-    assert "patch_drift" in ea.scenes.get("lattice").observables
+    assert "patch_drift" in ea.scenes.get("lattice").observable_names()
 
 
 def test_a_free_patch_drifts_at_sigma_in_the_reduced_engine():

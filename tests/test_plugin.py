@@ -12,7 +12,11 @@ import pytest
 import xarray as xr
 
 import elastoactive as ea
+from elastoactive import observables
+from elastoactive.checks.validate import observable_errors
 from elastoactive.cli import main
+from elastoactive.observables import Observable
+from elastoactive.results import Results, load_trajectory
 from elastoactive.scenes.base import Scene, ValidationCase
 from elastoactive.sweep import run_sweep
 
@@ -139,3 +143,89 @@ def test_toy_through_sweep(toy, tmp_path):
     assert ds["amplitude"].dims == ("kappa", "chain")
     with xr.open_dataset(path, engine="h5netcdf") as saved:
         np.testing.assert_array_equal(saved["rotation_rate"].values, ds["rotation_rate"].values)
+
+
+TIP_ANGLE = Observable(
+    "toy_tip_angle", "rad", "time mean of the last pendulum's angle theta_N (a test's toy observable)", error="absolute"
+)
+
+
+class TipAngle(Scene):
+    """A clamped chain (the base Scene's) that reports an observable it declares itself."""
+
+    name = "toy-tip-angle"
+    summary = "a clamped chain reporting the mean angle of its last pendulum (a test's toy scene)"
+    base_file = "one-pinned.xml"
+    observables = (TIP_ANGLE,)
+
+    def measure_extra(self, traj, transient):
+        keep = traj.t >= transient
+        return {"toy_tip_angle": float(traj.theta[keep, traj.physics.n - 1].mean())}
+
+
+@pytest.fixture
+def tip_scene():
+    scene = ea.scenes.register(TipAngle())
+    yield scene
+    ea.scenes.unregister(scene.name)
+
+
+def test_own_observable_through_run(tip_scene, tmp_path):
+    out = tmp_path / "run"
+    args = ["run", tip_scene.name, "--n", "3", "--sigma", "0.5", "--duration", "10", "--engine", "reduced"]
+    assert main([*args, "--out", str(out), "--quiet"]) == 0
+    results = json.loads((out / "summary.json").read_text())["results"]
+    assert list(results)[-1] == "toy_tip_angle" and abs(results["toy_tip_angle"]) < 1.0
+    measured = ea.measure(load_trajectory(out))
+    assert measured.toy_tip_angle == measured.value("toy_tip_angle") == measured.extra["toy_tip_angle"]
+
+
+def test_own_observable_through_sweep(tip_scene, tmp_path):
+    path = tmp_path / "tip.nc"
+    ds = run_sweep(
+        tip_scene.name,
+        {"sigma": [0.3, 0.5]},
+        fixed={"n": 3},
+        engine="reduced",
+        duration=10.0,
+        out=path,
+        workers=1,
+        progress=False,
+    )
+    assert (ds["status"].values == "ok").all() and np.isfinite(ds["toy_tip_angle"].values).all()
+    with xr.open_dataset(path, engine="h5netcdf") as saved:
+        assert saved["toy_tip_angle"].attrs == {"units": "rad", "long_name": TIP_ANGLE.long_name}
+
+
+def test_own_observable_compared_by_its_spec(tip_scene):
+    """validate compares a plug-in's observable as its spec says (here absolutely: NAME_abs)."""
+    physics = ea.Physics(scene=tip_scene.name, n=3)
+    a, b = (Results(0.1, 0.2, True, extra={"toy_tip_angle": v}) for v in (0.25, 0.5))
+    assert observable_errors(physics, a, b)["toy_tip_angle_abs"] == pytest.approx(0.25)
+
+
+def test_own_observable_withdrawn_with_its_scene():
+    scene = ea.scenes.register(TipAngle())
+    assert observables.get("toy_tip_angle") is TIP_ANGLE and observables.owner("toy_tip_angle") == f"scene {scene.name}"
+    ea.scenes.unregister(scene.name)
+    assert not observables.known("toy_tip_angle") and observables.known("rotation_rate")  # named, not owned, by toys
+
+
+def test_a_scene_naming_an_undeclared_observable_is_refused():
+    class Vague(TipAngle):
+        name = "toy-vague"
+        observables = ("nothing_declares_this",)
+
+    with pytest.raises(ValueError, match="scene toy-vague names the observable 'nothing_declares_this'"):
+        ea.scenes.register(Vague())
+    assert "toy-vague" not in ea.scenes.names()
+
+
+def test_a_taken_observable_name_is_refused():
+    class Clash(TipAngle):
+        name = "toy-clash"
+        observables = (Observable("rotation_rate", "rad", "not the rotating pin's"),)
+
+    with pytest.raises(ValueError, match="observable named 'rotation_rate' is already declared by scene rotating-pin"):
+        ea.scenes.register(Clash())
+    assert observables.get("rotation_rate").units == "rad/tau"

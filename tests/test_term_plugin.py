@@ -11,9 +11,12 @@ import json
 
 import numpy as np
 import pytest
+import xarray as xr
 
 import elastoactive as ea
+from elastoactive import observables
 from elastoactive.cli import main
+from elastoactive.observables import Observable
 from elastoactive.parameters import Parameter
 from elastoactive.scenes.base import ValidationCase
 from elastoactive.sweep import run_sweep
@@ -27,7 +30,9 @@ class UniformField(Term):
         Parameter("field_x", 0.0, "uniform force on every particle, x component (C1 / l)", quiet_default=True),
         Parameter("field_y", 0.0, "uniform force on every particle, y component (C1 / l)", quiet_default=True),
     )
-    observables = ("tip_y",)
+    observables = (
+        Observable("tip_y", "l", "mean height of the chain's tip above the clamp (a test's toy observable)"),
+    )
 
     def build(self, spec, physics, numerics):
         import mujoco
@@ -126,6 +131,38 @@ def test_field_through_sweep(field, tmp_path):
     tip = ds["tip_y"].values
     assert tip[1] > tip[0] > 0
     assert ds["field_y"].attrs["long_name"].startswith("uniform force on every particle")
+    assert ds["tip_y"].attrs == {"units": "l", "long_name": UniformField.observables[0].long_name}
+    with xr.open_dataset(tmp_path / "field.nc", engine="h5netcdf") as saved:  # the file, not only the Dataset
+        assert saved["tip_y"].attrs["units"] == "l" and saved["tip_y"].attrs["long_name"].startswith("mean height")
+
+
+def test_observable_declared_only_while_registered(field):
+    assert (
+        observables.get("tip_y") is UniformField.observables[0] and observables.owner("tip_y") == f"term {field.name}"
+    )
+    tr = ea.simulate(ea.Physics(n=3, sigma=0.3, field_y=0.05), duration=5.0, engine="reduced")
+    assert ea.measure(tr).tip_y == ea.measure(tr).value("tip_y") == ea.measure(tr).as_dict()["tip_y"]
+
+
+def test_observable_withdrawn_with_its_term():
+    term = ea.terms.register(UniformField())
+    assert observables.known("tip_y")
+    ea.terms.unregister(term.name)
+    assert not observables.known("tip_y") and observables.known("contact_fraction")
+    res = ea.measure(ea.simulate(ea.Physics(n=3), duration=2.0, engine="reduced"))
+    with pytest.raises(AttributeError, match="tip_y"):
+        res.tip_y  # noqa: B018  (the attribute access is what is tested)
+    assert res.contact_fraction is None  # declared, not measured without contact
+
+
+def test_a_term_naming_an_undeclared_observable_is_refused():
+    class Vague(Term):
+        name = "toy-vague"
+        observables = ("nothing_declares_this",)
+
+    with pytest.raises(ValueError, match="term toy-vague names the observable 'nothing_declares_this'"):
+        ea.terms.register(Vague())
+    assert "toy-vague" not in ea.terms.names()
 
 
 class StiffTether(Term):

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .. import registry, terms
+from .. import observables, registry, terms
 from ..analysis import observables as obs
 from ..engines.mujoco import simulate_mujoco
 from ..engines.reduced import simulate_reduced
@@ -21,7 +21,7 @@ from ..engines.timestep import PIN_DT3_PER_MASS
 from ..errors import SimulationDiverged
 from ..gate import preflight
 from ..params import Numerics, Physics
-from ..results import OBSERVABLES, Results, default_transient, measure
+from ..results import Results, default_transient, measure
 from ..scenes.base import ValidationCase
 
 
@@ -102,12 +102,13 @@ def _error(value, reference, floor: float) -> float:
 
 def observable_errors(physics: Physics, value: Results, reference: Results) -> dict[str, float]:
     """Errors of the scene's observables against a reference: relative for those validate holds to its
-    tolerance (Scene.compared) and the scene's other relative ones, absolute where OBSERVABLES says so
+    tolerance (Scene.compared) and the scene's other relative ones, absolute where their spec says so
+    (elastoactive.observables: Observable.error)
     (stored as NAME_abs)."""
     scene = physics.scene_def
     errors: dict[str, float] = {}
-    for name in dict.fromkeys((*scene.compared, *scene.observables)):
-        kind = OBSERVABLES[name]
+    for name in dict.fromkeys((*scene.compared, *scene.observable_names())):
+        kind = observables.get(name)
         if kind.error == "none":
             continue
         a, b = _values(value.value(name)), _values(reference.value(name))

@@ -12,8 +12,9 @@ knows everything specific to the scene; the rest of the package asks it (through
                       coupling, keyframes) to the chain(s) that elastoactive.mjcf.chain generates
   reduced model       `reduced_system`: the typed record the reduced solver integrates
   initial state       `initial_angles`
-  observables         `observables` (names) and `measure_extra` (their values); `compared`, the
-                      ones `validate` holds to its tolerance
+  observables         `observables` (elastoactive.observables.Observable specs it declares: name, units, long name,
+                      how validate compares it, ...; or names of declared ones) and `measure_extra` (their
+                      values); `compared`, the ones `validate` holds to its tolerance
   validation          `validation_cases` (paper cases), `extreme_cases` (stability grid)
   linear stability    `onset` and `leading_eigenvalue` of the linear operator about the base state (or
                       `no_linear_operator`: why there is none), `filament`: whether the continuum filament is its
@@ -40,6 +41,7 @@ from ..analysis.network import Network, NetworkState, initial_state
 from ..cases import ValidationCase
 from ..constants import BEAD_INERTIA_FACTOR
 from ..errors import ParameterError
+from ..observables import Observable, names_of
 from ..parameters import Parameter
 from ..parameters import get as parameter_spec
 from ..reduced.system import ChainSystem
@@ -87,8 +89,13 @@ class Scene:
     hang on (the star: MuJoCo's hub hinge, the reduced model's last state variable, Trajectory.head[:, 0])."""
     pinned: ClassVar[bool] = False
     """Whether the last particle is held by a pin (a MuJoCo equality; monitored for drift)."""
-    observables: ClassVar[tuple[str, ...]] = ()
-    """Results beyond amplitude and frequency (their meaning: elastoactive.results.OBSERVABLES)."""
+    observables: ClassVar[tuple[Observable | str, ...]] = ()
+    """Results beyond the beat's (amplitude, frequency, ...: elastoactive.observables.BEAT), values of
+    `measure_extra`: specs the scene declares (registered with the scene), or names of declared ones."""
+    occasional_observables: ClassVar[tuple[Observable | str, ...]] = ()
+    """Observables `measure_extra` reports only for some parameter values (the free ring's centre_drift): declared
+    as `observables` are, but not part of every run's record (a sweep adds the variable when a point first reports it;
+    validate does not compare them)."""
     compared: ClassVar[tuple[str, ...]] = ("amplitude", "frequency")
     """Observables that validate holds to its tolerance (relative error)."""
     no_linear_operator: ClassVar[str] = "no linear operator is written for it"
@@ -112,6 +119,11 @@ class Scene:
     def own_parameter_names(cls) -> tuple[str, ...]:
         """Names of the scene's own parameters (`parameters`)."""
         return tuple(p.name if isinstance(p, Parameter) else p for p in cls.parameters)
+
+    @classmethod
+    def observable_names(cls) -> tuple[str, ...]:
+        """Names of the scene's own observables (`observables`), in the order declared."""
+        return names_of(cls.observables)
 
     def check(self, physics: Physics) -> None:
         """Scene-specific checks of the parameters (the generic ranges are checked by Physics)."""

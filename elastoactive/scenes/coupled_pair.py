@@ -11,11 +11,17 @@ frequency_mismatch f_2 - f_1 from the Hilbert phases.
 from __future__ import annotations
 
 from ..analysis import observables as obs
+from ..observables import Observable
 from ..parameters import Parameter
 from ..params import Numerics, Physics
 from ..reduced.system import ChainSystem
 from ..trajectory import Trajectory
 from .base import Onset, Scene, ValidationCase
+
+FREQUENCY_MISMATCH = Observable(
+    "frequency_mismatch", "1/tau", "f_2 - f_1 from the Hilbert phases (NaN unless both oscillate)", error="absolute"
+)
+"""How far the two chains are from a common frequency (analysis.observables.frequency_mismatch)."""
 
 
 class CoupledPair(Scene):
@@ -46,7 +52,7 @@ class CoupledPair(Scene):
         ),
     )
     n_chains = 2
-    observables = ("frequency_mismatch",)
+    observables = (FREQUENCY_MISMATCH,)
     no_linear_operator = ""
 
     def stiffness(self, physics: Physics) -> tuple[float, ...]:

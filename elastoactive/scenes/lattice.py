@@ -30,6 +30,7 @@ import numpy as np
 from ..analysis.network import BOUNDARIES, MAX_RINGS, Network, hexagonal_patch
 from ..analysis.network import observables as nobs
 from ..errors import ParameterError
+from ..observables import Observable
 from ..parameters import Parameter
 from ..params import Numerics, Physics
 from ..terms.self_aligning import SELF_ALIGNING, turning_rate
@@ -60,14 +61,46 @@ NETWORK_TERMS = ("sigma", "active", "alignment_length")
 SELF_ALIGNING_ONLY = (("active", SELF_ALIGNING, "a network's active units are self-aligning"),)
 
 NETWORK_OBSERVABLES = (
-    "polarization",
-    "polarity_rate",
-    "polarity_speed",
-    "actuation",
-    "condensation",
-    "dominant_mode",
-    "second_mode",
+    Observable("polarization", "1", "time mean of the active units' polar order |<n_i>|", error="absolute", floor=0.0),
+    Observable("polarity_rate", "rad/tau", "mean turning rate d psi / dt of the active units (signed)", floor=1e-4),
+    Observable(
+        "polarity_speed", "rad/tau", "mean |d psi / dt| of the active units: how fast they turn, either way", floor=1e-4
+    ),
+    Observable(
+        "actuation",
+        "1",
+        "coherence of the units' turning |<d psi/dt>| / <|d psi/dt|> (1: collective actuation, 0: still)",
+        error="absolute",
+        floor=0.0,
+    ),
+    Observable(
+        "condensation",
+        "1",
+        "share of the elastic energy on the two most energetic normal modes",
+        error="absolute",
+        floor=0.0,
+    ),
+    Observable(
+        "dominant_mode",
+        "1",
+        "rank by stiffness (1: softest) of the most energetic normal mode of the deformation (0: none, undeformed)",
+        error="none",
+    ),
+    Observable(
+        "second_mode", "1", "rank by stiffness of the second most energetic normal mode (0: none)", error="none"
+    ),
 )
+"""What every network scene measures (analysis.network.observables)."""
+PATCH_OBSERVABLES = (
+    Observable("patch_rotation_rate", "rad/tau", "mean rate of the patch's rigid rotation (least squares)", floor=1e-4),
+    Observable(
+        "patch_drift",
+        "a/tau",
+        "mean speed of the patch's centroid (its rigid translation) over the measured window",
+        floor=1e-4,
+    ),
+)
+"""The patch's rigid motion (the lattice's own)."""
 
 
 class NetworkScene(Scene):
@@ -76,7 +109,7 @@ class NetworkScene(Scene):
     base_file = "network.xml"
     term_parameters: ClassVar[tuple[str, ...]] = NETWORK_TERMS
     fixed: ClassVar[tuple[tuple[str, Any, str], ...]] = SELF_ALIGNING_ONLY
-    observables: ClassVar[tuple[str, ...]] = NETWORK_OBSERVABLES
+    observables: ClassVar[tuple[Observable | str, ...]] = NETWORK_OBSERVABLES
     compared: ClassVar[tuple[str, ...]] = ("amplitude", "frequency", "polarity_rate")
     no_linear_operator = (
         "its fixed points form a family (one per choice of the polarities): "
@@ -158,7 +191,7 @@ class Lattice(NetworkScene):
         "a hexagonal patch of triangular lattice with self-aligning active units (Baconnier et al.'s active solid)"
     )
     parameters = (RINGS, BOUNDARY)
-    observables = NETWORK_OBSERVABLES + ("patch_rotation_rate", "patch_drift")
+    observables = NETWORK_OBSERVABLES + PATCH_OBSERVABLES
 
     def network(self, physics: Physics) -> Network:
         return hexagonal_patch(physics.rings, physics.boundary)

@@ -25,11 +25,13 @@ import numpy as np
 
 from ..analysis import dish
 from ..analysis import observables as obs
+from ..observables import Observable
 from ..parameters import Parameter
 from ..params import Numerics, Physics
 from ..reduced.system import ChainSystem
 from ..trajectory import Trajectory
 from .base import Scene, ValidationCase
+from .rotating_pin import ROTATION_RATE
 
 HEAD_COORDINATES = 2
 """The head's position (x_h, y_h): MuJoCo's two slide joints before the first hinge; in the reduced model
@@ -45,6 +47,24 @@ STATE_MEANING = {
 """What each state of analysis.dish.dish_state means (docs, the phase diagram's legend)."""
 DISH_RINGS = 3
 """Rings of equal height drawn on the dish."""
+
+
+ORBIT_RATE = Observable(
+    "orbit_rate",
+    "rad/tau",
+    "mean angular velocity of the N particles' centre of mass about the dish's centre",
+    floor=1e-6,
+)
+ORBIT_RADIUS = Observable(
+    "orbit_radius", "l", "mean distance of the N particles' centre of mass from the dish's centre", floor=1e-3
+)
+CURVATURE = Observable(
+    "curvature", "1/l", "mean curvature of the chain (theta_{i+1} - theta_i per l, signed)", floor=1e-4, min_n=2
+)
+DISH_STATE = Observable(
+    "dish_state", "1", "state of the chain in the dish (analysis.dish.dish_state)", error="none", categories=dish.STATES
+)
+"""The dish's observables (analysis.dish); the orbit's two are the trapped unit's too."""
 
 
 class Paraboloid(Scene):
@@ -64,7 +84,7 @@ class Paraboloid(Scene):
     )
     clamped = False
     head_coordinates = HEAD_COORDINATES
-    observables = ("rotation_rate", "orbit_rate", "orbit_radius", "curvature", "dish_state")
+    observables = (ROTATION_RATE, ORBIT_RATE, ORBIT_RADIUS, CURVATURE, DISH_STATE)
     no_linear_operator = "a free chain in a dish has no fixed base state (it drifts and turns as a whole)"
     compared = ("rotation_rate", "orbit_rate")
 

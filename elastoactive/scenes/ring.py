@@ -38,12 +38,14 @@ import numpy as np
 from ..analysis import observables as obs
 from ..errors import ParameterError
 from ..initial import pushed_chains
+from ..observables import Observable
 from ..parameters import Parameter
 from ..params import Numerics, Physics
 from ..reduced.constraints import project_on_pins
 from ..reduced.system import ChainSystem
 from ..trajectory import Trajectory
 from .base import Onset, Scene, ValidationCase
+from .rotating_pin import ROTATION_RATE
 from .two_pinned import PIN_SOLIMP
 
 CLOSED = 1.0
@@ -92,6 +94,16 @@ def polygon(n: int) -> np.ndarray:
     return 2.0 * math.pi * np.arange(n) / n
 
 
+CENTRE_DRIFT = Observable(
+    "centre_drift",
+    "l/tau",
+    "mean speed of the free ring's centre (the mean of its particles) over the measured window",
+    error="absolute",
+    floor=0.0,
+)
+"""The free ring's drift (pin = free only)."""
+
+
 class Ring(Scene):
     name = "ring"
     summary = "the chain closed on itself, one particle on a free pin: the ring turns about it"
@@ -100,7 +112,8 @@ class Ring(Scene):
     min_n = 3
     clamped = False
     pinned = True
-    observables = ("rotation_rate",)
+    observables = (ROTATION_RATE,)
+    occasional_observables = (CENTRE_DRIFT,)
     compared = ("rotation_rate",)
     no_linear_operator = ""  # the pinned ring's: its rigid rotation's (the free ring refuses in onset)
 

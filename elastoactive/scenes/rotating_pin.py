@@ -10,9 +10,13 @@ from __future__ import annotations
 import math
 
 from ..analysis import observables as obs
+from ..observables import Observable
 from ..params import Physics
 from ..trajectory import Trajectory
 from .base import Onset, Scene, ValidationCase
+
+ROTATION_RATE = Observable("rotation_rate", "rad/tau", "mean d theta_1 / dt", floor=1e-6)
+"""A chain's rigid turning rate (every scene whose chain turns as a whole reports it: the ring, the dish)."""
 
 
 class RotatingPin(Scene):
@@ -21,7 +25,7 @@ class RotatingPin(Scene):
     summary = "first hinge free (no clamp spring): steady rotation about the pin"
     base_file = "rotating-pin.xml"
     clamped = False
-    observables = ("rotation_rate",)
+    observables = (ROTATION_RATE,)
     compared = ("rotation_rate",)
     no_linear_operator = ""
 

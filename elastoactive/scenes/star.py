@@ -41,6 +41,7 @@ from ..analysis import observables as obs
 from ..analysis import star as sync
 from ..constants import BEAD_INERTIA_FACTOR
 from ..errors import ParameterError
+from ..observables import Observable
 from ..parameters import Parameter
 from ..params import Numerics, Physics
 from ..reduced.system import ChainSystem
@@ -67,6 +68,37 @@ def effective_coupling(hub_stiffness: float, k: int) -> tuple[float, float]:
     phi from sum_j (theta_j - phi)^2 / 2 + hub_stiffness phi^2 / 2 leaves hub_stiffness / (hub_stiffness + k) on each
     arm's first link and 1 / (hub_stiffness + k) between every pair of them (units C1)."""
     return hub_stiffness / (hub_stiffness + k), 1.0 / (hub_stiffness + k)
+
+
+SYNC_ORDER = Observable(
+    "sync_order",
+    "1",
+    "the star's Kuramoto order parameter R_1 of the arms' beat phases (1: in phase; NaN unless every arm beats)",
+    error="absolute",
+)
+SPLAY_ORDER = Observable(
+    "splay_order", "1", "R_k of the star's arms' phases (1 with R_1 = 0: a k-fold splay state)", error="absolute"
+)
+PHASE_LOCKING = Observable(
+    "phase_locking",
+    "1",
+    "smallest phase-locking value of the star's arms against arm 1 (1: steady "
+    "phase differences; NaN for uncoupled arms on a clamped hub)",
+    error="absolute",
+)
+PHASE_LAG = Observable(
+    "phase_lag", "rad", "mean phase of each of the star's arms behind arm 1, in (-pi, pi]", per_chain=True, error="none"
+)
+SYNC_STATE = Observable(
+    "sync_state", "1", "state of the star's arms (analysis.star.sync_state)", error="none", categories=sync.SYNC_STATES
+)
+HUB_AMPLITUDE = Observable(
+    "hub_amplitude", "rad", "half peak-to-peak of the star's hub angle phi (0 for a clamped hub)"
+)
+HUB_RATE = Observable(
+    "hub_rate", "rad/tau", "mean d phi / dt of the star's hub (a star spinning as a whole)", floor=1e-6
+)
+"""The star's observables: its arms' synchronisation (analysis.star) and its hub's motion."""
 
 
 class Star(Scene):
@@ -116,7 +148,7 @@ class Star(Scene):
         ),
     )
     n_chains = MAX_ARMS
-    observables = ("sync_order", "splay_order", "phase_locking", "phase_lag", "sync_state", "hub_amplitude", "hub_rate")
+    observables = (SYNC_ORDER, SPLAY_ORDER, PHASE_LOCKING, PHASE_LAG, SYNC_STATE, HUB_AMPLITUDE, HUB_RATE)
     compared = ("amplitude", "frequency", "hub_amplitude")
     head_coordinates = 1
     no_linear_operator = ""

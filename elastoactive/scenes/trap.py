@@ -24,6 +24,7 @@ from ..params import Physics
 from ..trajectory import Trajectory
 from .base import Onset, ValidationCase
 from .lattice import NetworkScene
+from .paraboloid import ORBIT_RADIUS, ORBIT_RATE
 
 
 def orbit(sigma: float, trap: float, alignment_length: float) -> tuple[float, float]:
@@ -40,7 +41,7 @@ class Trap(NetworkScene):
     name = "trapped-unit"
     summary = "a single self-aligning active unit in a harmonic trap: at rest below Pi = l_e / l_a = 1, orbiting above"
     parameters = ("trap",)
-    observables = NetworkScene.observables + ("orbit_radius", "orbit_rate")
+    observables = NetworkScene.observables + (ORBIT_RADIUS, ORBIT_RATE)
     compared = ("orbit_radius", "orbit_rate")
     no_linear_operator = ""
 
@@ -63,9 +64,9 @@ class Trap(NetworkScene):
         x = traj.nodes[keep, 0, :]
         angle = np.unwrap(np.arctan2(x[:, 1], x[:, 0]))
         t = traj.t[keep]
-        out["orbit_radius"] = float(np.linalg.norm(x, axis=1).mean())
-        out["orbit_rate"] = float((angle[-1] - angle[0]) / (t[-1] - t[0]))
-        return out
+        radius = float(np.linalg.norm(x, axis=1).mean())
+        rate = float((angle[-1] - angle[0]) / (t[-1] - t[0]))
+        return {"orbit_rate": rate, "orbit_radius": radius, **out}  # the orbit first, as summary.json lists it
 
     def onset(self, physics: Physics) -> Onset:
         """sigma_c = trap l_a (Pi = 1), where the rest state's one non-zero eigenvalue trap (Pi - 1) crosses zero."""

@@ -13,6 +13,7 @@ import numpy as np
 
 from ..analysis import observables as obs
 from ..initial import buckled_arch, project_on_pins, pushed_chains
+from ..observables import Observable
 from ..parameters import Parameter
 from ..params import Numerics, Physics
 from ..reduced.system import ChainSystem
@@ -23,6 +24,10 @@ from .base import Scene, ValidationCase
 # MuJoCo would raise a smaller one silently) and its impedance is close to 1 (nearly hard). With
 # the particles' tiny mass the default solimp lets the pin drift by ~1e-2 l (docs/mujoco.md).
 PIN_SOLIMP = (0.9999, 0.999999, 0.001, 0.5, 2.0)
+
+
+SNAP_AMPLITUDE = Observable("snap_amplitude", "rad", "standard deviation of theta_3 (self-snapping; NaN for n < 3)")
+"""The snap-through's size: analysis.observables.snap_amplitude of theta_3 over the measured window."""
 
 
 class TwoPinned(Scene):
@@ -45,7 +50,7 @@ class TwoPinned(Scene):
     min_n = 2
     pinned = True
     no_linear_operator = "its base state, the buckled arch, is held by the pins and moves with the load"
-    observables = ("snap_amplitude",)
+    observables = (SNAP_AMPLITUDE,)
 
     def pin_position(self, physics: Physics) -> tuple[float, float]:
         return physics.n * (1.0 - physics.delta), 0.0

@@ -17,13 +17,13 @@ from pathlib import Path
 
 import numpy as np
 
-from .. import registry
+from .. import observables, registry
 from ..batch import Case
 from ..engines import MUJOCO_ONLY, check_engine, check_engine_numerics  # noqa: F401  (re-exported)
 from ..errors import ParameterError
+from ..observables import HARMONICS
 from ..parameters import get as parameter_spec
 from ..params import Numerics, Physics, parameter_fields, scene_parameters
-from ..results import HARMONICS, OBSERVABLES
 
 NUMERICS_KEYS = ("seed", "dt", "mass_ratio", "perturbation", "sample_dt")
 
@@ -62,22 +62,24 @@ def scene_variables(scene: str) -> tuple[str, ...]:
     frequency, whether the motion is periodic and its period spread, the scene's observables and, for a
     pinned scene, the pin's largest violation. (Each point's notes are a text variable besides these.)"""
     s = registry.get(scene)
-    names = ("amplitude", "frequency", "periodic", "period_spread", *s.observables)
+    names = ("amplitude", "frequency", "periodic", "period_spread", *s.observable_names())
     return tuple(dict.fromkeys(names)) + (("constraint_violation",) if s.pinned else ())
 
 
+def variable_attrs(name: str) -> dict:
+    """The netCDF attributes of a recorded variable: a declared observable's units and long name (and a categorical
+    one's flag values and meanings) from its spec (elastoactive.observables), else VARIABLE_ATTRS' entry ({} for a
+    value nothing declares)."""
+    spec = observables.find(name)
+    if spec is None:
+        return VARIABLE_ATTRS.get(name, {})
+    attrs = dict(units=spec.units, long_name=spec.long_name)
+    if spec.categories:
+        attrs.update(flag_values=np.arange(len(spec.categories), dtype=float), flag_meanings=" ".join(spec.categories))
+    return attrs
+
+
 VARIABLE_ATTRS = {
-    **{name: dict(units=o.units, long_name=o.long_name) for name, o in OBSERVABLES.items()},
-    **{
-        name: dict(
-            units=o.units,
-            long_name=o.long_name,
-            flag_values=np.arange(len(o.categories), dtype=float),
-            flag_meanings=" ".join(o.categories),
-        )
-        for name, o in OBSERVABLES.items()
-        if o.categories
-    },
     "periodic": dict(
         units="1",
         long_name="whether the motion is periodic (results.Results.periodic)",

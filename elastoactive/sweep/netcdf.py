@@ -22,7 +22,7 @@ import numpy as np
 
 from ..io.outputs import file_size_limit, write_netcdf
 from ..params import LONG_CHAIN
-from .grid import VARIABLE_ATTRS, VECTORS, SweepStorageError, coordinate_attrs, spec_text
+from .grid import VECTORS, SweepStorageError, coordinate_attrs, spec_text, variable_attrs
 
 SNAPSHOT_MARGIN = 1 << 20
 """Bytes of free space asked for beyond twice the arrays' size before writing a snapshot."""
@@ -132,7 +132,7 @@ def contents(sweep, arrays: dict, spec: dict, done: np.ndarray) -> tuple[dict, d
     for name, values in arrays.items():
         vector = (VECTORS[name][0],) if name in VECTORS else ()
         var_dims = dims + (("chain",) if values.ndim > len(dims) + len(vector) else ()) + vector
-        data[name] = (var_dims, values.copy(), VARIABLE_ATTRS.get(name, {}))
+        data[name] = (var_dims, values.copy(), variable_attrs(name))
         if vector:
             dim, size = VECTORS[name]
             coords[dim] = ((dim,), np.arange(1, size + 1), coordinate_attrs(dim))

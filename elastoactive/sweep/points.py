@@ -18,11 +18,11 @@ from collections.abc import Callable, Sequence
 
 import numpy as np
 
+from .. import observables
 from ..batch import Case, checked, run_case
 from ..errors import ParameterError
 from ..gate import TimestepChecks
 from ..io.jsonio import to_jsonable
-from ..results import OBSERVABLES
 
 BATCH_POINTS_PER_THREAD = 8
 """Default size of a local MuJoCo batch: this many points per thread (a killed sweep loses at most the
@@ -184,13 +184,14 @@ def run_points_task(cases: Sequence[Case], timestep_check: bool = True) -> list[
 
 def _measurements(results: dict) -> dict:
     """The numeric measurements of Results.as_dict(), as JSON-ready numbers: a number, or one per chain
-    (a list). None ("could not be measured") becomes NaN, a bool 0 or 1, a categorical observable's value
-    (OBSERVABLES' categories, e.g. dish_state) its index; other text (the notes) is left out: it is stored as
-    the record's `notes`."""
+    (a list). None ("could not be measured") becomes NaN, a bool 0 or 1, a categorical observable's value (its
+    spec's categories, elastoactive.observables: e.g. dish_state) its index; other text (the notes) is left out: it
+    is stored as the record's `notes`."""
+    specs = {name: observables.find(name) for name in results}
     coded = {
-        name: float(OBSERVABLES[name].categories.index(value))
+        name: float(specs[name].categories.index(value))
         for name, value in results.items()
-        if name in OBSERVABLES and value in OBSERVABLES[name].categories
+        if specs[name] is not None and value in specs[name].categories
     }
     return {
         name: _coded(to_jsonable(value, nonfinite="keep"))

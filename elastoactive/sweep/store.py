@@ -40,8 +40,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .. import registry
-from ..results import OBSERVABLES
+from .. import observables, registry
 from . import netcdf as sweep_netcdf
 from .grid import (
     VECTORS,
@@ -65,9 +64,15 @@ TEXT_VARIABLES = ("status", "error", "notes")
 
 
 MUST_BE_FINITE = ("amplitude", "rotation_rate", "constraint_violation")
-"""Measurements that are always finite. The other known ones (OBSERVABLES: frequency, snap_amplitude,
-frequency_mismatch, ...) are NaN when they cannot be measured, never infinite; measurements this
-module does not know (plug-in scenes' observables, new fields) may be any number."""
+"""Measurements that are always finite. The other declared ones (elastoactive.observables: frequency,
+snap_amplitude, frequency_mismatch, ...) are NaN when they cannot be measured, never infinite; measurements nothing
+declares may be any number."""
+
+
+def _per_chain(name: str) -> bool:
+    """Whether a declared observable has one value per chain (Observable.per_chain; False for any other name)."""
+    spec = observables.find(name)
+    return spec is not None and spec.per_chain
 
 
 class SweepJournalWarning(UserWarning):
@@ -87,7 +92,7 @@ class Store:
         )
         self.arrays: dict[str, np.ndarray] = {}
         for name in scene_variables(sweep.scene):
-            self._allocate(name, per_chain=self.chains > 1 and name in OBSERVABLES and OBSERVABLES[name].per_chain)
+            self._allocate(name, per_chain=self.chains > 1 and _per_chain(name))
         self.arrays["wall_time_s"] = np.full(shape, np.nan)
         self.arrays["finished_at"] = np.full(shape, np.datetime64("NaT"), dtype="datetime64[ns]")
         self.arrays["status"] = np.full(shape, "pending", dtype=object)
@@ -274,8 +279,8 @@ class Store:
             return self._vector_problem(name, value)
         if name in self.arrays:
             per_chain = self.arrays[name].ndim > len(self.sweep.shape)
-        elif name in OBSERVABLES:
-            per_chain = self.chains > 1 and OBSERVABLES[name].per_chain
+        elif observables.known(name):
+            per_chain = self.chains > 1 and _per_chain(name)
         else:  # a measurement this module does not know: either shape, but one value per chain
             per_chain = self.chains > 1 and isinstance(value, list)
         if per_chain:
@@ -291,7 +296,7 @@ class Store:
                 return f"= {value!r} is not a number"
             if name in MUST_BE_FINITE and not math.isfinite(v):
                 return f"= {value!r} is not finite"
-            if (name in OBSERVABLES or name in MUST_BE_FINITE) and math.isinf(v):
+            if (observables.known(name) or name in MUST_BE_FINITE) and math.isinf(v):
                 return f"= {value!r} is infinite"
             if name == "periodic" and not (math.isnan(v) or v in (0, 1)):
                 return f"= {value!r} is not 1, 0 or NaN"
@@ -300,7 +305,7 @@ class Store:
     def _vector_problem(self, name: str, value) -> str | None:
         """A VECTORS measurement: a list of its size (one per chain for the pair), numbers or NaN."""
         size = VECTORS[name][1]
-        per_chain = self.chains > 1 and OBSERVABLES[name].per_chain
+        per_chain = self.chains > 1 and _per_chain(name)
         rows = value if per_chain and isinstance(value, list) else [value]
         if per_chain and len(rows) != self.chains:
             return f"= {value!r} is not a list of {self.chains} lists (one per chain)"
@@ -332,7 +337,7 @@ class Store:
         index = np.unravel_index(flat, self.sweep.shape)
         for name, value in entry.get("results", {}).items():
             if name not in self.arrays:
-                per_chain = OBSERVABLES[name].per_chain if name in VECTORS else isinstance(value, list)
+                per_chain = _per_chain(name) if name in VECTORS else isinstance(value, list)
                 self._allocate(name, per_chain=self.chains > 1 and per_chain)
             self.arrays[name][index] = value
         self.arrays["status"][index] = entry["status"]

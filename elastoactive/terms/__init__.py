@@ -13,6 +13,7 @@ and the diff a new term needs. Terms of the `elastoactive.terms` entry points jo
 
 from __future__ import annotations
 
+from .. import observables as _observables
 from .. import parameters as _parameters
 from ..registry import UnknownName, load_entry_points
 from .base import NodeForces, Term
@@ -21,7 +22,7 @@ _TERMS: dict[str, Term] = {}
 
 
 def register(term: Term, *, replace: bool = False) -> Term:
-    """Add a term (and its parameter specs) under `term.name`; returns it."""
+    """Add a term (and its parameter and observable specs) under `term.name`; returns it."""
     name = getattr(term, "name", None)
     if not isinstance(name, str) or not name:
         raise ValueError(f"a term needs a non-empty string `name`, got {name!r}")
@@ -29,15 +30,17 @@ def register(term: Term, *, replace: bool = False) -> Term:
         raise ValueError(f"a term named {name!r} is already registered (pass replace=True to replace it)")
     for spec in term.parameters:
         _parameters.register(spec, f"term {name}")
+    _observables.declare(term.observables, f"term {name}")
     _TERMS[name] = term
     return term
 
 
 def unregister(name: str) -> None:
-    """Remove a term and its parameters (tests that register a plug-in term clean up with this)."""
+    """Remove a term and its parameter and observable specs (a test's plug-in term cleans up with this)."""
     term = _TERMS.pop(name, None)
     for spec in getattr(term, "parameters", ()):
         _parameters.unregister(spec.name)
+    _observables.withdraw(getattr(term, "observables", ()), f"term {name}")
 
 
 class UnknownTerm(UnknownName):

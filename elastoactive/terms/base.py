@@ -13,7 +13,8 @@ The instance holds everything the term adds, and the rest of the package asks it
                   kernels; or, for a term the kernels do not know, `node_forces`: a force on every particle as a
                   function of their positions, added to the reduced model's generalised forces; or `clamp_motion`:
                   a prescribed motion of chain 1's clamp (its point and its angle), which both engines apply
-  observables     `observables` (names) and `measure` (their values from a trajectory)
+  observables     `observables` (elastoactive.observables.Observable specs, or names of declared ones) and
+                  `measure` (their values from a trajectory)
   validation      `validation_cases`: runs `validate` holds both engines to with the term on
 
 A term is universal: once registered, every scene has its parameters (a scene's own parameters are the scene's:
@@ -27,6 +28,7 @@ from typing import ClassVar, NamedTuple
 
 import numpy as np
 
+from ..observables import Observable, names_of
 from ..parameters import Parameter
 
 NodeForces = Callable[[np.ndarray], np.ndarray]
@@ -74,11 +76,17 @@ class Term:
     summary: ClassVar[str] = ""
     """One line: what it adds."""
     parameters: ClassVar[tuple[Parameter, ...]] = ()
-    observables: ClassVar[tuple[str, ...]] = ()
-    """Results it adds (their values: `measure`)."""
+    observables: ClassVar[tuple[Observable | str, ...]] = ()
+    """Results it adds (their values: `measure`): specs the term declares (registered with the term), or names of
+    declared ones."""
     labelled: ClassVar[bool] = True
     """Whether a case's label (Scene.label) names its parameters when it is active (the built-in terms' are named by
     the scenes' own labels and captions)."""
+
+    @classmethod
+    def observable_names(cls) -> tuple[str, ...]:
+        """Names of the term's observables (`observables`), in the order declared."""
+        return names_of(cls.observables)
 
     def prepare(self, values: dict) -> None:
         """Normalise this term's values in `values` (every parameter of the physics, checked one by one) in place;

@@ -14,6 +14,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..constants import CONTACT_LENGTH, CONTACT_STIFFNESS
+from ..observables import Observable
 from ..parameters import Parameter
 from ..reduced.contact import capsule_clearance, core_span
 from .base import Term
@@ -70,12 +71,28 @@ def contact_solref(numerics) -> list[float]:
     return [-CONTACT_RATE / numerics.dt / mass, -1.0 / mass]
 
 
+CONTACT_FRACTION = Observable(
+    "contact_fraction",
+    "1",
+    "share of recorded samples with at least one self-contact (overlapping capsules of non-adjacent links)",
+    error="absolute",
+    floor=0.0,
+)
+MIN_CLEARANCE = Observable(
+    "min_clearance",
+    "l",
+    "smallest clearance between capsules of non-adjacent links over the measured window (negative: overlap)",
+    error="none",
+)
+"""Self-contact's observables, measured on the trajectory's geometry (the same way for both engines)."""
+
+
 class Contact(Term):
     name = "contact"
     summary = "self-contact between the capsules of non-adjacent links"
     labelled = False
     parameters = (CONTACT, CONTACT_RADIUS, CONTACT_FRICTION)
-    observables = ("contact_fraction", "min_clearance")
+    observables = (CONTACT_FRACTION, MIN_CLEARANCE)
 
     def active(self, physics) -> bool:
         return physics.contact

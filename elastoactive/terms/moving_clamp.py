@@ -37,6 +37,7 @@ import numpy as np
 
 from ..cases import ValidationCase
 from ..errors import ParameterError
+from ..observables import Observable
 from ..parameters import Parameter
 from .base import ClampMotion, Term
 
@@ -172,6 +173,21 @@ def check_scene(physics) -> None:
         )
 
 
+CLAMP_FREQUENCY_RATIO = Observable(
+    "clamp_frequency_ratio", "1", "the beat's frequency over the clamp's drive frequency (NaN without a beat)"
+)
+CLAMP_PHASE_SPREAD = Observable(
+    "clamp_phase_spread",
+    "rad",
+    "circular spread of the beat's phase against the drive's (0: locked; NaN without a beat)",
+    error="none",
+)
+CLAMP_LAG = Observable(
+    "clamp_lag", "rad", "time mean of how far the tip particle trails a rotating clamp's direction (rotating only)"
+)
+"""The chain's locking to the clamp's motion (analysis.locking) and a rotating clamp's lag (tip_lag)."""
+
+
 class MovingClamp(Term):
     name = "moving-clamp"
     summary = (
@@ -179,7 +195,7 @@ class MovingClamp(Term):
         "turns steadily at f"
     )
     parameters = (CLAMP_AMPLITUDE, CLAMP_FREQUENCY, CLAMP_MOTION)
-    observables = ("clamp_frequency_ratio", "clamp_phase_spread")
+    observables = (CLAMP_FREQUENCY_RATIO, CLAMP_PHASE_SPREAD, CLAMP_LAG)
 
     def prepare(self, values: dict) -> None:
         if values.get("clamp_motion") == ROTATING and values.get("clamp_amplitude", 0.0) != 0:

@@ -16,6 +16,7 @@ import math
 
 from ..cases import ValidationCase
 from ..errors import ParameterError
+from ..observables import Observable
 from ..parameters import Parameter
 from .base import PeriodicForce, Term
 
@@ -55,11 +56,22 @@ DRIVE_DIRECTION = Parameter(
 )
 
 
+DRIVE_GAIN = Observable(
+    "drive_gain",
+    "l^2/C1",
+    "tip displacement along the drive at the drive's frequency over the drive's amplitude (null below one period)",
+)
+DRIVE_PHASE = Observable(
+    "drive_phase", "rad", "phase lead of the tip's response over the drive (null below one period)", error="absolute"
+)
+"""The chain's linear response to the drive (analysis.response.harmonic_response)."""
+
+
 class TipDrive(Term):
     name = "tip-drive"
     summary = "a periodic force on the tip of chain 1"
     parameters = (DRIVE_AMPLITUDE, DRIVE_FREQUENCY, DRIVE_DIRECTION)
-    observables = ("drive_gain", "drive_phase")
+    observables = (DRIVE_GAIN, DRIVE_PHASE)
 
     def active(self, physics) -> bool:
         return physics.drive_amplitude > 0

@@ -1,0 +1,164 @@
+"""Observable specs: what each reported number means, written once by whatever measures it.
+
+An `Observable` is declared by what measures it: the beat observables every scene reports (amplitude, frequency,
+period_spread, harmonics: here, `BEAT`), a scene (Scene.observables: the two-pinned chain's snap_amplitude, the
+dish's orbit_rate, ...) or a physical term (Term.observables: self-contact's contact_fraction, ...). The scene and
+term registries register a plug-in's specs here as they register its parameters; the rest of the package asks this
+table through `get` and `find`:
+
+  summary.json       the results a run records (results.Results.as_dict)
+  validate           how two engines' values of it are compared (`error`, `floor`)
+  the pre-flight     the fewest particles a chain needs to measure it (`min_n`: results.check_measurable)
+  sweeps             each variable's units and long name in the netCDF, per chain or not, a category's index
+
+A leaf module: it imports nothing of the package. (The functions that compute observables from a trajectory are
+elastoactive.analysis.)
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+from dataclasses import dataclass
+
+ERRORS = ("relative", "absolute", "none")
+"""How validate compares two values of an observable (Observable.error)."""
+
+
+@dataclass(frozen=True)
+class Observable:
+    """One observable a run reports.
+
+    name        its key in Results (Results.value, Results.extra), summary.json's results, the sweep's variable
+    units       units of the value ("1": dimensionless, "rad", "1/tau", "l", ...), the netCDF variable's units
+    long_name   what it is, in one line: the netCDF variable's long_name
+    per_chain   one value per chain for a scene with several chains (the coupled pair, the star's arms)
+    error       how validate compares two values: "relative" (absolute below `floor`), "absolute", or "none" (not
+                compared)
+    floor       with error = "relative": the magnitude below which the difference is compared absolutely
+    categories  a categorical observable's values (text; a sweep stores their index, and names them in the netCDF)
+    min_n       the fewest particles per chain for which it is defined (a shorter chain is refused before a run)
+    """
+
+    name: str
+    units: str
+    long_name: str
+    per_chain: bool = False
+    error: str = "relative"
+    floor: float = 1e-3
+    categories: tuple[str, ...] = ()
+    min_n: int = 1
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.name, str) or not self.name.isidentifier():
+            raise ValueError(f"an observable's name must be an identifier, got {self.name!r}")
+        if self.error not in ERRORS:
+            raise ValueError(f"observable {self.name}: error must be one of {', '.join(ERRORS)}, got {self.error!r}")
+
+
+HARMONICS = 5
+"""Harmonics of Theta every run reports (Results.harmonics)."""
+
+BEAT = (
+    Observable("amplitude", "rad", "amplitude of Theta = theta_N - theta_1 (half peak-to-peak)", per_chain=True),
+    Observable("frequency", "1/tau", "oscillation frequency f*tau of Theta", per_chain=True),
+    Observable(
+        "period_spread",
+        "1",
+        "std / mean of the cycle periods of Theta (NaN with fewer than 2 cycles)",
+        per_chain=True,
+        error="none",
+    ),
+    Observable(
+        "harmonics",
+        "1",
+        f"amplitudes of harmonics 1-{HARMONICS} of Theta relative to the fundamental (NaN without a periodic beat)",
+        per_chain=True,
+        error="none",
+    ),
+)
+"""The beat observables every scene reports (results.measure), whatever its own."""
+
+_TABLE: dict[str, tuple[Observable, str]] = {}
+
+
+def register(spec: Observable, owner: str) -> Observable:
+    """Add a spec under its name; `owner` names who declares it (a scene or a term). Registering the same spec again
+    is a no-op; another spec under a taken name is refused."""
+    if not isinstance(spec, Observable):
+        raise ValueError(f"{owner}: an observable is declared as an elastoactive.observables.Observable, got {spec!r}")
+    known = _TABLE.get(spec.name)
+    if known is not None and known[0] != spec:
+        raise ValueError(f"an observable named {spec.name!r} is already declared by {known[1]}")
+    _TABLE[spec.name] = (spec, known[1] if known else owner)
+    return spec
+
+
+def unregister(name: str, owner: str | None = None) -> None:
+    """Remove a spec (only if `owner` declared it, when given): a plug-in scene or term that leaves takes its own."""
+    if name in _TABLE and (owner is None or _TABLE[name][1] == owner) and _TABLE[name][1] != "every run":
+        del _TABLE[name]
+
+
+def get(name: str) -> Observable:
+    """The spec called `name` (KeyError if nothing declares it)."""
+    return _TABLE[name][0]
+
+
+def find(name: str) -> Observable | None:
+    """The spec called `name`, or None if nothing declares it (an undeclared value a plug-in measures)."""
+    known = _TABLE.get(name)
+    return None if known is None else known[0]
+
+
+def owner(name: str) -> str:
+    """Who declared the observable `name`."""
+    return _TABLE[name][1]
+
+
+def known(name: str) -> bool:
+    return name in _TABLE
+
+
+def names() -> tuple[str, ...]:
+    """Every declared observable, in declaration order."""
+    return tuple(_TABLE)
+
+
+def declare(declared: Iterable[Observable | str], owner: str) -> tuple[str, ...]:
+    """Register the specs in `declared` (a scene's or a term's `observables`: specs it declares, or names of specs
+    declared elsewhere) for `owner`; returns their names. A name that nothing declares, or a spec under a name
+    another spec holds, is refused before any is registered."""
+    declared = tuple(declared)
+    specs = {item.name: item for item in declared if not isinstance(item, str)}
+    for item in declared:
+        if isinstance(item, str) and item not in _TABLE and item not in specs:
+            raise ValueError(
+                f"{owner} names the observable {item!r}, which nothing declares (declare it as an "
+                "elastoactive.observables.Observable in its observables)"
+            )
+        if not isinstance(item, (str, Observable)):
+            raise ValueError(
+                f"{owner}: an observable is an elastoactive.observables.Observable or a name, got {item!r}"
+            )
+        known = _TABLE.get(getattr(item, "name", None))
+        if isinstance(item, Observable) and known is not None and known[0] != item:
+            raise ValueError(f"an observable named {item.name!r} is already declared by {known[1]}")
+    for spec in specs.values():
+        register(spec, owner)
+    return names_of(declared)
+
+
+def withdraw(declared: Iterable[Observable | str], owner: str) -> None:
+    """Remove the specs `owner` declared among `declared` (the reverse of `declare`)."""
+    for item in declared:
+        if isinstance(item, Observable):
+            unregister(item.name, owner)
+
+
+def names_of(declared: Iterable[Observable | str]) -> tuple[str, ...]:
+    """The names in a scene's or a term's `observables` (specs or names)."""
+    return tuple(item if isinstance(item, str) else item.name for item in declared)
+
+
+for _spec in BEAT:
+    register(_spec, "every run")

@@ -4,7 +4,8 @@ it does not hold).
 A leaf module (it imports nothing of the package but the parameter and observable tables, where a scene's specs are
 registered with it), so that `params` can look a scene up while the scene modules themselves import `params`. Scenes
 enter the table through `register`; the built-in ones when `elastoactive.scenes` is imported, which `import
-elastoactive` does first; those of the `elastoactive.scenes` entry points when the table is first listed (`load_entry_points`, which the term and study registries share).
+elastoactive` does first; those of the `elastoactive.scenes` entry points when the table is first listed
+(`load_entry_points`, which the term and study registries share).
 `elastoactive.scenes` is the public face of this table.
 """
 

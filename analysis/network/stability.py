@@ -21,6 +21,10 @@ psi of Pi_c(psi) (where the last fixed point loses stability):
 - none is stable above `coupling_ceiling`, an upper bound on Pi* proved for every psi (two bounds, the smaller kept):
   by interlacing, Pi_c(psi) <= lambda_{2F-A+1}, and from one unit, Pi_c(psi) <= 1 / max_u lambda_min((D^-1)_uu).
 
+A floppy network (D singular on its free nodes: a honeycomb lattice, a diluted network, a node or cluster held by
+nothing) has a fixed point unstable at every Pi > 0 for almost every psi (Q meets D's null space); `threshold` reports
+its bracket as [0, interlacing_ceiling] without searching.
+
 A single unit in a trap of stiffness k_t: D = k_t I, Pi_c = k_t for every psi, and both bounds are exact (Pi = l_e /
 l_a = 1 in the trap's own units).
 """
@@ -139,9 +143,21 @@ def unit_ceiling(network: Network) -> float:
     return 1.0 / floor
 
 
+FLOPPY = 1e-10
+"""Eigenvalues of the dynamical matrix at most FLOPPY times its largest (or 1) are zero modes: the network is floppy."""
+
+
+def floppy_modes(network: Network) -> int:
+    """How many zero modes the dynamical matrix of the free nodes has (0: D is positive definite)."""
+    values = np.linalg.eigvalsh(dynamical_matrix(network))
+    return int(np.count_nonzero(values <= FLOPPY * max(1.0, float(values[-1]) if values.size else 1.0)))
+
+
 def coupling_ceiling(network: Network) -> float:
     """A proved upper bound on Pi* (no fixed point is stable above it, whatever the polarities): the smaller of
-    interlacing_ceiling and unit_ceiling."""
+    interlacing_ceiling and unit_ceiling (interlacing_ceiling alone for a floppy network, whose D has no inverse)."""
+    if floppy_modes(network):
+        return interlacing_ceiling(network)
     return min(interlacing_ceiling(network), unit_ceiling(network))
 
 
@@ -153,6 +169,7 @@ class Threshold(NamedTuple):
     ceiling: float  # coupling_ceiling: no fixed point is stable above it (proved, Pi* <= ceiling)
     starts: int  # searches run
     reached: int  # searches that ended within REACHED of the best
+    floppy: int = 0  # zero modes of D (floppy_modes): then softest = coupling = typical = 0, no search run
 
 
 def threshold(
@@ -161,11 +178,15 @@ def threshold(
     """lambda_1; the best Pi_c found by searches over the polarities from `starts` seeded random polarities
     (default search_starts): from each, L-BFGS on the analytic gradient of mu_max (at most `iterations` steps), then
     the same through the SMOOTHING temperatures and again plain, keeping the better end; the median Pi_c of `samples`
-    random polarities; and coupling_ceiling."""
+    random polarities; and coupling_ceiling. A floppy network (floppy_modes > 0): softest, coupling and typical 0
+    (almost every fixed point is unstable at any Pi > 0), no search."""
     from scipy.optimize import minimize  # start-up time: scipy.optimize only for the stability analysis
 
     rng = np.random.default_rng(seed)
     count = len(unit_slots(network))
+    floppy = floppy_modes(network)
+    if floppy:
+        return Threshold(0.0, 0.0, np.zeros(count), 0.0, interlacing_ceiling(network), 0, 0, floppy)
     starts = search_starts(count) if starts is None else int(starts)
     objective = _critical_coupling_objective(network)
     options = {"maxiter": iterations}

@@ -11,7 +11,7 @@ docs/scenes.md for the contract and the diff a new scene needs.
 """
 
 from ..registry import UnknownScene, get, names, register, scenes, unregister
-from . import coupled_pair, lattice, one_pinned, paraboloid, ring, rotating_pin, star, trap, two_pinned
+from . import coupled_pair, lattice, network, one_pinned, paraboloid, ring, rotating_pin, star, trap, two_pinned
 from .base import Scene, ValidationCase
 
 for _module in (
@@ -24,6 +24,7 @@ for _module in (
     lattice,
     trap,
     star,
+    network,
 ):  # the paper's order, then ours
     register(_module.SCENE)
 

@@ -196,30 +196,38 @@ class Lattice(NetworkScene):
     def network(self, physics: Physics) -> Network:
         return hexagonal_patch(physics.rings, physics.boundary)
 
+    def hold(self, physics: Physics) -> str:
+        """How the network is held (BOUNDARIES): pinned (no rigid motion), centre (it can turn about its one pinned
+        node, `centre`) or free."""
+        return physics.boundary
+
+    def centre(self, physics: Physics) -> np.ndarray | None:
+        """The pinned node the network turns about (held by its centre), else None (a free network's centroid)."""
+        network = self.network(physics)
+        return network.positions[np.flatnonzero(network.pinned)[0]] if self.hold(physics) == "centre" else None
+
     def beat_signals(self, traj: Trajectory) -> list[np.ndarray]:
         """Pinned: the free nodes' mean displacement along x (units a). A patch that can move rigidly beats in the rate
         of that motion, whose steady part is no beat: centre-pinned, the patch's rotation rate (alternating rotation
         beats; a steady turn does not, patch_rotation_rate has it); free, its centroid's velocity along x (units a per
         gamma / k: a patch circling beats; a steady drift does not, patch_drift has it)."""
-        if traj.physics.boundary == "pinned":
+        if self.hold(traj.physics) == "pinned":
             return super().beat_signals(traj)
-        if traj.physics.boundary == "centre":
+        if self.hold(traj.physics) == "centre":
             return [np.gradient(self._rotation(traj), traj.t)]
         return [np.gradient(traj.nodes[:, :, 0].mean(axis=1), traj.t)]
 
     def body_nodes(self, traj: Trajectory) -> np.ndarray:
         """The nodes in the patch's own frame: turned back about the pinned centre, or (free) moved back to the rest
         centroid and turned back; a pinned patch has no rigid motion."""
-        if traj.physics.boundary == "pinned":
+        if self.hold(traj.physics) == "pinned":
             return traj.nodes
         network = self.network(traj.physics)
-        centre = network.positions[0] if traj.physics.boundary == "centre" else None  # the pinned centre node
-        return nobs.body_positions(traj.nodes, network.positions, centre)
+        return nobs.body_positions(traj.nodes, network.positions, self.centre(traj.physics))
 
     def _rotation(self, traj: Trajectory) -> np.ndarray:
         network = self.network(traj.physics)
-        centre = network.positions[0] if traj.physics.boundary == "centre" else None  # the pinned centre node
-        return nobs.rotation_angle(traj.nodes, network.positions, centre)
+        return nobs.rotation_angle(traj.nodes, network.positions, self.centre(traj.physics))
 
     def measure_extra(self, traj: Trajectory, transient: float) -> dict[str, float]:
         out = super().measure_extra(traj, transient)
@@ -234,10 +242,10 @@ class Lattice(NetworkScene):
     def _threshold(self, physics: Physics):
         from ..analysis.network import stability  # start-up time: scipy only for the stability analysis
 
-        if physics.boundary != "pinned":
+        if self.hold(physics) != "pinned":
             raise ParameterError(
-                f"stability: boundary must be pinned for the lattice's linear stability, got "
-                f"{physics.boundary!r} (a patch free to move or turn has zero modes: no threshold)"
+                f"stability: boundary must be pinned for the {self.name}'s linear stability, got "
+                f"{self.hold(physics)!r} (a patch free to move or turn has zero modes: no threshold)"
             )
         return stability.threshold(self.network(physics), samples=1)
 
@@ -249,14 +257,23 @@ class Lattice(NetworkScene):
         (analysis.network.stability, docs/network.md)."""
         bracket = self._threshold(physics)
         la = physics.alignment_length
+        if bracket.floppy:
+            kind = (
+                f"a floppy network ({bracket.floppy} zero modes): almost every fixed point is unstable at any "
+                "coupling, none at all above the proved ceiling (no search)"
+            )
+        else:
+            kind = (
+                f"a family of fixed points (one per choice of polarities), each through a real eigenvalue "
+                f"(searched over the polarities from {bracket.starts} starts, {bracket.reached} ending at the best "
+                "found)"
+            )
         return Onset(
             sigma_c=bracket.softest * la,
             omega_c=0.0,
             sigma_all=bracket.coupling * la,
             sigma_ceiling=bracket.ceiling * la,
-            kind=f"a family of fixed points (one per choice of polarities), each through a real "
-            f"eigenvalue (searched over the polarities from {bracket.starts} starts, {bracket.reached} "
-            "ending at the best found)",
+            kind=kind,
         )
 
     def leading_eigenvalue(self, physics: Physics, sigma: float) -> complex:
@@ -264,7 +281,7 @@ class Lattice(NetworkScene):
         mode when every unit's n_perp lies along it): zero at sigma_c."""
         from ..reduced.network import dynamical_matrix  # start-up time: only the stability command needs it
 
-        if physics.boundary != "pinned":
+        if self.hold(physics) != "pinned":
             self._threshold(physics)  # refuses, naming the boundary
         softest = float(np.linalg.eigvalsh(dynamical_matrix(self.network(physics)))[0])
         return complex(sigma / physics.alignment_length - softest)

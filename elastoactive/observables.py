@@ -104,6 +104,13 @@ def get(name: str) -> Observable:
     return _TABLE[name][0]
 
 
+def spec_or_default(name: str) -> Observable:
+    """The spec called `name`, or for a value nothing declares the spec it is treated by: no units, no long name,
+    compared relatively by validate (Observable's defaults)."""
+    known = _TABLE.get(name)
+    return Observable(name, "", "") if known is None else known[0]
+
+
 def find(name: str) -> Observable | None:
     """The spec called `name`, or None if nothing declares it (an undeclared value a plug-in measures)."""
     known = _TABLE.get(name)
@@ -125,17 +132,15 @@ def names() -> tuple[str, ...]:
 
 
 def declare(declared: Iterable[Observable | str], owner: str) -> tuple[str, ...]:
-    """Register the specs in `declared` (a scene's or a term's `observables`: specs it declares, or names of specs
-    declared elsewhere) for `owner`; returns their names. A name that nothing declares, or a spec under a name
-    another spec holds, is refused before any is registered."""
+    """Register the specs in `declared` (a scene's or a term's `observables`: specs it declares, or names) for
+    `owner`; returns their names. A name is a spec declared elsewhere (the ring names the rotating pin's
+    rotation_rate), or a value nothing declares (a plug-in written before specs): it is reported as measured, in
+    summary.json and as a sweep variable without units or long name, and validate compares it relatively
+    (`spec_or_default`).
+    A spec under a name another spec holds is refused before any is registered."""
     declared = tuple(declared)
     specs = {item.name: item for item in declared if not isinstance(item, str)}
     for item in declared:
-        if isinstance(item, str) and item not in _TABLE and item not in specs:
-            raise ValueError(
-                f"{owner} names the observable {item!r}, which nothing declares (declare it as an "
-                "elastoactive.observables.Observable in its observables)"
-            )
         if not isinstance(item, (str, Observable)):
             raise ValueError(
                 f"{owner}: an observable is an elastoactive.observables.Observable or a name, got {item!r}"

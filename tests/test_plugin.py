@@ -211,14 +211,22 @@ def test_own_observable_withdrawn_with_its_scene():
     assert not observables.known("toy_tip_angle") and observables.known("rotation_rate")  # named, not owned, by toys
 
 
-def test_a_scene_naming_an_undeclared_observable_is_refused():
+def test_an_undeclared_observable_is_reported_as_measured_and_compared_relatively():
+    """A plug-in written before specs names its observables only: they are reported as before (no units), and
+    validate compares them relatively (the spec's defaults)."""
+
     class Vague(TipAngle):
         name = "toy-vague"
-        observables = ("nothing_declares_this",)
+        observables = ("toy_vague_value",)
 
-    with pytest.raises(ValueError, match="scene toy-vague names the observable 'nothing_declares_this'"):
-        ea.scenes.register(Vague())
-    assert "toy-vague" not in ea.scenes.names()
+    scene = ea.scenes.register(Vague())
+    try:
+        assert not observables.known("toy_vague_value") and scene.observable_names() == ("toy_vague_value",)
+        physics = ea.Physics(scene=scene.name, n=3)
+        a, b = (Results(0.1, 0.2, True, extra={"toy_vague_value": v}) for v in (1.0, 1.5))
+        assert observable_errors(physics, a, b)["toy_vague_value"] == pytest.approx(1 / 3)
+    finally:
+        ea.scenes.unregister(scene.name)
 
 
 def test_a_taken_observable_name_is_refused():

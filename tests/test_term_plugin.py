@@ -155,14 +155,14 @@ def test_observable_withdrawn_with_its_term():
     assert res.contact_fraction is None  # declared, not measured without contact
 
 
-def test_a_term_naming_an_undeclared_observable_is_refused():
-    class Vague(Term):
-        name = "toy-vague"
-        observables = ("nothing_declares_this",)
+def test_a_term_cannot_redeclare_a_taken_observable():
+    class Clash(Term):
+        name = "toy-clash"
+        observables = (Observable("contact_fraction", "%", "not self-contact's"),)
 
-    with pytest.raises(ValueError, match="term toy-vague names the observable 'nothing_declares_this'"):
-        ea.terms.register(Vague())
-    assert "toy-vague" not in ea.terms.names()
+    with pytest.raises(ValueError, match="observable named 'contact_fraction' is already declared by term contact"):
+        ea.terms.register(Clash())
+    assert "toy-clash" not in ea.terms.names() and observables.get("contact_fraction").units == "1"
 
 
 class StiffTether(Term):

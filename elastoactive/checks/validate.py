@@ -108,7 +108,7 @@ def observable_errors(physics: Physics, value: Results, reference: Results) -> d
     scene = physics.scene_def
     errors: dict[str, float] = {}
     for name in dict.fromkeys((*scene.compared, *scene.observable_names())):
-        kind = observables.get(name)
+        kind = observables.spec_or_default(name)
         if kind.error == "none":
             continue
         a, b = _values(value.value(name)), _values(reference.value(name))

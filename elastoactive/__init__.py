@@ -9,19 +9,24 @@ gamma = 1, so times are in tau = gamma l^2 / C1 and frequencies are f tau).
     traj = ea.simulate(ea.Physics(n=7, sigma=0.8), duration=600)   # one pinned end (the default scene)
     res = ea.measure(traj)
     res.amplitude, res.frequency          # the paper's flagellar beat
+    traj.positions(), traj.tip()          # every particle's (x, y), the tips
+    ea.plot.limit_cycle(traj)             # Theta against dTheta/dt
+    ea.load("out/run"), ea.load("sweep.nc")   # a run's Trajectory, a sweep's xarray Dataset
     ea.scenes.names()                     # the registered scenes
 
 Front door
 ----------
-Physics, Numerics        parameters of a run (elastoactive.params)
+Physics, Numerics        parameters of a run (elastoactive.params; help(ea.Physics) lists every parameter)
 simulate, measure        run a scene in either engine; measure the result (elastoactive.api)
+load, load_sweep         a run or a sweep written by the command line (elastoactive.api)
 Trajectory, Results      what they return
-scenes                   the scene registry (elastoactive.scenes)
+plot                     figures of a run or a sweep on matplotlib Axes (elastoactive.plot, imported when used)
+scenes, terms            the scene and term registries (elastoactive.scenes, elastoactive.terms)
 ParameterError, SimulationDiverged
 """
 
-from . import _moved, registry, scenes  # scenes first: registers the built-in scenes that Physics looks up
-from .api import measure, simulate
+from . import _moved, registry, scenes, terms  # scenes first: registers the built-in scenes that Physics looks up
+from .api import document_physics, load, load_sweep, measure, simulate
 from .errors import ParameterError, SimulationDiverged
 from .params import Numerics, Physics
 from .results import Results
@@ -29,6 +34,17 @@ from .trajectory import Trajectory
 
 _moved.install()  # old module paths keep working for one release
 registry.entry_points_ready()  # the entry points' scenes, terms and studies load when a registry is first listed
+document_physics()  # help(ea.Physics): every registered parameter, with units
+
+
+def __getattr__(name: str):
+    """`ea.plot`, imported when first used (it loads matplotlib)."""
+    if name == "plot":
+        import importlib  # start-up time: only when ea.plot is first used
+
+        return importlib.import_module(".plot", __name__)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
 
 __all__ = [
     "Numerics",
@@ -37,7 +53,11 @@ __all__ = [
     "Results",
     "SimulationDiverged",
     "Trajectory",
+    "load",
+    "load_sweep",
     "measure",
+    "plot",
     "scenes",
     "simulate",
+    "terms",
 ]

@@ -1,20 +1,26 @@
-"""The front door's two verbs: simulate a scene, measure a trajectory.
+"""The front door's verbs: simulate a scene, measure a trajectory, load a run or a sweep from disk.
 
 Arguments are taken in their obvious forms (a scene name or a dict of fields for the physics, a preset name or a
 dict of settings for the numerics); anything else is a TypeError naming the argument, a bad value a ParameterError
-naming the parameter.
+naming the parameter. Physics' docstring and signature are generated here from the parameter table (every scene's
+and term's parameters, with units), so that ``help(ea.Physics)`` and an editor show what is registered.
 """
 
 from __future__ import annotations
 
+import inspect
+import textwrap
 from collections.abc import Mapping
+from pathlib import Path
 
 import numpy as np
 
+from . import parameters as _parameters
+from . import plugins, registry, terms
 from .engines import run_engine
 from .errors import ParameterError
 from .gate import preflight
-from .params import Numerics, Physics, parameter_fields
+from .params import DEFAULT_SCENE, LEADING, Numerics, Physics, parameter_fields
 from .results import Results, check_measurable, check_transient
 from .results import measure as _measure
 from .trajectory import Trajectory
@@ -160,3 +166,162 @@ def measure(trajectory: Trajectory, transient: float | None = None) -> Results:
             raise ParameterError(f"transient must be a time in tau, got {transient!r}") from None
     check_transient(float(t[-1] - t[0]) if t.size else 0.0, transient, t - t[0] if t.size else t)
     return _measure(trajectory, transient)
+
+
+DOC_WIDTH = 116
+"""The width Physics' generated docstring is wrapped to."""
+RUN_FILES = ("summary.json", "trajectory.npz")
+"""What a run's folder (`elastoactive run --out`) holds."""
+SWEEP_SUFFIX = ".nc"
+"""The suffix of a sweep's netCDF file (`elastoactive sweep --out`)."""
+
+
+def load(path):
+    """Load a run or a sweep written by the command line.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        A run's folder (``elastoactive run --out``), its ``summary.json`` or its ``trajectory.npz``; or a sweep's
+        netCDF file (``.nc``, as `load_sweep`). The plug-ins the run's summary records are loaded first.
+
+    Returns
+    -------
+    Trajectory or xarray.Dataset
+        A run's Trajectory (its summary.json in ``info["summary"]``); a sweep's Dataset.
+
+    Raises
+    ------
+    ParameterError
+        A path that is none of these, or files that are not what the run wrote (checksums); the message names it.
+    """
+    path = _path(path)
+    if path.suffix == SWEEP_SUFFIX:
+        return load_sweep(path)
+    from .results import load_trajectory, read_summary  # start-up time: results loads the analysis
+
+    folder = path if path.is_dir() else path.parent
+    if path.is_file() and path.name not in RUN_FILES:
+        raise ParameterError(
+            f"path: {path} is neither a run (its folder, summary.json or trajectory.npz) nor a sweep (.nc)"
+        )
+    if not (folder / "summary.json").is_file():
+        raise ParameterError(
+            f"path: {folder} holds no summary.json (give a folder written by `elastoactive run --out`)"
+        )
+    for spec in plugins.recorded(folder):
+        plugins.load(spec)
+    trajectory = load_trajectory(folder / "trajectory.npz")
+    trajectory.info.setdefault("summary", read_summary(folder))
+    return trajectory
+
+
+def load_sweep(path):
+    """Open a sweep's netCDF file as an xarray Dataset, read into memory (the file is closed again).
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        A netCDF file written by ``elastoactive sweep --out`` or ``elastoactive.sweep.run_sweep``.
+
+    Returns
+    -------
+    xarray.Dataset
+        One coordinate per swept parameter and one variable per observable, each with ``units`` and ``long_name``
+        attributes; points not run or failed are NaN.
+
+    Raises
+    ------
+    ParameterError
+        A file that is not there or not a netCDF file; the message names it.
+    """
+    import xarray as xr  # start-up time: xarray loads pandas
+
+    path = _path(path)
+    if not path.is_file():
+        raise ParameterError(f"path: {path} not found (give a sweep's netCDF file)")
+    try:
+        with xr.open_dataset(path) as dataset:
+            return dataset.load()
+    except (OSError, ValueError) as err:
+        raise ParameterError(f"path: {path} is not a readable netCDF file ({err})") from None
+
+
+def _path(path) -> Path:
+    if not isinstance(path, (str, Path)):
+        raise TypeError(f"path must be a str or a pathlib.Path, got {type(path).__name__}")
+    path = Path(path).expanduser()
+    if not path.exists():
+        raise ParameterError(f"path: {path} not found")
+    return path
+
+
+# ------------------------------------------------------------------ Physics' generated docstring and signature
+
+
+def _owners() -> list[tuple[str, list]]:
+    """(who declares them, their specs) for the chain, every scene and every term, in registration order."""
+    registry.names(), terms.names()  # the entry points' scenes and terms join the table first
+    groups: dict[str, list] = {}
+    for name in _names():
+        groups.setdefault(_parameters.owner(name), []).append(_parameters.get(name))
+    return list(groups.items())
+
+
+def _names() -> tuple[str, ...]:
+    """Every declared parameter: the leading ones (n, sigma, ...) first, then in declaration order."""
+    return tuple(dict.fromkeys((*LEADING, *_parameters.names())))
+
+
+def _entry(spec) -> str:
+    kind = spec.kind.__name__
+    choices = f" {{{', '.join(map(repr, spec.choices))}}}" if spec.choices else ""
+    units = "" if spec.units in ("1", "") else f" [{spec.units}]"
+    needs = f" (acts with {spec.need_text})" if spec.needs else ""
+    text = textwrap.fill(f"{spec.help}{needs}", DOC_WIDTH, initial_indent="    ", subsequent_indent="    ")
+    return f"{spec.name} : {kind}{choices}, default {spec.default!r}{units}\n{text}"
+
+
+def physics_doc(head: str = "") -> str:
+    """Physics' docstring: `head`, then every registered parameter (the chain's, each scene's, each term's) with its
+    kind, default, units and help, grouped by who declares it; the registered scenes."""
+    lines = [head.rstrip(), "", "Parameters", "----------", f"scene : str, default {DEFAULT_SCENE!r}"]
+    scenes = "One of the registered scenes: " + ", ".join(registry.names()) + "."
+    lines.append(textwrap.fill(scenes, DOC_WIDTH, initial_indent="    ", subsequent_indent="    "))
+    for owner, specs in _owners():
+        lines += ["", f"Declared by {owner}:", ""]
+        lines += [_entry(spec) for spec in specs]
+    lines += ["", "Units: [l] lengths, [C1] stiffnesses, [tau] times; a number without units is dimensionless."]
+    return "\n".join(lines)
+
+
+def physics_signature() -> inspect.Signature:
+    """Physics' signature: scene, then every registered parameter as a keyword with its default."""
+    _owners()
+    parameters = [inspect.Parameter("scene", inspect.Parameter.POSITIONAL_OR_KEYWORD, default=DEFAULT_SCENE)]
+    parameters += [
+        inspect.Parameter(name, inspect.Parameter.KEYWORD_ONLY, default=_parameters.get(name).default)
+        for name in _names()
+    ]
+    return inspect.Signature(parameters)
+
+
+class _Generated:
+    """A class attribute computed when read (``__doc__``, ``__signature__``), so that it lists what is registered
+    at the time (a plug-in's parameters included)."""
+
+    def __init__(self, make):
+        self.make = make
+
+    def __get__(self, obj, cls=None):
+        return self.make()
+
+
+def document_physics() -> None:
+    """Give Physics its generated docstring and signature (import elastoactive does this once)."""
+    if isinstance(Physics.__dict__.get("__doc__"), _Generated):
+        return
+    head = inspect.cleandoc(Physics.__dict__.get("__doc__") or "").split("\n\n    scene ")[0]
+    head = head.split("\n\nscene ")[0]
+    Physics.__doc__ = _Generated(lambda: physics_doc(head))
+    Physics.__signature__ = _Generated(physics_signature)

@@ -97,3 +97,20 @@ def needed(physics) -> list[str]:
         if term.active(physics) or any(p.name in recorded for p in term.parameters):
             specs.append(source("terms", term.name))
     return list(dict.fromkeys(s for s in specs if s))
+
+
+def recorded(path) -> list[str]:
+    """The plug-ins a run's record (a run folder, its summary.json or its trajectory.npz) lists; none for a path
+    that is not one."""
+    import json  # start-up time: only a run's record needs it
+
+    path = Path(path)
+    summary = path / "summary.json" if path.is_dir() else path.with_name("summary.json")
+    if path.is_file() and path.suffix not in (".json", ".npz"):
+        return []
+    try:
+        record = json.loads(summary.read_text())
+    except (OSError, UnicodeDecodeError, ValueError):
+        return []
+    specs = record.get("plugins") if isinstance(record, dict) else None
+    return [s for s in specs if isinstance(s, str)] if isinstance(specs, list) else []

@@ -1,4 +1,9 @@
-"""A simulated trajectory: sample times and absolute angles, the same for both engines."""
+"""A simulated trajectory: sample times and absolute angles, the same for both engines, and what follows from them:
+every particle's position (a chain's, from its angles; a network's nodes, as recorded), the tips, the centres of drag,
+and an xarray Dataset with units.
+
+Lengths are in the scene's unit (l, the link length, for a chain; a, the rest spacing, for a network), times in tau.
+"""
 
 from __future__ import annotations
 
@@ -8,6 +13,42 @@ import numpy as np
 
 from .errors import ParameterError
 from .params import Physics
+
+TIME_UNITS = "tau"
+"""The unit of every time of a trajectory (tau = gamma l^2 / C1 for a chain, gamma / k for a network)."""
+CHAIN_LENGTH_UNITS = "l"
+"""The unit of a chain's positions: the link length."""
+NETWORK_LENGTH_UNITS = "a"
+"""The unit of a network's node positions: the springs' rest length."""
+
+
+def particle_positions(physics: Physics, theta, head=None) -> np.ndarray:
+    """Every particle's position from the absolute angles: r_i = r_pivot + sum_{j <= i} (cos theta_j, sin theta_j).
+
+    Parameters
+    ----------
+    physics : Physics
+        The chain scene (its chains, particles per chain and each chain's pivot offset, Scene.chain_offset).
+    theta : array_like, shape (..., n_angles)
+        Absolute angles (rad), chain 1 then chain 2.
+    head : array_like, shape (..., 2), optional
+        The first chain's pivot for a scene whose pivot moves (the paraboloid's head, a moving clamp); a head of
+        another width (a star's hub angle) moves no pivot.
+
+    Returns
+    -------
+    numpy.ndarray, shape (..., n_chains, n, 2)
+        Positions in units of l; particle i of a chain sits one link from particle i - 1, particle 0 one link from
+        its chain's pivot.
+    """
+    theta = np.asarray(theta, dtype=float)
+    a = theta.reshape(theta.shape[:-1] + (physics.n_chains, physics.n))
+    xy = np.stack([np.cumsum(np.cos(a), axis=-1), np.cumsum(np.sin(a), axis=-1)], axis=-1)
+    for k in range(physics.n_chains):
+        xy[..., k, :, 1] += physics.scene_def.chain_offset(physics, k)
+    if head is not None and np.shape(head)[-1] == 2:  # a moving pivot; a star's head is its hub's angle
+        xy[..., 0, :, :] += np.asarray(head, dtype=float)[..., None, :]
+    return xy
 
 
 def _array(name: str, values, ndim: int, samples: int | None = None) -> np.ndarray:
@@ -24,12 +65,35 @@ def _array(name: str, values, ndim: int, samples: int | None = None) -> np.ndarr
 
 @dataclass
 class Trajectory:
-    """t: (T,) times in tau; theta: (T, n_angles) absolute angles (chain 1 then chain 2); head: (T, 2) position
-    of the first pendulum's pivot for scenes whose pivot moves (Scene.head_coordinates: the paraboloid), else
-    None (the pivot sits at the origin); polarity: (T, units) absolute angles psi of the self-aligning active units
-    (elastoactive.terms.self_aligning: one per loaded particle, chain 1 then chain 2; a network scene's: one per
-    active unit, in node order), else None; nodes: (T, P, 2) lab positions of every node of a network scene
-    (Scene.network; its theta has shape (T, 0)), else None."""
+    """A simulated trajectory, the same for both engines.
+
+    Attributes
+    ----------
+    t : numpy.ndarray, shape (T,)
+        Sample times in tau.
+    theta : numpy.ndarray, shape (T, n_angles)
+        Absolute angles (rad) of every link, chain 1 then chain 2; shape (T, 0) for a network scene.
+    physics : Physics
+        The scene and parameters that ran.
+    engine : str
+        "mujoco" or "reduced".
+    wall_time_s : float
+        The engine's wall time.
+    info : dict
+        Solver information (the reduced engine's method, MuJoCo's steps); `ea.load` adds the run's summary.json
+        under "summary".
+    head : numpy.ndarray or None, shape (T, 2)
+        The first pendulum's pivot for a scene whose pivot moves (Scene.head_coordinates: the paraboloid; a moving
+        clamp), a star's hub angle (T, 1); None where the pivot sits at the origin.
+    polarity : numpy.ndarray or None, shape (T, units)
+        Absolute angles psi of the self-aligning active units (one per loaded particle, chain 1 then chain 2; a
+        network's: one per active unit, in node order), else None.
+    nodes : numpy.ndarray or None, shape (T, P, 2)
+        Lab positions of every node of a network scene (Scene.network), else None.
+
+    Positions follow from these: `positions` (every particle, or a network's nodes), `tip`, `centre_of_drag`, and
+    `to_xarray` gives them all as an xarray Dataset with units.
+    """
 
     t: np.ndarray
     theta: np.ndarray
@@ -54,3 +118,125 @@ class Trajectory:
         """Angles of chain k (0 or 1), shape (T, N)."""
         n = self.physics.n
         return self.theta[:, k * n : (k + 1) * n]
+
+    @property
+    def is_network(self) -> bool:
+        """Whether this is a network scene's trajectory (nodes recorded, no angles)."""
+        return self.nodes is not None
+
+    @property
+    def length_units(self) -> str:
+        """The unit of this trajectory's positions: l for a chain, a for a network."""
+        return NETWORK_LENGTH_UNITS if self.is_network else CHAIN_LENGTH_UNITS
+
+    def positions(self) -> np.ndarray:
+        """Every particle's position at every sample time.
+
+        Returns
+        -------
+        numpy.ndarray
+            A chain scene: shape (T, n_chains, n, 2), (x, y) of particle i (0-based, as the model's sites
+            ``particle_{i}``) of each chain in units of l, from the angles and the moving pivot (`head`) if any. A
+            network scene: its nodes, shape (T, nodes, 2) in units of a, as recorded.
+        """
+        if self.is_network:
+            return self.nodes.copy()
+        return particle_positions(self.physics, self.theta, self.head)
+
+    def tip(self) -> np.ndarray:
+        """The last particle of every chain at every sample time.
+
+        Returns
+        -------
+        numpy.ndarray, shape (T, n_chains, 2)
+            (x, y) of each chain's tip in units of l (``positions()[:, :, -1]``).
+
+        Raises
+        ------
+        ParameterError
+            For a network scene, which has no tip (`positions` gives its nodes).
+        """
+        if self.is_network:
+            raise ParameterError(
+                f"Trajectory.tip: the {self.physics.scene} scene is a network, which has no tip; "
+                "Trajectory.positions() gives its nodes"
+            )
+        return self.positions()[:, :, -1, :]
+
+    def centre_of_drag(self) -> np.ndarray:
+        """The drag-weighted mean position: every particle (node) carries the same drag, so the mean of the positions.
+
+        Returns
+        -------
+        numpy.ndarray
+            A chain scene: shape (T, n_chains, 2), one centre per chain (units l); a network: shape (T, 2) (units a).
+        """
+        return self.positions().mean(axis=-2)
+
+    def to_xarray(self):
+        """The trajectory as an xarray Dataset, every variable and coordinate with ``units`` and ``long_name``.
+
+        Returns
+        -------
+        xarray.Dataset
+            Coordinates ``time`` (tau) and ``xy``; a chain scene's ``chain`` and ``particle`` (0-based, as the model's
+            sites) with ``theta`` (time, chain, particle; rad), ``position`` (time, chain, particle, xy; l) and
+            ``tip`` (time, chain, xy; l); a network's ``node`` with ``position`` (time, node, xy; a). ``head`` and
+            ``polarity`` when recorded. Attributes: the scene, the engine and every parameter that acts
+            (Physics.relevant).
+        """
+        import xarray as xr  # start-up time: xarray loads pandas
+
+        units = self.length_units
+        coords = {
+            "time": ("time", self.t, {"units": TIME_UNITS, "long_name": "time"}),
+            "xy": ("xy", ["x", "y"], {"long_name": "lab-frame component"}),
+        }
+        data = {}
+        if self.is_network:
+            coords["node"] = ("node", np.arange(self.nodes.shape[1]), {"long_name": "node index (0-based)"})
+            data["position"] = (
+                ("time", "node", "xy"),
+                self.nodes,
+                {"units": units, "long_name": "node position"},
+            )
+        else:
+            chains, n = self.physics.n_chains, self.physics.n
+            coords["chain"] = ("chain", np.arange(chains), {"long_name": "chain index (0-based)"})
+            coords["particle"] = ("particle", np.arange(n), {"long_name": "particle index (0-based, site particle_i)"})
+            data["theta"] = (
+                ("time", "chain", "particle"),
+                self.theta.reshape(len(self.t), chains, n),
+                {"units": "rad", "long_name": "absolute angle of each link"},
+            )
+            position = self.positions()
+            data["position"] = (
+                ("time", "chain", "particle", "xy"),
+                position,
+                {"units": units, "long_name": "particle position"},
+            )
+            data["tip"] = (
+                ("time", "chain", "xy"),
+                position[:, :, -1, :],
+                {"units": units, "long_name": "tip position"},
+            )
+        if self.head is not None:
+            moving = self.head.shape[1] == 2
+            data["head"] = (
+                ("time", "xy") if moving else ("time", "head_coordinate"),
+                self.head,
+                {"units": units, "long_name": "moving pivot position"}
+                if moving
+                else {"units": "rad", "long_name": "hub angle"},
+            )
+        if self.polarity is not None:
+            data["polarity"] = (
+                ("time", "unit"),
+                self.polarity,
+                {"units": "rad", "long_name": "polarity angle psi of each active unit"},
+            )
+        attrs = {"scene": self.physics.scene, "engine": self.engine}
+        for name, value in self.physics.relevant().items():
+            if name != "scene":
+                attrs[name] = int(value) if isinstance(value, bool) else value
+        return xr.Dataset(data, coords=coords, attrs=attrs)

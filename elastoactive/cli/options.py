@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import json
 from pathlib import Path
 
 from .. import plugins, registry
@@ -103,21 +102,6 @@ def plugin_argument(parser: argparse.ArgumentParser) -> None:
     )
 
 
-def recorded_plugins(path: Path) -> list[str]:
-    """The plug-ins a run's record (a run folder, its summary.json or its trajectory.npz) lists; none for a path
-    that is not one (the command itself then says what is wrong with it)."""
-    path = Path(path)
-    summary = path / "summary.json" if path.is_dir() else path.with_name("summary.json")
-    if path.is_file() and path.suffix not in (".json", ".npz"):
-        return []
-    try:
-        record = json.loads(summary.read_text())
-    except (OSError, UnicodeDecodeError, ValueError):
-        return []
-    specs = record.get("plugins") if isinstance(record, dict) else None
-    return [s for s in specs if isinstance(s, str)] if isinstance(specs, list) else []
-
-
 def preload_plugins(argv: list[str]) -> list[str]:
     """Load the plug-ins that `argv` names (--plugin X or --plugin=X, anywhere) and those recorded by every run
     named on it (--from RUN, render's RUN: any argument that is a run's folder or file); returns argv without the
@@ -139,7 +123,7 @@ def preload_plugins(argv: list[str]) -> list[str]:
     for item in rest:
         value = item.split("=", 1)[1] if item.startswith("--from=") else item
         if value and not value.startswith("-") and (Path(value).is_dir() or Path(value).suffix in (".json", ".npz")):
-            for spec in recorded_plugins(Path(value)):
+            for spec in plugins.recorded(Path(value)):
                 try:
                     plugins.load(spec)
                 except ParameterError as err:

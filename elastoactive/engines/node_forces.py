@@ -35,19 +35,13 @@ from .. import reduced as _math
 from ..errors import ParameterError
 from ..params import Physics
 from ..terms.base import PeriodicForce
+from ..trajectory import particle_positions
 
 
 def positions(physics: Physics, theta: np.ndarray) -> np.ndarray:
-    """Positions (particles, 2) of every particle, chain 1 then chain 2, from the absolute angles."""
-    from ..analysis.measures import chain_positions  # start-up time: measures loads scipy.signal
-
-    n = physics.n
-    out = np.empty((physics.n_angles, 2))
-    for k in range(physics.n_chains):
-        x, y = chain_positions(theta[k * n : (k + 1) * n])
-        out[k * n : (k + 1) * n, 0] = x
-        out[k * n : (k + 1) * n, 1] = y + physics.scene_def.chain_offset(physics, k)
-    return out
+    """Positions (particles, 2) of every particle, chain 1 then chain 2, from the absolute angles (the pivots fixed:
+    trajectory.particle_positions without a head)."""
+    return particle_positions(physics, theta).reshape(physics.n_angles, 2)
 
 
 def generalised(physics: Physics, theta: np.ndarray, forces: np.ndarray) -> np.ndarray:

@@ -42,7 +42,7 @@ from ..io.outputs import atomic_file
 from ..io.progress import progress_bar
 from ..mjcf.chain import build_model, qpos_of
 from ..params import Numerics, Physics
-from ..trajectory import Trajectory
+from ..trajectory import Trajectory, particle_positions
 from .gl import (  # noqa: F401 (API)
     ARROW_MAX,
     ARROW_PER_SIGMA,
@@ -70,19 +70,6 @@ SPRING_RGBA = (0.35, 0.85, 0.55, 1.0)
 
 
 # --------------------------------------------------------------------------- kinematics and timing
-
-
-def particle_positions(physics: Physics, theta: np.ndarray, head: np.ndarray | None = None) -> np.ndarray:
-    """Particle positions (..., n_chains, N, 2) in units of l from absolute angles (..., n_angles) and, for a scene
-    whose pivot moves, the head's position (..., 2)."""
-    theta = np.asarray(theta, dtype=float)
-    a = theta.reshape(theta.shape[:-1] + (physics.n_chains, physics.n))
-    xy = np.stack([np.cumsum(np.cos(a), axis=-1), np.cumsum(np.sin(a), axis=-1)], axis=-1)
-    for k in range(physics.n_chains):
-        xy[..., k, :, 1] += physics.scene_def.chain_offset(physics, k)
-    if head is not None and np.shape(head)[-1] == 2:  # a moving pivot; a star's head is its hub's angle
-        xy[..., 0, :, :] += np.asarray(head, dtype=float)[..., None, :]
-    return xy
 
 
 def interpolate(traj: Trajectory, times: np.ndarray) -> np.ndarray:

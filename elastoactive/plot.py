@@ -1,0 +1,280 @@
+"""Quick figures of a run or a sweep, each on a matplotlib Axes that it returns.
+
+    import elastoactive as ea
+
+    traj = ea.load("out/run")
+    ea.plot.theta(traj)                   # Theta = theta_N - theta_1 against time
+    ea.plot.limit_cycle(traj)             # Theta against dTheta/dt
+    ea.plot.shape(traj, time=100.0)       # the chain (or the network) at a time
+    ea.plot.tip_path(traj)                # the tips' paths
+    ea.plot.sweep_map(ea.load("sweep.nc"), "amplitude")
+
+Every function takes an optional ``ax`` (a new figure's Axes when None) and labels its axes with the quantities'
+units (a sweep's from its netCDF attributes).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .errors import ParameterError
+from .trajectory import Trajectory
+
+THETA_LABEL = r"$\Theta = \theta_N - \theta_1$ (rad)"
+"""The y label of a chain's beat signal."""
+
+
+def _axes(ax):
+    """`ax`, or a new figure's Axes."""
+    if ax is not None:
+        return ax
+    import matplotlib.pyplot as plt  # start-up time: matplotlib loads only when a figure is drawn
+
+    return plt.figure().add_subplot()
+
+
+def _trajectory(traj) -> Trajectory:
+    if not isinstance(traj, Trajectory):
+        raise TypeError(f"traj must be an ea.Trajectory (from ea.simulate or ea.load), got {type(traj).__name__}")
+    return traj
+
+
+def _time_label(traj: Trajectory) -> str:
+    return r"time $t$ ($\tau$)"
+
+
+def _chains(traj: Trajectory) -> list[str]:
+    """The legend's name of each chain (none for a single chain)."""
+    count = traj.physics.scene_def.chain_count(traj.physics)
+    return [f"chain {k + 1}" for k in range(count)] if count > 1 else [""]
+
+
+def angles(traj: Trajectory, ax=None, chain: int = 0):
+    """The absolute angle of every link of one chain against time.
+
+    Parameters
+    ----------
+    traj : Trajectory
+        A chain scene's trajectory.
+    ax : matplotlib.axes.Axes, optional
+        Where to draw; default a new figure's.
+    chain : int
+        Which chain (0-based).
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+    """
+    traj, ax = _trajectory(traj), _axes(ax)
+    if traj.is_network:
+        raise ParameterError(f"chain: the {traj.physics.scene} scene is a network, which has no angles")
+    if not isinstance(chain, (int, np.integer)) or not 0 <= chain < traj.physics.n_chains:
+        raise ParameterError(f"chain must be a chain index from 0 to {traj.physics.n_chains - 1}, got {chain!r}")
+    for i, column in enumerate(traj.chain(chain).T):
+        ax.plot(traj.t, column, label=rf"$\theta_{{{i + 1}}}$")
+    ax.set(xlabel=_time_label(traj), ylabel=r"absolute angle $\theta_i$ (rad)")
+    ax.legend(fontsize="small", ncol=2)
+    return ax
+
+
+def theta(traj: Trajectory, ax=None):
+    """The beat signal against time: Theta = theta_N - theta_1 of every chain (a network: its scene's signal).
+
+    Parameters
+    ----------
+    traj : Trajectory
+        From ea.simulate or ea.load.
+    ax : matplotlib.axes.Axes, optional
+        Where to draw; default a new figure's.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+    """
+    traj, ax = _trajectory(traj), _axes(ax)
+    signals = traj.physics.scene_def.beat_signals(traj)
+    for label, signal in zip(_chains(traj), signals, strict=False):
+        ax.plot(traj.t, signal, label=label or None)
+    ax.set(xlabel=_time_label(traj), ylabel=_signal_label(traj))
+    if len(signals) > 1:
+        ax.legend(fontsize="small")
+    return ax
+
+
+def _signal_label(traj: Trajectory) -> str:
+    return f"beat signal ({traj.length_units})" if traj.is_network else THETA_LABEL
+
+
+def limit_cycle(traj: Trajectory, ax=None, transient: float | None = None):
+    """The phase portrait: Theta against dTheta/dt after the transient (a beat's limit cycle is a closed loop).
+
+    Parameters
+    ----------
+    traj : Trajectory
+        From ea.simulate or ea.load.
+    ax : matplotlib.axes.Axes, optional
+        Where to draw; default a new figure's.
+    transient : float, optional
+        Time (tau) left out at the start; default half the run.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+    """
+    traj, ax = _trajectory(traj), _axes(ax)
+    t = traj.t
+    start = t[0] + (0.5 * (t[-1] - t[0]) if transient is None else _time("transient", transient))
+    keep = t >= start
+    if keep.sum() < 3:
+        raise ParameterError(f"transient {start - t[0]:g} tau leaves fewer than 3 samples of the {t[-1] - t[0]:g} tau")
+    signals = traj.physics.scene_def.beat_signals(traj)
+    for label, signal in zip(_chains(traj), signals, strict=False):
+        ax.plot(signal[keep], np.gradient(signal, t)[keep], label=label or None)
+    rate = r"$d\Theta/dt$ (rad/$\tau$)" if not traj.is_network else rf"rate ({traj.length_units}/$\tau$)"
+    ax.set(xlabel=_signal_label(traj), ylabel=rate)
+    if len(signals) > 1:
+        ax.legend(fontsize="small")
+    return ax
+
+
+def _time(name: str, value) -> float:
+    try:
+        value = float(value)
+    except (TypeError, ValueError):
+        raise ParameterError(f"{name} must be a time in tau, got {value!r}") from None
+    if not np.isfinite(value) or value < 0:
+        raise ParameterError(f"{name} must be a finite time >= 0 in tau, got {value}")
+    return value
+
+
+def _sample(traj: Trajectory, time) -> int:
+    """The index of the sample nearest `time` (default: the last)."""
+    if time is None:
+        return len(traj.t) - 1
+    time = _time("time", time)
+    if not traj.t[0] <= time <= traj.t[-1]:
+        raise ParameterError(f"time must lie within the record, {traj.t[0]:g} to {traj.t[-1]:g} tau; got {time:g}")
+    return int(np.abs(traj.t - time).argmin())
+
+
+def shape(traj: Trajectory, time: float | None = None, ax=None):
+    """The chain (every chain of the scene, from its pivot) or the network (its nodes and springs) at one time.
+
+    Parameters
+    ----------
+    traj : Trajectory
+        From ea.simulate or ea.load.
+    time : float, optional
+        Time (tau) of the sample drawn (the nearest one); default the last.
+    ax : matplotlib.axes.Axes, optional
+        Where to draw; default a new figure's.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+    """
+    traj, ax = _trajectory(traj), _axes(ax)
+    i = _sample(traj, time)
+    units = traj.length_units
+    if traj.is_network:
+        nodes = traj.nodes[i]
+        network = traj.physics.scene_def.network(traj.physics)
+        for a, b in network.bonds:
+            ax.plot(nodes[[a, b], 0], nodes[[a, b], 1], color="0.6", lw=0.8)
+        ax.plot(nodes[:, 0], nodes[:, 1], "o", ms=3)
+    else:
+        xy = traj.positions()[i]
+        for k, (label, chain) in enumerate(zip(_chains(traj), xy, strict=False)):
+            pivot = chain[0] - (np.cos(traj.theta[i, k * traj.physics.n]), np.sin(traj.theta[i, k * traj.physics.n]))
+            points = np.vstack([pivot, chain])
+            ax.plot(points[:, 0], points[:, 1], "-o", ms=4, label=label or None)
+            ax.plot(*pivot, "ks", ms=6)
+        if len(xy) > 1:
+            ax.legend(fontsize="small")
+    ax.set(xlabel=f"$x$ ({units})", ylabel=f"$y$ ({units})", title=f"t = {traj.t[i]:g} " + r"$\tau$")
+    ax.set_aspect("equal", adjustable="datalim")
+    return ax
+
+
+def tip_path(traj: Trajectory, ax=None, transient: float = 0.0):
+    """The path of every chain's tip (the last particle) in the lab frame.
+
+    Parameters
+    ----------
+    traj : Trajectory
+        A chain scene's trajectory.
+    ax : matplotlib.axes.Axes, optional
+        Where to draw; default a new figure's.
+    transient : float
+        Time (tau) left out at the start.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+    """
+    traj, ax = _trajectory(traj), _axes(ax)
+    keep = traj.t >= traj.t[0] + _time("transient", transient)
+    tips = traj.tip()[keep]
+    for k, label in enumerate(_chains(traj)):
+        ax.plot(tips[:, k, 0], tips[:, k, 1], lw=1, label=label or None)
+    ax.set(xlabel="tip $x$ (l)", ylabel="tip $y$ (l)")
+    ax.set_aspect("equal", adjustable="datalim")
+    if tips.shape[1] > 1:
+        ax.legend(fontsize="small")
+    return ax
+
+
+def _label(array) -> str:
+    """'long name (units)' from a netCDF variable's or coordinate's attributes."""
+    name = array.attrs.get("long_name", array.name)
+    units = array.attrs.get("units")
+    return f"{name} ({units})" if units not in (None, "", "1") else str(name)
+
+
+def sweep_map(dataset, variable: str = "amplitude", ax=None, **selection):
+    """A sweep's observable over its grid: a line over one swept parameter, a colour map over two.
+
+    Parameters
+    ----------
+    dataset : xarray.Dataset
+        From ea.load_sweep (or ea.load of a .nc file).
+    variable : str
+        The observable drawn (a data variable of the sweep, e.g. "amplitude", "frequency").
+    ax : matplotlib.axes.Axes, optional
+        Where to draw; default a new figure's.
+    **selection
+        Values of the other dimensions (``chain=0``, a third swept parameter), picked with ``Dataset.sel``; a
+        dimension not given takes its first value.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        Labelled with the long names and units of the netCDF attributes.
+    """
+    if variable not in getattr(dataset, "data_vars", ()):
+        names = ", ".join(getattr(dataset, "data_vars", ()))
+        raise ParameterError(f"variable: the sweep has no {variable!r} (its variables: {names or 'none'})")
+    data = dataset[variable]
+    unknown = [k for k in selection if k not in data.dims]
+    if unknown:
+        raise ParameterError(f"{unknown[0]}: not a dimension of {variable} (its dimensions: {', '.join(data.dims)})")
+    data = data.sel(selection) if selection else data
+    swept = [d for d in data.dims if d in str(dataset.attrs.get("grid", "")).split()] or list(data.dims)
+    extra = [d for d in data.dims if d not in swept[:2]]
+    data = data.isel({d: 0 for d in extra})
+    ax = _axes(ax)
+    if data.ndim == 0:
+        raise ParameterError(f"variable: {variable} has no swept dimension to draw")
+    if data.ndim == 1:
+        coordinate = dataset[data.dims[0]]
+        ax.plot(coordinate.values, data.values, "o-")
+        ax.set(xlabel=_label(coordinate), ylabel=_label(dataset[variable]))
+        return ax
+    y, x = (dataset[d] for d in data.dims[:2])
+    mesh = ax.pcolormesh(x.values, y.values, np.asarray(data.values, dtype=float), shading="auto")
+    ax.figure.colorbar(mesh, ax=ax, label=_label(dataset[variable]))
+    ax.set(xlabel=_label(x), ylabel=_label(y))
+    return ax
+
+
+__all__ = ["angles", "limit_cycle", "shape", "sweep_map", "theta", "tip_path"]

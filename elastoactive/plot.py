@@ -251,10 +251,14 @@ def sweep_map(dataset, variable: str = "amplitude", ax=None, **selection):
     matplotlib.axes.Axes
         Labelled with the long names and units of the netCDF attributes.
     """
-    if variable not in getattr(dataset, "data_vars", ()):
-        names = ", ".join(getattr(dataset, "data_vars", ()))
+    if not hasattr(dataset, "data_vars") or not hasattr(dataset, "attrs"):
+        raise TypeError(f"dataset must be an xarray.Dataset (from ea.load_sweep), got {type(dataset).__name__}")
+    if not isinstance(variable, str) or variable not in dataset.data_vars:
+        names = ", ".join(map(str, dataset.data_vars))
         raise ParameterError(f"variable: the sweep has no {variable!r} (its variables: {names or 'none'})")
     data = dataset[variable]
+    if data.dtype.kind not in "biuf":
+        raise ParameterError(f"variable: {variable} holds {data.dtype} values, not numbers to draw")
     unknown = [k for k in selection if k not in data.dims]
     if unknown:
         raise ParameterError(f"{unknown[0]}: not a dimension of {variable} (its dimensions: {', '.join(data.dims)})")

@@ -42,6 +42,11 @@ def particle_positions(physics: Physics, theta, head=None) -> np.ndarray:
         its chain's pivot.
     """
     theta = np.asarray(theta, dtype=float)
+    if theta.ndim < 1 or theta.shape[-1] != physics.n_chains * physics.n:
+        raise ParameterError(
+            f"theta must have {physics.n_chains * physics.n} angles per sample ({physics.n_chains} chain(s) of "
+            f"{physics.n}) for {physics.scene}; got shape {theta.shape}"
+        )
     a = theta.reshape(theta.shape[:-1] + (physics.n_chains, physics.n))
     xy = np.stack([np.cumsum(np.cos(a), axis=-1), np.cumsum(np.sin(a), axis=-1)], axis=-1)
     for k in range(physics.n_chains):

@@ -144,6 +144,15 @@ def test_a_plugin_that_is_not_there_is_one_error_line(tmp_path, monkeypatch, cap
     assert "no module named 'no_such_plugin_module'" in capsys.readouterr().err
 
 
+def test_a_plugin_that_fails_is_one_error_line(tmp_path, monkeypatch, capsys):
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "broken.py").write_text("raise RuntimeError('no licence server')\n")
+    assert main(["run", "one-pinned", "--plugin", "broken.py"]) == 2
+    assert capsys.readouterr().err.strip().splitlines() == [
+        "elastoactive: error: --plugin broken.py: it did not load (RuntimeError: no licence server)"
+    ]
+
+
 def test_a_run_needs_no_plugin_it_does_not_use(tether_file):
     plugins.load("tether.py")
     assert plugins.needed(ea.Physics(n=5)) == []

@@ -11,6 +11,7 @@ import elastoactive as ea
 from elastoactive.cli import main
 from elastoactive.parameters import Parameter
 from elastoactive.terms import Term
+from elastoactive.trajectory import particle_positions
 
 matplotlib.use("Agg")
 
@@ -55,6 +56,30 @@ def test_the_pinned_particle_stays_at_its_pin():
     xy = _run(physics).positions()
     np.testing.assert_allclose(xy[:, 0, -1], np.tile([6 * (1 - 0.2), 0.0], (len(xy), 1)), atol=1e-6)
     np.testing.assert_allclose(_links(xy[:, 0], np.zeros((len(xy), 2))), 1.0, atol=1e-12)
+
+
+def test_positions_refuse_angles_of_another_chain():
+    with pytest.raises(ea.ParameterError, match="theta must have 10 angles per sample"):
+        particle_positions(ea.Physics(scene="coupled-pair", n=5), np.zeros((3, 7)))
+
+
+@pytest.mark.parametrize(
+    ("call", "message"),
+    [
+        (lambda traj: ea.plot.shape(traj, time=1e9), "time must lie within the record"),
+        (lambda traj: ea.plot.shape(traj, time="soon"), "time must be a time in tau"),
+        (lambda traj: ea.plot.limit_cycle(traj, transient=-1), "transient must be a finite time >= 0"),
+        (lambda traj: ea.plot.limit_cycle(traj, transient=100), "leaves fewer than 3 samples"),
+        (lambda traj: ea.plot.angles(traj, chain=1), "chain must be a chain index from 0 to 0"),
+        (lambda traj: ea.plot.tip_path(traj, transient=float("nan")), "transient must be a finite time"),
+    ],
+)
+def test_plot_arguments_are_named(call, message):
+    traj = _run(ea.Physics(n=3, sigma=3.0), duration=2.0)
+    with pytest.raises(ea.ParameterError, match=message):
+        call(traj)
+    with pytest.raises(TypeError, match="traj must be an ea.Trajectory"):
+        ea.plot.theta(traj.theta)
 
 
 def test_a_network_s_positions_are_its_nodes():
@@ -128,6 +153,12 @@ def test_a_sweep_opened_and_plotted_with_units(tmp_path, capsys):
     assert line.get_lines()[0].get_xydata().shape == (2, 2)
     with pytest.raises(ea.ParameterError, match="variable: the sweep has no 'bogus'"):
         ea.plot.sweep_map(ds, "bogus")
+    with pytest.raises(ea.ParameterError, match="variable: status holds"):
+        ea.plot.sweep_map(ds, "status")
+    with pytest.raises(ea.ParameterError, match="chain: not a dimension of amplitude"):
+        ea.plot.sweep_map(ds, "amplitude", chain=1)
+    with pytest.raises(TypeError, match="dataset must be an xarray.Dataset"):
+        ea.plot.sweep_map({"amplitude": [1.0]}, "amplitude")
 
 
 def test_help_on_physics_lists_every_parameter_with_units():

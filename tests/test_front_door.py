@@ -34,9 +34,14 @@ def test_front_door_names():
         "SimulationDiverged",
         "Trajectory",
         "Results",
+        "load",
+        "load_sweep",
+        "plot",
+        "terms",
     ):
         assert hasattr(ea, name), name
-    for fn in (ea.simulate, ea.measure):
+        assert name in ea.__all__, name
+    for fn in (ea.simulate, ea.measure, ea.load, ea.load_sweep):
         assert "Parameters" in fn.__doc__ and "Returns" in fn.__doc__
 
 

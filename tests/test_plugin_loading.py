@@ -115,6 +115,10 @@ def test_a_term_in_a_file_runs_from_the_cli_in_both_engines(tether_file, capsys)
     assert "test-tether" not in ea.terms.names()
     preload_plugins(["render", str(tether_file.parent / "mujoco"), "--still", "tip.png"])
     assert "test-tether" in ea.terms.names() and plugins.source("terms", "test-tether") == spec
+    # and so does ea.load of it, in Python
+    _forget(spec)
+    traj = ea.load(tether_file.parent / "reduced")
+    assert traj.physics.tether_k == 0.5 and plugins.source("terms", "test-tether") == spec
 
 
 def test_a_term_in_a_file_is_swept(tether_file, capsys):

@@ -169,14 +169,26 @@ class Trajectory:
         return self.positions()[:, :, -1, :]
 
     def centre_of_drag(self) -> np.ndarray:
-        """The drag-weighted mean position: every particle (node) carries the same drag, so the mean of the positions.
+        """The mean position of the points that carry drag: every particle (node), and a free head (the paraboloid's,
+        a free ring's root: ChainSystem.head_free), each carrying one particle's drag. With isotropic drag it is the
+        point whose velocity the total force sets (total force / total drag).
 
         Returns
         -------
         numpy.ndarray
             A chain scene: shape (T, n_chains, 2), one centre per chain (units l); a network: shape (T, 2) (units a).
         """
-        return self.positions().mean(axis=-2)
+        xy = self.positions()
+        if self.is_network or self.head is None or self.head.shape[1] != 2 or not self._free_head():
+            return xy.mean(axis=-2)
+        centre = xy.mean(axis=-2)
+        n = self.physics.n
+        centre[:, 0] = (n * centre[:, 0] + self.head) / (n + 1)  # the free head: chain 1's pivot
+        return centre
+
+    def _free_head(self) -> bool:
+        """Whether the first chain's pivot is a free head carrying a particle's drag (not a prescribed clamp)."""
+        return bool(getattr(self.physics.scene_def.reduced_system(self.physics), "head_free", False))
 
     def to_xarray(self):
         """The trajectory as an xarray Dataset, every variable and coordinate with ``units`` and ``long_name``.

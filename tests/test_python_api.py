@@ -48,7 +48,8 @@ def test_positions_are_the_chains_geometry(physics):
         np.testing.assert_allclose(_links(xy[:, k], pivot), 1.0, atol=1e-12)
     assert np.ptp(xy[:, 0, -1], axis=0).max() > 1e-3  # the chain moves
     np.testing.assert_array_equal(traj.tip(), xy[:, :, -1, :])
-    np.testing.assert_allclose(traj.centre_of_drag(), xy.mean(axis=2))
+    points = xy if traj.head is None else np.concatenate([traj.head[:, None, None, :], xy], axis=2)
+    np.testing.assert_allclose(traj.centre_of_drag(), points.mean(axis=2))  # a free head carries drag too
 
 
 def test_the_pinned_particle_stays_at_its_pin():

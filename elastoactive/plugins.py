@@ -18,8 +18,9 @@ from .errors import ParameterError
 
 _SOURCES: dict[tuple[str, str], str] = {}
 """(registry, name) -> the spec of the plug-in that registered it (`load`)."""
-_LOADED: dict[str, str] = {}
-"""spec as resolved (a module name, or a file's absolute path) -> the module name it was imported under."""
+_LOADED: dict[str, tuple[str, str]] = {}
+"""spec as resolved (a module name, or a file's absolute path) -> (the module name it was imported under, the spec a
+summary.json records)."""
 
 
 def _names() -> dict[str, set[str]]:
@@ -43,16 +44,36 @@ def _resolve(spec: str) -> str:
     return spec
 
 
+def _import(name: str):
+    """(the module `name`, whether it was found in the working folder only): the working folder is searched after
+    sys.path, as ``python -m`` would (the console script does not put it on sys.path)."""
+    try:
+        return importlib.import_module(name), False
+    except ModuleNotFoundError as err:
+        here = str(Path.cwd())
+        if err.name is None or not (name == err.name or name.startswith(err.name + ".")) or here in sys.path:
+            raise
+    sys.path.append(here)  # kept: forked workers and pickled objects import the module by its name
+    try:
+        return importlib.import_module(name), True
+    except ModuleNotFoundError as err:
+        if err.name is not None and (name == err.name or name.startswith(err.name + ".")):
+            sys.path.remove(here)
+        raise
+
+
 def load(spec: str) -> str:
     """Import the plug-in `spec` (a module name, or a .py file), which registers its scenes, terms and studies;
-    remember which names it registered. Loading a spec twice imports it once. Returns the spec as resolved (a file's
-    absolute path), which is what a summary.json records."""
+    remember which names it registered. Loading a spec twice imports it once. Returns the spec as a summary.json
+    records it: a file's absolute path (a module found only in the working folder: its file's), else the module
+    name."""
     if not isinstance(spec, str) or not spec.strip():
         raise ParameterError(f"--plugin must name a module or a .py file, got {spec!r}")
     resolved = _resolve(spec.strip())
     if resolved in _LOADED:
-        return resolved
+        return _LOADED[resolved][1]
     before = _names()
+    recorded = resolved
     try:
         if resolved.endswith(".py"):
             path = Path(resolved)
@@ -66,20 +87,24 @@ def load(spec: str) -> str:
                 sys.modules.pop(module_name, None)
                 raise
         else:
-            module_name = importlib.import_module(resolved).__name__
+            module, here = _import(resolved)
+            module_name = module.__name__
+            file = getattr(module, "__file__", None) or ""
+            if here and file.endswith(".py") and Path(file).name != "__init__.py":
+                recorded = str(Path(file).resolve())  # a re-run from another folder finds it by its path
     except ModuleNotFoundError as err:
-        if err.name and resolved.startswith(err.name):
+        if err.name and (resolved == err.name or resolved.startswith(err.name + ".")):
             raise ParameterError(f"--plugin: no module named {resolved!r} (give a module name or a .py file)") from None
-        raise
+        raise ParameterError(f"--plugin {spec}: it did not load (ModuleNotFoundError: {err})") from None
     except ParameterError:
         raise
     except Exception as err:  # noqa: BLE001  (whatever the plug-in's code raised: one line naming it)
         raise ParameterError(f"--plugin {spec}: it did not load ({type(err).__name__}: {err})") from None
-    _LOADED[resolved] = module_name
+    _LOADED[resolved] = _LOADED[recorded] = (module_name, recorded)
     for kind, names in _names().items():
         for name in names - before[kind]:
-            _SOURCES[(kind, name)] = resolved
-    return resolved
+            _SOURCES[(kind, name)] = recorded
+    return recorded
 
 
 def source(kind: str, name: str) -> str | None:

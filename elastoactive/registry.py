@@ -119,6 +119,9 @@ def unregister(name: str) -> None:
 
 
 def _register_new(scene: Scene) -> None:
+    """Register an entry point's scene unless it registered itself on import; refuse what is not a scene."""
+    if not callable(getattr(scene, "chain_count", None)):
+        raise TypeError(f"{type(scene).__name__} is not a scene (elastoactive.scenes.Scene)")
     if getattr(scene, "name", None) not in _SCENES:
         register(scene)
 

@@ -71,8 +71,10 @@ def _forget(spec: str) -> None:
         if source == spec:
             {"terms": ea.terms.unregister, "scenes": ea.scenes.unregister}[kind](name)
             del plugins._SOURCES[(kind, name)]
-    module = plugins._LOADED.pop(spec, None)
-    sys.modules.pop(module, None)
+    for key, (module, recorded) in list(plugins._LOADED.items()):
+        if recorded == spec:
+            del plugins._LOADED[key]
+            sys.modules.pop(module, None)
 
 
 @pytest.fixture
@@ -155,6 +157,36 @@ def test_a_plugin_that_fails_is_one_error_line(tmp_path, monkeypatch, capsys):
     assert capsys.readouterr().err.strip().splitlines() == [
         "elastoactive: error: --plugin broken.py: it did not load (RuntimeError: no licence server)"
     ]
+
+
+def test_a_module_in_the_working_folder_is_found_and_recorded_by_its_file(tether_file, monkeypatch):
+    """`--plugin tether` (a module name) finds tether.py in the working folder, which the console script does not put
+    on sys.path; the record names the file, so a re-run from elsewhere finds it; importing it again does nothing."""
+    monkeypatch.setattr(sys, "path", [p for p in sys.path if p not in ("", ".", str(tether_file.parent))])
+    spec = str(tether_file.resolve())
+    assert plugins.load("tether") == spec
+    assert plugins.needed(ea.Physics(n=5, tether_k=0.1)) == [spec]
+    assert plugins.load("tether.py") == spec  # the same file: not imported twice (no 'already registered')
+    sys.modules.pop("tether", None)
+
+
+def test_a_plugin_whose_dependency_is_missing_is_one_error_line(tmp_path, monkeypatch, capsys):
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "needy.py").write_text("import no_such_dependency_here\n")
+    assert main(["run", "one-pinned", "--plugin", "needy.py"]) == 2
+    assert capsys.readouterr().err.strip().splitlines() == [
+        "elastoactive: error: --plugin needy.py: it did not load (ModuleNotFoundError: "
+        "No module named 'no_such_dependency_here')"
+    ]
+
+
+def test_an_entry_point_that_is_not_a_term_is_refused(tmp_path, monkeypatch, fresh_group):
+    (tmp_path / "toy_ep_wrong.py").write_text("class NotATerm:\n    name = 'not-a-term'\n")
+    _distribution(tmp_path, "elastoactive.terms", "wrong = toy_ep_wrong:NotATerm")
+    monkeypatch.syspath_prepend(str(tmp_path))
+    with pytest.warns(RuntimeWarning, match="NotATerm is not a term"):
+        assert "not-a-term" not in ea.terms.names()
+    sys.modules.pop("toy_ep_wrong", None)
 
 
 def test_a_run_needs_no_plugin_it_does_not_use(tether_file):

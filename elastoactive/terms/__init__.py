@@ -50,6 +50,9 @@ class UnknownTerm(UnknownName):
 
 
 def _register_new(term: Term) -> None:
+    """Register an entry point's term unless it registered itself on import; refuse what is not a term."""
+    if not isinstance(term, Term):
+        raise TypeError(f"{type(term).__name__} is not a term (elastoactive.terms.Term)")
     if getattr(term, "name", None) not in _TERMS:
         register(term)
 

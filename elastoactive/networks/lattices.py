@@ -121,27 +121,40 @@ def delaunay_points(patch: str, size: int, seed: int) -> tuple[np.ndarray, np.nd
     perimeter's points, then random points inside the patch at least MIN_SEPARATION from every other point (as many
     as the triangular patch has inside its edge, fewer if the darts stop landing), joined by their Delaunay
     triangulation."""
-    from scipy.spatial import Delaunay, cKDTree  # start-up time: scipy only to build a network
+    from scipy.spatial import Delaunay  # start-up time: scipy only to build a network
 
     border = perimeter(patch, size)
     lattice, bonds = lattice_points("triangular", patch, size)
     wanted = int(np.count_nonzero(~edge_of(len(lattice), bonds)))
     rng = np.random.default_rng(seed)
-    points = [tuple(p) for p in border]
-    tree_points = list(points)
-    tree = cKDTree(tree_points)
-    misses, added = 0, []
+    cells: dict[tuple[int, int], list[np.ndarray]] = {}  # a grid of cells MIN_SEPARATION wide: the points in each
+
+    def cell(point: np.ndarray) -> tuple[int, int]:
+        return int(np.floor(point[0] / MIN_SEPARATION)), int(np.floor(point[1] / MIN_SEPARATION))
+
+    def free(point: np.ndarray) -> bool:
+        i, j = cell(point)
+        return all(
+            np.hypot(*(point - q)) >= MIN_SEPARATION
+            for di in (-1, 0, 1)
+            for dj in (-1, 0, 1)
+            for q in cells.get((i + di, j + dj), ())
+        )
+
+    for point in border:
+        cells.setdefault(cell(point), []).append(point)
+    added: list[np.ndarray] = []
+    misses = 0
     while len(added) < wanted and misses < 200 * max(wanted, 1):
-        candidate = rng.uniform(-size, size, 2)
-        if not inside(candidate[None, :], patch, size - MIN_SEPARATION)[0]:
-            continue
-        near = tree.query_ball_point(candidate, MIN_SEPARATION)
-        if near or any(np.hypot(*(candidate - q)) < MIN_SEPARATION for q in added[-64:]):
-            misses += 1
-            continue
-        added.append(candidate)
-        if len(added) % 64 == 0:
-            tree = cKDTree(tree_points + [tuple(q) for q in added])
+        darts = rng.uniform(-size, size, (1024, 2))
+        for candidate in darts[inside(darts, patch, size - MIN_SEPARATION)]:
+            if len(added) == wanted:
+                break
+            if not free(candidate):
+                misses += 1
+                continue
+            added.append(candidate)
+            cells.setdefault(cell(candidate), []).append(candidate)
     positions = np.vstack([border, np.asarray(added).reshape(-1, 2)])
     edge = np.zeros(len(positions), dtype=bool)
     edge[: len(border)] = True

@@ -235,6 +235,21 @@ def test_a_network_file_refuses_the_generators_parameters(tmp_path):
             ea.Physics(scene="network", geometry=str(path), **{name: value})
 
 
+def test_a_network_without_units_is_refused(tmp_path):
+    path = tmp_path / "passive.json"
+    path.write_text(json.dumps(dict(HAND_WRITTEN, units=[])))
+    with pytest.raises(ParameterError, match=r"^geometry: .* carries no active unit"):
+        ea.Physics(scene="network", geometry=str(path))
+
+
+def test_a_generated_network_is_the_callers_own():
+    first = generate("kagome", "hexagonal", 2)
+    first.positions[:] = 0.0
+    first.pinned[:] = True
+    assert _same(generate("kagome", "hexagonal", 2), generate("kagome", "hexagonal", 2))
+    assert not generate("kagome", "hexagonal", 2).pinned.all()
+
+
 def test_a_network_file_is_held_by_what_it_pins(tmp_path):
     scene = ea.scenes.get("network")
     for pinned, hold in (([], "free"), ([0], "centre"), ([0, 3], "pinned")):

@@ -17,8 +17,9 @@ import pytest
 ROOT = Path(__file__).resolve().parents[1]
 README = (ROOT / "README.md").read_text()
 
-GUIDES = ("getting-started", "run", "sweep", "reproduce", "beyond", "network")
-"""The site's guide pages (docs/<name>.md) whose code blocks run here, beside the README's."""
+GUIDES = ("getting-started", "run", "sweep", "reproduce", "beyond")
+"""The site's guide pages (docs/<name>.md) whose code blocks run here, beside the README's: the front page's
+sections moved there."""
 
 PAGES = {"README.md": README, **{f"docs/{name}.md": (ROOT / "docs" / f"{name}.md").read_text() for name in GUIDES}}
 

@@ -1,6 +1,11 @@
 #!/usr/bin/env bash
-# The test command: set up (idempotent), then run the whole suite.
+# The test command: set up (idempotent), then lint and run the whole suite.
+# The main job's set-up (scripts/setup.sh) stays lean: what only the tests need (the documentation site's builder
+# and a headless Chromium for its browser test) is installed here, by scripts/docs_setup.sh.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
+bash scripts/docs_setup.sh
+.venv/bin/ruff check .
+.venv/bin/ruff format --check .
 exec .venv/bin/python -m pytest "$@"

@@ -46,7 +46,8 @@ def _commands() -> list[list[str]]:
 
 
 def _shrink(argv: list[str], scheduler: str | None) -> list[str]:
-    """The same command at a small size: shorter runs, two grid values, the tiny reproduction."""
+    """The same command at a small size: shorter runs, two grid values, the tiny reproduction, one scene's
+    validation."""
     argv = list(argv)
     for i, arg in enumerate(argv[:-1]):
         nxt = argv[i + 1]
@@ -70,6 +71,9 @@ def _shrink(argv: list[str], scheduler: str | None) -> list[str]:
         argv += ["--duration", "30"]
     if argv[0] == "reproduce":
         argv += ["--tiny", "--workers", "1"]
+    if argv[0] == "validate" and (len(argv) == 1 or argv[1].startswith("-")):
+        # every scene's cases (or convergence ladders) take minutes: one scene's go through the same code
+        argv.insert(1, "one-pinned" if "--convergence" in argv else "two-pinned")
     return argv
 
 

@@ -187,8 +187,9 @@ def estimate(traj: Trajectory, transient: float, numerics: Numerics) -> Sensitiv
     if reason is not None:  # no pilots: from a state off the attractor they would measure its approach, not chaos
         amplitude_error, frequency_error = cycle_errors(traj, transient)
         return Sensitivity(None, None, None, amplitude_error, frequency_error, 0.0, reason)
+    # start-up time: only irregular runs load the reduced engine
     from .engines.reduced import simulate_reduced
-    from .reduced.settings import METHODS  # start-up time: only irregular runs load the reduced engine
+    from .reduced.settings import METHODS
 
     physics = traj.physics
     k = int(np.searchsorted(traj.t - traj.t[0], transient - 1e-9))

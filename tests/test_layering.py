@@ -82,6 +82,19 @@ def test_no_import_cycles_between_modules():
     assert not cycles, "import cycles: " + "; ".join(" -> ".join(c) for c in cycles)
 
 
+def _continues_imports(text: str) -> bool:
+    """Whether a line belongs to an import statement: its first line, or a line of a parenthesised name list."""
+    stripped = text.strip()
+    return (
+        stripped.startswith(("import ", "from "))
+        or stripped == ")"
+        or (
+            stripped.endswith(",")
+            and stripped.replace(",", "").replace(" as ", " ").replace("_", "").replace(" ", "").isalnum()
+        )
+    )
+
+
 def test_function_level_imports_say_why():
     """An import inside a function needs a comment on its line or the line above (start-up time, an
     optional dependency, ...)."""
@@ -91,8 +104,8 @@ def test_function_level_imports_say_why():
         for _, line, nested, typing_only in _imports(name, path):
             if not nested or typing_only:
                 continue
-            first = line  # the block of consecutive import lines this one belongs to, and the line above it
-            while first >= 2 and lines[first - 2].strip().startswith(("import ", "from ")):
+            first = line  # the block of consecutive import statements this one belongs to, and the line above it
+            while first >= 2 and _continues_imports(lines[first - 2]):
                 first -= 1
             if not any("#" in lines[i - 1] for i in range(max(first - 1, 1), line + 1)):
                 missing.append(f"{path.relative_to(ROOT)}:{line}")

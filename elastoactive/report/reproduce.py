@@ -190,9 +190,10 @@ def _reproduce(
     out: Path, size: str, workers: int | None, names: list[str], progress: bool, log, force: bool
 ) -> Reproduction:
     """reproduce's work on the folder `out`, which this process holds (`names`: the studies asked for, checked)."""
+    # start-up time: the studies load both engines (and matplotlib when drawing)
     from ..batch import default_workers
     from ..studies import Study, load_study, registry
-    from . import claims  # start-up time: the studies load both engines (and matplotlib when drawing)
+    from . import claims
 
     every = registry.names()
     code = source_digest()

@@ -34,14 +34,14 @@ def _blocks(language: str) -> list[tuple[str, str]]:
     ]
 
 
-def _commands() -> list[list[str]]:
-    """The `elastoactive ...` lines of the bash blocks, comments dropped, in order."""
+def _commands() -> list[tuple[str, list[str]]]:
+    """(page, argv) of the `elastoactive ...` lines of the bash blocks, comments dropped, in order."""
     out = []
-    for _, block in _blocks("bash"):
+    for page, block in _blocks("bash"):
         for line in block.splitlines():
             line = line.split("  #")[0].strip()
             if line.startswith(("elastoactive ", ".venv/bin/elastoactive ")):
-                out.append(shlex.split(line)[1:])
+                out.append((page, shlex.split(line)[1:]))
     return out
 
 
@@ -122,13 +122,15 @@ def test_every_readme_command_runs(tmp_path):
     with LocalCluster(
         n_workers=1, threads_per_worker=1, processes=False, protocol="tcp", dashboard_address=None
     ) as cluster:
-        for argv in commands:
+        for page, argv in commands:
             if argv[0] == "reproduce" or ("--video" in argv or "-o" in argv or "--still" in argv) and not gl:
                 continue  # reproduce is the main job (test_reproduce runs it tiny); no GL here for videos
             small = _shrink(argv, cluster.scheduler_address)
+            folder = tmp_path / page.replace("/", "_")  # a reader follows one page in one folder
+            folder.mkdir(exist_ok=True)
             result = subprocess.run(
                 [sys.executable, "-m", "elastoactive", *small],
-                cwd=tmp_path,
+                cwd=folder,
                 env=env,
                 capture_output=True,
                 text=True,

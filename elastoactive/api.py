@@ -120,9 +120,8 @@ def simulate(
     physics, numerics = as_physics(physics), as_numerics(numerics)
     run = preflight(physics, numerics, duration, engine, method=method, timestep=check, announce=progress)
     options = {"theta0": theta0}
-    if run.engine == "mujoco":
-        options["progress"] = progress
-    elif method is not None:  # the reduced engine's ODE method (None: its automatic choice)
+    options["progress"] = progress  # MuJoCo's steps, or the reduced engine's time where its solver is slow
+    if run.engine == "reduced" and method is not None:  # the reduced engine's ODE method (None: its automatic choice)
         options["method"] = method
     return run_engine(run.engine, run.physics, run.numerics, run.duration, **options)
 

@@ -19,6 +19,8 @@ system_of(physics) (overdamped; mass_ratio > 0: the inertial model's, on the sta
 
 from __future__ import annotations
 
+import contextlib
+import math
 import time
 
 import numpy as np
@@ -27,6 +29,7 @@ from .. import reduced as _math
 from ..controllers.noise import ColouredNoise, force_factor
 from ..errors import ParameterError
 from ..initial import initial_angles
+from ..io.progress import progress_bar
 from ..params import Numerics, Physics
 from ..reduced import DEFAULT_BETA, INERTIA_RESOLUTION, STIFF_RADIUS, ChainSystem
 from ..reduced.settings import METHODS
@@ -215,6 +218,29 @@ def check_method(physics: Physics, method: str | None) -> None:
         )
 
 
+@contextlib.contextmanager
+def _time_bar(duration: float, shown: bool):
+    """A progress bar in units of tau, fed with the solver's times (None when not shown): scipy's methods report
+    through it (a long chain's implicit solver runs for minutes), the compiled DOP853 does not need it."""
+    if not shown:
+        yield None
+        return
+    total = max(1, math.ceil(duration))
+    bar = progress_bar(total, "reduced engine", "tau")
+    done = [0]
+
+    def on_time(time: float) -> None:
+        reached = min(int(time), total)
+        if reached > done[0]:
+            bar.update(reached - done[0])
+            done[0] = reached
+
+    try:
+        yield on_time
+    finally:
+        bar.close()
+
+
 def simulate_reduced(
     physics: Physics,
     numerics: Numerics,
@@ -226,6 +252,7 @@ def simulate_reduced(
     method: str | None = None,
     beta: float = DEFAULT_BETA,
     inertial: bool | None = None,
+    progress: bool = False,
 ) -> Trajectory:
     """Integrate the reduced model from theta0 (default: initial_angles) and sample every numerics.sample_dt.
 
@@ -290,9 +317,10 @@ def simulate_reduced(
         )
     else:
         try:
-            theta, info = _math.solve_ode(
-                system, t, theta0, rtol=rtol, atol=atol, method=method, beta=beta, loads=loads
-            )
+            with _time_bar(duration, progress) as on_time:
+                theta, info = _math.solve_ode(
+                    system, t, theta0, rtol=rtol, atol=atol, method=method, beta=beta, loads=loads, on_time=on_time
+                )
         except KeyboardInterrupt as err:  # Ctrl-C (numba-DOP853 sees it within ~0.1 s): keep the samples computed
             raise _interrupted(err, system, t, physics, time.perf_counter() - start) from None
     wall = time.perf_counter() - start

@@ -340,6 +340,7 @@ def solve_ode(
     beta: float,
     loads=None,
     head0=None,
+    on_time=None,
 ) -> tuple[np.ndarray, dict]:
     """Integrate the deterministic model from theta0 at t = 0; returns (theta at the times t, info).
     The inertial model (system.mass_ratio > 0) starts at rest: solve_inertial, of which the angles are returned.
@@ -357,6 +358,9 @@ def solve_ode(
     force, 0 where it does not; particles of chain 1, then chain 2), the constant force factors of the run.
     None or all ones: every particle loaded, bit for bit the unmasked run. Otherwise the implicit methods
     (and method=None's stiffness check) use a central-difference Jacobian of the masked right-hand side.
+
+    on_time: optional callable given the time of every right-hand side evaluation of scipy's methods (the slow
+    ones: a long chain's implicit solver), for a progress bar; it changes nothing that is computed.
     """
     system = system.typed()
     t, theta0 = _samples_and_state(system, t, theta0, head0)
@@ -375,7 +379,7 @@ def solve_ode(
         info["stiffness_ratio"] = stiffness_ratio(eig)
         method = _overdamped_method(info["stiffness"], info["stiffness_ratio"], float(t[-1]))
     info["method"] = method
-    return _integrate(system, t, theta0, method, rtol, atol, beta, info, loads)
+    return _integrate(system, t, theta0, method, rtol, atol, beta, info, loads, on_time)
 
 
 def stiffness_ratio(eig: np.ndarray) -> float:
@@ -424,6 +428,7 @@ def _integrate(
     beta: float,
     info: dict,
     loads: np.ndarray | None = None,
+    on_time=None,
 ) -> tuple[np.ndarray, dict]:
     """The states at the times t from y0 at t = 0 by `method` (the compiled DOP853 or scipy's solve_ivp on the
     compiled right-hand side, implicit methods with the Jacobian), the solver's counts added to info.
@@ -443,9 +448,17 @@ def _integrate(
     kw = {}
     if method in IMPLICIT_METHODS:
         kw["jac"] = jacobian(system, beta=beta) if loads is None else _numeric_jacobian(system, beta, loads)
+    fun = rhs(system, beta=beta, factor=loads)
+    if on_time is not None:
+        compiled = fun
+
+        def fun(time, y):  # the same values, the time reported first
+            on_time(time)
+            return compiled(time, y)
+
     with one_blas_thread():  # the implicit methods' LU factorisations (blas.py)
         sol = solve_ivp(
-            rhs(system, beta=beta, factor=loads),
+            fun,
             (0.0, float(t[-1])),
             y0,
             method=method,

@@ -246,7 +246,8 @@ def test_run_from_repeats_the_recorded_method(tmp_path):
     assert a["trajectory_sha256"] == b["trajectory_sha256"]
 
 
-def test_a_slow_reduced_run_shows_its_progress_in_tau_and_computes_the_same(capsys, monkeypatch):
+@pytest.mark.parametrize("mass_ratio", [None, 0.5])  # the overdamped model, and the inertial one
+def test_a_slow_reduced_run_shows_its_progress_in_tau_and_computes_the_same(capsys, monkeypatch, mass_ratio):
     """scipy's methods (a long chain's implicit solver runs for minutes) report the solver's time on a progress bar in
     tau; the run is bit for bit the one without it."""
     import elastoactive as ea
@@ -255,9 +256,11 @@ def test_a_slow_reduced_run_shows_its_progress_in_tau_and_computes_the_same(caps
     monkeypatch.setattr(progress, "LOG_INTERVAL", 0.0)  # a line at every update (a real run logs every few seconds)
 
     physics = ea.Physics(n=5, sigma=0.8)
-    quiet = ea.simulate(physics, duration=5, engine="reduced", method="Radau")
+    numerics = ea.Numerics() if mass_ratio is None else ea.Numerics(mass_ratio=mass_ratio)
+    quiet = ea.simulate(physics, numerics, duration=5, engine="reduced", method="Radau")
     capsys.readouterr()
-    shown = ea.simulate(physics, duration=5, engine="reduced", method="Radau", progress=True)
+    shown = ea.simulate(physics, numerics, duration=5, engine="reduced", method="Radau", progress=True)
     err = capsys.readouterr().err
     assert "reduced engine" in err and "tau" in err, err
     np.testing.assert_array_equal(shown.theta, quiet.theta)
+    assert shown.info["model"] == ("overdamped" if mass_ratio is None else "inertial")

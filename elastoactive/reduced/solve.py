@@ -367,7 +367,9 @@ def solve_ode(
     if method is not None and method not in COMPILED_METHODS + SCIPY_METHODS:
         raise ParameterError(f"method must be None, one of {COMPILED_METHODS + SCIPY_METHODS}, got {method!r}")
     if system.inertial:
-        y, info = solve_inertial(system, t, theta0, rtol=rtol, atol=atol, method=method, beta=beta, loads=loads)
+        y, info = solve_inertial(
+            system, t, theta0, rtol=rtol, atol=atol, method=method, beta=beta, loads=loads, on_time=on_time
+        )
         return y[:, : theta0.size].copy(), info
     loads = _loads(system, loads)
     info = {"rtol": rtol, "atol": atol}
@@ -517,6 +519,7 @@ def solve_inertial(
     omega0=None,
     loads=None,
     head0=None,
+    on_time=None,
 ) -> tuple[np.ndarray, dict]:
     """Integrate the inertial model (system.mass_ratio > 0) from (theta0, omega0) at t = 0 (omega0 default 0:
     at rest, as MuJoCo starts); returns (the states (theta, omega) at the times t, shape (len(t), 2 n_angles),
@@ -544,7 +547,7 @@ def solve_inertial(
         info["stiffness"] = float(max(0.0, np.max(-eig.real)))
         method = _inertial_method(eig)
     info["method"] = method
-    return _integrate(system, t, y0, method, rtol, atol, beta, info, loads)
+    return _integrate(system, t, y0, method, rtol, atol, beta, info, loads, on_time)
 
 
 RK4_STEP = 0.25

@@ -31,7 +31,11 @@ def test_one_module_makes_process_pools():
 
 
 INTERRUPTED = """
+import signal
 import sys
+
+# a terminal's Ctrl-C: the default handler, whatever disposition the process that started this one left it
+signal.signal(signal.SIGINT, signal.default_int_handler)
 from elastoactive.batch import Case, run_cases
 from elastoactive.params import Numerics, Physics
 

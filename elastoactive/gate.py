@@ -10,7 +10,7 @@ Numerics.for_duration) and runs every check that can refuse a run before it star
      (given=True; a batch's cases share numerics across engines, which each engine reads its own part of)
   5. MuJoCo's step count (engines.check_steps, with a long chain's automatic numerics) and its timestep against
      the integrator's stability and accuracy limits and every term's own rate (engines.timestep.check_timestep),
-     computed once per distinct model in the process (`TimestepChecks`)
+     computed once per distinct model of a batch (`TimestepChecks`)
 
 It returns a `Checked` run: what the engine is then given. `ea.simulate`, the batch every study uses
 (batch.run_case / run_cases), a sweep's points, `validate` and `run --from` all pass through it; the sweep defers

@@ -465,7 +465,7 @@ LONG_CHAIN_RESOLUTION = 0.55
 """long_chain_numerics keeps mass_ratio x rate^2 <= this (rate: the fastest overdamped rate at the base state).
 Calibrated on one-pinned, sigma 0.05, 20 tau, against the reduced model (largest angle error relative to the largest
 angle; it grows about linearly with the mass): 0.02% at N = 30 and 0.3% at N = 100 (mass 2e-3, rate 14.5),
-0.8% at N = 200 (rate 22.9: mass 1.05e-3) (docs/performance.md, tests/test_long_chains.py)."""
+0.8% at N = 200 (rate 22.9: mass 1.05e-3) (docs/performance.md, tests/engines/test_long_chains.py)."""
 LONG_CHAIN_DT_PER_MASS = 1.6
 """dt / mass_ratio of long_chain_numerics (isotropic drag; over max(1, drag_ratio) otherwise): Euler's explicit drag
 is stable for dt < 2 m / gamma (the lab drag of equal point masses is gamma / m times their mass matrix), so this is

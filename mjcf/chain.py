@@ -106,7 +106,7 @@ def _template(scene) -> mujoco.MjSpec:
     """A fresh copy of the scene's base MjSpec without its template elements (what build_spec starts from).
     Parsing the file and deleting the elements costs ~1 ms; it is done once per process and base file, and
     every call gets its own MjSpec.copy() (~15 us), which compiles to the same model, bit for bit
-    (tests/test_sweep.py). Thread-safe (sweeps prepare points on several threads)."""
+    (tests/sweep/test_sweep.py). Thread-safe (sweeps prepare points on several threads)."""
     path = str(mjcf_path(scene.base_file))
     prefixes = tuple(scene.chain_prefixes())
     key = (path, prefixes)

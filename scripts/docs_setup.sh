@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Set up what only the documentation needs, after scripts/setup.sh: the `docs` extra of pyproject.toml (MkDocs, the
 # Material theme, mkdocstrings, MathJax) into .venv, and, when root with apt, Debian's `chromium` for the test that
-# opens the built site in a real headless browser (tests/test_docs_site.py).
+# opens the built site in a real headless browser (tests/docs/test_docs_site.py).
 # Idempotent and quick when done: the pip install is skipped while the extra's list is as at the last install (stamp
 # in .venv/.elastoactive-docs-stamp), apt-get runs (with one `apt-get update` first) only while chromium is missing.
 set -euo pipefail

@@ -9,7 +9,7 @@ source:
   <!-- generated: convergence -->  docs/generated/convergence.md    (`elastoactive validate one-pinned --convergence`)
 
     .venv/bin/python scripts/update_readme.py            # rewrite the pages' blocks from those files
-    .venv/bin/python scripts/update_readme.py --check    # exit 1 if a page is out of date (tests/test_readme.py)
+    .venv/bin/python scripts/update_readme.py --check    # exit 1 if a page is out of date (tests/docs/test_readme.py)
     .venv/bin/python scripts/update_readme.py --run      # first regenerate the two validate files (~1 min)
 
 Each block ends at `<!-- end -->`. (The README, the site's home page, holds no generated block.)

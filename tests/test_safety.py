@@ -70,7 +70,7 @@ def test_two_pinned_starts_on_its_pins(n, delta):
 
 
 @pytest.mark.parametrize("scene", [s for s in scene_names() if scenes.get(s).term_parameters is None])
-def test_autoreset_is_off(scene):  # chain scenes; a network's model: tests/test_network_mujoco.py
+def test_autoreset_is_off(scene):  # chain scenes; a network's model: tests/engines/test_network_mujoco.py
     model = build_model(Physics(scene=scene, n=3))
     assert model.opt.disableflags & mujoco.mjtDisableBit.mjDSBL_AUTORESET
 

@@ -37,8 +37,8 @@ AUTOMATIC_INTEGRATOR = "Euler"
 """The integrator a network run uses when dt, mass_ratio and integrator are all left at their defaults
 (Numerics.automatic). The network's drag is the slide joints' damping, which MuJoCo's Euler integrates implicitly
 (its eulerdamp, on by default), exactly as implicitfast does: with no other velocity-dependent force in the model the
-two steps are the same, and the trajectories are bit for bit equal (tests/test_network_mujoco.py), but Euler skips
-assembling and factoring implicitfast's velocity derivatives: about 30% less per step on the R = 6 lattice
+two steps are the same, and the trajectories are bit for bit equal (tests/engines/test_network_mujoco.py), but Euler
+skips assembling and factoring implicitfast's velocity derivatives: about 30% less per step on the R = 6 lattice
 (docs/performance.md)."""
 TURN_RESOLUTION = 0.00125
 """dt x Pi that automatic numerics keep below, Pi = sigma / l_a (units k / gamma): the rate at which a unit moving at

@@ -5,7 +5,7 @@ E. Hairer and G. Wanner (Fortran code DOP853; E. Hairer, S. P. Norsett, G. Wanne
 Differential Equations I: Nonstiff Problems", Sec. II). The numbers below are copied unchanged from
 SciPy 1.17.1, scipy/integrate/_ivp/dop853_coefficients.py (BSD 3-clause licence, notice below), so that
 the compiled integrator (dop853.py) reproduces scipy's solve_ivp(method="DOP853") step for step without
-importing a private scipy module. tests/test_reduced_package.py checks that the copy equals scipy's.
+importing a private scipy module. tests/reduced/test_reduced_package.py checks that the copy equals scipy's.
 
   N_STAGES            stages of a step (12; stage 13 is the FSAL evaluation at the new point)
   N_STAGES_EXTENDED   stages including the three extra ones of the dense output (16)

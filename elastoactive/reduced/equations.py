@@ -89,7 +89,7 @@ so body i also turns with th_i' and has the rotational inertia I = (2/5) m r^2 =
 
 (1-based; v_i = sum_{j<=i} n_j th_j'). This M is exactly MuJoCo's mass matrix (mj_fullM) after the change
 from its relative hinge angles q to the absolute angles th = L q (L lower triangular ones): M_q = L^T M L
-(checked to round-off in tests/test_inertia.py, as are the accelerations below against MuJoCo's qacc).
+(checked to round-off in tests/reduced/test_inertia.py, as are the accelerations below against MuJoCo's qacc).
 Lagrange's equations d/dt dT/dth_j' - dT/dth_j = Q_j with dM_kl/dth_j = -a_kl sin(th_k - th_l) (delta_kj - delta_lj):
 
     d/dt (M th')_j = (M th'')_j - sum_k a_jk sin(th_j - th_k) (th_j' - th_k') th_k',
@@ -127,7 +127,7 @@ finite-difference Jacobian (kernels.eval_jacobian_inertial). The engine runs thi
 overdamped limit (mass_ratio x fastest overdamped rate > INERTIA_RESOLUTION = 0.1, regime.py),
 where gamma/m < 10 x that rate, or on request.
 
-Where the paper's printed equations are wrong (first principles win; checked in tests/test_reduced.py)
+Where the paper's printed equations are wrong (first principles win; checked in tests/reduced/test_reduced.py)
 ------------------------------------------------------------------------------------------------------
 * Appendix C, single chain, equation "i = 1": the drag term reads tau (N th1' + sum_{j>=2} th_j' cos(th1 - th_j));
   the coefficient of th_j' must be (N - j + 1) (= D_1j). The printed form is right only for N = 2 (for

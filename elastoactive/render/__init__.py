@@ -244,7 +244,7 @@ class _Painter:
                     tip = p - self.arrow * data.site_xmat[s].reshape(3, 3)[:, 0]
                     p[2] = tip[2] = 0.2
                     # MuJoCo 4.0's renderer draws an mjGEOM_ARROW over half the connector's
-                    # length (measured; tested in tests/test_render.py), hence the 2
+                    # length (measured; tested in tests/render/test_render.py), hence the 2
                     _add_geom(scene, mujoco.mjtGeom.mjGEOM_ARROW, ARROW_RGBA, p, p + 2.0 * (tip - p), 0.04)
         pixels = self.renderer.render()
         return self.caption.draw(pixels, f"t = {t:.1f} τ")

@@ -150,8 +150,8 @@ class Scene:
         return Physics(scene=self.name, **values)
 
     def base_physics(self) -> Physics:
-        """The physics the base file describes (the builder at it reproduces the file's model: tests/test_scenes.py):
-        the paper's N = 7, sigma = 0.8, the other parameters at their defaults."""
+        """The physics the base file describes (the builder at it reproduces the file's model:
+        tests/mjcf/test_scenes.py): the paper's N = 7, sigma = 0.8, the other parameters at their defaults."""
         return self.physics(n=7, sigma=0.8)
 
     def label(self, physics: Physics) -> str:

@@ -191,7 +191,7 @@ def star_claims(study: Study, read: Mapping[str, Study]) -> list[Claim]:
         Claim(
             "A star on a clamped hub is k independent one-pinned chains",
             NEW,
-            "tests/test_star.py: every arm's amplitude and frequency = the one-pinned chain's to 0.1%",
+            "tests/scenes/test_star.py: every arm's amplitude and frequency = the one-pinned chain's to 0.1%",
             f"arms' amplitudes and frequencies within {100 * s.clamped_spread:.2g}% of each other "
             f"(f tau = {', '.join(fmt(s.frequency[k][-1], 4) for k in ks)})",
             verdict(s.clamped_spread < 1e-3),

@@ -6,7 +6,7 @@ folders, never into the repository). The render cell catches RenderError itself;
 checked only where an OpenGL back end works, as in test_render.py.
 
 To refresh the outputs stored in the notebook after changing it:
-    ELASTOACTIVE_UPDATE_NOTEBOOK=1 .venv/bin/python -m pytest -q tests/test_notebook.py
+    ELASTOACTIVE_UPDATE_NOTEBOOK=1 .venv/bin/python -m pytest -q tests/docs/test_notebook.py
 """
 
 import copy
@@ -20,7 +20,7 @@ nbformat = pytest.importorskip("nbformat")
 nbclient = pytest.importorskip("nbclient")
 pytest.importorskip("ipykernel")
 
-NOTEBOOK = Path(__file__).resolve().parents[1] / "examples" / "tutorial.ipynb"
+NOTEBOOK = Path(__file__).resolve().parents[2] / "examples" / "tutorial.ipynb"
 CELL_TIMEOUT = 300  # s; the whole notebook takes about 15 s on 2 cores
 UPDATE = os.environ.get("ELASTOACTIVE_UPDATE_NOTEBOOK") == "1"
 

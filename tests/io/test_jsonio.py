@@ -14,7 +14,7 @@ from elastoactive.io.jsonio import from_jsonable, to_jsonable
 from elastoactive.results import jsonable
 from elastoactive.studies import SUMMARIES
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 
 VALUE = {
     "fit": Fit({"a": 1.5}, {"a": math.inf}, 0.9, 12),

@@ -10,7 +10,7 @@ import sys
 import time
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 POOL = re.compile(
     r"ProcessPoolExecutor|multiprocessing\s*\.\s*(Pool|Process)\b|\bmp\.Pool\b|from multiprocessing import"
 )

@@ -21,7 +21,8 @@ def passive_forces(model, data, callback):
 
 FOLLOWER_SCENES = [s for s in scene_names() if "noise" in scene_parameters(scenes.get(s))]
 """The scenes whose particles may carry the follower force and its noise, which the Python reference specifies (a
-network's units are self-aligning: its MuJoCo model is held to its reduced one, tests/test_network_mujoco.py)."""
+network's units are self-aligning: its MuJoCo model is held to its reduced one in
+tests/engines/test_network_mujoco.py)."""
 
 
 @pytest.mark.parametrize("noise", [0.0, 0.4])

@@ -236,7 +236,7 @@ def test_the_guide_lattice_examples_show_what_their_table_says():
 
     from elastoactive.trajectory import Trajectory
 
-    guide = (Path(__file__).resolve().parents[1] / "docs" / "beyond.md").read_text()
+    guide = (Path(__file__).resolve().parents[2] / "docs" / "beyond.md").read_text()
     section = guide[guide.index("## Active solids") :]
     section = section.split("\n## ", 1)[0]  # to the next section, or the page's end
     header = [h.strip() for h in re.search(r"^\| run \| state \|(.*)\|$", section, re.M).group(1).split("|")]

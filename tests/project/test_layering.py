@@ -13,7 +13,7 @@ import pytest
 
 import elastoactive as ea
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 
 
 def _modules() -> dict[str, Path]:
@@ -154,3 +154,19 @@ def test_reduced_engine_and_network_records_stand_alone(name):
         if target.startswith("elastoactive") and not target.startswith(PURE) and target != "elastoactive"
     ]
     assert not outside, f"{name} imports {outside}"
+
+
+def test_tests_mirror_the_packages():
+    """tests/ holds one folder per sub-package (the design's top-level folders among them), named as the package,
+    plus docs/ (the README, the site, the notebook) and project/ (packaging, layering); the front door's modules
+    are tested in tests/ itself."""
+    cfg = tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["setuptools"]
+    packages = {p.split(".")[1] for p in cfg["packages"] if p.count(".") == 1}
+    folders = {p.name for p in (ROOT / "tests").iterdir() if p.is_dir() and not p.name.startswith((".", "_"))}
+    assert folders - packages <= {"docs", "project"}, folders - packages
+    stray = [
+        p.name for p in (ROOT / "tests").glob("*.py") if p.name != "conftest.py" and not p.name.startswith("test_")
+    ]
+    assert not stray, f"helpers belong beside the tests that use them: {stray}"
+    names = [p.name for p in (ROOT / "tests").rglob("test_*.py")]
+    assert len(names) == len(set(names)), "test files need unique names (pytest imports them by basename)"

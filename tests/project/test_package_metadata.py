@@ -1,13 +1,13 @@
 """The package's metadata says what it is: its license is the MIT text shipped beside it, it is typed (PEP 561's
 py.typed, installed with the package), and pyproject.toml carries classifiers and project URLs that lead somewhere.
-tests/test_packaging.py checks that the built wheel carries py.typed and the license."""
+tests/project/test_packaging.py checks that the built wheel carries py.typed and the license."""
 
 from __future__ import annotations
 
 import tomllib
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 PROJECT = tomllib.loads((ROOT / "pyproject.toml").read_text())
 
 

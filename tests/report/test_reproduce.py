@@ -14,7 +14,7 @@ from elastoactive.io.progress import LOG_INTERVAL, LineProgress
 from elastoactive.report.reproduce import reproduce
 from elastoactive.studies import STUDIES, SUMMARIES, load_study
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 SCRIPTS = {
     "flagellar_hopf.py": ["fig3ab_hopf.png", "fig3cd_eigenvalues.png", "figA_size_effect.png", "normal_form_n2.png"],
     "self_snapping.py": ["fig4cd_snapping.png", "figA_snapping_map.png"],

@@ -79,7 +79,11 @@ def run_case(
 ) -> CaseResult:
     """Simulate one case, once it has passed the gate (`checked`), and measure it (results.measure; not with
     measured=False)."""
-    case = checked(case, timestep, checks)
+    return _run_checked(checked(case, timestep, checks), keep_trajectory, measured)
+
+
+def _run_checked(case: Case, keep_trajectory: bool = False, measured: bool = True) -> CaseResult:
+    """Simulate and measure a case that has passed the gate already (`checked`'s result)."""
     traj = run_engine(case.engine, case.physics, case.numerics, case.duration)
     return CaseResult(
         measure(traj, case.transient) if measured else None,
@@ -132,7 +136,7 @@ def run_cases(
     try:
         simulated = [i for i, case in enumerate(cases) if case.engine == "mujoco" and i not in errors]
         reduced = [i for i, case in enumerate(cases) if case.engine != "mujoco" and i not in errors]
-        task = functools.partial(run_case, keep_trajectory=keep_trajectory, measured=measured, timestep=False)
+        task = functools.partial(_run_checked, keep_trajectory=keep_trajectory, measured=measured)
         with contextlib.ExitStack() as stack:
             pending = {}
             if simulated and workers > 1 and len(reduced) > 1:  # both engines at once (see the module's docstring)
@@ -150,7 +154,7 @@ def run_cases(
                     finished(pending[future], future.result())
         if workers <= 1 or len(reduced) <= 1:
             for i in reduced:
-                finished(i, run_case(cases[i], keep_trajectory, measured, timestep=False))
+                finished(i, _run_checked(cases[i], keep_trajectory, measured))
         elif reduced:
             runs = imap(
                 task,

@@ -34,6 +34,7 @@ import numpy as np
 
 from ..batch import default_workers
 from ..errors import ParameterError
+from ..gate import TimestepChecks
 from ..io.outputs import check_file
 from ..params import Numerics
 from .grid import (
@@ -59,7 +60,6 @@ from .grid import (
 from .netcdf import SNAPSHOT_MARGIN
 from .points import (
     BATCH_POINTS_PER_THREAD,
-    TimestepChecks,
     refuse_if_all_refused,
     refused,
     run_point,

@@ -27,12 +27,12 @@ from collections.abc import Iterator
 import numpy as np
 
 from ..errors import ParameterError
+from ..gate import TimestepChecks
 from ..io.executor import imap
 from .grid import Sweep
 from .netcdf import package_version
 from .points import (
     BATCH_POINTS_PER_THREAD,
-    TimestepChecks,
     error_record,
     run_point,
     run_points,

@@ -6,9 +6,9 @@ normal form (which printed Landau-Stuart coefficient holds).
     .venv/bin/python scripts/flagellar_hopf.py [--tiny | --full] [--out DIR] [--workers K]
 """
 
-from elastoactive.report.paper import PAPER
 from elastoactive.report.reproduce import save_all, scenario_parser, scenario_size
 from elastoactive.studies import growth_study, hopf_study, normal_form_study, stability_study
+from elastoactive.studies.paper import PAPER
 
 
 def _complex(z: complex) -> str:

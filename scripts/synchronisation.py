@@ -6,9 +6,9 @@ near-onset threshold against kappa_c = 11/(4 sqrt 6) sqrt(mu |1 - rho|).
     .venv/bin/python scripts/synchronisation.py [--tiny | --full] [--out DIR] [--workers K]
 """
 
-from elastoactive.report.paper import PAPER
 from elastoactive.report.reproduce import save_all, scenario_parser, scenario_size
 from elastoactive.studies import sync_n2_study, sync_study, tongue_study
+from elastoactive.studies.paper import PAPER
 
 
 def main(argv=None):

@@ -1,1 +1,2 @@
-"""The paper reproduced: the claims table (claims), the paper's numbers (paper), the whole run (reproduce)."""
+"""The paper reproduced: the claims table (claims) and the whole run (reproduce); the paper's own numbers, which the
+studies set their results against, are elastoactive.studies.paper."""

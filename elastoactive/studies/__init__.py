@@ -10,7 +10,7 @@ reproduce run, "full" for publication resolution), runs its simulations through
 (`Study.data`, saved as NPZ) and the numbers the report quotes (`Study.summary`, a typed dataclass,
 saved as JSON). MuJoCo ("mujoco") and the reduced overdamped model ("reduced") run the same cases
 from the same initial state. The mathematics they use lives in `elastoactive.analysis`; the paper's
-numbers they are set against in `elastoactive.report.paper`.
+numbers they are set against in `elastoactive.studies.paper`.
 
     linear        stability (sigma_c(N), N^-3, continuum), growth (linear rates seen by both engines)
     hopf          the Hopf bifurcation of N = 7

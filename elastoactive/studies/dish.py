@@ -24,7 +24,6 @@ import numpy as np
 from ..analysis import dish
 from ..batch import Case
 from ..params import Numerics
-from ..report.paper import PAPER
 from ..results import Results
 from ..scenes import paraboloid
 from . import plotting as plots
@@ -32,6 +31,7 @@ from . import registry
 from .base import Study, Summary, pick, run_measured
 from .claim_rows import Claim, verdict
 from .inertia import HEXBUG_MASS_KG
+from .paper import PAPER
 
 __all__ = ["DishPoint", "DishSummary", "dish_study", "focal_length_m"]
 

@@ -17,12 +17,12 @@ from ..analysis import observables as obs
 from ..analysis import stability as stab
 from ..analysis.fits import Fit
 from ..batch import Case
-from ..report.paper import PAPER
 from ..scenes import one_pinned
 from . import plotting as plots
 from . import registry
 from .base import ENGINES, EngineParts, Study, Summary, downsample, fast, pick, run, try_fit
 from .claim_rows import Claim, fit_value, pm, verdict
+from .paper import PAPER
 
 HOPF_CYCLES = (PAPER.fig2_sigmas[0], 0.3, PAPER.fig2_sigma_simulation)
 """sigma of the limit cycles and time series kept for Fig. 2 (MuJoCo)."""

@@ -26,12 +26,12 @@ from ..analysis import flutter as fl
 from ..analysis import observables as obs
 from ..batch import Case
 from ..params import Numerics
-from ..report.paper import PAPER
 from ..scenes import one_pinned
 from . import plotting as plots
 from . import registry
 from .base import ENGINES, Study, Summary, pick, run
 from .claim_rows import Claim, verdict
+from .paper import PAPER
 
 __all__ = ["HEXBUG_MASS_KG", "ExperimentScales", "InertiaSummary", "experiment_scales", "inertia_study"]
 

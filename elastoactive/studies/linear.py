@@ -29,12 +29,12 @@ from ..analysis.fits import Fit
 from ..batch import Case
 from ..io.outputs import atomic_file
 from ..params import Numerics
-from ..report.paper import PAPER
 from ..scenes import one_pinned
 from . import plotting as plots
 from . import registry
 from .base import ENGINES, EngineParts, Study, Summary, fast, pick, run
 from .claim_rows import Claim, fmt, verdict
+from .paper import PAPER
 
 
 # --------------------------------------------------------------------------------------------------

@@ -23,13 +23,13 @@ from ..analysis import observables as obs
 from ..analysis import stability as stab
 from ..batch import Case
 from ..params import Numerics
-from ..report.paper import PAPER
 from ..scenes import one_pinned
 from . import plotting as plots
 from . import registry
 from .base import ENGINES, EngineParts, Study, Summary, fast, pick, run, safe
 from .claim_rows import Claim, fmt, verdict
 from .inertia import experiment_scales
+from .paper import PAPER
 
 PROBE_SIGMAS = (2.8, 3.2)
 """The growth-rate probes of the anisotropy study: the N = 2 onset sigma = 3 -/+ 0.2."""

@@ -19,12 +19,12 @@ from ..analysis import fits
 from ..analysis.normal_form import landau_limit_cycle, limit_cycle_moments
 from ..batch import Case
 from ..params import Numerics
-from ..report.paper import PAPER
 from ..scenes import one_pinned
 from . import plotting as plots
 from . import registry
 from .base import EngineParts, Study, Summary, pick, run
 from .claim_rows import Claim, pm, verdict
+from .paper import PAPER
 
 PRINTED = {"supplement": PAPER.landau_supplement, "main": PAPER.landau_main}
 """The paper's two printed cubic coefficients, by where they are printed."""

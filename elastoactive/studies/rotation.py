@@ -18,12 +18,12 @@ from ..analysis.fits import Fit
 from ..analysis.measures import chain_positions
 from ..analysis.stability import rotating_operator, rotation_threshold
 from ..batch import Case
-from ..report.paper import PAPER
 from ..scenes import rotating_pin
 from . import plotting as plots
 from . import registry
 from .base import ENGINES, EngineParts, Study, Summary, fast, pick, run, try_fit
 from .claim_rows import Claim, fmt, verdict
+from .paper import PAPER
 
 
 @dataclass(frozen=True)

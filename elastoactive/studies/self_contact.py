@@ -25,13 +25,13 @@ from ..analysis import spectrum
 from ..batch import Case
 from ..params import Numerics
 from ..reduced.contact import capsule_clearance, contact_pairs, link_distance
-from ..report.paper import PAPER
 from ..results import HARMONICS, Results
 from ..scenes import one_pinned
 from . import plotting as plots
 from . import registry
 from .base import Study, Summary, pick, run_measured
 from .claim_rows import Claim, fmt, verdict
+from .paper import PAPER
 
 __all__ = ["ContactRun", "ConvergenceRow", "LongChainSummary", "link_crossings", "long_chain_study"]
 

@@ -19,12 +19,12 @@ from ..analysis import fits
 from ..analysis import observables as obs
 from ..analysis.measures import chain_positions
 from ..batch import Case
-from ..report.paper import PAPER
 from ..scenes import two_pinned
 from . import plotting as plots
 from . import registry
 from .base import ENGINES, EngineParts, Study, Summary, fast, pick, run, safe
 from .claim_rows import Claim, verdict
+from .paper import PAPER
 
 SNAP_THRESHOLD = 0.02
 """rad: a std of theta_3 above this is self-snapping (the static arch has ~0)."""

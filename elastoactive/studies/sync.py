@@ -28,12 +28,12 @@ from ..engines.reduced import rhs
 from ..initial import initial_angles
 from ..io.executor import imap
 from ..params import Numerics
-from ..report.paper import PAPER
 from ..scenes import coupled_pair
 from . import plotting as plots
 from . import registry
 from .base import ENGINES, EngineParts, Study, Summary, downsample, fast, pick, run, try_fit
 from .claim_rows import Claim, fmt, frac, verdict
+from .paper import PAPER
 
 
 def kappa_c_formula(mu, rho):

@@ -14,10 +14,10 @@ from elastoactive.analysis import stability as stab
 from elastoactive.analysis import synchronisation as syn
 from elastoactive.analysis.fits import Fit
 from elastoactive.engines import reduced as R
-from elastoactive.report.paper import PAPER
 from elastoactive.scenes import rotating_pin
 from elastoactive.studies.base import EngineParts, Study, Summary, to_jsonable
 from elastoactive.studies.normal_form import landau_prediction
+from elastoactive.studies.paper import PAPER
 from elastoactive.studies.sync import kappa_c_formula, kappa_c_phase_equation
 
 

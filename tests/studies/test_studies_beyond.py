@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pytest
 
-from elastoactive.report.paper import PAPER
+from elastoactive.studies.paper import PAPER
 from elastoactive.studies.self_contact import link_crossings
 
 

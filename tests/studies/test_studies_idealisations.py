@@ -8,9 +8,9 @@ import math
 import pytest
 
 from elastoactive.analysis import flutter as fl
-from elastoactive.report.paper import PAPER
 from elastoactive.studies.inertia import experiment_scales
 from elastoactive.studies.noise import experiment_noise
+from elastoactive.studies.paper import PAPER
 
 
 @pytest.fixture(scope="module")

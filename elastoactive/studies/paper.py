@@ -1,7 +1,7 @@
 """The paper's numbers: every value Zheng et al. quote that the project sets its results against,
 in one place (the studies, the claim table and the figures read them from here).
 
-    from elastoactive.report.paper import PAPER
+    from elastoactive.studies.paper import PAPER
     PAPER.sigma_c_7_linear          # 0.15
     PAPER.source("sigma_c_7_linear")  # where the paper says it
 

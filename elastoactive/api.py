@@ -23,6 +23,7 @@ from .gate import preflight
 from .params import DEFAULT_SCENE, LEADING, Numerics, Physics, parameter_fields
 from .results import Results, check_measurable, check_transient
 from .results import measure as _measure
+from .starts import as_start
 from .trajectory import Trajectory
 
 
@@ -72,6 +73,7 @@ def simulate(
     check: bool = True,
     progress: bool = False,
     theta0=None,
+    start=None,
     method: str | None = None,
 ) -> Trajectory:
     """Simulate a scene.
@@ -97,6 +99,10 @@ def simulate(
         Show a progress bar (MuJoCo engine).
     theta0 : array_like, optional
         Initial absolute angles (chain 1 then chain 2); default: the scene's seeded initial state.
+    start : Trajectory, path, NetworkState, (positions, polarity) or array_like, optional
+        The state to start from instead of the scene's: a trajectory's last sample, a saved run's (its folder), a
+        network's node positions and unit polarities, or a chain's angles (``elastoactive.starts``); checked against
+        the scene, a state of another scene refused naming it. Not with ``theta0``.
     method : str, optional
         Reduced engine only: the ODE method ("numba-DOP853", "LSODA", "Radau", ...); default: chosen from the
         stiffness of the linearisation at the start (trajectory.info["method"] says which ran).
@@ -120,6 +126,10 @@ def simulate(
     physics, numerics = as_physics(physics), as_numerics(numerics)
     run = preflight(physics, numerics, duration, engine, method=method, timestep=check, announce=progress)
     options = {"theta0": theta0}
+    if start is not None:
+        if theta0 is not None:
+            raise ParameterError("start: give start or theta0, not both")
+        options = as_start(start).engine_options()
     options["progress"] = progress  # MuJoCo's steps, or the reduced engine's time where its solver is slow
     if run.engine == "reduced" and method is not None:  # the reduced engine's ODE method (None: its automatic choice)
         options["method"] = method

@@ -69,6 +69,7 @@ def simulate_mujoco(
     duration: float = 200.0,
     *,
     theta0: np.ndarray | None = None,
+    state0=None,
     progress: bool = False,
     on_sample: Callable[[mujoco.MjModel, mujoco.MjData], None] | None = None,
 ) -> Trajectory:
@@ -78,7 +79,8 @@ def simulate_mujoco(
     with a matched mass (params.long_chain_numerics; info["automatic_numerics"] records what ran).
 
     on_sample(model, data) is called at every recorded sample (e.g. to render a frame); it must
-    not change the state.
+    not change the state. theta0 (a chain's angles) or state0 (a network's NetworkState): the state to start from
+    instead of the scene's.
 
     progress=True also estimates the run's wall time first (engines.cost: a few samples stepped on a copy of the
     state; info["estimated_wall_s"]) and, for a long run far slower than the reduced engine would be, says so in
@@ -93,8 +95,10 @@ def simulate_mujoco(
         if theta0 is not None:
             raise ParameterError(f"theta0: {physics.scene} is a network (its initial state: Scene.initial_network)")
         return simulate_network_mujoco(
-            physics, numerics, duration, network=network, progress=progress, on_sample=on_sample
+            physics, numerics, duration, network=network, state0=state0, progress=progress, on_sample=on_sample
         )
+    if state0 is not None:
+        raise ParameterError(f"start: {physics.scene} is a chain scene (its state is its angles, theta0)")
     given, numerics = numerics, numerics.for_physics(physics)  # long chains: automatic numerics (Numerics)
     t = numerics.sample_times(duration)
     check_steps(numerics, duration)

@@ -24,6 +24,7 @@ from ..controllers import follower_forces
 from ..errors import ParameterError, SimulationDiverged
 from ..io.progress import progress_bar
 from ..mjcf.network import build_network_model, node_positions, qpos_of_positions, set_polarity
+from ..networks.state import NetworkState
 from ..params import RESOLUTION, Numerics, Physics
 from ..reduced import INERTIA_RESOLUTION
 from ..terms.self_aligning import polarity_addresses, turning_rate
@@ -31,7 +32,7 @@ from ..trajectory import Trajectory
 from . import check_steps
 from .cost import NOTE_SECONDS, mujoco_cost
 from .monitor import MAX_STEP_CHANGE, PROGRESS_EVERY, bad_state, is_check, runaway, step_last_apart
-from .network_reduced import network_rate
+from .network_reduced import network_rate, start_state
 
 AUTOMATIC_INTEGRATOR = "Euler"
 """The integrator a network run uses when dt, mass_ratio and integrator are all left at their defaults
@@ -136,6 +137,7 @@ def simulate_network_mujoco(
     network=None,
     positions0: np.ndarray | None = None,
     polarity0: np.ndarray | None = None,
+    state0: NetworkState | None = None,
     progress: bool = False,
     on_sample: Callable[[mujoco.MjModel, mujoco.MjData], None] | None = None,
     install_callbacks: bool = True,
@@ -143,7 +145,9 @@ def simulate_network_mujoco(
     """Simulate a network scene for `duration` (gamma / k); node positions sampled every numerics.sample_dt.
 
     network: the scene's (Scene.network) unless given; positions0 (P, 2), polarity0 (A,): the scene's initial
-    state unless given. on_sample(model, data) is called at every recorded sample; it must not change the state.
+    state unless given; state0: a NetworkState of the scene's network to start from instead (checked as the reduced
+    engine checks it: network_reduced.start_state). on_sample(model, data) is called at every recorded sample; it
+    must not change the state.
     install_callbacks=False: the caller has installed the compiled callbacks for the whole call (a batch's worker
     thread, engines.mujoco_batch: callbacks are global to the process)."""
     if not duration > 0:
@@ -151,6 +155,8 @@ def simulate_network_mujoco(
     given, numerics = numerics, network_numerics(physics, numerics)
     t = numerics.sample_times(duration)
     check_steps(numerics, duration)
+    if state0 is not None:  # a given start (the scene's network), checked as the reduced engine checks it
+        positions0, polarity0 = start_state(physics, numerics, state0)
     network, model, data = prepare_network(physics, numerics, network, positions0, polarity0)
     if on_sample is not None:
         on_sample(model, data)

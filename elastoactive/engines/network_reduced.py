@@ -14,6 +14,7 @@ import time
 import numpy as np
 
 from ..errors import ParameterError
+from ..networks.state import NetworkState
 from ..params import Numerics, Physics
 from ..reduced import INERTIA_RESOLUTION
 from ..reduced import network as _model
@@ -46,17 +47,56 @@ def network_rate(physics: Physics) -> float:
     return max(springs, turning_rate(physics))
 
 
+PINNED_SLACK = 1e-6
+"""Largest distance (units a) of a pinned node from its rest position in a given starting state (MuJoCo holds pins to
+its constraint's give; they are put back exactly)."""
+
+
+def start_state(physics: Physics, numerics: Numerics, state0: NetworkState | None = None) -> NetworkState:
+    """The state a network run starts from, the same for both engines: `state0` (lab positions (P, 2) of every node,
+    the active units' polarities (A,) in node order; pinned nodes must sit at rest) checked against the scene's
+    network, else the scene's seeded one (Scene.initial_network). A bad state is refused in one line naming it."""
+    if state0 is None:
+        return physics.scene_def.initial_network(physics, numerics)
+    network = physics.scene_def.network(physics)
+    positions = np.asarray(state0.positions, dtype=float)
+    polarity = np.asarray(state0.polarity, dtype=float).reshape(-1)
+    units = int(np.count_nonzero(network.active))
+    if positions.shape != network.positions.shape:
+        raise ParameterError(
+            f"start: positions must be {network.n_nodes} nodes x 2 for this {physics.scene} network, got shape "
+            f"{positions.shape} (a state of another network?)"
+        )
+    if polarity.size != units:
+        raise ParameterError(
+            f"start: polarity must hold {units} angles (one per active unit) for this {physics.scene} network, got "
+            f"{polarity.size}"
+        )
+    if not (np.all(np.isfinite(positions)) and np.all(np.isfinite(polarity))):
+        raise ParameterError("start: the state holds a non-finite position or polarity")
+    moved = np.abs(positions[network.pinned] - network.positions[network.pinned])
+    if moved.size and moved.max() > PINNED_SLACK:
+        raise ParameterError(
+            f"start: a pinned node sits {moved.max():.3g} a from its rest position (a state of another network?)"
+        )
+    positions = positions.copy()
+    positions[network.pinned] = network.positions[network.pinned]
+    return NetworkState(positions, polarity)
+
+
 def simulate_network_reduced(
     physics: Physics,
     numerics: Numerics,
     duration: float,
     *,
     theta0=None,
+    state0: NetworkState | None = None,
     rtol: float = 1e-8,
     atol: float = 1e-10,
     method: str | None = None,
 ) -> Trajectory:
-    """Integrate the network model from the scene's initial state and sample every numerics.sample_dt."""
+    """Integrate the network model from `state0` (start_state: default the scene's initial state) and sample every
+    numerics.sample_dt."""
     if theta0 is not None:
         raise ParameterError(f"theta0: {physics.scene} is a network (its initial state: Scene.initial_network)")
     method = DEFAULT_METHOD if method is None else method
@@ -77,7 +117,7 @@ def simulate_network_reduced(
         )
     system = system_of(physics)
     t = numerics.sample_times(duration)
-    y0 = _model.pack(system, physics.scene_def.initial_network(physics, numerics))
+    y0 = _model.pack(system, start_state(physics, numerics, state0))
     start = time.perf_counter()
     solution = _model.solve(system, t, y0, rtol=rtol, atol=atol, method=method)
     wall = time.perf_counter() - start

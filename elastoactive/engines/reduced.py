@@ -247,6 +247,7 @@ def simulate_reduced(
     duration: float,
     *,
     theta0=None,
+    state0=None,
     rtol: float = 1e-9,
     atol: float = 1e-11,
     method: str | None = None,
@@ -254,7 +255,8 @@ def simulate_reduced(
     inertial: bool | None = None,
     progress: bool = False,
 ) -> Trajectory:
-    """Integrate the reduced model from theta0 (default: initial_angles) and sample every numerics.sample_dt.
+    """Integrate the reduced model from theta0 (default: initial_angles) and sample every numerics.sample_dt; a
+    network scene from state0 (its NetworkState; default: Scene.initial_network).
 
     inertial: None (automatic: the inertial model, at rest at t = 0, when numerics.mass_ratio is outside the
     overdamped limit, see `regime`), True (the inertial model at numerics.mass_ratio), False (overdamped).
@@ -272,7 +274,11 @@ def simulate_reduced(
     if physics.scene_def.network(physics) is not None:  # a network scene: its own model (engines.network_reduced)
         from .network_reduced import simulate_network_reduced  # start-up time: chain runs never load it
 
-        return simulate_network_reduced(physics, numerics, duration, theta0=theta0, rtol=rtol, atol=atol, method=method)
+        return simulate_network_reduced(
+            physics, numerics, duration, theta0=theta0, state0=state0, rtol=rtol, atol=atol, method=method
+        )
+    if state0 is not None:
+        raise ParameterError(f"start: {physics.scene} is a chain scene (its state is its angles, theta0)")
     check_method(physics, method)
     use_inertia, record = _use_inertia(physics, numerics, inertial)
     system = system_of(physics, numerics.mass_ratio if use_inertia else 0.0)

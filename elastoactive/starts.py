@@ -1,0 +1,91 @@
+"""Where a run starts: a chain's angles, or a network's node positions and unit polarities, given or taken from the
+last sample of a saved run (ea.simulate(..., start=...), `elastoactive ramp --start-from`).
+
+A `Start` is one of the two kinds of state the engines take (a chain's theta0; a network's NetworkState, state0);
+the engine checks it against the scene (a network's state: its nodes and units, engines.network_reduced.start_state;
+a chain's: its number of angles) and refuses a state of another scene in one line. A chain starts from its angles
+only (a term's polarities start along the follower direction, as from the scene's own state).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from .errors import ParameterError
+from .networks.state import NetworkState
+from .trajectory import Trajectory
+
+
+@dataclass(frozen=True)
+class Start:
+    """A state to start from: `theta` (a chain's absolute angles, chain 1 then chain 2) or `positions` (P, 2) and
+    `polarity` (A,) (a network's nodes, pinned ones at rest, and its active units' angles in node order); `source`
+    says where it comes from (a run's folder and time, or "given")."""
+
+    theta: np.ndarray | None = None
+    positions: np.ndarray | None = None
+    polarity: np.ndarray | None = None
+    source: str = "given"
+
+    def __post_init__(self) -> None:
+        chain = self.theta is not None
+        network = self.positions is not None or self.polarity is not None
+        if chain == network:
+            raise ParameterError(
+                "start: give either a chain's angles (theta) or a network's positions and polarity, not "
+                + ("both" if chain else "neither")
+            )
+        if network and (self.positions is None or self.polarity is None):
+            raise ParameterError("start: a network's state needs both its positions and its polarity")
+
+    def engine_options(self) -> dict:
+        """The engines' keyword for this state: theta0 (a chain's angles) or state0 (a network's NetworkState)."""
+        if self.theta is not None:
+            return {"theta0": np.asarray(self.theta, dtype=float)}
+        return {"state0": NetworkState(np.asarray(self.positions, dtype=float), np.asarray(self.polarity, dtype=float))}
+
+
+def last_state(trajectory: Trajectory, source: str = "") -> Start:
+    """The state at a trajectory's last sample: its nodes and polarities for a network, its angles for a chain."""
+    where = f"{source or trajectory.physics.scene} at t = {float(trajectory.t[-1]):g}"
+    if trajectory.nodes is not None and trajectory.theta.shape[1] == 0:
+        polarity = np.empty(0) if trajectory.polarity is None else trajectory.polarity[-1]
+        return Start(positions=np.array(trajectory.nodes[-1]), polarity=np.array(polarity), source=where)
+    return Start(theta=np.array(trajectory.theta[-1]), source=where)
+
+
+def read_start(folder) -> Start:
+    """The last state of the run saved in `folder` (`elastoactive run --out`: its trajectory.npz, checked against its
+    summary's checksums); one line naming the folder when it holds no run."""
+    from .results import load_trajectory  # start-up time: results loads the analysis
+
+    folder = Path(folder).expanduser()
+    path = folder / "trajectory.npz" if folder.is_dir() else folder
+    if not path.is_file() or path.name != "trajectory.npz":
+        raise ParameterError(f"start: {folder} holds no saved run (a folder written by `elastoactive run --out`)")
+    return last_state(load_trajectory(path), source=str(folder))
+
+
+def as_start(value) -> Start:
+    """A Start from what a caller gives: a Start, a Trajectory (its last sample), a run's folder (str or Path), a
+    NetworkState, a (positions, polarity) pair, or a chain's angles (one array)."""
+    if isinstance(value, Start):
+        return value
+    if isinstance(value, Trajectory):
+        return last_state(value)
+    if isinstance(value, (str, Path)):
+        return read_start(value)
+    if isinstance(value, NetworkState) or (isinstance(value, tuple) and len(value) == 2):
+        positions, polarity = value
+        return Start(positions=np.asarray(positions, dtype=float), polarity=np.asarray(polarity, dtype=float))
+    try:
+        theta = np.asarray(value, dtype=float).reshape(-1)
+    except (TypeError, ValueError):
+        raise TypeError(
+            "start must be an ea.Trajectory, a run's folder, a NetworkState, (positions, polarity) or a chain's angles;"
+            f" got {type(value).__name__}"
+        ) from None
+    return Start(theta=theta)

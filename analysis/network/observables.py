@@ -13,6 +13,8 @@ mode energies       the displacements from rest (the patch's rigid motion taken 
                     degenerate eigenspace (its principal axes); `condensation` is the share of the two most energetic
                     modes (1: the dynamics has condensed on two modes), `dominant_modes` their 1-based ranks by
                     stiffness (1: the softest; 0: none, an undeformed patch)
+mode space          the eigenspace holding the most energy (a degenerate pair counted as one): its softest mode's
+                    rank, its dimension and its energy share (`mode_space`)
 rotation, drift     the patch's rigid motion: its rotation angle about a point (its least-squares rotation of the
                     displacements) and mean rate, and its centroid's drift (distance over the window's length)
 """
@@ -112,6 +114,26 @@ def mode_energies(
         return ModeEnergies(energy, float("nan"), (0, 0))
     top = (int(order[0]) + 1, int(order[1]) + 1) if energy.size > 1 else (int(order[0]) + 1, 0)
     return ModeEnergies(energy, float(energy[order[:2]].sum() / total), top)
+
+
+class ModeSpace(NamedTuple):
+    """The eigenspace of the dynamical matrix holding the most elastic energy, named as a subspace (a degenerate
+    pair is one space, not two modes whose labels a basis would choose)."""
+
+    rank: int  # 1-based rank by stiffness of its softest mode (0: none, an undeformed patch)
+    size: int  # its dimension (2: a degenerate pair; 0: none)
+    share: float  # its share of the elastic energy (NaN: undeformed)
+
+
+def mode_space(modes: ModeEnergies, values: np.ndarray) -> ModeSpace:
+    """The most energetic eigenspace of `modes` (mode_energies on the eigenvalues `values`): the energies of each
+    group of equal eigenvalues (eigenspaces) summed, which no choice of basis within a group changes."""
+    if not np.isfinite(modes.condensation):
+        return ModeSpace(0, 0, float("nan"))
+    spaces = eigenspaces(values)
+    held = np.array([modes.energy[space].sum() for space in spaces])
+    best = int(np.argmax(held))
+    return ModeSpace(int(spaces[best][0]) + 1, int(spaces[best].size), float(held[best] / modes.energy.sum()))
 
 
 def rotation_angle(positions: np.ndarray, rest: np.ndarray, centre: np.ndarray | None = None) -> np.ndarray:

@@ -13,9 +13,11 @@ from elastoactive.reduced.chain3d import (
     Chain3D,
     planar_angles,
     rhs,
-    rhs_reference as rhs3d_reference,
     solve3d,
     tangents_of_angles,
+)
+from elastoactive.reduced.chain3d import (
+    rhs_reference as rhs3d_reference,
 )
 
 

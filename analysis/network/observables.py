@@ -81,6 +81,7 @@ class ModeEnergies(NamedTuple):
     energy: np.ndarray  # (M,) time-mean elastic energy per normal mode, ascending stiffness
     condensation: float  # share of the total in the two most energetic modes (NaN: undeformed)
     dominant_modes: tuple[int, int]  # their 1-based ranks by stiffness, the most energetic first (0: none)
+    total: float = float("nan")  # the elastic energy the shares are of: the modes' sum, or the whole when given
 
 
 def eigenspaces(values: np.ndarray) -> list[np.ndarray]:
@@ -94,26 +95,28 @@ def eigenspaces(values: np.ndarray) -> list[np.ndarray]:
 
 
 def mode_energies(
-    displacements: np.ndarray, values: np.ndarray, vectors: np.ndarray, floor: float = 0.0
+    displacements: np.ndarray, values: np.ndarray, vectors: np.ndarray, floor: float = 0.0, total: float | None = None
 ) -> ModeEnergies:
     """Energy per normal mode of the free nodes' displacements from rest ((T, 2F), node-interleaved) on the modes
     (values ascending, vectors as columns): E_m = lambda_m <a_m^2> / 2 with a_m = u . v_m.
 
     The energies do not depend on which basis an eigensolver returned for a degenerate eigenspace: within each, the
     modes are its principal axes of <a a^T> (the most energetic first, on the lowest rank), so a state has one
-    labelling; ties between modes go to the lower rank. A total at or below `floor` leaves no modes to name."""
+    labelling; ties between modes go to the lower rank. A total at or below `floor` leaves no modes to name. `total`:
+    the whole time-mean elastic energy when the modes are only the softest of a large network (the shares are then
+    of it); None: the modes' sum (every mode given)."""
     amplitudes = np.asarray(displacements) @ vectors
     second = amplitudes.T @ amplitudes / max(len(amplitudes), 1)  # <a a^T>
     held = np.zeros(len(values))
     for space in eigenspaces(values):
         held[space] = np.sort(np.linalg.eigvalsh(second[np.ix_(space, space)]))[::-1]
     energy = 0.5 * np.clip(values, 0.0, None) * np.clip(held, 0.0, None)
-    total = float(energy.sum())
+    total = float(energy.sum()) if total is None else float(total)
     order = np.lexsort((np.arange(energy.size), -energy))  # most energetic first, ties to the lower rank
     if not total > floor:
-        return ModeEnergies(energy, float("nan"), (0, 0))
+        return ModeEnergies(energy, float("nan"), (0, 0), total)
     top = (int(order[0]) + 1, int(order[1]) + 1) if energy.size > 1 else (int(order[0]) + 1, 0)
-    return ModeEnergies(energy, float(energy[order[:2]].sum() / total), top)
+    return ModeEnergies(energy, float(energy[order[:2]].sum() / total), top, total)
 
 
 class ModeSpace(NamedTuple):
@@ -133,7 +136,7 @@ def mode_space(modes: ModeEnergies, values: np.ndarray) -> ModeSpace:
     spaces = eigenspaces(values)
     held = np.array([modes.energy[space].sum() for space in spaces])
     best = int(np.argmax(held))
-    return ModeSpace(int(spaces[best][0]) + 1, int(spaces[best].size), float(held[best] / modes.energy.sum()))
+    return ModeSpace(int(spaces[best][0]) + 1, int(spaces[best].size), float(held[best] / modes.total))
 
 
 def rotation_angle(positions: np.ndarray, rest: np.ndarray, centre: np.ndarray | None = None) -> np.ndarray:

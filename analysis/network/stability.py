@@ -25,6 +25,12 @@ A floppy network (D singular on its free nodes: a honeycomb lattice, a diluted n
 nothing) has a fixed point unstable at every Pi > 0 for almost every psi (Q meets D's null space); `threshold` reports
 its bracket as [0, interlacing_ceiling] without searching.
 
+Large networks (more than reduced.network.DENSE_MODES free coordinates) run sparse, never building an N x N array:
+lambda_1 and the softest modes by shift-invert Lanczos, the one-unit ceiling from UNIT_CANDIDATES units (the most
+compliant by the softest modes: a bound from any set of units is proved, the max over all of them only the
+tightest), the interlacing ceiling where its index lies among the softest LOWEST_CEILING modes (else Gershgorin's
+bound on lambda_max, weaker, still proved); no search (`threshold` reports the best found as lambda_1, from 0 starts).
+
 A single unit in a trap of stiffness k_t: D = k_t I, Pi_c = k_t for every psi, and both bounds are exact (Pi = l_e /
 l_a = 1 in the trap's own units).
 """
@@ -36,7 +42,14 @@ from typing import NamedTuple
 import numpy as np
 
 from ...networks.geometry import Network
-from ...reduced.network import dynamical_matrix
+from ...reduced.network import (
+    LOWEST_MODES,
+    dynamical_matrix,
+    dynamical_matrix_sparse,
+    factorized,
+    is_large,
+    lowest_eigenvalues,
+)
 
 
 def perpendiculars(psi: np.ndarray, units: np.ndarray, n_free: int) -> np.ndarray:
@@ -127,15 +140,33 @@ def interlacing_ceiling(network: Network) -> float:
     so the n_perp columns of N_perp are orthonormal and Q projects on their span S(psi), of dimension A; the span E of
     D's 2F - A + 1 softest modes meets S(psi) in some v != 0 (the dimensions add to more than 2F), where
     v^T D v <= lambda_{2F-A+1} |v|^2 and v^T Q v = |v|^2, so D - Pi Q is not positive definite for
-    Pi > lambda_{2F-A+1}, whatever psi."""
-    values = np.linalg.eigvalsh(dynamical_matrix(network))
-    return float(values[values.size - len(unit_slots(network))])
+    Pi > lambda_{2F-A+1}, whatever psi. A large network: that eigenvalue when it is among the LOWEST_CEILING softest,
+    else Gershgorin's bound on lambda_max (>= it: a weaker bound, still proved)."""
+    index = 2 * int(np.count_nonzero(~network.pinned)) - len(unit_slots(network))
+    if not is_large(network):
+        values = np.linalg.eigvalsh(dynamical_matrix(network))
+        return float(values[index])
+    values, _ = _softest(network)
+    if index < values.size:
+        return float(values[index])
+    if index < LOWEST_CEILING:
+        return float(lowest_eigenvalues(network, index + 1)[index])
+    return gershgorin(network)
+
+
+def gershgorin(network: Network) -> float:
+    """max_i sum_j |D_ij|: Gershgorin's bound on lambda_max of the dynamical matrix (>= every eigenvalue), O(B)."""
+    d = dynamical_matrix_sparse(network)
+    return float(abs(d).sum(axis=1).max()) if d.shape[0] else 0.0
 
 
 def unit_ceiling(network: Network) -> float:
     """1 / max_u lambda_min((D^-1)_uu), above which no fixed point is stable: Pi_c(psi) = 1 / lambda_max(M) with
     M = N_perp^T D^-1 N_perp, and lambda_max(M) >= M_uu = n_perp_u^T (D^-1)_uu n_perp_u >= lambda_min((D^-1)_uu)
-    for every unit u ((D^-1)_uu: the 2 x 2 block of unit u's node)."""
+    for every unit u ((D^-1)_uu: the 2 x 2 block of unit u's node). Dense over every unit for a small network; a large
+    one: unit_ceiling_sparse over UNIT_CANDIDATES units."""
+    if is_large(network):
+        return unit_ceiling_sparse(network)
     inverse = np.linalg.inv(dynamical_matrix(network))
     floor = max(
         float(np.linalg.eigvalsh(inverse[2 * s : 2 * s + 2, 2 * s : 2 * s + 2])[0]) for s in unit_slots(network)
@@ -143,14 +174,76 @@ def unit_ceiling(network: Network) -> float:
     return 1.0 / floor
 
 
+def _softest(network: Network) -> tuple[np.ndarray, np.ndarray]:
+    """The LOWEST_MODES + 2 lowest eigenpairs of a large network's dynamical matrix (reduced.network keeps the last
+    network's, so a run's observables and its stability analysis factorise it once)."""
+    return lowest_eigenvalues(network, LOWEST_MODES + 2, vectors=True, sparse=True)
+
+
+UNIT_CANDIDATES = 32
+"""Units whose 2 x 2 compliance blocks (D^-1)_uu a large network's one-unit ceiling solves for (two sparse solves
+each): the most compliant by the softest modes' estimate sum_m |v_m,u|^2 / lambda_m."""
+LOWEST_CEILING = 64
+"""A large network's interlacing ceiling is computed when its index lies among this many softest modes."""
+
+
+def unit_ceiling_sparse(network: Network, units: np.ndarray | None = None) -> float:
+    """unit_ceiling from sparse solves D x = e (D factorised once): over the units given (indices among the units),
+    by default every unit of a network with at most UNIT_CANDIDATES of them, else the UNIT_CANDIDATES most compliant
+    by the softest modes. Each unit's bound holds on its own, so the result is a proved ceiling whichever units are
+    used (the max over every unit, unit_ceiling's, is the tightest)."""
+    slots = unit_slots(network)
+    if units is None:
+        units = np.arange(slots.size)
+        if slots.size > UNIT_CANDIDATES:
+            values, vectors = _softest(network)
+            weight = (vectors**2 / values).reshape(-1, 2, values.size).sum(axis=(1, 2))  # per free node
+            units = np.argsort(weight[slots])[::-1][:UNIT_CANDIDATES]
+    chosen = slots[np.asarray(units, dtype=int)]
+    d = dynamical_matrix_sparse(network)
+    solve = factorized(d)
+    x = np.empty((d.shape[0], 2 * chosen.size))
+    for k, dof in enumerate(np.column_stack([2 * chosen, 2 * chosen + 1]).ravel()):  # one column at a time: SuperLU
+        unit = np.zeros(d.shape[0])  # solves many columns at once ~3x slower per column
+        unit[dof] = 1.0
+        x[:, k] = solve(unit)
+    columns = np.arange(chosen.size)
+    a = x[2 * chosen, 2 * columns]  # each unit's symmetric 2 x 2 block [[a, b], [b, c]] of D^-1
+    b = 0.5 * (x[2 * chosen, 2 * columns + 1] + x[2 * chosen + 1, 2 * columns])
+    c = x[2 * chosen + 1, 2 * columns + 1]
+    lowest = 0.5 * (a + c) - np.sqrt(0.25 * (a - c) ** 2 + b**2)
+    return float(1.0 / lowest.max())
+
+
+def softest(network: Network) -> float:
+    """lambda_1, the dynamical matrix's lowest eigenvalue (dense or sparse by the network's size)."""
+    if is_large(network):
+        return float(_softest(network)[0][0])
+    return float(lowest_eigenvalues(network, 1)[0])
+
+
 FLOPPY = 1e-10
 """Eigenvalues of the dynamical matrix at most FLOPPY times its largest (or 1) are zero modes: the network is floppy."""
 
 
 def floppy_modes(network: Network) -> int:
-    """How many zero modes the dynamical matrix of the free nodes has (0: D is positive definite)."""
-    values = np.linalg.eigvalsh(dynamical_matrix(network))
-    return int(np.count_nonzero(values <= FLOPPY * max(1.0, float(values[-1]) if values.size else 1.0)))
+    """How many zero modes the dynamical matrix of the free nodes has (0: D is positive definite). A large network:
+    counted among its softest eigenvalues (more asked for while every one is zero), below FLOPPY times Gershgorin's
+    bound on lambda_max."""
+    if not is_large(network):
+        values = np.linalg.eigvalsh(dynamical_matrix(network))
+        return int(np.count_nonzero(values <= FLOPPY * max(1.0, float(values[-1]) if values.size else 1.0)))
+    limit = FLOPPY * max(1.0, gershgorin(network))
+    values = _softest(network)[0]
+    if np.count_nonzero(values <= limit) < values.size:
+        return int(np.count_nonzero(values <= limit))
+    count = 2 * values.size
+    while True:
+        values = lowest_eigenvalues(network, count)
+        zero = int(np.count_nonzero(values <= limit))
+        if zero < values.size:
+            return zero
+        count *= 2
 
 
 def coupling_ceiling(network: Network) -> float:
@@ -179,7 +272,8 @@ def threshold(
     (default search_starts): from each, L-BFGS on the analytic gradient of mu_max (at most `iterations` steps), then
     the same through the SMOOTHING temperatures and again plain, keeping the better end; the median Pi_c of `samples`
     random polarities; and coupling_ceiling. A floppy network (floppy_modes > 0): softest, coupling and typical 0
-    (almost every fixed point is unstable at any Pi > 0), no search."""
+    (almost every fixed point is unstable at any Pi > 0), no search. A large network (reduced.network.is_large): the
+    sparse bracket, lambda_1 and coupling_ceiling, with no search (coupling = lambda_1, typical NaN, starts 0)."""
     from scipy.optimize import minimize  # start-up time: scipy.optimize only for the stability analysis
 
     rng = np.random.default_rng(seed)
@@ -187,6 +281,9 @@ def threshold(
     floppy = floppy_modes(network)
     if floppy:
         return Threshold(0.0, 0.0, np.zeros(count), 0.0, interlacing_ceiling(network), 0, 0, floppy)
+    if is_large(network):  # the search's A x A eigenproblems are dense: none; lambda_1 is a proved lower bound
+        lowest = softest(network)
+        return Threshold(lowest, lowest, np.zeros(count), float("nan"), coupling_ceiling(network), 0, 0)
     starts = search_starts(count) if starts is None else int(starts)
     objective = _critical_coupling_objective(network)
     options = {"maxiter": iterations}
@@ -208,7 +305,6 @@ def threshold(
     best, polarities = min(ends, key=lambda end: end[0])
     reached = sum(mu <= best * (1.0 + REACHED) for mu, _ in ends)
     typical = float(np.median([1.0 / objective(rng.uniform(0, 2 * np.pi, count))[0] for _ in range(samples)]))
-    softest = float(np.linalg.eigvalsh(dynamical_matrix(network))[0])
     return Threshold(
-        softest, 1.0 / best, np.mod(polarities, 2 * np.pi), typical, coupling_ceiling(network), starts, reached
+        softest(network), 1.0 / best, np.mod(polarities, 2 * np.pi), typical, coupling_ceiling(network), starts, reached
     )

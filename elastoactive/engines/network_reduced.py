@@ -38,12 +38,8 @@ def system_of(physics: Physics) -> _model.NetworkSystem:
 def network_rate(physics: Physics) -> float:
     """The fastest rate a network run's step must resolve (units k / gamma): the largest eigenvalue of the passive
     network's dynamical matrix (springs and trap, explicit in every integrator) or the units' turning Pi = sigma / l_a,
-    whichever is larger."""
-    from ..reduced.network import dynamical_matrix  # start-up time: only the pre-flight check needs it
-
-    network = physics.scene_def.network(physics)
-    matrix = dynamical_matrix(network)
-    springs = float(np.linalg.eigvalsh(matrix).max()) if matrix.size else 0.0
+    whichever is larger (reduced.network.stiffest_rate: sparse for a large network)."""
+    springs = _model.stiffest_rate(physics.scene_def.network(physics))
     return max(springs, turning_rate(physics))
 
 

@@ -20,10 +20,11 @@ from __future__ import annotations
 from typing import NamedTuple
 
 import numpy as np
-from numba import njit
 
 from ..networks.geometry import Network
 from ..networks.state import NetworkState
+from . import dop853_coefficients as _coefficients
+from .network_kernels import PAUSED, STEP_BUDGET, dop853, euler_maruyama, rhs_into
 
 
 class NetworkSystem(NamedTuple):
@@ -134,47 +135,9 @@ def rhs_reference(system: NetworkSystem):
     return f
 
 
-@njit(cache=True)
-def _rhs(y, out, rest, bonds, rest_lengths, stiffness, anchors, trap, slot, unit, sigma, inv_la):
-    count = rest.shape[0]
-    f2 = y.size - np.count_nonzero(unit >= 0)  # the free nodes' coordinates come first
-    pos = rest.copy()
-    for p in range(count):
-        s = slot[p]
-        if s >= 0:
-            pos[p, 0] = y[2 * s]
-            pos[p, 1] = y[2 * s + 1]
-    force = np.zeros((count, 2))
-    for b in range(bonds.shape[0]):
-        i, j = bonds[b, 0], bonds[b, 1]
-        rx, ry = pos[j, 0] - pos[i, 0], pos[j, 1] - pos[i, 1]
-        d = np.sqrt(rx * rx + ry * ry)
-        c = stiffness[b] * (d - rest_lengths[b]) / d
-        force[i, 0] += c * rx
-        force[i, 1] += c * ry
-        force[j, 0] -= c * rx
-        force[j, 1] -= c * ry
-    for p in range(count):
-        s = slot[p]
-        if s < 0:
-            if unit[p] >= 0:
-                out[f2 + unit[p]] = 0.0
-            continue
-        vx = force[p, 0] - trap * (pos[p, 0] - anchors[p, 0])
-        vy = force[p, 1] - trap * (pos[p, 1] - anchors[p, 1])
-        u = unit[p]
-        if u >= 0:
-            c, sn = np.cos(y[f2 + u]), np.sin(y[f2 + u])
-            vx += sigma * c
-            vy += sigma * sn
-            out[f2 + u] = (-sn * vx + c * vy) * inv_la
-        out[2 * s] = vx
-        out[2 * s + 1] = vy
-
-
-def rhs(system: NetworkSystem):
-    """Compiled f(t, y) -> dy/dt of the model (numba kernel)."""
-    args = (
+def kernel_args(system: NetworkSystem) -> tuple:
+    """The flat arguments every compiled kernel of network_kernels takes after its own."""
+    return (
         system.rest,
         system.bonds,
         system.rest_lengths,
@@ -185,11 +148,17 @@ def rhs(system: NetworkSystem):
         system.unit,
         float(system.sigma),
         1.0 / float(system.alignment_length),
+        2 * system.n_free,
     )
+
+
+def rhs(system: NetworkSystem):
+    """Compiled f(t, y) -> dy/dt of the model (numba kernel: network_kernels.rhs_into)."""
+    args = kernel_args(system)
 
     def f(t, y):
         out = np.empty(y.size)
-        _rhs(np.asarray(y, dtype=float), out, *args)
+        rhs_into(np.asarray(y, dtype=float), out, *args)
         return out
 
     return f
@@ -198,7 +167,7 @@ def rhs(system: NetworkSystem):
 # ------------------------------------------------------------------------------------------------ Jacobians
 def force_jacobian(system: NetworkSystem, positions: np.ndarray) -> np.ndarray:
     """H = dF/dx (2P x 2P, node-interleaved) of the passive forces at `positions`: symmetric, -(the stiffness
-    matrix); at rest -H is the dynamical matrix (drag 1)."""
+    matrix); at rest -H is the dynamical matrix (drag 1). Dense: for small networks (force_jacobian_sparse scales)."""
     count = len(positions)
     h = np.zeros((2 * count, 2 * count))
     for (i, j), k, length in zip(system.bonds, system.stiffness, system.rest_lengths):
@@ -221,13 +190,49 @@ def free_dofs(system: NetworkSystem) -> np.ndarray:
     return np.column_stack([2 * nodes, 2 * nodes + 1]).reshape(-1)
 
 
-def jacobian(system: NetworkSystem, y: np.ndarray) -> np.ndarray:
-    """Analytic d(dy/dt)/dy (S x S) at state y.
+def force_jacobian_sparse(system: NetworkSystem, positions: np.ndarray):
+    """H = dF/dx on the free nodes' coordinates only (2F x 2F, state order) as a scipy.sparse CSR matrix: O(B) to
+    build and to store (16 entries per bond at most), equal to force_jacobian's free block to round-off."""
+    from scipy import sparse  # start-up time: scipy.sparse only for the network's linear algebra
+
+    positions = np.asarray(positions, dtype=float)
+    size = 2 * system.n_free
+    i, j = system.bonds[:, 0], system.bonds[:, 1]
+    r = positions[j] - positions[i]
+    d = np.linalg.norm(r, axis=1)
+    e = r / d[:, None]
+    tension = 1.0 - system.rest_lengths / d
+    eye = np.eye(2)
+    block = system.stiffness[:, None, None] * (
+        e[:, :, None] * e[:, None, :] + tension[:, None, None] * (eye - e[:, :, None] * e[:, None, :])
+    )  # (B, 2, 2)
+    rows, cols, values = [], [], []
+    for a, b, sign in ((i, i, -1.0), (j, j, -1.0), (i, j, 1.0), (j, i, 1.0)):
+        sa, sb = system.slot[a], system.slot[b]
+        keep = (sa >= 0) & (sb >= 0)
+        for p in range(2):
+            for q in range(2):
+                rows.append(2 * sa[keep] + p)
+                cols.append(2 * sb[keep] + q)
+                values.append(sign * block[keep, p, q])
+    diagonal = np.arange(size)
+    rows.append(diagonal)
+    cols.append(diagonal)
+    values.append(np.full(size, -system.trap))
+    return sparse.coo_matrix(
+        (np.concatenate(values), (np.concatenate(rows), np.concatenate(cols))), shape=(size, size)
+    ).tocsr()
+
+
+def jacobian(system: NetworkSystem, y: np.ndarray, sparse: bool = False):
+    """Analytic d(dy/dt)/dy (S x S) at state y: dense, or (sparse=True) a scipy.sparse CSR matrix of O(B) entries.
 
     dv_i/dx_j = H_ij, dv_i/dpsi_i = sigma n_perp_i; dpsi_i'/dx_j = n_perp_i . H_ij / l_a,
     dpsi_i'/dpsi_i = (sigma - v_i . n_i) / l_a."""
     positions, psi = unpack(system, y)
     v = velocities(system, positions, psi)
+    if sparse:
+        return _sparse_jacobian(system, positions, psi, v)
     dofs = free_dofs(system)
     f2 = dofs.size
     size = system.state_size
@@ -248,23 +253,140 @@ def jacobian(system: NetworkSystem, y: np.ndarray) -> np.ndarray:
     return jac
 
 
+def _sparse_jacobian(system: NetworkSystem, positions: np.ndarray, psi: np.ndarray, v: np.ndarray):
+    """jacobian's matrix as [[H, sigma N_perp], [N_perp^T H / l_a, diag((sigma - v . n) / l_a)]] in sparse blocks."""
+    from scipy import sparse  # start-up time: scipy.sparse only for the network's linear algebra
+
+    h = force_jacobian_sparse(system, positions)
+    f2 = h.shape[0]
+    nodes = np.flatnonzero((system.unit >= 0) & (system.slot >= 0))
+    units, slots = system.unit[nodes], system.slot[nodes]
+    count = len(psi)
+    n = np.column_stack([np.cos(psi[units]), np.sin(psi[units])])
+    rows = np.concatenate([2 * slots, 2 * slots + 1])
+    cols = np.concatenate([units, units])
+    perp = sparse.csr_matrix((np.concatenate([-n[:, 1], n[:, 0]]), (rows, cols)), shape=(f2, count))
+    inv = 1.0 / system.alignment_length
+    turn = np.zeros(count)
+    turn[units] = inv * (system.sigma - np.einsum("ij,ij->i", v[nodes], n))
+    return sparse.bmat([[h, system.sigma * perp], [inv * (perp.T @ h), sparse.diags(turn)]], format="csr")
+
+
 def dynamical_matrix(network: Network) -> np.ndarray:
     """The dynamical matrix D of the free nodes at rest (2F x 2F, drag 1): -dF/dx, symmetric, positive
-    semi-definite (zero modes where the patch can move rigidly)."""
+    semi-definite (zero modes where the patch can move rigidly). Dense: dynamical_matrix_sparse for large networks."""
     system = network_system(network, 0.0, 1.0)
     dofs = free_dofs(system)
     return -force_jacobian(system, system.rest)[np.ix_(dofs, dofs)]
 
 
-def normal_modes(network: Network) -> tuple[np.ndarray, np.ndarray]:
-    """(eigenvalues ascending (2F,), eigenvectors as columns (2F, 2F), orthonormal) of the dynamical matrix."""
-    values, vectors = np.linalg.eigh(dynamical_matrix(network))
-    return values, vectors
+def dynamical_matrix_sparse(network: Network):
+    """dynamical_matrix as a scipy.sparse CSR matrix, built in O(B) (never an N x N array)."""
+    system = network_system(network, 0.0, 1.0)
+    return -force_jacobian_sparse(system, system.rest)
+
+
+DENSE_MODES = 1500
+"""Free coordinates (2F) up to which the normal modes are all computed densely (numpy's eigh: ~1 s at 1500);
+above, only the softest ones, by sparse shift-invert Lanczos (scipy's eigsh)."""
+LOWEST_MODES = 16
+"""How many of the softest normal modes a large network's analyses ask for by default (~2 s at 10 000 nodes)."""
+
+
+def is_large(network: Network) -> bool:
+    """Whether the network's linear algebra runs sparse (more than DENSE_MODES free coordinates)."""
+    return 2 * int(np.count_nonzero(~np.asarray(network.pinned, dtype=bool))) > DENSE_MODES
+
+
+def factorized(matrix):
+    """A solver x = matrix^-1 b (b: vector or columns) of a sparse symmetric matrix: SuperLU with the ordering of
+    matrix + matrix^T (MMD), about half the fill and half the cost per solve of its default COLAMD on a lattice."""
+    from scipy.sparse.linalg import splu  # start-up time: scipy.sparse only for the network's linear algebra
+
+    return splu(matrix.tocsc(), permc_spec="MMD_AT_PLUS_A", options={"SymmetricMode": True}).solve
+
+
+def _shift(d) -> float:
+    """A shift just below 0 for shift-invert: D - shift I is positive definite, also for a floppy network."""
+    return -1e-6 * float(abs(d.diagonal()).max() or 1.0)
+
+
+def lowest_eigenvalues(network: Network, count: int, vectors: bool = False, sparse: bool | None = None):
+    """The `count` lowest eigenvalues (ascending) of the dynamical matrix, with their eigenvectors as columns when
+    `vectors`: numpy's eigh for a network of at most DENSE_MODES free coordinates, else shift-invert Lanczos on the
+    sparse matrix (scipy's eigsh about a shift just below 0, never an N x N array); `sparse` forces either."""
+    from scipy.sparse import identity  # start-up time: scipy.sparse only for the network's linear algebra
+    from scipy.sparse.linalg import LinearOperator, eigsh
+
+    count = int(count)
+    if not (is_large(network) if sparse is None else sparse):
+        if vectors:
+            values, modes = np.linalg.eigh(dynamical_matrix(network))
+            return values[:count], modes[:, :count]
+        return np.linalg.eigvalsh(dynamical_matrix(network))[:count]
+    if _LAST and _LAST[0] is network and _LAST[1] >= count:  # the same network's softest modes, just computed
+        return (_LAST[2][:count], _LAST[3][:, :count]) if vectors else _LAST[2][:count]
+    d = dynamical_matrix_sparse(network)
+    shift = _shift(d)
+    solve = factorized(d - shift * identity(d.shape[0], format="csr"))
+    inverse = LinearOperator(d.shape, matvec=solve, dtype=float)
+    values, modes = eigsh(inverse, k=min(count, d.shape[0] - 1), which="LM")
+    values = shift + 1.0 / values
+    order = np.argsort(values)
+    values, modes = values[order], modes[:, order]
+    _LAST[:] = [network, count, values, modes]
+    return (values, modes) if vectors else values
+
+
+_LAST: list = []
+"""(network, count, eigenvalues, eigenvectors) of the last sparse lowest_eigenvalues: a run's observables and a
+stability analysis of the same network object ask for its softest modes once."""
+
+
+def softest_modes(network: Network, count: int, sparse: bool | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """The softest normal modes, at most `count` (eigenvalues ascending, orthonormal eigenvectors as columns), whole
+    eigenspaces only: an eigenspace that `count` would cut is left out (its basis would be arbitrary)."""
+    values, vectors = lowest_eigenvalues(network, int(count) + 2, vectors=True, sparse=sparse)
+    gap = 1e-8 * max(float(abs(values).max()), 1e-300)
+    keep = np.flatnonzero(values < values[-1] - gap)[: int(count)]  # the last eigenspace may be cut: drop it
+    while keep.size and keep[-1] + 1 < values.size and values[keep[-1] + 1] - values[keep[-1]] <= gap:
+        keep = keep[:-1]  # `count` itself cut an eigenspace
+    return values[keep], vectors[:, keep]
+
+
+def normal_modes(network: Network, count: int | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """(eigenvalues ascending, eigenvectors as columns, orthonormal) of the dynamical matrix: all 2F (numpy's eigh)
+    for a network of at most DENSE_MODES free coordinates when `count` is None; else the softest `count` (default
+    LOWEST_MODES) by softest_modes (whole eigenspaces only)."""
+    if count is None and not is_large(network):
+        values, vectors = np.linalg.eigh(dynamical_matrix(network))
+        return values, vectors
+    return softest_modes(network, LOWEST_MODES if count is None else count)
+
+
+def stiffest_rate(network: Network) -> float:
+    """The largest eigenvalue of the dynamical matrix (0 with no free node): dense for small networks, by Lanczos on
+    the sparse matrix for large ones."""
+    if not is_large(network):
+        matrix = dynamical_matrix(network)
+        return float(np.linalg.eigvalsh(matrix).max()) if matrix.size else 0.0
+    from scipy.sparse.linalg import eigsh  # start-up time: scipy.sparse only for the network's linear algebra
+
+    return float(eigsh(dynamical_matrix_sparse(network), k=1, which="LA", return_eigenvectors=False)[0])
+
+
+def elastic_energy(network: Network, displacements: np.ndarray) -> np.ndarray:
+    """(T,) the linear-elastic energy u^T D u / 2 of the free nodes' displacements ((T, 2F), node-interleaved), with
+    the sparse dynamical matrix."""
+    u = np.atleast_2d(np.asarray(displacements, dtype=float))
+    return 0.5 * np.einsum("ti,ti->t", u, (dynamical_matrix_sparse(network) @ u.T).T)
 
 
 # ------------------------------------------------------------------------------------------------ integration
-METHODS = ("DOP853", "LSODA", "Radau")
-"""The ODE methods of scipy's solve_ivp the network model runs with (the implicit ones take the analytic Jacobian)."""
+METHODS = ("DOP853", "LSODA", "Radau", "BDF")
+"""The ODE methods the network model runs with: DOP853 compiled with the right-hand side (network_kernels.dop853,
+scipy's algorithm), scipy's LSODA (dense analytic Jacobian), Radau and BDF (the analytic Jacobian, sparse for a large
+network)."""
 
 
 class Solution(NamedTuple):
@@ -282,12 +404,16 @@ def solve(
     atol: float = 1e-10,
     method: str = "DOP853",
 ) -> Solution:
-    """Integrate from y0 at t[0] and sample at t (scipy's solve_ivp with the compiled right-hand side)."""
-    from scipy.integrate import solve_ivp  # start-up time: scipy.integrate costs ~0.4 s to import
-
+    """Integrate from y0 at t[0] and sample at t: DOP853 compiled (O(N) per step, no Python per step), or scipy's
+    solve_ivp with the compiled right-hand side."""
     if method not in METHODS:
         raise ValueError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
-    options = {} if method == "DOP853" else {"jac": lambda t, y: jacobian(system, y)}
+    if method == "DOP853":
+        return _solve_compiled(system, t, y0, rtol, atol)
+    from scipy.integrate import solve_ivp  # start-up time: scipy.integrate costs ~0.4 s to import
+
+    sparse = method != "LSODA" and system.state_size > DENSE_MODES
+    options = {"jac": lambda t, y: jacobian(system, y, sparse=sparse)}
     sol = solve_ivp(
         rhs(system),
         (float(t[0]), float(t[-1])),
@@ -301,3 +427,69 @@ def solve(
     if not sol.success:
         raise RuntimeError(f"solve_ivp ({method}) failed on the network model: {sol.message}")
     return Solution(sol.y.T, int(sol.nfev), method)
+
+
+def _solve_compiled(system: NetworkSystem, t: np.ndarray, y0: np.ndarray, rtol: float, atol: float) -> Solution:
+    ts = np.ascontiguousarray(t, dtype=float)
+    y = np.array(y0, dtype=float)
+    out = np.empty((ts.size, y.size))
+    if ts.size < 2:
+        out[:] = y
+        return Solution(out, 0, "DOP853")
+    f, clock, counts = np.empty(y.size), np.zeros(2), np.zeros(4, dtype=np.int64)
+    tableau = (
+        np.ascontiguousarray(_coefficients.A),
+        np.ascontiguousarray(_coefficients.B),
+        np.ascontiguousarray(_coefficients.E3),
+        np.ascontiguousarray(_coefficients.E5),
+        np.ascontiguousarray(_coefficients.D),
+    )
+    steps = max(1, STEP_BUDGET // max(y.size, 1))
+    args = kernel_args(system)
+    status = PAUSED
+    while status == PAUSED:  # the compiled loop returns every `steps` steps: Ctrl-C is seen in between
+        status = dop853(y, f, clock, counts, ts, float(rtol), float(atol), *tableau, out, steps, *args)
+    if status < 0:
+        raise RuntimeError(f"DOP853 failed on the network model: the step size fell below round-off at t = {clock[0]}")
+    return Solution(out, int(counts[1]), "DOP853")
+
+
+def noise_amplitudes(system: NetworkSystem, dt: float, translational: float, rotational: float) -> np.ndarray:
+    """(S,) the Ito increments' scales over a step dt: sqrt(2 D_t dt) on each free coordinate, sqrt(2 D_r dt) on each
+    polarity (D_t in a^2 per gamma / k, D_r in rad^2 per gamma / k)."""
+    return np.concatenate(
+        [
+            np.full(2 * system.n_free, np.sqrt(2.0 * translational * dt)),
+            np.full(system.n_units, np.sqrt(2.0 * rotational * dt)),
+        ]
+    )
+
+
+def solve_noisy(
+    system: NetworkSystem,
+    t: np.ndarray,
+    y0: np.ndarray,
+    *,
+    dt: float,
+    seed: int,
+    translational: float,
+    rotational: float,
+) -> Solution:
+    """The Ito SDE dx = v dt + sqrt(2 D_t) dW (free nodes), dpsi = psi' dt + sqrt(2 D_r) dW' (units) by
+    Euler-Maruyama at step dt with the counter-based draws xi(seed, k, i) (network_kernels.euler_maruyama); the
+    polarity turns toward the node's deterministic velocity v (the drift), not its noise. Samples at t, evenly spaced
+    by a whole number of steps."""
+    ts = np.asarray(t, dtype=float)
+    every = 1 if ts.size < 2 else int(round((ts[1] - ts[0]) / dt))
+    if ts.size > 1 and (every < 1 or abs(every * dt - (ts[1] - ts[0])) > 1e-9 * max(1.0, ts[1] - ts[0])):
+        raise ValueError(f"the sample spacing {ts[1] - ts[0]:g} must be a whole number of steps dt = {dt:g}")
+    y = np.array(y0, dtype=float)
+    out = np.empty((ts.size, y.size))
+    amplitude = noise_amplitudes(system, dt, translational, rotational)
+    counts = np.zeros(1, dtype=np.int64)
+    steps = max(1, STEP_BUDGET // max(y.size, 1))
+    args = kernel_args(system)
+    status = PAUSED
+    while status == PAUSED:
+        status = euler_maruyama(y, counts, float(dt), every, int(seed), amplitude, out, steps, *args)
+    return Solution(out, int(counts[0]), "Euler-Maruyama")

@@ -166,14 +166,16 @@ class NetworkScene(Scene):
         return [traj.nodes[:, ~network.pinned, 0].mean(axis=1) - network.positions[~network.pinned, 0].mean()]
 
     def measure_extra(self, traj: Trajectory, transient: float) -> dict[str, float]:
-        from ..reduced.network import normal_modes  # start-up time: the network model imports numba
+        from ..reduced.network import elastic_energy, is_large, normal_modes  # start-up time: numba
 
         keep = nobs.window(traj.t, transient)
         t, psi = traj.t[keep], traj.polarity[keep]
         network = self.network(traj.physics)
-        values, vectors = normal_modes(network)
+        values, vectors = normal_modes(network)  # a large network's softest only: its shares are of the whole energy
         scale = traj.physics.sigma**2 * np.count_nonzero(network.active)  # a unit's force on a unit spring: sigma^2
-        modes = nobs.mode_energies(self.free_displacements(traj)[keep], values, vectors, nobs.UNDEFORMED * scale)
+        u = self.free_displacements(traj)[keep]
+        total = float(elastic_energy(network, u).mean()) if is_large(network) else None
+        modes = nobs.mode_energies(u, values, vectors, nobs.UNDEFORMED * scale, total)
         return {
             "polarization": nobs.polarization(psi),
             "polarity_rate": nobs.polarity_rate(t, psi),
@@ -279,12 +281,11 @@ class Lattice(NetworkScene):
     def leading_eigenvalue(self, physics: Physics, sigma: float) -> complex:
         """The least stable fixed point's largest growth rate, Pi - lambda_1 (Q <= I, with equality on the softest
         mode when every unit's n_perp lies along it): zero at sigma_c."""
-        from ..reduced.network import dynamical_matrix  # start-up time: only the stability command needs it
+        from ..analysis.network import stability  # start-up time: scipy only for the stability analysis
 
         if self.hold(physics) != "pinned":
             self._threshold(physics)  # refuses, naming the boundary
-        softest = float(np.linalg.eigvalsh(dynamical_matrix(self.network(physics)))[0])
-        return complex(sigma / physics.alignment_length - softest)
+        return complex(sigma / physics.alignment_length - stability.softest(self.network(physics)))
 
     def validation_cases(self) -> tuple[ValidationCase, ...]:
         return (ValidationCase(self.physics(rings=2, boundary="pinned", sigma=0.2, alignment_length=0.1), 300.0),)

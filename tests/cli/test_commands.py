@@ -37,6 +37,19 @@ SMALLEST = {
         "1",
         "--quiet",
     ],
+    "ramp": [
+        "ramp",
+        "trapped-unit",
+        "--ramp",
+        "Pi=0.5,2",
+        "--duration",
+        "10",
+        "--out",
+        "{tmp}/ramp.nc",
+        "--workers",
+        "1",
+        "--quiet",
+    ],
     "render": ["render", "{tmp}/run", "--still", "{tmp}/still.png", "--width", "64", "--height", "48"],
     "accuracy": ["accuracy", "--tiny", "--out", "{tmp}/accuracy", "--workers", "1", "--quiet"],
     "reproduce": [
@@ -58,6 +71,7 @@ SMALLEST = {
 WRITES = {
     "run": "run/summary.json",
     "sweep": "sweep.nc",
+    "ramp": "ramp.png",
     "render": "still.png",
     "accuracy": "accuracy/accuracy.md",
     "reproduce": "reproduction/report.md",

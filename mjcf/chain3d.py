@@ -1,0 +1,217 @@
+r"""The clamped chain in three dimensions as a MuJoCo model (units l = C1 = gamma_T = 1, so tau = 1).
+
+Mapping (docs/model3d.md, section 5):
+
+  link k                body segment_k (x axis along the link, the particle at (1, 0, 0)), from the clamp at the origin
+  joint                 `ball`: one ball joint ball_k, stiffness C = 1 on the whole rotation vector (MuJoCo's ball
+                        spring, energy C/2 |rotation angle|^2), or `hinges`: two hinges hinge_k_z then hinge_k_y about
+                        the body's z and (turned) y axes, stiffness C each (energy C/2 (a^2 + b^2))
+  lab-frame drag        three velocity actuators on particle_k along the site's x (gamma_L = drag ratio), y and z
+                        (gamma_T = 1): -(gamma_L t t^T + gamma_T (1 - t t^T)) v, exactly
+  follower force        the longitudinal drag actuator's control: its force gamma_L (ctrl - v_x) with ctrl =
+                        -sigma / gamma_L is -sigma t - gamma_L (v . t) t, the follower force plus the drag, computed
+                        by MuJoCo at every stage from the body's own axis (no callback: MuJoCo's site transmission
+                        turns it into generalised forces for ball joints and hinges alike)
+  twist (ball joints)   a ball joint also turns link k about its own axis; no force of the model does (the particles
+                        are on the axis), so the twist only relaxes to where the ball spring is least, zero twist,
+                        which is the reduced model's bending energy C/2 phi^2 (docs/model3d.md, section 3). A rotational
+                        drag twist_drag about the link (velocity actuator twist_k, gear about the site's x) makes that
+                        relaxation an overdamped one at rate C / twist_drag, taken implicitly; it costs the bending
+                        motion O(twist_drag) (measured in docs/model3d.md)
+  mass                  bead of mass m = mass_ratio at the particle (sphere of radius BEAD_RADIUS), as the planar chain
+
+With pairs of hinges there is no twist degree of freedom but the bend is Cardan's: cos(phi) = cos(a) cos(b), so the
+spring C/2 (a^2 + b^2) equals C/2 phi^2 only in a plane through a hinge axis (and to second order): the planar chain
+exactly, the non-planar one approximately.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import mujoco
+import numpy as np
+
+from ..constants import BEAD_RADIUS
+from ..errors import ParameterError
+from . import mjcf_path
+from .chain import INTEGRATOR
+
+BASE_FILE = "clamped-3d.xml"
+JOINTS = ("ball", "hinges")
+TWIST_DRAG_STEPS = 2.0
+"""Default rotational drag of a link about its own axis (ball joints) in units of C dt: twist_drag = 2 C dt. The twist
+relaxes at rates ~ C / twist_drag, taken implicitly against the explicit ball spring; measured at N = 7, sigma = 0.8,
+dt = 0.0025, mass ratio 1e-4, 1.5 C dt is unstable (the run is wrong) and 2 C dt stable. Its cost to the bending
+motion is O(twist_drag), so O(dt) like the integrator's own error (docs/model3d.md, section 5)."""
+
+
+@dataclass(frozen=True)
+class Chain3DModel:
+    """What the MuJoCo 3D chain is built from (units l = C1 = gamma_T = 1)."""
+
+    n: int
+    sigma: float
+    drag_ratio: float = 1.0
+    clamped: bool = True
+    joints: str = "ball"
+    """'ball' (one ball joint per link) or 'hinges' (two hinges per link)."""
+    mass_ratio: float = 1e-4
+    dt: float = 0.0025
+    integrator: str = "implicitfast"
+    twist_drag: float | None = None
+    """Rotational drag about each link (ball joints); None: TWIST_DRAG_STEPS C dt."""
+
+    @property
+    def twist(self) -> float:
+        """The twist drag in use."""
+        return TWIST_DRAG_STEPS * self.dt if self.twist_drag is None else self.twist_drag
+
+    def checked(self) -> Chain3DModel:
+        """The record, or ParameterError naming the first field out of range."""
+        if self.n < 1:
+            raise ParameterError(f"n (number of particles N) must be >= 1, got {self.n}")
+        if self.joints not in JOINTS:
+            raise ParameterError(f"joints must be one of {JOINTS}, got {self.joints!r}")
+        if self.integrator not in INTEGRATOR:
+            raise ParameterError(f"integrator must be one of {tuple(INTEGRATOR)}, got {self.integrator!r}")
+        for name in ("drag_ratio", "mass_ratio", "dt", "twist"):
+            value = getattr(self, name)
+            if not (np.isfinite(value) and value > 0):
+                raise ParameterError(f"{name.replace('twist', 'twist_drag')} must be finite and > 0, got {value}")
+        if not (np.isfinite(self.sigma) and self.sigma >= 0):
+            raise ParameterError(f"sigma must be finite and >= 0, got {self.sigma}")
+        return self
+
+
+def _velocity_actuator(spec, name: str, site: str, axis: int, kv: float) -> None:
+    gear = [0.0] * 6
+    gear[axis] = 1.0
+    spec.add_actuator(
+        name=name,
+        target=site,
+        trntype=mujoco.mjtTrn.mjTRN_SITE,
+        gear=gear,
+        gainprm=[kv] + [0] * 9,
+        biasprm=[0, 0, -kv] + [0] * 7,
+        biastype=mujoco.mjtBias.mjBIAS_AFFINE,
+        gaintype=mujoco.mjtGain.mjGAIN_FIXED,
+        dyntype=mujoco.mjtDyn.mjDYN_NONE,
+    )
+
+
+def build_spec3d(chain: Chain3DModel) -> mujoco.MjSpec:
+    """MjSpec of the 3D chain (compile it with .compile(); set the controls with `controls`)."""
+    chain.checked()
+    spec = mujoco.MjSpec.from_file(str(mjcf_path(BASE_FILE)))
+    segment = spec.find_default("segment")
+    link, bead = spec.find_default("link"), spec.find_default("bead")
+    parent, pos = spec.worldbody, [0.0, 0.0, 0.0]
+    for k in range(chain.n):
+        body = parent.add_body(name=f"segment_{k}", pos=pos, childclass="segment")
+        stiffness = [0.0 if (k == 0 and not chain.clamped) else 1.0, 0, 0]
+        if chain.joints == "ball":
+            body.add_joint(name=f"ball_{k}", type=mujoco.mjtJoint.mjJNT_BALL, stiffness=stiffness)
+        else:
+            for axis, label in (([0, 0, 1], "z"), ([0, 1, 0], "y")):
+                body.add_joint(name=f"hinge_{k}_{label}", default=segment, axis=axis, stiffness=stiffness)
+        body.add_geom(name=f"link_{k}", default=link)
+        body.add_geom(name=f"bead_{k}", default=bead, mass=chain.mass_ratio, size=[BEAD_RADIUS, 0, 0])
+        body.add_site(name=f"particle_{k}", default=segment, userdata=[0.0])  # 0: the callback adds nothing
+        parent, pos = body, [1.0, 0.0, 0.0]
+    for k in range(chain.n):
+        site = f"particle_{k}"
+        _velocity_actuator(spec, f"drag_long_{k}", site, 0, chain.drag_ratio)
+        _velocity_actuator(spec, f"drag_y_{k}", site, 1, 1.0)
+        _velocity_actuator(spec, f"drag_z_{k}", site, 2, 1.0)
+        if chain.joints == "ball":
+            _velocity_actuator(spec, f"twist_{k}", site, 3, chain.twist)
+    spec.option.timestep = chain.dt
+    spec.option.integrator = INTEGRATOR[chain.integrator]
+    spec.modelname = "clamped-3d"
+    return spec
+
+
+def controls(model: mujoco.MjModel, chain: Chain3DModel) -> np.ndarray:
+    """The actuators' controls: -sigma / gamma_L on each longitudinal drag actuator (the follower force), 0 on the
+    others."""
+    ctrl = np.zeros(model.nu)
+    for k in range(chain.n):
+        ctrl[model.actuator(f"drag_long_{k}").id] = -chain.sigma / chain.drag_ratio
+    return ctrl
+
+
+def _quat_between(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """The unit quaternion of the least rotation taking unit vector a to unit vector b (not antiparallel)."""
+    q = np.concatenate([[1.0 + a @ b], np.cross(a, b)])
+    return q / np.linalg.norm(q)
+
+
+def _rotation(q: np.ndarray) -> np.ndarray:
+    mat = np.empty(9)
+    mujoco.mju_quat2Mat(mat, q)
+    return mat.reshape(3, 3)
+
+
+def qpos_of_tangents(chain: Chain3DModel, tangents: np.ndarray) -> np.ndarray:
+    """MuJoCo's qpos for link tangents (N, 3): ball joints at zero twist (each joint the least rotation from its
+    parent's axis to its link: the relaxed twist), or the Cardan angles (a, b) of each pair of hinges."""
+    tangents = np.asarray(tangents, dtype=float)
+    if tangents.shape != (chain.n, 3):
+        raise ParameterError(f"tangents must have shape ({chain.n}, 3), got {tangents.shape}")
+    frame = np.eye(3)  # the parent's orientation (world from body)
+    q = []
+    ex = np.array([1.0, 0.0, 0.0])
+    for t in tangents / np.linalg.norm(tangents, axis=1)[:, None]:
+        local = frame.T @ t
+        if chain.joints == "ball":
+            quat = _quat_between(ex, local)
+            q.extend(quat)
+            frame = frame @ _rotation(quat)
+        else:
+            a = np.arctan2(local[1], local[0])
+            b = np.arctan2(-local[2], np.hypot(local[0], local[1]))
+            q.extend([a, b])
+            ca, sa, cb, sb = np.cos(a), np.sin(a), np.cos(b), np.sin(b)
+            frame = (
+                frame
+                @ np.array([[ca, -sa, 0], [sa, ca, 0], [0, 0, 1]])
+                @ np.array([[cb, 0, sb], [0, 1, 0], [-sb, 0, cb]])
+            )
+    return np.array(q)
+
+
+def tangents_of(data: mujoco.MjData, n: int) -> np.ndarray:
+    """Link tangents (N, 3) from the particle sites' positions (after mj_kinematics): t_k = r_k - r_{k-1}."""
+    r = data.site_xpos[:n]
+    return np.diff(r, axis=0, prepend=np.zeros((1, 3)))
+
+
+def prepare3d(chain: Chain3DModel, tangents0: np.ndarray) -> tuple[mujoco.MjModel, mujoco.MjData]:
+    """Model and data at rest at the tangents tangents0, with the follower controls set."""
+    model = build_spec3d(chain).compile()
+    data = mujoco.MjData(model)
+    data.qpos[:] = qpos_of_tangents(chain, tangents0)
+    data.ctrl[:] = controls(model, chain)
+    mujoco.mj_forward(model, data)
+    return model, data
+
+
+def simulate3d(chain: Chain3DModel, ts: np.ndarray, tangents0: np.ndarray) -> np.ndarray:
+    """Tangents (len(ts), N, 3) of the MuJoCo chain from rest at tangents0, sampled at ts (uniform, multiples of dt
+    from ts[0] = 0). Raises RuntimeError when MuJoCo leaves finite numbers."""
+    ts = np.asarray(ts, dtype=float)
+    step = ts[1] - ts[0] if ts.size > 1 else chain.dt
+    nstep = int(round(step / chain.dt))
+    if ts[0] != 0.0 or nstep < 1 or not np.allclose(np.diff(ts), nstep * chain.dt, rtol=1e-9, atol=1e-12):
+        raise ParameterError(f"ts must start at 0 and be evenly spaced by a multiple of dt = {chain.dt}")
+    model, data = prepare3d(chain, tangents0)
+    out = np.empty((ts.size, chain.n, 3))
+    out[0] = tangents_of(data, chain.n)
+    for i in range(1, ts.size):
+        mujoco.mj_step(model, data, nstep=nstep)
+        mujoco.mj_kinematics(model, data)
+        out[i] = tangents_of(data, chain.n)
+        if not np.all(np.isfinite(out[i])):
+            raise RuntimeError(f"MuJoCo 3D chain diverged at t = {ts[i]:g} (smaller dt or a larger twist_drag)")
+    return out

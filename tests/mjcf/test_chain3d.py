@@ -1,0 +1,92 @@
+"""The MuJoCo chain in three dimensions (elastoactive.mjcf.chain3d): its forces are the model's, a planar start is the
+planar MuJoCo scene, and a whirl agrees with the reduced 3D model."""
+
+from __future__ import annotations
+
+import mujoco
+import numpy as np
+import pytest
+
+import elastoactive as ea
+from elastoactive.analysis.motion3d import measure3d
+from elastoactive.errors import ParameterError
+from elastoactive.mjcf.chain3d import (
+    Chain3DModel,
+    prepare3d,
+    qpos_of_tangents,
+    simulate3d,
+    tangents_of,
+)
+from elastoactive.reduced.chain3d import Chain3D, planar_angles, solve3d, tangents_of_angles
+
+
+def _random_tangents(n: int, seed: int = 0, spread: float = 0.6) -> np.ndarray:
+    rng = np.random.default_rng(seed)
+    t = np.column_stack([np.ones(n), spread * rng.standard_normal((n, 2))])
+    return t / np.linalg.norm(t, axis=1)[:, None]
+
+
+@pytest.mark.parametrize("joints", ["ball", "hinges"])
+def test_tangents_round_trip(joints):
+    chain = Chain3DModel(n=5, sigma=0.3, joints=joints)
+    t = _random_tangents(5)
+    _, data = prepare3d(chain, t)
+    np.testing.assert_allclose(tangents_of(data, 5), t, atol=1e-12)
+    assert qpos_of_tangents(chain, t).size == (20 if joints == "ball" else 10)
+
+
+@pytest.mark.parametrize("joints", ["ball", "hinges"])
+def test_actuators_are_the_follower_force_and_the_lab_frame_drag(joints):
+    """At a non-planar state and a random velocity, the actuators' generalised force is sum_k J_k^T (-sigma t_k -
+    W_k v_k) (anisotropic drag W_k), plus, with ball joints, the twist drag -twist_drag (omega_k . t_k) t_k on each
+    link's rotation."""
+    n, sigma, ratio = 4, 0.7, 2.5
+    chain = Chain3DModel(n=n, sigma=sigma, drag_ratio=ratio, joints=joints)
+    model, data = prepare3d(chain, _random_tangents(n, seed=1))
+    data.qvel[:] = np.random.default_rng(2).standard_normal(model.nv)
+    mujoco.mj_forward(model, data)
+    expected = np.zeros(model.nv)
+    jacp, jacr = np.zeros((3, model.nv)), np.zeros((3, model.nv))
+    t = tangents_of(data, n)
+    for k in range(n):
+        mujoco.mj_jacSite(model, data, jacp, jacr, model.site(f"particle_{k}").id)
+        v, w, tk = jacp @ data.qvel, jacr @ data.qvel, t[k]
+        drag = -(v + (ratio - 1.0) * (v @ tk) * tk)
+        expected += jacp.T @ (-sigma * tk + drag)
+        if joints == "ball":
+            expected += jacr.T @ (-chain.twist * (w @ tk) * tk)
+    np.testing.assert_allclose(data.qfrc_actuator, expected, atol=1e-10)
+
+
+@pytest.mark.parametrize("joints", ["ball", "hinges"])
+def test_planar_start_is_the_planar_mujoco_scene(joints):
+    """From the planar scene's own start, the 3D chain stays in the plane exactly and follows the planar MuJoCo
+    chain (hinges, compiled follower callback) to round-off, at the same dt and mass."""
+    physics = ea.Physics(scene="one-pinned", n=5, sigma=0.8)
+    planar = ea.simulate(physics, ea.Numerics(), duration=10.0, engine="mujoco")
+    path = simulate3d(Chain3DModel(n=5, sigma=0.8, joints=joints), planar.t, tangents_of_angles(planar.theta[0]))
+    assert np.all(path[..., 2] == 0.0)
+    assert np.abs(planar_angles(path) - planar.theta).max() < 1e-11
+
+
+def test_whirl_agrees_with_the_reduced_model():
+    """N = 3 at sigma = 2.5 (onset 1.163) from a non-planar start whirls in both engines; amplitude and frequency agree
+    within 1% (default numerics, ball joints)."""
+    n, sigma = 3, 2.5
+    ts = np.arange(0.0, 50.0 + 1e-9, 0.01)
+    t0 = _random_tangents(n, seed=3, spread=0.3)
+    reduced = measure3d(ts, solve3d(Chain3D(n=n, sigma=sigma), ts, t0, rtol=1e-10, atol=1e-10))
+    mujoco_ = measure3d(ts, simulate3d(Chain3DModel(n=n, sigma=sigma), ts, t0))
+    assert reduced.state == mujoco_.state == "whirl"
+    assert abs(mujoco_.tip_amplitude / reduced.tip_amplitude - 1.0) < 0.01
+    assert abs(mujoco_.frequency / reduced.frequency - 1.0) < 0.01
+    assert abs(mujoco_.whirl_rate / reduced.whirl_rate - 1.0) < 0.01
+
+
+def test_bad_input_names_the_field():
+    with pytest.raises(ParameterError, match="joints"):
+        Chain3DModel(n=3, sigma=0.5, joints="gimbal").checked()
+    with pytest.raises(ParameterError, match="twist_drag"):
+        Chain3DModel(n=3, sigma=0.5, twist_drag=0.0).checked()
+    with pytest.raises(ParameterError, match="ts must"):
+        simulate3d(Chain3DModel(n=3, sigma=0.5), np.array([0.0, 0.0011]), _random_tangents(3))

@@ -128,7 +128,7 @@ def build_spec3d(chain: Chain3DModel) -> mujoco.MjSpec:
             _velocity_actuator(spec, f"twist_{k}", site, 3, chain.twist)
     spec.option.timestep = chain.dt
     spec.option.integrator = INTEGRATOR[chain.integrator]
-    spec.modelname = "clamped-3d"
+    spec.modelname = "chain3d"
     return spec
 
 

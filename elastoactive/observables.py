@@ -11,14 +11,20 @@ table through `get` and `find`:
   the pre-flight     the fewest particles a chain needs to measure it (`min_n`: results.check_measurable)
   sweeps             each variable's units and long name in the netCDF, per chain or not, a category's index
 
-A leaf module: it imports nothing of the package. (The functions that compute observables from a trajectory are
-elastoactive.analysis.)
+A scene reports each observable in its own units (`described`: a network's frequency in k/gamma, its amplitude in a,
+not the chain's 1/tau and rad): specs write their units in the chain's symbols, and `worded` long names where a scene
+of other units calls the quantity something else (elastoactive.units).
+
+A leaf module: it imports nothing of the package but elastoactive.units. (The functions that compute observables
+from a trajectory are elastoactive.analysis.)
 """
 
 from __future__ import annotations
 
 from collections.abc import Iterable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
+
+from .units import CHAIN, THETA, Signal, Units, Worded, worded
 
 ERRORS = ("relative", "absolute", "none")
 """How validate compares two values of an observable (Observable.error)."""
@@ -37,6 +43,8 @@ class Observable:
     floor       with error = "relative": the magnitude below which the difference is compared absolutely
     categories  a categorical observable's values (text; a sweep stores their index, and names them in the netCDF)
     min_n       the fewest particles per chain for which it is defined (a shorter chain is refused before a run)
+    worded      its long name in a scene of other units, where the chain's words do not fit (units.Worded: the
+                trapped unit's orbit_radius is its node's, not 'the N particles' centre of mass')
     """
 
     name: str
@@ -47,6 +55,7 @@ class Observable:
     floor: float = 1e-3
     categories: tuple[str, ...] = ()
     min_n: int = 1
+    worded: tuple[Worded, ...] = ()
 
     def __post_init__(self) -> None:
         if not isinstance(self.name, str) or not self.name.isidentifier():
@@ -58,27 +67,44 @@ class Observable:
 HARMONICS = 5
 """Harmonics of Theta every run reports (Results.harmonics)."""
 
-BEAT = (
-    Observable("amplitude", "rad", "amplitude of Theta = theta_N - theta_1 (half peak-to-peak)", per_chain=True),
-    Observable("frequency", "1/tau", "oscillation frequency f*tau of Theta", per_chain=True),
-    Observable(
-        "period_spread",
-        "1",
-        "std / mean of the cycle periods of Theta (NaN with fewer than 2 cycles)",
-        per_chain=True,
-        error="none",
-    ),
-    Observable(
-        "harmonics",
-        "1",
-        f"amplitudes of harmonics 1-{HARMONICS} of Theta relative to the fundamental (NaN without a periodic beat)",
-        per_chain=True,
-        error="none",
-    ),
-)
+
+def beat_specs(signal: Signal) -> tuple[Observable, ...]:
+    """The beat observables (amplitude, frequency, period_spread, harmonics) of a scene whose beat is measured on
+    `signal` (Scene.beat_signal): their units and long names about that signal."""
+    return (
+        Observable("amplitude", signal.units, f"amplitude of {signal.text} (half peak-to-peak)", per_chain=True),
+        Observable("frequency", "1/tau", f"oscillation frequency of {signal.symbol}", per_chain=True),
+        Observable(
+            "period_spread",
+            "1",
+            f"std / mean of the cycle periods of {signal.symbol} (NaN with fewer than 2 cycles)",
+            per_chain=True,
+            error="none",
+        ),
+        Observable(
+            "harmonics",
+            "1",
+            f"amplitudes of harmonics 1-{HARMONICS} of {signal.symbol} relative to the fundamental (NaN without a "
+            "periodic beat)",
+            per_chain=True,
+            error="none",
+        ),
+    )
+
+
+BEAT = beat_specs(THETA)
 """The beat observables every scene reports (results.measure), whatever its own."""
 
 _TABLE: dict[str, tuple[Observable, str]] = {}
+
+
+def described(spec: Observable, units: Units = CHAIN, signal: Signal = THETA) -> Observable:
+    """`spec` as a scene of units `units` whose beat is measured on `signal` reports it: a beat observable's (BEAT)
+    units and long name about that signal (beat_specs), the others' units in the scene's symbols (Units.of) and
+    their long name in its words (Observable.worded, else Units.words)."""
+    if spec in BEAT:
+        spec = beat_specs(signal)[BEAT.index(spec)]
+    return replace(spec, units=units.of(spec.units), long_name=worded(spec.long_name, spec.worded, units))
 
 
 def register(spec: Observable, owner: str) -> Observable:

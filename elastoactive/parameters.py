@@ -11,7 +11,10 @@ the package asks this table:
   the CLI            one option per spec (elastoactive.cli.options), its help and choices from here
   sweeps             which names can be swept, and each coordinate's long name and units in the netCDF
 
-A leaf module: it imports nothing of the package but its errors.
+A parameter's help and units are written in the chain's symbols (l, tau); a scene of other units reads them in its
+own (`help_in`, `units_in`: elastoactive.units), with the spec's `worded` help where the chain's words do not fit.
+
+A leaf module: it imports nothing of the package but its errors and elastoactive.units.
 """
 
 from __future__ import annotations
@@ -24,6 +27,7 @@ from typing import Any
 import numpy as np
 
 from .errors import ParameterError
+from .units import CHAIN, Units, Worded, worded
 
 KINDS = (float, int, bool, str)
 
@@ -54,6 +58,11 @@ class Parameter:
     unless_why  with `unless`: what the switch being on means, in messages ("coloured noise")
     quiet_default  reported in summaries only when it differs from its default (contact, loaded, and any
                 parameter a plug-in term adds, so that runs without it record what they recorded before it existed)
+    worded      its help in a scene of other units, where the chain's words do not fit (units.Worded: sigma is
+                'F_a / (k a)' on a network)
+    instead_of  the parameter it is given in place of (the coupling Pi in place of sigma): Physics turns it into that
+                one by the scene (Scene.coupling) and records that one; it has no default of its own (`default` is
+                None) and is given only to the scenes that have it
     """
 
     name: str
@@ -75,6 +84,8 @@ class Parameter:
     unless: str | None = None
     unless_why: str = ""
     quiet_default: bool = False
+    worded: tuple[Worded, ...] = ()
+    instead_of: str | None = None
 
     def __post_init__(self) -> None:
         if not self.name.isidentifier():
@@ -87,12 +98,24 @@ class Parameter:
             raise ValueError(f"parameter {self.name}: or_needs and or_needs_value go together, with needs")
         if self.unless is not None and self.needs is None:
             raise ValueError(f"parameter {self.name}: unless without needs")
+        if self.instead_of is not None:
+            if self.default is not None or self.needs is not None:
+                raise ValueError(f"parameter {self.name}: given instead of {self.instead_of}, it has no default")
+            return
         self.check(self.default)
 
     @property
     def label(self) -> str:
         """How messages name it: 'delta (compression)'."""
         return f"{self.name} ({self.title})" if self.title else self.name
+
+    def help_in(self, units: Units = CHAIN) -> str:
+        """Its help in a scene of units `units`: the `worded` one for them, else the help in their symbols."""
+        return worded(self.help, self.worded, units)
+
+    def units_in(self, units: Units = CHAIN) -> str:
+        """Its units in a scene of units `units` (Units.of)."""
+        return units.of(self.units)
 
     @property
     def option(self) -> str:

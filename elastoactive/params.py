@@ -24,6 +24,7 @@ from .constants import MAX_PARTICLES
 from .errors import ParameterError
 from .parameters import Parameter
 from .terms.follower import load_mask
+from .units import NETWORK, Worded
 
 INTEGRATORS = ("implicitfast", "implicit", "discrete", "Euler", "RK4")
 DEFAULT_SCENE = "one-pinned"
@@ -34,6 +35,20 @@ N = _parameters.register(
     "the chain",
 )
 """The one parameter of the chain itself; every other belongs to a term (elastoactive.terms) or a scene."""
+COUPLING = _parameters.register(
+    Parameter(
+        "Pi",
+        None,
+        "elasto-active coupling Pi = l_e / l_a (l_e = F_a / k), given instead of sigma: the scene turns it into "
+        "sigma (lattice, network: sigma = Pi l_a; trapped-unit: sigma = Pi k_t l_a) and records sigma",
+        low=0.0,
+        title="elasto-active coupling",
+        symbol="Π",
+        instead_of="sigma",
+    ),
+    "the coupling",
+)
+"""The coupling Pi of the scenes that have one (Scene.coupling: the network scenes), given in place of sigma."""
 LEADING = ("n", "sigma", "drag_ratio", "noise")
 """The parameters every summary reports first, in this order; then the scene's own, then the terms' others."""
 
@@ -49,13 +64,33 @@ def _finite(name: str, value: float) -> float:
 
 
 def scene_parameters(scene) -> tuple[str, ...]:
-    """Every parameter a scene has, in reporting order: LEADING, the scene's own, then the terms' others."""
+    """Every parameter a scene has, in reporting order: LEADING, the scene's own, then the terms' others; last, the
+    coupling Pi where the scene has one (has_coupling), given in place of sigma and not recorded."""
     if scene.term_parameters is not None:  # a network scene: only the terms' parameters that act on its units
         acting = tuple(scene.term_parameters)
         names = tuple(k for k in LEADING if k in acting) + tuple(scene.own_parameter_names()) + acting
     else:
         names = LEADING + tuple(scene.own_parameter_names()) + _terms.parameter_names()
-    return tuple(dict.fromkeys(names))
+    return tuple(dict.fromkeys(names)) + ((COUPLING.name,) if has_coupling(scene) else ())
+
+
+def has_coupling(scene) -> bool:
+    """Whether a scene has the coupling Pi (Scene.coupling(physics, sigma): linear in sigma)."""
+    return callable(getattr(scene, "coupling", None))
+
+
+def _coupled(definition, scene: str, values: dict) -> dict:
+    """`values` with the coupling Pi, where given, turned into the sigma that gives it on this scene: Pi is linear in
+    sigma (Scene.coupling), so sigma = Pi / coupling(at sigma = 1). Pi beside sigma is refused in one line."""
+    if COUPLING.name not in values:
+        return values
+    rest = {k: v for k, v in values.items() if k != COUPLING.name}
+    if COUPLING.instead_of in rest:
+        raise ParameterError(
+            f"give sigma or Pi, not both (on {scene} Pi = {definition.coupling_formula}, and sigma follows from it)"
+        )
+    coupling = COUPLING.check(values[COUPLING.name])
+    return {**rest, COUPLING.instead_of: coupling / definition.coupling(Physics(scene=scene, **rest), 1.0)}
 
 
 class Physics:
@@ -108,8 +143,11 @@ class Physics:
                 raise ParameterError(
                     f"unknown parameter {name!r}; the parameters of scene {scene}: {', '.join(usable)}"
                 )
+        values = _coupled(definition, scene, values)
         resolved = {}
         for name in usable:
+            if name == COUPLING.name:  # given in place of sigma: not a value of its own
+                continue
             spec = _parameters.get(name)
             resolved[name] = spec.check(values[name]) if name in values else spec.default
         for name, value, why in definition.fixed:  # values the scene holds (a network's units are self-aligning)
@@ -137,6 +175,9 @@ class Physics:
         values = object.__getattribute__(self, "_values")
         if name in values:
             return values[name]
+        if name == COUPLING.name:  # the coupling of a scene that has one (else None, its spec's default)
+            definition = self.scene_def
+            return definition.coupling(self) if has_coupling(definition) else None
         if _parameters.known(name):
             return _parameters.get(name).default
         raise AttributeError(f"Physics has no parameter {name!r}")
@@ -189,6 +230,8 @@ class Physics:
         scene = changes.pop("scene", self.scene)
         usable = scene_parameters(registry.get(scene)) if scene in registry.names() else ()
         kept = {k: v for k, v in self.given().items() if k in usable and k not in changes}
+        if COUPLING.name in changes:  # the coupling given anew sets sigma
+            kept.pop(COUPLING.instead_of, None)
         values = {**kept, **changes}
         for name in list(kept):
             switch = _parameters.get(name).needs
@@ -293,7 +336,8 @@ class Numerics:
     dt           timestep
     mass_ratio   particle mass m / (gamma tau): the inertial time in units of tau
     integrator   MuJoCo integrator
-    perturbation largest angle (rad) of the seeded initial push away from the base state
+    perturbation largest angle (rad) of the seeded initial push away from the base state (a network's: the nodes'
+                 largest displacement, in a)
     sample_dt    spacing of the recorded trajectory: a whole number of steps of dt (a dt left at its default is the
                  largest whole fraction of sample_dt at most DEFAULT_DT)
 
@@ -308,10 +352,20 @@ class Numerics:
 
     dt: float = field(default=DEFAULT_DT, metadata={"help": "MuJoCo timestep in tau"})
     mass_ratio: float = field(
-        default=DEFAULT_MASS_RATIO, metadata={"help": "particle mass m / (gamma tau); the overdamped limit is 0"}
+        default=DEFAULT_MASS_RATIO,
+        metadata={
+            "help": "particle mass m / (gamma tau); the overdamped limit is 0",
+            "worded": (Worded(NETWORK.name, "node mass m k / gamma^2; the overdamped limit is 0"),),
+        },
     )
     integrator: str = field(default=DEFAULT_INTEGRATOR, metadata={"help": "MuJoCo integrator", "choices": INTEGRATORS})
-    perturbation: float = field(default=1e-2, metadata={"help": "size of the random initial kick, rad"})
+    perturbation: float = field(
+        default=1e-2,
+        metadata={
+            "help": "size of the random initial kick, rad",
+            "worded": (Worded(NETWORK.name, "size of the random initial push of the nodes, a"),),
+        },
+    )
     sample_dt: float = field(
         default=DEFAULT_SAMPLE_DT,
         metadata={
@@ -538,9 +592,10 @@ def check_start(physics: Physics, numerics: Numerics) -> None:
     """Refuse perturbation = 0 where nothing else moves the run off the scene's base state and that state is unstable
     (Scene.leading_eigenvalue at the physics' sigma has a positive real part): the run would sit on the unstable state
     up to round-off and report it, not the motion. Both engines' runs ask it (engines.run_engine, the MuJoCo batch).
-    Noise, a term's force or a moving clamp (Term.node_forces, Term.clamp_motion), a network's seeded polarities and a
-    scene without a linear operator at its base state are let through."""
-    if numerics.perturbation > 0 or physics.noise > 0 or physics.scene_def.network(physics) is not None:
+    Noise, a term's force or a moving clamp (Term.node_forces, Term.clamp_motion), a scene seeded off its base states
+    (Scene.seeded_start: a network's polarities) and a scene without a linear operator at its base state are let
+    through."""
+    if numerics.perturbation > 0 or physics.noise > 0 or physics.scene_def.seeded_start:
         return
     if any(t.node_forces(physics) is not None or t.clamp_motion(physics) is not None for t in physics.active_terms()):
         return

@@ -25,6 +25,8 @@ from .sensitivity import estimate as estimate_sensitivity
 from .sensitivity import needs_estimate
 from .terms.base import fastest_term
 from .trajectory import Trajectory
+from .units import beat_signal, scene_units
+from .wording import summary_units
 
 PerChain = float | tuple[float, ...]
 
@@ -145,7 +147,8 @@ def measure(traj: Trajectory, transient: float | None = None) -> Results:
     scene = physics.scene_def
     thetas = scene.beat_signals(traj)  # Theta = theta_N - theta_1 per chain; a network scene's own signal
     rest = rest_level(traj, transient)
-    beats = [_beat(t, x, transient, max(rest, _solver_level(traj, t, x, transient))) for x in thetas]
+    words = _Words.of(physics)  # the notes name the scene's beat signal and units (a network's is not Theta)
+    beats = [_beat(t, x, transient, max(rest, _solver_level(traj, t, x, transient)), words) for x in thetas]
     spectra = [tuple(float(a) for a in spectrum.harmonics(t, x, transient, HARMONICS)) for x in thetas]
     extra = scene.measure_extra(traj, transient)
     for term in physics.active_terms():  # the terms' own observables (self-contact's clearance, a plug-in's)
@@ -266,15 +269,33 @@ class _Beat:
     notes: tuple[str, ...]
 
 
-def _beat(t: np.ndarray, theta_diff: np.ndarray, transient: float, rest: float = STEADY_AMPLITUDE) -> _Beat:
-    """Amplitude, frequency and regularity of one chain's Theta over the measured window (at rest below `rest`)."""
+@dataclass(frozen=True)
+class _Words:
+    """How the beat's notes name the signal, its units and the time unit (the scene's: units.beat_signal)."""
+
+    signal: str = "Theta"
+    units: str = "rad"
+    time: str = "tau"
+
+    @classmethod
+    def of(cls, physics: Physics) -> _Words:
+        units, signal = scene_units(physics.scene_def), beat_signal(physics)
+        return cls(signal.symbol, units.of(signal.units), units.time_units)
+
+
+def _beat(
+    t: np.ndarray, theta_diff: np.ndarray, transient: float, rest: float = STEADY_AMPLITUDE, words: _Words = _Words()
+) -> _Beat:
+    """Amplitude, frequency and regularity of one chain's Theta (a scene's beat signal, named by `words` in the notes)
+    over the measured window (at rest below `rest`)."""
+    theta, rad, tau = words.signal, words.units, words.time
     amplitude = obs.amplitude(t, theta_diff, transient)
     if amplitude <= rest:
         return _Beat(amplitude, 0.0, True, math.nan, ())
     if amplitude <= SMALL_AMPLITUDE:
         return _Beat(amplitude, obs.frequency(t, theta_diff, transient), True, math.nan, ())
     cycles = obs.cycles(t, theta_diff, transient)
-    window = f"the measured window ({t[-1] - transient:.4g} tau after a transient of {transient:.4g} tau)"
+    window = f"the measured window ({t[-1] - transient:.4g} {tau} after a transient of {transient:.4g} {tau})"
     _, xs = obs.steady_part(t, theta_diff, transient=transient)
     third = max(xs.size // 3, 1)
     drift = abs(xs[-third:].mean() - xs[:third].mean())
@@ -285,7 +306,7 @@ def _beat(t: np.ndarray, theta_diff: np.ndarray, transient: float, rest: float =
             False,
             math.nan,
             (
-                f"the motion is not periodic: Theta drifts by {drift:.3g} rad over {window} (it winds up or "
+                f"the motion is not periodic: {theta} drifts by {drift:.3g} {rad} over {window} (it winds up or "
                 "creeps) with fewer than two cycles about its mean; amplitude is half the range covered",
             ),
         )
@@ -296,7 +317,7 @@ def _beat(t: np.ndarray, theta_diff: np.ndarray, transient: float, rest: float =
             None,
             math.nan,
             (
-                f"periodicity and frequency not judged: Theta moves by {drift:.3g} rad one way over {window}, with "
+                f"periodicity and frequency not judged: {theta} moves by {drift:.3g} {rad} one way over {window}, with "
                 "fewer than two cycles about its mean: a beat slower than the window, or a motion that creeps; run "
                 "longer (--duration) or discard less (--transient)",
             ),
@@ -308,7 +329,7 @@ def _beat(t: np.ndarray, theta_diff: np.ndarray, transient: float, rest: float =
             None,
             math.nan,
             (
-                f"frequency not measured: {window} holds fewer than two periods of Theta; run longer "
+                f"frequency not measured: {window} holds fewer than two periods of {theta}; run longer "
                 "(--duration) or discard less (--transient)",
             ),
         )
@@ -428,10 +449,10 @@ def summary(
     provenance: dict | None = None,
     sensitivity: bool = True,
 ) -> dict:
-    """Everything summary.json holds: parameters, numerical settings, wall time, results, solver
-    information and (when given) the provenance record of elastoactive.io.outputs. An irregular run's results also
-    carry `sensitivity` (elastoactive.sensitivity: errors of its numbers, whether its dynamics is sensitive) unless
-    sensitivity=False."""
+    """Everything summary.json holds: parameters, numerical settings, wall time, results, their units (the scene's:
+    wording.summary_units), solver information and (when given) the provenance record of elastoactive.io.outputs.
+    An irregular run's results also carry `sensitivity` (elastoactive.sensitivity: errors of its numbers, whether its
+    dynamics is sensitive) unless sensitivity=False."""
     transient = check_transient(duration, transient)
     if traj.engine == "mujoco":  # what ran: a long chain's or a network's automatic numerics, so --from repeats it
         numerics = numerics.for_physics(traj.physics)
@@ -462,6 +483,7 @@ def summary(
         "numerics": {**settings, "duration": duration, "transient": transient},
         "wall_time_s": traj.wall_time_s,
         "results": recorded,
+        "units": summary_units(traj.physics, recorded),
         "solver": traj.info,
     }
     if provenance is not None:

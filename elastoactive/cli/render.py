@@ -38,15 +38,16 @@ def check_mujoco_gl() -> None:
         ) from None
 
 
-def add_video_args(p: argparse.ArgumentParser, *, still: bool = False) -> None:
-    """Options of the picture (shared by `run --video` and `render`)."""
+def add_video_args(p: argparse.ArgumentParser, *, still: bool = False, time_units: str = "tau") -> None:
+    """Options of the picture (shared by `run --video` and `render`); times in `time_units` (a scene's own help:
+    units.Units.time_units)."""
     g = p.add_argument_group("video (off-screen rendering, MP4 via mediapy + imageio-ffmpeg)")
     g.add_argument("--fps", type=float, default=30.0, help="frames per second of video (default %(default)s)")
     g.add_argument(
         "--rate",
         type=float,
         default=None,
-        help="tau of simulated time per second of video (default: one beat per second)",
+        help=f"{time_units} of simulated time per second of video (default: one beat per second)",
     )
     g.add_argument("--width", type=int, default=640, help="frame width in pixels, even (default %(default)s)")
     g.add_argument("--height", type=int, default=480, help="frame height in pixels, even (default %(default)s)")

@@ -13,13 +13,14 @@ import sys
 import time
 from pathlib import Path
 
-from .. import plugins
+from .. import plugins, registry
 from ..engines import ENGINES
 from ..errors import ParameterError
 from ..io.outputs import output_path
 from ..params import Numerics, Physics, parameter_fields
 from ..reduced.settings import METHODS
-from .options import UNITS, add_fields, scene_argument, scene_help
+from ..units import CHAIN, scene_units
+from .options import UNITS, add_fields, help_argument, scene_argument, scene_description, scene_help
 from .render import add_video_args
 
 DEFAULT_DURATION = 300.0
@@ -32,15 +33,33 @@ def register(subparsers) -> None:
         description="Simulate one scene. " + UNITS,
         epilog=scene_help(),
         formatter_class=argparse.RawDescriptionHelpFormatter,
+        add_help=False,
     )
+    help_argument(run, fill)
+    fill(run, None)
+    run.set_defaults(func=main)
+
+
+def fill(run: argparse.ArgumentParser, scene: str | None) -> None:
+    """The options of `run`: every scene's (scene None), or one scene's in its own units (`run SCENE --help`)."""
+    units = scene_units(registry.get(scene)) if scene else CHAIN
+    if scene:
+        run.description = scene_description(scene)
     scene_argument(run, nargs="?")
-    add_fields(run.add_argument_group("physics (the paper's dimensionless numbers)"), Physics, defaults=False)
-    add_fields(run.add_argument_group("numerics"), Numerics, defaults=False)
+    physics = "physics (the paper's dimensionless numbers)" if scene is None else f"physics of {scene}"
+    add_fields(run.add_argument_group(physics), Physics, defaults=False, scene=scene)
+    add_fields(run.add_argument_group("numerics"), Numerics, defaults=False, scene=scene)
     run.add_argument(
-        "--duration", type=float, default=None, help=f"simulated time in tau (default {DEFAULT_DURATION:g})"
+        "--duration",
+        type=float,
+        default=None,
+        help=f"simulated time in {units.time_units} (default {DEFAULT_DURATION:g})",
     )
     run.add_argument(
-        "--transient", type=float, default=None, help="time discarded before measuring, tau (default: half the run)"
+        "--transient",
+        type=float,
+        default=None,
+        help=f"time discarded before measuring, {units.time_units} (default: half the run)",
     )
     run.add_argument("--engine", choices=ENGINES, default=None, help="MuJoCo scene or the reduced ODE (default mujoco)")
     run.add_argument(
@@ -66,8 +85,7 @@ def register(subparsers) -> None:
     )
     run.add_argument("--quiet", action="store_true", help="no progress bar")
     run.add_argument("--video", type=output_path, help="also render the run to this MP4 (see `elastoactive render -h`)")
-    add_video_args(run)
-    run.set_defaults(func=main)
+    add_video_args(run, time_units=units.time_units)
 
 
 def _recorded(path: Path) -> dict:

@@ -14,17 +14,20 @@ import argparse
 import os
 import sys
 
+from .. import registry
 from ..engines import ENGINES
 from ..errors import ParameterError
 from ..io.outputs import output_path
-from ..params import PRESETS, Numerics, Physics, parameter_fields
-from ..sweep import grid_keys
-from .options import add_fields, scene_argument
+from ..params import PRESETS, Numerics, Physics, parameter_fields, scene_parameters
+from ..sweep import NUMERICS_KEYS, grid_keys
+from ..units import CHAIN, scene_units
+from .options import UNITS, add_fields, help_argument, scene_argument, scene_description
 
 EXAMPLES = """examples:
   elastoactive sweep one-pinned --grid sigma=0.2:1.0:9 --grid n=5,7,9 --duration 300 --out onset.nc
   elastoactive sweep coupled-pair --grid kappa=0:2:11 --grid rho=1,1.333 --preset fast --out pair.nc
   elastoactive sweep one-pinned --grid seed=0:9:10 --noise 0.1 --engine reduced --out noise.nc
+  elastoactive sweep lattice --grid Pi=1:2:5 --alignment-length 0.1 --engine reduced --out pi.nc
   elastoactive sweep ... --scheduler tcp://10.0.0.5:8786      (run on a Dask cluster)
 
 Grid values: a comma list (kappa=0.5,1,2) or start:stop:num (sigma=0.2:1.0:9, ends included).
@@ -44,32 +47,51 @@ def register(subparsers) -> None:
         "sweep",
         help="run a scene over a grid of parameters (every core or a Dask cluster) into a netCDF file",
         description="Run a scene at every point of a parameter grid and write the measurements (amplitude, "
-        "frequency, ...) as an xarray Dataset to netCDF, point by point; resumable. Units: l = C1 = gamma = 1.",
+        "frequency, ...) as an xarray Dataset to netCDF, point by point; resumable. " + UNITS,
         epilog=EXAMPLES,
         formatter_class=argparse.RawDescriptionHelpFormatter,
+        add_help=False,
     )
+    help_argument(p, fill)
+    fill(p, None)
+    p.set_defaults(func=main)
+
+
+def fill(p: argparse.ArgumentParser, scene: str | None) -> None:
+    """The options of `sweep`: every scene's (scene None), or one scene's in its own units (`sweep SCENE --help`)."""
+    units = scene_units(registry.get(scene)) if scene else CHAIN
+    keys = grid_keys()
+    if scene:
+        p.description = scene_description(scene)
+        own = scene_parameters(registry.get(scene))
+        keys = tuple(k for k in keys if k in own or k in NUMERICS_KEYS)
     scene_argument(p)
     p.add_argument(
         "--grid",
         action="append",
         required=True,
         metavar="NAME=VALUES",
-        help=f"a grid axis (repeat for more); NAME one of {', '.join(grid_keys())}",
+        help=f"a grid axis (repeat for more); NAME one of {', '.join(keys)}",
     )
-    add_fields(p.add_argument_group("fixed physics (off the grid; defaults as in `run`)"), Physics, defaults=False)
+    fixed = "fixed physics (off the grid; defaults as in `run`)"
+    add_fields(p.add_argument_group(fixed), Physics, defaults=False, scene=scene)
     g = p.add_argument_group("numerics (default: the preset's; a given option overrides it)")
     g.add_argument(
         "--preset",
         choices=tuple(PRESETS),
         default="accurate",
-        help="numerical settings (default %(default)s; fast: dt 0.01, ~4x quicker, results within 0.3%% "
-        "for the paper's N = 7 chains; stiffer chains need a smaller --dt, which a refusal names)",
+        help="numerical settings (default %(default)s; fast: dt 0.01, ~4x quicker"
+        + (", results within 0.3%% for the paper's N = 7 chains" if units is CHAIN else "")
+        + "; stiffer structures need a smaller --dt, which a refusal names)",
     )
-    add_fields(g, Numerics, defaults=False)
+    add_fields(g, Numerics, defaults=False, scene=scene)
     g = p.add_argument_group("run")
     g.add_argument("--engine", choices=ENGINES, default="mujoco", help="(default %(default)s)")
-    g.add_argument("--duration", type=float, default=300.0, help="simulated time per point, tau (default %(default)s)")
-    g.add_argument("--transient", type=float, help="time discarded before measuring, tau (default: half the run)")
+    time = units.time_units
+    g.add_argument(
+        "--duration", type=float, default=300.0, help=f"simulated time per point, {time} (default %(default)s)"
+    )
+    g.add_argument("--transient", type=float, help=f"time discarded before measuring, {time} (default: half the run)")
     g.add_argument("--out", type=output_path, required=True, help="netCDF file (resumed if it holds the same sweep)")
     g.add_argument(
         "--workers",
@@ -92,7 +114,6 @@ def register(subparsers) -> None:
         "--no-timestep-check", action="store_true", help="run MuJoCo points beyond the linear stability limit of dt"
     )
     g.add_argument("--quiet", action="store_true", help="no progress bar")
-    p.set_defaults(func=main)
 
 
 def _import_mujoco_headless() -> None:

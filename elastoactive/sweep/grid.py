@@ -259,8 +259,14 @@ class Sweep:
 
     @property
     def fixed(self) -> dict:
-        """The scene's physics parameters that are not on the grid."""
-        return {k: v for k, v in self.physics.relevant().items() if k != "scene" and k not in self.grid}
+        """The scene's physics parameters that are not on the grid, nor set by one on it (sigma by the coupling Pi:
+        Parameter.instead_of)."""
+        replaced = {parameter_spec(k).instead_of for k in self.grid if k in physics_keys()}
+        return {
+            k: v
+            for k, v in self.physics.relevant().items()
+            if k != "scene" and k not in self.grid and k not in replaced
+        }
 
     @property
     def fixed_numerics(self) -> dict:

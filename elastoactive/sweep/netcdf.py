@@ -20,8 +20,11 @@ from pathlib import Path
 
 import numpy as np
 
+from .. import observables, parameters
 from ..io.outputs import file_size_limit, write_netcdf
-from ..params import LONG_CHAIN
+from ..params import LONG_CHAIN, Numerics, Physics, has_coupling, parameter_fields
+from ..units import beat_signal, scene_units
+from ..wording import field_help, observable
 from .grid import VECTORS, SweepStorageError, coordinate_attrs, spec_text, variable_attrs
 
 SNAPSHOT_MARGIN = 1 << 20
@@ -118,6 +121,33 @@ def write(out: Path, contents: Callable[[], tuple[dict, dict, dict]], needed: in
             tmp.unlink()
 
 
+def scene_coordinate_attrs(name: str, physics: Physics) -> dict:
+    """A grid coordinate's netCDF attributes on the sweep's scene: a physics parameter's help and units in the scene's
+    units (Parameter.help_in, units_in), a numerical setting's help in them (wording.field_help), a dimension's as
+    they are (grid.coordinate_attrs)."""
+    units = scene_units(physics.scene_def)
+    if parameters.known(name):
+        spec = parameters.get(name)
+        return {"long_name": spec.help_in(units), "units": spec.units_in(units)}
+    for field in parameter_fields(Numerics):
+        if field.name == name:
+            return {"long_name": field_help(field, units)}
+    return coordinate_attrs(name)
+
+
+def scene_variable_attrs(name: str, physics: Physics) -> dict:
+    """A recorded variable's netCDF attributes on the sweep's scene: a declared observable's units and long name as
+    the scene reports it (wording.observable: a network's amplitude in a, its frequency in k/gamma), the others'
+    (grid.variable_attrs) with their units in the scene's symbols."""
+    attrs = dict(variable_attrs(name))
+    if observables.known(name):
+        spec = observable(name, physics)
+        attrs.update(units=spec.units, long_name=spec.long_name)
+    elif "units" in attrs:
+        attrs["units"] = scene_units(physics.scene_def).of(attrs["units"])
+    return attrs
+
+
 def contents(sweep, arrays: dict, spec: dict, done: np.ndarray) -> tuple[dict, dict, dict]:
     """(data variables, coordinates, attributes) of the Dataset of a sweep (sweep_grid.Sweep) whose results are `arrays`
     ({name: array}), specification `spec` and finished points `done` (a boolean array of the grid's shape):
@@ -125,14 +155,16 @@ def contents(sweep, arrays: dict, spec: dict, done: np.ndarray) -> tuple[dict, d
     xarray.Dataset)."""
     chains = sweep.chains
     dims = tuple(sweep.grid)
-    coords = {k: ((k,), v, coordinate_attrs(k)) for k, v in sweep.grid.items()}
+    physics = sweep.physics
+    units, signal = scene_units(physics.scene_def), beat_signal(physics)
+    coords = {k: ((k,), v, scene_coordinate_attrs(k, physics)) for k, v in sweep.grid.items()}
     if chains > 1:
         coords["chain"] = (("chain",), np.arange(1, chains + 1), coordinate_attrs("chain"))
     data = {}
     for name, values in arrays.items():
         vector = (VECTORS[name][0],) if name in VECTORS else ()
         var_dims = dims + (("chain",) if values.ndim > len(dims) + len(vector) else ()) + vector
-        data[name] = (var_dims, values.copy(), variable_attrs(name))
+        data[name] = (var_dims, values.copy(), scene_variable_attrs(name, physics))
         if vector:
             dim, size = VECTORS[name]
             coords[dim] = ((dim,), np.arange(1, size + 1), coordinate_attrs(dim))
@@ -151,12 +183,15 @@ def contents(sweep, arrays: dict, spec: dict, done: np.ndarray) -> tuple[dict, d
             "points_failed": int((arrays["status"] == "error").sum()),
             "complete": int(done.all()),
             "sweep_spec": spec_text(spec),
-            "units": "l = C1 = gamma = 1: times in tau = gamma l^2 / C1, frequencies f*tau",
-            "measurements": "per point, after the transient: amplitude and frequency of Theta = theta_N - theta_1; "
+            "units": units.text,
+            "beat_signal": f"{signal.text} ({units.of(signal.units)})",
+            "measurements": f"per point, after the transient: amplitude and frequency of {signal.symbol}; "
             "periodic (1: periodic, 0: irregular, NaN: too few cycles to tell or failed) with "
             "period_spread (std / mean of the cycle periods; per chain for the pair); notes (text: "
             "what to know about the numbers, '; '-separated); the scene's observables",
         }
+    if has_coupling(physics.scene_def):  # the coupling Pi, which a grid or a fixed value may give in place of sigma
+        attrs["coupling"] = f"Pi = {physics.scene_def.coupling_formula}"
     if sweep.engine == "mujoco":
         import mujoco  # start-up time: loaded by now only for MuJoCo sweeps
 

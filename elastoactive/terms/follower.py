@@ -12,9 +12,18 @@ import numpy as np
 
 from ..errors import ParameterError
 from ..parameters import Parameter
+from ..units import NETWORK, Worded
 from .base import Term
 
-SIGMA = Parameter("sigma", 0.8, "elasto-active number F_a l / C1", low=0.0, title="elasto-active number", symbol="σ")
+SIGMA = Parameter(
+    "sigma",
+    0.8,
+    "elasto-active number F_a l / C1",
+    low=0.0,
+    title="elasto-active number",
+    symbol="σ",
+    worded=(Worded(NETWORK.name, "active force of each unit F_a / (k a) = l_e / a"),),
+)
 LOADED = Parameter(
     "loaded",
     "all",

@@ -31,6 +31,8 @@ numbers they are set against in `elastoactive.studies.paper`.
     clamp_tongue  the outlook: the beat locking to a moving clamp (phase response, Adler's tongue)
     lattice       the outlook: the active solid (the pinned hexagon's collective actuation, mode selection, the
                   trapped unit)
+    hysteresis    the outlook: the active solid's hysteresis loop (Pi up, then down) on the triangular hexagon and a
+                  kagome patch, with the named states
 
 and what they share: `registry` (the studies by name), `base` (sizes, the Study container, running a
 batch of cases), `plotting` (figure style and helpers), `claim_rows` (the claim row and its number
@@ -47,6 +49,7 @@ from .base import ENGINES, SIZES, Study, Summary
 from .clamp_tongue import ClampTongueSummary, clamp_tongue_study
 from .dish import DishSummary, dish_study
 from .hopf import HopfSummary, hopf_study
+from .hysteresis import HysteresisSummary, hysteresis_study
 from .inertia import InertiaSummary, inertia_study
 from .lattice import ActiveSolidSummary, active_solid_study
 from .linear import GrowthSummary, StabilitySummary, growth_study, stability_study
@@ -112,6 +115,8 @@ __all__ = [
     "clamp_tongue_study",
     "ActiveSolidSummary",
     "active_solid_study",
+    "HysteresisSummary",
+    "hysteresis_study",
     "EntrainmentSummary",
     "ResponseSummary",
     "entrainment_study",

@@ -23,7 +23,7 @@ from .observables import HARMONICS
 from .params import MIN_SAMPLES, Numerics, Physics
 from .sensitivity import estimate as estimate_sensitivity
 from .sensitivity import needs_estimate
-from .terms.base import fastest_term
+from .terms.base import fastest_term, slower_advice
 from .trajectory import Trajectory
 from .units import beat_signal, scene_units
 from .wording import summary_units
@@ -191,7 +191,7 @@ def _aliasing(traj: Trajectory) -> list[str]:
         f"the record may alias the motion: the {term.name} term turns or drives at up to {rate:.3g} rad per unit "
         f"time, {rate * spacing:.2g} rad between samples (sample_dt = {spacing:g}); rates and frequencies may be "
         f"wrong, even in sign: rerun with --sample-dt <= {ALIASING / rate:.2g} (and --dt; the reduced engine records "
-        f"no finer than the default dt) or a slower setting ({term.slower(traj.physics, ALIASING / spacing)})"
+        f"no finer than the default dt){slower_advice(term, traj.physics, ALIASING / spacing)}"
     ]
 
 

@@ -27,7 +27,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from ..analysis.network import BOUNDARIES, MAX_RINGS, Network, hexagonal_patch
+from ..analysis.network import BOUNDARIES, MAX_RINGS, Network, hexagonal_patch, states
 from ..analysis.network import observables as nobs
 from ..errors import ParameterError
 from ..observables import Observable
@@ -60,6 +60,8 @@ NETWORK_TERMS = ("sigma", "active", "alignment_length")
 """The terms' parameters that act on a network: the active force and the units' direction law and length."""
 SELF_ALIGNING_ONLY = (("active", SELF_ALIGNING, "a network's active units are self-aligning"),)
 
+MEANING = tuple(states.STATE_MEANING.items())
+"""The named states and what each means (the network_state observable's long name)."""
 NETWORK_OBSERVABLES = (
     Observable("polarization", "1", "time mean of the active units' polar order |<n_i>|", error="absolute", floor=0.0),
     Observable("polarity_rate", "rad/tau", "mean turning rate d psi / dt of the active units (signed)", floor=1e-4),
@@ -88,6 +90,30 @@ NETWORK_OBSERVABLES = (
     ),
     Observable(
         "second_mode", "1", "rank by stiffness of the second most energetic normal mode (0: none)", error="none"
+    ),
+    Observable(
+        "mode_space",
+        "1",
+        "rank by stiffness of the softest mode of the eigenspace holding the most elastic energy (0: none)",
+        error="none",
+    ),
+    Observable("mode_space_size", "1", "dimension of that eigenspace (2: a degenerate pair; 0: none)", error="none"),
+    Observable("mode_space_share", "1", "share of the elastic energy in that eigenspace", error="absolute", floor=0.0),
+    Observable(
+        "network_state",
+        "1",
+        "named state of the units (analysis.network.states: " + "; ".join(f"{k}: {v}" for k, v in MEANING) + ")",
+        error="none",
+        categories=states.STATES,
+    ),
+    Observable("edge_rate", "rad/tau", "mean |net turning rate| of the units nearest the edge", floor=1e-4),
+    Observable("bulk_rate", "rad/tau", "mean |net turning rate| of the units deepest inside", floor=1e-4),
+    Observable(
+        "counter_fraction",
+        "1",
+        "share of the turning units that turn against the majority's sense (0: one sense; 0.5: as many each way)",
+        error="absolute",
+        floor=0.0,
     ),
 )
 """What every network scene measures (analysis.network.observables)."""
@@ -176,6 +202,10 @@ class NetworkScene(Scene):
         u = self.free_displacements(traj)[keep]
         total = float(elastic_energy(network, u).mean()) if is_large(network) else None
         modes = nobs.mode_energies(u, values, vectors, nobs.UNDEFORMED * scale, total)
+        space = nobs.mode_space(modes, values)
+        rtol = traj.info.get("rtol") if isinstance(traj.info, dict) else None  # the reduced engine's; MuJoCo: none
+        still = states.still_rate(turning_rate(traj.physics), rtol if isinstance(rtol, (int, float)) else None)
+        named = states.classify(t, psi, states.depth(network)[network.active], still)
         return {
             "polarization": nobs.polarization(psi),
             "polarity_rate": nobs.polarity_rate(t, psi),
@@ -184,6 +214,13 @@ class NetworkScene(Scene):
             "condensation": modes.condensation,
             "dominant_mode": float(modes.dominant_modes[0]),
             "second_mode": float(modes.dominant_modes[1]),
+            "mode_space": float(space.rank),
+            "mode_space_size": float(space.size),
+            "mode_space_share": space.share,
+            "network_state": named.name,
+            "edge_rate": named.edge_rate,
+            "bulk_rate": named.bulk_rate,
+            "counter_fraction": named.counter_fraction,
         }
 
 

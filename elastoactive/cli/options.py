@@ -60,6 +60,8 @@ def add_fields(group, cls, *, defaults: bool = True, scene: str | None = None) -
         value = getattr(default, f.name)
         if cls is Physics:
             text = f.help_in(units) + (f" [{f.units_in(units)}]" if f.units_in(units) not in ("", "1") else "")
+            if scene is None:  # every scene's help: what it is in the other systems' words too
+                text += "".join(f"; on a {w.units} scene: {w.text}" for w in f.worded)
         else:
             text = field_help(f, units)
         if getattr(f, "instead_of", None):  # the coupling Pi: given in place of sigma, no default of its own
@@ -197,7 +199,7 @@ class SceneHelp(argparse.Action):
 
 
 def help_argument(parser: argparse.ArgumentParser, fill) -> None:
-    """-h / --help as SceneHelp (the parser is made with add_help=False)."""
+    """-h / --help as SceneHelp, in place of argparse's (the parser is made with conflict_handler="resolve")."""
     parser.add_argument(
         "-h",
         "--help",

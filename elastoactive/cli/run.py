@@ -33,7 +33,7 @@ def register(subparsers) -> None:
         description="Simulate one scene. " + UNITS,
         epilog=scene_help(),
         formatter_class=argparse.RawDescriptionHelpFormatter,
-        add_help=False,
+        conflict_handler="resolve",  # its -h: options.SceneHelp
     )
     help_argument(run, fill)
     fill(run, None)
@@ -82,6 +82,13 @@ def fill(run: argparse.ArgumentParser, scene: str | None) -> None:
         metavar="SUMMARY",
         help="re-run a recorded run (its folder or summary.json) with the same scene, parameters, numerics, "
         "engine and duration; options given beside it override the recorded ones",
+    )
+    run.add_argument(
+        "--start-from",
+        type=Path,
+        metavar="RUN",
+        help="start from the last state of a saved run (its folder) instead of the scene's seeded state (a network's "
+        "nodes and polarities, a chain's angles); summary.json records it",
     )
     run.add_argument("--quiet", action="store_true", help="no progress bar")
     run.add_argument("--video", type=output_path, help="also render the run to this MP4 (see `elastoactive render -h`)")
@@ -223,6 +230,7 @@ def _run(args, out: Path | None) -> int:
     from ..api import simulate
     from ..io.outputs import check_file, check_space, provenance, utc_now
     from ..results import check_transient, jsonable, summary, write_run
+    from ..starts import read_start
 
     started, clock = utc_now(), time.perf_counter()
     physics, numerics, engine, duration, transient = settings_from(args)
@@ -245,8 +253,13 @@ def _run(args, out: Path | None) -> int:
         check_video_options(args, duration)
     # --from repeats the reduced engine's recorded method (the automatic choice would pick it again; a given one too)
     method = args.method or (_recorded(args.source)["method"] if args.source and engine == "reduced" else None)
-    traj = simulate(physics, numerics, duration=duration, engine=engine, progress=not args.quiet, method=method)
+    start = read_start(args.start_from) if args.start_from else None
+    traj = simulate(
+        physics, numerics, duration=duration, engine=engine, progress=not args.quiet, method=method, start=start
+    )
     s = summary(traj, numerics, duration, transient)
+    if start is not None:
+        s["start"] = start.source
     s["provenance"] = provenance(started, time.perf_counter() - clock)
     if needed := plugins.needed(physics):  # what `run --from` and `render` of this run load first
         s["plugins"] = needed

@@ -50,7 +50,7 @@ def register(subparsers) -> None:
         "frequency, ...) as an xarray Dataset to netCDF, point by point; resumable. " + UNITS,
         epilog=EXAMPLES,
         formatter_class=argparse.RawDescriptionHelpFormatter,
-        add_help=False,
+        conflict_handler="resolve",  # its -h: options.SceneHelp
     )
     help_argument(p, fill)
     fill(p, None)

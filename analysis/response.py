@@ -29,6 +29,7 @@ import math
 from typing import NamedTuple
 
 import numpy as np
+from scipy.optimize import brentq, minimize_scalar
 
 from ..errors import ParameterError
 from .skin import displacement_operator
@@ -72,8 +73,6 @@ class Resonance(NamedTuple):
 def resonance(n: int, sigma: float) -> Resonance:
     """The resonance of the tip's gain below onset, from the least stable eigenvalue pair (refused when that is
     real: no resonance)."""
-    from scipy.optimize import brentq, minimize_scalar  # start-up time: scipy.optimize loads only for the response
-
     lam = np.linalg.eigvals(displacement_operator(n, sigma))
     lead = lam[np.argmax(lam.real)]
     if lead.real >= 0:

@@ -39,6 +39,7 @@ import math
 from typing import NamedTuple
 
 import numpy as np
+from scipy.linalg import eig, expm
 
 from ..errors import ParameterError
 from .stability import banded_operator
@@ -171,8 +172,6 @@ def condition_numbers(left: np.ndarray, right: np.ndarray) -> np.ndarray:
 
 def localisation(m: np.ndarray) -> Localisation:
     """Eigenvalues, participation ratios, centres and condition numbers of every mode of m."""
-    from scipy.linalg import eig  # start-up time: scipy.linalg loads only for the skin-effect analysis
-
     lam, left, right = eig(m, left=True, right=True)
     order = np.lexsort((-lam.imag, -lam.real))
     lam, left, right = lam[order], left[:, order], right[:, order]
@@ -248,15 +247,11 @@ def numerical_abscissa(m: np.ndarray) -> float:
 
 def propagate(m: np.ndarray, y0: np.ndarray, times: np.ndarray) -> np.ndarray:
     """y(t) = exp(M t) y0 at every time (rows)."""
-    from scipy.linalg import expm  # start-up time: scipy.linalg loads only for the skin-effect analysis
-
     return np.array([expm(m * float(t)) @ y0 for t in np.asarray(times)])
 
 
 def worst_gain(m: np.ndarray, times: np.ndarray) -> np.ndarray:
     """||exp(M t)||_2 at every time: the largest amplification of any initial disturbance."""
-    from scipy.linalg import expm  # start-up time: scipy.linalg loads only for the skin-effect analysis
-
     return np.array([np.linalg.norm(expm(m * float(t)), 2) for t in np.asarray(times)])
 
 

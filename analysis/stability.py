@@ -29,7 +29,9 @@ O(N): D0 x by two cumulative sums, then a banded LU solve. The slowest eigenvalu
 from __future__ import annotations
 
 import numpy as np
+import scipy.sparse as sp
 from scipy.optimize import brentq
+from scipy.sparse.linalg import LinearOperator, eigs, splu
 
 from elastoactive.errors import ParameterError
 
@@ -183,8 +185,6 @@ ONSET_BRACKET = (20.0, 80.0)
 def banded_operator(n: int, sigma: float):
     """B^-T (K - sigma S) as a sparse (CSC) matrix of five diagonals (B: the lower triangular matrix of ones, so
     that D0 = B^T B and A = -B^-1 B^-T (K - sigma S))."""
-    import scipy.sparse as sp  # start-up time: only the long-chain path needs scipy.sparse
-
     n = int(n)
     upper = sp.identity(n, format="csr") - sp.eye(n, k=1, format="csr")  # B^-T
     k = sp.diags([-np.ones(n - 1), 2.0 * np.ones(n), -np.ones(n - 1)], [-1, 0, 1], format="lil")
@@ -197,8 +197,6 @@ def slow_eigenvalues(n: int, sigma: float, count: int = SLOW_MODES) -> np.ndarra
     """The `count` eigenvalues of A(sigma, N) smallest in magnitude (the slowest modes, among them the flutter pair
     near the onset), sorted by decreasing real part; O(N) per Arnoldi step (see the module docstring). N must
     exceed count + 1."""
-    from scipy.sparse.linalg import LinearOperator, eigs, splu  # start-up time: only the long-chain path
-
     n = int(n)
     if n <= count + 1:
         raise ValueError(f"slow_eigenvalues needs N > count + 1 = {count + 1}, got N = {n}")

@@ -25,6 +25,8 @@ scenes, terms            the scene and term registries (elastoactive.scenes, ela
 ParameterError, SimulationDiverged
 """
 
+import importlib
+
 from . import _moved, registry, scenes, terms  # scenes first: registers the built-in scenes that Physics looks up
 from .api import document_physics, load, load_sweep, measure, simulate
 from .errors import ParameterError, SimulationDiverged
@@ -40,8 +42,6 @@ document_physics()  # help(ea.Physics): every registered parameter, with units
 def __getattr__(name: str):
     """`ea.plot`, imported when first used (it loads matplotlib)."""
     if name == "plot":
-        import importlib  # start-up time: only when ea.plot is first used
-
         return importlib.import_module(".plot", __name__)
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 

@@ -4,6 +4,9 @@ Arguments are taken in their obvious forms (a scene name or a dict of fields for
 dict of settings for the numerics); anything else is a TypeError naming the argument, a bad value a ParameterError
 naming the parameter. Physics' docstring and signature are generated here from the parameter table (every scene's
 and term's parameters, with units), so that ``help(ea.Physics)`` and an editor show what is registered.
+
+xarray is imported inside load_sweep, the sweep reader's boundary: it loads pandas (about half a second), which
+`import elastoactive` does not pay.
 """
 
 from __future__ import annotations
@@ -21,7 +24,7 @@ from .engines import run_engine
 from .errors import ParameterError
 from .gate import preflight
 from .params import DEFAULT_SCENE, LEADING, Numerics, Physics, parameter_fields
-from .results import Results, check_measurable, check_transient
+from .results import Results, check_measurable, check_transient, load_trajectory, read_summary
 from .results import measure as _measure
 from .starts import as_start
 from .trajectory import Trajectory
@@ -207,8 +210,6 @@ def load(path):
     path = _path(path)
     if path.suffix == SWEEP_SUFFIX:
         return load_sweep(path)
-    from .results import load_trajectory, read_summary  # start-up time: results loads the analysis
-
     folder = path if path.is_dir() else path.parent
     if path.is_file() and path.name not in RUN_FILES:
         raise ParameterError(

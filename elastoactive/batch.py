@@ -12,6 +12,9 @@ Results come back in input order; with `on_result` each is handed over (in this 
 caller can write it out before the rest finish. A failed case (e.g. SimulationDiverged) raises, once
 the others have finished: the first failure in input order. Every case passes the gate (gate.preflight) before
 any of them runs, its MuJoCo timestep checked once per distinct model of the batch.
+
+engines.mujoco_batch is imported inside _run_mujoco, the MuJoCo engine's boundary: it loads mujoco, which a batch of
+reduced-engine cases does not need.
 """
 
 from __future__ import annotations

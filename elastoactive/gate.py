@@ -16,6 +16,9 @@ It returns a `Checked` run: what the engine is then given. `ea.simulate`, the ba
 (batch.run_case / run_cases), a sweep's points, `validate` and `run --from` all pass through it; the sweep defers
 step 5 to a thread of its own while its batch steps (timestep=False here, then its `TimestepChecks`), so that a
 refused point is dropped from its batch as if it had never run.
+
+engines.cost and engines.timestep are imported inside TimestepChecks.refusal, the MuJoCo engine's boundary: they
+build MuJoCo models, which a reduced-engine run never loads.
 """
 
 from __future__ import annotations

@@ -1,6 +1,7 @@
 """Initial states shared by both engines: the base state plus a small seeded perturbation.
 
-Each scene chooses its initial state (Scene.initial_angles) from the pieces here.
+Each scene chooses its initial state (Scene.initial_angles) from the pieces here. scipy.optimize is imported
+inside buckled_arch, the one start that needs a root finder: it costs ~0.3 s, which `import elastoactive` does not pay.
 """
 
 from __future__ import annotations

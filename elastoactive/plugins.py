@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import importlib
 import importlib.util
+import json
 import sys
 from pathlib import Path
 
@@ -127,8 +128,6 @@ def needed(physics) -> list[str]:
 def recorded(path) -> list[str]:
     """The plug-ins a run's record (a run folder, its summary.json or its trajectory.npz) lists; none for a path
     that is not one."""
-    import json  # start-up time: only a run's record needs it
-
     path = Path(path)
     summary = path / "summary.json" if path.is_dir() else path.with_name("summary.json")
     if path.is_file() and path.suffix not in (".json", ".npz"):

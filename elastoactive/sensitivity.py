@@ -14,6 +14,9 @@ reproducible only up to a horizon. The pilots run only from a state on the motio
 holds whole cycles of a beat that no longer grows or decays); before it, the state may still be leaving an unstable
 base state, whose linear growth is not chaos, and the run is "too short to measure". summary.json's results carry
 `sensitivity` and a note gives the numbers with their errors.
+
+engines.reduced is imported inside `estimate`, the reduced engine's boundary: only an irregular run's pilots load it
+(its compiled kernels), not every measurement.
 """
 
 from __future__ import annotations
@@ -26,6 +29,7 @@ import numpy as np
 from . import quantities
 from .analysis import observables as obs
 from .params import Numerics, replace
+from .reduced.settings import METHODS
 from .trajectory import Trajectory
 
 SENSITIVE_RATE = 0.5
@@ -189,7 +193,6 @@ def estimate(traj: Trajectory, transient: float, numerics: Numerics) -> Sensitiv
         return Sensitivity(None, None, None, amplitude_error, frequency_error, 0.0, reason)
     # start-up time: only irregular runs load the reduced engine
     from .engines.reduced import simulate_reduced
-    from .reduced.settings import METHODS
 
     physics = traj.physics
     k = int(np.searchsorted(traj.t - traj.t[0], transient - 1e-9))

@@ -12,14 +12,19 @@ not help). Every pool made here behaves the same way:
   uses the pool ends by an exception (KeyboardInterrupt included) or a generator using it is closed,
   the tasks not started are cancelled and the running workers terminated at once, so an interrupt
   stops promptly, with no KeyboardInterrupt traceback printed by a worker.
+
+multiprocessing and ProcessPoolExecutor are imported where a pool starts (forks, process_pool), the pools' boundary:
+they cost ~30 ms, and every command imports this module.
 """
 
 from __future__ import annotations
 
 import contextlib
+import ctypes
 import os
 import signal
 from collections.abc import Callable, Iterable, Iterator
+from concurrent.futures import as_completed
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:  # typing only: the pools' modules load when a pool starts (every command imports this one)
@@ -77,8 +82,6 @@ def imap(
     """(index, fn(item)) for every item, computed on a process_pool of `workers` processes: in input order,
     or with `completed=True` as each finishes. `errors=True`: a task's exception is yielded as its result
     (the others go on) instead of raised. Closing the iterator early stops the pool at once."""
-    from concurrent.futures import as_completed  # start-up time: only a pool needs it
-
     items = list(items)
     with process_pool(min(workers, max(1, len(items))), initializer, initargs, warm) as pool:
         futures = {pool.submit(fn, item): i for i, item in enumerate(items)}
@@ -108,8 +111,6 @@ def _die_with_parent(parent: int) -> None:
     """End this worker when the parent process ends (Linux: PR_SET_PDEATHSIG), even after a kill -9 of it,
     instead of computing what nobody will receive."""
     try:
-        import ctypes  # in the worker only
-
         ctypes.CDLL(None, use_errno=True).prctl(1, signal.SIGTERM)  # PR_SET_PDEATHSIG
     except (OSError, AttributeError):
         return

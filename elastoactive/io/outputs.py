@@ -12,10 +12,14 @@ Every writer in the package goes through here:
 Files are created with the permissions the user's umask gives (0666 & ~umask), as `open` would, not the
 0600 of a bare temporary file. A write that fails (a full disk, a file-size limit) raises an OSError
 naming the target file, which the command line reports in one line.
+
+h5netcdf and h5py are imported inside write_netcdf, the netCDF writer's boundary: h5py costs a large part of a second,
+and every command imports this module for its checks.
 """
 
 from __future__ import annotations
 
+import argparse
 import contextlib
 import datetime as _dt
 import errno as _errno
@@ -23,6 +27,7 @@ import fcntl
 import hashlib
 import os
 import platform
+import resource
 import shutil
 import subprocess
 import sys
@@ -110,8 +115,6 @@ def output_path(text: str) -> Path:
     """An output path as typed on the command line (an argparse `type`): an empty one is refused, naming the option
     (Path('') would be the working folder, where the outputs would land unasked)."""
     if not text.strip():
-        import argparse  # start-up time: only when a command line is parsed
-
         raise argparse.ArgumentTypeError(f"an empty path ({text!r}); give a folder or file name (. for this folder)")
     return Path(text)
 
@@ -144,8 +147,6 @@ def check_file(path: Path, option: str, suffixes: tuple[str, ...], *, force: boo
 
 def file_size_limit() -> int | None:
     """The largest file this process may write, in bytes (RLIMIT_FSIZE: `ulimit -f`), or None if unlimited."""
-    import resource  # start-up time: only when an output is checked
-
     soft, _ = resource.getrlimit(resource.RLIMIT_FSIZE)
     return None if soft == resource.RLIM_INFINITY else int(soft)
 

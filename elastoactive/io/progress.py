@@ -1,7 +1,8 @@
 """Progress on long work: a live bar on a terminal, a line now and then in a log.
 
 tqdm redraws its bar with carriage returns, which fill a log file with hundreds of lines; when
-stderr is not a terminal, `progress_bar` writes one plain line every LOG_INTERVAL seconds instead.
+stderr is not a terminal, `progress_bar` writes one plain line every LOG_INTERVAL seconds instead. tqdm is imported
+inside progress_bar, where a bar is first shown on a terminal: a run without one does not load it.
 """
 
 from __future__ import annotations

@@ -16,6 +16,9 @@ rectangular (|x|, |y| <= size). Its edge is the nodes with fewer bonds than the 
 perimeter's nodes). The boundary holds it as `hexagonal_patch`'s does: "pinned" (the edge pinned), "free" (nothing),
 "centre" (node 0 pinned); every node not pinned carries an active unit. `dilution` removes that fraction of the bonds
 at random (seeded by `seed`, after the edge is found).
+
+scipy.spatial is imported inside the generators that search neighbours (_bonds_at, delaunay_points), the
+builders' boundary: a network read from its file does not load it.
 """
 
 from __future__ import annotations

@@ -17,6 +17,10 @@ A folder is reproduced in place, study by study, so that work is never lost or s
   dropped, and `Interrupted` says which;
 - one reproduce writes into a folder at a time: a second is refused in one line while the first holds the folder's
   lock file (LOCK), which a killed run leaves stale, never blocking.
+
+The studies (and the claims table, which reads their registry) are imported inside the functions that run or save
+them, the studies' boundary: they load both engines, which `elastoactive reproduce --help` and a script reading
+`source_digest` do not need.
 """
 
 from __future__ import annotations
@@ -30,6 +34,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import NamedTuple
 
+from ..batch import default_workers
 from ..errors import ParameterError
 from ..io.outputs import lock_file, provenance, utc_now, write_text
 
@@ -191,7 +196,6 @@ def _reproduce(
 ) -> Reproduction:
     """reproduce's work on the folder `out`, which this process holds (`names`: the studies asked for, checked)."""
     # start-up time: the studies load both engines (and matplotlib when drawing)
-    from ..batch import default_workers
     from ..studies import Study, load_study, registry
     from . import claims
 

@@ -11,6 +11,8 @@ import math
 from dataclasses import dataclass
 from fractions import Fraction
 
+from .base import SIZES
+
 NOT_JUDGED = "not judged at this size"
 """The verdict of a row whose study ran at a size too small for its rule (Claim.judged_from)."""
 VERDICTS = ("yes", "no", "partly", NOT_JUDGED)
@@ -30,8 +32,6 @@ class Claim:
 
     def judge(self, size: str) -> Claim:
         """The row as a study of `size` reports it: its numbers, and its verdict only if that size can judge it."""
-        from .base import SIZES  # the sizes' order
-
         if size not in SIZES or SIZES.index(size) >= SIZES.index(self.judged_from):
             return self
         why = (

@@ -30,6 +30,7 @@ import numpy as np
 from ..analysis import locking
 from ..analysis import observables as obs
 from ..analysis import stability as stab
+from ..api import simulate
 from ..batch import Case
 from ..engines import node_forces
 from ..engines import reduced as red
@@ -114,8 +115,6 @@ def clamp_kick(physics, theta: np.ndarray, eps: float) -> np.ndarray:
 
 def phase_response(physics, count: int, sample_dt: float = 0.02) -> tuple[float, np.ndarray, np.ndarray, float]:
     """(f_0, phases, Z at the phases, wall s) of the free beat under clamp pulses (reduced model)."""
-    from ..api import simulate  # start-up time: the API loads the engines
-
     start = time.perf_counter()
     numerics = Numerics(sample_dt=sample_dt)
     free = simulate(physics, numerics, duration=FREE, engine="reduced", check=False)

@@ -22,6 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from ..analysis.network import hexagonal_patch, stability
+from ..batch import Case
 from ..params import Numerics
 from ..scenes import lattice, trap
 from . import plotting as plots
@@ -94,8 +95,6 @@ def active_solid_study(size: str = "quick", workers=None, progress: bool = True)
         size, (0.5, 2.0), (0.5, 0.9, 1.1, 2.0, 4.0), (0.25, 0.5, 0.8, 0.9, 0.95, 1.05, 1.1, 1.5, 2.0, 4.0, 8.0)
     )
     trap_cases = [trap.SCENE.physics(sigma=c * 0.5, trap=1.0, alignment_length=0.5) for c in trap_couplings]
-    from ..batch import Case  # start-up time: the batch runner loads with the run
-
     checked = pick(size, *(MUJOCO_COUPLINGS[k] for k in ("tiny", "quick", "full")))
     batch = [Case(p, n, duration, "reduced", duration / 2) for p, n in zip(cases, numerics)]
     batch += [Case(p, Numerics(sample_dt=0.1), 300.0, "reduced", 150.0) for p in trap_cases]

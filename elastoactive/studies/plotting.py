@@ -3,7 +3,8 @@
 matplotlib (Agg back end) loads on the first figure drawn, not when a study module is imported:
 `pyplot()` and `matplotlib()` give the modules. The figures are sized to stay readable when the
 README shows two of them side by side (about 480 px wide each): two-panel figures are at most
-~9.5 in wide and the fonts are set by `STYLE`.
+~9.5 in wide and the fonts are set by `STYLE`. matplotlib is imported inside `matplotlib()`, the drawing's boundary:
+a study that is run and saved without its figures never loads it.
 """
 
 from __future__ import annotations

@@ -4,7 +4,8 @@ Beyond the paper (its outlook's "more intricate geometrical connections between 
 sizes: N = 7, which turns as a rigid regular polygon about the pin at every sigma tried, and N = 24, which beats
 while it turns at small sigma and turns rigidly again at large sigma; and the N = 7 ring free in the plane (pin = free),
 which turns steadily about its centre of drag without drifting. Each point runs in MuJoCo and in the reduced model
-from the same start; the claim rows compare the two.
+from the same start; the claim rows compare the two. matplotlib.ticker is imported inside ring_figures, the drawing's
+boundary (studies.plotting).
 """
 
 from __future__ import annotations

@@ -5,7 +5,8 @@ Beyond the paper (its outlook's "more intricate geometrical connections between 
 arms (N = 7, sigma = 0.8) on a hub turning on a spring hub_stiffness K_h (C1) against its drag (1 gamma l^2), swept
 from a free hub (K_h = 0) to a clamped one (K_h -> infinity: k independent chains). The reduced model runs the whole
 grid; MuJoCo runs a few points, and the claim rows compare the two there. Every arm starts from its own seeded push,
-so no synchrony is put in by hand. These are new results, not the paper's.
+so no synchrony is put in by hand. These are new results, not the paper's. analysis.star_stability (scipy) is imported
+inside _onset_claim, the linear analysis's boundary: only the claim rows need it.
 """
 
 from __future__ import annotations

@@ -21,6 +21,10 @@ The modules, by concern (this one runs a sweep and holds their public names):
   sweep_runners  where points run: local threads (MuJoCo), a local process pool (reduced), Dask
   sweep_store    the results while the sweep runs: arrays, the fsynced journal, Ctrl-C during the save
   sweep_netcdf   the netCDF file: its contents and its atomic, durable write
+
+The engine a sweep runs (mujoco, or the reduced engine's kernels) and tqdm are imported inside _run_sweep, the
+engines' boundary: the command line imports this module to build its parser, and forked pool workers start with
+what the sweep loaded before them.
 """
 
 from __future__ import annotations

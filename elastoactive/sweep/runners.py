@@ -14,6 +14,9 @@
   the worker that runs it, whose tasks take turns; at least one batch per worker), or one reduced point.
   Every worker of the cluster needs elastoactive (same version) installed; the batches (or reduced
   points) are submitted with client.map and collected as they complete, as locally.
+
+engines.mujoco_batch (mujoco), dask.distributed, h5netcdf and xarray are imported inside the runners that use them,
+the engines' and the storage's boundary: a reduced-engine sweep loads no MuJoCo, a local one no Dask.
 """
 
 from __future__ import annotations

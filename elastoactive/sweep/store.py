@@ -23,6 +23,9 @@
   nothing more is written and the journal stays, so the sweep resumes once space is freed.
 * A lock on the journal refuses a second sweep writing the same file. A journal whose header is
   corrupted is refused, naming it: restore it, or remove it to continue from the netCDF alone.
+
+xarray is imported inside _read_netcdf, the netCDF reader's boundary: it loads pandas (about half a second), and the
+command line imports this module to build its parser.
 """
 
 from __future__ import annotations

@@ -7,6 +7,9 @@ frictionless (condim 1) or condim 3 with contact_friction; near-hard contact mad
 on. The reduced model: a steep penalty of stiffness CONTACT_STIFFNESS between the capsules' cores (its record's
 contact_radius and contact_stiffness; analysis.reduced.contact), frictionless. Observables: contact_fraction and
 min_clearance, from the trajectory's geometry the same way for both engines.
+
+mujoco is imported inside `build`, the MuJoCo engine's boundary: the command line imports the terms for their
+parameters, and a reduced-engine run never loads MuJoCo.
 """
 
 from __future__ import annotations

@@ -27,6 +27,9 @@ Observables (analysis.locking): clamp_frequency_ratio (the beat's frequency over
 clamp_phase_spread (the circular spread of the beat's phase against the drive's over the steady window: 0 locked,
 large unlocked); a rotating clamp adds clamp_lag (rad: the time mean of phi_c - arg(r_N), how far the tip particle
 trails the clamp's direction as seen from the clamp point, followed along the chain so that it may exceed pi).
+
+mujoco (in `start` and `build`) and analysis.locking (scipy, in `measure`) are imported inside the hooks that use them,
+the engine's and the analysis's boundary: the command line imports the terms for their parameters.
 """
 
 from __future__ import annotations

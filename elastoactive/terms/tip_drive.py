@@ -7,6 +7,9 @@ it, the numeric elastoactive_drive holds (A, omega, d_x, d_y)). Observables: dri
 tip's displacement along the drive at the drive's frequency over the drive's amplitude and its phase lead
 (analysis.response.harmonic_response, over the whole drive periods of the steady window), which below onset the linear
 transfer function G(omega) predicts for the transverse drive (docs/outlook.md, section 2).
+
+analysis.response (scipy) is imported inside `measure`, the analysis's boundary: the command line imports the terms
+for their parameters.
 """
 
 from __future__ import annotations

@@ -43,6 +43,8 @@ class LoopSummary:
     couplings: list[float]
     up_start: list[float]
     """Per seed, the smallest coupling at which it is not frozen on the way up (NaN: frozen at every step)."""
+    down_stop: list[float]
+    """Per seed, the smallest coupling at which it still moves on the way down (NaN: frozen at every step)."""
     down_freeze: list[float]
     """Per seed, the largest coupling at which it is frozen on the way down (NaN: moving at every step)."""
     softest: float
@@ -111,11 +113,13 @@ def _summarise(name: str, loop, bracket, data: dict, k: int) -> LoopSummary:
     """A loop's thresholds per seed, its moving states and ring rates, and its arrays into `data` (prefix loop<k>_)."""
     couplings = loop.Pi.values
     state = loop.network_state.values  # (seed, direction, coupling): index into STATES
-    up_start, down_freeze = [], []
+    up_start, down_stop, down_freeze = [], [], []
     for s in range(state.shape[0]):
         moving_up = np.flatnonzero(state[s, 0] != FROZEN)
+        moving_down = np.flatnonzero(state[s, 1] != FROZEN)
         frozen_down = np.flatnonzero(state[s, 1] == FROZEN)
         up_start.append(float(couplings[moving_up[0]]) if moving_up.size else float("nan"))
+        down_stop.append(float(couplings[moving_down[0]]) if moving_down.size else float("nan"))
         down_freeze.append(float(couplings[frozen_down[-1]]) if frozen_down.size else float("nan"))
     moving = sorted({int(v) for v in state.ravel() if v != FROZEN})
     top = loop.sel(direction="down").isel(Pi=-1)
@@ -126,6 +130,7 @@ def _summarise(name: str, loop, bracket, data: dict, k: int) -> LoopSummary:
         lattice=name,
         couplings=[float(c) for c in couplings],
         up_start=up_start,
+        down_stop=down_stop,
         down_freeze=down_freeze,
         softest=float(bracket.softest),
         linear_threshold=float(bracket.coupling),
@@ -174,19 +179,19 @@ def hysteresis_claims(study: Study, read: Mapping[str, Study]) -> list[Claim]:
         "between collective actuations in active solids', abstract)"
     )
     for loop in study.summary.loops:
-        lower = [d for d in loop.down_freeze if np.isfinite(d)]
+        opened = [d < u for d, u in zip(loop.down_stop, loop.up_start) if np.isfinite(d) and np.isfinite(u)]
         upper = [u for u in loop.up_start if np.isfinite(u)]
-        loop_open = bool(lower and upper) and max(lower) < min(upper)
-        inside = bool(upper) and loop.softest <= min(upper) and (not lower or loop.softest <= min(lower) + 0.1)
+        inside = bool(upper) and loop.softest <= min(upper) <= loop.linear_threshold
         step = loop.couplings[1] - loop.couplings[0]
         rows.append(
             Claim(
-                f"{loop.lattice}: raising Pi starts motion at a higher coupling than lowering it freezes (hysteresis)",
+                f"{loop.lattice}: lowering Pi keeps the motion below where raising it started (hysteresis)",
                 source,
                 "-",
-                f"up: moving from Pi = {_bracket(loop.up_start)} (seeds); down: frozen at Pi <= "
-                f"{_bracket(loop.down_freeze)}; moving states: {', '.join(loop.moving_states) or '-'}",
-                verdict(loop_open and inside, partly=bool(upper)),
+                f"up: moving from Pi = {_bracket(loop.up_start)} (seeds); down: still moving at "
+                f"{_bracket(loop.down_stop)}, frozen at Pi <= {_bracket(loop.down_freeze)}; a loop in "
+                f"{sum(opened)} of {len(loop.up_start)} seeds; moving states: {', '.join(loop.moving_states) or '-'}",
+                verdict(bool(opened) and all(opened) and inside, partly=any(opened)),
                 f"steps of {fmt(step, 2)} in Pi, each from the last state; every fixed point stable below "
                 f"lambda_1 = {loop.softest:.4f}, some up to at least Pi = {loop.linear_threshold:.4f} (best found); "
                 f"at the top, edge ring |rate| {fmt(loop.edge_rate, 3)} against the deepest ring's "

@@ -12,7 +12,7 @@ from elastoactive.studies.hysteresis import hysteresis_claims, hysteresis_figure
 def test_hysteresis_study_tiny(tmp_path):
     study = hysteresis_study("tiny", workers=1, progress=False)
     triangular, kagome = study.summary.loops
-    assert triangular.up_start == [1.6] and triangular.down_freeze == [1.0]
+    assert triangular.up_start == [1.6] and triangular.down_stop == [1.6] and triangular.down_freeze == [1.0]
     assert triangular.softest < 1.6 < triangular.linear_threshold + 0.2
     assert triangular.moving_states == ["collective"]  # the small patch turns as one at Pi = 1.6
     assert abs(triangular.edge_rate - triangular.bulk_rate) < 1e-3 * triangular.bulk_rate

@@ -1,0 +1,178 @@
+r"""The whirl as a relative equilibrium: a shape that turns rigidly about the clamp axis, found by Newton's method
+rather than by waiting for a simulation to settle; its stability, and its continuum limit.
+
+A whirl of the reduced 3D chain (elastoactive.reduced.chain3d) is a solution t_k(t) = R_x(Omega t) t_k(0): every
+tangent turns about e_x at one rate Omega. So its shape solves
+
+    t_k' = rhs(t)_k = Omega e_x x t_k        for every link k,
+
+2N equations (the components of each residual across its own link, in the basis E_k of the shape) for 2N + 1 unknowns
+(a small move E_k dq_k of each tangent, and Omega). The rotation about e_x is a symmetry (every shape turned about the
+axis whirls as well), fixed by holding the tip's z coordinate at the guess's: 2N + 1 equations (`find_whirl`, scipy's
+hybrid Powell root, residual ~1e-15). Its stability: the Jacobian of rhs(t) - Omega e_x x t at the whirl, in the
+rotating frame, has the symmetry's eigenvalue 0 (the shape turned) and the others; the whirl is linearly stable when
+every other eigenvalue has a negative real part (`WhirlState.growth`: the largest of their real parts).
+
+The continuum limit (`ladder`): at a fixed load S = N^3 sigma the chain of N links tends to the clamped filament under
+a distributed follower load (analysis.filament, docs/filament.md), whose time unit is N^4 tau. The whirl's angular
+rate N^4 Omega, its tip's distance from the axis over the length, R / N, and the angle between the first and last link
+are extrapolated in 1/N by analysis.filament.richardson, each rung started from the previous rung's shape carried to
+its N (`resample_tangents`). Pure functions (numbers and arrays in, records out).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.optimize import root
+
+from ..errors import ParameterError
+from ..reduced.chain3d import Chain3D, basis_of, rhs
+from .filament import Extrapolation, richardson
+
+__all__ = ["WhirlLadder", "WhirlState", "find_whirl", "ladder", "resample_tangents", "rotating_jacobian"]
+
+EX = np.array([1.0, 0.0, 0.0])
+STEP = 1e-7
+"""Central-difference step of rotating_jacobian."""
+TOLERANCE = 1e-10
+"""Largest residual (per tau) a whirl is accepted at."""
+
+
+@dataclass(frozen=True)
+class WhirlState:
+    """A whirl of the reduced 3D chain (module docstring)."""
+
+    n: int
+    sigma: float
+    gamma_l: float
+    omega: float
+    """Angular rate about e_x (rad / tau), signed: > 0 turning from +y to +z."""
+    tangents: np.ndarray
+    """The shape (N, 3) at t = 0."""
+    residual: float
+    """Largest |t' - Omega e_x x t| at the shape (per tau)."""
+    growth: float
+    """Largest real part of the rotating-frame Jacobian's eigenvalues but the symmetry's 0: < 0 when stable."""
+
+    @property
+    def rate(self) -> float:
+        """Cycles per tau, signed (omega / 2 pi)."""
+        return self.omega / (2 * np.pi)
+
+    @property
+    def tip_radius(self) -> float:
+        """The tip's distance from the clamp axis (l)."""
+        tip = self.tangents.sum(axis=0)
+        return float(np.hypot(tip[1], tip[2]))
+
+    @property
+    def bend(self) -> float:
+        """Angle between the first and last link (rad)."""
+        return float(np.arccos(np.clip(self.tangents[0] @ self.tangents[-1], -1.0, 1.0)))
+
+
+def _moved(base: np.ndarray, frames: np.ndarray, q: np.ndarray) -> np.ndarray:
+    t = base + np.einsum("kab,kb->ka", frames, q.reshape(-1, 2))
+    return t / np.linalg.norm(t, axis=1)[:, None]
+
+
+def _frames(tangents: np.ndarray) -> np.ndarray:
+    return np.stack([np.column_stack(basis_of(u)) for u in tangents])  # (N, 3, 2): columns a_k, b_k
+
+
+def rotating_jacobian(chain: Chain3D, tangents: np.ndarray, omega: float) -> np.ndarray:
+    """The 2N x 2N Jacobian of rhs(t) - omega e_x x t in the shape's basis (central differences, step STEP)."""
+    frames = _frames(tangents)
+    size = 2 * chain.n
+    jac = np.empty((size, size))
+
+    def field(q):
+        t = _moved(tangents, frames, q)
+        return np.einsum("kab,ka->kb", frames, rhs(t, chain) - omega * np.cross(EX, t)).ravel()
+
+    for j in range(size):
+        dq = np.zeros(size)
+        dq[j] = STEP
+        jac[:, j] = (field(dq) - field(-dq)) / (2 * STEP)
+    return jac
+
+
+def find_whirl(chain: Chain3D, guess: np.ndarray, omega_guess: float) -> WhirlState:
+    """The whirl nearest the shape guess (N, 3) and rate omega_guess (rad / tau). Raises ParameterError when Newton's
+    method does not converge to a whirl (a guess too far, or no whirl at this load)."""
+    chain = chain.checked()
+    guess = np.asarray(guess, dtype=float)
+    if guess.shape != (chain.n, 3):
+        raise ParameterError(f"guess must have shape ({chain.n}, 3), got {guess.shape}")
+    base = guess / np.linalg.norm(guess, axis=1)[:, None]
+    frames = _frames(base)
+    tip_z = base.sum(axis=0)[2]
+
+    def equations(x):
+        t = _moved(base, frames, x[:-1])
+        v = rhs(t, chain) - x[-1] * np.cross(EX, t)
+        return np.concatenate([np.einsum("kab,ka->kb", frames, v).ravel(), [t.sum(axis=0)[2] - tip_z]])
+
+    x0 = np.zeros(2 * chain.n + 1)
+    x0[-1] = omega_guess
+    solution = root(equations, x0, method="hybr", options={"xtol": 1e-14})
+    tangents = _moved(base, frames, solution.x[:-1])
+    omega = float(solution.x[-1])
+    residual = float(np.abs(rhs(tangents, chain) - omega * np.cross(EX, tangents)).max())
+    tip = tangents.sum(axis=0)
+    if residual > TOLERANCE or np.hypot(tip[1], tip[2]) < 1e-6:
+        raise ParameterError(
+            f"no whirl found near the guess at N = {chain.n}, sigma = {chain.sigma:g} (residual {residual:.1e}): "
+            "start from a settled whirl of a simulation"
+        )
+    lam = np.linalg.eigvals(rotating_jacobian(chain, tangents, omega))
+    others = np.delete(lam, np.argmin(np.abs(lam)))  # the symmetry's 0
+    return WhirlState(chain.n, chain.sigma, chain.gamma_l, omega, tangents, residual, float(others.real.max()))
+
+
+def resample_tangents(tangents: np.ndarray, n: int) -> np.ndarray:
+    """A shape (N, 3) carried to n links: the tangent of link k sits at s = (k - 1/2) / N of the length, and each
+    component is interpolated linearly in s (held at the ends), then normalised."""
+    tangents = np.asarray(tangents, dtype=float)
+    old = (np.arange(tangents.shape[0]) + 0.5) / tangents.shape[0]
+    new = (np.arange(int(n)) + 0.5) / int(n)
+    t = np.column_stack([np.interp(new, old, tangents[:, a]) for a in range(3)])
+    return t / np.linalg.norm(t, axis=1)[:, None]
+
+
+@dataclass(frozen=True)
+class WhirlLadder:
+    """The whirl at one load S = N^3 sigma along a ladder of N, and its continuum limit."""
+
+    load: float
+    states: tuple[WhirlState, ...]
+    omega: Extrapolation
+    """N^4 Omega (rad per filament time zeta L^4 / B), extrapolated."""
+    radius: Extrapolation
+    """The tip's distance from the axis over the length, R / N, extrapolated."""
+    bend: Extrapolation
+    """The angle between the first and last link (rad), extrapolated."""
+
+
+def ladder(load: float, ns, guess: np.ndarray, omega_guess: float, gamma_l: float = 1.0) -> WhirlLadder:
+    """Whirls at S = load for each N of ns (increasing), the first from the shape guess (any number of links) and the
+    rate omega_guess (rad / tau at ns[0]), each next from the previous carried to its N with the rate scaled by
+    N^-4; their continuum limits (analysis.filament.richardson)."""
+    ns = [int(n) for n in ns]
+    states = []
+    shape, omega = np.asarray(guess, dtype=float), float(omega_guess)
+    for n in ns:
+        state = find_whirl(Chain3D(n=n, sigma=load / n**3, gamma_l=gamma_l), resample_tangents(shape, n), omega)
+        states.append(state)
+        shape, omega = state.tangents, state.omega
+        omega *= (n / (n + 1)) ** 4  # a first guess for the next rung
+    n_arr = np.array(ns, dtype=float)
+    return WhirlLadder(
+        float(load),
+        tuple(states),
+        richardson(ns, [s.omega * n**4 for s, n in zip(states, n_arr)]),
+        richardson(ns, [s.tip_radius / n for s, n in zip(states, n_arr)]),
+        richardson(ns, [s.bend for s in states]),
+    )

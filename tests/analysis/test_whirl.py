@@ -1,0 +1,63 @@
+"""The whirl as a relative equilibrium (elastoactive.analysis.whirl): Newton's whirl is the simulation's, its symmetries
+hold, and a ladder at one load approaches its continuum limit."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from elastoactive.analysis.motion3d import measure3d
+from elastoactive.analysis.whirl import find_whirl, ladder, resample_tangents
+from elastoactive.errors import ParameterError
+from elastoactive.reduced.chain3d import Chain3D, solve3d
+
+
+@pytest.fixture(scope="module")
+def settled():
+    """N = 3, sigma = 2.5 (onset 1.163) run from a helix into its whirl: (chain, last shape, measured rate)."""
+    chain = Chain3D(n=3, sigma=2.5)
+    ts = np.arange(0.0, 60.0 + 1e-9, 0.01)
+    s = np.arange(1, 4) / 3
+    t0 = np.column_stack([np.ones(3), 0.3 * s, 0.3 * s * s])
+    path = solve3d(chain, ts, t0 / np.linalg.norm(t0, axis=1)[:, None], rtol=1e-10, atol=1e-10)
+    return chain, path[-1], measure3d(ts, path, transient=40.0).whirl_rate
+
+
+def test_newton_whirl_is_the_simulated_one(settled):
+    chain, shape, rate = settled
+    whirl = find_whirl(chain, shape, 2 * np.pi * rate)
+    assert whirl.residual < 1e-12
+    assert whirl.rate == pytest.approx(rate, rel=1e-4)
+    assert whirl.growth < 0  # the simulation settled into it: stable
+    np.testing.assert_allclose(whirl.tangents, shape, atol=1e-3)
+
+
+def test_whirl_symmetries(settled):
+    """A whirl turned about the clamp axis whirls at the same rate; its mirror image (z -> -z) the other way."""
+    chain, shape, rate = settled
+    whirl = find_whirl(chain, shape, 2 * np.pi * rate)
+    c, s = np.cos(1.1), np.sin(1.1)
+    turned = whirl.tangents @ np.array([[1, 0, 0], [0, c, -s], [0, s, c]]).T
+    assert find_whirl(chain, turned, whirl.omega).omega == pytest.approx(whirl.omega, rel=1e-10)
+    mirrored = whirl.tangents * [1.0, 1.0, -1.0]
+    assert find_whirl(chain, mirrored, -whirl.omega).omega == pytest.approx(-whirl.omega, rel=1e-10)
+
+
+def test_ladder_approaches_a_limit(settled):
+    """At S = 67.5 (N = 3's sigma = 2.5) the rungs N = 3..6 change N^4 Omega less and less, and the extrapolation's
+    error estimate is a small part of the value."""
+    chain, shape, rate = settled
+    result = ladder(27 * 2.5, [3, 4, 5, 6], shape, 2 * np.pi * rate)
+    steps = np.abs(np.diff(result.omega.values))
+    assert np.all(steps[1:] < steps[:-1])
+    assert result.omega.error < 0.05 * abs(result.omega.value)
+    assert all(state.residual < 1e-10 for state in result.states)
+
+
+def test_resample_keeps_a_straight_chain_and_bad_guesses_are_refused():
+    straight = np.tile([1.0, 0.0, 0.0], (5, 1))
+    np.testing.assert_array_equal(resample_tangents(straight, 9), np.tile([1.0, 0.0, 0.0], (9, 1)))
+    with pytest.raises(ParameterError, match="no whirl"):
+        find_whirl(Chain3D(n=3, sigma=0.5), np.tile([1.0, 0.0, 0.0], (3, 1)), 0.0)  # below onset: the straight chain
+    with pytest.raises(ParameterError, match="guess"):
+        find_whirl(Chain3D(n=3, sigma=0.5), straight, 0.0)

@@ -117,7 +117,7 @@ def make_ramp(
         raise ParameterError(f"ramp: {parameter!r} is not a physics parameter") from None
     if spec.kind is not float:
         raise ParameterError(f"ramp: {parameter} is not a real-valued parameter (a ramp steps a number)")
-    values = tuple(float(v) for v in values)
+    values = tuple(float(f"{float(v):.12g}") for v in values)  # 0.3, not linspace's 0.30000000000000004
     if len(values) < 2 or any(not math.isfinite(v) for v in values) or any(b <= a for a, b in zip(values, values[1:])):
         raise ParameterError(f"ramp: {parameter}'s values must be two or more finite numbers, increasing; got {values}")
     seeds = tuple(int(s) for s in seeds)

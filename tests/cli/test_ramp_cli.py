@@ -54,3 +54,18 @@ def test_refusals_are_one_line(tmp_path, capsys):
         assert main([*base, *extra]) == 2
         err = capsys.readouterr().err
         assert words in err and err.count("\n") == 1, err
+
+
+def test_run_starts_from_a_saved_run(tmp_path, capsys):
+    import numpy as np
+
+    import elastoactive as ea
+
+    run = ["run", "lattice", "--rings", "1", "--Pi", "2", "--alignment-length", "0.1", "--engine", "reduced"]
+    assert main([*run, "--duration", "10", "--out", str(tmp_path / "a"), "--quiet"]) == 0
+    assert main([*run, "--duration", "10", "--start-from", str(tmp_path / "a"), "--out", str(tmp_path / "b")]) == 0
+    first, then = ea.load(tmp_path / "a"), ea.load(tmp_path / "b")
+    assert np.array_equal(then.nodes[0], first.nodes[-1]) and np.array_equal(then.polarity[0], first.polarity[-1])
+    assert json.loads((tmp_path / "b" / "summary.json").read_text())["start"] == f"{tmp_path / 'a'} at t = 10"
+    assert main([*run[:3], "3", *run[4:], "--duration", "10", "--start-from", str(tmp_path / "a")]) == 2
+    assert "positions must be 37 nodes" in capsys.readouterr().err

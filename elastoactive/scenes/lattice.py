@@ -33,6 +33,7 @@ from ..errors import ParameterError
 from ..observables import Observable
 from ..parameters import Parameter
 from ..params import Numerics, Physics
+from ..terms import unit_noise
 from ..terms.self_aligning import SELF_ALIGNING, turning_rate
 from ..trajectory import Trajectory
 from .base import Onset, Scene, ValidationCase
@@ -56,8 +57,8 @@ BOUNDARY = Parameter(
     title="the patch's boundary",
 )
 
-NETWORK_TERMS = ("sigma", "active", "alignment_length")
-"""The terms' parameters that act on a network: the active force and the units' direction law and length."""
+NETWORK_TERMS = ("sigma", "active", "alignment_length", *unit_noise.NAMES)
+"""The terms' parameters that act on a network: the active force, the units' direction law and length, their noise."""
 SELF_ALIGNING_ONLY = (("active", SELF_ALIGNING, "a network's active units are self-aligning"),)
 
 MEANING = tuple(states.STATE_MEANING.items())

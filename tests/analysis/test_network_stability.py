@@ -139,3 +139,39 @@ def test_the_coupling_is_the_scenes_own(capsys):
     assert physics.scene_def.coupling(physics) == 8.0 and "Π = σ / (k_t l_a) = 8" in physics.scene_def.caption(physics)
     lattice = ea.Physics(scene="lattice", sigma=0.15, alignment_length=0.1)
     assert lattice.scene_def.coupling(lattice) == pytest.approx(1.5)
+
+
+@pytest.mark.parametrize(
+    "network",
+    [hexagonal_patch(2), hexagonal_patch(3), trap_unit(0.7)],
+    ids=["R2", "R3", "trap"],
+)
+def test_sparse_bracket_is_the_dense_one(network):
+    """The sparse path (every unit's compliance block by sparse solves, the softest eigenvalue by shift-invert
+    Lanczos) equals the dense analysis to round-off."""
+    assert st.unit_ceiling_sparse(network) == pytest.approx(st.unit_ceiling(network), rel=1e-12)
+    if 2 * int((~network.pinned).sum()) > 2:
+        lowest = m.lowest_eigenvalues(network, 1, sparse=True)[0]
+        assert lowest == pytest.approx(np.linalg.eigvalsh(m.dynamical_matrix(network))[0], rel=1e-10)
+
+
+def test_a_subset_of_units_gives_a_weaker_ceiling():
+    """Each unit's bound holds alone: the ceiling from some units is >= the one from all of them."""
+    network = hexagonal_patch(3)
+    every = st.unit_ceiling_sparse(network)
+    for units in ([0], [0, 5, 9], list(range(0, 19, 2))):
+        assert st.unit_ceiling_sparse(network, np.array(units)) >= every * (1 - 1e-12)
+
+
+def test_large_bracket_brackets_the_dense_search():
+    """A large network's sparse bracket [lambda_1, ceiling] (no search) contains Pi_c of random polarities, computed
+    densely: every fixed point is stable below lambda_1 and none above the ceiling."""
+    from elastoactive.networks.lattices import generate
+
+    network = generate("triangular", "hexagonal", 17, "pinned", 0.0, 0)
+    bracket = st.threshold(network)
+    assert bracket.starts == 0 and np.isnan(bracket.typical)
+    rng = np.random.default_rng(1)
+    for _ in range(2):
+        pi_c = st.critical_coupling(network, rng.uniform(0, 2 * np.pi, int(network.active.sum())))
+        assert bracket.softest * (1 - 1e-9) <= pi_c <= bracket.ceiling

@@ -112,3 +112,97 @@ def test_largest_patch_runs_1000_relaxation_times_within_a_minute():
     start = time.perf_counter()
     m.solve(system, np.arange(0, 1000.0001, 0.5), y0)
     assert time.perf_counter() - start < 60.0
+
+
+def test_compiled_dop853_is_scipys_to_round_off():
+    """The compiled DOP853 (network_kernels.dop853) takes scipy's steps: the same samples to round-off, the same
+    number of evaluations within the few a different rounding of the step control can change."""
+    from scipy.integrate import solve_ivp
+
+    network = hexagonal_patch(2)
+    system = m.network_system(network, 0.2, 0.1)
+    y0 = m.pack(system, initial_state(network, 0.2, 1))
+    t = np.arange(0.0, 20.0001, 0.25)
+    compiled = m.solve(system, t, y0)
+    reference = solve_ivp(m.rhs(system), (0.0, 20.0), y0, method="DOP853", t_eval=t, rtol=1e-8, atol=1e-10)
+    np.testing.assert_allclose(compiled.y, reference.y.T, rtol=0, atol=1e-10)
+    assert abs(compiled.nfev - reference.nfev) <= 0.01 * reference.nfev
+
+
+@pytest.mark.parametrize("network, sigma, la", CASES)
+def test_sparse_jacobian_is_the_dense_one(network, sigma, la):
+    system = m.network_system(network, sigma, la)
+    y = m.pack(system, initial_state(network, 0.2, 4))
+    np.testing.assert_allclose(m.jacobian(system, y, sparse=True).toarray(), m.jacobian(system, y), atol=1e-13)
+    d = m.dynamical_matrix(network)
+    np.testing.assert_allclose(m.dynamical_matrix_sparse(network).toarray(), d, atol=1e-13)
+
+
+def test_sparse_softest_modes_are_the_dense_ones():
+    """Shift-invert Lanczos on the sparse matrix gives numpy's softest eigenvalues and the same eigenspaces (whole:
+    a degenerate pair is kept or left out together)."""
+    network = hexagonal_patch(4)
+    values, vectors = np.linalg.eigh(m.dynamical_matrix(network))
+    sparse_values, sparse_vectors = m.softest_modes(network, 5, sparse=True)
+    assert sparse_values.size == 5  # 1-2, 3, 4-5: whole eigenspaces
+    np.testing.assert_allclose(sparse_values, values[:5], rtol=1e-10)
+    projector = vectors[:, :5] @ vectors[:, :5].T
+    np.testing.assert_allclose(projector @ sparse_vectors, sparse_vectors, atol=1e-8)
+    cut, _ = m.softest_modes(network, 2, sparse=True)  # 2 modes would split nothing: the softest pair
+    np.testing.assert_allclose(cut, values[:2], rtol=1e-10)
+    one, _ = m.softest_modes(network, 1, sparse=True)  # 1 would cut the degenerate pair: left out
+    assert one.size == 0
+
+
+def test_a_large_network_never_builds_a_dense_matrix(monkeypatch):
+    """Above DENSE_MODES free coordinates the modes, the rate, the stability bracket and the elastic energy use only
+    sparse matrices: the dense builders raise here, and the bracket still comes out."""
+    from elastoactive.analysis.network import stability as st
+    from elastoactive.networks.lattices import generate
+
+    network = generate("triangular", "hexagonal", 17, "pinned", 0.0, 0)
+    assert m.is_large(network) and not m.is_large(hexagonal_patch(6))
+
+    def refuse(*args, **kwargs):
+        raise AssertionError("a dense N x N matrix was built for a large network")
+
+    monkeypatch.setattr(m, "force_jacobian", refuse)
+    monkeypatch.setattr(st, "dynamical_matrix", refuse)
+    values, vectors = m.normal_modes(network)
+    assert 0 < values.size <= m.LOWEST_MODES and vectors.shape == (2 * int((~network.pinned).sum()), values.size)
+    assert m.stiffest_rate(network) < st.gershgorin(network)
+    bracket = st.threshold(network)
+    assert 0 < bracket.softest == values[0] == bracket.coupling < bracket.ceiling and bracket.starts == 0
+    system = m.network_system(network, 0.2, 0.1)
+    y = m.pack(system, initial_state(network, 0.1, 0))
+    assert m.jacobian(system, y, sparse=True).nnz < 40 * y.size
+
+
+def test_noise_draw_is_the_counter_based_stream():
+    from elastoactive.controllers.noise import standard_normal
+    from elastoactive.reduced.network_kernels import standard_normal_into
+
+    for seed, step in ((0, 0), (7, 123), (2**40, 10**9)):
+        out = np.empty(257)
+        standard_normal_into(seed, step, out)
+        np.testing.assert_allclose(out, standard_normal(seed, step, 257)[0], rtol=1e-14, atol=1e-14)
+
+
+def test_noisy_solve_is_euler_maruyama_with_the_seeded_draws():
+    """solve_noisy steps y + dt f(y) + amplitude xi(seed, k): replayed in numpy, step by step."""
+    from elastoactive.controllers.noise import standard_normal
+
+    network = hexagonal_patch(1)
+    system = m.network_system(network, 0.3, 0.5)
+    y0 = m.pack(system, initial_state(network, 0.1, 2))
+    dt, seed = 0.01, 11
+    t = np.arange(0, 0.2001, 0.05)
+    out = m.solve_noisy(system, t, y0, dt=dt, seed=seed, translational=0.02, rotational=0.3).y
+    amplitude = m.noise_amplitudes(system, dt, 0.02, 0.3)
+    f, y = m.rhs_reference(system), y0.copy()
+    for k in range(20):
+        y = y + dt * f(0.0, y) + amplitude * standard_normal(seed, k, y.size)[0]
+    np.testing.assert_allclose(out[-1], y, atol=1e-13)
+    again = m.solve_noisy(system, t, y0, dt=dt, seed=seed, translational=0.02, rotational=0.3).y
+    other = m.solve_noisy(system, t, y0, dt=dt, seed=seed + 1, translational=0.02, rotational=0.3).y
+    assert np.array_equal(out, again) and not np.allclose(out[-1], other[-1])

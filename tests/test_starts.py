@@ -30,7 +30,8 @@ def test_mujoco_starts_from_the_given_state():
 
 def test_a_chain_continues_from_its_angles():
     first = ea.simulate("one-pinned", duration=2, engine="reduced")
-    assert np.array_equal(ea.simulate("one-pinned", duration=2, engine="reduced", start=first).theta[0], first.theta[-1])
+    then = ea.simulate("one-pinned", duration=2, engine="reduced", start=first)
+    assert np.array_equal(then.theta[0], first.theta[-1])
 
 
 @pytest.mark.parametrize(

@@ -30,6 +30,10 @@ G. the active lattice (--network runs this part alone; docs/generated/benchmark_
    nodes, 91 self-aligning units) for 1000 gamma / k in MuJoCo (default and 'fast' numerics), the reduced engine and a
    plain scipy solve_ivp script, the ODE solvers at the loosest rtol matching MuJoCo's error (about 3 min;
    scripts/benchmark_network.py).
+H. the network's cost against its size (--network-scale runs this part alone; docs/generated/
+   benchmark_network_scale.md): pinned triangular hexagons of 127 to 10 267 nodes, the reduced engine for 1000 gamma / k
+   beside a plain numpy/scipy script of the same equations at equal accuracy and scipy's BDF, the lowest modes and
+   the stability bracket, the whole process at 10 267 nodes, MuJoCo at 1027 nodes (scripts/benchmark_network_scale.py).
 
 Timings are best of a few repeats unless said (the 2 cores are shared; the best is the least disturbed run);
 whole-process figures are medians. --quick shortens every part (about 1 min).
@@ -52,6 +56,7 @@ import numpy as np
 from bench_common import CLI, CORES, load, log  # scripts/ is on sys.path when a script runs
 from benchmark_filament import bench_filament, filament_report
 from benchmark_network import bench_network, network_report
+from benchmark_network_scale import bench_network_scale, scale_report
 
 from elastoactive.checks.validate import validation_cases
 from elastoactive.controllers import compiled_passive, follower_forces, reference_passive
@@ -685,6 +690,8 @@ def main(argv=None) -> int:
     ap.add_argument("--filament-out", type=Path, default=Path("docs/generated/benchmark_filament.md"))
     ap.add_argument("--network", action="store_true", help="only section G (the active lattice)")
     ap.add_argument("--network-out", type=Path, default=Path("docs/generated/benchmark_network.md"))
+    ap.add_argument("--network-scale", action="store_true", help="only section H (the network's cost against N)")
+    ap.add_argument("--network-scale-out", type=Path, default=Path("docs/generated/benchmark_network_scale.md"))
     args = ap.parse_args(argv)
     q = args.quick
     if args.filament:
@@ -693,6 +700,12 @@ def main(argv=None) -> int:
         text = network_report(bench_network(q))
         args.network_out.parent.mkdir(parents=True, exist_ok=True)
         args.network_out.write_text(text)
+        print(text)
+        return 0
+    if args.network_scale:
+        text = scale_report(bench_network_scale(q))
+        args.network_scale_out.parent.mkdir(parents=True, exist_ok=True)
+        args.network_scale_out.write_text(text)
         print(text)
         return 0
     meta = {

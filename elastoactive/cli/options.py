@@ -64,6 +64,8 @@ def add_fields(group, cls, *, defaults: bool = True, scene: str | None = None) -
                 text += "".join(f"; on a {w.units} scene: {w.text}" for w in f.worded)
         else:
             text = field_help(f, units)
+            if scene is None:
+                text += "".join(f"; on a {w.units} scene: {w.text}" for w in f.metadata.get("worded", ()))
         if getattr(f, "instead_of", None):  # the coupling Pi: given in place of sigma, no default of its own
             scenes = _used_by(f.name) if scene is None else ""
             if scene is not None:

@@ -34,7 +34,7 @@ from pathlib import Path
 import numpy as np
 
 from . import observables, parameters
-from .api import as_numerics, as_physics, measure, simulate
+from .api import as_numerics, as_physics, load_sweep, measure, simulate
 from .errors import ParameterError
 from .io.outputs import atomic_file, lock_file, provenance, utc_now, write_netcdf
 from .params import Numerics, Physics
@@ -390,12 +390,9 @@ def ramp_figure(path, figure, observable: str | None = None) -> Path:
     """The hysteresis loop of a ramp's netCDF `path` as a PNG `figure`: `observable` (default: DEFAULT_PLOTS' first
     measured) against the ramped parameter, each seed's way up (filled markers, solid) and down (open, dashed)."""
     import matplotlib  # start-up time: matplotlib only when a figure is drawn
+    import matplotlib.pyplot as plt  # start-up time: as above
 
     matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    from .api import load_sweep
-
     data = load_sweep(path)
     spec = json.loads(data.attrs["ramp"])
     parameter = spec["parameter"]

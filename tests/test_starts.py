@@ -44,7 +44,7 @@ def test_a_chain_continues_from_its_angles():
 )
 def test_a_state_of_another_scene_is_refused(start, words):
     with pytest.raises(ParameterError, match=words):
-        ea.simulate(PATCH, SAMPLES, duration=1, engine="reduced", start=start)
+        ea.simulate(PATCH, SAMPLES, duration=5, engine="reduced", start=start)
 
 
 def test_a_pinned_node_moved_is_refused():
@@ -52,7 +52,7 @@ def test_a_pinned_node_moved_is_refused():
     positions = network.positions.copy()
     positions[np.flatnonzero(network.pinned)[0]] += 0.1
     with pytest.raises(ParameterError, match="pinned node"):
-        ea.simulate(PATCH, SAMPLES, duration=1, engine="reduced", start=(positions, np.zeros(1)))
+        ea.simulate(PATCH, SAMPLES, duration=5, engine="reduced", start=(positions, np.zeros(1)))
 
 
 def test_a_start_is_one_kind_of_state():

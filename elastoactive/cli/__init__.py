@@ -1,8 +1,9 @@
 """`elastoactive`: the command line, in the paper's dimensionless parameters.
 
 One module per subcommand, each with register(subparsers) and main(args). Building the parser
-imports nothing heavy (the engines, matplotlib, xarray load only when a command runs), so
-`elastoactive --help` answers at once.
+imports nothing heavy (the engines, matplotlib, xarray load only when a command runs), and the command line
+builds it lazily: a subcommand's options are added only when that subcommand parses, so `elastoactive --help`
+reads no more than each command's one-line help (tests/cli/test_help_imports.py holds both).
 """
 
 from __future__ import annotations
@@ -27,7 +28,53 @@ class _Parser(argparse.ArgumentParser):
         self.exit(2, f"elastoactive: error: {command + ': ' if command else ''}{message} (see {self.prog} --help)\n")
 
 
-def build_parser() -> argparse.ArgumentParser:
+class _Declared(Exception):
+    """Raised by _Declaring.add_parser: a subcommand's name and add_parser keywords, read without the rest of its
+    module's register (which builds every option)."""
+
+    def __init__(self, name: str, kwargs: dict):
+        super().__init__(name)
+        self.name, self.kwargs = name, kwargs
+
+
+class _Declaring:
+    """The subparsers that `register` sees while its command's one-line help is read: add_parser, the first call of
+    every register, stops it there."""
+
+    def add_parser(self, name: str, **kwargs):
+        raise _Declared(name, kwargs)
+
+
+class _Filling:
+    """The subparsers that `register` sees when a lazily built command parses: add_parser hands back that command's
+    parser (made with the same keywords), which register then fills with its options."""
+
+    def __init__(self, parser: argparse.ArgumentParser):
+        self.parser = parser
+
+    def add_parser(self, name: str, **kwargs):
+        return self.parser
+
+
+class _Command(_Parser):
+    """A subcommand's parser whose options its module's register adds when it first parses (its --help, its
+    arguments): what it prints and accepts is that of the parser register builds."""
+
+    def __init__(self, *args, command=None, **kwargs):
+        super().__init__(*args, **kwargs)
+        self._command = command
+
+    def parse_known_args(self, args=None, namespace=None):
+        if self._command is not None:
+            command, self._command = self._command, None
+            command.register(_Filling(self))
+        return super().parse_known_args(args, namespace)
+
+
+def build_parser(*, lazy: bool = False) -> argparse.ArgumentParser:
+    """The command line's parser. lazy=True (what `main` uses): each subcommand's options are added when it parses,
+    so the top-level --help builds none of them; lazy=False: every subcommand's parser whole (for the reference
+    pages and the tests that read a subcommand's options)."""
     parser = _Parser(
         prog="elastoactive",
         description="Elasto-active chains in MuJoCo (Zheng et al., 'Self-oscillation and synchronisation "
@@ -36,9 +83,17 @@ def build_parser() -> argparse.ArgumentParser:
         epilog=scene_help(),
     )
     plugin_argument(parser)
-    sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+    sub = parser.add_subparsers(
+        dest="command", required=True, metavar="COMMAND", parser_class=_Command if lazy else _Parser
+    )
     for command in COMMANDS:
-        command.register(sub)
+        if not lazy:
+            command.register(sub)
+            continue
+        try:
+            command.register(_Declaring())
+        except _Declared as declared:
+            sub.add_parser(declared.name, command=command, **declared.kwargs)
     return parser
 
 
@@ -49,7 +104,7 @@ def main(argv: list[str] | None = None) -> int:
     except ParameterError as err:
         print(f"elastoactive: error: {err}", file=sys.stderr)
         return 2
-    parser = build_parser()
+    parser = build_parser(lazy=True)
     args = parser.parse_args(argv)
     try:
         render.check_mujoco_gl()

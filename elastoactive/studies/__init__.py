@@ -33,6 +33,8 @@ numbers they are set against in `elastoactive.studies.paper`.
                   trapped unit)
     hysteresis    the outlook: the active solid's hysteresis loop (Pi up, then down) on the triangular hexagon and a
                   kagome patch, with the named states
+    noise_threshold  the outlook: where the active solid's units start turning (up and down) against the rotational
+                  noise on their polarities
 
 and what they share: `registry` (the studies by name), `base` (sizes, the Study container, running a
 batch of cases), `plotting` (figure style and helpers), `claim_rows` (the claim row and its number
@@ -61,6 +63,7 @@ from .noise import (
     noise_readings_study,
     noise_study,
 )
+from .noise_threshold import NoiseThresholdSummary, noise_threshold_study
 from .normal_form import NormalFormSummary, normal_form_study
 from .response import EntrainmentSummary, ResponseSummary, entrainment_study, response_study
 from .ring import RingSummary, ring_study
@@ -117,6 +120,8 @@ __all__ = [
     "active_solid_study",
     "HysteresisSummary",
     "hysteresis_study",
+    "NoiseThresholdSummary",
+    "noise_threshold_study",
     "EntrainmentSummary",
     "ResponseSummary",
     "entrainment_study",

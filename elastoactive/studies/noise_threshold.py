@@ -1,0 +1,175 @@
+"""Active solids: the collective-actuation threshold against the noise on the units' polarities.
+
+Beyond the paper (its outlook's two-dimensional structures; experiments with active units are noisy): the pinned
+triangular hexagon of the hysteresis study, its coupling Pi = l_e / l_a ramped up from seeded random polarities and
+back down (elastoactive.protocols, each step from the last state), at several rotational diffusions D_r of the
+polarities (terms.unit_noise: Ito, seeded, rad^2 per gamma / k), in the reduced engine. Per seed and noise level,
+where the units start turning on the way up and where they still turn on the way down (analysis.network.states names
+each step; turning: collective, mixed, heterogeneous or irregular; not turning: frozen, or oscillating, swinging
+without a full turn, which noise alone makes of a frozen state). A polarity diffusing alone wanders by sqrt(2 D_r T)
+over a window T, less than one turn at the levels used (D_r T < 2 pi^2).
+"""
+
+from __future__ import annotations
+
+import tempfile
+import time
+from collections.abc import Mapping
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from ..analysis.network import stability
+from ..analysis.network.states import STATES
+from ..api import load_sweep
+from ..params import Numerics
+from ..scenes import lattice
+from . import plotting as plots
+from . import registry
+from .base import Study, Summary, pick
+from .claim_rows import Claim, fmt, verdict
+
+ALIGNMENT = 0.1
+"""l_a / a of the ramps (the hysteresis study's)."""
+TURNING = tuple(STATES.index(name) for name in ("collective", "mixed", "heterogeneous", "irregular"))
+"""The named states in which the units turn (collective actuation in the wide sense)."""
+
+
+@dataclass(frozen=True)
+class NoiseLevel:
+    rotational_diffusion: float
+    up_start: list[float]
+    """Per seed, the smallest coupling at which its units turn on the way up (NaN: at no step)."""
+    down_stop: list[float]
+    """Per seed, the smallest coupling at which its units still turn on the way down (NaN: at no step)."""
+
+
+@dataclass(frozen=True)
+class NoiseThresholdSummary(Summary):
+    lattice: str
+    couplings: list[float]
+    levels: list[NoiseLevel]
+    softest: float
+    """lambda_1 of the patch: without noise every fixed point is stable below it (proved)."""
+    duration: float
+
+
+NOISE_THRESHOLD = registry.declare("noise_threshold", summary=NoiseThresholdSummary, order=213)
+
+
+def _first(couplings: np.ndarray, moving: np.ndarray) -> float:
+    hit = np.flatnonzero(moving)
+    return float(couplings[hit[0]]) if hit.size else float("nan")
+
+
+@NOISE_THRESHOLD.run
+def noise_threshold_study(size: str = "quick", workers=None, progress: bool = True) -> Study:
+    """Ramps up and down at each noise level, several seeds."""
+    from ..protocols import make_ramp, run_ramp  # start-up time: the protocols load the engines
+
+    start = time.perf_counter()
+    rings = pick(size, 2, 3, 3)
+    seeds = pick(size, (0,), (0, 1, 2), tuple(range(6)))
+    duration = pick(size, 60.0, 400.0, 800.0)
+    levels = pick(size, (0.0, 0.02), (0.0, 0.003, 0.01, 0.03), (0.0, 0.001, 0.003, 0.01, 0.03))
+    couplings = pick(
+        size,
+        (1.0, 1.6),
+        tuple(np.round(np.arange(0.5, 0.851, 0.05), 3)),
+        tuple(np.round(np.arange(0.45, 0.901, 0.025), 3)),
+    )
+    name = f"triangular hexagon R = {rings}"
+    data: dict = {"couplings": np.asarray(couplings), "levels": np.asarray(levels)}
+    summaries = []
+    speeds = []
+    with tempfile.TemporaryDirectory() as folder:
+        for k, level in enumerate(levels):
+            physics = lattice.SCENE.physics(
+                rings=rings, boundary="pinned", alignment_length=ALIGNMENT, rotational_diffusion=level
+            )
+            ramp = make_ramp(
+                physics, "Pi", couplings, numerics=Numerics(sample_dt=0.25), seeds=seeds, duration=duration
+            )
+            loop = load_sweep(run_ramp(ramp, Path(folder) / f"level{k}.nc", workers=workers, progress=progress).path)
+            turning = np.isin(loop.network_state.values, TURNING)  # (seed, direction, coupling)
+            values = loop.Pi.values
+            summaries.append(
+                NoiseLevel(
+                    rotational_diffusion=float(level),
+                    up_start=[_first(values, turning[s, 0]) for s in range(turning.shape[0])],
+                    down_stop=[_first(values, turning[s, 1]) for s in range(turning.shape[0])],
+                )
+            )
+            speeds.append(loop.polarity_speed.values)
+    data["polarity_speed"] = np.asarray(speeds)  # (level, seed, direction, coupling)
+    softest = stability.softest(lattice.SCENE.network(lattice.SCENE.physics(rings=rings, boundary="pinned")))
+    summary = NoiseThresholdSummary(
+        lattice=name,
+        couplings=[float(c) for c in couplings],
+        levels=summaries,
+        softest=float(softest),
+        duration=float(duration),
+    )
+    return Study("noise_threshold", size, data, summary, time.perf_counter() - start)
+
+
+@NOISE_THRESHOLD.figure
+@plots.styled
+def noise_threshold_figures(study: Study, out: Path) -> list[Path]:
+    plt = plots.pyplot()
+    fig, ax = plt.subplots(figsize=(5.6, 4.2))
+    couplings = study.data["couplings"]
+    speed = study.data["polarity_speed"]
+    for k, level in enumerate(study.summary.levels):
+        colour = f"C{k % 10}"
+        ax.plot(
+            couplings,
+            speed[k, :, 0].mean(axis=0),
+            "-o",
+            color=colour,
+            ms=4,
+            label=f"D_r = {level.rotational_diffusion:g}",
+        )
+        ax.plot(couplings, speed[k, :, 1].mean(axis=0), "--o", color=colour, mfc="none", ms=4)
+    ax.axvline(study.summary.softest, color="0.5", ls=":", label=rf"$\lambda_1$ = {study.summary.softest:.3f}")
+    ax.set_xlabel(r"elasto-active coupling $\Pi = \ell_e / \ell_a$")
+    ax.set_ylabel(r"units' mean turning speed $\langle|\dot\psi|\rangle$ ($k/\gamma$), seed mean")
+    ax.set_title(f"{study.summary.lattice}: up (filled), down (open)", fontsize=9)
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    return [plots.save(fig, out, "figB_noise_threshold.png")]
+
+
+def _span(values: list[float]) -> str:
+    finite = [v for v in values if np.isfinite(v)]
+    return f"{fmt(min(finite), 3)}-{fmt(max(finite), 3)}" if finite else "-"
+
+
+@NOISE_THRESHOLD.claims
+def noise_threshold_claims(study: Study, read: Mapping[str, Study]) -> list[Claim]:
+    levels = study.summary.levels
+    quiet, noisiest = levels[0], levels[-1]
+    up = [np.nanmedian(level.up_start) if np.any(np.isfinite(level.up_start)) else np.nan for level in levels]
+    destroyed = bool(np.isfinite(up[0]) and not np.isfinite(up[-1]))
+    changed = destroyed or bool(np.isfinite(up[0]) and np.isfinite(up[-1]) and up[-1] != up[0])
+    table = "; ".join(
+        f"D_r = {level.rotational_diffusion:g}: turning up from Pi = {_span(level.up_start)}, down still at "
+        f"{_span(level.down_stop)}"
+        for level in levels
+    )
+    return [
+        Claim(
+            f"{study.summary.lattice}: noise on the polarities moves where the units start turning (or stops them)",
+            "the active-solid literature: noise changes or destroys collective actuation above some level (not a "
+            "quoted threshold)",
+            "-",
+            table,
+            verdict(changed),
+            f"noiseless up threshold {fmt(up[0], 3)}, at D_r = {noisiest.rotational_diffusion:g} "
+            f"{fmt(up[-1], 3)} (seed medians); lambda_1 = {study.summary.softest:.4f}; steps of "
+            f"{fmt(study.summary.couplings[1] - study.summary.couplings[0], 2)} in Pi, {study.summary.duration:g} "
+            f"gamma / k each, l_a = {ALIGNMENT:g} a, {len(quiet.up_start)} seed(s); reduced engine (Euler-Maruyama)",
+            judged_from="quick",
+        )
+    ]

@@ -1,5 +1,6 @@
 r"""The whirl as a relative equilibrium: a shape that turns rigidly about the clamp axis, found by Newton's method
-rather than by waiting for a simulation to settle; its stability, and its continuum limit.
+rather than by waiting for a simulation to settle; its stability, and its continuum limit. And the planar beat's
+stability out of its plane.
 
 A whirl of the reduced 3D chain (elastoactive.reduced.chain3d) is a solution t_k(t) = R_x(Omega t) t_k(0): every
 tangent turns about e_x at one rate Omega. So its shape solves
@@ -17,7 +18,16 @@ The continuum limit (`ladder`): at a fixed load S = N^3 sigma the chain of N lin
 a distributed follower load (analysis.filament, docs/filament.md), whose time unit is N^4 tau. The whirl's angular
 rate N^4 Omega, its tip's distance from the axis over the length, R / N, and the angle between the first and last link
 are extrapolated in 1/N by analysis.filament.richardson, each rung started from the previous rung's shape carried to
-its N (`resample_tangents`). Pure functions (numbers and arrays in, records out).
+its N (`resample_tangents`).
+
+The planar beat (`beat_out_of_plane`): a beat in the xy plane is an exact solution of the 3D model (its plane is an
+invariant subspace), and at linear order a small out-of-plane shape z evolves on its own, by the b rows of the model
+(the reflection z -> -z is a symmetry, so in-plane and out-of-plane perturbations do not mix). Its Floquet multipliers
+are those of the N x N monodromy matrix of z over one period, the product of the monodromies of PIECES pieces of it:
+column k of a piece's is the out-of-plane shape at its end after starting it with z_k = EPSILON (a linear response).
+Turning the beat's plane about e_x gives another beat, so one multiplier is 1 (that turn's shape, z = y). The beat is
+stable out of its plane when every other multiplier lies inside the unit circle; the exponent log|mu| / T is its
+growth rate per tau. Pure functions (numbers and arrays in, records out).
 """
 
 from __future__ import annotations
@@ -28,16 +38,32 @@ import numpy as np
 from scipy.optimize import root
 
 from ..errors import ParameterError
-from ..reduced.chain3d import Chain3D, basis_of, rhs
-from .filament import Extrapolation, richardson
+from ..reduced.chain3d import Chain3D, basis_of, planar_angles, rhs, solve3d, tangents_of_angles
+from .filament import Extrapolation, beat, richardson
 
-__all__ = ["WhirlLadder", "WhirlState", "find_whirl", "ladder", "resample_tangents", "rotating_jacobian"]
+__all__ = [
+    "BeatStability",
+    "WhirlLadder",
+    "WhirlState",
+    "beat_out_of_plane",
+    "find_whirl",
+    "ladder",
+    "resample_tangents",
+    "rotating_jacobian",
+]
 
 EX = np.array([1.0, 0.0, 0.0])
 STEP = 1e-7
 """Central-difference step of rotating_jacobian."""
 TOLERANCE = 1e-10
 """Largest residual (per tau) a whirl is accepted at."""
+EPSILON = 1e-8
+"""Out-of-plane push of beat_out_of_plane's monodromy columns (l)."""
+SAMPLES_PER_PERIOD = 200
+"""Samples per period of the settling run beat_out_of_plane measures the period on."""
+PIECES = 8
+"""Pieces of the period whose monodromies beat_out_of_plane multiplies (each piece's growth stays small enough for
+the push EPSILON to respond linearly: a beat may grow out of its plane by e^16 in one period)."""
 
 
 @dataclass(frozen=True)
@@ -176,3 +202,49 @@ def ladder(load: float, ns, guess: np.ndarray, omega_guess: float, gamma_l: floa
         richardson(ns, [s.tip_radius / n for s, n in zip(states, n_arr)]),
         richardson(ns, [s.bend for s in states]),
     )
+
+
+@dataclass(frozen=True)
+class BeatStability:
+    """The planar beat's Floquet multipliers out of its plane (module docstring)."""
+
+    period: float
+    """The beat's period (tau)."""
+    multipliers: np.ndarray
+    """The out-of-plane Floquet multipliers, by decreasing modulus."""
+
+    @property
+    def growth(self) -> float:
+        """log|mu_max| / period (per tau): > 0 when the beat is unstable out of its plane."""
+        return float(np.log(np.abs(self.multipliers[0])) / self.period)
+
+
+def beat_out_of_plane(chain: Chain3D, settle: float, periods: int = 20) -> BeatStability:
+    """The out-of-plane Floquet multipliers of the planar beat the chain reaches from a small planar push after
+    `settle` tau (its period measured over the last `periods` periods of the settling run, analysis.filament.beat)."""
+    chain = chain.checked()
+    n = chain.n
+    theta0 = 0.01 * np.sin(0.3 * np.arange(1, n + 1))
+    ts = np.linspace(0.0, settle, int(settle * 20) + 1)
+    path = solve3d(chain, ts, tangents_of_angles(theta0), rtol=1e-11, atol=1e-12)
+    theta = planar_angles(path)
+    curvature = theta[:, -1] - theta[:, 0]
+    rough = beat(ts[ts.size // 2 :], curvature[ts.size // 2 :]).period
+    fine = np.linspace(0.0, periods * rough, periods * SAMPLES_PER_PERIOD + 1)
+    start = path[-1]
+    cycle = planar_angles(solve3d(chain, fine, start, rtol=1e-11, atol=1e-12))
+    period = beat(fine, cycle[:, -1] - cycle[:, 0]).period
+    piece = period / PIECES
+    orbit = solve3d(chain, np.linspace(0.0, period, PIECES + 1), start, rtol=1e-11, atol=1e-12)
+    monodromy = np.eye(n)
+    for base in orbit[:-1]:  # the product of the pieces' monodromies, each a linear response
+        step = np.empty((n, n))
+        for k in range(n):
+            pushed = base.copy()
+            pushed[k, 2] = EPSILON
+            pushed[k] /= np.linalg.norm(pushed[k])
+            end = solve3d(chain, np.array([0.0, piece]), pushed, rtol=1e-11, atol=1e-14)[-1]
+            step[:, k] = end[:, 2] / EPSILON
+        monodromy = step @ monodromy
+    mu = np.linalg.eigvals(monodromy)
+    return BeatStability(float(period), mu[np.argsort(-np.abs(mu))])

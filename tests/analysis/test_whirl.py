@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from elastoactive.analysis.motion3d import measure3d
-from elastoactive.analysis.whirl import find_whirl, ladder, resample_tangents
+from elastoactive.analysis.whirl import beat_out_of_plane, find_whirl, ladder, resample_tangents
 from elastoactive.errors import ParameterError
 from elastoactive.reduced.chain3d import Chain3D, solve3d
 
@@ -61,3 +61,12 @@ def test_resample_keeps_a_straight_chain_and_bad_guesses_are_refused():
         find_whirl(Chain3D(n=3, sigma=0.5), np.tile([1.0, 0.0, 0.0], (3, 1)), 0.0)  # below onset: the straight chain
     with pytest.raises(ParameterError, match="guess"):
         find_whirl(Chain3D(n=3, sigma=0.5), straight, 0.0)
+
+
+def test_planar_beat_is_unstable_out_of_its_plane():
+    """N = 3, sigma = 2.5: the planar beat has the neutral multiplier 1 (its plane turned about the axis) and one far
+    outside the unit circle (it grows out of its plane into the whirl, which the simulation above settles in)."""
+    result = beat_out_of_plane(Chain3D(n=3, sigma=2.5), settle=60.0, periods=4)
+    assert abs(result.period * 0.0862 - 1.0) < 0.01  # the planar beat's f tau = 0.0862
+    assert np.min(np.abs(result.multipliers - 1.0)) < 1e-6
+    assert abs(result.multipliers[0]) > 1e6 and result.growth > 1.0

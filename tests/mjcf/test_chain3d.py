@@ -59,12 +59,14 @@ def test_actuators_are_the_follower_force_and_the_lab_frame_drag(joints):
 
 
 @pytest.mark.parametrize("joints", ["ball", "hinges"])
-def test_planar_start_is_the_planar_mujoco_scene(joints):
-    """From the planar scene's own start, the 3D chain stays in the plane exactly and follows the planar MuJoCo
-    chain (hinges, compiled follower callback) to round-off, at the same dt and mass."""
-    physics = ea.Physics(scene="one-pinned", n=5, sigma=0.8)
+@pytest.mark.parametrize("scene, clamped", [("one-pinned", True), ("rotating-pin", False)])
+def test_planar_start_is_the_planar_mujoco_scene(joints, scene, clamped):
+    """From the planar scene's own start, the 3D chain (clamped, or on a free ball pivot) stays in the plane exactly
+    and follows the planar MuJoCo chain (hinges, compiled follower callback) to round-off, at the same dt and mass."""
+    physics = ea.Physics(scene=scene, n=5, sigma=0.8)
     planar = ea.simulate(physics, ea.Numerics(), duration=10.0, engine="mujoco")
-    path = simulate3d(Chain3DModel(n=5, sigma=0.8, joints=joints), planar.t, tangents_of_angles(planar.theta[0]))
+    chain = Chain3DModel(n=5, sigma=0.8, joints=joints, clamped=clamped)
+    path = simulate3d(chain, planar.t, tangents_of_angles(planar.theta[0]))
     assert np.all(path[..., 2] == 0.0)
     assert np.abs(planar_angles(path) - planar.theta).max() < 1e-11
 

@@ -26,9 +26,9 @@ def _random_tangents(n: int, seed: int = 0) -> np.ndarray:
     return t / np.linalg.norm(t, axis=1)[:, None]
 
 
-def _planar_system(n: int, sigma: float, gamma_l: float = 1.0) -> ChainSystem:
+def _planar_system(n: int, sigma: float, gamma_l: float = 1.0, clamped: bool = True) -> ChainSystem:
     return ChainSystem(
-        n=n, n_chains=1, clamped=True, pinned=False, sigma=sigma, gamma_l=gamma_l, gamma_t=1.0, kappa=0.0, rho=1.0,
+        n=n, n_chains=1, clamped=clamped, pinned=False, sigma=sigma, gamma_l=gamma_l, gamma_t=1.0, kappa=0.0, rho=1.0,
         delta=0.0, mass_ratio=0.0, inertia_factor=0.0,
     )  # fmt: skip
 
@@ -55,11 +55,13 @@ def test_velocities_are_tangent_and_the_norm_is_held():
     np.testing.assert_allclose(radial, -0.5 * (1.01**2 - 1.0), rtol=1e-12)
 
 
-def test_planar_rhs_is_the_planar_model():
+@pytest.mark.parametrize("clamped", [True, False])
+def test_planar_rhs_is_the_planar_model(clamped):
+    """In the plane, the clamped chain and the free pivot are the planar one-pinned and rotating-pin models."""
     n, sigma, gamma_l = 7, 0.8, 1.7
     theta = np.random.default_rng(2).standard_normal(n) * 0.7
-    planar = rhs_reference(_planar_system(n, sigma, gamma_l), beta=10.0)(0.0, theta)
-    v = rhs(tangents_of_angles(theta), Chain3D(n=n, sigma=sigma, gamma_l=gamma_l))
+    planar = rhs_reference(_planar_system(n, sigma, gamma_l, clamped), beta=10.0)(0.0, theta)
+    v = rhs(tangents_of_angles(theta), Chain3D(n=n, sigma=sigma, gamma_l=gamma_l, clamped=clamped))
     normals = np.stack([-np.sin(theta), np.cos(theta), np.zeros(n)], axis=1)
     np.testing.assert_allclose(np.einsum("ka,ka->k", v, normals), planar, atol=1e-13)
     assert np.all(v[:, 2] == 0.0)  # the out-of-plane rows are exact zeros

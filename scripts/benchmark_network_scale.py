@@ -22,12 +22,15 @@ The log-log slope of the cost per evaluation and of the run against the node cou
 
 from __future__ import annotations
 
+import json
 import os
 import platform
+import resource
 import subprocess
 import sys
 import tempfile
 import time
+from pathlib import Path
 
 import mujoco
 import numpy as np
@@ -42,6 +45,8 @@ SPAN = 20.0
 """gamma / k over which the plain script and the implicit method run (scaled to DURATION)."""
 RTOL, ATOL = 1e-8, 1e-10
 MUJOCO_RINGS, MUJOCO_TAU = 18, 1.0
+PARTIAL = Path(tempfile.gettempdir()) / "benchmark_network_scale_rows.json"
+"""The rows measured so far (written after each size)."""
 IMPLICIT_NODES, IMPLICIT_SPAN = 1100, 2.0
 """The implicit method runs up to this many nodes, over this span (it is some 50-300 times slower than DOP853)."""
 
@@ -85,7 +90,9 @@ def _bench(quick: bool) -> dict:
         values, _ = model.normal_modes(network, None if not model.is_large(network) else model.LOWEST_MODES)
         bracket = (stability.softest(network), stability.coupling_ceiling(network))
         algebra = time.perf_counter() - start
+        cpu = time.process_time()
         run = simulate_network_reduced(physics, numerics, duration)
+        cpu = time.process_time() - cpu
         short = simulate_network_reduced(physics, numerics, span)
         system = system_of(physics)
         f, free, count = plain_rhs(network, SIGMA, ALIGNMENT_LENGTH)
@@ -109,6 +116,7 @@ def _bench(quick: bool) -> dict:
                 "bonds": network.n_bonds,
                 "units": int(network.active.sum()),
                 "wall_s": run.wall_time_s,
+                "cpu_s": cpu,
                 "nfev": run.info["nfev"],
                 "us_per_eval": 1e6 * run.wall_time_s / run.info["nfev"],
                 "plain_s": plain_wall * duration / span,
@@ -125,12 +133,13 @@ def _bench(quick: bool) -> dict:
             }
         )
         log(f"  {rows[-1]}")
+        PARTIAL.write_text(json.dumps(rows))  # kept if a later part fails
     whole = None
     if not quick:
         largest = rings[-1]
         with tempfile.TemporaryDirectory() as tmp:
             command = [
-                *CLI,
+                CLI,
                 "run",
                 "network",
                 "--geometry",
@@ -153,8 +162,15 @@ def _bench(quick: bool) -> dict:
             ]
             log(f"network scale: whole process at R = {largest} (load {load()})")
             t0 = time.perf_counter()
+            cpu0 = resource.getrusage(resource.RUSAGE_CHILDREN)
             subprocess.run(command, check=True, capture_output=True)
-            whole = {"rings": largest, "wall_s": time.perf_counter() - t0, "command": " ".join(command[2:])}
+            cpu1 = resource.getrusage(resource.RUSAGE_CHILDREN)
+            whole = {
+                "rings": largest,
+                "wall_s": time.perf_counter() - t0,
+                "cpu_s": cpu1.ru_utime + cpu1.ru_stime - cpu0.ru_utime - cpu0.ru_stime,
+                "command": "elastoactive " + " ".join(command[1:-3]) + " --out RUN --quiet",
+            }
     log(f"network scale: MuJoCo R = {MUJOCO_RINGS} (load {load()})")
     from elastoactive.engines.network_mujoco import simulate_network_mujoco
 
@@ -190,14 +206,14 @@ def scale_report(result: dict) -> str:
         f"{IMPLICIT_NODES} nodes). Modes + bracket: "
         "the lowest normal modes and [lambda_1, ceiling] (dense to 1500 free coordinates, sparse above).",
         "",
-        "| R | nodes | bonds | reduced s | right-hand sides | us per evaluation | plain scipy s (scaled) | "
+        "| R | nodes | bonds | reduced s (CPU s) | right-hand sides | us per evaluation | plain scipy s (scaled) | "
         "plain / reduced (same span) | differs by (a) | BDF s (scaled) | modes + bracket s | lambda_1 | ceiling |",
         "|---|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     for r in rows:
         implicit = "-" if r["implicit_nfev"] == 0 else f"{r['implicit_s']:.3g}"
         lines.append(
-            f"| {r['rings']} | {r['nodes']} | {r['bonds']} | {r['wall_s']:.3g} | {r['nfev']} | "
+            f"| {r['rings']} | {r['nodes']} | {r['bonds']} | {r['wall_s']:.3g} ({r['cpu_s']:.3g}) | {r['nfev']} | "
             f"{r['us_per_eval']:.3g} | "
             f"{r['plain_s']:.3g} | {r['ratio']:.2g} | "
             f"{r['difference']:.1e} | {implicit} | {r['algebra_s']:.2g} | {r['lambda_1']:.4g} | "
@@ -215,7 +231,11 @@ def scale_report(result: dict) -> str:
         ]
     if result["whole"]:
         w = result["whole"]
-        lines += ["", f"Whole process at R = {w['rings']}: `{w['command']}`: {w['wall_s']:.1f} s wall."]
+        lines += [
+            "",
+            f"Whole process at R = {w['rings']}: `{w['command']}`: {w['wall_s']:.1f} s wall, {w['cpu_s']:.1f} s of "
+            "CPU (user + system).",
+        ]
     mj = result["mujoco"]
     lines += [
         "",

@@ -27,6 +27,7 @@ from typing import Any
 import numpy as np
 
 from .errors import ParameterError
+from .table import Registry
 from .units import CHAIN, Units, Worded, worded
 
 KINDS = (float, int, bool, str)
@@ -221,38 +222,35 @@ class Parameter:
         return text if self.or_needs is None else f"{text} or {self.or_needs} = {self.or_needs_value}"
 
 
-_TABLE: dict[str, tuple[Parameter, str]] = {}
+_TABLE: Registry[Parameter] = Registry("parameter", replaceable=False)
+"""Every declared parameter spec with who declared it (elastoactive.table.Registry)."""
 
 
 def register(spec: Parameter, owner: str) -> Parameter:
     """Add a spec to the table under its name; `owner` names who declares it (a term or a scene). Registering the
     same spec again is a no-op; another spec under a taken name is refused."""
-    known = _TABLE.get(spec.name)
-    if known is not None and known[0] != spec:
-        raise ValueError(f"a parameter named {spec.name!r} is already declared by {known[1]}")
-    _TABLE[spec.name] = (spec, known[1] if known else owner)
-    return spec
+    return _TABLE.register(spec, owner=owner)
 
 
 def unregister(name: str) -> None:
     """Remove a spec (tests that add a plug-in term clean up with this)."""
-    _TABLE.pop(name, None)
+    _TABLE.unregister(name)
 
 
 def get(name: str) -> Parameter:
-    """The spec called `name` (KeyError if none)."""
-    return _TABLE[name][0]
+    """The spec called `name` (elastoactive.table.UnknownName, a KeyError, if none)."""
+    return _TABLE.get(name)
 
 
 def owner(name: str) -> str:
     """Who declared the parameter `name`."""
-    return _TABLE[name][1]
+    return _TABLE.owner(name)
 
 
 def known(name: str) -> bool:
-    return name in _TABLE
+    return _TABLE.known(name)
 
 
 def names() -> tuple[str, ...]:
     """Every declared parameter, in declaration order."""
-    return tuple(_TABLE)
+    return _TABLE.names()

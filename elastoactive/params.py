@@ -23,7 +23,6 @@ from . import terms as _terms
 from .constants import MAX_PARTICLES
 from .errors import ParameterError
 from .parameters import Parameter
-from .terms.follower import load_mask
 from .units import NETWORK, Worded
 
 INTEGRATORS = ("implicitfast", "implicit", "discrete", "Euler", "RK4")
@@ -246,8 +245,9 @@ class Physics:
 
     # ------------------------------------------------------------------ derived
     def load_mask(self) -> np.ndarray:
-        """Boolean mask of the particles of one chain that carry the follower force (all True for "all")."""
-        return load_mask(self.loaded, self.n)
+        """Boolean mask of the particles of one chain that carry the follower force (all True for "all"): the term
+        that places the active force says (Term.load_mask)."""
+        return next(m for t in _terms.terms() if (m := t.load_mask(self)) is not None)
 
     @property
     def all_loaded(self) -> bool:

@@ -10,18 +10,74 @@
     ea.plot.sweep_map(ea.load("sweep.nc"), "amplitude")
 
 Every function takes an optional ``ax`` (a new figure's Axes when None) and labels its axes with the quantities'
-units (a sweep's from its netCDF attributes).
+units, in the scene's own (`labels`: a network's times in gamma/k and lengths in a; a sweep's from its netCDF
+attributes).
 """
 
 from __future__ import annotations
 
+import re
+from dataclasses import dataclass
+
 import numpy as np
 
 from .errors import ParameterError
+from .params import Physics
 from .trajectory import Trajectory
+from .units import THETA, beat_signal, scene_units
 
-THETA_LABEL = r"$\Theta = \theta_N - \theta_1$ (rad)"
-"""The y label of a chain's beat signal."""
+_TEX = {"tau": r"\tau", "gamma": r"\gamma", "Theta": r"\Theta", "Omega": r"\Omega", "psi": r"\psi"}
+"""Symbols drawn as Greek letters in labels."""
+
+
+def _tex(text: str) -> str:
+    """A units string or a symbol in TeX: Greek names as letters, other words upright (rad as \\mathrm{rad})."""
+
+    def word(match: re.Match) -> str:
+        token = match.group(0)
+        if token in _TEX:
+            return _TEX[token]
+        return rf"\mathrm{{{token}}}" if len(token) > 1 and token.isalpha() else token
+
+    return "$" + re.sub(r"[A-Za-z]+(?:_[A-Za-z0-9]+)?", word, text).replace(" ", r"\,") + "$"
+
+
+@dataclass(frozen=True)
+class Labels:
+    """The axis labels of a physics' figures, in its scene's units (units.Units) and about its beat signal
+    (Scene.beat_signal): a chain's Theta in rad against time in tau, a network's in its own units."""
+
+    time: str
+    """The time axis: 'time $t$ ($\\tau$)'."""
+    time_units: str
+    """The time unit alone, in TeX."""
+    signal: str
+    """The beat signal's axis (ea.plot.theta, limit_cycle)."""
+    rate: str
+    """The beat signal's rate (limit_cycle)."""
+    length: str
+    """The length unit of positions."""
+
+    @classmethod
+    def of(cls, physics: Physics) -> Labels:
+        units, signal = scene_units(physics.scene_def), beat_signal(physics)
+        top, _, bottom = signal.units.partition("/")
+        per_time = f"{top or '1'}/{bottom + '^2' if bottom == 'tau' else 'tau'}" if bottom in ("", "tau") else ""
+        symbol = signal.symbol if signal is not THETA else "Theta"
+        shown = r"$\Theta = \theta_N - \theta_1$" if signal is THETA else _tex(signal.symbol)
+        time = _tex(units.time_units)
+        return cls(
+            time=f"time $t$ ({time})",
+            time_units=time,
+            signal=f"{shown} ({_tex(units.of(signal.units))})",
+            rate=f"$d{_tex(symbol)[1:-1]}/dt$ ({_tex(units.of(per_time))})" if per_time else f"rate of {shown}",
+            length=units.length,
+        )
+
+
+def labels(physics: Physics) -> Labels:
+    """The axis labels ea.plot draws for `physics`: time, beat signal, its rate, the length unit."""
+    return Labels.of(physics)
 
 
 def _axes(ax):
@@ -40,7 +96,7 @@ def _trajectory(traj) -> Trajectory:
 
 
 def _time_label(traj: Trajectory) -> str:
-    return r"time $t$ ($\tau$)"
+    return labels(traj.physics).time
 
 
 def _chains(traj: Trajectory) -> list[str]:
@@ -66,8 +122,10 @@ def angles(traj: Trajectory, ax=None, chain: int = 0):
     matplotlib.axes.Axes
     """
     traj, ax = _trajectory(traj), _axes(ax)
-    if traj.is_network:
-        raise ParameterError(f"chain: the {traj.physics.scene} scene is a network, which has no angles")
+    if not traj.physics.n_angles:
+        raise ParameterError(
+            f"chain: the {traj.physics.scene} scene is a {traj.physics.scene_def.kind}, which has no angles"
+        )
     if not isinstance(chain, (int, np.integer)) or not 0 <= chain < traj.physics.n_chains:
         raise ParameterError(f"chain must be a chain index from 0 to {traj.physics.n_chains - 1}, got {chain!r}")
     for i, column in enumerate(traj.chain(chain).T):
@@ -102,7 +160,7 @@ def theta(traj: Trajectory, ax=None):
 
 
 def _signal_label(traj: Trajectory) -> str:
-    return f"beat signal ({traj.length_units})" if traj.is_network else THETA_LABEL
+    return labels(traj.physics).signal
 
 
 def limit_cycle(traj: Trajectory, ax=None, transient: float | None = None):
@@ -130,7 +188,7 @@ def limit_cycle(traj: Trajectory, ax=None, transient: float | None = None):
     signals = traj.physics.scene_def.beat_signals(traj)
     for label, signal in zip(_chains(traj), signals, strict=False):
         ax.plot(signal[keep], np.gradient(signal, t)[keep], label=label or None)
-    rate = r"$d\Theta/dt$ (rad/$\tau$)" if not traj.is_network else rf"rate ({traj.length_units}/$\tau$)"
+    rate = labels(traj.physics).rate
     ax.set(xlabel=_signal_label(traj), ylabel=rate)
     if len(signals) > 1:
         ax.legend(fontsize="small")
@@ -176,22 +234,10 @@ def shape(traj: Trajectory, time: float | None = None, ax=None):
     traj, ax = _trajectory(traj), _axes(ax)
     i = _sample(traj, time)
     units = traj.length_units
-    if traj.is_network:
-        nodes = traj.nodes[i]
-        network = traj.physics.scene_def.network(traj.physics)
-        for a, b in network.bonds:
-            ax.plot(nodes[[a, b], 0], nodes[[a, b], 1], color="0.6", lw=0.8)
-        ax.plot(nodes[:, 0], nodes[:, 1], "o", ms=3)
-    else:
-        xy = traj.positions()[i]
-        for k, (label, chain) in enumerate(zip(_chains(traj), xy, strict=False)):
-            pivot = chain[0] - (np.cos(traj.theta[i, k * traj.physics.n]), np.sin(traj.theta[i, k * traj.physics.n]))
-            points = np.vstack([pivot, chain])
-            ax.plot(points[:, 0], points[:, 1], "-o", ms=4, label=label or None)
-            ax.plot(*pivot, "ks", ms=6)
-        if len(xy) > 1:
-            ax.legend(fontsize="small")
-    ax.set(xlabel=f"$x$ ({units})", ylabel=f"$y$ ({units})", title=f"t = {traj.t[i]:g} " + r"$\tau$")
+    traj.physics.scene_def.draw_shape(ax, traj, i, _chains(traj))  # the scene's kind: chains or a network
+    ax.set(
+        xlabel=f"$x$ ({units})", ylabel=f"$y$ ({units})", title=f"t = {traj.t[i]:g} " + labels(traj.physics).time_units
+    )
     ax.set_aspect("equal", adjustable="datalim")
     return ax
 
@@ -217,7 +263,8 @@ def tip_path(traj: Trajectory, ax=None, transient: float = 0.0):
     tips = traj.tip()[keep]
     for k, label in enumerate(_chains(traj)):
         ax.plot(tips[:, k, 0], tips[:, k, 1], lw=1, label=label or None)
-    ax.set(xlabel="tip $x$ (l)", ylabel="tip $y$ (l)")
+    length = labels(traj.physics).length
+    ax.set(xlabel=f"tip $x$ ({length})", ylabel=f"tip $y$ ({length})")
     ax.set_aspect("equal", adjustable="datalim")
     if tips.shape[1] > 1:
         ax.legend(fontsize="small")

@@ -13,13 +13,11 @@ import numpy as np
 
 from .errors import ParameterError
 from .params import Physics
+from .units import CHAIN, scene_units
 
-TIME_UNITS = "tau"
-"""The unit of every time of a trajectory (tau = gamma l^2 / C1 for a chain, gamma / k for a network)."""
-CHAIN_LENGTH_UNITS = "l"
-"""The unit of a chain's positions: the link length."""
-NETWORK_LENGTH_UNITS = "a"
-"""The unit of a network's node positions: the springs' rest length."""
+TIME_UNITS = CHAIN.time_units
+"""The unit of a chain's times (tau = gamma l^2 / C1); a scene's own: units.scene_units(scene).time_units (gamma/k
+for a network)."""
 
 
 def particle_positions(physics: Physics, theta, head=None) -> np.ndarray:
@@ -125,17 +123,12 @@ class Trajectory:
         return self.theta[:, k * n : (k + 1) * n]
 
     @property
-    def is_network(self) -> bool:
-        """Whether this is a network scene's trajectory (nodes recorded, no angles)."""
-        return self.nodes is not None
-
-    @property
     def length_units(self) -> str:
-        """The unit of this trajectory's positions: l for a chain, a for a network."""
-        return NETWORK_LENGTH_UNITS if self.is_network else CHAIN_LENGTH_UNITS
+        """The unit of this trajectory's positions (its scene's: l for a chain, a for a network)."""
+        return self.physics.scene_def.length_units
 
     def positions(self) -> np.ndarray:
-        """Every particle's position at every sample time.
+        """Every particle's position at every sample time (the scene's kind says which: Scene.positions).
 
         Returns
         -------
@@ -144,9 +137,7 @@ class Trajectory:
             ``particle_{i}``) of each chain in units of l, from the angles and the moving pivot (`head`) if any. A
             network scene: its nodes, shape (T, nodes, 2) in units of a, as recorded.
         """
-        if self.is_network:
-            return self.nodes.copy()
-        return particle_positions(self.physics, self.theta, self.head)
+        return self.physics.scene_def.positions(self)
 
     def tip(self) -> np.ndarray:
         """The last particle of every chain at every sample time.
@@ -161,12 +152,7 @@ class Trajectory:
         ParameterError
             For a network scene, which has no tip (`positions` gives its nodes).
         """
-        if self.is_network:
-            raise ParameterError(
-                f"Trajectory.tip: the {self.physics.scene} scene is a network, which has no tip; "
-                "Trajectory.positions() gives its nodes"
-            )
-        return self.positions()[:, :, -1, :]
+        return self.physics.scene_def.tip(self)
 
     def centre_of_drag(self) -> np.ndarray:
         """The mean position of the points that carry drag: every particle (node), and a free head (the paraboloid's,
@@ -178,17 +164,7 @@ class Trajectory:
         numpy.ndarray
             A chain scene: shape (T, n_chains, 2), one centre per chain (units l); a network: shape (T, 2) (units a).
         """
-        xy = self.positions()
-        if self.is_network or self.head is None or self.head.shape[1] != 2 or not self._free_head():
-            return xy.mean(axis=-2)
-        centre = xy.mean(axis=-2)
-        n = self.physics.n
-        centre[:, 0] = (n * centre[:, 0] + self.head) / (n + 1)  # the free head: chain 1's pivot
-        return centre
-
-    def _free_head(self) -> bool:
-        """Whether the first chain's pivot is a free head carrying a particle's drag (not a prescribed clamp)."""
-        return bool(getattr(self.physics.scene_def.reduced_system(self.physics), "head_free", False))
+        return self.physics.scene_def.centre_of_drag(self)
 
     def to_xarray(self):
         """The trajectory as an xarray Dataset, every variable and coordinate with ``units`` and ``long_name``.
@@ -206,37 +182,11 @@ class Trajectory:
 
         units = self.length_units
         coords = {
-            "time": ("time", self.t, {"units": TIME_UNITS, "long_name": "time"}),
+            "time": ("time", self.t, {"units": scene_units(self.physics.scene_def).time_units, "long_name": "time"}),
             "xy": ("xy", ["x", "y"], {"long_name": "lab-frame component"}),
         }
-        data = {}
-        if self.is_network:
-            coords["node"] = ("node", np.arange(self.nodes.shape[1]), {"long_name": "node index (0-based)"})
-            data["position"] = (
-                ("time", "node", "xy"),
-                self.nodes,
-                {"units": units, "long_name": "node position"},
-            )
-        else:
-            chains, n = self.physics.n_chains, self.physics.n
-            coords["chain"] = ("chain", np.arange(chains), {"long_name": "chain index (0-based)"})
-            coords["particle"] = ("particle", np.arange(n), {"long_name": "particle index (0-based, site particle_i)"})
-            data["theta"] = (
-                ("time", "chain", "particle"),
-                self.theta.reshape(len(self.t), chains, n),
-                {"units": "rad", "long_name": "absolute angle of each link"},
-            )
-            position = self.positions()
-            data["position"] = (
-                ("time", "chain", "particle", "xy"),
-                position,
-                {"units": units, "long_name": "particle position"},
-            )
-            data["tip"] = (
-                ("time", "chain", "xy"),
-                position[:, :, -1, :],
-                {"units": units, "long_name": "tip position"},
-            )
+        state_coords, data = self.physics.scene_def.state_variables(self)  # the scene's kind: angles or nodes
+        coords.update(state_coords)
         if self.head is not None:
             moving = self.head.shape[1] == 2
             data["head"] = (

@@ -31,7 +31,7 @@ from ..constants import BEAD_RADIUS
 from ..errors import ParameterError
 from ..initial import initial_angles
 from ..params import Numerics, Physics
-from ..terms.self_aligning import align_with_sites
+from ..terms import align_polarities
 from . import mjcf_path
 
 INTEGRATOR = {
@@ -125,10 +125,9 @@ def _template(scene) -> mujoco.MjSpec:
 def build_spec(physics: Physics, numerics: Numerics = Numerics()) -> mujoco.MjSpec:
     """MjSpec of a scene with these parameters (compile it with .compile())."""
     scene = physics.scene_def
-    if scene.network(physics) is not None:  # nodes on slides, not chains: elastoactive.mjcf.network builds those
+    if scene.builder != __name__:  # a scene of another kind (a network: nodes on slides) has its own builder
         raise ParameterError(
-            f"{scene.name} is an elastic network, not a chain: build its MuJoCo model with "
-            "elastoactive.mjcf.network.build_network_spec(scene.network(physics), physics, numerics)"
+            f"{scene.name} is a {scene.kind}, not a chain: its MuJoCo model is built by {scene.builder}"
         )
     spec = _template(scene)
     prefixes = scene.chain_prefixes()
@@ -208,7 +207,7 @@ def prepare(physics: Physics, numerics: Numerics, theta0: np.ndarray | None = No
     for term in physics.active_terms():  # what a term sets in the initial state (a moving clamp's velocity)
         term.start(physics, model, data)
     mujoco.mj_forward(model, data)
-    if model.na:  # self-aligning units: polarity along the follower direction of the initial shape
-        align_with_sites(model, data)
+    if model.na:  # units that carry a polarity: theirs at t = 0 (self-aligning: the follower direction's)
+        align_polarities(model, data)
         mujoco.mj_forward(model, data)
     return model, data

@@ -17,11 +17,12 @@ is in gamma / k):
                         by implicitfast (and implicit, discrete) at no cost beyond the diagonal it adds
   node mass             bead geom mass = mass_ratio (inertial time m / gamma in units of gamma / k)
   active unit on node i the site's first user value F_a = sigma and a self-aligning unit on the site
-                        (terms.self_aligning.add_unit: an actuator node_{i}_polarity with user dynamics whose
-                        activation is the polarity psi_i, its transmission the node's x slide, a pinned node's its
-                        site; controllers/follower.c turns psi at (v . n_perp) / l_a and
-                        applies F_a (cos psi, sin psi)); every active node has one, also at sigma = 0 (its
-                        polarity then turns without a force), so that the state has the same shape at every sigma
+                        (Term.add_unit of the polarity term, the self-aligning term's: an actuator
+                        node_{i}_polarity with user dynamics whose activation is the polarity psi_i, its
+                        transmission the node's x slide, a pinned node's its site; controllers/follower.c turns
+                        psi at (v . n_perp) / l_a and applies F_a (cos psi, sin psi)); every active node has one,
+                        also at sigma = 0 (its polarity then turns without a force), so that the state has the same
+                        shape at every sigma
   callback marker       custom numeric elastoactive_follower (noise amplitude 0, seed): the compiled callback acts
                         only on models that carry it
 """
@@ -35,7 +36,7 @@ import numpy as np
 
 from ..errors import ParameterError
 from ..params import Numerics, Physics
-from ..terms.self_aligning import add_unit, polarity_addresses
+from ..terms import polarity_addresses, polarity_term, polarity_terms
 from . import mjcf_path
 from .chain import INTEGRATOR
 
@@ -134,8 +135,9 @@ def build_network_spec(network, physics: Physics, numerics: Numerics = Numerics(
         )
         tendon.wrap_site(f"node_{i}")
         tendon.wrap_site(f"node_{j}")
+    units = polarity_term(physics) or polarity_terms()[0]  # the term whose units it carries (Term.add_unit): one always
     for i in np.flatnonzero(active):  # a free node's unit on its x slide (O(1) per step), a pinned one's on its site
-        add_unit(spec, f"node_{i}", physics.alignment_length, slide=None if pinned[i] else f"node_{i}_x")
+        units.add_unit(spec, f"node_{i}", physics, slide=None if pinned[i] else f"node_{i}_x")
 
     spec.option.timestep = numerics.dt
     spec.option.integrator = INTEGRATOR[numerics.integrator]

@@ -183,11 +183,8 @@ def case_name(physics: Physics) -> str:
 # ------------------------------------------------------------------------------------------------
 def reference_method(physics: Physics) -> str:
     """REFERENCE's method where the scene's reduced engine takes it, else the engine's DOP853 (a network's engine
-    has its own methods: engines.network_reduced.METHODS)."""
-    from ..engines.network_reduced import METHODS as NETWORK_METHODS  # start-up time: the engines load numba
-    from ..reduced.settings import METHODS as CHAIN_METHODS
-
-    methods = NETWORK_METHODS if physics.scene_def.network(physics) is not None else CHAIN_METHODS
+    has its own methods: Scene.reduced_methods)."""
+    methods = physics.scene_def.reduced_methods()  # the scene's kind's reduced engine
     return REFERENCE["method"] if REFERENCE["method"] in methods else "DOP853" if "DOP853" in methods else methods[0]
 
 

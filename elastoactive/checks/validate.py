@@ -84,10 +84,7 @@ def comparison_window(reference, physics: Physics) -> float:
     and at least MIN_WINDOW. Later, trajectories part by slow phase drift, which the frequency
     error measures; comparing them pointwise there would count the same error again, growing
     with the length of the run."""
-    if reference.nodes is not None:  # a network: the settling of the signal its beat is measured on
-        signal = physics.scene_def.beat_signals(reference)[0]
-    else:
-        signal = obs.curvature(reference.chain(0))
+    signal = physics.scene_def.beat_signals(reference)[0]  # the first chain's Theta, or a network's signal
     return max(MIN_WINDOW, obs.settling_time(reference.t, signal))
 
 
@@ -131,24 +128,15 @@ def _values(value) -> np.ndarray:
 
 def angle_errors(traj, reference) -> dict[str, float]:
     """Largest angle difference over the reference's transient window (absolute, and relative to the
-    largest angle there); for a network scene the largest node position difference (units a, relative to the largest
-    displacement from rest there); the trajectories must share their sample times."""
+    largest angle there; the scene's kind says what it compares: Scene.state_difference, a network's node positions
+    relative to the largest displacement from rest); the trajectories must share their sample times."""
     n = min(traj.t.size, reference.t.size)
     if not np.allclose(traj.t[:n], reference.t[:n], rtol=0, atol=1e-9):
         raise ValueError("the trajectory and the reference are not sampled at the same times")
     window = comparison_window(reference, reference.physics)
     early = reference.t[:n] <= window
-    if reference.nodes is not None:  # a network: node positions (units a), relative to the largest displacement
-        rest = reference.physics.scene_def.network(reference.physics).positions
-        diff = np.abs(traj.nodes[:n][early] - reference.nodes[:n][early]).max()
-        scale = np.abs(reference.nodes[:n][early] - rest).max()
-        return {"angle_rad": float(diff), "angle": float(diff / max(scale, 1e-12)), "window": float(window)}
-    diff = np.abs(traj.theta[:n][early] - reference.theta[:n][early]).max()
-    return {
-        "angle_rad": float(diff),
-        "angle": float(diff / max(np.abs(reference.theta[:n][early]).max(), 1e-12)),
-        "window": float(window),
-    }
+    diff, scale = reference.physics.scene_def.state_difference(traj, reference, early)  # angles, or node positions
+    return {"angle_rad": diff, "angle": diff / max(scale, 1e-12), "window": float(window)}
 
 
 @dataclass
@@ -279,8 +267,7 @@ def format_table(rows: list[Comparison]) -> str:
         pct = lambda k: f"{100 * e[k]:.3f}%" if k in e else "-"
         viol = f"{c.constraint_violation:.1e}" if c.constraint_violation is not None else "-"
         other = ", ".join(f"{k} {pct(k)}" for k in c.physics.scene_def.compared if k in e and k not in _SHOWN) or "-"
-        network = c.physics.scene_def.network(c.physics) is not None  # node positions (units a), not angles
-        unit, what = ("a", "displacement") if network else ("rad", "angle")
+        unit, what = c.physics.scene_def.state_units, c.physics.scene_def.state_name  # rad and angle on a chain
         lines.append(
             f"| {case} | {c.mujoco_wall_s:.2f} | {c.reduced_wall_s:.2f} | {pct('amplitude')} | {pct('frequency')} "
             f"| {pct('rotation_rate')} | {other} | {e['angle_rad']:.2e} {unit} = {pct('angle')} of max {what}, "

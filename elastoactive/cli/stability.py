@@ -14,7 +14,6 @@ stable up to at least its Pi) (analysis/network/stability.py).
 from __future__ import annotations
 
 import argparse
-import math
 
 from .. import registry
 from ..errors import ParameterError
@@ -87,7 +86,7 @@ def _physics(args):
     if refused:
         raise ParameterError(f"stability: {refused[0]} has no effect on scene {args.scene}")
     sigma = 0.0 if args.sigma is None else args.sigma
-    if scene.term_parameters is not None and "alignment_length" in scene.term_parameters:  # a network: no chain
+    if not scene.sized_by_n:  # a network: its own parameters size it
         if args.n is not None:
             raise ParameterError(
                 f"stability: n has no effect on scene {args.scene} (a network's size is set by its own "
@@ -104,85 +103,11 @@ def _physics(args):
     return Physics(scene=args.scene, n=n, sigma=sigma, **given)
 
 
-def _network_report(physics, sigma: float | None) -> None:
-    """A network's onset in the coupling Pi = l_e / l_a (Scene.coupling). Where its fixed points form a family: what is
-    proved (every one stable below lambda_1, none above the ceiling) apart from what a search found (one stable up to
-    at least its Pi), and, at --sigma, which of these the given Pi falls in."""
-    scene, la = physics.scene_def, physics.alignment_length
-    onset = scene.onset(physics)
-    own = ", ".join(f"{k} = {getattr(physics, k)}" for k in scene.own_parameter_names())
-    print(f"{physics.scene}, {own}, l_a = {la:g}:")
-    print(f"  onset: {onset.kind}")
-
-    def at(value: float) -> str:
-        return f"Pi = {scene.coupling(physics, value):.6g}, sigma = {value:.6g}"
-
-    if onset.sigma_all is None:
-        print(f"  at sigma_c = {onset.sigma_c:.10g} (Pi_c = {scene.coupling(physics, onset.sigma_c):.6g})")
-    else:
-        print(f"  every fixed point is stable below {at(onset.sigma_c)} (lambda_1, proved)")
-        print(f"  some fixed point is stable up to at least {at(onset.sigma_all)} (the best found)")
-        print(f"  no fixed point is stable above {at(onset.sigma_ceiling)} (proved ceiling)")
-        print("  between, which fixed points are stable depends on their polarities")
-    if sigma is not None:
-        lam = scene.leading_eigenvalue(physics, sigma)
-        which = "the least stable fixed point's" if onset.sigma_all is not None else "the rest state's"
-        state = "unstable" if lam.real > 0 else "stable"
-        line = (
-            f"  at sigma = {sigma:g} (Pi = {scene.coupling(physics, sigma):.6g}): {which} growth rate "
-            f"{lam.real:+.6g} k/gamma ({state}"
-        )
-        if onset.sigma_all is not None and lam.real > 0:
-            line += (
-                "; some fixed point is stable"
-                if sigma < onset.sigma_all
-                else "; no fixed point is stable"
-                if sigma > onset.sigma_ceiling
-                else "; whether some fixed point is stable is not settled"
-            )
-        print(line + ")")
-
-
 def main(args) -> int:
-    from ..analysis.continuum import continuum_critical  # start-up time: scipy loads only when a command runs
-    from ..reduced.blas import one_blas_thread
+    from ..reduced.blas import one_blas_thread  # start-up time: numpy's BLAS set-up only when a command runs
 
     physics = _physics(args)
-    scene, n = physics.scene_def, physics.n
-    if scene.network(physics) is not None:
-        with one_blas_thread():
-            _network_report(physics, args.sigma)
-        return 0
     with one_blas_thread():
-        onset = scene.onset(physics)
-        sigma_c, omega_c = onset.sigma_c, onset.omega_c
-        own = "".join(
-            f", {k} = {v}" if isinstance(v := getattr(physics, k), str) else f", {k} = {v:g}"
-            for k in scene.own_parameter_names()
-        )
-        print(f"{physics.scene}, N = {n}{own}:")
-        if math.isfinite(sigma_c):
-            print(
-                f"  onset: {onset.kind} at sigma_c = {sigma_c:.10g} (N^3 sigma_c = {n**3 * sigma_c:.6g}), "
-                f"omega_c = {omega_c:.6g} rad/tau (f_c tau = {omega_c / (2 * math.pi):.6g}, N^4 omega_c = "
-                f"{n**4 * omega_c:.6g})"
-            )
-        else:  # stable over the whole range the scene searched
-            print(f"  onset: {onset.kind}")
-        if args.sigma is not None:
-            lam = scene.leading_eigenvalue(physics, args.sigma)
-            state = "unstable" if lam.real > 0 else "stable"
-            print(
-                f"  at sigma = {args.sigma:g}: growth rate {lam.real:+.6g} /tau, angular frequency "
-                f"{abs(lam.imag):.6g} rad/tau ({state}"
-                + (f"; sigma / sigma_c = {args.sigma / sigma_c:.4g})" if math.isfinite(sigma_c) else ")")
-            )
-    if scene.filament:
-        s_c, w_c = continuum_critical()
-        print(
-            f"  continuum filament (clamped, distributed follower load f, drag zeta): S_c = f L^3 / B = {s_c:.4f}, "
-            f"omega_c = {w_c:.4f} B / (zeta L^4); at N = {n} (sigma = S / N^3, omega in 1 / (N^4 tau)): "
-            f"sigma = {s_c / n**3:.6g}, omega = {w_c / n**4:.6g} rad/tau; the chain's N^3 sigma_c is "
-            f"{100 * (n**3 * sigma_c / s_c - 1):+.2f}% from it"
-        )
+        lines = physics.scene_def.stability_report(physics, args.sigma)  # the scene's kind's analysis
+    print("\n".join(lines))
     return 0

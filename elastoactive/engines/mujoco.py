@@ -8,6 +8,7 @@ likely cause, instead of silently restarting from qpos0.
 
 from __future__ import annotations
 
+import contextlib
 import sys
 import time
 from collections.abc import Callable
@@ -20,7 +21,7 @@ from ..errors import ParameterError, SimulationDiverged
 from ..io.progress import progress_bar
 from ..mjcf.chain import prepare, state_of
 from ..params import Numerics, Physics
-from ..terms.self_aligning import polarity_addresses
+from ..terms import polarity_addresses
 from ..trajectory import Trajectory
 from . import check_steps
 from .cost import NOTE_SECONDS, cost_note, mujoco_cost, reduced_cost
@@ -73,7 +74,8 @@ def simulate_mujoco(
     progress: bool = False,
     on_sample: Callable[[mujoco.MjModel, mujoco.MjData], None] | None = None,
 ) -> Trajectory:
-    """Simulate a scene for `duration` (in tau); returns angles sampled every numerics.sample_dt.
+    """Simulate a scene for `duration` (in tau); returns angles sampled every numerics.sample_dt. The scene's kind
+    runs it (Scene.run_mujoco: a chain's simulate_chain_mujoco, a network's engines.network_mujoco).
 
     Numerics left at their defaults become numerics.for_physics(physics): for a long chain, explicit drag
     with a matched mass (params.long_chain_numerics; info["automatic_numerics"] records what ran).
@@ -88,15 +90,24 @@ def simulate_mujoco(
     """
     if not duration > 0:
         raise ParameterError(f"duration (in tau) must be a positive number, got {duration}")
-    network = physics.scene_def.network(physics)
-    if network is not None:  # a network scene: its own model and record (engines.network_mujoco)
-        from .network_mujoco import simulate_network_mujoco  # start-up time: chains never load it
+    return physics.scene_def.run_mujoco(
+        physics, numerics, duration, theta0=theta0, state0=state0, progress=progress, on_sample=on_sample
+    )
 
-        if theta0 is not None:
-            raise ParameterError(f"theta0: {physics.scene} is a network (its initial state: Scene.initial_network)")
-        return simulate_network_mujoco(
-            physics, numerics, duration, network=network, state0=state0, progress=progress, on_sample=on_sample
-        )
+
+def simulate_chain_mujoco(
+    physics: Physics,
+    numerics: Numerics,
+    duration: float,
+    *,
+    theta0: np.ndarray | None = None,
+    state0=None,
+    progress: bool = False,
+    on_sample: Callable[[mujoco.MjModel, mujoco.MjData], None] | None = None,
+    install_callbacks: bool = True,
+) -> Trajectory:
+    """The MuJoCo engine's run of a chain scene (ChainScene.run_mujoco; simulate_mujoco says what it does).
+    install_callbacks=False: the caller has installed the compiled callbacks for the whole call."""
     if state0 is not None:
         raise ParameterError(f"start: {physics.scene} is a chain scene (its state is its angles, theta0)")
     given, numerics = numerics, numerics.for_physics(physics)  # long chains: automatic numerics (Numerics)
@@ -120,12 +131,12 @@ def simulate_mujoco(
     nstep = numerics.steps_per_sample
     qpos = np.empty((t.size, model.nq))
     qpos[0] = data.qpos
-    units = polarity_addresses(model) if model.na else None  # self-aligning units' polarity psi (mjData.act)
+    units = polarity_addresses(model) if model.na else None  # the units' polarity psi (terms.polarity_addresses)
     polarity = None if units is None else np.empty((t.size, units.size))
     if polarity is not None:
         polarity[0] = data.act[units]
     start = last_shown = time.perf_counter()
-    with follower_forces():
+    with follower_forces() if install_callbacks else contextlib.nullcontext():
         for k in range(1, t.size):
             check = is_check(k, t.size)
             if check:  # the last step apart: how far one step moves the state (monitor.MAX_STEP_CHANGE)

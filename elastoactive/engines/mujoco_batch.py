@@ -53,7 +53,7 @@ from ..controllers import follower_forces
 from ..errors import ParameterError, SimulationDiverged
 from ..mjcf.chain import prepare, state_of
 from ..params import Numerics, Physics, check_start
-from ..terms.self_aligning import polarity_addresses
+from ..terms import polarity_addresses
 from ..trajectory import Trajectory
 from .monitor import is_check, runaway
 from .mujoco import BAD_STATE_WARNINGS, CHECK_EVERY, PIN_DRIFT_LIMIT, numerics_info, pin_drift_message, pin_violation
@@ -520,10 +520,10 @@ def run_chunk(
     runs[i].used), e.g. for a pre-flight check that would otherwise build it again; it must only read it."""
     groups: dict[bytes, list[_Sim]] = {}
     for i in indices:
-        if is_network(runs[i]):  # a network scene: its own engine, run alone on this thread
+        if runs_alone(runs[i]):  # a scene of a kind the batch does not run: its own engine, alone on this thread
             if on_start is not None:
                 on_start()
-            on_done(i, _network_outcome(runs[i]))
+            on_done(i, _alone_outcome(runs[i]))
             continue
         try:
             sim = _prepare(i, runs[i])
@@ -537,21 +537,20 @@ def run_chunk(
         run_batch(sims, threads, on_done, cancel, on_start, drop)
 
 
-def is_network(run: Run) -> bool:
-    """Whether a run is of a network scene (engines.network_mujoco runs it, not mujoco.batch)."""
+def runs_alone(run: Run) -> bool:
+    """Whether a run's scene is of a kind that the batched engine does not run (Scene.mujoco_batched: a network's
+    engine runs it alone on one thread of its chunk)."""
     try:
-        return run.physics.scene_def.network(run.physics) is not None
+        return not run.physics.scene_def.mujoco_batched
     except Exception:  # noqa: BLE001 (an invalid run: preparing it records the error)
         return False
 
 
-def _network_outcome(run: Run):
-    """A network scene's outcome, as simulate_mujoco gives it (engines.network_mujoco; the caller has installed the
-    callbacks). Network runs do not go through mujoco.batch: each runs alone on one thread of its chunk."""
-    from .network_mujoco import simulate_network_mujoco  # start-up time: chains never load it
-
+def _alone_outcome(run: Run):
+    """The outcome of a run that runs alone (runs_alone), as simulate_mujoco gives it (its scene's run_mujoco; the
+    caller has installed the callbacks)."""
     try:
-        return simulate_network_mujoco(run.physics, run.used, run.duration, install_callbacks=False)
+        return run.physics.scene_def.run_mujoco(run.physics, run.used, run.duration, install_callbacks=False)
     except Exception as err:  # noqa: BLE001 (as simulate_mujoco would raise it)
         return err
 

@@ -25,7 +25,7 @@ import numpy as np
 from .. import reduced as _math
 from ..errors import ParameterError
 from ..params import Physics
-from ..terms.self_aligning import initial_polarity
+from ..terms import polarity_term
 from .node_forces import generalised, positions, time_law
 
 
@@ -114,7 +114,7 @@ def solve(
 
     mask = np.zeros(physics.n_angles, dtype=bool)
     mask[unit_indices(physics)] = True
-    y0 = np.concatenate([theta0, initial_polarity(theta0, mask)])
+    y0 = np.concatenate([theta0, polarity_term(physics).initial_polarity(theta0, mask)])
     f = rhs(physics, system, beta=beta, laws=laws)
     sol = solve_ivp(f, (0.0, float(t[-1])), y0, method="DOP853", t_eval=t, rtol=rtol, atol=atol)
     if not sol.success:

@@ -33,7 +33,7 @@ from ..io.progress import progress_bar
 from ..params import Numerics, Physics
 from ..reduced import DEFAULT_BETA, INERTIA_RESOLUTION, STIFF_RADIUS, ChainSystem
 from ..reduced.settings import METHODS
-from ..terms.self_aligning import SELF_ALIGNING, check_reduced_span
+from ..terms import check_reduced_span, polarity_term
 from ..trajectory import Trajectory
 from . import node_forces
 from . import polarity as polarity_engine
@@ -256,7 +256,8 @@ def simulate_reduced(
     progress: bool = False,
 ) -> Trajectory:
     """Integrate the reduced model from theta0 (default: initial_angles) and sample every numerics.sample_dt; a
-    network scene from state0 (its NetworkState; default: Scene.initial_network).
+    network scene from state0 (its NetworkState; default: Scene.initial_network). The scene's kind runs it
+    (Scene.run_reduced: a chain's simulate_chain_reduced, a network's engines.network_reduced).
 
     inertial: None (automatic: the inertial model, at rest at t = 0, when numerics.mass_ratio is outside the
     overdamped limit, see `regime`), True (the inertial model at numerics.mass_ratio), False (overdamped).
@@ -271,12 +272,36 @@ def simulate_reduced(
     callback applies, constant over each step (Euler steps of the random ODE; dt << tau_c resolves it). info
     records "model" ("overdamped" / "inertial") and "mass_ratio".
     """
-    if physics.scene_def.network(physics) is not None:  # a network scene: its own model (engines.network_reduced)
-        from .network_reduced import simulate_network_reduced  # start-up time: chain runs never load it
+    return physics.scene_def.run_reduced(
+        physics,
+        numerics,
+        duration,
+        theta0=theta0,
+        state0=state0,
+        rtol=rtol,
+        atol=atol,
+        method=method,
+        beta=beta,
+        inertial=inertial,
+        progress=progress,
+    )
 
-        return simulate_network_reduced(
-            physics, numerics, duration, theta0=theta0, state0=state0, rtol=rtol, atol=atol, method=method
-        )
+
+def simulate_chain_reduced(
+    physics: Physics,
+    numerics: Numerics,
+    duration: float,
+    *,
+    theta0=None,
+    state0=None,
+    rtol: float = 1e-9,
+    atol: float = 1e-11,
+    method: str | None = None,
+    beta: float = DEFAULT_BETA,
+    inertial: bool | None = None,
+    progress: bool = False,
+) -> Trajectory:
+    """The reduced engine's run of a chain scene (ChainScene.run_reduced; simulate_reduced says what it does)."""
     if state0 is not None:
         raise ParameterError(f"start: {physics.scene} is a chain scene (its state is its angles, theta0)")
     check_method(physics, method)
@@ -291,11 +316,12 @@ def simulate_reduced(
     if laws or clamp is not None:
         node_forces.check(physics, system, physics.noise > 0)
     polarity = None
-    if physics.active == SELF_ALIGNING:  # self-aligning units (engines.polarity): before any other path
+    units = polarity_term(physics) is not None  # turning units (engines.polarity): before any other path
+    if units:
         polarity_engine.check(physics, system, physics.noise > 0)
         check_reduced_span(physics, duration)
     start = time.perf_counter()
-    if physics.active == SELF_ALIGNING:  # the state (theta, psi)
+    if units:  # the state (theta, psi)
         theta, polarity, info = polarity_engine.solve(physics, system, t, theta0, laws, rtol=rtol, atol=atol, beta=beta)
     elif physics.noise > 0:
         dt = numerics.dt

@@ -440,12 +440,21 @@ def check_timestep(
     accuracy=True, settings that are stable but measured to give wrong answers (module docstring). Numerics left
     at their defaults are checked as a run uses them (numerics.for_physics: a long chain's automatic numerics).
     `model`: the run's compiled model if it is built already (stability_limits). A refusal names a setting that
-    passes every check (passing_setting), unless suggest=False."""
-    if physics.scene_def.network(physics) is not None:  # a network scene: its own linearisation
-        from .network_mujoco import check_network_timestep  # start-up time: only network runs load it
+    passes every check (passing_setting), unless suggest=False. The scene's kind checks it (Scene.check_timestep: a
+    chain's check_chain_timestep, a network's own linearisation)."""
+    return physics.scene_def.check_timestep(physics, numerics, safety, accuracy, model=model, suggest=suggest)
 
-        rate = check_network_timestep(physics, numerics)
-        return StabilityLimits(spring_dt=2.0 / rate, drag_dt=math.inf, follower_dt=math.inf, fastest_rate=rate)
+
+def check_chain_timestep(
+    physics: Physics,
+    numerics: Numerics,
+    safety: float = 1.0,
+    accuracy: bool = True,
+    *,
+    model: mujoco.MjModel | None = None,
+    suggest: bool = True,
+) -> StabilityLimits:
+    """check_timestep of a chain scene (ChainScene.check_timestep)."""
     numerics = numerics.for_physics(physics)
     limits = stability_limits(physics, numerics, model=model)
     dt_max = limits.limit(numerics.integrator)

@@ -14,7 +14,7 @@ What a frame shows (top-down camera that frames the whole motion):
   - with self-contact, the links' capsules and a marker at every contact; for the paraboloid, the dish (rings of
     equal height) and the trap's springs
   - a caption: scene, N, sigma (delta, kappa, rho where they apply) and the time in tau
-A network scene's trajectory (Trajectory.nodes) is drawn by elastoactive.render.network instead.
+A scene's kind says which painter draws it (Scene.painter): a network's is elastoactive.render.network's.
 
 Time: frame k shows t = t_start + k * rate / fps, with `rate` in tau per second of video.
 The default rate makes one beat of Theta last about a second (rate = 1 / (f tau)); a steadily
@@ -59,7 +59,7 @@ from .gl import (  # noqa: F401 (API)
     probe_backend,
     top_camera,
 )
-from .network import NetworkPainter
+from .network import NetworkPainter  # noqa: F401 (API)
 
 DEFAULT_RATE = 10.0  # tau per second of video when there is no oscillation to time it by
 TRAIL_POINTS = 40  # samples per trail
@@ -87,13 +87,13 @@ def default_rate(traj: Trajectory) -> float:
     t = traj.t
     if t.size < 8 or t[-1] - t[0] <= 0:
         return DEFAULT_RATE
-    if traj.nodes is not None:  # a network: the scene's period, if it has one
-        period = traj.physics.scene_def.video_period(traj)
+    scene = traj.physics.scene_def
+    if not scene.paced_by_beat:  # e.g. a network: the scene's period, if it has one
+        period = scene.video_period(traj)
         return DEFAULT_RATE if period is None else float(np.clip(period, 0.5, 200.0))
     freqs = []
     try:
-        for k in range(traj.physics.n_chains):
-            x = obs.curvature(traj.chain(k))
+        for x in scene.beat_signals(traj):
             if obs.amplitude(t, x) > 1e-3:
                 f = obs.frequency(t, x)
                 if f > 0:
@@ -167,7 +167,7 @@ def _trail_colours(n: int) -> np.ndarray:
     return colormaps["plasma"](np.linspace(0.15, 0.85, n))
 
 
-class _Painter:
+class ChainPainter:
     """Builds the render model and draws frames (one per time) of one trajectory."""
 
     def __init__(
@@ -297,11 +297,9 @@ def _moving_clamp(model, physics: Physics):
 
 
 def _painter(traj: Trajectory, **options):
-    """The painter of a trajectory: the chain's (_Painter), or a network scene's (render_network.NetworkPainter)."""
-    if traj.nodes is None:
-        return _Painter(traj, **options)
-    check_picture(width=options["width"], height=options["height"], trail=options["trail"])
-    return NetworkPainter(traj, **options)
+    """The painter of a trajectory: its scene's kind's (Scene.painter: a chain's ChainPainter, a network's
+    render.network.NetworkPainter)."""
+    return traj.physics.scene_def.painter(traj, **options)
 
 
 def _window(traj: Trajectory, start: float | None, end: float | None) -> tuple[float, float]:
@@ -484,6 +482,7 @@ def render_trajectory(
 
 
 __all__ = [
+    "ChainPainter",
     "RenderError",
     "gl_backend",
     "probe_backend",

@@ -96,9 +96,9 @@ class NetworkPainter:
     ):
         """As the chain painter's; `rate` and `trail` are not used (a network's nodes leave no trails)."""
         physics = traj.physics
-        network = physics.scene_def.network(physics)
-        if network is None or traj.nodes is None:
+        if traj.nodes is None:
             raise ParameterError(f"render: {physics.scene} has no network to draw (a chain: elastoactive.render)")
+        network = physics.scene_def.network(physics)
         if traj.nodes.shape[1:] != (len(network.positions), 2):
             raise ParameterError(
                 f"render: the trajectory's nodes {traj.nodes.shape[1:]} do not match the "

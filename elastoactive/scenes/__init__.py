@@ -5,7 +5,8 @@
     scene = ea.scenes.get("two-pinned")
     scene.parameters, scene.observables, scene.validation_cases()
 
-A new scene is a subclass of `Scene` (elastoactive.scenes.base) registered with `register`;
+A new scene is a subclass of a kind of scene, `ChainScene` or `NetworkScene` (the contract: elastoactive.scenes.base),
+registered with `register`;
 the CLI, sweeps, validate, render, accuracy and the stability grid then offer it. See
 docs/scenes.md for the contract and the diff a new scene needs.
 """
@@ -13,6 +14,8 @@ docs/scenes.md for the contract and the diff a new scene needs.
 from ..registry import UnknownScene, get, names, register, scenes, unregister
 from . import coupled_pair, lattice, network, one_pinned, paraboloid, ring, rotating_pin, star, trap, two_pinned
 from .base import Scene, ValidationCase
+from .chain_kind import ChainScene
+from .network_kind import NetworkScene
 
 for _module in (
     one_pinned,
@@ -28,4 +31,15 @@ for _module in (
 ):  # the paper's order, then ours
     register(_module.SCENE)
 
-__all__ = ["Scene", "UnknownScene", "ValidationCase", "get", "names", "register", "scenes", "unregister"]
+__all__ = [
+    "ChainScene",
+    "NetworkScene",
+    "Scene",
+    "UnknownScene",
+    "ValidationCase",
+    "get",
+    "names",
+    "register",
+    "scenes",
+    "unregister",
+]

@@ -1,32 +1,51 @@
-"""What a scene is: the plug-in contract every scene module fulfils.
+"""What a scene is: the plug-in contract every scene fulfils, and the kinds of scene.
 
-A scene module defines one subclass of `Scene` and registers one instance of it. The instance
-knows everything specific to the scene; the rest of the package asks it (through the registry,
-`elastoactive.scenes`) and never compares against a scene's name:
+A scene is of one *kind*, a subclass of `Scene` that knows how that kind of structure is built, run, recorded and
+drawn: `ChainScene` (elastoactive.scenes.chain_kind: chains of particles on hinges, state: absolute angles) and
+`NetworkScene` (elastoactive.scenes.network_kind: an elastic network of nodes carrying self-aligning units, state: node
+positions and polarities). A scene module defines one subclass of a kind and registers one instance of it; the rest of
+the package asks the instance (through the registry, `elastoactive.scenes`) and never asks which kind it is, nor
+compares against a scene's name (tests/project/test_layering.py holds both).
+
+Adding a kind (e.g. chains in three dimensions): a new module in elastoactive/scenes/ defining a subclass of `Scene`
+that implements every hook of the kind contract below (the ones `Scene` leaves raising NotImplementedError); its
+engine adapters, builder and painter live in new modules of their packages, which the hooks import at their engine
+boundary (inside the hook, said once in the kind module's docstring). No module outside scenes/ is edited. The kind
+contract, what the package asks of every scene:
+
+  identity            `kind` (a word for messages: "chain"), `units` (elastoactive.units: its positions are in
+                      units.length), `beat_signal` (what its beat is measured on),
+                      `state_units` and `state_name` (what validate compares sample by sample: "rad", "angle")
+  engines             `run_mujoco` and `run_reduced` (the engine adapters: (physics, numerics, duration, **options)
+                      -> Trajectory), `mujoco_batched` (whether MuJoCo runs of it share engines.mujoco_batch; False:
+                      each runs alone through run_mujoco), `check_timestep` (the MuJoCo pre-flight check),
+                      `reduced_methods` (the reduced engine's solvers), `seeded_start` (whether its initial state is
+                      off every base state whatever the perturbation)
+  builder             `builder` (the module whose build_spec builds its MJCF: the chain builder refuses the others)
+  trajectory          `positions`, `tip`, `centre_of_drag`, `state_variables` (Trajectory's positions and its
+                      xarray variables), `state_difference` (validate's sample-by-sample comparison)
+  drawing             `painter` (render's video painter), `draw_shape` (ea.plot.shape), `paced_by_beat` (whether
+                      a video's pace follows the beat of `beat_signals`)
+  stability           `sized_by_n` (whether N sizes it), `stability_report` (the lines `elastoactive stability`
+                      prints)
+
+and the scene's own part, which every kind shares:
 
   parameters          the scene's own physics parameters (elastoactive.parameters.Parameter specs it declares, or
-                      names of parameters declared elsewhere), beyond the chain's n and the terms' (sigma, drag,
-                      noise, contact: elastoactive.terms), and `check` for constraints on them (e.g. N >= 2 with both
-                      ends pinned)
-  MJCF                `base_file` (in mjcf/) and `build`, which adds the scene's own elements (pins,
-                      coupling, keyframes) to the chain(s) that elastoactive.mjcf.chain generates
-  reduced model       `reduced_system`: the typed record the reduced solver integrates
-  initial state       `initial_angles`
+                      names of parameters declared elsewhere), and `check` for constraints on them; `term_parameters`
+                      and `fixed`: which of the terms' parameters act on it
   observables         `observables` (elastoactive.observables.Observable specs it declares: name, units, long name,
-                      how validate compares it, ...; or names of declared ones) and `measure_extra` (their
-                      values); `compared`, the ones `validate` holds to its tolerance
+                      how validate compares it, ...; or names of declared ones), `beat_signals` (the scalars whose
+                      beat amplitude and frequency measure) and `measure_extra` (their values); `compared`, the ones
+                      `validate` holds to its tolerance
   validation          `validation_cases` (paper cases), `extreme_cases` (stability grid)
   linear stability    `onset` and `leading_eigenvalue` of the linear operator about the base state (or
                       `no_linear_operator`: why there is none), `filament`: whether the continuum filament is its
                       limit (elastoactive stability)
   drawing             `caption`, `extent_points`, `decorate`, `video_period`
-  networks            `network` (None for chains): the elastic network of self-aligning active units a network scene
-                      simulates (elastoactive.analysis.network.Network), which the engines dispatch on;
-                      `initial_network` its state at t = 0; `term_parameters` and `fixed`: which of the chain's and
-                      terms' parameters act on it; `beat_signal`: the scalar whose beat amplitude and frequency measure
 
-Defaults describe a single clamped chain (the one-pinned scene needs to override nothing but its
-name); a new scene overrides what differs.
+Each kind's docstring lists its own part of the contract (a chain's pins, clamps, prefixes and reduced record; a
+network's Network record and initial state).
 """
 
 from __future__ import annotations
@@ -36,19 +55,18 @@ from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 
-from ..analysis import observables as obs
-from ..analysis.network import Network, NetworkState, initial_state
 from ..cases import ValidationCase
-from ..constants import BEAD_INERTIA_FACTOR
 from ..errors import ParameterError
 from ..observables import Observable, names_of
 from ..parameters import Parameter
 from ..parameters import get as parameter_spec
-from ..reduced.system import ChainSystem
+from ..units import CHAIN, THETA, Signal, Units
 
 if TYPE_CHECKING:  # typing only: these modules import the registry that holds scenes
     from ..params import Numerics, Physics
     from ..trajectory import Trajectory
+
+__all__ = ["Onset", "Scene", "ValidationCase"]
 
 
 @dataclass(frozen=True)
@@ -68,7 +86,8 @@ class Onset:
 
 
 class Scene:
-    """A scene: its parameters, MJCF, reduced-model terms, initial state, observables, checks, drawing."""
+    """A scene: the part every kind shares (parameters, observables, checks, drawing) and the kind contract's hooks,
+    which a kind (ChainScene, NetworkScene) implements. Subclass a kind, not this class."""
 
     name: ClassVar[str] = ""
     """Registry key and CLI name, e.g. 'one-pinned'."""
@@ -79,14 +98,7 @@ class Scene:
     parameters: ClassVar[tuple[Parameter | str, ...]] = ()
     """The scene's own physics parameters: specs it declares (registered with the scene), or names of declared ones."""
     min_n: ClassVar[int] = 1
-    n_chains: ClassVar[int] = 1
-    """Chains of the scene (the most, for a scene whose number of chains is a parameter: `chain_count`)."""
-    clamped: ClassVar[bool] = True
-    """Whether a spring holds the first pendulum against the clamp (False: a free pin)."""
-    head_coordinates: ClassVar[int] = 0
-    """Coordinates of a moving pivot (the head) before the angles: 0 (pinned at the origin) or 2 (x_h, y_h; MuJoCo's
-    slide joints, the reduced model's last two state variables, Trajectory.head); 1: the angle phi of a hub the chains
-    hang on (the star: MuJoCo's hub hinge, the reduced model's last state variable, Trajectory.head[:, 0])."""
+    """The fewest particles per chain (n) the scene takes."""
     pinned: ClassVar[bool] = False
     """Whether the last particle is held by a pin (a MuJoCo equality; monitored for drift)."""
     observables: ClassVar[tuple[Observable | str, ...]] = ()
@@ -114,6 +126,118 @@ class Scene:
     """(parameter, value, why) the scene holds fixed (a network's units are self-aligning): Physics sets the value
     and refuses another one in one line, giving the reason."""
 
+    # ------------------------------------------------------------------ the kind contract (module docstring)
+    kind: ClassVar[str] = ""
+    """What kind of structure the scene is, in a word for messages ('chain', 'network')."""
+    units: ClassVar[Units] = CHAIN
+    """The scene's system of units (elastoactive.units): what its numbers are measured in; each kind sets its own."""
+    state_units: ClassVar[str] = ""
+    """The unit of what validate compares sample by sample (state_difference)."""
+    state_name: ClassVar[str] = ""
+    """What validate compares sample by sample, in a word ('angle', 'displacement')."""
+    mujoco_batched: ClassVar[bool] = False
+    """Whether MuJoCo runs of the scene go through the batched engine (engines.mujoco_batch); False: a batch runs each
+    alone on one of its threads, through run_mujoco(..., install_callbacks=False)."""
+    seeded_start: ClassVar[bool] = False
+    """Whether the initial state is off every base state whatever the perturbation (a network's seeded polarities),
+    so that a run at perturbation 0 is let through (params.check_start)."""
+    paced_by_beat: ClassVar[bool] = False
+    """Whether a video's pace follows the beat of `beat_signals` (one beat a second); else `video_period`."""
+    sized_by_n: ClassVar[bool] = False
+    """Whether N (particles per chain) sizes the scene (elastoactive stability takes --n)."""
+    builder: ClassVar[str] = ""
+    """The module that builds the scene's MJCF model (elastoactive.mjcf.chain refuses the scenes it does not build)."""
+
+    @property
+    def length_units(self) -> str:
+        """The unit of the scene's positions (Trajectory.length_units): its units' length."""
+        return self.units.length
+
+    def beat_signal(self, physics: Physics) -> Signal:
+        """What beat_signals measures, for labels and units (elastoactive.units.Signal)."""
+        return THETA
+
+    def _kind_hook(self, hook: str):
+        return NotImplementedError(
+            f"scene {self.name!r} implements no kind: {type(self).__name__}.{hook} is a hook of the kind contract; "
+            "subclass a kind (elastoactive.scenes.ChainScene, NetworkScene), not Scene"
+        )
+
+    def run_mujoco(self, physics: Physics, numerics: Numerics, duration: float, **options) -> Trajectory:
+        """The MuJoCo engine's run of this scene (engines.mujoco.simulate_mujoco hands it here); options:
+        theta0, progress, on_sample, install_callbacks."""
+        raise self._kind_hook("run_mujoco")
+
+    def run_reduced(self, physics: Physics, numerics: Numerics, duration: float, **options) -> Trajectory:
+        """The reduced engine's run of this scene (engines.reduced.simulate_reduced hands it here)."""
+        raise self._kind_hook("run_reduced")
+
+    def check_timestep(self, physics: Physics, numerics: Numerics, safety: float, accuracy: bool, **options):
+        """The MuJoCo pre-flight check of a timestep (engines.timestep.check_timestep hands it here): refuses, naming
+        the setting, or returns the run's engines.timestep.StabilityLimits."""
+        raise self._kind_hook("check_timestep")
+
+    def reduced_methods(self) -> tuple[str, ...]:
+        """The solvers the reduced engine offers for this scene (its `method` option)."""
+        raise self._kind_hook("reduced_methods")
+
+    def positions(self, traj: Trajectory) -> np.ndarray:
+        """Every particle's (node's) position at every sample time (Trajectory.positions)."""
+        raise self._kind_hook("positions")
+
+    def tip(self, traj: Trajectory) -> np.ndarray:
+        """The last particle of every chain at every sample time (Trajectory.tip), or a ParameterError saying why
+        the scene has none."""
+        raise self._kind_hook("tip")
+
+    def centre_of_drag(self, traj: Trajectory) -> np.ndarray:
+        """The mean position of the points that carry drag (Trajectory.centre_of_drag)."""
+        raise self._kind_hook("centre_of_drag")
+
+    def state_variables(self, traj: Trajectory) -> tuple[dict, dict]:
+        """(coordinates, data variables) of the trajectory's state for Trajectory.to_xarray: each name -> (dims,
+        values, attrs with units and long_name)."""
+        raise self._kind_hook("state_variables")
+
+    def state_difference(self, traj: Trajectory, reference: Trajectory, early: np.ndarray) -> tuple[float, float]:
+        """(largest difference, its scale) between two trajectories' states over the samples `early` of the shared
+        times (validate's angle error: state_units)."""
+        raise self._kind_hook("state_difference")
+
+    def painter(self, traj: Trajectory, **options):
+        """The renderer's painter of a trajectory of this scene (elastoactive.render)."""
+        raise self._kind_hook("painter")
+
+    def draw_shape(self, ax, traj: Trajectory, i: int, labels: list[str]) -> None:
+        """Draw the structure at sample i on matplotlib axes `ax` (ea.plot.shape); labels: one per chain."""
+        raise self._kind_hook("draw_shape")
+
+    def stability_report(self, physics: Physics, sigma: float | None) -> list[str]:
+        """The lines `elastoactive stability` prints: the onset, and the growth at `sigma` when given."""
+        raise self._kind_hook("stability_report")
+
+    def beat_signals(self, traj: Trajectory) -> list[np.ndarray]:
+        """The scalar signals whose beat (amplitude, frequency, periodicity) results.measure reports, one per chain."""
+        raise self._kind_hook("beat_signals")
+
+    # ------------------------------------------------------------------ shape every kind answers
+    def chain_count(self, physics: Physics) -> int:
+        """Number of chains of this physics (Physics.n_chains)."""
+        return 1
+
+    def head_count(self, physics: Physics) -> int:
+        """Coordinates of a moving pivot (Trajectory.head's columns) for this physics: 0, none."""
+        return 0
+
+    def angle_count(self, physics: Physics) -> int:
+        """Columns of Trajectory.theta (Physics.n_angles)."""
+        return 0
+
+    def inertial_model(self, physics: Physics) -> bool:
+        """Whether the reduced engine has an inertial model of the scene with these parameters (particles of mass
+        mass_ratio, engines.reduced)."""
+        return False
+
     # ------------------------------------------------------------------ parameters
     @classmethod
     def own_parameter_names(cls) -> tuple[str, ...]:
@@ -129,19 +253,6 @@ class Scene:
         """Scene-specific checks of the parameters (the generic ranges are checked by Physics)."""
         if physics.n < self.min_n:
             raise ParameterError(f"n (number of particles N) must be >= {self.min_n} for {self.name}, got {physics.n}")
-
-    def head_count(self, physics: Physics) -> int:
-        """Coordinates of the moving pivot for this physics (head_coordinates; a scene whose pivot moves only for some
-        parameter values, the free ring, overrides it)."""
-        return self.head_coordinates
-
-    def chain_count(self, physics: Physics) -> int:
-        """Number of chains of this physics (Physics.n_chains): n_chains, or a parameter's value (the star's arms)."""
-        return self.n_chains
-
-    def stiffness(self, physics: Physics) -> tuple[float, ...]:
-        """Joint stiffness of each chain in units of C1 (one per chain that elastoactive.mjcf.chain builds)."""
-        return (1.0,) * self.chain_count(physics)
 
     def physics(self, **values: Any) -> Physics:
         """Physics of this scene with the given parameters (the others at their defaults)."""
@@ -165,53 +276,6 @@ class Scene:
                 values = ((p.name, getattr(physics, p.name)) for p in term.parameters)
                 text += "".join(f" {k}={v:.4g}" if isinstance(v, float) else f" {k}={v}" for k, v in values)
         return text
-
-    # ------------------------------------------------------------------ MJCF
-    def chain_prefixes(self) -> tuple[str, ...]:
-        """Name prefix of each chain's elements in the MJCF."""
-        return ("",) if self.n_chains == 1 else tuple(f"chain{k + 1}_" for k in range(self.n_chains))
-
-    def chain_offset(self, physics: Physics, k: int) -> float:
-        """Lateral (y) position of chain k's clamp: side by side, far enough apart to see both."""
-        return -float(max(physics.n, 3)) * k
-
-    def build(self, spec, physics: Physics, numerics: Numerics) -> None:
-        """Add the scene's own elements to `spec` (an mujoco.MjSpec holding the generated chains)."""
-
-    # ------------------------------------------------------------------ reduced model
-    def reduced_system(self, physics: Physics) -> ChainSystem:
-        """The reduced model of this scene: overdamped (mass_ratio 0); the engine sets the particle mass for the
-        inertial model (engines.reduced.system_of), whose beads have MuJoCo's rotational inertia (mjcf/common.xml)."""
-        system = ChainSystem(
-            n=physics.n,
-            n_chains=self.chain_count(physics),
-            clamped=self.clamped,
-            pinned=self.pinned,
-            sigma=0.0,
-            gamma_l=1.0,
-            gamma_t=1.0,
-            kappa=0.0,
-            rho=1.0,
-            delta=0.0,
-            mass_ratio=0.0,
-            inertia_factor=BEAD_INERTIA_FACTOR,
-        )
-        for term in physics.active_terms():  # the follower's sigma, the drag's gamma_l, the contact's penalty, ...
-            system = term.reduced_system(system, physics)
-        return system
-
-    def inertial_model(self, physics: Physics) -> bool:
-        """Whether the reduced engine has an inertial model of the scene with these parameters (particles of mass
-        mass_ratio, engines.reduced): a chain scene's does; a network's model is overdamped only, and so is the free
-        ring's (their engines refuse a mass outside that limit)."""
-        return True
-
-    # ------------------------------------------------------------------ initial state
-    def initial_angles(self, physics: Physics, numerics: Numerics) -> np.ndarray:
-        """Absolute angles at t = 0: each chain's static shape under seeded small pushes."""
-        from ..initial import pushed_chains  # initial imports scipy (start-up time)
-
-        return pushed_chains(physics.n, self.chain_count(physics), numerics.perturbation, numerics.seed)
 
     # ------------------------------------------------------------------ observables
     def measure_extra(self, traj: Trajectory, transient: float) -> dict[str, float | str]:
@@ -256,31 +320,8 @@ class Scene:
         frame.spring(chain_a, particle_a, chain_b, particle_b)."""
 
     def video_period(self, traj: Trajectory) -> float | None:
-        """Time (tau) one second of video shows when the chain does not beat (None: the default)."""
+        """Time (tau) one second of video shows when the structure does not beat (None: the default)."""
         return None
-
-    # ------------------------------------------------------------------ networks
-    def network(self, physics: Physics) -> Network | None:
-        """The elastic network of active units this scene simulates, or None for a chain scene (the default); both
-        engines dispatch on it."""
-        return None
-
-    def initial_network(self, physics: Physics, numerics: Numerics) -> NetworkState:
-        """A network scene's state at t = 0, read by both engines: nodes at rest plus seeded pushes of up to
-        numerics.perturbation (units a), polarities seeded uniformly on the circle (numerics.seed)."""
-        network = self.network(physics)
-        if network is None:
-            raise ParameterError(f"{self.name} is a chain scene: it has no network")
-        return initial_state(network, numerics.perturbation, numerics.seed)
-
-    def angle_count(self, physics: Physics) -> int:
-        """Columns of Trajectory.theta: N per chain (a network scene: 0, its state is Trajectory.nodes)."""
-        return 0 if self.network(physics) is not None else physics.n * self.chain_count(physics)
-
-    def beat_signals(self, traj: Trajectory) -> list[np.ndarray]:
-        """The scalar signals whose beat (amplitude, frequency, periodicity) results.measure reports, one per chain:
-        Theta = theta_N - theta_1 of each chain."""
-        return [obs.curvature(traj.chain(k)) for k in range(self.chain_count(traj.physics))]
 
     def __repr__(self) -> str:
         return f"<scene {self.name!r}>"

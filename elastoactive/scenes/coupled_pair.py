@@ -16,7 +16,8 @@ from ..parameters import Parameter
 from ..params import Numerics, Physics
 from ..reduced.system import ChainSystem
 from ..trajectory import Trajectory
-from .base import Onset, Scene, ValidationCase
+from .base import Onset, ValidationCase
+from .chain_kind import ChainScene
 
 FREQUENCY_MISMATCH = Observable(
     "frequency_mismatch", "1/tau", "f_2 - f_1 from the Hilbert phases (NaN unless both oscillate)", error="absolute"
@@ -24,7 +25,7 @@ FREQUENCY_MISMATCH = Observable(
 """How far the two chains are from a common frequency (analysis.observables.frequency_mismatch)."""
 
 
-class CoupledPair(Scene):
+class CoupledPair(ChainScene):
     name = "coupled-pair"
     paper = True
     summary = (

@@ -32,11 +32,12 @@ from ..analysis.network import observables as nobs
 from ..errors import ParameterError
 from ..observables import Observable
 from ..parameters import Parameter
-from ..params import Numerics, Physics
-from ..terms import unit_noise
-from ..terms.self_aligning import SELF_ALIGNING, turning_rate
+from ..params import Physics
+from ..terms import polarity_terms, turning_rate
 from ..trajectory import Trajectory
-from .base import Onset, Scene, ValidationCase
+from ..units import Signal
+from .base import Onset, ValidationCase
+from .network_kind import NetworkScene
 
 RINGS = Parameter(
     "rings",
@@ -57,9 +58,9 @@ BOUNDARY = Parameter(
     title="the patch's boundary",
 )
 
-NETWORK_TERMS = ("sigma", "active", "alignment_length", *unit_noise.NAMES)
-"""The terms' parameters that act on a network: the active force, the units' direction law and length, their noise."""
-SELF_ALIGNING_ONLY = (("active", SELF_ALIGNING, "a network's active units are self-aligning"),)
+NETWORK_TERMS = ("sigma", "active", "alignment_length")
+"""The terms' parameters that act on a network: the active force and the units' direction law and length."""
+SELF_ALIGNING_ONLY = ((*polarity_terms()[0].polarity_switch, "a network's active units are self-aligning"),)
 
 MEANING = tuple(states.STATE_MEANING.items())
 """The named states and what each means (the network_state observable's long name)."""
@@ -128,12 +129,13 @@ PATCH_OBSERVABLES = (
     ),
 )
 """The patch's rigid motion (the lattice's own)."""
+DISPLACEMENT = Signal("u_x", "u_x = the free nodes' mean displacement along x", "a")
+"""A held network's beat signal (ActiveNetwork.beat_signals)."""
 
 
-class NetworkScene(Scene):
+class ActiveNetwork(NetworkScene):
     """What the network scenes share: the parameters that act on them, the self-aligning units, the observables."""
 
-    base_file = "network.xml"
     term_parameters: ClassVar[tuple[str, ...]] = NETWORK_TERMS
     fixed: ClassVar[tuple[tuple[str, Any, str], ...]] = SELF_ALIGNING_ONLY
     observables: ClassVar[tuple[Observable | str, ...]] = NETWORK_OBSERVABLES
@@ -149,9 +151,6 @@ class NetworkScene(Scene):
         if network is not None and network.pinned.all():
             raise ParameterError(f"boundary: every node of the {self.name} network is pinned; nothing can move")
 
-    def inertial_model(self, physics: Physics) -> bool:
-        return False  # analysis.network.model: overdamped nodes
-
     def label(self, physics: Physics) -> str:
         own = " ".join(
             f"{k}={getattr(physics, k):.4g}" if isinstance(getattr(physics, k), float) else f"{k}={getattr(physics, k)}"
@@ -162,18 +161,8 @@ class NetworkScene(Scene):
     coupling_formula: ClassVar[str] = "σ / l_a"
     """The coupling Pi = l_e / l_a in the scene's parameters (as drawn in captions)."""
 
-    def coupling(self, physics: Physics, sigma: float | None = None) -> float:
-        """Pi = l_e / l_a at `sigma` (default physics.sigma): l_e = F_a / k with the springs' k = 1."""
-        return (physics.sigma if sigma is None else sigma) / physics.alignment_length
-
     def caption(self, physics: Physics) -> list[str]:
         return [f"l_a = {physics.alignment_length:.3g}", f"Π = {self.coupling_formula} = {self.coupling(physics):.3g}"]
-
-    def extent_points(self, physics: Physics) -> np.ndarray:
-        return self.network(physics).positions
-
-    def initial_angles(self, physics: Physics, numerics: Numerics) -> np.ndarray:
-        return np.empty(0)
 
     # ------------------------------------------------------------------ observables
     def body_nodes(self, traj: Trajectory) -> np.ndarray:
@@ -186,6 +175,10 @@ class NetworkScene(Scene):
         network = self.network(traj.physics)
         u = self.body_nodes(traj)[:, ~network.pinned, :] - network.positions[~network.pinned]
         return u.reshape(len(traj.t), -1)
+
+    def beat_signal(self, physics: Physics) -> Signal:
+        """What beat_signals measures, for labels and units."""
+        return DISPLACEMENT
 
     def beat_signals(self, traj: Trajectory) -> list[np.ndarray]:
         """The mean displacement along x of the free nodes (units a)."""
@@ -225,7 +218,7 @@ class NetworkScene(Scene):
         }
 
 
-class Lattice(NetworkScene):
+class Lattice(ActiveNetwork):
     name = "lattice"
     summary = (
         "a hexagonal patch of triangular lattice with self-aligning active units (Baconnier et al.'s active solid)"
@@ -245,6 +238,14 @@ class Lattice(NetworkScene):
         """The pinned node the network turns about (held by its centre), else None (a free network's centroid)."""
         network = self.network(physics)
         return network.positions[np.flatnonzero(network.pinned)[0]] if self.hold(physics) == "centre" else None
+
+    def beat_signal(self, physics: Physics) -> Signal:
+        """What beat_signals measures: by how the patch is held."""
+        if self.hold(physics) == "centre":
+            return Signal("Omega", "Omega = the patch's rotation rate", "rad/tau")
+        if self.hold(physics) == "free":
+            return Signal("v_x", "v_x = the patch's centroid velocity along x", "a/tau")
+        return DISPLACEMENT
 
     def beat_signals(self, traj: Trajectory) -> list[np.ndarray]:
         """Pinned: the free nodes' mean displacement along x (units a). A patch that can move rigidly beats in the rate

@@ -10,7 +10,8 @@ from __future__ import annotations
 import numpy as np
 
 from ..params import Physics
-from .base import Onset, Scene, ValidationCase
+from .base import Onset, ValidationCase
+from .chain_kind import ChainScene
 
 DENSE_GROWTH_MAX = 400
 """Up to this many angles the growth rate at a given sigma comes from every eigenvalue (dense); beyond, from the
@@ -19,7 +20,7 @@ SLOW_GROWTH_MODES = 16
 """Slowest modes searched for the least stable one beyond DENSE_GROWTH_MAX."""
 
 
-class OnePinned(Scene):
+class OnePinned(ChainScene):
     name = "one-pinned"
     paper = True
     summary = "chain clamped at one end: flagellar beating above sigma_c (N=7: 0.1575 [paper: 0.15])"

@@ -30,7 +30,9 @@ from ..parameters import Parameter
 from ..params import Numerics, Physics
 from ..reduced.system import ChainSystem
 from ..trajectory import Trajectory
-from .base import Scene, ValidationCase
+from ..units import NETWORK, Worded
+from .base import ValidationCase
+from .chain_kind import ChainScene
 from .rotating_pin import ROTATION_RATE
 
 HEAD_COORDINATES = 2
@@ -54,9 +56,14 @@ ORBIT_RATE = Observable(
     "rad/tau",
     "mean angular velocity of the N particles' centre of mass about the dish's centre",
     floor=1e-6,
+    worded=(Worded(NETWORK.name, "mean angular velocity of the unit about the trap's centre"),),
 )
 ORBIT_RADIUS = Observable(
-    "orbit_radius", "l", "mean distance of the N particles' centre of mass from the dish's centre", floor=1e-3
+    "orbit_radius",
+    "l",
+    "mean distance of the N particles' centre of mass from the dish's centre",
+    floor=1e-3,
+    worded=(Worded(NETWORK.name, "mean distance of the unit from the trap's centre"),),
 )
 CURVATURE = Observable(
     "curvature", "1/l", "mean curvature of the chain (theta_{i+1} - theta_i per l, signed)", floor=1e-4, min_n=2
@@ -67,7 +74,7 @@ DISH_STATE = Observable(
 """The dish's observables (analysis.dish); the orbit's two are the trapped unit's too."""
 
 
-class Paraboloid(Scene):
+class Paraboloid(ChainScene):
     name = "paraboloid"
     summary = "free chain in a dish: sliding head, harmonic trap -k r (the supplement's satellite dish)"
     base_file = "paraboloid.xml"
@@ -80,6 +87,7 @@ class Paraboloid(Scene):
             low=0.0,
             low_open=True,
             title="harmonic trap stiffness; without it the active bodies swim away",
+            worded=(Worded(NETWORK.name, "stiffness k_t / k of the harmonic trap -k_t x holding the unit"),),
         ),
     )
     clamped = False

@@ -44,7 +44,8 @@ from ..params import Numerics, Physics
 from ..reduced.constraints import project_on_pins
 from ..reduced.system import ChainSystem
 from ..trajectory import Trajectory
-from .base import Onset, Scene, ValidationCase
+from .base import Onset, ValidationCase
+from .chain_kind import ChainScene
 from .rotating_pin import ROTATION_RATE
 from .two_pinned import PIN_SOLIMP
 
@@ -104,7 +105,7 @@ CENTRE_DRIFT = Observable(
 """The free ring's drift (pin = free only)."""
 
 
-class Ring(Scene):
+class Ring(ChainScene):
     name = "ring"
     summary = "the chain closed on itself, one particle on a free pin: the ring turns about it"
     base_file = "ring.xml"

@@ -13,13 +13,14 @@ from ..analysis import observables as obs
 from ..observables import Observable
 from ..params import Physics
 from ..trajectory import Trajectory
-from .base import Onset, Scene, ValidationCase
+from .base import Onset, ValidationCase
+from .chain_kind import ChainScene
 
 ROTATION_RATE = Observable("rotation_rate", "rad/tau", "mean d theta_1 / dt", floor=1e-6)
 """A chain's rigid turning rate (every scene whose chain turns as a whole reports it: the ring, the dish)."""
 
 
-class RotatingPin(Scene):
+class RotatingPin(ChainScene):
     name = "rotating-pin"
     paper = True
     summary = "first hinge free (no clamp spring): steady rotation about the pin"

@@ -46,7 +46,8 @@ from ..parameters import Parameter
 from ..params import Numerics, Physics
 from ..reduced.system import ChainSystem
 from ..trajectory import Trajectory
-from .base import Onset, Scene, ValidationCase
+from .base import Onset, ValidationCase
+from .chain_kind import ChainScene
 
 MAX_ARMS = 6
 """The most arms a star has (mjcf/star.xml holds this many template arms)."""
@@ -101,7 +102,7 @@ HUB_RATE = Observable(
 """The star's observables: its arms' synchronisation (analysis.star) and its hub's motion."""
 
 
-class Star(Scene):
+class Star(ChainScene):
     name = "star"
     summary = "beyond the paper: k one-pinned arms on one hub (clamped, or turning on a spring): arm synchrony"
     base_file = "star.xml"

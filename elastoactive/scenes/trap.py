@@ -10,7 +10,7 @@ dish's parameter: a harmonic trap's stiffness in the scene's units, here k = 1 f
 With l_e = sigma / trap the elasto-active length and Pi = l_e / l_a: for Pi < 1 the unit comes to rest at distance
 l_e from the centre, pointing outward; for Pi > 1 it goes round a circle of radius sqrt(l_e l_a) at the angular
 frequency trap sqrt(Pi - 1) (docs/network.md derives both). Observables: orbit_radius and orbit_rate (about the
-trap's centre), and the network scenes' (elastoactive.scenes.lattice.NetworkScene).
+trap's centre), and the network scenes' (elastoactive.scenes.lattice.ActiveNetwork).
 """
 
 from __future__ import annotations
@@ -22,8 +22,9 @@ import numpy as np
 from ..analysis.network import Network, trap_unit
 from ..params import Physics
 from ..trajectory import Trajectory
+from ..units import Signal
 from .base import Onset, ValidationCase
-from .lattice import NetworkScene
+from .lattice import ActiveNetwork
 from .paraboloid import ORBIT_RADIUS, ORBIT_RATE
 
 
@@ -37,11 +38,11 @@ def orbit(sigma: float, trap: float, alignment_length: float) -> tuple[float, fl
     return math.sqrt(elastic * alignment_length), trap * math.sqrt(coupling - 1.0)
 
 
-class Trap(NetworkScene):
+class Trap(ActiveNetwork):
     name = "trapped-unit"
     summary = "a single self-aligning active unit in a harmonic trap: at rest below Pi = l_e / l_a = 1, orbiting above"
     parameters = ("trap",)
-    observables = NetworkScene.observables + (ORBIT_RADIUS, ORBIT_RATE)
+    observables = ActiveNetwork.observables + (ORBIT_RADIUS, ORBIT_RATE)
     compared = ("orbit_radius", "orbit_rate")
     no_linear_operator = ""
 
@@ -53,6 +54,9 @@ class Trap(NetworkScene):
 
     def network(self, physics: Physics) -> Network:
         return trap_unit(physics.trap)
+
+    def beat_signal(self, physics: Physics) -> Signal:
+        return Signal("x", "x = the unit's position along x", "a")
 
     def beat_signals(self, traj: Trajectory) -> list[np.ndarray]:
         """The unit's x (units a)."""

@@ -18,7 +18,8 @@ from ..parameters import Parameter
 from ..params import Numerics, Physics
 from ..reduced.system import ChainSystem
 from ..trajectory import Trajectory
-from .base import Scene, ValidationCase
+from .base import ValidationCase
+from .chain_kind import ChainScene
 
 # The pin is a soft constraint; its time constant is MuJoCo's floor 2 dt (set explicitly, since
 # MuJoCo would raise a smaller one silently) and its impedance is close to 1 (nearly hard). With
@@ -30,7 +31,7 @@ SNAP_AMPLITUDE = Observable("snap_amplitude", "rad", "standard deviation of thet
 """The snap-through's size: analysis.observables.snap_amplitude of theta_3 over the measured window."""
 
 
-class TwoPinned(Scene):
+class TwoPinned(ChainScene):
     name = "two-pinned"
     paper = True
     summary = "last particle also pinned at (N l (1-delta), 0): self-snapping"

@@ -28,7 +28,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from ..registry import UnknownName, load_entry_points
+from ..table import Registry, UnknownName
 
 RunFn = Callable[..., Any]
 """run(size="quick", workers=None, progress=True) -> Study."""
@@ -99,13 +99,22 @@ class StudyEntry:
         return [p for fn in self.files for p in fn(study, out)]
 
 
-_STUDIES: dict[str, StudyEntry] = {}
-
-
 class UnknownStudy(UnknownName):
     """Raised by `get` for a name that no study registered (its message lists the registered studies)."""
 
     kind, kinds = "study", "studies"
+
+
+STUDIES: Registry[StudyEntry] = Registry(
+    "study",
+    "studies",
+    error=UnknownStudy,
+    group="studies",
+    order=lambda entry: entry.order,
+    same=lambda known, entry: False,  # a study declared again is a new entry: refused unless replace=True
+)
+"""The studies, in reproduce's order (StudyEntry.order; ties: registration order) (elastoactive.table.Registry)."""
+_STUDIES = STUDIES  # the names elastoactive.plugins reads
 
 
 def declare(
@@ -115,31 +124,19 @@ def declare(
     the other studies its claim rows read; returns the entry whose decorators attach its pieces."""
     if not isinstance(name, str) or not name.isidentifier():
         raise ValueError(f"a study name must be an identifier (it names <name>.npz and <name>.json), got {name!r}")
-    if name in _STUDIES and not replace:
-        raise ValueError(f"a study named {name!r} is already registered (pass replace=True to replace it)")
-    entry = StudyEntry(name, summary, float(order), tuple(reads))
-    _STUDIES[name] = entry
-    return entry
+    return STUDIES.register(
+        StudyEntry(name, summary, float(order), tuple(reads)), owner=f"study {name}", replace=replace
+    )
 
 
 def unregister(name: str) -> None:
     """Remove a study (tests that register a toy study clean up with this)."""
-    _STUDIES.pop(name, None)
-
-
-def _plugins() -> None:
-    """The studies of the `elastoactive.studies` entry points, loaded the first time the registry is listed."""
-    load_entry_points("studies")
+    STUDIES.unregister(name)
 
 
 def get(name: str) -> StudyEntry:
     """The registered study called `name` (the entry points' included; it must have a run function)."""
-    entry = _STUDIES.get(name) if isinstance(name, str) else None
-    if entry is None:
-        _plugins()
-        entry = _STUDIES.get(name) if isinstance(name, str) else None
-    if entry is None:
-        raise UnknownStudy(name, names())
+    entry = STUDIES.get(name)
     if entry.run_fn is None:
         raise ValueError(f"study {name!r} was declared without a run function (decorate one with @<entry>.run)")
     return entry
@@ -147,10 +144,9 @@ def get(name: str) -> StudyEntry:
 
 def names() -> tuple[str, ...]:
     """Names of the registered studies, in reproduce's order."""
-    return tuple(e.name for e in entries())
+    return STUDIES.names()
 
 
 def entries() -> tuple[StudyEntry, ...]:
     """The registered studies (the entry points' included), in reproduce's order (ties: registration order)."""
-    _plugins()
-    return tuple(sorted(_STUDIES.values(), key=lambda e: e.order))
+    return STUDIES.entries()

@@ -90,7 +90,7 @@ def run_points(
     own while the batch steps: a refused point is dropped from its batch at its next chunk of samples
     and recorded with the refusal, as if it had never run; a point is recorded only once its check is
     done."""
-    from ..engines.mujoco_batch import Cancelled, as_runs, is_network, run_chunk  # start-up time: loads mujoco
+    from ..engines.mujoco_batch import Cancelled, as_runs, run_chunk, runs_alone  # start-up time: loads mujoco
     from ..results import measure
 
     start = time.perf_counter()
@@ -143,8 +143,8 @@ def run_points(
             put(j, error_record(err, time.perf_counter() - start))
             order.remove(j)
     runs = as_runs(cases)
-    if timestep_check:  # a network runs whole on its thread, where a refusal cannot stop it: check it first (cheap)
-        for j in [j for j in order if is_network(runs[j])]:
+    if timestep_check:  # a run alone (a network) runs whole on its thread, where a refusal cannot stop it: check first
+        for j in [j for j in order if runs_alone(runs[j])]:
             refused = checks.refusal(cases[j].physics, cases[j].numerics)
             if refused is not None:
                 put(j, error_record(refused, time.perf_counter() - start))

@@ -24,7 +24,7 @@ elastoactive.scenes.base.Scene.parameters).
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import ClassVar, NamedTuple
+from typing import Any, ClassVar, NamedTuple
 
 import numpy as np
 
@@ -148,6 +148,43 @@ class Term:
     def measure(self, traj, transient: float) -> dict[str, float | str]:
         """Values of `observables`."""
         return {}
+
+    def load_mask(self, physics) -> np.ndarray | None:
+        """For the term that places the active force on the particles (the follower's `loaded`): the boolean mask of
+        the particles of one chain that carry it (Physics.load_mask); None for the others."""
+        return None
+
+    # ------------------------------------------------------------------ polarity: units whose direction turns
+    polarity_switch: ClassVar[tuple[str, Any] | None] = None
+    """For a term that gives particles (nodes) a polarity, an angle psi that turns and is state in both engines
+    (Trajectory.polarity): the (parameter, value) that switches its units on, e.g. ('active', 'self-aligning'); None:
+    the term carries no polarity. A polarity-carrying term implements the hooks below; the engines and builders find it
+    through the registry (elastoactive.terms.polarity_term, polarity_addresses, ...), never by its name."""
+
+    def turning_rate(self, physics) -> float:
+        """The fastest rate at which the term's units turn (1 / tau; 0 when none acts)."""
+        return 0.0
+
+    def check_reduced_span(self, physics, duration: float) -> None:
+        """Refuse, in one line naming the setting, a reduced run whose units are too stiff for its duration."""
+
+    def add_unit(self, spec, site: str, physics, slide: str | None = None) -> None:
+        """Mark the MJCF site `site` as one of the term's units (a network builder's node; a chain's particle is
+        marked by the term's own `build`); `slide`: a slide joint of the site's body that may carry the unit."""
+        raise NotImplementedError(f"the {self.name} term carries no polarity")
+
+    def polarity_addresses(self, model) -> np.ndarray:
+        """Where each of the term's units keeps its polarity in mjData.act (units in model order)."""
+        return np.empty(0, dtype=int)
+
+    def align_polarity(self, model, data) -> None:
+        """Set the polarity of the term's units on chains at t = 0 (after mj_forward), e.g. along the follower
+        direction of their site."""
+
+    def initial_polarity(self, theta: np.ndarray, mask: np.ndarray) -> np.ndarray:
+        """The reduced engine's polarity of the loaded particles (load mask `mask` over theta's columns) of chains with
+        absolute angles theta at t = 0, as align_polarity gives MuJoCo's units."""
+        raise NotImplementedError(f"the {self.name} term carries no polarity")
 
     def validation_cases(self, physics) -> tuple:
         """Cases (elastoactive.cases.ValidationCase) that `validate` runs through both engines with this term on,

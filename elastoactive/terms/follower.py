@@ -87,6 +87,9 @@ class Follower(Term):
     def prepare(self, values: dict) -> None:
         values["loaded"] = normalise_loaded(values["loaded"], values["n"])
 
+    def load_mask(self, physics) -> np.ndarray:
+        return load_mask(physics.loaded, physics.n)
+
     def active(self, physics) -> bool:
         return True  # sigma = 0 is a chain without activity, still the record's value
 

@@ -164,7 +164,7 @@ def free_pin():
     return next(
         s
         for s in registry.scenes()
-        if s.kind == "chain" and s.n_chains == 1 and not (s.clamped or s.pinned or s.head_coordinates)
+        if getattr(s, "n_chains", 0) == 1 and not (getattr(s, "clamped", True) or s.pinned or s.head_coordinates)
     )
 
 
@@ -198,6 +198,26 @@ class SelfAligning(Term):
     def inertial_model(self, physics) -> bool:
         """The units' reduced model (engines.polarity) is overdamped only."""
         return False
+
+    polarity_switch = (ACTIVE.name, SELF_ALIGNING)
+
+    def turning_rate(self, physics) -> float:
+        return turning_rate(physics)
+
+    def check_reduced_span(self, physics, duration: float) -> None:
+        check_reduced_span(physics, duration)
+
+    def add_unit(self, spec, site: str, physics, slide: str | None = None) -> None:
+        add_unit(spec, site, physics.alignment_length, slide=slide)
+
+    def polarity_addresses(self, model) -> np.ndarray:
+        return polarity_addresses(model)
+
+    def align_polarity(self, model, data) -> None:
+        align_with_sites(model, data)
+
+    def initial_polarity(self, theta: np.ndarray, mask: np.ndarray) -> np.ndarray:
+        return initial_polarity(theta, mask)
 
     def build(self, spec, physics, numerics):
         """One unit actuator per loaded particle (add_unit), chain by chain (the chains this physics has: a star's

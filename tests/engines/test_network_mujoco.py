@@ -22,7 +22,7 @@ from elastoactive.mjcf.network import (
     qpos_of_positions,
     set_polarity,
 )
-from elastoactive.scenes.base import Scene
+from elastoactive.scenes import NetworkScene
 
 PHYSICS = ea.Physics(sigma=0.0)  # a passive network: the builder reads the scene's name and sigma = 0
 ACTIVE = ea.Physics(sigma=1.5, active="self-aligning", alignment_length=0.7)  # the units' F_a and l_a
@@ -208,7 +208,7 @@ def test_trapped_unit_orbits_on_the_self_aligning_circle(sigma, alignment_length
     assert np.polyfit(traj.t[late], heading, 1)[0] == pytest.approx(rate, rel=1e-3)
 
 
-class _Patch(Scene):
+class _Patch(NetworkScene):
     """A network scene of this test alone: the pinned hexagon of two rings (7 active nodes)."""
 
     name = "test-network-patch"

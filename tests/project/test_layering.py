@@ -170,3 +170,100 @@ def test_tests_mirror_the_packages():
     assert not stray, f"helpers belong beside the tests that use them: {stray}"
     names = [p.name for p in (ROOT / "tests").rglob("test_*.py")]
     assert len(names) == len(set(names)), "test files need unique names (pytest imports them by basename)"
+
+
+KIND_TESTS = ("is_network", "is_chain")
+"""Names that would ask a scene's kind outside the kinds (a helper or property answering "is this a network?")."""
+KINDS = ("ChainScene", "NetworkScene", "network_kind", "chain_kind")
+KIND_WORDS = {scene.kind for scene in ea.scenes.scenes()}
+"""The registered scenes' kinds, as Scene.kind names them ('chain', 'network')."""
+
+
+def _kind_branches(path: Path) -> list[int]:
+    """Lines that ask which kind a scene is: `x.network(...) is (not) None`, a name `is_network`, isinstance against
+    a kind class, or a comparison of `.kind` with a kind's word."""
+    hits = []
+    for node in ast.walk(ast.parse(path.read_text(), str(path))):
+        if isinstance(node, ast.Compare):
+            sides = [node.left, *node.comparators]
+            calls_network = any(
+                isinstance(s, ast.Call) and isinstance(s.func, ast.Attribute) and s.func.attr == "network"
+                for s in sides
+            )
+            against_none = any(isinstance(s, ast.Constant) and s.value is None for s in sides)
+            kind_word = any(isinstance(s, ast.Attribute) and s.attr == "kind" for s in sides) and any(
+                isinstance(s, ast.Constant) and s.value in KIND_WORDS for s in sides
+            )
+            if (calls_network and against_none) or kind_word:
+                hits.append(node.lineno)
+        elif isinstance(node, (ast.Name, ast.Attribute)):
+            if (node.id if isinstance(node, ast.Name) else node.attr) in KIND_TESTS:
+                hits.append(node.lineno)
+        elif isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id == "isinstance":
+            if any(k in ast.unparse(node) for k in KINDS):
+                hits.append(node.lineno)
+    return hits
+
+
+def test_no_module_outside_the_scene_kinds_asks_which_kind_a_scene_is():
+    """A chain and a network are two kinds of scene (elastoactive.scenes.base): whatever differs between them is a
+    hook of the kind (its engines, builder, painter, positions, stability report), so that a third kind needs no
+    edit outside scenes/. No module outside elastoactive/scenes/ branches on the kind."""
+    hits = [
+        f"{path.relative_to(ROOT)}:{line}"
+        for name, path in MODULES.items()
+        if not name.startswith("elastoactive.scenes")
+        for line in _kind_branches(path)
+    ]
+    assert not hits, "branches on a scene's kind outside the scene kinds: " + ", ".join(hits)
+
+
+def test_the_kind_branch_check_finds_a_branch(tmp_path):
+    """The check above can fail: it finds each form of the branch in a file written to fail it."""
+    source = tmp_path / "branches.py"
+    source.write_text(
+        "if scene.network(physics) is not None:\n    pass\n"
+        "ok = traj.is_network\n"
+        "chain = isinstance(scene, ChainScene)\n"
+        "net = scene.kind == 'network'\n"
+        "fine = scene.positions(traj)\n"
+    )
+    assert sorted(_kind_branches(source)) == [1, 3, 4, 5]
+
+
+TERM_CONTRACT = ("elastoactive.terms.base",)
+"""The term package's contract (the Term class and its records), which any module may import; a term module is not."""
+TERM_READERS = ("elastoactive.terms", "elastoactive.studies")
+"""Where a term module may be imported by name: the term package itself, and a study of one term (the self-aligning
+study, the moving clamp's tongue), which is about that term."""
+
+
+def _term_modules() -> set[str]:
+    return {m for m in MODULES if m.startswith("elastoactive.terms.") and m not in TERM_CONTRACT}
+
+
+def _terms_imported_by_name(name: str, path: Path) -> list[str]:
+    terms = _term_modules()
+    return [f"line {line}: {target}" for target, line, *_ in _imports(name, path) if target in terms]
+
+
+def test_no_engine_builder_or_scene_imports_a_term_by_name():
+    """The engines, builders, scenes and records reach a term through the term registry and the hooks of the term
+    contract (elastoactive.terms: polarity_term, polarity_addresses, turning_rate, Term.load_mask, ...), so that a
+    second term of the same role plugs in the same way."""
+    hits = {
+        name: found
+        for name, path in MODULES.items()
+        if not name.startswith(TERM_READERS)
+        for found in [_terms_imported_by_name(name, path)]
+        if found
+    }
+    assert not hits, f"term modules imported by name: {hits}"
+
+
+def test_the_term_import_check_finds_an_import(tmp_path):
+    source = tmp_path / "engine.py"
+    source.write_text("from ..terms.self_aligning import turning_rate\nfrom ..terms import polarity_term\n")
+    assert _terms_imported_by_name("elastoactive.engines.engine", source) == [
+        "line 1: elastoactive.terms.self_aligning"
+    ]

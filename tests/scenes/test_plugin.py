@@ -17,11 +17,12 @@ from elastoactive.checks.validate import observable_errors
 from elastoactive.cli import main
 from elastoactive.observables import Observable
 from elastoactive.results import Results, load_trajectory
-from elastoactive.scenes.base import Scene, ValidationCase
+from elastoactive.scenes import ChainScene
+from elastoactive.scenes.base import ValidationCase
 from elastoactive.sweep import run_sweep
 
 
-class FreePair(Scene):
+class FreePair(ChainScene):
     name = "toy-free-pair"
     summary = "two chains on free pins, coupled at their first pendula (a test's toy scene)"
     base_file = "coupled-pair.xml"  # its clamps, markers and defaults fit
@@ -150,8 +151,8 @@ TIP_ANGLE = Observable(
 )
 
 
-class TipAngle(Scene):
-    """A clamped chain (the base Scene's) that reports an observable it declares itself."""
+class TipAngle(ChainScene):
+    """A clamped chain (ChainScene's defaults) that reports an observable it declares itself."""
 
     name = "toy-tip-angle"
     summary = "a clamped chain reporting the mean angle of its last pendulum (a test's toy scene)"

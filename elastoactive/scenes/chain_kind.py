@@ -1,0 +1,252 @@
+"""The chain kind of scene: chains of N particles joined by links of length l on hinges, their state the links'
+absolute angles theta (Trajectory.theta).
+
+A chain scene (one-pinned, two-pinned, the ring, the star, ...) subclasses `ChainScene` and overrides what differs
+from a single clamped chain (the one-pinned scene overrides nothing but its name). Besides the kind contract
+(elastoactive.scenes.base) a chain scene has:
+
+  shape               `n_chains` (or `chain_count`), `clamped`, `pinned`, `head_coordinates` (or `head_count`: a
+                      moving pivot), `stiffness` of each chain, `min_n`
+  MJCF                `base_file` (in mjcf/) and `build`, which adds the scene's own elements (pins, coupling,
+                      keyframes) to the chain(s) that elastoactive.mjcf.chain generates (`chain_prefixes`,
+                      `chain_offset`)
+  reduced model       `reduced_system`: the typed record the reduced solver integrates; `inertial_model`
+  initial state       `initial_angles`
+
+The kind's hooks import their engine, builder and renderer inside the hook (the engine boundary: a chain's run loads
+only the engine in use, and the scenes load before the engines, which read the scene registry).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING, ClassVar
+
+import numpy as np
+
+from ..analysis import observables as obs
+from ..constants import BEAD_INERTIA_FACTOR
+from ..reduced.system import ChainSystem
+from ..trajectory import particle_positions
+from ..units import CHAIN
+from .base import Scene
+
+if TYPE_CHECKING:  # typing only: these modules import the registry that holds scenes
+    from ..params import Numerics, Physics
+    from ..trajectory import Trajectory
+
+
+class ChainScene(Scene):
+    """A scene of chains (module docstring): defaults describe a single clamped chain."""
+
+    kind = "chain"
+    units = CHAIN
+    state_units = "rad"
+    state_name = "angle"
+    mujoco_batched = True
+    paced_by_beat = True
+    sized_by_n = True
+    builder = "elastoactive.mjcf.chain"
+
+    n_chains: ClassVar[int] = 1
+    """Chains of the scene (the most, for a scene whose number of chains is a parameter: `chain_count`)."""
+    clamped: ClassVar[bool] = True
+    """Whether a spring holds the first pendulum against the clamp (False: a free pin)."""
+    head_coordinates: ClassVar[int] = 0
+    """Coordinates of a moving pivot (the head) before the angles: 0 (pinned at the origin) or 2 (x_h, y_h; MuJoCo's
+    slide joints, the reduced model's last two state variables, Trajectory.head); 1: the angle phi of a hub the chains
+    hang on (the star: MuJoCo's hub hinge, the reduced model's last state variable, Trajectory.head[:, 0])."""
+
+    # ------------------------------------------------------------------ shape
+    def head_count(self, physics: Physics) -> int:
+        """Coordinates of the moving pivot for this physics (head_coordinates; a scene whose pivot moves only for some
+        parameter values, the free ring, overrides it)."""
+        return self.head_coordinates
+
+    def chain_count(self, physics: Physics) -> int:
+        """Number of chains of this physics (Physics.n_chains): n_chains, or a parameter's value (the star's arms)."""
+        return self.n_chains
+
+    def angle_count(self, physics: Physics) -> int:
+        """Columns of Trajectory.theta: N per chain."""
+        return physics.n * self.chain_count(physics)
+
+    def stiffness(self, physics: Physics) -> tuple[float, ...]:
+        """Joint stiffness of each chain in units of C1 (one per chain that elastoactive.mjcf.chain builds)."""
+        return (1.0,) * self.chain_count(physics)
+
+    # ------------------------------------------------------------------ MJCF
+    def chain_prefixes(self) -> tuple[str, ...]:
+        """Name prefix of each chain's elements in the MJCF."""
+        return ("",) if self.n_chains == 1 else tuple(f"chain{k + 1}_" for k in range(self.n_chains))
+
+    def chain_offset(self, physics: Physics, k: int) -> float:
+        """Lateral (y) position of chain k's clamp: side by side, far enough apart to see both."""
+        return -float(max(physics.n, 3)) * k
+
+    def build(self, spec, physics: Physics, numerics: Numerics) -> None:
+        """Add the scene's own elements to `spec` (an mujoco.MjSpec holding the generated chains)."""
+
+    # ------------------------------------------------------------------ reduced model
+    def reduced_system(self, physics: Physics) -> ChainSystem:
+        """The reduced model of this scene: overdamped (mass_ratio 0); the engine sets the particle mass for the
+        inertial model (engines.reduced.system_of), whose beads have MuJoCo's rotational inertia (mjcf/common.xml)."""
+        system = ChainSystem(
+            n=physics.n,
+            n_chains=self.chain_count(physics),
+            clamped=self.clamped,
+            pinned=self.pinned,
+            sigma=0.0,
+            gamma_l=1.0,
+            gamma_t=1.0,
+            kappa=0.0,
+            rho=1.0,
+            delta=0.0,
+            mass_ratio=0.0,
+            inertia_factor=BEAD_INERTIA_FACTOR,
+        )
+        for term in physics.active_terms():  # the follower's sigma, the drag's gamma_l, the contact's penalty, ...
+            system = term.reduced_system(system, physics)
+        return system
+
+    def inertial_model(self, physics: Physics) -> bool:
+        """A chain scene's reduced engine has an inertial model (the free ring's is overdamped only: it overrides)."""
+        return True
+
+    # ------------------------------------------------------------------ initial state
+    def initial_angles(self, physics: Physics, numerics: Numerics) -> np.ndarray:
+        """Absolute angles at t = 0: each chain's static shape under seeded small pushes."""
+        from ..initial import pushed_chains  # initial imports scipy (start-up time)
+
+        return pushed_chains(physics.n, self.chain_count(physics), numerics.perturbation, numerics.seed)
+
+    # ------------------------------------------------------------------ observables
+    def beat_signals(self, traj: Trajectory) -> list[np.ndarray]:
+        """Theta = theta_N - theta_1 of each chain."""
+        return [obs.curvature(traj.chain(k)) for k in range(self.chain_count(traj.physics))]
+
+    # ------------------------------------------------------------------ engines (the engine boundary)
+    def run_mujoco(self, physics: Physics, numerics: Numerics, duration: float, **options) -> Trajectory:
+        from ..engines.mujoco import simulate_chain_mujoco  # engine boundary: load only the engine in use
+
+        return simulate_chain_mujoco(physics, numerics, duration, **options)
+
+    def run_reduced(self, physics: Physics, numerics: Numerics, duration: float, **options) -> Trajectory:
+        from ..engines.reduced import simulate_chain_reduced  # engine boundary: load only the engine in use
+
+        return simulate_chain_reduced(physics, numerics, duration, **options)
+
+    def check_timestep(self, physics: Physics, numerics: Numerics, safety: float, accuracy: bool, **options):
+        from ..engines.timestep import check_chain_timestep  # engine boundary: the timestep check loads mujoco
+
+        return check_chain_timestep(physics, numerics, safety, accuracy, **options)
+
+    def reduced_methods(self) -> tuple[str, ...]:
+        from ..reduced.settings import METHODS  # engine boundary: the reduced engine's settings
+
+        return tuple(METHODS)
+
+    # ------------------------------------------------------------------ trajectory
+    def positions(self, traj: Trajectory) -> np.ndarray:
+        """Shape (T, n_chains, n, 2): (x, y) of particle i of each chain in units of l, from the angles and the moving
+        pivot (`head`) if any."""
+        return particle_positions(traj.physics, traj.theta, traj.head)
+
+    def tip(self, traj: Trajectory) -> np.ndarray:
+        return self.positions(traj)[:, :, -1, :]
+
+    def centre_of_drag(self, traj: Trajectory) -> np.ndarray:
+        """Shape (T, n_chains, 2), one centre per chain (units l); a free head (the paraboloid's, a free ring's root:
+        ChainSystem.head_free) carries one particle's drag and counts in chain 1's centre."""
+        centre = self.positions(traj).mean(axis=-2)
+        head = traj.head
+        if head is None or head.shape[1] != 2 or not getattr(self.reduced_system(traj.physics), "head_free", False):
+            return centre
+        n = traj.physics.n
+        centre[:, 0] = (n * centre[:, 0] + head) / (n + 1)  # the free head: chain 1's pivot
+        return centre
+
+    def state_variables(self, traj: Trajectory) -> tuple[dict, dict]:
+        chains, n, units = traj.physics.n_chains, traj.physics.n, self.length_units
+        coords = {
+            "chain": ("chain", np.arange(chains), {"long_name": "chain index (0-based)"}),
+            "particle": ("particle", np.arange(n), {"long_name": "particle index (0-based, site particle_i)"}),
+        }
+        position = self.positions(traj)
+        data = {
+            "theta": (
+                ("time", "chain", "particle"),
+                traj.theta.reshape(len(traj.t), chains, n),
+                {"units": "rad", "long_name": "absolute angle of each link"},
+            ),
+            "position": (
+                ("time", "chain", "particle", "xy"),
+                position,
+                {"units": units, "long_name": "particle position"},
+            ),
+            "tip": (("time", "chain", "xy"), position[:, :, -1, :], {"units": units, "long_name": "tip position"}),
+        }
+        return coords, data
+
+    def state_difference(self, traj: Trajectory, reference: Trajectory, early: np.ndarray) -> tuple[float, float]:
+        """The largest angle difference (rad), relative to the largest angle of the reference there."""
+        n = early.size
+        diff = np.abs(traj.theta[:n][early] - reference.theta[:n][early]).max()
+        return float(diff), float(np.abs(reference.theta[:n][early]).max())
+
+    # ------------------------------------------------------------------ drawing
+    def painter(self, traj: Trajectory, **options):
+        from ..render import ChainPainter  # engine boundary: rendering loads MuJoCo and GL
+
+        return ChainPainter(traj, **options)
+
+    def draw_shape(self, ax, traj: Trajectory, i: int, labels: list[str]) -> None:
+        """Every chain from its pivot (a square), its particles joined by its links."""
+        xy = traj.positions()[i]
+        for k, (label, chain) in enumerate(zip(labels, xy, strict=False)):
+            pivot = chain[0] - (np.cos(traj.theta[i, k * traj.physics.n]), np.sin(traj.theta[i, k * traj.physics.n]))
+            points = np.vstack([pivot, chain])
+            ax.plot(points[:, 0], points[:, 1], "-o", ms=4, label=label or None)
+            ax.plot(*pivot, "ks", ms=6)
+        if len(xy) > 1:
+            ax.legend(fontsize="small")
+
+    # ------------------------------------------------------------------ stability
+    def stability_report(self, physics: Physics, sigma: float | None) -> list[str]:
+        """The straight chain's onset (sigma_c, omega_c and their N scalings), the growth at `sigma`, and, for a
+        scene whose large-N limit is the continuum filament (`filament`), the filament's onset at this N."""
+        n = physics.n
+        onset = self.onset(physics)
+        sigma_c, omega_c = onset.sigma_c, onset.omega_c
+        own = "".join(
+            f", {k} = {v}" if isinstance(v := getattr(physics, k), str) else f", {k} = {v:g}"
+            for k in self.own_parameter_names()
+        )
+        lines = [f"{physics.scene}, N = {n}{own}:"]
+        if math.isfinite(sigma_c):
+            lines.append(
+                f"  onset: {onset.kind} at sigma_c = {sigma_c:.10g} (N^3 sigma_c = {n**3 * sigma_c:.6g}), "
+                f"omega_c = {omega_c:.6g} rad/tau (f_c tau = {omega_c / (2 * math.pi):.6g}, N^4 omega_c = "
+                f"{n**4 * omega_c:.6g})"
+            )
+        else:  # stable over the whole range the scene searched
+            lines.append(f"  onset: {onset.kind}")
+        if sigma is not None:
+            lam = self.leading_eigenvalue(physics, sigma)
+            state = "unstable" if lam.real > 0 else "stable"
+            lines.append(
+                f"  at sigma = {sigma:g}: growth rate {lam.real:+.6g} /tau, angular frequency "
+                f"{abs(lam.imag):.6g} rad/tau ({state}"
+                + (f"; sigma / sigma_c = {sigma / sigma_c:.4g})" if math.isfinite(sigma_c) else ")")
+            )
+        if self.filament:
+            from ..analysis.continuum import continuum_critical  # start-up time: scipy only for this command
+
+            s_c, w_c = continuum_critical()
+            lines.append(
+                f"  continuum filament (clamped, distributed follower load f, drag zeta): S_c = f L^3 / B = "
+                f"{s_c:.4f}, omega_c = {w_c:.4f} B / (zeta L^4); at N = {n} (sigma = S / N^3, omega in 1 / (N^4 "
+                f"tau)): sigma = {s_c / n**3:.6g}, omega = {w_c / n**4:.6g} rad/tau; the chain's N^3 sigma_c is "
+                f"{100 * (n**3 * sigma_c / s_c - 1):+.2f}% from it"
+            )
+        return lines

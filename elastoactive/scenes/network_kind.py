@@ -1,0 +1,212 @@
+"""The network kind of scene: an elastic network of nodes joined by springs, its active nodes carrying units whose
+polarity turns (elastoactive.networks: the Network record), its state the node positions (Trajectory.nodes) and the
+units' polarities (Trajectory.polarity).
+
+A network scene (lattice, network, trapped-unit) subclasses `NetworkScene` (or elastoactive.scenes.lattice's
+ActiveNetwork, which adds the observables every network with self-aligning units shares) and defines `network`.
+Besides the kind contract (elastoactive.scenes.base) a network scene has:
+
+  network             `network(physics)`: the Network record both engines simulate and the renderer draws;
+                      `initial_network`: its state at t = 0
+  units               elastoactive.units.NETWORK (k = gamma = a = 1)
+
+Its engines are elastoactive.engines.network_mujoco and network_reduced, its builder elastoactive.mjcf.network, its
+painter elastoactive.render.network; the hooks import them inside the hook (the engine boundary: a chain's run never
+loads them, and the scenes load before the engines, which read the scene registry).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from ..errors import ParameterError
+from ..networks.geometry import Network
+from ..networks.state import NetworkState, initial_state
+from ..units import NETWORK
+from .base import Scene
+
+if TYPE_CHECKING:  # typing only: these modules import the registry that holds scenes
+    from ..params import Numerics, Physics
+    from ..trajectory import Trajectory
+
+
+class NetworkScene(Scene):
+    """A scene of an elastic network of active units (module docstring)."""
+
+    kind = "network"
+    units = NETWORK
+    """k = gamma = a = 1: times in gamma / k, sigma = F_a / (k a) (elastoactive.units)."""
+    base_file = "network.xml"
+    state_units = "a"
+    state_name = "displacement"
+    mujoco_batched = False
+    seeded_start = True
+    paced_by_beat = False
+    sized_by_n = False
+    builder = "elastoactive.mjcf.network"
+
+    # ------------------------------------------------------------------ the network
+    def network(self, physics: Physics) -> Network:
+        """The elastic network of active units this scene simulates (both engines build it; the renderer draws it)."""
+        raise self._kind_hook("network")
+
+    def initial_network(self, physics: Physics, numerics: Numerics) -> NetworkState:
+        """The state at t = 0, read by both engines: nodes at rest plus seeded pushes of up to numerics.perturbation
+        (units a), polarities seeded uniformly on the circle (numerics.seed)."""
+        return initial_state(self.network(physics), numerics.perturbation, numerics.seed)
+
+    def extent_points(self, physics: Physics) -> np.ndarray:
+        return self.network(physics).positions
+
+    # ------------------------------------------------------------------ engines (the engine boundary)
+    def run_mujoco(
+        self,
+        physics: Physics,
+        numerics: Numerics,
+        duration: float,
+        *,
+        theta0=None,
+        state0=None,
+        progress: bool = False,
+        on_sample=None,
+        install_callbacks: bool = True,
+    ) -> Trajectory:
+        from ..engines.network_mujoco import simulate_network_mujoco  # engine boundary: chains never load it
+
+        if theta0 is not None:
+            raise ParameterError(f"theta0: {physics.scene} is a network (its initial state: Scene.initial_network)")
+        return simulate_network_mujoco(
+            physics,
+            numerics,
+            duration,
+            network=self.network(physics),
+            state0=state0,
+            progress=progress,
+            on_sample=on_sample,
+            install_callbacks=install_callbacks,
+        )
+
+    def run_reduced(
+        self,
+        physics: Physics,
+        numerics: Numerics,
+        duration: float,
+        *,
+        theta0=None,
+        state0=None,
+        rtol: float = 1e-8,
+        atol: float = 1e-10,
+        method: str | None = None,
+        **chain_options,
+    ) -> Trajectory:
+        """engines.network_reduced; the chain model's options (beta, inertial, progress) do not apply."""
+        from ..engines.network_reduced import simulate_network_reduced  # engine boundary: chains never load it
+
+        return simulate_network_reduced(
+            physics, numerics, duration, theta0=theta0, state0=state0, rtol=rtol, atol=atol, method=method
+        )
+
+    def check_timestep(self, physics: Physics, numerics: Numerics, safety: float, accuracy: bool, **options):
+        """The network's own linearisation (engines.network_mujoco.check_network_timestep): its fastest rate."""
+        from ..engines.network_mujoco import check_network_timestep  # engine boundary: chains never load it
+        from ..engines.timestep import StabilityLimits
+
+        rate = check_network_timestep(physics, numerics)
+        return StabilityLimits(spring_dt=2.0 / rate, drag_dt=math.inf, follower_dt=math.inf, fastest_rate=rate)
+
+    def reduced_methods(self) -> tuple[str, ...]:
+        from ..engines.network_reduced import METHODS  # engine boundary: the engines load numba
+
+        return tuple(METHODS)
+
+    # ------------------------------------------------------------------ trajectory
+    def positions(self, traj: Trajectory) -> np.ndarray:
+        """The nodes, shape (T, nodes, 2) in units of a, as recorded."""
+        return traj.nodes.copy()
+
+    def tip(self, traj: Trajectory) -> np.ndarray:
+        raise ParameterError(
+            f"Trajectory.tip: the {traj.physics.scene} scene is a network, which has no tip; "
+            "Trajectory.positions() gives its nodes"
+        )
+
+    def centre_of_drag(self, traj: Trajectory) -> np.ndarray:
+        """Shape (T, 2): the nodes' mean (units a)."""
+        return self.positions(traj).mean(axis=-2)
+
+    def state_variables(self, traj: Trajectory) -> tuple[dict, dict]:
+        coords = {"node": ("node", np.arange(traj.nodes.shape[1]), {"long_name": "node index (0-based)"})}
+        data = {
+            "position": (("time", "node", "xy"), traj.nodes, {"units": self.length_units, "long_name": "node position"})
+        }
+        return coords, data
+
+    def state_difference(self, traj: Trajectory, reference: Trajectory, early: np.ndarray) -> tuple[float, float]:
+        """The largest node position difference (units a), relative to the largest displacement from rest."""
+        n = early.size
+        rest = self.network(reference.physics).positions
+        diff = np.abs(traj.nodes[:n][early] - reference.nodes[:n][early]).max()
+        return float(diff), float(np.abs(reference.nodes[:n][early] - rest).max())
+
+    # ------------------------------------------------------------------ drawing
+    def painter(self, traj: Trajectory, **options):
+        from ..render import check_picture  # engine boundary: rendering loads MuJoCo and GL
+        from ..render.network import NetworkPainter
+
+        check_picture(width=options["width"], height=options["height"], trail=options["trail"])
+        return NetworkPainter(traj, **options)
+
+    def draw_shape(self, ax, traj: Trajectory, i: int, labels: list[str]) -> None:
+        """The nodes, the springs between them in grey."""
+        nodes = traj.nodes[i]
+        for a, b in self.network(traj.physics).bonds:
+            ax.plot(nodes[[a, b], 0], nodes[[a, b], 1], color="0.6", lw=0.8)
+        ax.plot(nodes[:, 0], nodes[:, 1], "o", ms=3)
+
+    # ------------------------------------------------------------------ stability
+    def coupling(self, physics: Physics, sigma: float | None = None) -> float:
+        """Pi = l_e / l_a at `sigma` (default physics.sigma): l_e = F_a / k with the springs' k = 1."""
+        return (physics.sigma if sigma is None else sigma) / physics.alignment_length
+
+    def stability_report(self, physics: Physics, sigma: float | None) -> list[str]:
+        """The onset in the coupling Pi = l_e / l_a (coupling). Where its fixed points form a family: what is proved
+        (every one stable below lambda_1, none above the ceiling) apart from what a search found (one stable up to at
+        least its Pi), and, at `sigma`, which of these the given Pi falls in."""
+        la = physics.alignment_length
+        onset = self.onset(physics)
+        own = ", ".join(f"{k} = {getattr(physics, k)}" for k in self.own_parameter_names())
+        lines = [f"{physics.scene}, {own}, l_a = {la:g}:", f"  onset: {onset.kind}"]
+
+        def at(value: float) -> str:
+            return f"Pi = {self.coupling(physics, value):.6g}, sigma = {value:.6g}"
+
+        if onset.sigma_all is None:
+            lines.append(f"  at sigma_c = {onset.sigma_c:.10g} (Pi_c = {self.coupling(physics, onset.sigma_c):.6g})")
+        else:
+            lines += [
+                f"  every fixed point is stable below {at(onset.sigma_c)} (lambda_1, proved)",
+                f"  some fixed point is stable up to at least {at(onset.sigma_all)} (the best found)",
+                f"  no fixed point is stable above {at(onset.sigma_ceiling)} (proved ceiling)",
+                "  between, which fixed points are stable depends on their polarities",
+            ]
+        if sigma is not None:
+            lam = self.leading_eigenvalue(physics, sigma)
+            which = "the least stable fixed point's" if onset.sigma_all is not None else "the rest state's"
+            state = "unstable" if lam.real > 0 else "stable"
+            line = (
+                f"  at sigma = {sigma:g} (Pi = {self.coupling(physics, sigma):.6g}): {which} growth rate "
+                f"{lam.real:+.6g} k/gamma ({state}"
+            )
+            if onset.sigma_all is not None and lam.real > 0:
+                line += (
+                    "; some fixed point is stable"
+                    if sigma < onset.sigma_all
+                    else "; no fixed point is stable"
+                    if sigma > onset.sigma_ceiling
+                    else "; whether some fixed point is stable is not settled"
+                )
+            lines.append(line + ")")
+        return lines

@@ -28,10 +28,12 @@ from ..networks.state import NetworkState
 from ..params import RESOLUTION, Numerics, Physics
 from ..reduced import INERTIA_RESOLUTION
 from ..terms import polarity_addresses, turning_rate
+from ..terms.unit_noise import unit_noise
 from ..trajectory import Trajectory
 from . import check_steps
 from .cost import NOTE_SECONDS, mujoco_cost
 from .monitor import MAX_STEP_CHANGE, PROGRESS_EVERY, bad_state, is_check, runaway, step_last_apart
+from .network_noise import NoisySteps
 from .network_reduced import network_rate, start_state
 
 AUTOMATIC_INTEGRATOR = "Euler"
@@ -177,19 +179,25 @@ def simulate_network_mujoco(
     units = polarity_addresses(model)
     polarity = np.empty((t.size, units.size))
     polarity[0] = data.act[units]
+    noise = unit_noise(physics, numerics)
+    noisy = NoisySteps(noise, numerics.dt, model.nq, units) if noise.active else None  # Python steps only if noisy
     start = last_shown = time.perf_counter()
     with follower_forces() if install_callbacks else contextlib.nullcontext():
         for k in range(1, t.size):
             check = is_check(k, t.size)
-            if check:  # the last step apart: how far one step moves the nodes (monitor.MAX_STEP_CHANGE)
+            if noisy is not None:  # each step kicked by the units' noise (no last step apart: a kick is no runaway)
+                noisy(model, data, nstep)
+                check_runaway = False
+            elif check:  # the last step apart: how far one step moves the nodes (monitor.MAX_STEP_CHANGE)
                 before = step_last_apart(model, data, nstep)
+                check_runaway = True
             else:
                 mujoco.mj_step(model, data, nstep=nstep)
             qpos[k] = data.qpos
             polarity[k] = data.act[units]
             if check and bad_state(data):
                 raise SimulationDiverged(_divergence_message(physics, numerics, float(data.time)))
-            if check and (change := runaway(qpos, k, nstep, before)) is not None:
+            if check and check_runaway and (change := runaway(qpos, k, nstep, before)) is not None:
                 raise SimulationDiverged(_divergence_message(physics, numerics, float(data.time), change))
             if bar is not None and (k == t.size - 1 or time.perf_counter() - last_shown >= PROGRESS_EVERY):
                 bar.update(k - shown)
@@ -201,6 +209,8 @@ def simulate_network_mujoco(
         bar.close()
     steps = int((t.size - 1) * nstep)
     info = {"steps": steps, "integrator": numerics.integrator, "us_per_step": 1e6 * wall / max(steps, 1)}
+    if noise.active:
+        info["noise"] = noise._asdict() | {"scheme": "Euler-Maruyama (Ito)", "dt": float(numerics.dt)}
     if estimate is not None:
         info["estimated_wall_s"] = estimate.wall_s
     if numerics is not given:

@@ -19,6 +19,7 @@ from ..params import Numerics, Physics
 from ..reduced import INERTIA_RESOLUTION
 from ..reduced import network as _model
 from ..terms import check_reduced_span, turning_rate
+from ..terms.unit_noise import unit_noise
 from ..trajectory import Trajectory
 
 METHODS = _model.METHODS
@@ -114,13 +115,25 @@ def simulate_network_reduced(
     system = system_of(physics)
     t = numerics.sample_times(duration)
     y0 = _model.pack(system, start_state(physics, numerics, state0))
+    noise = unit_noise(physics, numerics)
     start = time.perf_counter()
-    solution = _model.solve(system, t, y0, rtol=rtol, atol=atol, method=method)
+    if noise.active:  # Euler-Maruyama at MuJoCo's step, with its draws (terms.unit_noise)
+        from .network_mujoco import network_numerics  # the engine boundary: the automatic step's one rule
+
+        dt = network_numerics(physics, numerics).dt
+        solution = _model.solve_noisy(
+            system, t, y0, dt=dt, seed=noise.seed, translational=noise.translational, rotational=noise.rotational
+        )
+    else:
+        solution = _model.solve(system, t, y0, rtol=rtol, atol=atol, method=method)
     wall = time.perf_counter() - start
     nodes, polarity = _model.unpack(system, solution.y)
     if not np.all(np.isfinite(solution.y)):
         raise ParameterError(f"the {physics.scene} network's state became non-finite (sigma = {physics.sigma:g})")
     info = {"method": method, "rtol": rtol, "atol": atol, "nfev": solution.nfev, "model": "overdamped"}
+    if noise.active:
+        info = {"method": solution.method, "steps": solution.nfev, "model": "overdamped"}
+        info["noise"] = noise._asdict() | {"scheme": "Euler-Maruyama (Ito)", "dt": float(dt)}
     return Trajectory(
         t=t,
         theta=np.empty((t.size, 0)),

@@ -33,7 +33,7 @@ from ..errors import ParameterError
 from ..observables import Observable
 from ..parameters import Parameter
 from ..params import Physics
-from ..terms import polarity_terms, turning_rate
+from ..terms import polarity_terms, turning_rate, unit_noise
 from ..trajectory import Trajectory
 from ..units import Signal
 from .base import Onset, ValidationCase
@@ -58,8 +58,8 @@ BOUNDARY = Parameter(
     title="the patch's boundary",
 )
 
-NETWORK_TERMS = ("sigma", "active", "alignment_length")
-"""The terms' parameters that act on a network: the active force and the units' direction law and length."""
+NETWORK_TERMS = ("sigma", "active", "alignment_length", *unit_noise.NAMES)
+"""The terms' parameters that act on a network: the active force, the units' direction law and length, their noise."""
 SELF_ALIGNING_ONLY = ((*polarity_terms()[0].polarity_switch, "a network's active units are self-aligning"),)
 
 MEANING = tuple(states.STATE_MEANING.items())

@@ -239,7 +239,9 @@ study, the moving clamp's tongue), which is about that term."""
 
 
 def _term_modules() -> set[str]:
-    return {m for m in MODULES if m.startswith("elastoactive.terms.") and m not in TERM_CONTRACT}
+    """The modules that define a registered term (a helper module of the term package that is no term, such as the
+    network units' noise parameters, is not one)."""
+    return {type(term).__module__ for term in ea.terms.terms()} - set(TERM_CONTRACT)
 
 
 def _terms_imported_by_name(name: str, path: Path) -> list[str]:

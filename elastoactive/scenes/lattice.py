@@ -303,6 +303,11 @@ class Lattice(ActiveNetwork):
                 f"a floppy network ({bracket.floppy} zero modes): almost every fixed point is unstable at any "
                 "coupling, none at all above the proved ceiling (no search)"
             )
+        elif bracket.starts == 0:
+            kind = (
+                "a family of fixed points (one per choice of polarities), each through a real eigenvalue (a large "
+                "network: no search over the polarities; the best found is lambda_1)"
+            )
         else:
             kind = (
                 f"a family of fixed points (one per choice of polarities), each through a real eigenvalue "

@@ -28,6 +28,7 @@ from .results import Results, check_measurable, check_transient, load_trajectory
 from .results import measure as _measure
 from .starts import as_start
 from .trajectory import Trajectory
+from .units import CHAIN, SYSTEMS, scene_units
 
 
 def _field_names(cls) -> tuple[str, ...]:
@@ -301,7 +302,19 @@ def physics_doc(head: str = "") -> str:
     for owner, specs in _owners():
         lines += ["", f"Declared by {owner}:", ""]
         lines += [_entry(spec) for spec in specs]
-    lines += ["", "Units: [l] lengths, [C1] stiffnesses, [tau] times; a number without units is dimensionless."]
+    lines += ["", "Units", "-----"]
+    for system in SYSTEMS:  # each scene speaks its own (elastoactive.units); the entries above are in the chain's
+        users = [s.name for s in registry.scenes() if scene_units(s) == system]
+        text = f"{system.name} scenes ({', '.join(users)}). {system.text}"
+        lines.append(textwrap.fill(text, DOC_WIDTH))
+        worded = [f"{spec.name}: {spec.help_in(system)}" for _, specs in _owners() for spec in specs if spec.worded]
+        if system != CHAIN and worded:
+            lines.append(textwrap.fill("There: " + "; ".join(worded) + ".", DOC_WIDTH, subsequent_indent="    "))
+    note = (
+        "The entries above are in the chain's units ([l] lengths, [tau] times); a number without units is "
+        "dimensionless. Pi is given in place of sigma where a scene has the coupling."
+    )
+    lines.append(textwrap.fill(note, DOC_WIDTH))
     return "\n".join(lines)
 
 

@@ -165,3 +165,12 @@ def test_pi_on_a_sweeps_grid():
     sigmas = [sweep.case(k).physics.sigma for k in range(sweep.size)]
     assert np.allclose(sigmas, [0.1, 0.2])
     assert "sigma" not in sweep.fixed  # set by the grid's Pi, not a fixed value
+
+
+def test_physics_help_names_each_system_and_its_scenes():
+    """help(ea.Physics) says which scenes speak which units, and what the worded parameters are on a network."""
+    text = " ".join(ea.Physics.__doc__.split())
+    for system in SYSTEMS:
+        users = [s for s in SCENES if scene_units(registry.get(s)) == system]
+        assert f"{system.name} scenes ({', '.join(users)})" in text
+    assert "sigma: active force of each unit F_a / (k a)" in text

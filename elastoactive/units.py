@@ -157,13 +157,10 @@ THETA = Signal("Theta", "Theta = theta_N - theta_1", "rad")
 
 
 def scene_units(scene) -> Units:
-    """The units a scene declares (Scene.units; a scene that declares none, a plug-in's chain, the chain's)."""
-    units = getattr(scene, "units", CHAIN)
-    return units if isinstance(units, Units) else CHAIN
+    """The units a scene declares (Scene.units: a chain scene's CHAIN, a network scene's NETWORK)."""
+    return scene.units
 
 
 def beat_signal(physics) -> Signal:
-    """What a physics' beat is measured on (Scene.beat_signal(physics); a scene that declares none: a chain's
-    Theta)."""
-    describe = getattr(physics.scene_def, "beat_signal", None)
-    return describe(physics) if callable(describe) else THETA
+    """What a physics' beat is measured on (Scene.beat_signal(physics): a chain's Theta, a network's own signal)."""
+    return physics.scene_def.beat_signal(physics)

@@ -16,7 +16,9 @@ is in gamma / k):
   lab-frame drag        the slide joints' damping gamma = 1: exactly -gamma v along each world axis, taken implicitly
                         by implicitfast (and implicit, discrete) at no cost beyond the diagonal it adds
   node mass             bead geom mass = mass_ratio (inertial time m / gamma in units of gamma / k)
-  active unit on node i the site's first user value F_a = sigma and a self-aligning unit on the site
+  active unit on node i the site's first user value F_a = sigma (times the unit's force factor, network.unit_force)
+                        and a self-aligning unit on the site (its actuator's dynprm[0] the unit's own l_a where
+                        network.unit_alignment_length gives it)
                         (Term.add_unit of the polarity term, the self-aligning term's: an actuator
                         node_{i}_polarity with user dynamics whose activation is the polarity psi_i, its
                         transmission the node's x slide, a pinned node's its site; controllers/follower.c turns
@@ -35,8 +37,10 @@ import mujoco
 import numpy as np
 
 from ..errors import ParameterError
+from ..networks.geometry import unit_alignment_lengths, unit_forces
 from ..params import Numerics, Physics
 from ..terms import polarity_addresses, polarity_term, polarity_terms
+from ..terms.self_aligning import POLARITY_SUFFIX
 from . import mjcf_path
 from .chain import INTEGRATOR
 
@@ -106,8 +110,10 @@ def build_network_spec(network, physics: Physics, numerics: Numerics = Numerics(
     pinned = np.asarray(network.pinned, dtype=bool)
     active = np.asarray(network.active, dtype=bool)
     trap = float(network.trap)
+    forces = np.zeros(len(positions))
+    forces[active] = unit_forces(network, physics.sigma)  # each unit's own (sigma unless the network scales it)
     for i, (x, y) in enumerate(positions):
-        force = [float(physics.sigma) if active[i] else 0.0]
+        force = [float(forces[i])]
         if pinned[i]:
             spec.worldbody.add_site(name=f"node_{i}", default=pinned_node, pos=[x, y, 0.0], userdata=force)
             continue
@@ -136,8 +142,14 @@ def build_network_spec(network, physics: Physics, numerics: Numerics = Numerics(
         tendon.wrap_site(f"node_{i}")
         tendon.wrap_site(f"node_{j}")
     units = polarity_term(physics) or polarity_terms()[0]  # the term whose units it carries (Term.add_unit): one always
+    passive = forces == 0 if network.unit_force is not None else np.zeros(len(positions), dtype=bool)
     for i in np.flatnonzero(active):  # a free node's unit on its x slide (O(1) per step), a pinned one's on its site
-        units.add_unit(spec, f"node_{i}", physics, slide=None if pinned[i] else f"node_{i}_x")
+        # a unit given force 0 also on its site: follower.c finds a slide's site by its nonzero force, and a passive
+        # unit's polarity still turns with its node
+        units.add_unit(spec, f"node_{i}", physics, slide=None if pinned[i] or passive[i] else f"node_{i}_x")
+    if network.unit_alignment_length is not None:  # units with their own l_a: their actuators' dynprm[0]
+        for i, length in zip(np.flatnonzero(active), unit_alignment_lengths(network, physics.alignment_length)):
+            spec.actuator(f"node_{i}{POLARITY_SUFFIX}").dynprm[0] = float(length)
 
     spec.option.timestep = numerics.dt
     spec.option.integrator = INTEGRATOR[numerics.integrator]

@@ -24,6 +24,7 @@ from ..controllers import follower_forces
 from ..errors import ParameterError, SimulationDiverged
 from ..io.progress import progress_bar
 from ..mjcf.network import build_network_model, node_positions, qpos_of_positions, set_polarity
+from ..networks.geometry import turning_scale
 from ..networks.state import NetworkState
 from ..params import RESOLUTION, Numerics, Physics
 from ..reduced import INERTIA_RESOLUTION
@@ -52,10 +53,12 @@ off at dt = 0.0025, 0.77% and 0.66% at dt = 0.000625, halving with dt (docs/perf
 
 def network_numerics(physics: Physics, numerics: Numerics) -> Numerics:
     """The numerics a network run uses: these, or, when they are `automatic`, AUTOMATIC_INTEGRATOR with dt at most
-    TURN_RESOLUTION / Pi (a whole fraction of sample_dt; the default dt where that is larger)."""
+    TURN_RESOLUTION / Pi (a whole fraction of sample_dt; the default dt where that is larger; Pi the fastest unit's
+    sigma_u / l_u where the units have their own forces or alignment lengths)."""
     if not numerics.automatic:
         return numerics
-    turning = turning_rate(physics)
+    network = physics.scene_def.network(physics)
+    turning = turning_rate(physics) * turning_scale(network, physics.alignment_length)
     dt = numerics.dt
     if turning > 0:
         dt = min(dt, numerics.sample_dt / math.ceil(numerics.sample_dt * turning / TURN_RESOLUTION - 1e-9))

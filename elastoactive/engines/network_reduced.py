@@ -14,6 +14,7 @@ import time
 import numpy as np
 
 from ..errors import ParameterError
+from ..networks.geometry import turning_scale
 from ..networks.state import NetworkState
 from ..params import Numerics, Physics
 from ..reduced import INERTIA_RESOLUTION
@@ -39,9 +40,11 @@ def system_of(physics: Physics) -> _model.NetworkSystem:
 def network_rate(physics: Physics) -> float:
     """The fastest rate a network run's step must resolve (units k / gamma): the largest eigenvalue of the passive
     network's dynamical matrix (springs and trap, explicit in every integrator) or the units' turning Pi = sigma / l_a,
-    whichever is larger (reduced.network.stiffest_rate: sparse for a large network)."""
-    springs = _model.stiffest_rate(physics.scene_def.network(physics))
-    return max(springs, turning_rate(physics))
+    whichever is larger (reduced.network.stiffest_rate: sparse for a large network); the fastest unit's
+    sigma_u / l_u where the units have their own forces or alignment lengths (networks.geometry.turning_scale)."""
+    network = physics.scene_def.network(physics)
+    springs = _model.stiffest_rate(network)
+    return max(springs, turning_rate(physics) * turning_scale(network, physics.alignment_length))
 
 
 PINNED_SLACK = 1e-6

@@ -10,11 +10,16 @@
       "pinned": [0, 1],                                    optional: nodes held at their rest position (default none)
       "units": [2],                                        optional: nodes carrying an active unit (default: every
                                                            node not pinned)
-      "trap": 0.0                                          optional: a trap's stiffness pulling each free node to its
+      "trap": 0.0,                                         optional: a trap's stiffness pulling each free node to its
                                                            rest position (default 0: none)
+      "unit_force": [0.5],                                 optional: each unit's force as a factor of the run's sigma,
+                                                           one value or one per unit in the order of "units"
+                                                           (default 1)
+      "unit_alignment_length": [0.05]                      optional: each unit's alignment length (units a), one value
+                                                           or one per unit as unit_force (default: the run's)
     }
 
-The units' force and alignment length are the run's (sigma, alignment_length): one value for every unit. Any other
+Without unit_force and unit_alignment_length every unit has the run's force sigma and alignment length. Any other
 key, a missing one or a bad value is refused in one line naming the field and the file.
 """
 
@@ -38,7 +43,17 @@ VERSION = 1
 SUFFIX = ".json"
 """A network file's name ends so."""
 REQUIRED = ("nodes", "bonds")
-OPTIONAL = ("format", "version", "stiffness", "rest_lengths", "pinned", "units", "trap")
+OPTIONAL = (
+    "format",
+    "version",
+    "stiffness",
+    "rest_lengths",
+    "pinned",
+    "units",
+    "trap",
+    "unit_force",
+    "unit_alignment_length",
+)
 
 
 def network_from_dict(data: dict, source: str = "network data") -> Network:
@@ -67,16 +82,24 @@ def network_from_dict(data: dict, source: str = "network data") -> Network:
             stiffness=data.get("stiffness", 1.0),
             rest_lengths=data.get("rest_lengths"),
             trap=float(trap),
+            unit_force=data.get("unit_force"),
+            unit_alignment_length=data.get("unit_alignment_length"),
         )
     except ParameterError as error:
         raise ParameterError(f"{source}: {error}") from None
 
 
 def network_to_dict(network: Network) -> dict:
-    """The network file's object of a network: every field written out, so that reading it gives the same arrays."""
+    """The network file's object of a network: every field written out (the units' own force and alignment length
+    when they have them, in node order as "units" lists them), so that reading it gives the same arrays."""
     check(network)
     if not np.array_equal(np.asarray(network.anchors, dtype=float), np.asarray(network.positions, dtype=float)):
         raise ParameterError("network anchors: a network file anchors each node at its rest position")
+    own = {
+        name: np.asarray(getattr(network, name), dtype=float).tolist()
+        for name in ("unit_force", "unit_alignment_length")
+        if getattr(network, name) is not None
+    }
     return {
         "format": FORMAT,
         "version": VERSION,
@@ -87,7 +110,7 @@ def network_to_dict(network: Network) -> dict:
         "pinned": np.flatnonzero(network.pinned).tolist(),
         "units": np.flatnonzero(network.active).tolist(),
         "trap": float(network.trap),
-    }
+    } | own
 
 
 def write_network(network: Network, path: str | os.PathLike) -> Path:

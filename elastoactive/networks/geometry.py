@@ -2,7 +2,9 @@
 
 Pure numpy. A `Network` is everything the two engines need to build the same structure: the nodes' rest positions,
 the springs (node pairs, rest lengths, stiffnesses in units of k), which nodes are pinned at their rest position,
-which carry an active unit, and an optional isotropic harmonic trap pulling every free node to its anchor.
+which carry an active unit, and an optional isotropic harmonic trap pulling every free node to its anchor. Each unit
+may have its own force (a factor of the run's sigma) and alignment length (in place of the run's alignment_length);
+left out (None), every unit has the run's, and a run is the same to the last digit.
 
 Units: spring stiffness k = 1, rest length a = 1 (the lattice spacing).
 """
@@ -35,6 +37,8 @@ class Network(NamedTuple):
     active: np.ndarray  # (P,) bool: node carries an active unit
     anchors: np.ndarray  # (P, 2) the trap's centre for each node
     trap: float  # stiffness of an isotropic harmonic trap pulling each free node to its anchor (0: none)
+    unit_force: np.ndarray | None = None  # (A,) each unit's force as a factor of sigma, node order (None: 1 each)
+    unit_alignment_length: np.ndarray | None = None  # (A,) each unit's l_a, units a (None: the run's alignment_length)
 
     @property
     def n_nodes(self) -> int:
@@ -49,6 +53,39 @@ class Network(NamedTuple):
     def n_bonds(self) -> int:
         return len(self.bonds)
 
+    @property
+    def n_units(self) -> int:
+        return int(np.count_nonzero(self.active))
+
+
+def unit_forces(network: Network, sigma: float) -> np.ndarray:
+    """(A,) each unit's active force F_u / (k a) in node order: sigma times its factor (exactly sigma without
+    factors)."""
+    if network.unit_force is None:
+        return np.full(network.n_units, float(sigma))
+    return float(sigma) * np.asarray(network.unit_force, dtype=float)
+
+
+def unit_alignment_lengths(network: Network, alignment_length: float) -> np.ndarray:
+    """(A,) each unit's alignment length l_u (units a) in node order: its own, else the run's `alignment_length`."""
+    if network.unit_alignment_length is None:
+        return np.full(network.n_units, float(alignment_length))
+    return np.array(network.unit_alignment_length, dtype=float)
+
+
+def has_unit_fields(network: Network) -> bool:
+    """Whether some unit has a force or alignment length of its own (not the run's sigma and alignment_length)."""
+    return network.unit_force is not None or network.unit_alignment_length is not None
+
+
+def turning_scale(network: Network, alignment_length: float) -> float:
+    """The fastest unit's turning rate over the run's Pi = sigma / l_a: max_u f_u l_a / l_u (f_u its force factor,
+    l_u its alignment length); exactly 1 when every unit has the run's force and alignment length."""
+    if not has_unit_fields(network) or network.n_units == 0:
+        return 1.0
+    lengths = unit_alignment_lengths(network, alignment_length)
+    return float(np.max(unit_forces(network, 1.0) * float(alignment_length) / lengths))
+
 
 def make_network(
     nodes,
@@ -58,6 +95,8 @@ def make_network(
     stiffness=1.0,
     rest_lengths=None,
     trap: float = 0.0,
+    unit_force=None,
+    unit_alignment_length=None,
 ) -> Network:
     """A checked Network from plain data (units k = 1, a = 1).
 
@@ -68,6 +107,10 @@ def make_network(
     stiffness     one stiffness for every spring, or (B,) values > 0
     rest_lengths  (B,) rest lengths > 0 (None: each bond's length between its nodes' positions)
     trap          stiffness of an isotropic trap pulling each free node to its rest position (0: none)
+    unit_force    each unit's force as a factor >= 0 of the run's sigma: one for every unit, or one per unit in the
+                  order `units` lists them (node order when None); None: 1 for every unit (0: a passive unit, whose
+                  polarity still turns with its node)
+    unit_alignment_length  each unit's alignment length > 0 (units a), given as unit_force; None: the run's
 
     A bad field is refused in one line naming it (`check`)."""
     positions = _array("nodes", nodes, float)
@@ -95,9 +138,28 @@ def make_network(
         active=active,
         anchors=positions.copy(),
         trap=float(trap),
+        unit_force=_per_unit("unit_force", unit_force, units, active),
+        unit_alignment_length=_per_unit("unit_alignment_length", unit_alignment_length, units, active),
     )
     check(network)
     return network
+
+
+def _per_unit(name: str, values, units, active: np.ndarray) -> np.ndarray | None:
+    """A per-unit field in node order: None stays None; one value is every unit's; a list holds one value per unit in
+    the order `units` lists them (node order when units is None)."""
+    if values is None:
+        return None
+    out = _array(name, values, float)
+    count = int(np.count_nonzero(active))
+    if out.ndim == 0:
+        return np.full(count, float(out))
+    if out.shape != (count,):
+        raise ParameterError(f"network {name} must be one value, or one per unit ({count}), got shape {out.shape}")
+    if units is not None:
+        order = np.argsort(np.asarray(units, dtype=int).reshape(-1), kind="stable")
+        out = out[order]
+    return out
 
 
 def _array(name: str, values, kind: type, empty: tuple[int, ...] | None = None) -> np.ndarray:
@@ -134,7 +196,8 @@ def check(network: Network) -> None:
     """Refuse a network the engines cannot run as given, in one line naming the field: positions (P, 2) finite with
     P >= 1 and no two nodes at one place; bonds (B, 2) pairs of distinct existing nodes, each pair once; rest lengths
     and stiffnesses B finite values > 0; pinned and active (P,) masks, no unit on a pinned node; anchors (P, 2)
-    finite; trap finite >= 0."""
+    finite; trap finite >= 0; unit_force None or (A,) finite values >= 0, unit_alignment_length None or (A,) finite
+    values > 0 (A units)."""
     positions = np.asarray(network.positions, dtype=float)
     if positions.ndim != 2 or positions.shape[1] != 2 or len(positions) == 0:
         raise ParameterError(f"network nodes must be (P, 2) positions with P >= 1, got shape {positions.shape}")
@@ -188,6 +251,22 @@ def check(network: Network) -> None:
         or not (np.isfinite(trap) and trap >= 0)
     ):
         raise ParameterError(f"network trap must be a finite stiffness >= 0, got {trap!r}")
+    units = np.flatnonzero(np.asarray(network.active))
+    for name, low in (("unit_force", 0.0), ("unit_alignment_length", None)):
+        values = getattr(network, name)
+        if values is None:
+            continue
+        values = np.asarray(values, dtype=float)
+        if values.shape != units.shape:
+            raise ParameterError(
+                f"network {name} must have one value per unit ({units.size}), got shape {values.shape}"
+            )
+        bad = np.flatnonzero(~(np.isfinite(values) & ((values >= 0) if low == 0.0 else (values > 0))))
+        if bad.size:
+            limit = ">= 0" if low == 0.0 else "> 0"
+            raise ParameterError(
+                f"network {name} must be finite and {limit}, got {values[bad[0]]} for the unit on node {units[bad[0]]}"
+            )
 
 
 def hexagonal_axial(rings: int) -> np.ndarray:

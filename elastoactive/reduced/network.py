@@ -21,7 +21,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..networks.geometry import Network
+from ..networks.geometry import Network, unit_alignment_lengths, unit_forces
 from ..networks.state import NetworkState
 from . import dop853_coefficients as _coefficients
 from .network_kernels import PAUSED, STEP_BUDGET, dop853, euler_maruyama, rhs_into
@@ -38,8 +38,10 @@ class NetworkSystem(NamedTuple):
     trap: float
     slot: np.ndarray  # (P,) int: index of the node among the free nodes (-1: pinned)
     unit: np.ndarray  # (P,) int: index of the node's active unit (-1: none)
-    sigma: float  # active force F_a / (k a)
-    alignment_length: float  # l_a / a
+    sigma: float  # the run's active force F_a / (k a)
+    alignment_length: float  # the run's l_a / a
+    unit_force: np.ndarray  # (A,) each unit's force (sigma unless the network gives it a factor)
+    unit_length: np.ndarray  # (A,) each unit's alignment length (the run's unless the network gives its own)
 
     @property
     def n_free(self) -> int:
@@ -55,7 +57,8 @@ class NetworkSystem(NamedTuple):
 
 
 def network_system(network: Network, sigma: float, alignment_length: float) -> NetworkSystem:
-    """The reduced model of `network` with active force sigma and alignment length l_a."""
+    """The reduced model of `network` with active force sigma and alignment length l_a (each unit's own where the
+    network gives them: networks.geometry.unit_forces, unit_alignment_lengths)."""
     free = ~np.asarray(network.pinned, dtype=bool)
     slot = np.full(network.n_nodes, -1, dtype=np.int64)
     slot[free] = np.arange(int(free.sum()))
@@ -73,6 +76,8 @@ def network_system(network: Network, sigma: float, alignment_length: float) -> N
         unit=unit,
         sigma=float(sigma),
         alignment_length=float(alignment_length),
+        unit_force=np.ascontiguousarray(unit_forces(network, sigma)),
+        unit_length=np.ascontiguousarray(unit_alignment_lengths(network, alignment_length)),
     )
 
 
@@ -115,7 +120,7 @@ def velocities(system: NetworkSystem, positions: np.ndarray, psi: np.ndarray) ->
     v = passive_forces(system, positions)
     has = system.unit >= 0
     p = psi[system.unit[has]]
-    v[has] += system.sigma * np.column_stack([np.cos(p), np.sin(p)])
+    v[has] += system.unit_force[system.unit[has], None] * np.column_stack([np.cos(p), np.sin(p)])
     v[system.slot < 0] = 0.0
     return v
 
@@ -129,7 +134,7 @@ def rhs_reference(system: NetworkSystem):
         has = system.unit >= 0
         p = psi[system.unit[has]]
         dpsi = np.zeros_like(psi)
-        dpsi[system.unit[has]] = (-np.sin(p) * v[has, 0] + np.cos(p) * v[has, 1]) / system.alignment_length
+        dpsi[system.unit[has]] = (-np.sin(p) * v[has, 0] + np.cos(p) * v[has, 1]) / system.unit_length[system.unit[has]]
         return np.concatenate([v[system.slot >= 0].reshape(-1), dpsi])
 
     return f
@@ -146,8 +151,8 @@ def kernel_args(system: NetworkSystem) -> tuple:
         float(system.trap),
         system.slot,
         system.unit,
-        float(system.sigma),
-        1.0 / float(system.alignment_length),
+        system.unit_force,
+        1.0 / system.unit_length,
         2 * system.n_free,
     )
 
@@ -227,8 +232,8 @@ def force_jacobian_sparse(system: NetworkSystem, positions: np.ndarray):
 def jacobian(system: NetworkSystem, y: np.ndarray, sparse: bool = False):
     """Analytic d(dy/dt)/dy (S x S) at state y: dense, or (sparse=True) a scipy.sparse CSR matrix of O(B) entries.
 
-    dv_i/dx_j = H_ij, dv_i/dpsi_i = sigma n_perp_i; dpsi_i'/dx_j = n_perp_i . H_ij / l_a,
-    dpsi_i'/dpsi_i = (sigma - v_i . n_i) / l_a."""
+    dv_i/dx_j = H_ij, dv_i/dpsi_i = sigma_i n_perp_i; dpsi_i'/dx_j = n_perp_i . H_ij / l_i,
+    dpsi_i'/dpsi_i = (sigma_i - v_i . n_i) / l_i (sigma_i, l_i: unit i's force and alignment length)."""
     positions, psi = unpack(system, y)
     v = velocities(system, positions, psi)
     if sparse:
@@ -239,7 +244,6 @@ def jacobian(system: NetworkSystem, y: np.ndarray, sparse: bool = False):
     jac = np.zeros((size, size))
     h = force_jacobian(system, positions)[np.ix_(dofs, dofs)]
     jac[:f2, :f2] = h
-    inv = 1.0 / system.alignment_length
     for p in np.flatnonzero(system.unit >= 0):
         u, s = system.unit[p], system.slot[p]
         if s < 0:
@@ -247,14 +251,16 @@ def jacobian(system: NetworkSystem, y: np.ndarray, sparse: bool = False):
         n = np.array([np.cos(psi[u]), np.sin(psi[u])])
         perp = np.array([-n[1], n[0]])
         row = f2 + u
-        jac[2 * s : 2 * s + 2, row] = system.sigma * perp
+        inv, force = 1.0 / system.unit_length[u], system.unit_force[u]
+        jac[2 * s : 2 * s + 2, row] = force * perp
         jac[row, :f2] = inv * (perp @ h[2 * s : 2 * s + 2, :])
-        jac[row, row] = inv * (system.sigma - v[p] @ n)
+        jac[row, row] = inv * (force - v[p] @ n)
     return jac
 
 
 def _sparse_jacobian(system: NetworkSystem, positions: np.ndarray, psi: np.ndarray, v: np.ndarray):
-    """jacobian's matrix as [[H, sigma N_perp], [N_perp^T H / l_a, diag((sigma - v . n) / l_a)]] in sparse blocks."""
+    """jacobian's matrix as [[H, N_perp S], [L^-1 N_perp^T H, L^-1 diag(sigma_u - v . n)]] in sparse blocks (S, L:
+    the units' forces sigma_u and alignment lengths l_u on the diagonal)."""
     from scipy import sparse  # start-up time: scipy.sparse only for the network's linear algebra
 
     h = force_jacobian_sparse(system, positions)
@@ -266,10 +272,11 @@ def _sparse_jacobian(system: NetworkSystem, positions: np.ndarray, psi: np.ndarr
     rows = np.concatenate([2 * slots, 2 * slots + 1])
     cols = np.concatenate([units, units])
     perp = sparse.csr_matrix((np.concatenate([-n[:, 1], n[:, 0]]), (rows, cols)), shape=(f2, count))
-    inv = 1.0 / system.alignment_length
+    inv = sparse.diags(1.0 / system.unit_length)
     turn = np.zeros(count)
-    turn[units] = inv * (system.sigma - np.einsum("ij,ij->i", v[nodes], n))
-    return sparse.bmat([[h, system.sigma * perp], [inv * (perp.T @ h), sparse.diags(turn)]], format="csr")
+    turn[units] = (1.0 / system.unit_length[units]) * (system.unit_force[units] - np.einsum("ij,ij->i", v[nodes], n))
+    force = perp @ sparse.diags(system.unit_force)
+    return sparse.bmat([[h, force], [inv @ (perp.T @ h), sparse.diags(turn)]], format="csr")
 
 
 def dynamical_matrix(network: Network) -> np.ndarray:

@@ -62,7 +62,8 @@ def standard_normal_into(seed, step, out):
 @njit(cache=True)
 def rhs_into(y, out, rest, bonds, rest_lengths, stiffness, anchors, trap, slot, unit, sigma, inv_la, f2):
     """out = dy/dt at y (f2: the free nodes' coordinates, 2F). Forces summed bond by bond into out[:f2], then per
-    free node the trap, the active force sigma n and the turning rate (v . n_perp) / l_a."""
+    free node the trap, the active force sigma[u] n and the turning rate (v . n_perp) inv_la[u] (sigma, inv_la: (A,)
+    each unit's force and 1 / its alignment length)."""
     for i in range(f2):
         out[i] = 0.0
     for b in range(bonds.shape[0]):
@@ -96,9 +97,9 @@ def rhs_into(y, out, rest, bonds, rest_lengths, stiffness, anchors, trap, slot, 
         vy = out[2 * s + 1] - trap * (y[2 * s + 1] - anchors[p, 1])
         if u >= 0:
             c, sn = np.cos(y[f2 + u]), np.sin(y[f2 + u])
-            vx += sigma * c
-            vy += sigma * sn
-            out[f2 + u] = (-sn * vx + c * vy) * inv_la
+            vx += sigma[u] * c
+            vy += sigma[u] * sn
+            out[f2 + u] = (-sn * vx + c * vy) * inv_la[u]
         out[2 * s] = vx
         out[2 * s + 1] = vy
 

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import contextlib
 import io
+import json
 import re
 
 import numpy as np
@@ -174,3 +175,22 @@ def test_physics_help_names_each_system_and_its_scenes():
         users = [s for s in SCENES if scene_units(registry.get(s)) == system]
         assert f"{system.name} scenes ({', '.join(users)})" in text
     assert "sigma: active force of each unit F_a / (k a)" in text
+
+
+def test_a_network_run_from_the_command_line_with_pi(tmp_path, capsys):
+    """`run trapped-unit --Pi 8`: sigma = Pi k_t l_a recorded, summary.json's units the network's, its notes naming
+    the unit's x and gamma/k, not Theta and tau; `--from` with another --Pi sets sigma anew."""
+    out = tmp_path / "run"
+    argv = ["run", "trapped-unit", "--Pi", "8", "--trap", "0.1", "--engine", "reduced", "--duration", "20"]
+    assert main([*argv, "--quiet", "--out", str(out)]) == 0
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["parameters"]["sigma"] == pytest.approx(0.8)
+    units = summary["units"]
+    assert units["system"] == "network" and units["time"] == "gamma/k" and units["coupling"]["Pi"] == pytest.approx(8)
+    assert units["results"]["frequency"] == "k/gamma" and units["results"]["amplitude"] == "a"
+    assert summary["results"]["notes"]  # 20 gamma/k hold less than two turns of the orbit: said so
+    for note in summary["results"]["notes"]:
+        assert not any(named(note, s) for s in foreign("trapped-unit")), note
+    assert main(["run", "--from", str(out), "--Pi", "4", "--quiet", "--out", str(tmp_path / "again")]) == 0
+    assert json.loads((tmp_path / "again" / "summary.json").read_text())["parameters"]["sigma"] == pytest.approx(0.4)
+    capsys.readouterr()

@@ -11,8 +11,6 @@ Auto-reset is off (mjcf/common.xml): a state that blows up stops the run with Si
 from __future__ import annotations
 
 import contextlib
-import dataclasses
-import math
 import sys
 import time
 from collections.abc import Callable
@@ -24,7 +22,6 @@ from ..controllers import follower_forces
 from ..errors import ParameterError, SimulationDiverged
 from ..io.progress import progress_bar
 from ..mjcf.network import build_network_model, node_positions, qpos_of_positions, set_polarity
-from ..networks.geometry import turning_scale
 from ..networks.state import NetworkState
 from ..params import RESOLUTION, Numerics, Physics
 from ..reduced import INERTIA_RESOLUTION
@@ -36,33 +33,7 @@ from .cost import NOTE_SECONDS, mujoco_cost
 from .monitor import MAX_STEP_CHANGE, PROGRESS_EVERY, bad_state, is_check, runaway, step_last_apart
 from .network_noise import NoisySteps
 from .network_reduced import network_rate, start_state
-
-AUTOMATIC_INTEGRATOR = "Euler"
-"""The integrator a network run uses when dt, mass_ratio and integrator are all left at their defaults
-(Numerics.automatic). The network's drag is the slide joints' damping, which MuJoCo's Euler integrates implicitly
-(its eulerdamp, on by default), exactly as implicitfast does: with no other velocity-dependent force in the model the
-two steps are the same, and the trajectories are bit for bit equal (tests/engines/test_network_mujoco.py), but Euler
-skips assembling and factoring implicitfast's velocity derivatives: about 30% less per step on the R = 6 lattice
-(docs/performance.md)."""
-TURN_RESOLUTION = 0.00125
-"""dt x Pi that automatic numerics keep below, Pi = sigma / l_a (units k / gamma): the rate at which a unit moving at
-its free speed F_a / gamma turns. Both MuJoCo steps are first order; the units' turning sets the error: on the
-lattice and trapped-unit validation cases (Pi = 2) the node positions over the first 20 gamma / k are 3.1% and 2.6%
-off at dt = 0.0025, 0.77% and 0.66% at dt = 0.000625, halving with dt (docs/performance.md)."""
-
-
-def network_numerics(physics: Physics, numerics: Numerics) -> Numerics:
-    """The numerics a network run uses: these, or, when they are `automatic`, AUTOMATIC_INTEGRATOR with dt at most
-    TURN_RESOLUTION / Pi (a whole fraction of sample_dt; the default dt where that is larger; Pi the fastest unit's
-    sigma_u / l_u where the units have their own forces or alignment lengths)."""
-    if not numerics.automatic:
-        return numerics
-    network = physics.scene_def.network(physics)
-    turning = turning_rate(physics) * turning_scale(network, physics.alignment_length)
-    dt = numerics.dt
-    if turning > 0:
-        dt = min(dt, numerics.sample_dt / math.ceil(numerics.sample_dt * turning / TURN_RESOLUTION - 1e-9))
-    return dataclasses.replace(numerics, integrator=AUTOMATIC_INTEGRATOR, dt=dt)
+from .network_step import network_numerics
 
 
 def check_network_timestep(physics: Physics, numerics: Numerics) -> float:

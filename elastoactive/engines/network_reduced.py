@@ -1,4 +1,4 @@
-"""Run a network scene (Scene.network(physics) is not None) in the reduced model: the cross-check of MuJoCo.
+"""Run a network scene (scenes.NetworkScene.run_reduced hands it here) in the reduced model: the cross-check of MuJoCo.
 
 The mathematics is elastoactive.reduced.network (the overdamped equations of nodes and self-aligning units, a
 compiled right-hand side, its analytic Jacobian); here a Physics becomes the scene's network with sigma and the
@@ -22,6 +22,7 @@ from ..reduced import network as _model
 from ..terms import check_reduced_span, turning_rate
 from ..terms.unit_noise import unit_noise
 from ..trajectory import Trajectory
+from .network_step import network_numerics
 
 METHODS = _model.METHODS
 DEFAULT_METHOD = "DOP853"
@@ -121,8 +122,6 @@ def simulate_network_reduced(
     noise = unit_noise(physics, numerics)
     start = time.perf_counter()
     if noise.active:  # Euler-Maruyama at MuJoCo's step, with its draws (terms.unit_noise)
-        from .network_mujoco import network_numerics  # the engine boundary: the automatic step's one rule
-
         dt = network_numerics(physics, numerics).dt
         solution = _model.solve_noisy(
             system, t, y0, dt=dt, seed=noise.seed, translational=noise.translational, rotational=noise.rotational

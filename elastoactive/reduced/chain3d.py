@@ -25,7 +25,8 @@ The right-hand side normalises each tangent before use and adds -(|t_k|^2 - 1) /
 against the integrator's round-off (the exact flow conserves it: t_k . t_k' = 0).
 
 Plain-numpy twin (rhs_reference) and compiled kernel (eval_rhs3d) give the same numbers; solve3d integrates with
-scipy's DOP853 on the compiled kernel.
+scipy's DOP853 on the compiled kernel (it imports scipy.integrate when called: ~0.4 s of start-up the rest of the
+package does not pay).
 """
 
 from __future__ import annotations
@@ -35,7 +36,6 @@ from typing import NamedTuple
 
 import numpy as np
 from numba import njit
-from scipy.integrate import solve_ivp
 
 from ..errors import ParameterError
 
@@ -264,6 +264,9 @@ def rhs(tangents: np.ndarray, chain: Chain3D) -> np.ndarray:
 def solve3d(chain: Chain3D, ts: np.ndarray, tangents0: np.ndarray, *, rtol: float = 1e-9, atol: float = 1e-9):
     """Tangents (len(ts), N, 3) of the chain from tangents0 (N, 3) at t = 0, sampled at ts (scipy's DOP853 on the
     compiled right-hand side). Raises RuntimeError naming the solver's message when it fails."""
+    # start-up time: scipy.integrate costs ~0.4 s to import; only the integration needs it
+    from scipy.integrate import solve_ivp
+
     chain.checked()
     ts = np.asarray(ts, dtype=float)
     n, sigma, gamma_l, clamped = int(chain.n), float(chain.sigma), float(chain.gamma_l), bool(chain.clamped)

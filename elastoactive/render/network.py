@@ -164,7 +164,7 @@ class NetworkPainter:
                 # MuJoCo 4.0 draws an mjGEOM_ARROW over half the connector's length (elastoactive.render), hence the 2
                 _add_geom(scene, mujoco.mjtGeom.mjGEOM_ARROW, ARROW_RGBA, p, p + 2.0 * (tip - p), 0.04)
         pixels = self.renderer.render()
-        return self.caption.draw(pixels, f"t = {t:.1f} τ")
+        return self.caption.draw(pixels, f"t = {t:.1f} γ/k")  # a network's time unit (units.NETWORK)
 
 
 __all__ = ["NetworkPainter", "network_caption", "strain_colour"]

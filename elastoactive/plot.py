@@ -328,4 +328,4 @@ def sweep_map(dataset, variable: str = "amplitude", ax=None, **selection):
     return ax
 
 
-__all__ = ["angles", "limit_cycle", "shape", "sweep_map", "theta", "tip_path"]
+__all__ = ["Labels", "angles", "labels", "limit_cycle", "shape", "sweep_map", "theta", "tip_path"]

@@ -188,12 +188,12 @@ def ladder(load: float, ns, guess: np.ndarray, omega_guess: float, gamma_l: floa
     N^-4; their continuum limits (analysis.filament.richardson)."""
     ns = [int(n) for n in ns]
     states = []
-    shape, omega = np.asarray(guess, dtype=float), float(omega_guess)
+    shape, omega, previous = np.asarray(guess, dtype=float), float(omega_guess), ns[0]
     for n in ns:
+        omega *= (previous / n) ** 4  # the rate scales as N^-4 at a fixed load: the next rung's first guess
         state = find_whirl(Chain3D(n=n, sigma=load / n**3, gamma_l=gamma_l), resample_tangents(shape, n), omega)
         states.append(state)
-        shape, omega = state.tangents, state.omega
-        omega *= (n / (n + 1)) ** 4  # a first guess for the next rung
+        shape, omega, previous = state.tangents, state.omega, n
     n_arr = np.array(ns, dtype=float)
     return WhirlLadder(
         float(load),

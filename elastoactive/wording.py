@@ -1,10 +1,11 @@
-"""What a user reads about a scene, in the scene's own units: its parameters' help, its numerical settings' help, its
-observables' units and long names, the units record of its summary.json.
+"""What a user reads about a scene's specs, in the scene's own units: its numerical settings' help, its observables'
+units and long names (a beat observable's about the scene's beat signal), the units record of its summary.json.
 
-The one place that puts the specs (elastoactive.parameters, elastoactive.observables, Numerics' fields) in a scene's
-units (elastoactive.units: Scene.units, Scene.beat_signal); the CLI's help for a scene, summary.json, a sweep's
-netCDF attributes, Trajectory.to_xarray and ea.plot's labels all read it, so that a network scene never speaks the
-chain's language (tests/test_scene_units.py holds every registered scene and term to it).
+Where the specs (elastoactive.observables, Numerics' fields) meet a scene's units (elastoactive.units: Scene.units,
+Scene.beat_signal; a parameter's own: Parameter.help_in, units_in). The CLI's help for a scene, summary.json and a
+sweep's netCDF attributes read it; ea.plot's labels and Trajectory.to_xarray read the scene's units directly. So a
+network scene never speaks the chain's language (tests/test_scene_units.py holds every registered scene and term to
+it).
 """
 
 from __future__ import annotations
@@ -13,34 +14,11 @@ from dataclasses import Field
 
 from . import observables
 from .observables import Observable
-from .parameters import Parameter
 from .parameters import get as parameter_spec
 from .params import Physics, has_coupling
-from .registry import get as scene_named
-from .units import Signal, Units, beat_signal, scene_units, worded
+from .units import Units, beat_signal, scene_units, worded
 
-__all__ = [
-    "Signal",
-    "Units",
-    "beat_signal",
-    "coupling_text",
-    "field_help",
-    "observable",
-    "parameter_help",
-    "scene_units",
-    "summary_units",
-    "units_of",
-]
-
-
-def units_of(scene: str) -> Units:
-    """The units of the scene called `scene`."""
-    return scene_units(scene_named(scene))
-
-
-def parameter_help(spec: Parameter, scene: str) -> str:
-    """A physics parameter's help on `scene`, in its units (Parameter.help_in)."""
-    return spec.help_in(units_of(scene))
+__all__ = ["field_help", "observable", "summary_units"]
 
 
 def field_help(field: Field, units: Units) -> str:
@@ -55,14 +33,6 @@ def observable(name: str, physics: Physics) -> Observable:
     return observables.described(
         observables.spec_or_default(name), scene_units(physics.scene_def), beat_signal(physics)
     )
-
-
-def coupling_text(physics: Physics) -> str:
-    """'Pi = σ / l_a = 1.5' for a scene that has the coupling Pi (Scene.coupling), else ''."""
-    definition = physics.scene_def
-    if not has_coupling(definition):
-        return ""
-    return f"Pi = {definition.coupling_formula} = {definition.coupling(physics):.6g}"
 
 
 def summary_units(physics: Physics, results: dict) -> dict:

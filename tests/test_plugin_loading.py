@@ -11,7 +11,7 @@ import textwrap
 import pytest
 
 import elastoactive as ea
-from elastoactive import plugins, registry
+from elastoactive import plugins, table
 from elastoactive.cli import main
 from elastoactive.cli.options import preload_plugins
 
@@ -206,7 +206,7 @@ def _distribution(folder, group: str, entry: str) -> None:
 @pytest.fixture
 def fresh_group(monkeypatch):
     """The entry points of every registry load again at their next listing (as in a fresh process)."""
-    monkeypatch.setitem(registry._entry_points, "loaded", set())
+    monkeypatch.setitem(table._entry_points, "loaded", set())
 
 
 def test_an_entry_point_term_is_found(tmp_path, monkeypatch, fresh_group):

@@ -1,14 +1,18 @@
-"""`elastoactive accuracy`: error against wall time of every engine setting on the paper's cases."""
+"""`elastoactive accuracy`: error against wall time of every engine setting on the paper's cases.
+
+checks.accuracy is imported inside `main`, the subcommand's boundary: it loads both engines and matplotlib.
+"""
 
 from __future__ import annotations
 
 from pathlib import Path
 
+from ..io.outputs import check_folder
 from .options import workers_argument
 
 
 def main(args) -> int:
-    # start-up time: both engines, matplotlib and the process pool load only when the study runs
+    # both engines, matplotlib and the process pool load only when the study runs
     from ..checks.accuracy import (
         format_defaults,
         format_recommendations,
@@ -17,7 +21,6 @@ def main(args) -> int:
         summarise,
         write_outputs,
     )
-    from ..io.outputs import check_folder
 
     check_folder(args.out)
     size = "tiny" if args.tiny else "quick" if args.quick else "full"

@@ -12,6 +12,10 @@ A ladder whose coarsest rung does not resolve the bending length L S^(-1/3) is r
 
 A separate command rather than an option of `run`: it runs several chains and writes no trajectory; `run`
 is one chain, one trajectory, one summary.json.
+
+The linear analysis (analysis.stability, analysis.continuum: scipy) and the reduced engine (numba) are imported inside
+the functions that run the command, the subcommand's boundary: `elastoactive --help` and the other commands do not
+load them.
 """
 
 from __future__ import annotations
@@ -23,7 +27,13 @@ import sys
 import time
 from dataclasses import asdict, dataclass
 
+import numpy as np
+
+from ..analysis.filament import beat, resample, richardson
 from ..errors import ParameterError
+from ..params import DEFAULT_DT, Numerics
+from ..reduced.blas import one_blas_thread
+from ..scenes import one_pinned
 
 DEFAULT_LADDER = (20, 40, 80, 160)
 """The ladder of N: halving 1/N, the finest rung the costliest (~0.5 s per beat at N = 160)."""
@@ -99,8 +109,6 @@ def _ladder(text: str) -> tuple[int, ...]:
 
 def _first_shape(n: int, sigma: float):
     """The most unstable mode of the straight chain (real part), scaled to Theta = START_AMPLITUDE."""
-    import numpy as np  # start-up time: numpy, scipy and the engines load only when the command runs
-
     from ..analysis import stability as stab  # the linear operator (scipy)
 
     lam, vec = np.linalg.eig(stab.linear_operator(n, sigma))
@@ -124,13 +132,8 @@ def _rung(n: int, S: float, start, progress: bool, period: float | None = None) 
     S^BEAT_SCALING); each chunk samples the period it expects SAMPLES_PER_PERIOD times, and a chunk that finds its
     period far from the expected one (fewer than MIN_SAMPLES_PER_PERIOD samples, or fewer than three crossings) is
     run again at the period it found."""
-    import numpy as np  # start-up time: numpy, scipy and the engines load only when the command runs
-
-    from ..analysis import stability as stab  # the operator, the engine, the beat measures
-    from ..analysis.filament import beat
-    from ..engines.reduced import simulate_reduced
-    from ..params import DEFAULT_DT, Numerics
-    from ..scenes import one_pinned
+    from ..analysis import stability as stab  # the operator (scipy)
+    from ..engines.reduced import simulate_reduced  # the reduced engine (numba)
 
     sigma = S / n**3
     physics = one_pinned.SCENE.physics(n=n, sigma=sigma)  # the clamped chain: the filament's discretisation
@@ -216,9 +219,7 @@ def converging(values) -> bool:
 def ladder(S: float, ns=DEFAULT_LADDER, progress: bool = False) -> list[Rung]:
     """The rungs of the ladder at follower load S, each started from the previous one's last shape (a ladder that does
     not resolve S is refused first: check_resolution)."""
-    from ..analysis import stability as stab  # start-up time: scipy loads only when the command runs
-    from ..analysis.filament import resample
-    from ..reduced.blas import one_blas_thread
+    from ..analysis import stability as stab  # the operator (scipy)
 
     ns = tuple(sorted(ns))
     check_resolution(S, ns)
@@ -240,8 +241,7 @@ def ladder(S: float, ns=DEFAULT_LADDER, progress: bool = False) -> list[Rung]:
 
 
 def main(args) -> int:
-    from ..analysis.continuum import continuum_critical  # start-up time: scipy loads only when the command runs
-    from ..analysis.filament import richardson
+    from ..analysis.continuum import continuum_critical  # the continuum's onset (scipy)
 
     if not (math.isfinite(args.S) and args.S > 0):
         raise ParameterError(f"S (follower load f L^3 / B) must be a positive number, got {args.S}")

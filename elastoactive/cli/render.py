@@ -1,6 +1,8 @@
 """Command line of the renderer: `elastoactive render RUN -o out.mp4` and `run ... --video out.mp4`.
 
-Kept apart from elastoactive.render so that building the parser imports nothing heavy.
+Kept apart from elastoactive.render so that building the parser imports nothing heavy: the renderer (matplotlib,
+MuJoCo and its GL set-up) and mujoco itself are imported inside the functions that render or check MUJOCO_GL, the
+subcommand's boundary.
 """
 
 from __future__ import annotations
@@ -12,6 +14,8 @@ import sys
 from pathlib import Path
 
 from ..errors import ParameterError
+from ..io.outputs import check_file
+from ..results import jsonable, load_trajectory
 
 RENDER_HELP = (
     "Frame k shows t = start + k * rate / fps (times in tau). The default rate makes one beat of "
@@ -68,7 +72,6 @@ def add_video_args(p: argparse.ArgumentParser, *, still: bool = False, time_unit
 
 def _render(traj, args, video: Path | None, still: Path | None, numerics=None) -> int:
     from ..render import RenderError, render_still, render_trajectory  # start-up time: matplotlib, MuJoCo, GL
-    from ..results import jsonable
 
     common = dict(
         rate=args.rate, fps=args.fps, width=args.width, height=args.height, trail=args.trail, numerics=numerics
@@ -106,9 +109,6 @@ def video_after_run(args, traj, numerics=None) -> int:
 
 
 def main(args) -> int:
-    from ..io.outputs import check_file  # start-up time: only when rendering
-    from ..results import load_trajectory  # start-up time: results loads the analysis
-
     if args.output is None and args.still is None:
         raise ParameterError("give -o/--output (MP4) and/or --still (PNG)")
     check_video_options(args)

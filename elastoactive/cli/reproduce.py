@@ -1,4 +1,7 @@
-"""`elastoactive reproduce`: every claim of the paper, claim by claim, into one folder."""
+"""`elastoactive reproduce`: every claim of the paper, claim by claim, into one folder.
+
+The study registry is imported inside `main`, the subcommand's boundary: the studies load both engines.
+"""
 
 from __future__ import annotations
 
@@ -6,7 +9,8 @@ import sys
 from pathlib import Path
 
 from ..errors import ParameterError
-from ..io.outputs import output_path
+from ..io.outputs import check_folder, output_path
+from ..report.reproduce import reproduce
 from .options import workers_argument
 
 DESCRIPTION = (
@@ -65,10 +69,7 @@ def _only(text: str | None, known: tuple[str, ...]) -> list[str] | None:
 
 
 def main(args) -> int:
-    # start-up time: the studies load both engines (outputs: numpy)
-    from ..io.outputs import check_folder
-    from ..report.reproduce import reproduce
-    from ..studies import registry
+    from ..studies import registry  # the studies load both engines
 
     size = "full" if args.full else ("tiny" if args.tiny else "quick")
     only = _only(args.only, registry.names())

@@ -14,14 +14,17 @@ import time
 from pathlib import Path
 
 from .. import plugins, registry
+from ..api import simulate
 from ..engines import ENGINES
 from ..errors import ParameterError
-from ..io.outputs import output_path
+from ..io.outputs import check_file, check_folder, check_space, folder_lock, output_path, provenance, utc_now
 from ..params import Numerics, Physics, parameter_fields
 from ..reduced.settings import METHODS
+from ..results import check_transient, jsonable, read_summary, recorded_numerics, summary, write_run
+from ..starts import read_start
 from ..units import CHAIN, scene_units
 from .options import UNITS, add_fields, help_argument, scene_argument, scene_description, scene_help
-from .render import add_video_args
+from .render import add_video_args, check_video_options, video_after_run
 
 DEFAULT_DURATION = 300.0
 
@@ -97,8 +100,6 @@ def fill(run: argparse.ArgumentParser, scene: str | None) -> None:
 
 def _recorded(path: Path) -> dict:
     """What --from re-runs: scene, physics, numerics, engine, duration and transient of a summary.json."""
-    from ..results import read_summary  # start-up time: results loads the analysis
-
     s = read_summary(path)
     numerics = dict(s.get("numerics", {}))
     method = (s.get("solver") or {}).get("method")  # the reduced engine's ODE method, as it ran
@@ -132,8 +133,6 @@ def settings_from(args) -> tuple[Physics, Numerics, str, float, float | None]:
     physics.require_acting(given(Physics))  # an option typed where it does not act, even at its default
     engine = args.engine or base["engine"] or "mujoco"
     if base["engine"] and engine != base["engine"] and engine in ENGINES:  # the record's settings the engine reads
-        from ..results import recorded_numerics  # start-up time: results loads the analysis
-
         base["numerics"] = {k: v for k, v in base["numerics"].items() if k in recorded_numerics(engine, physics)}
     numerics = Numerics(**{**base["numerics"], **given(Numerics)})
     duration = args.duration if args.duration is not None else (base["duration"] or DEFAULT_DURATION)
@@ -145,8 +144,6 @@ def settings_from(args) -> tuple[Physics, Numerics, str, float, float | None]:
 def check_rerun(args, physics: Physics, engine: str) -> None:
     """`--from`: refuse a record that lacks a setting the re-run needs (and no option gives it), rather than fill
     it with a default that the recorded run may not have used."""
-    from ..results import read_summary, recorded_numerics  # start-up time: results loads the analysis
-
     s = read_summary(args.source)
     numerics = s.get("numerics") or {}
     needed = {
@@ -179,9 +176,6 @@ def _check_destination(
     out: Path, physics: Physics, numerics: Numerics, engine: str, duration: float, transient: float, force: bool
 ) -> None:
     """Refuse, before simulating, an --out that cannot be written or that holds another run."""
-    from ..io.outputs import check_folder  # start-up time: only when a run writes files
-    from ..results import read_summary
-
     check_folder(out)
     if force or not (out / "summary.json").exists():
         return
@@ -215,9 +209,6 @@ def trajectory_bytes(physics: Physics, samples: int) -> int:
 
 
 def main(args) -> int:
-    # start-up time: the engines and analysis load only when a command runs, not for --help
-    from ..io.outputs import check_folder, folder_lock
-
     if not args.out:
         return _run(args, None)
     check_folder(Path(args.out))  # a file or an unwritable place is named as such, before the lock creates it
@@ -226,12 +217,6 @@ def main(args) -> int:
 
 
 def _run(args, out: Path | None) -> int:
-    # start-up time: the engines and analysis load only when a command runs, not for --help
-    from ..api import simulate
-    from ..io.outputs import check_file, check_space, provenance, utc_now
-    from ..results import check_transient, jsonable, summary, write_run
-    from ..starts import read_start
-
     started, clock = utc_now(), time.perf_counter()
     physics, numerics, engine, duration, transient = settings_from(args)
     if args.source:
@@ -248,8 +233,6 @@ def _run(args, out: Path | None) -> int:
         )
     if args.video:
         check_file(args.video, "--video", (".mp4",), force=args.force)
-        from .render import check_video_options  # start-up time: rendering loads matplotlib and GL
-
         check_video_options(args, duration)
     # --from repeats the reduced engine's recorded method (the automatic choice would pick it again; a given one too)
     method = args.method or (_recorded(args.source)["method"] if args.source and engine == "reduced" else None)
@@ -271,7 +254,5 @@ def _run(args, out: Path | None) -> int:
         write_run(out, traj, s)
         print(f"wrote {out / 'summary.json'} and {out / 'trajectory.npz'}")
     if args.video:  # rendered from the recorded trajectory, after the simulation
-        from .render import video_after_run  # start-up time: rendering loads matplotlib and GL
-
         return video_after_run(args, traj, numerics)
     return 0

@@ -6,6 +6,8 @@ again; a point refused before it ran is checked again by any re-run); 1 when eve
 error is shown); 2 for invalid options, settings the pre-flight check refuses at every point, an output that
 holds another sweep or a corrupted journal, or an output that cannot be written (e.g. a full disk:
 the journal is kept, re-run to resume).
+
+mujoco is imported inside _import_mujoco_headless, the MuJoCo engine's boundary (without its GL back end: see there).
 """
 
 from __future__ import annotations
@@ -17,9 +19,9 @@ import sys
 from .. import registry
 from ..engines import ENGINES
 from ..errors import ParameterError
-from ..io.outputs import output_path
+from ..io.outputs import check_file, output_path
 from ..params import PRESETS, Numerics, Physics, parameter_fields, scene_parameters
-from ..sweep import NUMERICS_KEYS, grid_keys
+from ..sweep import MUJOCO_ONLY, NUMERICS_KEYS, check_engine_numerics, grid_keys, parse_grid, run_sweep_outcome
 from ..units import CHAIN, scene_units
 from .options import UNITS, add_fields, help_argument, scene_argument, scene_description
 
@@ -130,10 +132,6 @@ def _import_mujoco_headless() -> None:
 
 
 def main(args) -> int:
-    # start-up time: xarray, h5py and the engines load only when a sweep runs
-    from ..io.outputs import check_file  # start-up time: only when a sweep runs
-    from ..sweep import MUJOCO_ONLY, check_engine_numerics, parse_grid, run_sweep_outcome
-
     if args.workers is not None and args.workers < 1:
         raise ParameterError(f"--workers must be >= 1, got {args.workers}")
     if args.batch_size is not None and args.batch_size < 1:

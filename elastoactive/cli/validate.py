@@ -1,4 +1,7 @@
-"""`elastoactive validate [SCENE]`: both engines on every registered scene's validation cases, error table."""
+"""`elastoactive validate [SCENE]`: both engines on every registered scene's validation cases, error table.
+
+checks.validate is imported inside `main`, the subcommand's boundary: it loads both engines.
+"""
 
 from __future__ import annotations
 
@@ -7,6 +10,7 @@ import sys
 
 from .. import registry
 from ..errors import ParameterError, SimulationDiverged
+from ..params import Numerics
 from .options import UNITS, numerics_args, numerics_from
 
 TOLERANCE_RANGE = (1e-4, 1.0)
@@ -54,7 +58,7 @@ def register(subparsers) -> None:
 
 
 def main(args) -> int:
-    # start-up time: both engines load only when a command runs, not for --help
+    # both engines load only when the command runs, not for --help
     from ..checks.validate import (
         compare,
         convergence,
@@ -65,7 +69,6 @@ def main(args) -> int:
         validation_cases,
         verdict,
     )
-    from ..params import Numerics
 
     check_tolerance(args.tolerance)
     cases = validation_cases(args.scene)

@@ -8,4 +8,5 @@ bash scripts/setup.sh
 bash scripts/docs_setup.sh
 .venv/bin/ruff check .
 .venv/bin/ruff format --check .
-exec .venv/bin/python -m pytest "$@"
+# the suite on every core (pytest-xdist; tests are spread one by one, an idle worker taking over another's queue)
+exec .venv/bin/python -m pytest -n auto --dist worksteal "$@"

@@ -85,10 +85,10 @@ TIMESTEP_TEXT = st.sampled_from(
 simply run long, which is not what this test is about; MAX_STEPS refuses the absurd ones)."""
 
 
-@settings(max_examples=60, deadline=None, derandomize=True, suppress_health_check=[HealthCheck.too_slow])
+@pytest.mark.parametrize("engine", ["reduced", "mujoco"])  # two tests: the suite's workers run them side by side
+@settings(max_examples=30, deadline=None, derandomize=True, suppress_health_check=[HealthCheck.too_slow])
 @given(
     scene=st.sampled_from(ea.scenes.names()),
-    engine=st.sampled_from(["reduced", "mujoco"]),
     options=st.dictionaries(
         st.sampled_from(
             [

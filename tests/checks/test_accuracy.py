@@ -159,17 +159,26 @@ def test_grids_hold_the_defaults_and_respect_the_drag_limit():
         assert A.Setting("reduced", "numba-DOP853", rtol=1e-9) in A.reduced_grid(quick)
 
 
-@pytest.mark.parametrize("size", A.SIZES)
-def test_every_case_of_the_study_takes_every_setting_of_its_grid(size):
+def test_every_size_of_the_study_is_within_the_full_one():
+    """The quick and tiny sizes' cases and reduced settings are among the full size's, so running the full size's
+    (the test below) runs each of theirs."""
+    cases, grid = A.paper_cases("full"), A.reduced_grid("full")
+    for size in A.SIZES:
+        assert all(physics in [p for p, _ in cases] for physics, _ in A.paper_cases(size)), size
+        assert all(setting in grid for setting in A.reduced_grid(size)), size
+
+
+@pytest.mark.parametrize("case", range(len(A.paper_cases("full"))))
+def test_every_case_of_the_study_takes_every_setting_of_its_grid(case):
     """The study's cases are the ones its grids were made for: each case's reference and every reduced setting run
     (a short span), and each MuJoCo setting is within its stability limit or recorded as refused, never raised."""
-    cases = A.paper_cases(size)
+    cases = A.paper_cases("full")
     assert cases and {p.scene for p, _ in cases} <= set(A.study_scenes())
-    for physics, _ in cases:
-        reference = A.reference_solution(physics, 2.0)
-        for setting in A.reduced_grid(size):
-            row = A.run_setting(physics, 2.0, setting, reference, repeats=1)
-            assert row["status"] == "ok", (physics, setting, row["message"])
+    physics, _ = cases[case]
+    reference = A.reference_solution(physics, 2.0)
+    for setting in A.reduced_grid("full"):
+        row = A.run_setting(physics, 2.0, setting, reference, repeats=1)
+        assert row["status"] == "ok", (physics, setting, row["message"])
 
 
 def test_reference_of_a_network_scene_uses_a_method_its_engine_takes():

@@ -5,6 +5,7 @@ scripts/test.sh) are what CI runs, so they are not run again here."""
 
 from __future__ import annotations
 
+import functools
 import os
 import re
 import shlex
@@ -49,7 +50,7 @@ def _commands() -> list[tuple[str, list[str]]]:
     return out
 
 
-def _shrink(argv: list[str], scheduler: str | None) -> list[str]:
+def _shrink(argv: list[str], scheduler=None) -> list[str]:
     """The same command at a small size: shorter runs, two grid values, the tiny reproduction, one scene's
     validation."""
     argv = list(argv)
@@ -68,7 +69,7 @@ def _shrink(argv: list[str], scheduler: str | None) -> list[str]:
         elif arg == "--time":
             argv[i + 1] = str(min(float(nxt), SHORT / 2))
         elif arg == "--scheduler":
-            argv[i + 1] = scheduler
+            argv[i + 1] = scheduler()
     if argv[0] == "run" and "--duration" not in argv and "--help" not in argv and "--from" not in argv:
         argv += ["--duration", str(SHORT)]
     if argv[0] == "sweep" and "--duration" not in argv:
@@ -81,6 +82,18 @@ def _shrink(argv: list[str], scheduler: str | None) -> list[str]:
     return argv
 
 
+CODE_SHORT = 150.0
+"""tau: the longest run a documented Python block makes here, long enough for the numbers it prints to be measured
+(a beat's amplitude and frequency over the second half)."""
+
+
+def _shrink_code(code: str) -> str:
+    """A Python block at a small size: every `duration=` capped at CODE_SHORT (what is checked is that the documented
+    code runs and prints, not its physics)."""
+    return re.sub(r"duration=(\d+(?:\.\d*)?)", lambda m: f"duration={min(float(m[1]), CODE_SHORT):g}", code)
+
+
+@functools.cache
 def _gl_works() -> bool:
     from elastoactive.render import RenderError, gl_backend  # importing render is slow: only here
 
@@ -115,40 +128,63 @@ def test_readme_is_a_front_page():
         assert (ROOT / target).exists(), target
 
 
-@pytest.mark.slow
-def test_every_readme_command_runs(tmp_path):
-    from distributed import LocalCluster  # optional dependency, used here only for the sweep's Dask line
+COMMAND_PAGES = sorted({page for page, _ in _commands()})
+"""The pages with commands: each page's commands run in order in a folder of their own, as a reader follows one page
+(one test per page, so that the pages run side by side on the suite's workers)."""
 
-    commands = _commands()
-    assert len(commands) >= 10
-    gl = _gl_works()
-    env = {**os.environ, "PYTHONWARNINGS": "ignore"}
-    with LocalCluster(
-        n_workers=1, threads_per_worker=1, processes=False, protocol="tcp", dashboard_address=None
-    ) as cluster:
-        for page, argv in commands:
-            if argv[0] == "reproduce" or ("--video" in argv or "-o" in argv or "--still" in argv) and not gl:
-                continue  # reproduce is the main job (test_reproduce runs it tiny); no GL here for videos
-            small = _shrink(argv, cluster.scheduler_address)
-            folder = tmp_path / page.replace("/", "_")  # a reader follows one page in one folder
-            folder.mkdir(exist_ok=True)
-            result = subprocess.run(
-                [sys.executable, "-m", "elastoactive", *small],
-                cwd=folder,
-                env=env,
-                capture_output=True,
-                text=True,
-                timeout=600,
+
+@pytest.fixture(scope="module")
+def scheduler():
+    """address() -> a local Dask scheduler's address, the cluster started when a command first asks for one."""
+    clusters = []
+
+    def address() -> str:
+        if not clusters:
+            from distributed import LocalCluster  # optional dependency, used here only for the sweep's Dask line
+
+            clusters.append(
+                LocalCluster(n_workers=1, threads_per_worker=1, processes=False, protocol="tcp", dashboard_address=None)
             )
-            assert result.returncode == 0, f"elastoactive {' '.join(small)}\n{result.stderr[-2000:]}"
+        return clusters[0].scheduler_address
+
+    yield address
+    for cluster in clusters:
+        cluster.close()
 
 
-def test_every_readme_python_block_runs(tmp_path):
-    blocks = _blocks("python")
+def test_the_pages_document_commands_and_code():
+    commands, blocks = _commands(), _blocks("python")
+    assert len(commands) >= 10 and "README.md" in COMMAND_PAGES
     assert {page for page, _ in blocks} >= {"README.md", "docs/run.md", "docs/getting-started.md"}
-    for page, code in blocks:
-        result = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, capture_output=True, text=True, timeout=600)
-        assert result.returncode == 0, f"{page}:\n{code}\n{result.stderr[-2000:]}"
+    assert all(_shrink_code(code) != code for _, code in blocks if "duration=" in code)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("page", COMMAND_PAGES)
+def test_every_readme_command_runs(page, tmp_path, scheduler):
+    env = {**os.environ, "PYTHONWARNINGS": "ignore"}
+    for argv in (argv for where, argv in _commands() if where == page):
+        if argv[0] == "reproduce" or ("--video" in argv or "-o" in argv or "--still" in argv) and not _gl_works():
+            continue  # reproduce is the main job (test_reproduce runs it tiny); no GL here for videos
+        small = _shrink(argv, scheduler)
+        result = subprocess.run(
+            [sys.executable, "-m", "elastoactive", *small],
+            cwd=tmp_path,
+            env=env,
+            capture_output=True,
+            text=True,
+            timeout=600,
+        )
+        assert result.returncode == 0, f"elastoactive {' '.join(small)}\n{result.stderr[-2000:]}"
+
+
+@pytest.mark.parametrize(
+    "page, code", _blocks("python"), ids=[f"{page}:{i}" for i, (page, _) in enumerate(_blocks("python"))]
+)
+def test_every_readme_python_block_runs(page, code, tmp_path):
+    code = _shrink_code(code)
+    result = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, capture_output=True, text=True, timeout=600)
+    assert result.returncode == 0, f"{page}:\n{code}\n{result.stderr[-2000:]}"
 
 
 def test_generated_tables_come_from_the_committed_reports():

@@ -25,7 +25,7 @@ from dataclasses import dataclass
 class Units:
     """A system of units: its symbols, and how a units string or a text written in the chain's symbols reads in it.
 
-    name        the system's key ("chain", "network"): Worded entries name it
+    name        the system's key ("chain", "spring network"; not a scene's name): Worded entries name it
     length      the length unit ("l": the link length; "a": the springs' rest length)
     time        the time unit as a fraction (numerator factors, denominator factors): (("tau",), ()) or
                 (("gamma",), ("k",))
@@ -140,7 +140,7 @@ CHAIN = Units(
 )
 """The paper's units, every chain scene's."""
 NETWORK = Units(
-    name="network",
+    name="spring network",
     length="a",
     time=(("gamma",), ("k",)),
     basis="k = gamma = a = 1 (bond stiffness k, drag gamma, lattice spacing a)",

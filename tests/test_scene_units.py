@@ -186,7 +186,9 @@ def test_a_network_run_from_the_command_line_with_pi(tmp_path, capsys):
     summary = json.loads((out / "summary.json").read_text())
     assert summary["parameters"]["sigma"] == pytest.approx(0.8)
     units = summary["units"]
-    assert units["system"] == "network" and units["time"] == "gamma/k" and units["coupling"]["Pi"] == pytest.approx(8)
+    assert (
+        units["system"] == NETWORK.name and units["time"] == "gamma/k" and units["coupling"]["Pi"] == pytest.approx(8)
+    )
     assert units["results"]["frequency"] == "k/gamma" and units["results"]["amplitude"] == "a"
     assert summary["results"]["notes"]  # 20 gamma/k hold less than two turns of the orbit: said so
     for note in summary["results"]["notes"]:

@@ -40,7 +40,6 @@ from ..errors import ParameterError
 from ..networks.geometry import unit_alignment_lengths, unit_forces
 from ..params import Numerics, Physics
 from ..terms import polarity_addresses, polarity_term, polarity_terms
-from ..terms.self_aligning import POLARITY_SUFFIX
 from . import mjcf_path
 from .chain import INTEGRATOR
 
@@ -147,9 +146,10 @@ def build_network_spec(network, physics: Physics, numerics: Numerics = Numerics(
         # a unit given force 0 also on its site: follower.c finds a slide's site by its nonzero force, and a passive
         # unit's polarity still turns with its node
         units.add_unit(spec, f"node_{i}", physics, slide=None if pinned[i] or passive[i] else f"node_{i}_x")
-    if network.unit_alignment_length is not None:  # units with their own l_a: their actuators' dynprm[0]
-        for i, length in zip(np.flatnonzero(active), unit_alignment_lengths(network, physics.alignment_length)):
-            spec.actuator(f"node_{i}{POLARITY_SUFFIX}").dynprm[0] = float(length)
+    if network.unit_alignment_length is not None and np.any(active):  # units with their own l_a: the dynprm[0] of
+        lengths = unit_alignment_lengths(network, physics.alignment_length)  # their actuators, the last added
+        for actuator, length in zip(spec.actuators[-lengths.size :], lengths):
+            actuator.dynprm[0] = float(length)
 
     spec.option.timestep = numerics.dt
     spec.option.integrator = INTEGRATOR[numerics.integrator]

@@ -41,7 +41,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ...networks.geometry import Network
+from ...errors import ParameterError
+from ...networks.geometry import Network, has_unit_fields
 from ...reduced.network import (
     LOWEST_MODES,
     dynamical_matrix,
@@ -276,6 +277,11 @@ def threshold(
     sparse bracket, lambda_1 and coupling_ceiling, with no search (coupling = lambda_1, typical NaN, starts 0)."""
     from scipy.optimize import minimize  # start-up time: scipy.optimize only for the stability analysis
 
+    if has_unit_fields(network):  # the bracket is of H + Pi Q: one Pi for every unit
+        raise ParameterError(
+            "stability: the network's units have their own force or alignment length (unit_force, "
+            "unit_alignment_length); the linear-stability bracket takes equal units only"
+        )
     rng = np.random.default_rng(seed)
     count = len(unit_slots(network))
     floppy = floppy_modes(network)

@@ -35,6 +35,8 @@ numbers they are set against in `elastoactive.studies.paper`.
                   kagome patch, with the named states
     noise_threshold  the outlook: where the active solid's units start turning (up and down) against the rotational
                   noise on their polarities
+    disorder      the outlook: the active solid's actuation on diluted triangular patches and Delaunay networks,
+                  against each network's linear bracket
 
 and what they share: `registry` (the studies by name), `base` (sizes, the Study container, running a
 batch of cases), `plotting` (figure style and helpers), `claim_rows` (the claim row and its number
@@ -50,6 +52,7 @@ from . import registry
 from .base import ENGINES, SIZES, Study, Summary
 from .clamp_tongue import ClampTongueSummary, clamp_tongue_study
 from .dish import DishSummary, dish_study
+from .disorder import DisorderSummary, disorder_study
 from .hopf import HopfSummary, hopf_study
 from .hysteresis import HysteresisSummary, hysteresis_study
 from .inertia import InertiaSummary, inertia_study
@@ -122,6 +125,8 @@ __all__ = [
     "hysteresis_study",
     "NoiseThresholdSummary",
     "noise_threshold_study",
+    "DisorderSummary",
+    "disorder_study",
     "EntrainmentSummary",
     "ResponseSummary",
     "entrainment_study",

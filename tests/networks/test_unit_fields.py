@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 import elastoactive as ea
+from elastoactive.analysis.network import stability
 from elastoactive.errors import ParameterError
 from elastoactive.networks.files import network_from_dict, network_to_dict, read_network, write_network
 from elastoactive.networks.geometry import make_network, turning_scale, unit_alignment_lengths, unit_forces
@@ -188,3 +189,10 @@ def test_a_unit_of_force_zero_is_passive_in_both_engines(tmp_path):
         assert np.ptp(a.polarity[:, 4]) > 0.1, engine  # a passive unit's polarity turns with its node
     turned = [runs["passive", e].polarity[-1, 4] - runs["passive", e].polarity[0, 4] for e in ("reduced", "mujoco")]
     assert turned[1] == pytest.approx(turned[0], abs=0.02)
+
+
+def test_the_stability_bracket_refuses_unequal_units_in_one_line():
+    with pytest.raises(ParameterError, match=r"^stability: .*unit_force.*equal units only") as err:
+        stability.threshold(network_from_dict(HAND_WRITTEN), starts=1, samples=2)
+    assert "\n" not in str(err.value)
+    assert stability.threshold(network_from_dict(_plain(HAND_WRITTEN)), starts=1, samples=2).softest > 0

@@ -12,6 +12,8 @@
 Every function takes an optional ``ax`` (a new figure's Axes when None) and labels its axes with the quantities'
 units, in the scene's own (`labels`: a network's times in gamma/k and lengths in a; a sweep's from its netCDF
 attributes).
+
+matplotlib is imported inside _axes, the drawing's boundary: `import elastoactive` does not load it.
 """
 
 from __future__ import annotations

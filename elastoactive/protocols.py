@@ -17,6 +17,9 @@ The netCDF: dims seed, direction ("up", "down") and step (the ramped values, asc
 the parameter); one variable per measured observable (a categorical one as its index, its names in flag_meanings),
 `order` (when the step ran, 0-based along the ramp) and, where units have polarities, `unit_rate` (each unit's
 |net turning rate| over the measured window, dim unit).
+
+matplotlib is imported inside ramp_figure, the drawing's boundary: a ramp that is run without its figure never
+loads it.
 """
 
 from __future__ import annotations
@@ -36,6 +39,7 @@ import numpy as np
 from . import observables, parameters
 from .api import as_numerics, as_physics, load_sweep, measure, simulate
 from .errors import ParameterError
+from .io.executor import default_workers, imap
 from .io.outputs import atomic_file, lock_file, provenance, utc_now, write_netcdf
 from .params import Numerics, Physics
 from .starts import Start, as_start, last_state
@@ -276,8 +280,6 @@ class RampOutcome:
 def run_ramp(ramp: Ramp, out, *, workers: int | None = None, progress: bool = False) -> RampOutcome:
     """Run `ramp` into the netCDF file `out` (resuming from its journal), seeds on `workers` processes (None: every
     core, at most one per seed)."""
-    from .io.executor import default_workers, imap  # start-up time: the process pool only when a ramp runs
-
     out = Path(out).expanduser()
     if out.suffix != ".nc":
         raise ParameterError(f"--out must name a netCDF file (.nc), got {out}")

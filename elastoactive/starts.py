@@ -16,6 +16,7 @@ import numpy as np
 
 from .errors import ParameterError
 from .networks.state import NetworkState
+from .results import load_trajectory
 from .trajectory import Trajectory
 
 
@@ -60,8 +61,6 @@ def last_state(trajectory: Trajectory, source: str = "") -> Start:
 def read_start(folder) -> Start:
     """The last state of the run saved in `folder` (`elastoactive run --out`: its trajectory.npz, checked against its
     summary's checksums); one line naming the folder when it holds no run."""
-    from .results import load_trajectory  # start-up time: results loads the analysis
-
     folder = Path(folder).expanduser()
     path = folder / "trajectory.npz" if folder.is_dir() else folder
     if not path.is_file() or path.name != "trajectory.npz":

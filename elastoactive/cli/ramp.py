@@ -12,6 +12,7 @@ import argparse
 import sys
 from pathlib import Path
 
+from .. import protocols
 from ..engines import ENGINES
 from ..errors import ParameterError
 from ..io.outputs import output_path
@@ -79,8 +80,6 @@ def register(subparsers) -> None:
 
 
 def main(args) -> int:
-    from .. import protocols  # start-up time: the engines load only when a ramp runs
-
     name, _, text = args.ramp.partition("=")
     name = name.strip()
     if not name or not text:

@@ -18,6 +18,8 @@ import argparse
 from .. import registry
 from ..errors import ParameterError
 from ..parameters import get as parameter_spec
+from ..params import Physics
+from ..reduced.blas import one_blas_thread
 from .options import UNITS
 
 
@@ -67,8 +69,6 @@ def register(subparsers) -> None:
 def _physics(args):
     """The scene's Physics (N, sigma and the scene's own parameters checked in one line each), or a ParameterError
     naming why the scene has no linear operator."""
-    from ..params import Physics  # start-up time: only a command that runs needs it
-
     try:
         scene = registry.get(args.scene)
     except registry.UnknownScene:
@@ -104,8 +104,6 @@ def _physics(args):
 
 
 def main(args) -> int:
-    from ..reduced.blas import one_blas_thread  # start-up time: numpy's BLAS set-up only when a command runs
-
     physics = _physics(args)
     with one_blas_thread():
         lines = physics.scene_def.stability_report(physics, args.sigma)  # the scene's kind's analysis

@@ -24,6 +24,7 @@ from ..analysis.network import stability
 from ..analysis.network.states import STATES
 from ..api import load_sweep
 from ..params import Numerics
+from ..protocols import make_ramp, run_ramp
 from ..scenes import lattice, network
 from . import plotting as plots
 from . import registry
@@ -88,8 +89,6 @@ def _cases(size: str) -> list[tuple[str, object, dict, tuple[float, ...]]]:
 @HYSTERESIS.run
 def hysteresis_study(size: str = "quick", workers=None, progress: bool = True) -> Study:
     """The ramp up and down of each lattice, several seeds, with the linear bracket."""
-    from ..protocols import make_ramp, run_ramp  # start-up time: the protocols load the engines
-
     start = time.perf_counter()
     seeds = pick(size, (0,), (0, 1, 2), tuple(range(6)))
     duration = pick(size, 60.0, 400.0, 800.0)

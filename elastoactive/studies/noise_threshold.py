@@ -7,7 +7,9 @@ polarities (terms.unit_noise: Ito, seeded, rad^2 per gamma / k), in the reduced 
 where the units start turning on the way up and where they still turn on the way down (analysis.network.states names
 each step; turning: collective, mixed, heterogeneous or irregular; not turning: frozen, or oscillating, swinging
 without a full turn, which noise alone makes of a frozen state). A polarity diffusing alone wanders by sqrt(2 D_r T)
-over a window T, less than one turn at the levels used (D_r T < 2 pi^2).
+over a window T, which the states' rule can read as a slow turn in either sense (mixed): a step counts as turning
+only if its units' mean |net rate| (the edge's or the deepest ring's) also exceeds DIFFUSION_MARGIN times the
+diffusive sqrt(2 D_r / T) (T the measured window, the run's second half).
 """
 
 from __future__ import annotations
@@ -24,6 +26,7 @@ from ..analysis.network import stability
 from ..analysis.network.states import STATES
 from ..api import load_sweep
 from ..params import Numerics
+from ..protocols import make_ramp, run_ramp
 from ..scenes import lattice
 from . import plotting as plots
 from . import registry
@@ -34,6 +37,8 @@ ALIGNMENT = 0.1
 """l_a / a of the ramps (the hysteresis study's)."""
 TURNING = tuple(STATES.index(name) for name in ("collective", "mixed", "heterogeneous", "irregular"))
 """The named states in which the units turn (collective actuation in the wide sense)."""
+DIFFUSION_MARGIN = 3.0
+"""A turning step's mean |net rate| must exceed this many diffusive standard deviations sqrt(2 D_r / T)."""
 
 
 @dataclass(frozen=True)
@@ -66,8 +71,6 @@ def _first(couplings: np.ndarray, moving: np.ndarray) -> float:
 @NOISE_THRESHOLD.run
 def noise_threshold_study(size: str = "quick", workers=None, progress: bool = True) -> Study:
     """Ramps up and down at each noise level, several seeds."""
-    from ..protocols import make_ramp, run_ramp  # start-up time: the protocols load the engines
-
     start = time.perf_counter()
     rings = pick(size, 2, 3, 3)
     seeds = pick(size, (0,), (0, 1, 2), tuple(range(6)))
@@ -92,7 +95,11 @@ def noise_threshold_study(size: str = "quick", workers=None, progress: bool = Tr
                 physics, "Pi", couplings, numerics=Numerics(sample_dt=0.25), seeds=seeds, duration=duration
             )
             loop = load_sweep(run_ramp(ramp, Path(folder) / f"level{k}.nc", workers=workers, progress=progress).path)
-            turning = np.isin(loop.network_state.values, TURNING)  # (seed, direction, coupling)
+            window = duration / 2  # the default transient: the run's first half
+            rate = np.fmax(loop.edge_rate.values, loop.bulk_rate.values)
+            turning = np.isin(loop.network_state.values, TURNING) & (  # (seed, direction, coupling)
+                rate > DIFFUSION_MARGIN * np.sqrt(2 * level / window)
+            )
             values = loop.Pi.values
             summaries.append(
                 NoiseLevel(

@@ -5,6 +5,9 @@ h5py is called when the space is short (a full disk can crash h5py).
 Why not rewrite the netCDF after every point: that costs O(size of the file) per point, i.e.
 O(points^2) for the sweep; and zarr region writes would add a dependency and leave a directory
 rather than the single self-describing file asked for.
+
+mujoco (for its version, already loaded by a MuJoCo sweep) and xarray are imported inside the functions that
+need them, the engine's and the reader's boundary: the command line imports the sweep to build its parser.
 """
 
 from __future__ import annotations

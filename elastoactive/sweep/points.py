@@ -5,6 +5,10 @@ own while the batch steps (gate.TimestepChecks).
 
 A point never raises for a failed simulation: its record holds the error text. A record is what the
 journal stores: status, error, measurements (numbers; None as NaN, a bool as 0 or 1), notes and wall time.
+
+The MuJoCo engine (engines.mujoco_batch, engines.timestep, the follower callback) and dask.distributed are imported
+inside the functions that run MuJoCo points or Dask tasks, the engines' boundary: a reduced-engine sweep never loads
+MuJoCo, a local one never Dask.
 """
 
 from __future__ import annotations
@@ -23,6 +27,7 @@ from ..batch import Case, checked, run_case
 from ..errors import ParameterError
 from ..gate import TimestepChecks
 from ..io.jsonio import to_jsonable
+from ..results import measure
 
 BATCH_POINTS_PER_THREAD = 8
 """Default size of a local MuJoCo batch: this many points per thread (a killed sweep loses at most the
@@ -91,7 +96,6 @@ def run_points(
     and recorded with the refusal, as if it had never run; a point is recorded only once its check is
     done."""
     from ..engines.mujoco_batch import Cancelled, as_runs, run_chunk, runs_alone  # start-up time: loads mujoco
-    from ..results import measure
 
     start = time.perf_counter()
     records: list[dict | None] = [None] * len(cases)

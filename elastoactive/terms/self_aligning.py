@@ -12,6 +12,9 @@ along the follower direction of the initial shape, so the two laws start with th
 
 Its parameters: `active` (the law: follower, the default, or self-aligning) and `alignment_length` (l_a; acts
 only with active = self-aligning). The polarity angles (absolute, lab frame) are state in both engines.
+
+mujoco is imported inside the hooks that build or step a MuJoCo model, the engine's boundary: the command line
+imports the terms for their parameters, and a reduced-engine run never loads MuJoCo.
 """
 
 from __future__ import annotations

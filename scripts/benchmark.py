@@ -34,6 +34,10 @@ H. the network's cost against its size (--network-scale runs this part alone; do
    benchmark_network_scale.md): pinned triangular hexagons of 127 to 10 267 nodes, the reduced engine for 1000 gamma / k
    beside a plain numpy/scipy script of the same equations at equal accuracy and scipy's BDF, the lowest modes and
    the stability bracket, the whole process at 10 267 nodes, MuJoCo at 1027 nodes (scripts/benchmark_network_scale.py).
+I. the clamped filament in 3D from an out-of-plane start (--elastica3d runs this part alone; docs/generated/
+   benchmark_elastica3d.md): PyElastica (the optional extra `bench`) at 50 and 100 elements beside the reduced 3D chain
+   at N = 20 and 40 and the whirl's continuum limit (Newton's whirls along a ladder of N), S = 100: the state reached,
+   its rate and tip radius against the continuum, wall times (scripts/bench_elastica3d.py; about 10 min loaded).
 
 Timings are best of a few repeats unless said (the 2 cores are shared; the best is the least disturbed run);
 whole-process figures are medians. --quick shortens every part (about 1 min).
@@ -54,6 +58,7 @@ from pathlib import Path
 import mujoco
 import numpy as np
 from bench_common import CLI, CORES, load, log  # scripts/ is on sys.path when a script runs
+from bench_elastica3d import write_elastica3d
 from benchmark_filament import bench_filament, filament_report
 from benchmark_network import bench_network, network_report
 from benchmark_network_scale import bench_network_scale, scale_report
@@ -692,6 +697,8 @@ def main(argv=None) -> int:
     ap.add_argument("--network-out", type=Path, default=Path("docs/generated/benchmark_network.md"))
     ap.add_argument("--network-scale", action="store_true", help="only section H (the network's cost against N)")
     ap.add_argument("--network-scale-out", type=Path, default=Path("docs/generated/benchmark_network_scale.md"))
+    ap.add_argument("--elastica3d", action="store_true", help="only section I (the 3D filament against PyElastica)")
+    ap.add_argument("--elastica3d-out", type=Path, default=Path("docs/generated/benchmark_elastica3d.md"))
     args = ap.parse_args(argv)
     q = args.quick
     if args.filament:
@@ -702,6 +709,8 @@ def main(argv=None) -> int:
         args.network_out.write_text(text)
         print(text)
         return 0
+    if args.elastica3d:
+        return write_elastica3d(args.elastica3d_out, q)
     if args.network_scale:
         text = scale_report(bench_network_scale(q))
         args.network_scale_out.parent.mkdir(parents=True, exist_ok=True)

@@ -59,6 +59,9 @@ class NetworkActuation:
     """lambda_1: every fixed point is stable below it (proved)."""
     typical: float
     """Median Pi_c of SAMPLES random polarities."""
+    best_found: float
+    """The best Pi_c a search over the polarities found (some fixed point is stable up to it; full size only, else
+    NaN: a search costs 10-30 s per network)."""
     ceiling: float
     """No fixed point is stable above it (proved)."""
     start_coupling: list[float]
@@ -150,6 +153,8 @@ def disorder_study(size: str = "quick", workers=None, progress: bool = True) -> 
             turning = np.isin(state, TURNING)
             values = loop.Pi.values
             softest, typical, ceiling, start_coupling = _bracket(network, seeds, ramp.numerics)
+            searched = size == "full" and not stability.floppy_modes(network)
+            best = stability.threshold(network, starts=4, samples=2).coupling if searched else float("nan")
             free = ~network.pinned
             degree = np.bincount(network.bonds.ravel(), minlength=network.n_nodes)
             networks.append(
@@ -163,6 +168,7 @@ def disorder_study(size: str = "quick", workers=None, progress: bool = True) -> 
                     floppy=int(stability.floppy_modes(network)),
                     softest=softest,
                     typical=typical,
+                    best_found=float(best),
                     ceiling=ceiling,
                     start_coupling=[float(c) for c in start_coupling],
                     up_motion=[_first(values, state[s, 0] != FROZEN) for s in range(state.shape[0])],

@@ -16,6 +16,7 @@ def test_disorder_study_tiny(tmp_path):
     assert (whole.dilution, diluted.dilution) == (0.0, 0.15) and diluted.bonds < whole.bonds
     assert abs(whole.softest - 1.13584) < 1e-5  # the R = 2 hexagon's lambda_1
     assert diluted.softest < whole.softest and diluted.typical < whole.typical and diluted.floppy == 0
+    assert np.isnan(whole.best_found)  # the search runs at the full size only
     for net in (whole, diluted):
         assert net.softest <= net.typical <= net.ceiling
         assert net.up_motion == net.up_start == [2.0] and net.down_stop == [2.0]  # still at 0.5 (< lambda_1)

@@ -1,4 +1,4 @@
-"""Run a network scene (Scene.network(physics) is not None) in MuJoCo.
+"""Run a network scene (scenes.NetworkScene.run_mujoco hands it here) in MuJoCo.
 
 The model comes from elastoactive.mjcf.network; between two recorded samples MuJoCo runs steps_per_sample steps in
 C, with the compiled callback installed for the active units, so no Python runs per step. The Trajectory it returns

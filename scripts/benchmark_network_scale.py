@@ -171,6 +171,7 @@ def _bench(quick: bool) -> dict:
                 "cpu_s": cpu1.ru_utime + cpu1.ru_stime - cpu0.ru_utime - cpu0.ru_stime,
                 "command": "elastoactive " + " ".join(command[1:-3]) + " --out RUN --quiet",
             }
+            log(f"  {whole}")
     log(f"network scale: MuJoCo R = {MUJOCO_RINGS} (load {load()})")
     from elastoactive.engines.network_mujoco import simulate_network_mujoco
 

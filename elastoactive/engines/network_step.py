@@ -34,8 +34,11 @@ def network_numerics(physics: Physics, numerics: Numerics) -> Numerics:
     sigma_u / l_u where the units have their own forces or alignment lengths)."""
     if not numerics.automatic:
         return numerics
-    network = physics.scene_def.network(physics)
-    turning = turning_rate(physics) * turning_scale(network, physics.alignment_length)
+    scene_network = getattr(physics.scene_def, "network", None)  # none: a chain scene's physics on a given network
+    network = scene_network(physics) if scene_network is not None else None
+    turning = turning_rate(physics)
+    if turning > 0 and network is not None:
+        turning *= turning_scale(network, physics.alignment_length)
     dt = numerics.dt
     if turning > 0:
         dt = min(dt, numerics.sample_dt / math.ceil(numerics.sample_dt * turning / TURN_RESOLUTION - 1e-9))

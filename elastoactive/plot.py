@@ -78,7 +78,20 @@ class Labels:
 
 
 def labels(physics: Physics) -> Labels:
-    """The axis labels ea.plot draws for `physics`: time, beat signal, its rate, the length unit."""
+    """The axis labels ea.plot draws for `physics`, in its scene's units and about its beat signal.
+
+    Parameters
+    ----------
+    physics : Physics
+        The run's physics (its scene says the units: Scene.units, Scene.beat_signal).
+
+    Returns
+    -------
+    Labels
+        ``time`` (the time axis), ``time_units``, ``signal`` (the beat signal's axis), ``rate`` (its rate's) and
+        ``length`` (the unit of positions): '$\\Theta = \\theta_N - \\theta_1$ ($\\mathrm{rad}$)' for a chain,
+        '$u_x$ ($a$)' for a held network.
+    """
     return Labels.of(physics)
 
 
@@ -330,4 +343,4 @@ def sweep_map(dataset, variable: str = "amplitude", ax=None, **selection):
     return ax
 
 
-__all__ = ["Labels", "angles", "labels", "limit_cycle", "shape", "sweep_map", "theta", "tip_path"]
+__all__ = ["angles", "labels", "limit_cycle", "shape", "sweep_map", "theta", "tip_path"]

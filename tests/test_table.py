@@ -1,0 +1,59 @@
+"""The one registry type (elastoactive.table.Registry) behind parameters, scenes, terms and studies: one way to
+register, look up, list and refuse an unknown name."""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import pytest
+
+import elastoactive as ea
+from elastoactive import parameters, registry, table, terms
+from elastoactive.studies import registry as studies
+
+
+class Entry(NamedTuple):
+    name: str
+    rank: float = 0.0
+
+
+def test_the_four_registries_are_one_type():
+    tables = (parameters._TABLE, registry.SCENES, terms.TERMS, studies.STUDIES)
+    assert all(isinstance(t, table.Registry) for t in tables)
+    assert [t.kind for t in tables] == ["parameter", "scene", "term", "study"]
+    assert all(issubclass(t.error, table.UnknownName) and issubclass(t.error, KeyError) for t in tables)
+
+
+def test_register_look_up_and_list():
+    table_ = table.Registry("widget")
+    a, b = Entry("a", 2.0), Entry("b", 1.0)
+    assert table_.register(a, owner="test") is a and table_.register(b) is b
+    assert table_.names() == ("a", "b") and table_.entries() == (a, b) and table_.get("a") is a
+    assert table_.find("c") is None and table_.known("a") and table_.owner("a") == "test"
+    assert table_.register(Entry("a", 2.0)) == a  # the same entry again: a no-op, its owner kept
+    assert table_.owner("a") == "test"
+    ordered = table.Registry("widget", order=lambda e: e.rank)
+    ordered.register(a), ordered.register(b)
+    assert ordered.names() == ("b", "a") and ordered.entries() == (b, a)
+    assert table_.unregister("a") is a and table_.names() == ("b",) and table_.unregister("a") is None
+
+
+def test_a_taken_name_and_an_unknown_name_are_refused_in_one_line():
+    table_ = table.Registry("widget")
+    table_.register(Entry("a"), owner="scene x")
+    with pytest.raises(ValueError, match=r"^a widget named 'a' is already declared by scene x \(pass replace=True"):
+        table_.register(Entry("a", 1.0))
+    assert table_.register(Entry("a", 1.0), replace=True).rank == 1.0
+    with pytest.raises(KeyError) as err:
+        table_.get("nope")
+    assert str(err.value) == "no widget called 'nope'; the registered widgets: a" and isinstance(err.value, KeyError)
+    with pytest.raises(ValueError, match="needs a non-empty string `name`"):
+        table_.register(Entry(""))
+
+
+def test_each_registry_refuses_an_unknown_name_its_own_way():
+    for get, kind in ((parameters.get, "parameter"), (ea.scenes.get, "scene"), (ea.terms.get, "term")):
+        with pytest.raises(KeyError, match=f"no {kind} called 'nope'; the registered {kind}s: "):
+            get("nope")
+    with pytest.raises(KeyError, match="no study called 'nope'; the registered studies: "):
+        studies.get("nope")

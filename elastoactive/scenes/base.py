@@ -10,8 +10,10 @@ compares against a scene's name (tests/project/test_layering.py holds both).
 Adding a kind (e.g. chains in three dimensions): a new module in elastoactive/scenes/ defining a subclass of `Scene`
 that implements every hook of the kind contract below (the ones `Scene` leaves raising NotImplementedError); its
 engine adapters, builder and painter live in new modules of their packages, which the hooks import at their engine
-boundary (inside the hook, said once in the kind module's docstring). No module outside scenes/ is edited. The kind
-contract, what the package asks of every scene:
+boundary (inside the hook, said once in the kind module's docstring). No module outside scenes/ is edited. A kind
+may also subclass a kind and override the hooks that differ (its own engines, positions, painter).
+tests/scenes/test_kinds.py defines a third kind in a test file alone and runs it. The kind contract, what the package
+asks of every scene:
 
   identity            `kind` (a word for messages: "chain"), `units` (elastoactive.units: its positions are in
                       units.length), `beat_signal` (what its beat is measured on),
@@ -21,7 +23,9 @@ contract, what the package asks of every scene:
                       each runs alone through run_mujoco), `check_timestep` (the MuJoCo pre-flight check),
                       `reduced_methods` (the reduced engine's solvers), `seeded_start` (whether its initial state is
                       off every base state whatever the perturbation)
-  builder             `builder` (the module whose build_spec builds its MJCF: the chain builder refuses the others)
+  builder             `builder` (the module that builds its MJCF model; elastoactive.mjcf.chain refuses the others)
+  shape               `chain_count`, `head_count`, `angle_count` (Physics.n_chains, Trajectory.head's and theta's
+                      columns), `min_n`, `pinned`, `inertial_model` (defaults: one chain, no head, no angles)
   trajectory          `positions`, `tip`, `centre_of_drag`, `state_variables` (Trajectory's positions and its
                       xarray variables), `state_difference` (validate's sample-by-sample comparison)
   drawing             `painter` (render's video painter), `draw_shape` (ea.plot.shape), `paced_by_beat` (whether

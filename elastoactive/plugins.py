@@ -29,9 +29,9 @@ def _names() -> dict[str, set[str]]:
     none a plug-in registered)."""
     studies = sys.modules.get("elastoactive.studies.registry")
     return {
-        "scenes": set(registry._SCENES),
-        "terms": set(terms._TERMS),
-        "studies": set(studies._STUDIES) if studies is not None else set(),
+        "scenes": set(registry.SCENES),
+        "terms": set(terms.TERMS),
+        "studies": set(studies.STUDIES) if studies is not None else set(),
     }
 
 

@@ -40,7 +40,6 @@ def _adopt(scene: Scene) -> None:
 
 SCENES: Registry[Scene] = Registry("scene", error=UnknownScene, group="scenes", adopt=_adopt)
 """The scenes, in registration order."""
-_SCENES = SCENES  # the names elastoactive.plugins reads
 
 
 def register(scene: Scene, *, replace: bool = False) -> Scene:

@@ -114,7 +114,6 @@ STUDIES: Registry[StudyEntry] = Registry(
     same=lambda known, entry: False,  # a study declared again is a new entry: refused unless replace=True
 )
 """The studies, in reproduce's order (StudyEntry.order; ties: registration order) (elastoactive.table.Registry)."""
-_STUDIES = STUDIES  # the names elastoactive.plugins reads
 
 
 def declare(

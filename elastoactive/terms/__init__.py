@@ -37,7 +37,6 @@ def _adopt(term: Term) -> None:
 
 TERMS: Registry[Term] = Registry("term", error=UnknownTerm, group="terms", adopt=_adopt)
 """The terms, in registration order (elastoactive.table.Registry)."""
-_TERMS = TERMS  # the names elastoactive.plugins reads
 
 
 def register(term: Term, *, replace: bool = False) -> Term:

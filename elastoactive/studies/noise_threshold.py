@@ -157,9 +157,19 @@ def _span(values: list[float]) -> str:
 def noise_threshold_claims(study: Study, read: Mapping[str, Study]) -> list[Claim]:
     levels = study.summary.levels
     quiet, noisiest = levels[0], levels[-1]
-    up = [np.nanmedian(level.up_start) if np.any(np.isfinite(level.up_start)) else np.nan for level in levels]
-    destroyed = bool(np.isfinite(up[0]) and not np.isfinite(up[-1]))
-    changed = destroyed or bool(np.isfinite(up[0]) and np.isfinite(up[-1]) and up[-1] != up[0])
+
+    def median(values: list[float]) -> float:
+        return float(np.nanmedian(values)) if np.any(np.isfinite(values)) else float("nan")
+
+    step = study.summary.couplings[1] - study.summary.couplings[0]
+    up = [median(level.up_start) for level in levels]
+    down = [median(level.down_stop) for level in levels]
+    lost = [int(np.count_nonzero(~np.isfinite(level.up_start))) for level in levels]
+    changed = (
+        lost[-1] > lost[0]
+        or bool(np.isfinite(up[0]) and np.isfinite(up[-1]) and abs(up[-1] - up[0]) >= step - 1e-9)
+        or bool(np.isfinite(down[0]) and np.isfinite(down[-1]) and abs(down[-1] - down[0]) >= step - 1e-9)
+    )
     table = "; ".join(
         f"D_r = {level.rotational_diffusion:g}: turning up from Pi = {_span(level.up_start)}, down still at "
         f"{_span(level.down_stop)}"
@@ -173,9 +183,11 @@ def noise_threshold_claims(study: Study, read: Mapping[str, Study]) -> list[Clai
             "-",
             table,
             verdict(changed),
-            f"noiseless up threshold {fmt(up[0], 3)}, at D_r = {noisiest.rotational_diffusion:g} "
-            f"{fmt(up[-1], 3)} (seed medians); lambda_1 = {study.summary.softest:.4f}; steps of "
-            f"{fmt(study.summary.couplings[1] - study.summary.couplings[0], 2)} in Pi, {study.summary.duration:g} "
+            f"seed medians without noise: turning from Pi = {fmt(up[0], 3)} up, still at {fmt(down[0], 3)} down; at "
+            f"D_r = {noisiest.rotational_diffusion:g}: {fmt(up[-1], 3)} up, {fmt(down[-1], 3)} down, "
+            f"{lost[-1]} seed(s) never turning up (a change: one step or more, or a seed lost); "
+            f"lambda_1 = {study.summary.softest:.4f}; "
+            f"steps of {fmt(step, 2)} in Pi, {study.summary.duration:g} "
             f"gamma / k each, l_a = {ALIGNMENT:g} a, {len(quiet.up_start)} seed(s); reduced engine (Euler-Maruyama)",
             judged_from="quick",
         )

@@ -16,8 +16,10 @@ t(s) proportional to (1, START s, START s^2) (s = arc length / L).
   every node's velocity decays as m dv/dt = -zeta dl v, integrated exactly over each step (no stiffness limit from
   the drag: the small mass sets the overdamped limit). AnisotropicFrictionalPlane is a contact friction with a ground
   and is not this drag. The rotational constant dl^3 (a torque per length dl^2, vanishing with the element) damps the
-  rod's fast twist and shear vibrations only. Timestep: PositionVerlet at ELASTICA_ROD's cfl times the axial wave's
-  limit dl / sqrt(E A / rho A) (the fastest wave: bending and shear waves are slower at these element sizes).
+  rod's fast twist and shear vibrations only. Timestep: PositionVerlet at ELASTICA_ROD's cfl times min(dl, r) /
+  sqrt(E / rho): the axial wave's limit dl / sqrt(E / rho), or the cross-section's shear rocking (frequency
+  2 sqrt(alpha_c G / rho) / r, limit 1.76 r / sqrt(E / rho) at G = E / 3) when the radius is the smaller (r = 0.01
+  at 50 elements diverged on the axial limit alone).
 - The reduced 3D chain (elastoactive.reduced.chain3d) at sigma = S / N^3 from the same start (tangents sampled at the
   links' midpoints), scipy's LSODA on the compiled right-hand side (the chain is stiff in time like the planar one:
   its fastest relaxation stays ~16 / tau while its period grows like N^4).
@@ -38,13 +40,13 @@ from importlib import metadata
 from pathlib import Path
 
 import numpy as np
-from bench_common import CORES, load, log
+from bench_common import CORES, ROOT, load, log
 from benchmark_filament import ELASTICA_ROD, FILAMENT_S
 from scipy.integrate import solve_ivp
 
 from elastoactive.analysis.motion3d import measure3d
 from elastoactive.analysis.whirl import find_whirl, ladder
-from elastoactive.io.outputs import provenance, write_text
+from elastoactive.io.outputs import git_commit, provenance, write_text
 from elastoactive.reduced.chain3d import Chain3D, eval_rhs3d
 
 START = 0.3
@@ -59,9 +61,8 @@ OMEGA_GUESS = 278.0
 SAMPLES_PER_PERIOD = 200
 CHAIN_TOL = dict(rtol=1e-8, atol=1e-10)
 """LSODA's tolerances for the chain (the rate is then steady to ~1e-8)."""
-LADDER = (10, 14, 20, 28, 40)
-"""The Newton ladder's N (docs/model3d.md section 6 goes to 56; from this start's shape Newton stalled there at a
-residual of 2e-7, and N = 7 to 40 gives the same limit to 1e-5 there)."""
+LADDER = (10, 14, 20, 28, 40, 56)
+"""The Newton ladder's N (docs/model3d.md section 6)."""
 
 
 @dataclass(frozen=True)
@@ -181,7 +182,7 @@ def elastica_run(n_elem: int, periods: float, mass_per_length: float | None = No
     sim.add_forcing_to(rod).using(Follower, load_per_node=FILAMENT_S * dl)
     share = np.full(n_elem + 1, dl)
     share[[0, -1]] = dl / 2
-    dt = ELASTICA_ROD["cfl"] * dl / np.sqrt(young * area / m)
+    dt = ELASTICA_ROD["cfl"] * min(dl, r) / np.sqrt(young * area / m)
     sim.dampen(rod).using(
         ea.AnalyticalLinearDamper, translational_damping_constant=share, rotational_damping_constant=dl**3, time_step=dt
     )
@@ -243,10 +244,14 @@ def bench_elastica(elements, mass_check: int | None) -> list[Row] | str:
     rows = []
     for n_elem, mass, radius, label in runs:
         t, links, wall, cpu = elastica_run(n_elem, PERIODS[0], mass, radius)
+        resolution = f"{n_elem} elements{label}"
+        if not np.isfinite(links).all():
+            rows.append(Row("PyElastica", resolution, "diverged", *[float("nan")] * 3, wall, cpu, wall / PERIODS[0]))
+            log(f"PyElastica {n_elem}{label}: diverged")
+            continue
         keep = _window(t)
         got = _measure(t[keep], links[keep], 1.0)
         state, omega, rad, settled = got.state, abs(got.omega), got.radius, got.settled
-        resolution = f"{n_elem} elements{label}"
         rows.append(Row("PyElastica", resolution, state, omega, rad, settled, wall, cpu, wall / PERIODS[0]))
         log(f"PyElastica {n_elem}{label}: {state} Omega {omega:.3f} R/L {rad:.5f} ({wall:.1f} s wall, {cpu:.1f} s cpu)")
     return rows
@@ -267,9 +272,15 @@ def bench_chain(ns) -> tuple[list[Row], np.ndarray, float]:
 
 
 def bench_ladder(guess: np.ndarray, rate: float) -> Row:
-    """The whirl by Newton along LADDER from a settled chain's shape, extrapolated to the continuum."""
+    """The whirl by Newton along LADDER from a settled chain's shape (turned about e_x to put its tip on +y: holding the
+    tip's z fixes the turn only where z changes with it, and Newton stalls with the tip near the z axis), extrapolated
+    to the continuum."""
     w0, c0 = time.perf_counter(), time.process_time()
     n0 = guess.shape[0]
+    tip = guess.sum(axis=0)
+    turn = -np.arctan2(tip[2], tip[1])  # the tip onto +y: find_whirl holds the tip's z, a good phase condition there
+    c, s = np.cos(turn), np.sin(turn)
+    guess = guess @ np.array([[1.0, 0, 0], [0, c, -s], [0, s, c]]).T
     first = find_whirl(Chain3D(n=n0, sigma=FILAMENT_S / n0**3), guess, rate)
     result = ladder(FILAMENT_S, LADDER, first.tangents, first.omega * (n0 / LADDER[0]) ** 4)
     wall, cpu = time.perf_counter() - w0, time.process_time() - c0
@@ -293,7 +304,7 @@ def bench_elastica3d(quick: bool) -> dict:
     log(f"3D filament (load {load()})")
     chain, guess, rate = bench_chain((20,) if quick else (20, 40))
     continuum = bench_ladder(guess, rate)
-    elastica = bench_elastica((50,) if quick else (50, 100), None if quick else 50)
+    elastica = bench_elastica((50,) if quick else (50, 100, 200), None if quick else 50)
 
     def scored(row: Row) -> Row:
         return Row(
@@ -309,7 +320,7 @@ def bench_elastica3d(quick: bool) -> dict:
     except metadata.PackageNotFoundError:
         pyelastica = None
     return {
-        "provenance": provenance(),
+        "provenance": {**provenance(), "git_commit": git_commit(ROOT)},
         "pyelastica": pyelastica,
         "continuum": continuum,
         "chain": [scored(r) for r in chain],

@@ -35,9 +35,9 @@ H. the network's cost against its size (--network-scale runs this part alone; do
    beside a plain numpy/scipy script of the same equations at equal accuracy and scipy's BDF, the lowest modes and
    the stability bracket, the whole process at 10 267 nodes, MuJoCo at 1027 nodes (scripts/benchmark_network_scale.py).
 I. the clamped filament in 3D from an out-of-plane start (--elastica3d runs this part alone; docs/generated/
-   benchmark_elastica3d.md): PyElastica (the optional extra `bench`) at 50 and 100 elements beside the reduced 3D chain
-   at N = 20 and 40 and the whirl's continuum limit (Newton's whirls along a ladder of N), S = 100: the state reached,
-   its rate and tip radius against the continuum, wall times (scripts/bench_elastica3d.py; about 10 min loaded).
+   benchmark_elastica3d.md): PyElastica (the optional extra `bench`) at 50, 100 and 200 elements beside the reduced 3D
+   chain at N = 20 and 40 and the whirl's continuum limit (Newton's whirls along a ladder of N), S = 100: the state
+   reached, its rate and tip radius against the continuum, wall times (scripts/bench_elastica3d.py; ~20 min loaded).
 
 Timings are best of a few repeats unless said (the 2 cores are shared; the best is the least disturbed run);
 whole-process figures are medians. --quick shortens every part (about 1 min).

@@ -4,6 +4,9 @@ previous step's end, for several seeds, into one netCDF file with the direction 
 
 Exit status: 0 when the ramp finished; 2 for invalid options, a run the pre-flight check refuses, or an --out that
 holds another ramp; 3 when a step diverged (rerun to resume from the last finished step).
+
+The protocols (the ramp's runner and its process pool) and the sweep's value parser are imported inside `main`, the
+subcommand's boundary: `elastoactive --help` loads neither the sweep package nor the pools.
 """
 
 from __future__ import annotations
@@ -12,12 +15,10 @@ import argparse
 import sys
 from pathlib import Path
 
-from .. import protocols
 from ..engines import ENGINES
 from ..errors import ParameterError
 from ..io.outputs import output_path
 from ..params import Numerics, Physics, parameter_fields
-from ..sweep.grid import parse_values
 from .options import UNITS, add_fields, scene_argument
 
 EXAMPLES = """examples:
@@ -80,6 +81,9 @@ def register(subparsers) -> None:
 
 
 def main(args) -> int:
+    from .. import protocols
+    from ..sweep.grid import parse_values
+
     name, _, text = args.ramp.partition("=")
     name = name.strip()
     if not name or not text:

@@ -1,6 +1,7 @@
 """`elastoactive reproduce`: every claim of the paper, claim by claim, into one folder.
 
-The study registry is imported inside `main`, the subcommand's boundary: the studies load both engines.
+The studies and their runner (report.reproduce) are imported inside `main`, the subcommand's boundary: the studies load
+both engines, the runner the batch and its process pool.
 """
 
 from __future__ import annotations
@@ -10,7 +11,6 @@ from pathlib import Path
 
 from ..errors import ParameterError
 from ..io.outputs import check_folder, output_path
-from ..report.reproduce import reproduce
 from .options import workers_argument
 
 DESCRIPTION = (
@@ -69,6 +69,7 @@ def _only(text: str | None, known: tuple[str, ...]) -> list[str] | None:
 
 
 def main(args) -> int:
+    from ..report.reproduce import reproduce  # the studies' runner
     from ..studies import registry  # the studies load both engines
 
     size = "full" if args.full else ("tiny" if args.tiny else "quick")

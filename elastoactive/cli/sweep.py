@@ -7,7 +7,9 @@ error is shown); 2 for invalid options, settings the pre-flight check refuses at
 holds another sweep or a corrupted journal, or an output that cannot be written (e.g. a full disk:
 the journal is kept, re-run to resume).
 
-mujoco is imported inside _import_mujoco_headless, the MuJoCo engine's boundary (without its GL back end: see there).
+mujoco is imported inside _import_mujoco_headless, the MuJoCo engine's boundary (without its GL back end: see there),
+and elastoactive.sweep (its runners, the batch and the process pool) inside `fill` and `main`, the subcommand's
+boundary: `elastoactive --help` does not load it.
 """
 
 from __future__ import annotations
@@ -21,7 +23,6 @@ from ..engines import ENGINES
 from ..errors import ParameterError
 from ..io.outputs import check_file, output_path
 from ..params import PRESETS, Numerics, Physics, parameter_fields, scene_parameters
-from ..sweep import MUJOCO_ONLY, NUMERICS_KEYS, check_engine_numerics, grid_keys, parse_grid, run_sweep_outcome
 from ..units import CHAIN, scene_units
 from .options import UNITS, add_fields, help_argument, scene_argument, scene_description
 
@@ -61,6 +62,8 @@ def register(subparsers) -> None:
 
 def fill(p: argparse.ArgumentParser, scene: str | None) -> None:
     """The options of `sweep`: every scene's (scene None), or one scene's in its own units (`sweep SCENE --help`)."""
+    from ..sweep import NUMERICS_KEYS, grid_keys
+
     units = scene_units(registry.get(scene)) if scene else CHAIN
     keys = grid_keys()
     if scene:
@@ -132,6 +135,8 @@ def _import_mujoco_headless() -> None:
 
 
 def main(args) -> int:
+    from ..sweep import MUJOCO_ONLY, check_engine_numerics, parse_grid, run_sweep_outcome
+
     if args.workers is not None and args.workers < 1:
         raise ParameterError(f"--workers must be >= 1, got {args.workers}")
     if args.batch_size is not None and args.batch_size < 1:

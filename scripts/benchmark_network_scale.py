@@ -207,8 +207,9 @@ def scale_report(result: dict) -> str:
         f"{IMPLICIT_NODES} nodes). Modes + bracket: "
         "the lowest normal modes and [lambda_1, ceiling] (dense to 1500 free coordinates, sparse above).",
         "",
-        "| R | nodes | bonds | reduced s (CPU s) | right-hand sides | us per evaluation | plain scipy s (scaled) | "
-        "plain / reduced (same span) | differs by (a) | BDF s (scaled) | modes + bracket s | lambda_1 | ceiling |",
+        "| R | nodes | bonds | reduced s (CPU s) | right-hand sides | us per evaluation (wall) | "
+        "plain scipy s (scaled) | plain / reduced (same span) | differs by (a) | BDF s (scaled) | "
+        "modes + bracket s | lambda_1 | ceiling |",
         "|---|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     for r in rows:

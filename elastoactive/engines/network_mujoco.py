@@ -128,7 +128,7 @@ def simulate_network_mujoco(
     thread, engines.mujoco_batch: callbacks are global to the process)."""
     if not duration > 0:
         raise ParameterError(f"duration (in tau) must be a positive number, got {duration}")
-    given, numerics = numerics, network_numerics(physics, numerics)
+    given, numerics = numerics, network_numerics(physics, numerics, network)
     t = numerics.sample_times(duration)
     check_steps(numerics, duration)
     if state0 is not None:  # a given start (the scene's network), checked as the reduced engine checks it

@@ -28,16 +28,16 @@ lattice and trapped-unit validation cases (Pi = 2) the node positions over the f
 off at dt = 0.0025, 0.77% and 0.66% at dt = 0.000625, halving with dt (docs/performance.md)."""
 
 
-def network_numerics(physics: Physics, numerics: Numerics) -> Numerics:
+def network_numerics(physics: Physics, numerics: Numerics, network=None) -> Numerics:
     """The numerics a network run uses: these, or, when they are `automatic`, AUTOMATIC_INTEGRATOR with dt at most
     TURN_RESOLUTION / Pi (a whole fraction of sample_dt; the default dt where that is larger; Pi the fastest unit's
-    sigma_u / l_u where the units have their own forces or alignment lengths)."""
+    sigma_u / l_u where the units have their own forces or alignment lengths). network: the one that runs (default the
+    scene's, Scene.network; given, e.g. a chain scene's physics run on a given network)."""
     if not numerics.automatic:
         return numerics
-    scene_network = getattr(physics.scene_def, "network", None)  # none: a chain scene's physics on a given network
-    network = scene_network(physics) if scene_network is not None else None
     turning = turning_rate(physics)
-    if turning > 0 and network is not None:
+    if turning > 0:
+        network = physics.scene_def.network(physics) if network is None else network
         turning *= turning_scale(network, physics.alignment_length)
     dt = numerics.dt
     if turning > 0:

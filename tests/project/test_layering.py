@@ -175,13 +175,15 @@ def test_tests_mirror_the_packages():
 KIND_TESTS = ("is_network", "is_chain")
 """Names that would ask a scene's kind outside the kinds (a helper or property answering "is this a network?")."""
 KINDS = ("ChainScene", "NetworkScene", "network_kind", "chain_kind")
+KIND_PARTS = ("network", "initial_network", "chain_prefixes", "reduced_system", "initial_angles")
+"""Hooks of one kind only (a network's, a chain's): probing a scene for them asks which kind it is."""
 KIND_WORDS = {scene.kind for scene in ea.scenes.scenes()}
 """The registered scenes' kinds, as Scene.kind names them ('chain', 'network')."""
 
 
 def _kind_branches(path: Path) -> list[int]:
     """Lines that ask which kind a scene is: `x.network(...) is (not) None`, a name `is_network`, isinstance against
-    a kind class, or a comparison of `.kind` with a kind's word."""
+    a kind class, a comparison of `.kind` with a kind's word, or hasattr/getattr probing for one kind's hook."""
     hits = []
     for node in ast.walk(ast.parse(path.read_text(), str(path))):
         if isinstance(node, ast.Compare):
@@ -202,6 +204,9 @@ def _kind_branches(path: Path) -> list[int]:
         elif isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id == "isinstance":
             if any(k in ast.unparse(node) for k in KINDS):
                 hits.append(node.lineno)
+        elif isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id in ("hasattr", "getattr"):
+            if len(node.args) > 1 and isinstance(node.args[1], ast.Constant) and node.args[1].value in KIND_PARTS:
+                hits.append(node.lineno)  # probing for one kind's part: whether the scene has a network, or chains
     return hits
 
 
@@ -226,9 +231,10 @@ def test_the_kind_branch_check_finds_a_branch(tmp_path):
         "ok = traj.is_network\n"
         "chain = isinstance(scene, ChainScene)\n"
         "net = scene.kind == 'network'\n"
+        "probe = getattr(scene, 'network', None)\n"
         "fine = scene.positions(traj)\n"
     )
-    assert sorted(_kind_branches(source)) == [1, 3, 4, 5]
+    assert sorted(_kind_branches(source)) == [1, 3, 4, 5, 6]
 
 
 TERM_CONTRACT = ("elastoactive.terms.base",)

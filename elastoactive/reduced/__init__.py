@@ -17,6 +17,8 @@ finite mass), solved without MuJoCo: arrays and records in, arrays out.
                            solve_inertial, ...
   node_kernels.py          the right-hand side with periodic point forces (numba)
   network.py               the elastic network of self-aligning units: right-hand side, Jacobian, normal modes
+                           (dense, or sparse for large networks), the solvers
+  network_kernels.py       the network's compiled kernels: right-hand side, DOP853, Euler-Maruyama, the noise draw
   jit_cache.py             numba's on-disk cache, in a folder keyed by this package's sources
 
 This package knows no scene and no Physics: elastoactive.engines.reduced turns a Physics into a

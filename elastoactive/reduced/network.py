@@ -11,8 +11,13 @@ Units: k = 1, drag gamma = 1, rest length a = 1; time in gamma / k. sigma = F_a 
 (units a). The state y holds the free nodes' x and y (node order, interleaved: x_0, y_0, x_1, ...) then the active
 units' psi (node order); pinned nodes are not in it.
 
-The right-hand side is a numba kernel (`rhs`), checked against the plain numpy `rhs_reference`; the analytic
-Jacobian (`jacobian`) is what the linear stability (analysis.network.stability) and the implicit solver use.
+The right-hand side is a numba kernel (`rhs`, network_kernels.rhs_into: O(bonds + nodes)), checked against the plain
+numpy `rhs_reference`; `solve` runs DOP853 compiled around it (no Python per step), `solve_noisy` the Ito SDE of
+noise on the units (Euler-Maruyama with the counter-based draws MuJoCo's run adds). The analytic Jacobian
+(`jacobian`, dense or sparse) is what the linear stability (analysis.network.stability) and the implicit solvers use.
+Above DENSE_MODES free coordinates the linear algebra is sparse (`is_large`): the dynamical matrix and the Jacobian
+as scipy.sparse matrices built in O(bonds), the softest modes by shift-invert Lanczos, the largest rate by Lanczos;
+no N x N array is built.
 """
 
 from __future__ import annotations

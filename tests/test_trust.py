@@ -7,12 +7,14 @@ in test_properties.py, the library's pre-flight check in test_front_door.py.
 from __future__ import annotations
 
 import json
+import zipfile
 
 import numpy as np
 import pytest
 from conftest import refused  # the shared one-line-refusal check
 
 import elastoactive as ea
+from elastoactive import results
 from elastoactive.cli import main
 from elastoactive.engines.timestep import check_timestep
 from elastoactive.io import progress
@@ -121,6 +123,20 @@ def test_a_failed_write_keeps_the_previous_run_whole(tmp_path, capsys, monkeypat
     assert {p.name: p.read_bytes() for p in out.iterdir()} == before  # no temporary file left, nothing torn
     assert "nothing was replaced" in capsys.readouterr().err.strip().splitlines()[-1]
     load_trajectory(out)  # the pair still belongs together
+
+
+def test_a_large_trajectory_is_written_uncompressed_and_reads_back(tmp_path, monkeypatch):
+    """Above results.COMPRESS_BYTES the trajectory is stored, not deflated; it loads as a compressed one does."""
+    runs = {}
+    for name, limit in (("small", results.COMPRESS_BYTES), ("large", 0)):
+        monkeypatch.setattr(results, "COMPRESS_BYTES", limit)
+        assert main(RUN + ["--out", str(tmp_path / name), "--engine", "reduced"]) == 0
+        with zipfile.ZipFile(tmp_path / name / "trajectory.npz") as archive:
+            kinds = {info.compress_type for info in archive.infolist()}
+        assert kinds == ({zipfile.ZIP_DEFLATED} if name == "small" else {zipfile.ZIP_STORED}), (name, kinds)
+        runs[name] = load_trajectory(tmp_path / name)
+    assert np.array_equal(runs["small"].theta, runs["large"].theta)
+    assert np.array_equal(runs["small"].t, runs["large"].t)
 
 
 def test_summary_and_trajectory_must_belong_together(tmp_path, capsys):

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 ROOT = Path(__file__).resolve().parents[2]
-sys.path.insert(0, str(ROOT / "scripts"))
+sys.path.append(str(ROOT / "scripts"))  # after everything else: no script shadows a module
 
 import bench_elastica3d as bench  # noqa: E402  (scripts/ is not a package)
 

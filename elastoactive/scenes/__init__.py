@@ -12,7 +12,19 @@ docs/scenes.md for the contract and the diff a new scene needs.
 """
 
 from ..registry import UnknownScene, get, names, register, scenes, unregister
-from . import coupled_pair, lattice, network, one_pinned, paraboloid, ring, rotating_pin, star, trap, two_pinned
+from . import (
+    clamped3d,
+    coupled_pair,
+    lattice,
+    network,
+    one_pinned,
+    paraboloid,
+    ring,
+    rotating_pin,
+    star,
+    trap,
+    two_pinned,
+)
 from .base import Scene, ValidationCase
 from .chain_kind import ChainScene
 from .network_kind import NetworkScene
@@ -28,6 +40,7 @@ for _module in (
     trap,
     star,
     network,
+    clamped3d,
 ):  # the paper's order, then ours
     register(_module.SCENE)
 

@@ -29,6 +29,9 @@ t(s) proportional to (1, START s, START s^2) (s = arc length / L).
 Each simulation is classified by analysis.motion3d (beat, whirl, other) on its last PERIODS[1] periods, and measured
 there: a whirl's |Omega| as the slope of the tip's unwrapped azimuth about e_x (exact for a rigid turn; a beat's as
 2 pi x the tip's frequency), and the tip's distance from the clamp axis over L.
+
+PyElastica is imported inside the functions that run it (the engine's boundary): it is an optional dependency, and
+without it the section prints a note in place of its rows.
 """
 
 from __future__ import annotations
@@ -140,7 +143,7 @@ def _least_rotation(u: np.ndarray, v: np.ndarray) -> np.ndarray:
 def elastica_run(n_elem: int, periods: float, mass_per_length: float | None = None, radius: float | None = None):
     """PyElastica's rod from the start over `periods` whirl periods: (t, link vectors (T, n_elem, 3), wall s, cpu s of
     the integration). The engine's boundary: pyelastica is imported here (an optional bench dependency)."""
-    import elastica as ea
+    import elastica as ea  # the optional bench dependency, at its engine's boundary (module docstring)
 
     class Filament(ea.BaseSystemCollection, ea.Constraints, ea.Forcing, ea.Damping, ea.CallBacks):
         pass
@@ -233,7 +236,7 @@ def bench_elastica(elements, mass_check: int | None) -> list[Row] | str:
     """PyElastica at each element count (and, at mass_check elements, with half the mass and half the radius: the
     overdamped limit's and the extensibility's share of the error). A note when pyelastica is not installed."""
     try:
-        import elastica  # noqa: F401
+        import elastica  # noqa: F401  (is the optional bench dependency installed?)
     except ImportError:
         return "pyelastica is not installed (`pip install -e .[bench]`): its rows are skipped"
     elastica_run(elements[0], 0.05)  # its kernels compile on first use: not counted

@@ -12,8 +12,6 @@ import pytest
 
 import elastoactive as ea
 from elastoactive import quantities, results, sensitivity
-from elastoactive.render import _caption_left
-from elastoactive.render.network import network_caption
 from elastoactive.sweep.points import _ok_record
 from elastoactive.trajectory import Trajectory
 
@@ -46,27 +44,14 @@ def _physics(name: str) -> ea.Physics:
 
 
 def _template(name: str) -> Trajectory:
-    """The scene's state at t = 0 (angles, head, polarities, nodes), as its engines start it: no simulation."""
+    """The scene's state at t = 0 (angles, head, polarities, nodes) as its reduced engine starts it: the first sample
+    of a run just long enough to be measured (whatever the scene's kind keeps in a trajectory)."""
     physics = _physics(name)
-    scene = physics.scene_def
     numerics = ea.Numerics()
-    t = np.zeros(1)
-    network = scene.network(physics)
-    if network is not None:
-        state = scene.initial_network(physics, numerics)
-        return Trajectory(
-            t=t,
-            theta=np.zeros((1, 0)),
-            physics=physics,
-            engine="reduced",
-            polarity=state.polarity[None, :],
-            nodes=state.positions[None],
-        )
-    theta = np.asarray(scene.initial_angles(physics, numerics), dtype=float)[None, :]
-    columns = scene.head_count(physics)
-    return Trajectory(
-        t=t, theta=theta, physics=physics, engine="reduced", head=np.zeros((1, columns)) if columns else None
-    )
+    run = ea.simulate(physics, numerics, duration=10 * numerics.sample_dt, engine="reduced")
+    first = {k: None if v is None else v[:1] for k, v in (("head", run.head), ("polarity", run.polarity))}
+    nodes = None if run.nodes is None else run.nodes[:1]
+    return Trajectory(t=run.t[:1], theta=run.theta[:1], physics=physics, engine="reduced", nodes=nodes, **first)
 
 
 def _synthetic(name: str, regime: str) -> Trajectory:
@@ -113,10 +98,7 @@ def test_every_note_summary_caption_and_label_fits_the_scenes_result_shape(name)
     physics = _physics(name)
     scene = physics.scene_def
     _check_text(scene.label(physics), f"{name} label")
-    network = scene.network(physics)
-    template = _template(name)
-    caption = _caption_left(physics) if network is None else network_caption(template, network)
-    _check_text(caption, f"{name} caption")
+    _check_text(scene.caption_line(physics), f"{name} caption")
     for regime, (duration, _, _) in REGIMES.items():
         traj = _synthetic(name, regime)
         where = f"{name}, {regime}"

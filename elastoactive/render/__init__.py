@@ -138,15 +138,6 @@ def frame_times(t_start: float, t_end: float, fps: float, rate: float) -> np.nda
 # --------------------------------------------------------------------------- the picture
 
 
-def _caption_left(physics: Physics) -> str:
-    parts = [physics.scene, f"N = {physics.n}", f"σ = {physics.sigma:.3g}", *physics.scene_def.caption(physics)]
-    if physics.drag_ratio != 1.0:
-        parts.append(f"γL/γT = {physics.drag_ratio:.3g}")
-    if physics.noise > 0:
-        parts.append(f"noise {physics.noise:.3g}")
-    return "   ".join(parts)
-
-
 def _camera(physics: Physics, xy: np.ndarray, width: int, height: int, caption_px: int, fovy_deg: float):
     """Top-down free camera (x to the right, y up) whose view holds every point of xy (..., 2)."""
     scene = physics.scene_def
@@ -199,7 +190,7 @@ class ChainPainter:
         self.colours = _trail_colours(physics.n)
         self.arrow = min(ARROW_MAX, ARROW_PER_SIGMA * physics.sigma)
         n_extra = physics.n_angles * (1 + TRAIL_POINTS) + 2 * SPRING_TEETH + 8
-        self.caption = _Caption(width, height, _caption_left(physics))
+        self.caption = _Caption(width, height, physics.scene_def.caption_line(physics))
         # frame the whole motion: every particle at every time shown, trails included
         t0 = bounds_times[0] - self.trail_tau
         span = np.concatenate([bounds_times, traj.t[(traj.t >= t0) & (traj.t <= bounds_times[-1])]])

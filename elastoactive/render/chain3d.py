@@ -42,7 +42,7 @@ class Chain3DPainter:
         self.camera.lookat[:] = 0.5 * (lo + hi)
         self.camera.distance = FRAMING * max(2.0, float(np.max(hi - lo)))
         self.camera.azimuth, self.camera.elevation = CAMERA_AZIMUTH, CAMERA_ELEVATION
-        self.caption = _Caption(width, height, f"{physics.scene}   N = {physics.n}   σ = {physics.sigma:.3g}")
+        self.caption = _Caption(width, height, physics.scene_def.caption_line(physics))
         self.renderer = _renderer(self.model, height, width, self.model.ngeom + 100)
 
     def close(self) -> None:

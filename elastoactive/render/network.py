@@ -62,17 +62,6 @@ def _unwrapped_polarity(traj: Trajectory) -> np.ndarray | None:
     return None if traj.polarity is None else np.unwrap(np.asarray(traj.polarity, dtype=float), axis=0)
 
 
-def network_caption(traj: Trajectory, network) -> str:
-    physics = traj.physics
-    parts = [
-        physics.scene,
-        f"{len(network.positions)} nodes",
-        f"σ = {physics.sigma:.3g}",
-        *physics.scene_def.caption(physics),
-    ]  # the network scenes' caption names l_a
-    return "   ".join(parts)
-
-
 def _camera(xy: np.ndarray, width: int, height: int, caption_px: int, fovy_deg: float, pad: float):
     """Top-down free camera (x to the right, y up) whose view holds every point of xy (..., 2) with `pad` around."""
     pts = xy.reshape(-1, 2)
@@ -114,7 +103,7 @@ class NetworkPainter:
         self.data = mujoco.MjData(self.model)  # the render's own state: never the simulating one
         self.active = np.flatnonzero(network.active)
         self.arrow = max(ARROW_MIN, min(ARROW_MAX, ARROW_PER_SIGMA * physics.sigma)) if physics.sigma > 0 else 0.0
-        self.caption = _Caption(width, height, network_caption(traj, network))
+        self.caption = _Caption(width, height, traj.physics.scene_def.caption_line(traj.physics))
         span = np.concatenate([bounds_times, traj.t[(traj.t >= bounds_times[0]) & (traj.t <= bounds_times[-1])]])
         xy = _interpolate(traj.t, self.nodes, span).reshape(span.size, -1, 2)
         self.camera = _camera(
@@ -167,4 +156,4 @@ class NetworkPainter:
         return self.caption.draw(pixels, f"t = {t:.1f} γ/k")  # a network's time unit (units.NETWORK)
 
 
-__all__ = ["NetworkPainter", "network_caption", "strain_colour"]
+__all__ = ["NetworkPainter", "strain_colour"]

@@ -305,6 +305,10 @@ class Scene:
         raise ParameterError(f"stability: {self.name} has no linear operator here ({self.no_linear_operator})")
 
     # ------------------------------------------------------------------ drawing
+    def caption_line(self, physics: Physics) -> str:
+        """The caption band's one line of a picture or video of this scene (scene, size, sigma, then `caption`)."""
+        raise self._kind_hook("caption_line")
+
     def caption(self, physics: Physics) -> list[str]:
         """Parameter parts of a video caption, after scene, N and sigma."""
         parts = [f"{parameter_spec(k).symbol or k} = {getattr(physics, k):.3g}" for k in self.own_parameter_names()]

@@ -195,6 +195,14 @@ class ChainScene(Scene):
         return float(diff), float(np.abs(reference.theta[:n][early]).max())
 
     # ------------------------------------------------------------------ drawing
+    def caption_line(self, physics: Physics) -> str:
+        parts = [physics.scene, f"N = {physics.n}", f"σ = {physics.sigma:.3g}", *self.caption(physics)]
+        if physics.drag_ratio != 1.0:
+            parts.append(f"γL/γT = {physics.drag_ratio:.3g}")
+        if physics.noise > 0:
+            parts.append(f"noise {physics.noise:.3g}")
+        return "   ".join(parts)
+
     def painter(self, traj: Trajectory, **options):
         from ..render import ChainPainter  # engine boundary: rendering loads MuJoCo and GL
 

@@ -215,6 +215,9 @@ class Clamped3D(Scene):
         }
 
     # ------------------------------------------------------------------ drawing
+    def caption_line(self, physics: Physics) -> str:
+        return "   ".join([physics.scene, f"N = {physics.n}", f"σ = {physics.sigma:.3g}", *self.caption(physics)])
+
     def painter(self, traj: Trajectory, **options):
         from ..render import check_picture  # engine boundary: rendering loads MuJoCo and GL
         from ..render.chain3d import Chain3DPainter

@@ -152,6 +152,10 @@ class NetworkScene(Scene):
         return float(diff), float(np.abs(reference.nodes[:n][early] - rest).max())
 
     # ------------------------------------------------------------------ drawing
+    def caption_line(self, physics: Physics) -> str:
+        nodes = len(self.network(physics).positions)
+        return "   ".join([physics.scene, f"{nodes} nodes", f"σ = {physics.sigma:.3g}", *self.caption(physics)])
+
     def painter(self, traj: Trajectory, **options):
         from ..render import check_picture  # engine boundary: rendering loads MuJoCo and GL
         from ..render.network import NetworkPainter

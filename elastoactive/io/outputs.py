@@ -55,10 +55,14 @@ def _version(name: str) -> str | None:
         return None
 
 
+PACKAGE_ROOT = Path(__file__).resolve().parents[2]
+"""The folder holding the elastoactive package (this module is elastoactive/io/outputs.py): a checkout's root."""
+
+
 def git_commit(root: Path | None = None) -> str | None:
     """The checkout's commit (with '+dirty' if it has uncommitted changes), when run from a git checkout (default:
     the package's own)."""
-    root = Path(__file__).resolve().parents[1] if root is None else Path(root)
+    root = PACKAGE_ROOT if root is None else Path(root)
     if not (root / ".git").exists():
         return None
     try:

@@ -338,3 +338,15 @@ def test_reading_the_git_commit_writes_nothing_into_the_checkout(tmp_path):
     before = (index.read_bytes(), index.stat().st_mtime_ns)
     assert git_commit(tmp_path) and not git_commit(tmp_path).endswith("+dirty")
     assert (index.read_bytes(), index.stat().st_mtime_ns) == before
+
+
+def test_the_provenance_names_the_checkouts_commit():
+    """Run from a checkout, the provenance records its commit (the package's folder's parent is the checkout)."""
+    from elastoactive.io.outputs import PACKAGE_ROOT, git_commit, provenance
+
+    assert (PACKAGE_ROOT / "elastoactive" / "io" / "outputs.py").is_file()
+    if not (PACKAGE_ROOT / ".git").exists():
+        pytest.skip("not run from a git checkout")
+    head = subprocess.run(["git", "-C", str(PACKAGE_ROOT), "rev-parse", "HEAD"], capture_output=True, text=True)
+    assert git_commit().split("+")[0] == head.stdout.strip()
+    assert provenance()["git_commit"] == git_commit()

@@ -78,7 +78,7 @@ def measure3d(t, tangents, transient: float | None = None) -> Motion3D:
     variance, axes = np.linalg.eigh(np.cov(lateral.T))
     major = lateral @ axes[:, 1]
     amplitude = float(0.5 * (major.max() - major.min()))
-    frequency = obs.frequency(ts, major)
+    frequency = obs.frequency(ts, major, transient=0.0)  # ts is already the steady part: count over all of it
     aspect = float(np.sqrt(max(variance[0], 0.0) / variance[1])) if variance[1] > 0 else 0.0
     y, z = lateral[:, 0], lateral[:, 1]
     dt = ts[1] - ts[0]

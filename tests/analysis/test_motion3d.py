@@ -49,3 +49,13 @@ def test_rest_and_tip_path():
     assert measure3d(T, still).state == "rest"
     np.testing.assert_allclose(tip_path(still)[0], [1 + np.sqrt(0.99), 0.1, 0.0])
     assert classify(1.0, 0.95, 0.01, 0.05) == "other"  # round but not turning one way
+
+
+def test_frequency_counts_the_whole_steady_window():
+    """A whirl of 3 periods after a stated transient: its frequency comes from all 3 (counting only the last half of
+    the steady window would see fewer than two crossings, return 0 and class it 'other')."""
+    t = np.arange(0.0, 100.0, 0.01)  # 5 periods; the first 40 tau are the transient, 3 periods remain
+    phase = 2 * np.pi * F * t
+    m = measure3d(t, _two_link_chain(0.5 * np.cos(phase), 0.5 * np.sin(phase)), transient=40.0)
+    assert m.frequency == pytest.approx(F, rel=1e-3)
+    assert m.state == "whirl"

@@ -9,10 +9,14 @@ tangent turns about e_x at one rate Omega. So its shape solves
 
 2N equations (the components of each residual across its own link, in the basis E_k of the shape) for 2N + 1 unknowns
 (a small move E_k dq_k of each tangent, and Omega). The rotation about e_x is a symmetry (every shape turned about the
-axis whirls as well), fixed by holding the tip's z coordinate at the guess's: 2N + 1 equations (`find_whirl`, scipy's
-hybrid Powell root, residual ~1e-15). Its stability: the Jacobian of rhs(t) - Omega e_x x t at the whirl, in the
-rotating frame, has the symmetry's eigenvalue 0 (the shape turned) and the others; the whirl is linearly stable when
-every other eigenvalue has a negative real part (`WhirlState.growth`: the largest of their real parts).
+axis whirls as well), fixed by a phase condition that never degenerates: the guess is first turned about e_x so that its
+tip lies on +y, the tip's z is then held at 0 (its derivative along the symmetry is the tip's y, the tip's whole
+distance from the axis), and the whirl found is turned back: 2N + 1 equations (`find_whirl`, scipy's hybrid Powell root,
+residual ~1e-15), whatever the guess's azimuth. (Holding the tip's z at the guess's own value degenerates when the tip
+lies near the z axis: the turn then hardly moves z, and Newton stalls.) Its stability: the Jacobian of rhs(t) - Omega
+e_x x t at the whirl, in the rotating frame, has the symmetry's eigenvalue 0 (the shape turned) and the others; the
+whirl is linearly stable when every other eigenvalue has a negative real part (`WhirlState.growth`: the largest of
+their real parts).
 
 The continuum limit (`ladder`): at a fixed load S = N^3 sigma the chain of N links tends to the clamped filament under
 a distributed follower load (analysis.filament, docs/filament.md), whose time unit is N^4 tau. The whirl's angular
@@ -50,6 +54,7 @@ __all__ = [
     "ladder",
     "resample_tangents",
     "rotating_jacobian",
+    "turn_about_axis",
 ]
 
 EX = np.array([1.0, 0.0, 0.0])
@@ -99,6 +104,13 @@ class WhirlState:
         return float(np.arccos(np.clip(self.tangents[0] @ self.tangents[-1], -1.0, 1.0)))
 
 
+def turn_about_axis(angle: float) -> np.ndarray:
+    """The 3 x 3 rotation by `angle` (rad) about the clamp axis e_x (from +y towards +z); shapes (N, 3) turn as
+    shape @ R.T."""
+    c, s = np.cos(angle), np.sin(angle)
+    return np.array([[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]])
+
+
 def _moved(base: np.ndarray, frames: np.ndarray, q: np.ndarray) -> np.ndarray:
     t = base + np.einsum("kab,kb->ka", frames, q.reshape(-1, 2))
     return t / np.linalg.norm(t, axis=1)[:, None]
@@ -132,19 +144,21 @@ def find_whirl(chain: Chain3D, guess: np.ndarray, omega_guess: float) -> WhirlSt
     guess = np.asarray(guess, dtype=float)
     if guess.shape != (chain.n, 3):
         raise ParameterError(f"guess must have shape ({chain.n}, 3), got {guess.shape}")
-    base = guess / np.linalg.norm(guess, axis=1)[:, None]
+    unit = guess / np.linalg.norm(guess, axis=1)[:, None]
+    tip = unit.sum(axis=0)
+    azimuth = float(np.arctan2(tip[2], tip[1]))
+    base = unit @ turn_about_axis(-azimuth).T  # the tip on +y: holding its z fixes the phase, never degenerately
     frames = _frames(base)
-    tip_z = base.sum(axis=0)[2]
 
     def equations(x):
         t = _moved(base, frames, x[:-1])
         v = rhs(t, chain) - x[-1] * np.cross(EX, t)
-        return np.concatenate([np.einsum("kab,ka->kb", frames, v).ravel(), [t.sum(axis=0)[2] - tip_z]])
+        return np.concatenate([np.einsum("kab,ka->kb", frames, v).ravel(), [t.sum(axis=0)[2]]])
 
     x0 = np.zeros(2 * chain.n + 1)
     x0[-1] = omega_guess
     solution = root(equations, x0, method="hybr", options={"xtol": 1e-14})
-    tangents = _moved(base, frames, solution.x[:-1])
+    tangents = _moved(base, frames, solution.x[:-1]) @ turn_about_axis(azimuth).T  # back to the guess's azimuth
     omega = float(solution.x[-1])
     residual = float(np.abs(rhs(tangents, chain) - omega * np.cross(EX, tangents)).max())
     tip = tangents.sum(axis=0)

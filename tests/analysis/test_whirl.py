@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from elastoactive.analysis.motion3d import measure3d
-from elastoactive.analysis.whirl import beat_out_of_plane, find_whirl, ladder, resample_tangents
+from elastoactive.analysis.whirl import beat_out_of_plane, find_whirl, ladder, resample_tangents, turn_about_axis
 from elastoactive.errors import ParameterError
 from elastoactive.reduced.chain3d import Chain3D, solve3d
 
@@ -41,6 +41,22 @@ def test_whirl_symmetries(settled):
     assert find_whirl(chain, turned, whirl.omega).omega == pytest.approx(whirl.omega, rel=1e-10)
     mirrored = whirl.tangents * [1.0, 1.0, -1.0]
     assert find_whirl(chain, mirrored, -whirl.omega).omega == pytest.approx(-whirl.omega, rel=1e-10)
+
+
+def test_whirl_found_from_any_azimuth(settled):
+    """Started 1.3 rad round the axis from the settled shape, and with the tip on the z axis (where holding the tip's z
+    gives no phase condition), pushed off the whirl and with a rate 10% off: Newton finds the same whirl, at the
+    guess's azimuth."""
+    chain, shape, rate = settled
+    tip = shape.sum(axis=0)
+    push = 0.05 * np.array([[0.0, 0.3, -0.2], [0.0, -0.1, 0.4], [0.0, 0.2, 0.1]])
+    for angle in (1.3, np.pi / 2 - np.arctan2(tip[2], tip[1])):
+        guess = shape @ turn_about_axis(angle).T + push
+        whirl = find_whirl(chain, guess, 1.1 * 2 * np.pi * rate)
+        assert whirl.residual < 1e-12
+        assert whirl.rate == pytest.approx(rate, rel=1e-4)
+        found, wanted = whirl.tangents.sum(axis=0), (guess / np.linalg.norm(guess, axis=1)[:, None]).sum(axis=0)
+        assert abs(np.angle(complex(found[1], found[2]) / complex(wanted[1], wanted[2]))) < 1e-9
 
 
 def test_ladder_approaches_a_limit(settled):

@@ -37,6 +37,8 @@ numbers they are set against in `elastoactive.studies.paper`.
                   noise on their polarities
     disorder      the outlook: the active solid's actuation on diluted triangular patches and Delaunay networks,
                   against each network's linear bracket
+    states3d      beyond the paper: the clamped chain in 3D, the state reached (planar beat, whirl) against the load,
+                  the start and the drag ratio; the beat's out-of-plane Floquet multipliers, the whirl's stability
 
 and what they share: `registry` (the studies by name), `base` (sizes, the Study container, running a
 batch of cases), `plotting` (figure style and helpers), `claim_rows` (the claim row and its number
@@ -76,6 +78,7 @@ from .self_contact import LongChainSummary, long_chain_study
 from .skin import SkinSummary, skin_study
 from .snapping import SnappingSummary, snapping_study
 from .star import StarSummary, star_study
+from .states3d import States3DSummary, states3d_study
 from .sync import SyncN2Summary, SyncSummary, TongueSummary, sync_n2_study, sync_study, tongue_study
 
 __all__ = [
@@ -139,6 +142,8 @@ __all__ = [
     "skin_study",
     "StarSummary",
     "star_study",
+    "States3DSummary",
+    "states3d_study",
 ]
 
 

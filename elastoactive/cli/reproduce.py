@@ -16,9 +16,10 @@ from .options import workers_argument
 DESCRIPTION = (
     "Run every study (linear stability, Hopf N = 7, N = 2 normal form, self-snapping, rotating pin, synchronisation, "
     "noise, anisotropic drag, inertia, the long chain, the dish; beyond the paper the skin effect, the response to a "
-    "tip force, entrainment and the ring) with MuJoCo and the reduced model, and write PNG figures, NPZ/JSON data "
-    "and report.md into one folder. The default (quick) size takes about 3.5-4 min on 2 cores (its 23 studies with "
-    "their figures 209 s on an idle 2-core machine; --tiny about 1.5 min). "
+    "tip force, entrainment and the ring, the active solid's hysteresis, noise and disorder) with MuJoCo and the "
+    "reduced model, and write PNG figures, NPZ/JSON data and report.md into one folder. The default (quick) size "
+    "takes about 6-7 min on 2 cores (26 studies: the first 23 with their figures 209 s on an idle 2-core machine, "
+    "the three active-solid protocols 226 s more on a loaded one; --tiny about 2 min). "
     "An existing folder is reproduced in place, never silently replaced: a study whose data there are complete and "
     "were made at the same size by the same code is kept (resume after Ctrl-C: rerun the same command); --only runs "
     "the named studies and merges them with the others of the folder, and report.md and provenance.json are rebuilt "

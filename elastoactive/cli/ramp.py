@@ -81,6 +81,7 @@ def register(subparsers) -> None:
 
 
 def main(args) -> int:
+    # the subcommand's boundary: the ramp's runner and the sweep package (see the module docstring)
     from .. import protocols
     from ..sweep.grid import parse_values
 

@@ -62,7 +62,7 @@ def register(subparsers) -> None:
 
 def fill(p: argparse.ArgumentParser, scene: str | None) -> None:
     """The options of `sweep`: every scene's (scene None), or one scene's in its own units (`sweep SCENE --help`)."""
-    from ..sweep import NUMERICS_KEYS, grid_keys
+    from ..sweep import NUMERICS_KEYS, grid_keys  # the subcommand's boundary (see the module docstring)
 
     units = scene_units(registry.get(scene)) if scene else CHAIN
     keys = grid_keys()
@@ -135,6 +135,7 @@ def _import_mujoco_headless() -> None:
 
 
 def main(args) -> int:
+    # the subcommand's boundary: the sweep package, its runners and pools (see the module docstring)
     from ..sweep import MUJOCO_ONLY, check_engine_numerics, parse_grid, run_sweep_outcome
 
     if args.workers is not None and args.workers < 1:

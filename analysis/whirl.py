@@ -44,16 +44,19 @@ from scipy.optimize import root
 from ..errors import ParameterError
 from ..reduced.chain3d import Chain3D, basis_of, planar_angles, rhs, solve3d, tangents_of_angles
 from .filament import Extrapolation, beat, richardson
+from .motion3d import measure3d
 
 __all__ = [
     "BeatStability",
     "WhirlLadder",
     "WhirlState",
     "beat_out_of_plane",
+    "continuum_whirl",
     "find_whirl",
     "ladder",
     "resample_tangents",
     "rotating_jacobian",
+    "settled_whirl",
     "turn_about_axis",
 ]
 
@@ -66,6 +69,12 @@ EPSILON = 1e-8
 """Out-of-plane push of beat_out_of_plane's monodromy columns (l)."""
 SAMPLES_PER_PERIOD = 200
 """Samples per period of the settling run beat_out_of_plane measures the period on."""
+SETTLE_TIME = 6.0
+"""Length of settled_whirl's run in units of N^4 tau / S, the load's natural time (several turns)."""
+SETTLE_SAMPLES = 6000
+"""Sample intervals of settled_whirl's run."""
+HELIX = 0.3
+"""settled_whirl's start: link k of N turned by HELIX s_k across the axis in y and HELIX s_k^2 in z (s_k = k / N)."""
 PIECES = 8
 """Pieces of the period whose monodromies beat_out_of_plane multiplies (each piece's growth stays small enough for
 the push EPSILON to respond linearly: a beat may grow out of its plane by e^16 in one period)."""
@@ -216,6 +225,26 @@ def ladder(load: float, ns, guess: np.ndarray, omega_guess: float, gamma_l: floa
         richardson(ns, [s.tip_radius / n for s, n in zip(states, n_arr)]),
         richardson(ns, [s.bend for s in states]),
     )
+
+
+def settled_whirl(n: int, sigma: float, gamma_l: float = 1.0) -> WhirlState:
+    """The whirl of N links at sigma, from a helix (HELIX) run SETTLE_TIME natural times N^4 / (N^3 sigma) until it
+    settles (its rate measured over the second half, analysis.motion3d), then refined by Newton (find_whirl; its
+    ParameterError when the run did not reach a whirl)."""
+    chain = Chain3D(n=int(n), sigma=float(sigma), gamma_l=float(gamma_l)).checked()
+    ts = np.linspace(0.0, SETTLE_TIME * chain.n / chain.sigma if chain.sigma > 0 else 1.0, SETTLE_SAMPLES + 1)
+    s = np.arange(1, chain.n + 1) / chain.n
+    t0 = np.column_stack([np.ones(chain.n), HELIX * s, HELIX * s * s])
+    path = solve3d(chain, ts, t0 / np.linalg.norm(t0, axis=1)[:, None], rtol=1e-10, atol=1e-10)
+    return find_whirl(chain, path[-1], 2 * np.pi * measure3d(ts, path).whirl_rate)
+
+
+def continuum_whirl(load: float, ns, gamma_l: float = 1.0) -> WhirlLadder:
+    """The whirl's continuum limit at S = load: the first rung (ns[0]) settled from a helix (settled_whirl), the ladder
+    of ns from it (ladder)."""
+    ns = [int(n) for n in ns]
+    first = settled_whirl(ns[0], load / ns[0] ** 3, gamma_l)
+    return ladder(load, ns, first.tangents, first.omega, gamma_l)
 
 
 @dataclass(frozen=True)

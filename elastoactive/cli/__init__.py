@@ -12,10 +12,10 @@ import argparse
 import sys
 
 from ..errors import ParameterError, SimulationDiverged
-from . import accuracy, filament, ramp, render, reproduce, run, stability, sweep, validate
+from . import accuracy, filament, ramp, render, reproduce, run, stability, sweep, validate, whirl
 from .options import UNITS, plugin_argument, preload_plugins, scene_help
 
-COMMANDS = (run, validate, sweep, ramp, render, accuracy, reproduce, stability, filament)
+COMMANDS = (run, validate, sweep, ramp, render, accuracy, reproduce, stability, filament, whirl)
 """The subcommands, in the order --help lists them."""
 
 

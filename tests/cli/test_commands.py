@@ -65,6 +65,7 @@ SMALLEST = {
     ],
     "stability": ["stability", "one-pinned", "--n", "3"],
     "filament": ["filament", "--S", "100", "--ns", "6,8", "--quiet"],
+    "whirl": ["whirl", "--S", "100", "--ns", "5,6,7", "--quiet"],
 }
 """Each subcommand at its smallest size (render draws the run's folder: it runs after run)."""
 

@@ -30,16 +30,9 @@ def _png(path: Path) -> bool:
     return path.exists() and path.stat().st_size > 5000 and path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
 
-@pytest.fixture(scope="module")
-def tiny_reproduction(tmp_path_factory) -> Path:
-    """`elastoactive reproduce --tiny` once, into a fresh folder: every study of the paper at its tiny size."""
-    out = tmp_path_factory.mktemp("reproduction") / "repro"
+def test_reproduce_tiny_writes_report_figures_and_data(tmp_path):
+    out = tmp_path / "repro"
     assert main(["reproduce", "--tiny", "--out", str(out), "--workers", "2", "--quiet"]) == 0
-    return out
-
-
-def test_reproduce_tiny_writes_report_figures_and_data(tiny_reproduction):
-    out = tiny_reproduction
     report = (out / "report.md").read_text()
     assert "| # | claim | paper | MuJoCo | reduced model | agree |" in report
     rows = [line for line in report.splitlines() if line.startswith("| ") and line[2].isdigit()]
@@ -72,18 +65,19 @@ def test_reproduce_rejects_unknown_study(tmp_path):
 
 
 @pytest.mark.parametrize("script", sorted(SCRIPTS))
-def test_scenario_script_tiny(script, tmp_path, monkeypatch, capsys, tiny_reproduction):
+def test_scenario_script_tiny(script, tmp_path, monkeypatch, capsys):
     """Each scenario script, as `python scripts/SCRIPT --tiny --out DIR --workers 2` runs it, writes its figures and
-    says so. Its studies are the tiny reproduction's (read back from its folder: the studies themselves ran there),
-    handed to the script in place of running them again; the script's arguments, saving, figures and printout are
-    its own."""
+    says so. Its studies are the committed reproduction's (docs/reproduction, read back), handed to the script in
+    place of running them again (test_reproduce_tiny_writes_report_figures_and_data runs every study at the tiny
+    size); the script's arguments, saving, figures and printout are its own."""
+    committed = ROOT / "docs" / "reproduction"
     asked = []
     for name, study in STUDIES.items():
 
         def ready(size, workers=None, *, name=name):
             assert size == "tiny" and workers in (None, 2), (name, size, workers)
             asked.append(name)
-            return load_study(tiny_reproduction, name)
+            return load_study(committed, name)
 
         monkeypatch.setattr(elastoactive.studies, study.__name__, ready)
     monkeypatch.setattr(sys, "argv", [script, "--tiny", "--out", str(tmp_path), "--workers", "2"])

@@ -338,7 +338,7 @@ def states3d_claims(study: Study, read: Mapping[str, Study]) -> list[Claim]:
                 f"in {len(unstable)} of {len(s.floquet)} cases",
                 verdict(len(unstable) == len(s.floquet), partly=bool(unstable)),
                 f"the neutral multiplier (the plane turned) within {fmt(max(f.neutral for f in s.floquet), 2)} of 1; "
-                f"loads {', '.join(sorted({fmt(f.load, 3) for f in s.floquet}))} sigma_c; {engine}",
+                f"loads {', '.join(fmt(x, 3) for x in sorted({f.load for f in s.floquet}))} sigma_c; {engine}",
             )
         )
     pairs = [

@@ -34,6 +34,7 @@ from ..errors import ParameterError
 from ..params import DEFAULT_DT, Numerics
 from ..reduced.blas import one_blas_thread
 from ..scenes import one_pinned
+from .options import ladder_argument
 
 DEFAULT_LADDER = (20, 40, 80, 160)
 """The ladder of N: halving 1/N, the finest rung the costliest (~0.5 s per beat at N = 160)."""
@@ -86,25 +87,10 @@ def register(subparsers) -> None:
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     p.add_argument("--S", dest="S", type=float, required=True, help="follower load f L^3 / B (onset 76.10)")
-    p.add_argument(
-        "--ns",
-        type=_ladder,
-        default=DEFAULT_LADDER,
-        help=f"the ladder of N, comma separated (default {','.join(map(str, DEFAULT_LADDER))})",
-    )
+    ladder_argument(p, DEFAULT_LADDER, count=2, smallest=4)
     p.add_argument("--json", action="store_true", help="print the result as JSON instead of a table")
     p.add_argument("--quiet", action="store_true", help="no progress lines")
     p.set_defaults(func=main)
-
-
-def _ladder(text: str) -> tuple[int, ...]:
-    try:
-        ns = tuple(sorted({int(v) for v in text.split(",") if v.strip()}))
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a comma list of whole numbers, got {text!r}") from None
-    if len(ns) < 2 or ns[0] < 4:
-        raise argparse.ArgumentTypeError(f"expected at least two distinct N >= 4, got {text!r}")
-    return ns
 
 
 def _first_shape(n: int, sigma: float):

@@ -135,6 +135,22 @@ PLUGIN_OPTION = "--plugin"
 """The option naming a plug-in (a module or a .py file); repeatable, given before or after the command."""
 
 
+def ladder_argument(p: argparse.ArgumentParser, default: tuple[int, ...], *, count: int, smallest: int) -> None:
+    """--ns: a ladder of chain sizes N for a continuum extrapolation (at least `count` distinct N >= `smallest`)."""
+
+    def ladder(text: str) -> tuple[int, ...]:
+        try:
+            ns = tuple(sorted({int(v) for v in text.split(",") if v.strip()}))
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"expected a comma list of whole numbers, got {text!r}") from None
+        if len(ns) < count or ns[0] < smallest:
+            raise argparse.ArgumentTypeError(f"expected at least {count} distinct N >= {smallest}, got {text!r}")
+        return ns
+
+    shown = ",".join(map(str, default))
+    p.add_argument("--ns", type=ladder, default=default, help=f"the ladder of N, comma separated (default {shown})")
+
+
 def plugin_argument(parser: argparse.ArgumentParser) -> None:
     """--plugin MODULE_OR_FILE on the top-level parser (for --help: preload_plugins has taken every one out of the
     arguments, wherever it stood, before the parser runs)."""

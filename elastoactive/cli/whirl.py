@@ -24,6 +24,7 @@ from dataclasses import asdict, dataclass
 
 from ..errors import ParameterError
 from .filament import check_resolution, converging
+from .options import ladder_argument
 
 DEFAULT_LADDER = (10, 14, 20, 28, 40, 56)
 """The ladder of N (a few seconds in all at S = 100: Newton's method, no long runs but the coarsest rung's)."""
@@ -58,12 +59,7 @@ def register(subparsers) -> None:
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     p.add_argument("--S", dest="S", type=float, required=True, help="follower load f L^3 / B (onset 76.10)")
-    p.add_argument(
-        "--ns",
-        type=_ladder,
-        default=DEFAULT_LADDER,
-        help=f"the ladder of N, comma separated (default {','.join(map(str, DEFAULT_LADDER))})",
-    )
+    ladder_argument(p, DEFAULT_LADDER, count=3, smallest=3)
     p.add_argument(
         "--drag-ratio",
         dest="gamma_l",
@@ -75,16 +71,6 @@ def register(subparsers) -> None:
     p.add_argument("--json", action="store_true", help="print the result as JSON instead of a table")
     p.add_argument("--quiet", action="store_true", help="no wall-time line")
     p.set_defaults(func=main)
-
-
-def _ladder(text: str) -> tuple[int, ...]:
-    try:
-        ns = tuple(sorted({int(v) for v in text.split(",") if v.strip()}))
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a comma list of whole numbers, got {text!r}") from None
-    if len(ns) < 3 or ns[0] < 3:
-        raise argparse.ArgumentTypeError(f"expected at least three distinct N >= 3, got {text!r}")
-    return ns
 
 
 def main(args) -> int:

@@ -115,7 +115,8 @@ class NetworkScene(Scene):
         from ..engines.timestep import StabilityLimits
 
         rate = check_network_timestep(physics, numerics)
-        return StabilityLimits(spring_dt=2.0 / rate, drag_dt=math.inf, follower_dt=math.inf, fastest_rate=rate)
+        spring_dt = 2.0 / rate if rate > 0 else math.inf  # nothing stiff (no bond, no trap, no force): any step
+        return StabilityLimits(spring_dt=spring_dt, drag_dt=math.inf, follower_dt=math.inf, fastest_rate=rate)
 
     def reduced_methods(self) -> tuple[str, ...]:
         from ..engines.network_reduced import METHODS  # engine boundary: the engines load numba

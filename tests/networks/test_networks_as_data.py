@@ -283,3 +283,12 @@ def test_a_hand_written_network_file_agrees_in_both_engines(tmp_path):
 @pytest.mark.parametrize("geometry", ["kagome", "delaunay"])
 def test_kagome_and_delaunay_networks_agree_in_both_engines(geometry):
     _agree(ea.Physics(scene="network", geometry=geometry, size=2, sigma=0.2, alignment_length=0.1), 60.0)
+
+
+@pytest.mark.parametrize("engine", ["reduced", "mujoco"])
+def test_a_network_with_nothing_stiff_runs_and_stays(tmp_path, engine):
+    """No bond, no trap and no force: no rate limits the step (the timestep check divides by none), nothing moves."""
+    path = tmp_path / "loose.json"
+    path.write_text(json.dumps({"nodes": [[0, 0], [1, 0], [0, 1]], "bonds": [], "pinned": [], "units": [0, 1, 2]}))
+    traj = ea.simulate(ea.Physics(scene="network", geometry=str(path), sigma=0.0), duration=5, engine=engine)
+    assert np.array_equal(traj.nodes[-1], traj.nodes[0])

@@ -11,6 +11,7 @@ inside _onset_claim, the linear analysis's boundary: only the claim rows need it
 
 from __future__ import annotations
 
+import math
 import time
 from collections.abc import Mapping
 from dataclasses import dataclass
@@ -75,10 +76,18 @@ def _point(results) -> dict:
         hub_amplitude=float(extra["hub_amplitude"]),
         hub_rate=float(rate),
         sync_order=float(extra["sync_order"]),
-        spread=float(
-            max(np.ptp(results.amplitude) / np.mean(results.amplitude), np.ptp(frequency) / np.mean(frequency))
-        ),
+        spread=max(_relative_spread(results.amplitude), _relative_spread(frequency)),
     )
+
+
+def _relative_spread(values) -> float:
+    """The arms' spread of a value relative to its mean: 0 where every arm has the same value, zero included (a
+    spinning star's arms all have frequency 0), infinite where they differ about a zero mean."""
+    values = np.asarray(values, dtype=float)
+    spread, mean = float(np.ptp(values)), float(np.mean(values))
+    if mean != 0:
+        return abs(spread / mean)
+    return 0.0 if spread == 0 else math.inf
 
 
 @STAR.run

@@ -13,10 +13,17 @@ from elastoactive.engines import mujoco as engine
 
 @pytest.mark.parametrize("n,duration", [(4, 200.0), (15, 60.0), (40, 20.0)])  # each about half a second
 def test_the_estimate_is_within_a_factor_two_of_the_wall_time(n, duration):
+    """The estimate (timed on the run's first samples) against the run's wall time. Both are wall clocks, which
+    another process on the same cores can move apart for one run (the suite runs on every core): a wrong cost model
+    misses in every attempt, a burst of load in one."""
     physics = ea.Physics(n=n, sigma=0.8 if n < 10 else 130 / n**3)
-    traj = engine.simulate_mujoco(physics, ea.Numerics(), duration, progress=True)
-    estimate, measured = traj.info["estimated_wall_s"], traj.wall_time_s
-    assert 0.5 <= estimate / measured <= 2.0, (estimate, measured)
+    attempts = []
+    for _ in range(3):
+        traj = engine.simulate_mujoco(physics, ea.Numerics(), duration, progress=True)
+        attempts.append((traj.info["estimated_wall_s"], traj.wall_time_s))
+        if 0.5 <= attempts[-1][0] / attempts[-1][1] <= 2.0:
+            return
+    pytest.fail(f"estimate against measured wall time, every attempt beyond a factor two: {attempts}")
 
 
 def test_the_estimate_leaves_the_run_bit_identical():

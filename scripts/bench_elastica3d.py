@@ -44,7 +44,7 @@ from pathlib import Path
 
 import numpy as np
 from bench_common import CORES, ROOT, load, log
-from benchmark_filament import ELASTICA_ROD, FILAMENT_S
+from benchmark_filament import ELASTICA_ROD, FILAMENT_S, elastica_classes
 from scipy.integrate import solve_ivp
 
 from elastoactive.analysis.motion3d import measure3d
@@ -145,18 +145,7 @@ def elastica_run(n_elem: int, periods: float, mass_per_length: float | None = No
     the integration). The engine's boundary: pyelastica is imported here (an optional bench dependency)."""
     import elastica as ea  # the optional bench dependency, at its engine's boundary (module docstring)
 
-    class Filament(ea.BaseSystemCollection, ea.Constraints, ea.Forcing, ea.Damping, ea.CallBacks):
-        pass
-
-    class Follower(ea.NoForces):
-        """-f dl t_e on the node at the end of each element e (the chain's follower force)."""
-
-        def __init__(self, load_per_node):
-            super().__init__()
-            self.load = load_per_node
-
-        def apply_forces(self, system, time=0.0):
-            system.external_forces[:, 1:] -= self.load * system.tangents
+    Filament, Follower = elastica_classes(ea)
 
     r = ELASTICA_ROD["radius"] if radius is None else radius
     m = ELASTICA_ROD["mass_per_length"] if mass_per_length is None else mass_per_length
@@ -182,7 +171,7 @@ def elastica_run(n_elem: int, periods: float, mass_per_length: float | None = No
     sim = Filament()
     sim.append(rod)
     sim.constrain(rod).using(ea.OneEndFixedBC, constrained_position_idx=(0,), constrained_director_idx=(0,))
-    sim.add_forcing_to(rod).using(Follower, load_per_node=FILAMENT_S * dl)
+    sim.add_forcing_to(rod).using(Follower, load=FILAMENT_S * dl)
     share = np.full(n_elem + 1, dl)
     share[[0, -1]] = dl / 2
     dt = ELASTICA_ROD["cfl"] * min(dl, r) / np.sqrt(young * area / m)

@@ -98,16 +98,16 @@ def bench_filament_reduced(ns, continuum: dict, tmp: Path) -> list[dict]:
     return rows
 
 
-def _elastica_run(n_elem: int, periods: float) -> tuple[np.ndarray, np.ndarray, float]:
-    """PyElastica's clamped rod (length 1, B = 1) under the distributed follower load S and drag zeta = 1 per
-    length: (t, Theta = tip tangent angle - base tangent angle, wall s of the integration)."""
-    import elastica as ea
+def elastica_classes(ea):
+    """PyElastica's simulator class for one clamped, forced, damped rod and the chain's follower force as its forcing
+    (-load t_e on the node at the end of each element e, load = f dl); `ea` is the imported elastica module (an
+    optional bench dependency, imported by the caller at its engine's boundary)."""
 
     class Filament(ea.BaseSystemCollection, ea.Constraints, ea.Forcing, ea.Damping, ea.CallBacks):
         pass
 
     class Follower(ea.NoForces):
-        """-f dl t_e on the node at the end of each element e (the chain's follower force, per length f = S)."""
+        """-load t_e on the node at the end of each element e (the chain's follower force)."""
 
         def __init__(self, load):
             super().__init__()
@@ -116,6 +116,15 @@ def _elastica_run(n_elem: int, periods: float) -> tuple[np.ndarray, np.ndarray, 
         def apply_forces(self, system, time=0.0):
             system.external_forces[:, 1:] -= self.load * system.tangents
 
+    return Filament, Follower
+
+
+def _elastica_run(n_elem: int, periods: float) -> tuple[np.ndarray, np.ndarray, float]:
+    """PyElastica's clamped rod (length 1, B = 1) under the distributed follower load S and drag zeta = 1 per
+    length: (t, Theta = tip tangent angle - base tangent angle, wall s of the integration)."""
+    import elastica as ea
+
+    Filament, Follower = elastica_classes(ea)
     r, m, cfl = ELASTICA_ROD["radius"], ELASTICA_ROD["mass_per_length"], ELASTICA_ROD["cfl"]
     area, inertia = np.pi * r**2, np.pi * r**4 / 4
     young, dl = 1.0 / inertia, 1.0 / n_elem

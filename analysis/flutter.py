@@ -60,8 +60,8 @@ import numpy as np
 import scipy.linalg
 from scipy.optimize import brentq
 
-from elastoactive.constants import BEAD_INERTIA_FACTOR, BEAD_RADIUS
-from elastoactive.errors import ParameterError
+from elastoactive.core.constants import BEAD_INERTIA_FACTOR, BEAD_RADIUS
+from elastoactive.core.errors import ParameterError
 
 __all__ = [
     "BEAD_RADIUS",

@@ -31,7 +31,7 @@ from typing import NamedTuple
 import numpy as np
 from scipy.optimize import brentq, minimize_scalar
 
-from ..errors import ParameterError
+from ..core.errors import ParameterError
 from .skin import displacement_operator
 
 __all__ = [

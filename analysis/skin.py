@@ -41,7 +41,7 @@ from typing import NamedTuple
 import numpy as np
 from scipy.linalg import eig, expm
 
-from ..errors import ParameterError
+from ..core.errors import ParameterError
 from .stability import banded_operator
 
 __all__ = [

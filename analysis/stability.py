@@ -33,7 +33,7 @@ import scipy.sparse as sp
 from scipy.optimize import brentq
 from scipy.sparse.linalg import LinearOperator, eigs, splu
 
-from elastoactive.errors import ParameterError
+from elastoactive.core.errors import ParameterError
 
 __all__ = [
     "linear_operator",

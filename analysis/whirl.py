@@ -41,7 +41,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import root
 
-from ..errors import ParameterError
+from ..core.errors import ParameterError
 from ..reduced.chain3d import Chain3D, basis_of, planar_angles, rhs, solve3d, tangents_of_angles
 from .filament import Extrapolation, beat, richardson
 from .motion3d import measure3d

@@ -12,9 +12,9 @@ import mujoco
 import pytest
 
 from elastoactive.controllers import compiled_passive, follower_forces, reference_passive
+from elastoactive.core.params import Numerics, Physics
 from elastoactive.engines.mujoco import prepare, simulate_mujoco
 from elastoactive.engines.reduced import simulate_reduced, simulate_reference
-from elastoactive.params import Numerics, Physics
 
 CHAIN = Physics(n=7, sigma=0.8)
 NSTEP = 2000

@@ -16,7 +16,7 @@ gamma = 1, so times are in tau = gamma l^2 / C1 and frequencies are f tau).
 
 Front door
 ----------
-Physics, Numerics        parameters of a run (elastoactive.params; help(ea.Physics) lists every parameter)
+Physics, Numerics        parameters of a run (elastoactive.core.params; help(ea.Physics) lists every parameter)
 simulate, measure        run a scene in either engine; measure the result (elastoactive.api)
 load, load_sweep         a run or a sweep written by the command line (elastoactive.api)
 Trajectory, Results      what they return
@@ -27,12 +27,13 @@ ParameterError, SimulationDiverged
 
 import importlib
 
-from . import _moved, registry, scenes, terms  # scenes first: registers the built-in scenes that Physics looks up
+from . import _moved, scenes, terms  # scenes first: registers the built-in scenes that Physics looks up
 from .api import document_physics, load, load_sweep, measure, simulate
-from .errors import ParameterError, SimulationDiverged
-from .params import Numerics, Physics
+from .core import registry
+from .core.errors import ParameterError, SimulationDiverged
+from .core.params import Numerics, Physics
+from .core.trajectory import Trajectory
 from .results import Results
-from .trajectory import Trajectory
 
 _moved.install()  # old module paths keep working for one release
 registry.entry_points_ready()  # the entry points' scenes, terms and studies load when a registry is first listed

@@ -44,6 +44,17 @@ MOVED = {
     "elastoactive.analysis.network.geometry": "elastoactive.networks.geometry",
     "elastoactive.analysis.network.initial": "elastoactive.networks.state",
     "elastoactive.analysis.reduced": "elastoactive.reduced",
+    "elastoactive.errors": "elastoactive.core.errors",
+    "elastoactive.constants": "elastoactive.core.constants",
+    "elastoactive.table": "elastoactive.core.table",
+    "elastoactive.units": "elastoactive.core.units",
+    "elastoactive.parameters": "elastoactive.core.parameters",
+    "elastoactive.observables": "elastoactive.core.observables",
+    "elastoactive.registry": "elastoactive.core.registry",
+    "elastoactive.cases": "elastoactive.core.cases",
+    "elastoactive.trajectory": "elastoactive.core.trajectory",
+    "elastoactive.params": "elastoactive.core.params",
+    "elastoactive.initial": "elastoactive.reduced.initial",
 }
 """Old module name -> new module name (a moved package's sub-modules follow it: analysis.reduced.x -> reduced.x)."""
 

@@ -18,17 +18,18 @@ from pathlib import Path
 
 import numpy as np
 
-from . import parameters as _parameters
-from . import plugins, registry, terms
+from . import plugins, terms
+from .core import parameters as _parameters
+from .core import registry
+from .core.errors import ParameterError
+from .core.params import DEFAULT_SCENE, LEADING, Numerics, Physics, parameter_fields
+from .core.trajectory import Trajectory
+from .core.units import CHAIN, SYSTEMS, scene_units
 from .engines import run_engine
-from .errors import ParameterError
 from .gate import preflight
-from .params import DEFAULT_SCENE, LEADING, Numerics, Physics, parameter_fields
 from .results import Results, check_measurable, check_transient, load_trajectory, read_summary
 from .results import measure as _measure
 from .starts import as_start
-from .trajectory import Trajectory
-from .units import CHAIN, SYSTEMS, scene_units
 
 
 def _field_names(cls) -> tuple[str, ...]:
@@ -303,7 +304,7 @@ def physics_doc(head: str = "") -> str:
         lines += ["", f"Declared by {owner}:", ""]
         lines += [_entry(spec) for spec in specs]
     lines += ["", "Units", "-----"]
-    for system in SYSTEMS:  # each scene speaks its own (elastoactive.units); the entries above are in the chain's
+    for system in SYSTEMS:  # each scene speaks its own (elastoactive.core.units); the entries above are in the chain's
         users = [s.name for s in registry.scenes() if scene_units(s) == system]
         text = f"{system.name} scenes ({', '.join(users)}). {system.text}"
         lines.append(textwrap.fill(text, DOC_WIDTH))

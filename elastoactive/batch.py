@@ -27,13 +27,13 @@ from collections.abc import Callable, Iterable
 from concurrent.futures import as_completed
 from dataclasses import dataclass, field
 
+from .core.params import Numerics, Physics
+from .core.trajectory import Trajectory
 from .engines import check_engine, run_engine
 from .gate import TimestepChecks, preflight
 from .io.executor import default_workers, imap, process_pool
 from .io.progress import progress_bar
-from .params import Numerics, Physics
 from .results import Results, measure
-from .trajectory import Trajectory
 
 
 @dataclass(frozen=True)

@@ -27,9 +27,9 @@ import sys
 import threading
 from dataclasses import dataclass
 
+from .core.errors import ParameterError
+from .core.params import Numerics, Physics
 from .engines import check_engine, check_engine_numerics, check_steps
-from .errors import ParameterError
-from .params import Numerics, Physics
 from .results import check_measurable
 
 

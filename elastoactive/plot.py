@@ -23,10 +23,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .errors import ParameterError
-from .params import Physics
-from .trajectory import Trajectory
-from .units import THETA, beat_signal, scene_units
+from .core.errors import ParameterError
+from .core.params import Physics
+from .core.trajectory import Trajectory
+from .core.units import THETA, beat_signal, scene_units
 
 _TEX = {"tau": r"\tau", "gamma": r"\gamma", "Theta": r"\Theta", "Omega": r"\Omega", "psi": r"\psi"}
 """Symbols drawn as Greek letters in labels."""

@@ -3,7 +3,7 @@
 `load(spec)` imports one (the CLI's ``--plugin``) and remembers what it registered with its spec, so that a run's
 summary.json records the plug-ins it needs (`needed`) and ``run --from`` or ``render`` of that run load them again.
 Installed distributions need no naming: their entry points (groups ``elastoactive.scenes``, ``elastoactive.terms``,
-``elastoactive.studies``) load when a registry is first listed (elastoactive.registry.load_entry_points).
+``elastoactive.studies``) load when a registry is first listed (elastoactive.core.registry.load_entry_points).
 """
 
 from __future__ import annotations
@@ -14,8 +14,9 @@ import json
 import sys
 from pathlib import Path
 
-from . import registry, terms
-from .errors import ParameterError
+from . import terms
+from .core import registry
+from .core.errors import ParameterError
 
 _SOURCES: dict[tuple[str, str], str] = {}
 """(registry, name) -> the spec of the plug-in that registered it (`load`)."""

@@ -36,12 +36,12 @@ from pathlib import Path
 
 import numpy as np
 
-from . import observables, parameters
 from .api import as_numerics, as_physics, load_sweep, measure, simulate
-from .errors import ParameterError
+from .core import observables, parameters
+from .core.errors import ParameterError
+from .core.params import Numerics, Physics
 from .io.executor import default_workers, imap
 from .io.outputs import atomic_file, lock_file, provenance, utc_now, write_netcdf
-from .params import Numerics, Physics
 from .starts import Start, as_start, last_state
 
 DIRECTIONS = ("up", "down")

@@ -13,19 +13,20 @@ from pathlib import Path
 
 import numpy as np
 
-from . import observables, quantities
+from . import quantities
 from .analysis import observables as obs
 from .analysis import spectrum
-from .errors import ParameterError
+from .core import observables
+from .core.errors import ParameterError
+from .core.observables import HARMONICS
+from .core.params import MIN_SAMPLES, Numerics, Physics
+from .core.trajectory import Trajectory
+from .core.units import beat_signal, scene_units
 from .io.jsonio import to_jsonable
 from .io.outputs import sha256, write_files
-from .observables import HARMONICS
-from .params import MIN_SAMPLES, Numerics, Physics
 from .sensitivity import estimate as estimate_sensitivity
 from .sensitivity import needs_estimate
 from .terms.base import fastest_term, slower_advice
-from .trajectory import Trajectory
-from .units import beat_signal, scene_units
 from .wording import summary_units
 
 PerChain = float | tuple[float, ...]
@@ -85,7 +86,7 @@ class Results:
     notes                 what a user should know about these numbers (the CLI prints them as warnings)
     extra                 the scene's and the active terms' own observables (Scene.measure_extra, Term.measure), in
                           the order measured: the scene's, then each term's; their meaning is their spec
-                          (elastoactive.observables: declared by the scene or term that measures them)
+                          (elastoactive.core.observables: declared by the scene or term that measures them)
 
     A declared observable also reads as an attribute (results.rotation_rate, results.contact_fraction): its value in
     `extra`, None when this run did not measure it.

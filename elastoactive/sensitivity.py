@@ -28,9 +28,9 @@ import numpy as np
 
 from . import quantities
 from .analysis import observables as obs
-from .params import Numerics, replace
+from .core.params import Numerics, replace
+from .core.trajectory import Trajectory
 from .reduced.settings import METHODS
-from .trajectory import Trajectory
 
 SENSITIVE_RATE = 0.5
 """1/tau: a finite-time Lyapunov exponent above this makes a run sensitive (docs/performance.md: the sensitive

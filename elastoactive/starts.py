@@ -14,10 +14,10 @@ from pathlib import Path
 
 import numpy as np
 
-from .errors import ParameterError
+from .core.errors import ParameterError
+from .core.trajectory import Trajectory
 from .networks.state import NetworkState
 from .results import load_trajectory
-from .trajectory import Trajectory
 
 
 @dataclass(frozen=True)

@@ -1,22 +1,21 @@
 """What a user reads about a scene's specs, in the scene's own units: its numerical settings' help, its observables'
 units and long names (a beat observable's about the scene's beat signal), the units record of its summary.json.
 
-Where the specs (elastoactive.observables, Numerics' fields) meet a scene's units (elastoactive.units: Scene.units,
-Scene.beat_signal; a parameter's own: Parameter.help_in, units_in). The CLI's help for a scene, summary.json and a
-sweep's netCDF attributes read it; ea.plot's labels and Trajectory.to_xarray read the scene's units directly. So a
-network scene never speaks the chain's language (tests/test_scene_units.py holds every registered scene and term to
-it).
-"""
+Where the specs (elastoactive.core.observables, Numerics' fields) meet a scene's units (elastoactive.core.units:
+Scene.units, Scene.beat_signal; a parameter's own: Parameter.help_in, units_in). The CLI's help for a scene,
+summary.json and a sweep's netCDF attributes read it; ea.plot's labels and Trajectory.to_xarray read the scene's units
+directly. So a network scene never speaks the chain's language (tests/test_scene_units.py holds every registered scene
+and term to it)."""
 
 from __future__ import annotations
 
 from dataclasses import Field
 
-from . import observables
-from .observables import Observable
-from .parameters import get as parameter_spec
-from .params import Physics, has_coupling
-from .units import Units, beat_signal, scene_units, worded
+from .core import observables
+from .core.observables import Observable
+from .core.parameters import get as parameter_spec
+from .core.params import Physics, has_coupling
+from .core.units import Units, beat_signal, scene_units, worded
 
 __all__ = ["field_help", "observable", "summary_units"]
 

@@ -27,10 +27,10 @@ import threading
 import mujoco
 import numpy as np
 
-from ..constants import BEAD_RADIUS
-from ..errors import ParameterError
-from ..initial import initial_angles
-from ..params import Numerics, Physics
+from ..core.constants import BEAD_RADIUS
+from ..core.errors import ParameterError
+from ..core.params import Numerics, Physics
+from ..core.registry import initial_angles
 from ..terms import align_polarities
 from . import mjcf_path
 

@@ -32,8 +32,8 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
-from ..constants import BEAD_RADIUS
-from ..errors import ParameterError
+from ..core.constants import BEAD_RADIUS
+from ..core.errors import ParameterError
 from . import mjcf_path
 from .chain import INTEGRATOR
 

@@ -36,9 +36,9 @@ import threading
 import mujoco
 import numpy as np
 
-from ..errors import ParameterError
+from ..core.errors import ParameterError
+from ..core.params import Numerics, Physics
 from ..networks.geometry import unit_alignment_lengths, unit_forces
-from ..params import Numerics, Physics
 from ..terms import polarity_addresses, polarity_term, polarity_terms
 from . import mjcf_path
 from .chain import INTEGRATOR

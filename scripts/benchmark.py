@@ -65,10 +65,10 @@ from benchmark_network_scale import bench_network_scale, scale_report
 
 from elastoactive.checks.validate import validation_cases
 from elastoactive.controllers import compiled_passive, follower_forces, reference_passive
+from elastoactive.core.params import Numerics, Physics
+from elastoactive.core.registry import initial_angles
 from elastoactive.engines.mujoco import prepare, simulate_mujoco
 from elastoactive.engines.reduced import regime, rhs_reference, simulate_reduced, system_of
-from elastoactive.initial import initial_angles
-from elastoactive.params import Numerics, Physics
 
 PLAIN_METHODS = ("LSODA", "DOP853", "RK45", "BDF", "Radau")  # LSODA first: the usual winner prunes the rest
 MATCH = 2.0  # a plain method matches when its error is <= MATCH x the compiled run's error
@@ -467,7 +467,7 @@ def bench_reduced_long(ns, duration: float, repeats: int) -> dict:
 SINGLE_BLAS = """
 import json, sys
 from elastoactive.engines.reduced import simulate_reduced
-from elastoactive.params import Numerics, Physics
+from elastoactive.core.params import Numerics, Physics
 out = {}
 for n in map(int, sys.argv[2:]):
     p = Physics(n=n, sigma=0.05)

@@ -44,7 +44,7 @@ class TooSlow(Exception):
 
 
 def _physics():
-    from elastoactive.params import Physics
+    from elastoactive.core.params import Physics
 
     return Physics(scene="lattice", rings=RINGS, sigma=SIGMA, alignment_length=ALIGNMENT_LENGTH)
 
@@ -90,9 +90,9 @@ def _window_error(nodes: np.ndarray, ref_nodes: np.ndarray, t: np.ndarray) -> fl
 def bench_network(quick: bool) -> dict:
     from scipy.integrate import solve_ivp
 
+    from elastoactive.core.params import Numerics
     from elastoactive.engines.network_mujoco import simulate_network_mujoco
     from elastoactive.engines.network_reduced import simulate_network_reduced
-    from elastoactive.params import Numerics
 
     physics = _physics()
     network = physics.scene_def.network(physics)

@@ -52,7 +52,7 @@ IMPLICIT_NODES, IMPLICIT_SPAN = 1100, 2.0
 
 
 def _physics(rings: int):
-    from elastoactive.params import Physics
+    from elastoactive.core.params import Physics
 
     return Physics(scene="network", geometry="triangular", size=rings, sigma=SIGMA, alignment_length=ALIGNMENT_LENGTH)
 
@@ -72,8 +72,8 @@ def _bench(quick: bool) -> dict:
     from scipy.integrate import solve_ivp
 
     from elastoactive.analysis.network import stability
+    from elastoactive.core.params import Numerics
     from elastoactive.engines.network_reduced import simulate_network_reduced, system_of
-    from elastoactive.params import Numerics
     from elastoactive.reduced import network as model
 
     rings = RINGS[:3] if quick else RINGS

@@ -3,9 +3,6 @@
 - ``index.md`` is the repository's README.md, its links made relative to docs/ (one front page for both).
 - ``cli.md`` is written from the argparse parser (``elastoactive.cli.build_parser``): every subcommand, its usage,
   its options with their defaults and help, as ``elastoactive COMMAND --help`` prints them.
-- The Python API reference reads the package as it installs: pyproject's package-dir puts the top-level folders
-  analysis/, mjcf/ and controllers/ inside ``elastoactive``, which the docstring reader (griffe, reading the source
-  without importing it) cannot follow, so it reads a tree of links laid out as the installed package.
 - A pair of brackets in a docstring's plain text (``[I; M] [A, B]``, a matrix) reads to Markdown as a reference link;
   one whose target is no identifier (a cross-reference names a Python object or a heading: no spaces, no commas) is
   put back as the text it was, so that only a real cross-reference can fail the build.
@@ -18,11 +15,8 @@ from __future__ import annotations
 import argparse
 import re
 import sys
-import tempfile
-import tomllib
 from pathlib import Path
 
-from mkdocs.plugins import event_priority
 from mkdocs.structure.files import File, Files
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -142,38 +136,6 @@ def cli_reference() -> str:
     for name, subparser in sub.choices.items():
         lines += _parser_section(subparser, f"elastoactive {name}", summaries.get(name, ""))
     return "\n".join(lines) + "\n"
-
-
-def package_tree(where: Path) -> Path:
-    """Lay out ``where/elastoactive`` as the installed package (links to the sources, each sub-package at the folder
-    pyproject's package-dir names) and return ``where``, the path the docstring reader searches."""
-    mapping = tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["setuptools"]["package-dir"]
-    for package, folder in sorted(mapping.items(), key=lambda item: item[0].count(".")):
-        target = where.joinpath(*package.split("."))
-        if target.exists():
-            continue  # a sub-package already inside its parent's folder
-        target.parent.mkdir(parents=True, exist_ok=True)
-        if package == "elastoactive":
-            target.mkdir()
-            for entry in (ROOT / folder).iterdir():
-                (target / entry.name).symlink_to(entry)
-        else:
-            target.symlink_to(ROOT / folder)
-    return where
-
-
-_TREE = tempfile.TemporaryDirectory(prefix="elastoactive-docs-")
-
-
-@event_priority(100)  # before mkdocstrings reads its handlers' options
-def on_config(config):
-    """Point the API reference at the package as installed (package_tree)."""
-    handler = config.plugins["mkdocstrings"].config.handlers.setdefault("python", {})
-    tree = Path(_TREE.name)
-    if not (tree / "elastoactive").exists():
-        package_tree(tree)
-    handler["paths"] = [str(tree)]
-    return config
 
 
 def _mathjax_root() -> Path:

@@ -17,8 +17,8 @@ import time
 from pathlib import Path
 
 import elastoactive as ea
+from elastoactive.core.params import Numerics
 from elastoactive.engines.mujoco import simulate_mujoco
-from elastoactive.params import Numerics
 from elastoactive.render import default_rate, render_still, render_trajectory
 
 # (file name, physics, simulated time in tau): each scene's last validation case (the pair: kappa = 2)

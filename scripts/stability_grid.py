@@ -26,8 +26,8 @@ from pathlib import Path
 import numpy as np
 
 from elastoactive.checks import extremes as X
+from elastoactive.core.params import Numerics, Physics
 from elastoactive.io.executor import imap
-from elastoactive.params import Numerics, Physics
 
 CODES = {"agrees": "ok", "refused": "R", "diverged": "D", "WRONG": "**WRONG**", "NaN": "**NaN**", "skipped": "-"}
 
@@ -177,8 +177,8 @@ def run_limits(ns, sigmas, integrators, workers: int) -> list[dict]:
 # ------------------------------------------------------------------------------------------------
 def reduced_extremes(quick: bool) -> list[dict]:
     """Default method choice and cost of the reduced model at the extremes (short runs)."""
+    from elastoactive.core.registry import initial_angles
     from elastoactive.engines.reduced import STIFF_RADIUS, simulate_reduced, spectral_radius
-    from elastoactive.initial import initial_angles
 
     rows = []
     cases = [(7, 100.0), (30, 10.0), (100, 10.0), (100, 100.0)] if not quick else [(30, 10.0)]

@@ -15,10 +15,10 @@ import json
 import pytest
 
 import elastoactive as ea
-from elastoactive import parameters, registry
 from elastoactive import terms as term_registry
 from elastoactive.cli import main
-from elastoactive.params import Numerics, scene_parameters
+from elastoactive.core import parameters, registry
+from elastoactive.core.params import Numerics, scene_parameters
 from elastoactive.sweep import make_sweep
 
 SHORT = 2.0

@@ -13,8 +13,8 @@ import pytest
 import elastoactive as ea
 from elastoactive import gate
 from elastoactive.batch import Case, run_case, run_cases
-from elastoactive.errors import ParameterError
-from elastoactive.params import Numerics, Physics
+from elastoactive.core.errors import ParameterError
+from elastoactive.core.params import Numerics, Physics
 
 MARK = "refused by the gate in a test"
 

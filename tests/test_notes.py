@@ -12,8 +12,8 @@ import pytest
 
 import elastoactive as ea
 from elastoactive import quantities, results, sensitivity
+from elastoactive.core.trajectory import Trajectory
 from elastoactive.sweep.points import _ok_record
-from elastoactive.trajectory import Trajectory
 
 SPACING = 0.1
 FREQUENCY = 0.1

@@ -1,5 +1,5 @@
 """Observables are declared by the scene or term that measures them and found through one lookup
-(elastoactive.observables): summary.json, validate, the pre-flight check and the sweep's netCDF read it."""
+(elastoactive.core.observables): summary.json, validate, the pre-flight check and the sweep's netCDF read it."""
 
 from __future__ import annotations
 
@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import elastoactive as ea
-from elastoactive import observables
+from elastoactive.core import observables
 from elastoactive.results import Results, check_measurable
 from elastoactive.sweep.grid import scene_variables, variable_attrs
 

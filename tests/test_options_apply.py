@@ -2,7 +2,7 @@
 
 A parameter the scene does not have (delta on one-pinned), one whose switch is off (contact_radius without
 contact, noise_correlation without noise), and a MuJoCo-only numerical setting with the reduced engine (integrator;
-dt without noise). Every parameter is declared once (elastoactive.parameters), so the rule is checked for every
+dt without noise). Every parameter is declared once (elastoactive.core.parameters), so the rule is checked for every
 scene and every parameter, not for a list of commands.
 """
 
@@ -11,9 +11,9 @@ import pytest
 from conftest import refused
 
 import elastoactive as ea
-from elastoactive import parameters, registry
 from elastoactive.cli import main
-from elastoactive.params import Numerics, scene_parameters
+from elastoactive.core import parameters, registry
+from elastoactive.core.params import Numerics, scene_parameters
 from elastoactive.sweep import make_sweep, parse_grid
 
 

@@ -11,9 +11,10 @@ import textwrap
 import pytest
 
 import elastoactive as ea
-from elastoactive import plugins, table
+from elastoactive import plugins
 from elastoactive.cli import main
 from elastoactive.cli.options import preload_plugins
+from elastoactive.core import table
 
 TETHER = '''
 """A position-dependent force: the tip pulled toward an anchor by a spring of rest length 0, F = -k (r_tip - a)."""
@@ -21,7 +22,7 @@ TETHER = '''
 import numpy as np
 
 import elastoactive as ea
-from elastoactive.parameters import Parameter
+from elastoactive.core.parameters import Parameter
 from elastoactive.terms import Term
 
 

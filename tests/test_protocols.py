@@ -6,7 +6,7 @@ import pytest
 
 import elastoactive as ea
 from elastoactive import protocols
-from elastoactive.errors import ParameterError
+from elastoactive.core.errors import ParameterError
 from elastoactive.starts import last_state
 
 UNIT = ea.Physics(scene="trapped-unit", trap=1.0, alignment_length=0.5, sigma=0.25)

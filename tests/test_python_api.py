@@ -9,9 +9,9 @@ import pytest
 
 import elastoactive as ea
 from elastoactive.cli import main
-from elastoactive.parameters import Parameter
+from elastoactive.core.parameters import Parameter
+from elastoactive.core.trajectory import particle_positions
 from elastoactive.terms import Term
-from elastoactive.trajectory import particle_positions
 
 matplotlib.use("Agg")
 
@@ -167,7 +167,7 @@ def test_help_on_physics_lists_every_parameter_with_units():
     signature = inspect.signature(ea.Physics)
     for scene in ea.scenes.scenes():
         assert scene.name in text
-    from elastoactive import parameters
+    from elastoactive.core import parameters
 
     for name in parameters.names():
         spec = parameters.get(name)

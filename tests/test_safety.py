@@ -8,11 +8,11 @@ import pytest
 
 from elastoactive import scenes
 from elastoactive.cli import main
+from elastoactive.core.errors import SimulationDiverged
+from elastoactive.core.params import Numerics, ParameterError, Physics
 from elastoactive.engines.mujoco import simulate_mujoco
 from elastoactive.engines.timestep import check_timestep, stability_limits
-from elastoactive.errors import SimulationDiverged
 from elastoactive.mjcf.chain import build_model
-from elastoactive.params import Numerics, ParameterError, Physics
 from elastoactive.scenes import names as scene_names
 
 
@@ -63,7 +63,8 @@ def test_cli_reports_bad_parameter(capsys):
 
 @pytest.mark.parametrize("n,delta", [(2, 0.0), (3, 0.9), (7, 0.1), (9, 0.5), (50, 0.3)])
 def test_two_pinned_starts_on_its_pins(n, delta):
-    from elastoactive.initial import initial_angles, pin_residual
+    from elastoactive.core.registry import initial_angles
+    from elastoactive.reduced.initial import pin_residual
 
     theta = initial_angles(Physics(scene="two-pinned", n=n, delta=delta), Numerics(perturbation=0.05))
     assert np.abs(pin_residual(theta, delta)).max() < 1e-12

@@ -15,14 +15,15 @@ import numpy as np
 import pytest
 
 import elastoactive as ea
-from elastoactive import observables, registry, terms
+from elastoactive import terms
 from elastoactive.cli import main
-from elastoactive.errors import ParameterError
-from elastoactive.params import has_coupling, scene_parameters
+from elastoactive.core import observables, registry
+from elastoactive.core.errors import ParameterError
+from elastoactive.core.params import has_coupling, scene_parameters
+from elastoactive.core.units import CHAIN, NETWORK, SYSTEMS, beat_signal, scene_units
 from elastoactive.plot import labels
 from elastoactive.sweep import make_sweep, scene_variables
 from elastoactive.sweep.netcdf import scene_coordinate_attrs, scene_variable_attrs
-from elastoactive.units import CHAIN, NETWORK, SYSTEMS, beat_signal, scene_units
 from elastoactive.wording import observable, summary_units
 
 SCENES = registry.names()

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 import elastoactive as ea
-from elastoactive.errors import ParameterError
+from elastoactive.core.errors import ParameterError
 from elastoactive.starts import Start, as_start, last_state
 
 PATCH = ea.Physics(scene="lattice", rings=1, sigma=0.2, alignment_length=0.1)

@@ -1,4 +1,4 @@
-"""The one registry type (elastoactive.table.Registry) behind parameters, scenes, terms and studies: one way to
+"""The one registry type (elastoactive.core.table.Registry) behind parameters, scenes, terms and studies: one way to
 register, look up, list and refuse an unknown name."""
 
 from __future__ import annotations
@@ -8,7 +8,8 @@ from typing import NamedTuple
 import pytest
 
 import elastoactive as ea
-from elastoactive import parameters, registry, table, terms
+from elastoactive import terms
+from elastoactive.core import parameters, registry, table
 from elastoactive.studies import registry as studies
 
 

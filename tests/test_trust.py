@@ -48,7 +48,7 @@ def test_beat_regularity_is_reported():
 def test_a_rigid_rotation_has_no_beat_frequency():
     """A chain that turns without bending (a rotating pin, an orbit in the dish) has a steady Theta: no beat, so its
     frequency is null with a note saying why, not 0.0 (which says the chain is at rest)."""
-    from elastoactive.trajectory import Trajectory
+    from elastoactive.core.trajectory import Trajectory
 
     t = np.arange(0.0, 200.0, 0.05)
     shape = np.array([0.0, 0.3, 0.5])

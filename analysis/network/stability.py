@@ -41,7 +41,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ...errors import ParameterError
+from ...core.errors import ParameterError
 from ...networks.geometry import Network, has_unit_fields
 from ...reduced.network import (
     LOWEST_MODES,

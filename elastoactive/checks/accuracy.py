@@ -36,16 +36,16 @@ from dataclasses import asdict, dataclass
 from pathlib import Path
 
 from ..batch import default_workers
+from ..core.errors import ParameterError, SimulationDiverged
+from ..core.params import PRESETS, Numerics, Physics
+from ..core.registry import get as get_scene
+from ..core.registry import names as scene_names
 from ..engines.mujoco import simulate_mujoco
 from ..engines.reduced import simulate_reduced
 from ..engines.timestep import check_accuracy, check_timestep
-from ..errors import ParameterError, SimulationDiverged
 from ..io.executor import imap
 from ..io.outputs import atomic_file, provenance, provenance_line, utc_now, write_text
 from ..io.progress import progress_bar
-from ..params import PRESETS, Numerics, Physics
-from ..registry import get as get_scene
-from ..registry import names as scene_names
 from ..results import default_transient, measure
 from .validate import angle_errors, observable_errors
 

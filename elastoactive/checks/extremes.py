@@ -35,14 +35,14 @@ from dataclasses import dataclass, field
 import mujoco
 import numpy as np
 
-from .. import registry
+from ..core import registry
+from ..core.errors import ParameterError, SimulationDiverged
+from ..core.params import Numerics, Physics, replace
+from ..core.trajectory import Trajectory
 from ..engines.mujoco import simulate_mujoco
 from ..engines.reduced import simulate_reduced
 from ..engines.timestep import INERTIA_RESOLUTION, PIN_DT3_PER_MASS, check_timestep, stability_limits
-from ..errors import ParameterError, SimulationDiverged
-from ..params import Numerics, Physics, replace
 from ..results import measure
-from ..trajectory import Trajectory
 from .accuracy import errors_against
 from .validate import comparison_window
 

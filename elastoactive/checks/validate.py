@@ -13,14 +13,15 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .. import observables, registry, terms
+from .. import terms
 from ..analysis import observables as obs
+from ..core import observables, registry
+from ..core.errors import SimulationDiverged
+from ..core.params import Numerics, Physics
 from ..engines.mujoco import simulate_mujoco
 from ..engines.reduced import simulate_reduced
 from ..engines.timestep import PIN_DT3_PER_MASS
-from ..errors import SimulationDiverged
 from ..gate import preflight
-from ..params import Numerics, Physics
 from ..results import Results, default_transient, measure
 from ..scenes.base import ValidationCase
 
@@ -100,7 +101,7 @@ def _error(value, reference, floor: float) -> float:
 def observable_errors(physics: Physics, value: Results, reference: Results) -> dict[str, float]:
     """Errors of the scene's observables against a reference: relative for those validate holds to its
     tolerance (Scene.compared) and the scene's other relative ones, absolute where their spec says so
-    (elastoactive.observables: Observable.error)
+    (elastoactive.core.observables: Observable.error)
     (stored as NAME_abs)."""
     scene = physics.scene_def
     errors: dict[str, float] = {}

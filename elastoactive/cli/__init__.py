@@ -11,7 +11,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from ..errors import ParameterError, SimulationDiverged
+from ..core.errors import ParameterError, SimulationDiverged
 from . import accuracy, filament, ramp, render, reproduce, run, stability, sweep, validate, whirl
 from .options import UNITS, plugin_argument, preload_plugins, scene_help
 

@@ -30,8 +30,8 @@ from dataclasses import asdict, dataclass
 import numpy as np
 
 from ..analysis.filament import beat, resample, richardson
-from ..errors import ParameterError
-from ..params import DEFAULT_DT, Numerics
+from ..core.errors import ParameterError
+from ..core.params import DEFAULT_DT, Numerics
 from ..reduced.blas import one_blas_thread
 from ..scenes import one_pinned
 from .options import ladder_argument

@@ -1,7 +1,7 @@
 """Options shared by the subcommands, generated from the parameter records and the scene registry.
 
-Each scene speaks its own units (elastoactive.units): the commands' help names both systems, and `run SCENE --help` or
-`sweep SCENE --help` lists that scene's options only, with their help and units in its words (`SceneHelp`).
+Each scene speaks its own units (elastoactive.core.units): the commands' help names both systems, and `run SCENE
+--help` or `sweep SCENE --help` lists that scene's options only, with their help and units in its words (`SceneHelp`).
 """
 
 from __future__ import annotations
@@ -10,10 +10,11 @@ import argparse
 from collections.abc import Callable
 from pathlib import Path
 
-from .. import plugins, registry
-from ..errors import ParameterError
-from ..params import Numerics, Physics, has_coupling, parameter_fields, scene_parameters
-from ..units import CHAIN, NETWORK, scene_units
+from .. import plugins
+from ..core import registry
+from ..core.errors import ParameterError
+from ..core.params import Numerics, Physics, has_coupling, parameter_fields, scene_parameters
+from ..core.units import CHAIN, NETWORK, scene_units
 from ..wording import field_help
 
 UNITS = (

@@ -15,10 +15,10 @@ import argparse
 import sys
 from pathlib import Path
 
+from ..core.errors import ParameterError
+from ..core.params import Numerics, Physics, parameter_fields
 from ..engines import ENGINES
-from ..errors import ParameterError
 from ..io.outputs import output_path
-from ..params import Numerics, Physics, parameter_fields
 from .options import UNITS, add_fields, scene_argument
 
 EXAMPLES = """examples:

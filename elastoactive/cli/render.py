@@ -13,7 +13,7 @@ import os
 import sys
 from pathlib import Path
 
-from ..errors import ParameterError
+from ..core.errors import ParameterError
 from ..io.outputs import check_file
 from ..results import jsonable, load_trajectory
 

@@ -9,7 +9,7 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from ..errors import ParameterError
+from ..core.errors import ParameterError
 from ..io.outputs import check_folder, output_path
 from .options import workers_argument
 

@@ -13,16 +13,17 @@ import sys
 import time
 from pathlib import Path
 
-from .. import plugins, registry
+from .. import plugins
 from ..api import simulate
+from ..core import registry
+from ..core.errors import ParameterError
+from ..core.params import Numerics, Physics, parameter_fields
+from ..core.units import CHAIN, scene_units
 from ..engines import ENGINES
-from ..errors import ParameterError
 from ..io.outputs import check_file, check_folder, check_space, folder_lock, output_path, provenance, utc_now
-from ..params import Numerics, Physics, parameter_fields
 from ..reduced.settings import METHODS
 from ..results import check_transient, jsonable, read_summary, recorded_numerics, summary, write_run
 from ..starts import read_start
-from ..units import CHAIN, scene_units
 from .options import UNITS, add_fields, help_argument, scene_argument, scene_description, scene_help
 from .render import add_video_args, check_video_options, video_after_run
 

@@ -15,10 +15,10 @@ from __future__ import annotations
 
 import argparse
 
-from .. import registry
-from ..errors import ParameterError
-from ..parameters import get as parameter_spec
-from ..params import Physics
+from ..core import registry
+from ..core.errors import ParameterError
+from ..core.parameters import get as parameter_spec
+from ..core.params import Physics
 from ..reduced.blas import one_blas_thread
 from .options import UNITS
 

@@ -18,12 +18,12 @@ import argparse
 import os
 import sys
 
-from .. import registry
+from ..core import registry
+from ..core.errors import ParameterError
+from ..core.params import PRESETS, Numerics, Physics, parameter_fields, scene_parameters
+from ..core.units import CHAIN, scene_units
 from ..engines import ENGINES
-from ..errors import ParameterError
 from ..io.outputs import check_file, output_path
-from ..params import PRESETS, Numerics, Physics, parameter_fields, scene_parameters
-from ..units import CHAIN, scene_units
 from .options import UNITS, add_fields, help_argument, scene_argument, scene_description
 
 EXAMPLES = """examples:

@@ -8,9 +8,9 @@ from __future__ import annotations
 import math
 import sys
 
-from .. import registry
-from ..errors import ParameterError, SimulationDiverged
-from ..params import Numerics
+from ..core import registry
+from ..core.errors import ParameterError, SimulationDiverged
+from ..core.params import Numerics
 from .options import UNITS, numerics_args, numerics_from
 
 TOLERANCE_RANGE = (1e-4, 1.0)

@@ -17,8 +17,8 @@ from __future__ import annotations
 import time
 
 from ..checks.validate import validation_cases
+from ..core.params import Numerics, Physics
 from ..engines.reduced import simulate_reduced
-from ..params import Numerics, Physics
 
 DURATION = 1.0
 """tau of each run: a few steps of every loop."""

@@ -22,7 +22,7 @@ import math
 import time
 from dataclasses import asdict, dataclass
 
-from ..errors import ParameterError
+from ..core.errors import ParameterError
 from .filament import check_resolution, converging
 from .options import ladder_argument
 

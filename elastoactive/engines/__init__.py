@@ -4,9 +4,9 @@ numerics.sample_times(duration), from the same initial state (Scene.initial_angl
 
 from __future__ import annotations
 
-from ..errors import ParameterError
-from ..params import Numerics, Physics, check_start
-from ..trajectory import Trajectory
+from ..core.errors import ParameterError
+from ..core.params import Numerics, Physics, check_start
+from ..core.trajectory import Trajectory
 
 ENGINES = ("mujoco", "reduced")
 MAX_STEPS = 1_000_000_000

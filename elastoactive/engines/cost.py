@@ -22,8 +22,8 @@ import mujoco
 import numpy as np
 
 from ..controllers import follower_forces
-from ..errors import ParameterError
-from ..params import Numerics, Physics
+from ..core.errors import ParameterError
+from ..core.params import Numerics, Physics
 
 PROBE_SECONDS = 0.02
 """Wall time spent timing MuJoCo's samples (at least PROBE_MIN_SAMPLES samples)."""

@@ -17,12 +17,12 @@ import mujoco
 import numpy as np
 
 from ..controllers import follower_forces
-from ..errors import ParameterError, SimulationDiverged
+from ..core.errors import ParameterError, SimulationDiverged
+from ..core.params import Numerics, Physics
+from ..core.trajectory import Trajectory
 from ..io.progress import progress_bar
 from ..mjcf.chain import prepare, state_of
-from ..params import Numerics, Physics
 from ..terms import polarity_addresses
-from ..trajectory import Trajectory
 from . import check_steps
 from .cost import NOTE_SECONDS, cost_note, mujoco_cost, reduced_cost
 from .monitor import BAD_STATE_WARNINGS, CHECK_EVERY, PROGRESS_EVERY, is_check, runaway, step_last_apart  # noqa: F401 (the batch engine imports them here)

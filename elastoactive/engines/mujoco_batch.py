@@ -50,11 +50,11 @@ import numpy as np
 from mujoco import batch as mjbatch
 
 from ..controllers import follower_forces
-from ..errors import ParameterError, SimulationDiverged
+from ..core.errors import ParameterError, SimulationDiverged
+from ..core.params import Numerics, Physics, check_start
+from ..core.trajectory import Trajectory
 from ..mjcf.chain import prepare, state_of
-from ..params import Numerics, Physics, check_start
 from ..terms import polarity_addresses
-from ..trajectory import Trajectory
 from .monitor import is_check, runaway
 from .mujoco import BAD_STATE_WARNINGS, CHECK_EVERY, PIN_DRIFT_LIMIT, numerics_info, pin_drift_message, pin_violation
 from .timestep import divergence_cause

@@ -19,15 +19,15 @@ import mujoco
 import numpy as np
 
 from ..controllers import follower_forces
-from ..errors import ParameterError, SimulationDiverged
+from ..core.errors import ParameterError, SimulationDiverged
+from ..core.params import RESOLUTION, Numerics, Physics
+from ..core.trajectory import Trajectory
 from ..io.progress import progress_bar
 from ..mjcf.network import build_network_model, node_positions, qpos_of_positions, set_polarity
 from ..networks.state import NetworkState
-from ..params import RESOLUTION, Numerics, Physics
 from ..reduced import INERTIA_RESOLUTION
 from ..terms import polarity_addresses, turning_rate
 from ..terms.unit_noise import unit_noise
-from ..trajectory import Trajectory
 from . import check_steps
 from .cost import NOTE_SECONDS, mujoco_cost
 from .monitor import MAX_STEP_CHANGE, PROGRESS_EVERY, bad_state, is_check, runaway, step_last_apart

@@ -13,15 +13,15 @@ import time
 
 import numpy as np
 
-from ..errors import ParameterError
+from ..core.errors import ParameterError
+from ..core.params import Numerics, Physics
+from ..core.trajectory import Trajectory
 from ..networks.geometry import turning_scale
 from ..networks.state import NetworkState
-from ..params import Numerics, Physics
 from ..reduced import INERTIA_RESOLUTION
 from ..reduced import network as _model
 from ..terms import check_reduced_span, turning_rate
 from ..terms.unit_noise import unit_noise
-from ..trajectory import Trajectory
 from .network_step import network_numerics
 
 METHODS = _model.METHODS

@@ -10,8 +10,8 @@ from __future__ import annotations
 import dataclasses
 import math
 
+from ..core.params import Numerics, Physics
 from ..networks.geometry import turning_scale
-from ..params import Numerics, Physics
 from ..terms import turning_rate
 
 AUTOMATIC_INTEGRATOR = "Euler"

@@ -32,10 +32,10 @@ import inspect
 import numpy as np
 
 from .. import reduced as _math
-from ..errors import ParameterError
-from ..params import Physics
+from ..core.errors import ParameterError
+from ..core.params import Physics
+from ..core.trajectory import particle_positions
 from ..terms.base import PeriodicForce
-from ..trajectory import particle_positions
 
 
 def positions(physics: Physics, theta: np.ndarray) -> np.ndarray:

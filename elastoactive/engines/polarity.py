@@ -23,8 +23,8 @@ from __future__ import annotations
 import numpy as np
 
 from .. import reduced as _math
-from ..errors import ParameterError
-from ..params import Physics
+from ..core.errors import ParameterError
+from ..core.params import Physics
 from ..terms import polarity_term
 from .node_forces import generalised, positions, time_law
 

@@ -2,7 +2,7 @@
 
 The mathematics is elastoactive.reduced (equations, compiled kernels, solvers), which knows
 no scene: here a Physics becomes the scene's ChainSystem (Scene.reduced_system), the initial state
-comes from the scene (elastoactive.initial), the noise from elastoactive.controllers.noise (the counter-based
+comes from the scene (elastoactive.reduced.initial), the noise from elastoactive.controllers.noise (the counter-based
 force factors the MuJoCo engine uses too), and the result is a Trajectory.
 
 Which model runs: the overdamped one (the paper's) or the inertial one (MuJoCo's chain with particles
@@ -27,14 +27,14 @@ import numpy as np
 
 from .. import reduced as _math
 from ..controllers.noise import ColouredNoise, force_factor
-from ..errors import ParameterError
-from ..initial import initial_angles
+from ..core.errors import ParameterError
+from ..core.params import Numerics, Physics
+from ..core.registry import initial_angles
+from ..core.trajectory import Trajectory
 from ..io.progress import progress_bar
-from ..params import Numerics, Physics
 from ..reduced import DEFAULT_BETA, INERTIA_RESOLUTION, STIFF_RADIUS, ChainSystem
 from ..reduced.settings import METHODS
 from ..terms import check_reduced_span, polarity_term
-from ..trajectory import Trajectory
 from . import node_forces
 from . import polarity as polarity_engine
 from .regime import Regime, base_state, regime  # re-exported: the engine runs the model these choose

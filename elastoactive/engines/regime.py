@@ -14,7 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import reduced as _math
-from ..params import Numerics, Physics
+from ..core.params import Numerics, Physics
 from ..reduced import INERTIA_RESOLUTION
 
 EXACT_RATE_ANGLES = 50

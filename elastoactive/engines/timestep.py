@@ -66,9 +66,9 @@ import mujoco
 import numpy as np
 
 from ..controllers import follower_forces
-from ..errors import ParameterError
+from ..core.errors import ParameterError
+from ..core.params import RESOLUTION, Numerics, Physics
 from ..mjcf.chain import build_model, prepare
-from ..params import RESOLUTION, Numerics, Physics
 from ..reduced import INERTIA_RESOLUTION  # noqa: F401  (re-exported: the overdamped limit)
 from ..terms.base import fastest_term, slower_advice
 from .monitor import MAX_STEP_CHANGE

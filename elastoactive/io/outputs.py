@@ -38,7 +38,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import ParameterError
+from ..core.errors import ParameterError
 
 PACKAGES = ("elastoactive", "mujoco", "numpy", "scipy", "numba")
 """Whose versions a provenance record names (plus Python and the platform)."""

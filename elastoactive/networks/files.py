@@ -33,7 +33,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import ParameterError
+from ..core.errors import ParameterError
 from .geometry import Network, check, make_network
 
 FORMAT = "elastoactive network"

@@ -15,7 +15,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from elastoactive.errors import ParameterError
+from elastoactive.core.errors import ParameterError
 
 BOUNDARIES = ("pinned", "free", "centre")
 """How a hexagonal patch is held: its outer ring pinned, nothing pinned, or only its centre node pinned."""

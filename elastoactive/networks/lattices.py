@@ -27,7 +27,7 @@ import functools
 
 import numpy as np
 
-from ..errors import ParameterError
+from ..core.errors import ParameterError
 from .geometry import BOUNDARIES, Network, _triangular_hexagon, make_network
 
 LATTICES = ("triangular", "kagome", "square", "square-diagonals", "honeycomb", "delaunay")

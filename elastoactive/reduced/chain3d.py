@@ -37,7 +37,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from ..errors import ParameterError
+from ..core.errors import ParameterError
 
 __all__ = [
     "Chain3D",

@@ -3,7 +3,7 @@
     g(theta) = (sum_i cos theta_i - N (1 - delta), sum_i sin theta_i) = 0,    G = dg/dtheta (2 x N).
 
 Plain numpy, used by the reference right-hand side (equations.py), by the reported constraint
-violation (solve.py) and by the initial state of the two-pinned scene (elastoactive.initial). The
+violation (solve.py) and by the initial state of the two-pinned scene (elastoactive.reduced.initial). The
 compiled kernels (kernels.py) inline the same formulas.
 """
 
@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..errors import ParameterError
+from ..core.errors import ParameterError
 
 __all__ = ["pin_jacobian", "pin_residual", "project_on_pins"]
 

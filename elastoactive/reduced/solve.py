@@ -72,7 +72,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-from ..errors import ParameterError, SimulationDiverged
+from ..core.errors import ParameterError, SimulationDiverged
 from . import SOLVE_NAMES, dop853, kernels
 from .blas import one_blas_thread
 from .settings import COMPILED_METHODS, DEFAULT_BETA, IMPLICIT_RATIO, IMPLICIT_WORK, SCIPY_METHODS, STIFF_RADIUS

@@ -11,8 +11,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..constants import BEAD_INERTIA_FACTOR, CONTACT_LENGTH  # the models' constants, one place for each
-from ..errors import ParameterError
+from ..core.constants import BEAD_INERTIA_FACTOR, CONTACT_LENGTH  # the models' constants, one place for each
+from ..core.errors import ParameterError
 
 
 class ChainSystem(NamedTuple):

@@ -37,12 +37,12 @@ import mujoco
 import numpy as np
 
 from ..analysis import observables as obs
-from ..errors import ParameterError
+from ..core.errors import ParameterError
+from ..core.params import Numerics, Physics
+from ..core.trajectory import Trajectory, particle_positions
 from ..io.outputs import atomic_file
 from ..io.progress import progress_bar
 from ..mjcf.chain import build_model, qpos_of
-from ..params import Numerics, Physics
-from ..trajectory import Trajectory, particle_positions
 from .gl import (  # noqa: F401 (API)
     ARROW_MAX,
     ARROW_PER_SIGMA,

@@ -11,8 +11,8 @@ from __future__ import annotations
 import mujoco
 import numpy as np
 
+from ..core.trajectory import Trajectory
 from ..mjcf.chain3d import Chain3DModel, build_spec3d, qpos_of_tangents
-from ..trajectory import Trajectory
 from .gl import _Caption, _interpolate, _renderer, prepare_visual
 
 CAMERA_AZIMUTH = 210.0

@@ -20,10 +20,10 @@ import math
 import mujoco
 import numpy as np
 
-from ..errors import ParameterError
+from ..core.errors import ParameterError
+from ..core.params import Numerics
+from ..core.trajectory import Trajectory
 from ..mjcf.network import build_network_model, qpos_of_positions
-from ..params import Numerics
-from ..trajectory import Trajectory
 from .gl import (
     ARROW_MAX,
     ARROW_PER_SIGMA,

@@ -35,7 +35,7 @@ from pathlib import Path
 from typing import NamedTuple
 
 from ..batch import default_workers
-from ..errors import ParameterError
+from ..core.errors import ParameterError
 from ..io.outputs import lock_file, provenance, utc_now, write_text
 
 CODE_KEY = "code"

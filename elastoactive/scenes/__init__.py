@@ -11,7 +11,7 @@ the CLI, sweeps, validate, render, accuracy and the stability grid then offer it
 docs/scenes.md for the contract and the diff a new scene needs.
 """
 
-from ..registry import UnknownScene, get, names, register, scenes, unregister
+from ..core.registry import UnknownScene, get, names, register, scenes, unregister
 from . import (
     clamped3d,
     coupled_pair,

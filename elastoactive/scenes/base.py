@@ -15,7 +15,7 @@ may also subclass a kind and override the hooks that differ (its own engines, po
 tests/scenes/test_kinds.py defines a third kind in a test file alone and runs it. The kind contract, what the package
 asks of every scene:
 
-  identity            `kind` (a word for messages: "chain"), `units` (elastoactive.units: its positions are in
+  identity            `kind` (a word for messages: "chain"), `units` (elastoactive.core.units: its positions are in
                       units.length), `beat_signal` (what its beat is measured on),
                       `state_units` and `state_name` (what validate compares sample by sample: "rad", "angle")
   engines             `run_mujoco` and `run_reduced` (the engine adapters: (physics, numerics, duration, **options)
@@ -35,10 +35,10 @@ asks of every scene:
 
 and the scene's own part, which every kind shares:
 
-  parameters          the scene's own physics parameters (elastoactive.parameters.Parameter specs it declares, or
+  parameters          the scene's own physics parameters (elastoactive.core.parameters.Parameter specs it declares, or
                       names of parameters declared elsewhere), and `check` for constraints on them; `term_parameters`
                       and `fixed`: which of the terms' parameters act on it
-  observables         `observables` (elastoactive.observables.Observable specs it declares: name, units, long name,
+  observables         `observables` (elastoactive.core.observables.Observable specs it declares: name, units, long name,
                       how validate compares it, ...; or names of declared ones), `beat_signals` (the scalars whose
                       beat amplitude and frequency measure) and `measure_extra` (their values); `compared`, the ones
                       `validate` holds to its tolerance
@@ -59,16 +59,16 @@ from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 
-from ..cases import ValidationCase
-from ..errors import ParameterError
-from ..observables import Observable, names_of
-from ..parameters import Parameter
-from ..parameters import get as parameter_spec
-from ..units import CHAIN, THETA, Signal, Units
+from ..core.cases import ValidationCase
+from ..core.errors import ParameterError
+from ..core.observables import Observable, names_of
+from ..core.parameters import Parameter
+from ..core.parameters import get as parameter_spec
+from ..core.units import CHAIN, THETA, Signal, Units
 
 if TYPE_CHECKING:  # typing only: these modules import the registry that holds scenes
-    from ..params import Numerics, Physics
-    from ..trajectory import Trajectory
+    from ..core.params import Numerics, Physics
+    from ..core.trajectory import Trajectory
 
 __all__ = ["Onset", "Scene", "ValidationCase"]
 
@@ -106,7 +106,7 @@ class Scene:
     pinned: ClassVar[bool] = False
     """Whether the last particle is held by a pin (a MuJoCo equality; monitored for drift)."""
     observables: ClassVar[tuple[Observable | str, ...]] = ()
-    """Results beyond the beat's (amplitude, frequency, ...: elastoactive.observables.BEAT), values of
+    """Results beyond the beat's (amplitude, frequency, ...: elastoactive.core.observables.BEAT), values of
     `measure_extra`: specs the scene declares (registered with the scene), or names of declared ones."""
     occasional_observables: ClassVar[tuple[Observable | str, ...]] = ()
     """Observables `measure_extra` reports only for some parameter values (the free ring's centre_drift): declared
@@ -134,7 +134,8 @@ class Scene:
     kind: ClassVar[str] = ""
     """What kind of structure the scene is, in a word for messages ('chain', 'network')."""
     units: ClassVar[Units] = CHAIN
-    """The scene's system of units (elastoactive.units): what its numbers are measured in; each kind sets its own."""
+    """The scene's system of units (elastoactive.core.units): what its numbers are measured in; each kind sets
+    its own."""
     state_units: ClassVar[str] = ""
     """The unit of what validate compares sample by sample (state_difference)."""
     state_name: ClassVar[str] = ""
@@ -158,7 +159,7 @@ class Scene:
         return self.units.length
 
     def beat_signal(self, physics: Physics) -> Signal:
-        """What beat_signals measures, for labels and units (elastoactive.units.Signal)."""
+        """What beat_signals measures, for labels and units (elastoactive.core.units.Signal)."""
         return THETA
 
     def _kind_hook(self, hook: str):
@@ -260,7 +261,7 @@ class Scene:
 
     def physics(self, **values: Any) -> Physics:
         """Physics of this scene with the given parameters (the others at their defaults)."""
-        from ..params import Physics  # params imports the registry that holds this class
+        from ..core.params import Physics  # params imports the registry that holds this class
 
         return Physics(scene=self.name, **values)
 
@@ -303,6 +304,11 @@ class Scene:
     def leading_eigenvalue(self, physics: Physics, sigma: float) -> complex:
         """The least stable eigenvalue of the linear operator about the base state at sigma."""
         raise ParameterError(f"stability: {self.name} has no linear operator here ({self.no_linear_operator})")
+
+    def fastest_overdamped_rate(self, physics: Physics) -> float:
+        """The fastest overdamped relaxation rate at the scene's base state, 1/tau (what MuJoCo's step must resolve:
+        Numerics.for_physics)."""
+        raise self._kind_hook("fastest_overdamped_rate")
 
     # ------------------------------------------------------------------ drawing
     def caption_line(self, physics: Physics) -> str:

@@ -25,15 +25,17 @@ from typing import TYPE_CHECKING, ClassVar
 import numpy as np
 
 from ..analysis import observables as obs
-from ..constants import BEAD_INERTIA_FACTOR
+from ..core.constants import BEAD_INERTIA_FACTOR
+from ..core.params import Numerics
+from ..core.trajectory import particle_positions
+from ..core.units import CHAIN
+from ..reduced.regime import overdamped_rate
 from ..reduced.system import ChainSystem
-from ..trajectory import particle_positions
-from ..units import CHAIN
 from .base import Scene
 
-if TYPE_CHECKING:  # typing only: these modules import the registry that holds scenes
-    from ..params import Numerics, Physics
-    from ..trajectory import Trajectory
+if TYPE_CHECKING:  # typing only
+    from ..core.params import Physics
+    from ..core.trajectory import Trajectory
 
 
 class ChainScene(Scene):
@@ -114,9 +116,14 @@ class ChainScene(Scene):
         return True
 
     # ------------------------------------------------------------------ initial state
+    def fastest_overdamped_rate(self, physics: Physics) -> float:
+        """The reduced model's fastest overdamped rate about the scene's unperturbed start (regime.overdamped_rate)."""
+        theta = np.asarray(self.initial_angles(physics, Numerics(perturbation=0.0)), dtype=float)
+        return float(overdamped_rate(self.reduced_system(physics), theta))
+
     def initial_angles(self, physics: Physics, numerics: Numerics) -> np.ndarray:
         """Absolute angles at t = 0: each chain's static shape under seeded small pushes."""
-        from ..initial import pushed_chains  # initial imports scipy (start-up time)
+        from ..reduced.initial import pushed_chains  # initial imports scipy (start-up time)
 
         return pushed_chains(physics.n, self.chain_count(physics), numerics.perturbation, numerics.seed)
 

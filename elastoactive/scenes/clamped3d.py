@@ -18,15 +18,15 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..analysis import motion3d
-from ..errors import ParameterError
-from ..observables import Observable
-from ..registry import get as scene_named
-from ..trajectory import Trajectory
-from ..units import CHAIN, Signal
+from ..core.errors import ParameterError
+from ..core.observables import Observable
+from ..core.registry import get as scene_named
+from ..core.trajectory import Trajectory
+from ..core.units import CHAIN, Signal
 from .base import Onset, Scene, ValidationCase
 
 if TYPE_CHECKING:  # typing only: params imports the registry that holds scenes
-    from ..params import Numerics, Physics
+    from ..core.params import Numerics, Physics
 
 TIP = Signal("y_tip", "y_tip, the tip's displacement along the major axis of its path across the clamp axis", "l")
 
@@ -84,7 +84,7 @@ class Clamped3D(Scene):
     def initial_tangents(self, physics: Physics, numerics: Numerics) -> np.ndarray:
         """A non-planar start: seeded static pushes across the axis in y and in z, each of largest angle
         numerics.perturbation."""
-        from ..initial import pushed_chains  # initial imports scipy (start-up time)
+        from ..reduced.initial import pushed_chains  # initial imports scipy (start-up time)
 
         y = pushed_chains(physics.n, 1, numerics.perturbation, numerics.seed)
         z = pushed_chains(physics.n, 1, numerics.perturbation, numerics.seed + 1)

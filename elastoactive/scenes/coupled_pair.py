@@ -11,11 +11,11 @@ frequency_mismatch f_2 - f_1 from the Hilbert phases.
 from __future__ import annotations
 
 from ..analysis import observables as obs
-from ..observables import Observable
-from ..parameters import Parameter
-from ..params import Numerics, Physics
+from ..core.observables import Observable
+from ..core.parameters import Parameter
+from ..core.params import Numerics, Physics
+from ..core.trajectory import Trajectory
 from ..reduced.system import ChainSystem
-from ..trajectory import Trajectory
 from .base import Onset, ValidationCase
 from .chain_kind import ChainScene
 

@@ -29,13 +29,13 @@ import numpy as np
 
 from ..analysis.network import BOUNDARIES, MAX_RINGS, Network, hexagonal_patch, states
 from ..analysis.network import observables as nobs
-from ..errors import ParameterError
-from ..observables import Observable
-from ..parameters import Parameter
-from ..params import Physics
+from ..core.errors import ParameterError
+from ..core.observables import Observable
+from ..core.parameters import Parameter
+from ..core.params import Physics
+from ..core.trajectory import Trajectory
+from ..core.units import Signal
 from ..terms import polarity_terms, turning_rate, unit_noise
-from ..trajectory import Trajectory
-from ..units import Signal
 from .base import Onset, ValidationCase
 from .network_kind import NetworkScene
 

@@ -15,13 +15,13 @@ from pathlib import Path
 
 import numpy as np
 
-from .. import parameters
-from ..errors import ParameterError
+from ..core import parameters
+from ..core.errors import ParameterError
+from ..core.parameters import Parameter
+from ..core.params import Physics
 from ..networks.files import SUFFIX, read_network
 from ..networks.geometry import Network
 from ..networks.lattices import LATTICES, MAX_SIZE, PATCHES, generate
-from ..parameters import Parameter
-from ..params import Physics
 from .base import ValidationCase
 from .lattice import Lattice
 

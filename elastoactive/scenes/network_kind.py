@@ -8,7 +8,7 @@ Besides the kind contract (elastoactive.scenes.base) a network scene has:
 
   network             `network(physics)`: the Network record both engines simulate and the renderer draws;
                       `initial_network`: its state at t = 0
-  units               elastoactive.units.NETWORK (k = gamma = a = 1)
+  units               elastoactive.core.units.NETWORK (k = gamma = a = 1)
 
 Its engines are elastoactive.engines.network_mujoco and network_reduced, its builder elastoactive.mjcf.network, its
 painter elastoactive.render.network; the hooks import them inside the hook (the engine boundary: a chain's run never
@@ -22,15 +22,15 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..errors import ParameterError
+from ..core.errors import ParameterError
+from ..core.units import NETWORK
 from ..networks.geometry import Network
 from ..networks.state import NetworkState, initial_state
-from ..units import NETWORK
 from .base import Scene
 
 if TYPE_CHECKING:  # typing only: these modules import the registry that holds scenes
-    from ..params import Numerics, Physics
-    from ..trajectory import Trajectory
+    from ..core.params import Numerics, Physics
+    from ..core.trajectory import Trajectory
 
 
 class NetworkScene(Scene):
@@ -38,7 +38,7 @@ class NetworkScene(Scene):
 
     kind = "network"
     units = NETWORK
-    """k = gamma = a = 1: times in gamma / k, sigma = F_a / (k a) (elastoactive.units)."""
+    """k = gamma = a = 1: times in gamma / k, sigma = F_a / (k a) (elastoactive.core.units)."""
     base_file = "network.xml"
     state_units = "a"
     state_name = "displacement"

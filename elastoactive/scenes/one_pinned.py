@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..params import Physics
+from ..core.params import Physics
 from .base import Onset, ValidationCase
 from .chain_kind import ChainScene
 

@@ -25,12 +25,12 @@ import numpy as np
 
 from ..analysis import dish
 from ..analysis import observables as obs
-from ..observables import Observable
-from ..parameters import Parameter
-from ..params import Numerics, Physics
+from ..core.observables import Observable
+from ..core.parameters import Parameter
+from ..core.params import Numerics, Physics
+from ..core.trajectory import Trajectory
+from ..core.units import NETWORK, Worded
 from ..reduced.system import ChainSystem
-from ..trajectory import Trajectory
-from ..units import NETWORK, Worded
 from .base import ValidationCase
 from .chain_kind import ChainScene
 from .rotating_pin import ROTATION_RATE

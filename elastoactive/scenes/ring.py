@@ -36,14 +36,14 @@ import math
 import numpy as np
 
 from ..analysis import observables as obs
-from ..errors import ParameterError
-from ..initial import pushed_chains
-from ..observables import Observable
-from ..parameters import Parameter
-from ..params import Numerics, Physics
+from ..core.errors import ParameterError
+from ..core.observables import Observable
+from ..core.parameters import Parameter
+from ..core.params import Numerics, Physics
+from ..core.trajectory import Trajectory
 from ..reduced.constraints import project_on_pins
+from ..reduced.initial import pushed_chains
 from ..reduced.system import ChainSystem
-from ..trajectory import Trajectory
 from .base import Onset, ValidationCase
 from .chain_kind import ChainScene
 from .rotating_pin import ROTATION_RATE

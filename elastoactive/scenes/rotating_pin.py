@@ -10,9 +10,9 @@ from __future__ import annotations
 import math
 
 from ..analysis import observables as obs
-from ..observables import Observable
-from ..params import Physics
-from ..trajectory import Trajectory
+from ..core.observables import Observable
+from ..core.params import Physics
+from ..core.trajectory import Trajectory
 from .base import Onset, ValidationCase
 from .chain_kind import ChainScene
 

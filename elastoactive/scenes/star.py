@@ -39,13 +39,13 @@ import numpy as np
 
 from ..analysis import observables as obs
 from ..analysis import star as sync
-from ..constants import BEAD_INERTIA_FACTOR
-from ..errors import ParameterError
-from ..observables import Observable
-from ..parameters import Parameter
-from ..params import Numerics, Physics
+from ..core.constants import BEAD_INERTIA_FACTOR
+from ..core.errors import ParameterError
+from ..core.observables import Observable
+from ..core.parameters import Parameter
+from ..core.params import Numerics, Physics
+from ..core.trajectory import Trajectory
 from ..reduced.system import ChainSystem
-from ..trajectory import Trajectory
 from .base import Onset, ValidationCase
 from .chain_kind import ChainScene
 

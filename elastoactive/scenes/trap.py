@@ -20,9 +20,9 @@ import math
 import numpy as np
 
 from ..analysis.network import Network, trap_unit
-from ..params import Physics
-from ..trajectory import Trajectory
-from ..units import Signal
+from ..core.params import Physics
+from ..core.trajectory import Trajectory
+from ..core.units import Signal
 from .base import Onset, ValidationCase
 from .lattice import ActiveNetwork
 from .paraboloid import ORBIT_RADIUS, ORBIT_RATE

@@ -12,12 +12,12 @@ from __future__ import annotations
 import numpy as np
 
 from ..analysis import observables as obs
-from ..initial import buckled_arch, project_on_pins, pushed_chains
-from ..observables import Observable
-from ..parameters import Parameter
-from ..params import Numerics, Physics
+from ..core.observables import Observable
+from ..core.parameters import Parameter
+from ..core.params import Numerics, Physics
+from ..core.trajectory import Trajectory
+from ..reduced.initial import buckled_arch, project_on_pins, pushed_chains
 from ..reduced.system import ChainSystem
-from ..trajectory import Trajectory
 from .base import ValidationCase
 from .chain_kind import ChainScene
 

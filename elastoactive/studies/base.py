@@ -20,11 +20,11 @@ import numpy as np
 
 from ..analysis.fits import Fit
 from ..batch import Case, CaseResult, run_cases
+from ..core.params import Numerics
+from ..core.trajectory import Trajectory
 from ..engines import ENGINES
 from ..io.jsonio import from_jsonable, to_jsonable
 from ..io.outputs import write_files
-from ..params import Numerics
-from ..trajectory import Trajectory
 
 __all__ = [
     "ENGINES",

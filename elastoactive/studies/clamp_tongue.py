@@ -32,9 +32,9 @@ from ..analysis import observables as obs
 from ..analysis import stability as stab
 from ..api import simulate
 from ..batch import Case
+from ..core.params import Numerics
 from ..engines import node_forces
 from ..engines import reduced as red
-from ..params import Numerics
 from ..scenes import one_pinned
 from ..terms.moving_clamp import clamp_path
 from . import plotting as plots

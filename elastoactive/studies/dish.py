@@ -23,7 +23,7 @@ import numpy as np
 
 from ..analysis import dish
 from ..batch import Case
-from ..params import Numerics
+from ..core.params import Numerics
 from ..results import Results
 from ..scenes import paraboloid
 from . import plotting as plots

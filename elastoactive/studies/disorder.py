@@ -25,8 +25,8 @@ import numpy as np
 from ..analysis.network import stability
 from ..analysis.network.states import STATES
 from ..api import load_sweep
+from ..core.params import Numerics
 from ..networks.state import initial_state
-from ..params import Numerics
 from ..scenes import network as network_scene
 from . import plotting as plots
 from . import registry

@@ -23,7 +23,7 @@ import numpy as np
 from ..analysis.network import stability
 from ..analysis.network.states import STATES
 from ..api import load_sweep
-from ..params import Numerics
+from ..core.params import Numerics
 from ..protocols import make_ramp, run_ramp
 from ..scenes import lattice, network
 from . import plotting as plots

@@ -25,7 +25,7 @@ import numpy as np
 from ..analysis import flutter as fl
 from ..analysis import observables as obs
 from ..batch import Case
-from ..params import Numerics
+from ..core.params import Numerics
 from ..scenes import one_pinned
 from . import plotting as plots
 from . import registry

@@ -23,7 +23,7 @@ import numpy as np
 
 from ..analysis.network import hexagonal_patch, stability
 from ..batch import Case
-from ..params import Numerics
+from ..core.params import Numerics
 from ..scenes import lattice, trap
 from . import plotting as plots
 from . import registry

@@ -27,8 +27,8 @@ from ..analysis import stability as stab
 from ..analysis.continuum import continuum_critical
 from ..analysis.fits import Fit
 from ..batch import Case
+from ..core.params import Numerics
 from ..io.outputs import atomic_file
-from ..params import Numerics
 from ..scenes import one_pinned
 from . import plotting as plots
 from . import registry

@@ -18,7 +18,7 @@ import numpy as np
 from ..analysis import fits
 from ..analysis.normal_form import landau_limit_cycle, limit_cycle_moments
 from ..batch import Case
-from ..params import Numerics
+from ..core.params import Numerics
 from ..scenes import one_pinned
 from . import plotting as plots
 from . import registry

@@ -28,7 +28,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from ..table import Registry, UnknownName
+from ..core.table import Registry, UnknownName
 
 RunFn = Callable[..., Any]
 """run(size="quick", workers=None, progress=True) -> Study."""
@@ -113,7 +113,7 @@ STUDIES: Registry[StudyEntry] = Registry(
     order=lambda entry: entry.order,
     same=lambda known, entry: False,  # a study declared again is a new entry: refused unless replace=True
 )
-"""The studies, in reproduce's order (StudyEntry.order; ties: registration order) (elastoactive.table.Registry)."""
+"""The studies, in reproduce's order (StudyEntry.order; ties: registration order) (elastoactive.core.table.Registry)."""
 
 
 def declare(

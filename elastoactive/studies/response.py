@@ -22,7 +22,7 @@ from ..analysis import observables as obs
 from ..analysis import response as rs
 from ..analysis import stability as stab
 from ..batch import Case
-from ..params import Numerics
+from ..core.params import Numerics
 from ..scenes import one_pinned
 from . import plotting as plots
 from . import registry

@@ -25,10 +25,10 @@ from pathlib import Path
 import numpy as np
 
 from ..batch import Case
+from ..core.params import Numerics, Physics
 from ..engines import polarity
 from ..engines.reduced import jacobian as follower_jacobian
 from ..engines.reduced import system_of
-from ..params import Numerics, Physics
 from ..terms.self_aligning import SELF_ALIGNING
 from . import plotting as plots
 from . import registry

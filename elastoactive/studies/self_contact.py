@@ -23,8 +23,8 @@ import numpy as np
 from ..analysis import observables as obs
 from ..analysis import spectrum
 from ..batch import Case
-from ..errors import ParameterError
-from ..params import Numerics
+from ..core.errors import ParameterError
+from ..core.params import Numerics
 from ..reduced.contact import capsule_clearance, contact_pairs, link_distance
 from ..results import HARMONICS, Results
 from ..scenes import one_pinned

@@ -21,11 +21,11 @@ import numpy as np
 from ..analysis import skin
 from ..analysis.stability import onset
 from ..batch import Case, load_engine
+from ..core.params import Numerics
+from ..core.trajectory import Trajectory
 from ..engines import run_engine
 from ..io.executor import default_workers, process_pool
-from ..params import Numerics
 from ..scenes import one_pinned
-from ..trajectory import Trajectory
 from . import plotting as plots
 from . import registry
 from .base import Study, Summary, pick

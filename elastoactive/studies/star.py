@@ -20,7 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from ..batch import Case, run_cases
-from ..params import Numerics
+from ..core.params import Numerics
 from ..scenes import star
 from . import plotting as plots
 from . import registry

@@ -24,7 +24,7 @@ from ..analysis.motion3d import measure3d
 from ..analysis.stability3d import onset3d
 from ..analysis.whirl import beat_out_of_plane, find_whirl
 from ..batch import default_workers
-from ..errors import ParameterError
+from ..core.errors import ParameterError
 from ..io.executor import imap
 from ..reduced.chain3d import Chain3D, solve3d
 from . import plotting as plots

@@ -24,10 +24,10 @@ from ..analysis import measures as ms
 from ..analysis import observables as obs
 from ..analysis import synchronisation as syn
 from ..batch import Case, default_workers
+from ..core.params import Numerics
+from ..core.registry import initial_angles
 from ..engines.reduced import rhs
-from ..initial import initial_angles
 from ..io.executor import imap
-from ..params import Numerics
 from ..scenes import coupled_pair
 from . import plotting as plots
 from . import registry

@@ -37,10 +37,10 @@ from pathlib import Path
 import numpy as np
 
 from ..batch import default_workers
-from ..errors import ParameterError
+from ..core.errors import ParameterError
+from ..core.params import Numerics
 from ..gate import TimestepChecks
 from ..io.outputs import check_file
-from ..params import Numerics
 from .grid import (
     DIMENSION_ATTRS,
     FORMAT,

@@ -17,13 +17,13 @@ from pathlib import Path
 
 import numpy as np
 
-from .. import observables, registry
 from ..batch import Case
+from ..core import observables, registry
+from ..core.errors import ParameterError
+from ..core.observables import HARMONICS
+from ..core.parameters import get as parameter_spec
+from ..core.params import Numerics, Physics, parameter_fields, scene_parameters
 from ..engines import MUJOCO_ONLY, check_engine, check_engine_numerics  # noqa: F401  (re-exported)
-from ..errors import ParameterError
-from ..observables import HARMONICS
-from ..parameters import get as parameter_spec
-from ..params import Numerics, Physics, parameter_fields, scene_parameters
 
 NUMERICS_KEYS = ("seed", "dt", "mass_ratio", "perturbation", "sample_dt")
 
@@ -34,7 +34,7 @@ when it is parsed (split it into several sweeps, each resumable)."""
 
 
 def physics_keys() -> tuple[str, ...]:
-    """Every declared physics parameter (elastoactive.parameters: the chain's, the terms', the scenes'), read when
+    """Every declared physics parameter (elastoactive.core.parameters: the chain's, the terms', the scenes'), read when
     asked, so that a term or scene registered later is there too."""
     return tuple(f.name for f in parameter_fields(Physics))
 
@@ -68,7 +68,7 @@ def scene_variables(scene: str) -> tuple[str, ...]:
 
 def variable_attrs(name: str) -> dict:
     """The netCDF attributes of a recorded variable: a declared observable's units and long name (and a categorical
-    one's flag values and meanings) from its spec (elastoactive.observables), else VARIABLE_ATTRS' entry ({} for a
+    one's flag values and meanings) from its spec (elastoactive.core.observables), else VARIABLE_ATTRS' entry ({} for a
     value nothing declares)."""
     spec = observables.find(name)
     if spec is None:
@@ -115,7 +115,7 @@ DIMENSION_ATTRS = {
 
 def coordinate_attrs(name: str) -> dict:
     """netCDF attributes of a grid coordinate: a physics parameter's help text and units from its spec
-    (elastoactive.parameters), a numerical setting's help text (Numerics' fields), or a dimension's."""
+    (elastoactive.core.parameters), a numerical setting's help text (Numerics' fields), or a dimension's."""
     if name in DIMENSION_ATTRS:
         return dict(DIMENSION_ATTRS[name])
     if name in physics_keys():

@@ -23,10 +23,10 @@ from pathlib import Path
 
 import numpy as np
 
-from .. import observables, parameters
+from ..core import observables, parameters
+from ..core.params import LONG_CHAIN, Numerics, Physics, has_coupling, parameter_fields
+from ..core.units import beat_signal, scene_units
 from ..io.outputs import file_size_limit, write_netcdf
-from ..params import LONG_CHAIN, Numerics, Physics, has_coupling, parameter_fields
-from ..units import beat_signal, scene_units
 from ..wording import field_help, observable
 from .grid import VECTORS, SweepStorageError, coordinate_attrs, spec_text, variable_attrs
 

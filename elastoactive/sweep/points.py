@@ -22,9 +22,9 @@ from collections.abc import Callable, Sequence
 
 import numpy as np
 
-from .. import observables
 from ..batch import Case, checked, run_case
-from ..errors import ParameterError
+from ..core import observables
+from ..core.errors import ParameterError
 from ..gate import TimestepChecks
 from ..io.jsonio import to_jsonable
 from ..results import measure
@@ -189,7 +189,7 @@ def run_points_task(cases: Sequence[Case], timestep_check: bool = True) -> list[
 def _measurements(results: dict) -> dict:
     """The numeric measurements of Results.as_dict(), as JSON-ready numbers: a number, or one per chain
     (a list). None ("could not be measured") becomes NaN, a bool 0 or 1, a categorical observable's value (its
-    spec's categories, elastoactive.observables: e.g. dish_state) its index; other text (the notes) is left out: it
+    spec's categories, elastoactive.core.observables: e.g. dish_state) its index; other text (the notes) is left out: it
     is stored as the record's `notes`."""
     specs = {name: observables.find(name) for name in results}
     coded = {

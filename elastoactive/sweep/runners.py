@@ -29,7 +29,7 @@ from collections.abc import Iterator
 
 import numpy as np
 
-from ..errors import ParameterError
+from ..core.errors import ParameterError
 from ..gate import TimestepChecks
 from ..io.executor import imap
 from .grid import Sweep

@@ -43,7 +43,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .. import observables, registry
+from ..core import observables, registry
 from . import netcdf as sweep_netcdf
 from .grid import (
     VECTORS,
@@ -67,7 +67,7 @@ TEXT_VARIABLES = ("status", "error", "notes")
 
 
 MUST_BE_FINITE = ("amplitude", "rotation_rate", "constraint_violation")
-"""Measurements that are always finite. The other declared ones (elastoactive.observables: frequency,
+"""Measurements that are always finite. The other declared ones (elastoactive.core.observables: frequency,
 snap_amplitude, frequency_mismatch, ...) are NaN when they cannot be measured, never infinite; measurements nothing
 declares may be any number."""
 

@@ -15,65 +15,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .. import observables as _observables
-from .. import parameters as _parameters
-from ..table import Registry, UnknownName
+from ..core.term_registry import TERMS, UnknownTerm, get, names, parameter_names, register, terms, unregister
 from .base import NodeForces, Term
-
-
-class UnknownTerm(UnknownName):
-    """Raised by `get` for a name that no term registered (its message lists the registered terms)."""
-
-    kind, kinds = "term", "terms"
-
-
-def _adopt(term: Term) -> None:
-    """Register an entry point's term unless it registered itself on import; refuse what is not a term."""
-    if not isinstance(term, Term):
-        raise TypeError(f"{type(term).__name__} is not a term (elastoactive.terms.Term)")
-    if getattr(term, "name", None) not in TERMS:
-        register(term)
-
-
-TERMS: Registry[Term] = Registry("term", error=UnknownTerm, group="terms", adopt=_adopt)
-"""The terms, in registration order (elastoactive.table.Registry)."""
-
-
-def register(term: Term, *, replace: bool = False) -> Term:
-    """Add a term (and its parameter and observable specs) under `term.name`; returns it."""
-    name = TERMS.admit(term, replace=replace)
-    for spec in term.parameters:
-        _parameters.register(spec, f"term {name}")
-    _observables.declare(term.observables, f"term {name}")
-    return TERMS.register(term, owner=f"term {name}", replace=True)
-
-
-def unregister(name: str) -> None:
-    """Remove a term and its parameter and observable specs (a test's plug-in term cleans up with this)."""
-    term = TERMS.unregister(name)
-    for spec in getattr(term, "parameters", ()):
-        _parameters.unregister(spec.name)
-    _observables.withdraw(getattr(term, "observables", ()), f"term {name}")
-
-
-def get(name: str) -> Term:
-    """The registered term called `name` (the entry points' terms included)."""
-    return TERMS.get(name)
-
-
-def names() -> tuple[str, ...]:
-    """Names of the registered terms (the entry points' included), in registration order."""
-    return TERMS.names()
-
-
-def terms() -> tuple[Term, ...]:
-    """The registered terms (the entry points' included), in registration order."""
-    return TERMS.entries()
-
-
-def parameter_names() -> tuple[str, ...]:
-    """The parameters of every registered term (the entry points' included), in registration order."""
-    return tuple(p.name for t in TERMS.entries() for p in t.parameters)
 
 
 def polarity_terms() -> tuple[Term, ...]:
@@ -112,7 +55,7 @@ def align_polarities(model, data) -> None:
         term.align_polarity(model, data)
 
 
-from . import contact, drag, follower, moving_clamp, noise, self_aligning, tip_drive  # noqa: E402  (the built-in terms register into the table above)
+from . import contact, drag, follower, moving_clamp, noise, self_aligning, tip_drive  # noqa: E402  (the built-in terms register into the term table)
 
 for _module in (
     drag,
@@ -126,8 +69,10 @@ for _module in (
     register(_module.TERM)
 
 __all__ = [
+    "TERMS",
     "NodeForces",
     "Term",
+    "UnknownTerm",
     "align_polarities",
     "check_reduced_span",
     "get",

@@ -3,7 +3,7 @@
 A term module defines one subclass of `Term` and registers one instance of it (elastoactive.terms.register).
 The instance holds everything the term adds, and the rest of the package asks it:
 
-  parameters      its `Parameter` specs (elastoactive.parameters): name, default, range, help, units, and which
+  parameters      its `Parameter` specs (elastoactive.core.parameters): name, default, range, help, units, and which
                   switch must be on for each to act; Physics checks them, the CLI offers them, sweeps sweep them
   prepare         normalises its values once the others are known (e.g. `loaded`'s indices against N)
   active          whether it acts in a given Physics (a term whose parameters are all at rest does nothing, so a
@@ -13,7 +13,7 @@ The instance holds everything the term adds, and the rest of the package asks it
                   kernels; or, for a term the kernels do not know, `node_forces`: a force on every particle as a
                   function of their positions, added to the reduced model's generalised forces; or `clamp_motion`:
                   a prescribed motion of chain 1's clamp (its point and its angle), which both engines apply
-  observables     `observables` (elastoactive.observables.Observable specs, or names of declared ones) and
+  observables     `observables` (elastoactive.core.observables.Observable specs, or names of declared ones) and
                   `measure` (their values from a trajectory)
   validation      `validation_cases`: runs `validate` holds both engines to with the term on
 
@@ -28,8 +28,8 @@ from typing import Any, ClassVar, NamedTuple
 
 import numpy as np
 
-from ..observables import Observable, names_of
-from ..parameters import Parameter
+from ..core.observables import Observable, names_of
+from ..core.parameters import Parameter
 
 NodeForces = Callable[[np.ndarray], np.ndarray]
 """positions (particles, 2) -> forces (particles, 2), in units C1 / l: the particles of chain 1, then chain 2."""
@@ -67,9 +67,10 @@ class ClampMotion(NamedTuple):
 class Term:
     """A physical term: its parameters, MJCF element, reduced-model contribution and observables.
 
-    The hooks take a `physics` (elastoactive.params.Physics), `numerics` (elastoactive.params.Numerics), `system`
-    (the reduced model's elastoactive.reduced.ChainSystem) and `traj` (elastoactive.trajectory.Trajectory);
-    they are not imported here, since Physics reads the terms' parameters from this registry."""
+    The hooks take a `physics` (elastoactive.core.params.Physics), `numerics` (elastoactive.core.params.Numerics),
+    `system` (the reduced model's elastoactive.reduced.ChainSystem) and `traj`
+    (elastoactive.core.trajectory.Trajectory); they are not imported here, since Physics reads the terms' parameters
+    from the term table."""
 
     name: ClassVar[str] = ""
     """Registry key, e.g. 'contact'."""
@@ -187,7 +188,7 @@ class Term:
         raise NotImplementedError(f"the {self.name} term carries no polarity")
 
     def validation_cases(self, physics) -> tuple:
-        """Cases (elastoactive.cases.ValidationCase) that `validate` runs through both engines with this term on,
+        """Cases (elastoactive.core.cases.ValidationCase) that `validate` runs through both engines with this term on,
         besides the scenes' own; `physics` is the Physics class (passed in: it reads the terms' parameters from this
         registry, so a term module does not import it)."""
         return ()

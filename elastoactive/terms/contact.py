@@ -16,9 +16,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..constants import CONTACT_LENGTH, CONTACT_STIFFNESS
-from ..observables import Observable
-from ..parameters import Parameter
+from ..core.constants import CONTACT_LENGTH, CONTACT_STIFFNESS
+from ..core.observables import Observable
+from ..core.parameters import Parameter
 from ..reduced.contact import capsule_clearance, core_span
 from .base import Term
 

@@ -6,7 +6,7 @@ implicitfast); the reduced model as the drag matrix D(theta) of its record's gam
 
 from __future__ import annotations
 
-from ..parameters import Parameter
+from ..core.parameters import Parameter
 from .base import Term
 
 DRAG_RATIO = Parameter(

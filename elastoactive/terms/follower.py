@@ -10,9 +10,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..errors import ParameterError
-from ..parameters import Parameter
-from ..units import NETWORK, Worded
+from ..core.errors import ParameterError
+from ..core.parameters import Parameter
+from ..core.units import NETWORK, Worded
 from .base import Term
 
 SIGMA = Parameter(

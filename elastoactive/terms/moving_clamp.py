@@ -38,10 +38,10 @@ import math
 
 import numpy as np
 
-from ..cases import ValidationCase
-from ..errors import ParameterError
-from ..observables import Observable
-from ..parameters import Parameter
+from ..core.cases import ValidationCase
+from ..core.errors import ParameterError
+from ..core.observables import Observable
+from ..core.parameters import Parameter
 from .base import ClampMotion, Term
 
 ROTATING = "rotating"

@@ -8,8 +8,8 @@ amplitude is > 0.
 
 from __future__ import annotations
 
-from ..errors import ParameterError
-from ..parameters import Parameter
+from ..core.errors import ParameterError
+from ..core.parameters import Parameter
 from .base import Term
 
 NOISE_CALCULI = ("ito", "stratonovich")

@@ -23,11 +23,11 @@ import math
 
 import numpy as np
 
-from .. import registry
-from ..cases import ValidationCase
-from ..errors import ParameterError
-from ..parameters import Parameter
-from ..units import NETWORK, Worded
+from ..core import registry
+from ..core.cases import ValidationCase
+from ..core.errors import ParameterError
+from ..core.parameters import Parameter
+from ..core.units import NETWORK, Worded
 from .base import Term
 
 FOLLOWER = "follower"

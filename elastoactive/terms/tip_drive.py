@@ -17,10 +17,10 @@ from __future__ import annotations
 import cmath
 import math
 
-from ..cases import ValidationCase
-from ..errors import ParameterError
-from ..observables import Observable
-from ..parameters import Parameter
+from ..core.cases import ValidationCase
+from ..core.errors import ParameterError
+from ..core.observables import Observable
+from ..core.parameters import Parameter
 from .base import PeriodicForce, Term
 
 DIRECTIONS = ("transverse", "longitudinal")

@@ -23,8 +23,8 @@ from __future__ import annotations
 
 from typing import NamedTuple
 
-from .. import parameters as _parameters
-from ..parameters import Parameter
+from ..core import parameters as _parameters
+from ..core.parameters import Parameter
 
 ROTATIONAL = Parameter(
     "rotational_diffusion",

@@ -11,7 +11,7 @@ import pytest
 from elastoactive.analysis.filament import beat, resample, richardson
 from elastoactive.cli import main
 from elastoactive.cli.filament import ladder
-from elastoactive.errors import ParameterError
+from elastoactive.core.errors import ParameterError
 
 
 def test_richardson_is_exact_on_a_polynomial_in_one_over_n_and_estimates_its_error():

@@ -10,7 +10,7 @@ import pytest
 
 from elastoactive.analysis import flutter as F
 from elastoactive.analysis import stability as St
-from elastoactive.errors import ParameterError
+from elastoactive.core.errors import ParameterError
 
 RNG = np.random.default_rng(20230605)
 

@@ -8,8 +8,8 @@ import math
 import numpy as np
 
 import elastoactive as ea
+from elastoactive.core.trajectory import Trajectory
 from elastoactive.scenes.star import clamp_angles
-from elastoactive.trajectory import Trajectory
 
 T = np.arange(0.0, 200.0, 0.05)
 

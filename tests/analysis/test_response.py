@@ -10,8 +10,8 @@ import pytest
 import elastoactive as ea
 from elastoactive.analysis import response as rs
 from elastoactive.analysis import stability as stab
+from elastoactive.core.errors import ParameterError
 from elastoactive.engines import node_forces
-from elastoactive.errors import ParameterError
 
 
 def test_transfer_function_of_n2_in_closed_form():

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import elastoactive as ea
-from elastoactive.trajectory import Trajectory
+from elastoactive.core.trajectory import Trajectory
 
 T = np.arange(0.0, 200.0, 0.05)
 SHAPE = np.array([0.0, 0.3, 0.5, 0.6])

@@ -12,7 +12,7 @@ import pytest
 import elastoactive as ea
 from elastoactive.analysis import ring_stability as rs
 from elastoactive.cli import main
-from elastoactive.errors import ParameterError
+from elastoactive.core.errors import ParameterError
 from elastoactive.reduced import project_on_pins
 from elastoactive.scenes import ring
 

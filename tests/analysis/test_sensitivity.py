@@ -11,7 +11,7 @@ import pytest
 
 import elastoactive as ea
 from elastoactive import results, sensitivity
-from elastoactive.trajectory import Trajectory
+from elastoactive.core.trajectory import Trajectory
 
 
 def _beating(irregular: bool) -> Trajectory:

@@ -7,7 +7,7 @@ import pytest
 
 from elastoactive.analysis import skin
 from elastoactive.analysis import stability as stab
-from elastoactive.errors import ParameterError
+from elastoactive.core.errors import ParameterError
 
 
 def _b(n):

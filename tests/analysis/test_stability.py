@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 from elastoactive.analysis import stability as S
+from elastoactive.core.params import Physics
 from elastoactive.engines import reduced as R
-from elastoactive.params import Physics
 
 
 def test_n2_critical_sigma_is_three_with_unit_frequency():

@@ -8,7 +8,7 @@ import pytest
 
 from elastoactive.analysis.motion3d import measure3d
 from elastoactive.analysis.whirl import beat_out_of_plane, find_whirl, ladder, resample_tangents, turn_about_axis
-from elastoactive.errors import ParameterError
+from elastoactive.core.errors import ParameterError
 from elastoactive.reduced.chain3d import Chain3D, solve3d
 
 

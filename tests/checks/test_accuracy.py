@@ -10,7 +10,7 @@ import pytest
 
 from elastoactive.checks import accuracy as A
 from elastoactive.checks.validate import compare
-from elastoactive.params import Numerics, Physics
+from elastoactive.core.params import Numerics, Physics
 
 CHAIN = Physics(n=7, sigma=0.8)
 DURATION = 100.0  # two periods (f ~ 0.042) in the measured second half
@@ -182,7 +182,7 @@ def test_every_case_of_the_study_takes_every_setting_of_its_grid(case):
 
 
 def test_reference_of_a_network_scene_uses_a_method_its_engine_takes():
-    from elastoactive.registry import get
+    from elastoactive.core.registry import get
 
     physics = get("lattice").validation_cases()[0].physics
     assert A.reference_method(physics) == "DOP853" and A.reference_method(CHAIN) == A.REFERENCE["method"]

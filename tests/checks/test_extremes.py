@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 from elastoactive.checks import extremes as X
+from elastoactive.core.params import Numerics, ParameterError, Physics
 from elastoactive.engines.timestep import PROBE_STEPS, _discrete_probe, check_accuracy, stability_limits
-from elastoactive.params import Numerics, ParameterError, Physics
 
 CHAIN = Physics(n=7, sigma=0.8)
 

@@ -14,7 +14,7 @@ from elastoactive.checks.validate import (
     verdict,
 )
 from elastoactive.cli import main
-from elastoactive.params import Numerics
+from elastoactive.core.params import Numerics
 from elastoactive.scenes import NetworkScene
 
 

@@ -9,11 +9,11 @@ import pytest
 from elastoactive import scenes
 from elastoactive.controllers import compiled_passive, follower_forces, reference_passive
 from elastoactive.controllers.noise import ColouredNoise, ou_constants
+from elastoactive.core.errors import ParameterError
+from elastoactive.core.params import Numerics, Physics, replace, scene_parameters
 from elastoactive.engines.mujoco import simulate_mujoco
 from elastoactive.engines.reduced import simulate_reduced
-from elastoactive.errors import ParameterError
 from elastoactive.mjcf.chain import build_model, prepare
-from elastoactive.params import Numerics, Physics, replace, scene_parameters
 from elastoactive.results import measure
 from elastoactive.scenes import names as scene_names
 

@@ -7,9 +7,9 @@ import pytest
 from elastoactive import scenes
 from elastoactive.controllers import _follower, compiled_passive, follower_forces, reference_passive
 from elastoactive.controllers.noise import standard_normal
+from elastoactive.core.params import Numerics, Physics, scene_parameters
 from elastoactive.engines.mujoco import simulate_mujoco
 from elastoactive.mjcf.chain import build_model
-from elastoactive.params import Numerics, Physics, scene_parameters
 from elastoactive.scenes import names as scene_names
 
 

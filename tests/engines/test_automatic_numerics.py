@@ -7,8 +7,8 @@ import pytest
 
 import elastoactive as ea
 from elastoactive.cli import main
+from elastoactive.core.params import LONG_CHAIN, Numerics
 from elastoactive.engines.timestep import check_timestep
-from elastoactive.params import LONG_CHAIN, Numerics
 
 
 @pytest.mark.parametrize("n, sigma", [(LONG_CHAIN, 0.05), (LONG_CHAIN, 10.0), (100, 0.05), (100, 0.8), (200, 10.0)])
@@ -52,7 +52,7 @@ def test_long_chain_runs_with_the_defaults_and_records_what_ran(tmp_path):
 def test_a_long_run_records_a_bounded_number_of_samples(tmp_path):
     """sample_dt left at its default is coarsened (whole steps of dt) so that a long run records at most
     AUTO_SAMPLES samples: a long chain's beat lasts ~1e6 tau. A given sample_dt is kept."""
-    from elastoactive.params import AUTO_SAMPLES
+    from elastoactive.core.params import AUTO_SAMPLES
 
     numerics = Numerics().for_duration(3e6)
     assert numerics.sample_times(3e6).size <= AUTO_SAMPLES + 1

@@ -7,11 +7,11 @@ import numpy as np
 import pytest
 
 from elastoactive.batch import Case, run_case, run_cases
+from elastoactive.core.errors import ParameterError, SimulationDiverged
+from elastoactive.core.params import Numerics, Physics
 from elastoactive.engines.mujoco import simulate_mujoco
 from elastoactive.engines.mujoco_batch import Run, plan, run_chunks, signature, simulate_mujoco_batch
-from elastoactive.errors import ParameterError, SimulationDiverged
 from elastoactive.mjcf.chain import build_model
-from elastoactive.params import Numerics, Physics
 
 FAST = Numerics.preset("fast")
 
@@ -222,7 +222,7 @@ def test_cached_scene_template_builds_the_same_model_as_parsing_the_file(monkeyp
     """model.build_spec starts from a copy of a template parsed once per base file: every scene, with contact
     capsules and coloured noise too, compiles to the model a fresh parse gives, byte for byte, and building
     one model leaves the template as it was."""
-    from elastoactive import registry
+    from elastoactive.core import registry
     from elastoactive.mjcf import chain as model_module
     from elastoactive.mjcf import mjcf_path
 

@@ -13,12 +13,12 @@ import pytest
 
 from elastoactive.checks.validate import validation_cases
 from elastoactive.cli import main
+from elastoactive.core.params import LONG_CHAIN, Numerics, Physics, long_chain_numerics
 from elastoactive.engines import timestep as diagnose
 from elastoactive.engines.mujoco import simulate_mujoco
 from elastoactive.engines.mujoco_batch import simulate_mujoco_batch
 from elastoactive.engines.reduced import regime, simulate_reduced
 from elastoactive.engines.timestep import INERTIA_RESOLUTION
-from elastoactive.params import LONG_CHAIN, Numerics, Physics, long_chain_numerics
 
 EXPLICIT = Numerics(dt=0.0025, mass_ratio=1e-4, integrator="implicitfast")  # the defaults, given by hand
 

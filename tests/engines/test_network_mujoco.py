@@ -12,8 +12,8 @@ import pytest
 import elastoactive as ea
 from elastoactive.analysis.network import hexagonal_patch, trap_unit
 from elastoactive.controllers import follower_forces
+from elastoactive.core.errors import ParameterError
 from elastoactive.engines.network_mujoco import simulate_network_mujoco
-from elastoactive.errors import ParameterError
 from elastoactive.mjcf.network import (
     build_network_model,
     free_nodes,

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import elastoactive as ea
-from elastoactive.errors import ParameterError
+from elastoactive.core.errors import ParameterError
 from elastoactive.networks.files import write_network
 from elastoactive.networks.geometry import make_network
 

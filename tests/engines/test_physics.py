@@ -5,9 +5,9 @@ import pytest
 
 from elastoactive.analysis import observables as obs
 from elastoactive.checks.validate import compare
+from elastoactive.core.params import Numerics, Physics
 from elastoactive.engines.mujoco import simulate_mujoco
 from elastoactive.engines.reduced import simulate_reduced
-from elastoactive.params import Numerics, Physics
 
 PAPER_CASES = [
     (Physics(scene="one-pinned", n=7, sigma=0.8), 150.0),

@@ -37,7 +37,7 @@ import sys
 # a terminal's Ctrl-C: the default handler, whatever disposition the process that started this one left it
 signal.signal(signal.SIGINT, signal.default_int_handler)
 from elastoactive.batch import Case, run_cases
-from elastoactive.params import Numerics, Physics
+from elastoactive.core.params import Numerics, Physics
 
 cases = [Case(Physics(n=7, sigma=0.8 + 0.01 * i), Numerics(sample_dt=1.0), 200000.0, "reduced") for i in range(4)]
 print("started", flush=True)

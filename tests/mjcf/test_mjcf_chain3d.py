@@ -9,7 +9,7 @@ import pytest
 
 import elastoactive as ea
 from elastoactive.analysis.motion3d import measure3d
-from elastoactive.errors import ParameterError
+from elastoactive.core.errors import ParameterError
 from elastoactive.mjcf.chain3d import (
     Chain3DModel,
     prepare3d,

@@ -13,9 +13,9 @@ import pytest
 
 from elastoactive import scenes
 from elastoactive.controllers import follower_forces
+from elastoactive.core.params import Numerics, Physics
 from elastoactive.mjcf import mjcf_path
 from elastoactive.mjcf.chain import prepare
-from elastoactive.params import Numerics, Physics
 
 N_VALUES = (1, 2, 7, 40)
 STEPS = 200

@@ -5,9 +5,9 @@ import numpy as np
 import pytest
 
 from elastoactive import scenes
+from elastoactive.core.params import Numerics, Physics
 from elastoactive.mjcf import mjcf_path
 from elastoactive.mjcf.chain import absolute_angles, build_model, relative_angles
-from elastoactive.params import Numerics, Physics
 
 SCENES = [s for s in scenes.names() if scenes.get(s).term_parameters is None]  # chain scenes; networks: test_network*
 

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from elastoactive.analysis.network import Network, hexagonal_patch, ring_index, trap_unit
-from elastoactive.errors import ParameterError
+from elastoactive.core.errors import ParameterError
 
 
 @pytest.mark.parametrize("rings, nodes", [(1, 7), (2, 19), (3, 37), (4, 61), (5, 91), (6, 127)])

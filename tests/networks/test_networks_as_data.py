@@ -12,7 +12,7 @@ import pytest
 
 import elastoactive as ea
 from elastoactive.analysis.network import stability
-from elastoactive.errors import ParameterError
+from elastoactive.core.errors import ParameterError
 from elastoactive.networks.files import read_network, write_network
 from elastoactive.networks.geometry import hexagonal_patch, make_network
 from elastoactive.networks.lattices import LATTICES, MIN_SEPARATION, PATCHES, generate

@@ -11,7 +11,7 @@ import pytest
 
 import elastoactive as ea
 from elastoactive.analysis.network import stability
-from elastoactive.errors import ParameterError
+from elastoactive.core.errors import ParameterError
 from elastoactive.networks.files import network_from_dict, network_to_dict, read_network, write_network
 from elastoactive.networks.geometry import make_network, turning_scale, unit_alignment_lengths, unit_forces
 from elastoactive.networks.state import initial_state

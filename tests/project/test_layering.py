@@ -6,7 +6,7 @@ These read the code with `ast` (nothing is imported), so they name the offending
 from __future__ import annotations
 
 import ast
-import tomllib
+import os
 from pathlib import Path
 
 import pytest
@@ -16,13 +16,24 @@ import elastoactive as ea
 ROOT = Path(__file__).resolve().parents[2]
 
 
-def _modules() -> dict[str, Path]:
-    """Module name -> file, from pyproject's package-dir mapping (the top-level folders are sub-packages)."""
-    cfg = tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["setuptools"]
-    mapping = cfg.get("package-dir", {})
+def _packages() -> dict[str, Path]:
+    """Package name -> folder: every folder holding an __init__.py under elastoactive/, the design's top-level folders
+    (mjcf/, controllers/, analysis/) through their links, as pyproject's package discovery finds them."""
     out = {}
-    for package in cfg["packages"]:
-        folder = ROOT / mapping.get(package, package.replace(".", "/"))
+    for folder, dirs, files in os.walk(ROOT / "elastoactive", followlinks=True):
+        dirs[:] = [d for d in dirs if d != "__pycache__"]
+        if "__init__.py" in files:
+            out[".".join(Path(folder).relative_to(ROOT).parts)] = Path(folder)
+    return out
+
+
+PACKAGES = _packages()
+
+
+def _modules() -> dict[str, Path]:
+    """Module name -> file, for every module of every package."""
+    out = {}
+    for package, folder in PACKAGES.items():
         for f in folder.glob("*.py"):
             out[package if f.name == "__init__.py" else f"{package}.{f.stem}"] = f
     return out
@@ -82,6 +93,68 @@ def test_no_import_cycles_between_modules():
     assert not cycles, "import cycles: " + "; ".join(" -> ".join(c) for c in cycles)
 
 
+def _package_of(module: str) -> str:
+    """The package a module belongs to: itself for a package's __init__, else the longest package prefixing it."""
+    return module if module in PACKAGES else module.rsplit(".", 1)[0]
+
+
+def _package_graph() -> dict[str, set[str]]:
+    """Package -> the packages its modules import, every import counted (inside functions, and the names a package's
+    __init__ defines: `from .. import terms` is an edge to elastoactive.terms, `from ..core.params import Physics` to
+    elastoactive.core; an attribute of a package, `from elastoactive import simulate`, to that package)."""
+    graph = {p: set() for p in PACKAGES}
+    for name, path in MODULES.items():
+        if name.endswith(".__main__"):
+            continue  # `python -m elastoactive`: the command's entry, run and never imported, is above every layer
+        source = _package_of(name)
+        statements: dict[int, list[str]] = {}
+        for target, line, *_ in _imports(name, path):
+            statements.setdefault(line, []).append(target)
+        for base, *names in statements.values():
+            named = [n for n in names if n in MODULES]  # `from ..core import registry`: the module, not its parent
+            for target in named or [base]:
+                found = target if target in MODULES else target.rsplit(".", 1)[0]
+                if found in MODULES:
+                    graph[source].add(_package_of(found))
+        graph[source].discard(source)
+    return graph
+
+
+def _cycles(graph: dict[str, set[str]]) -> list[list[str]]:
+    cycles, state = [], {}
+
+    def visit(node, stack):
+        state[node] = "open"
+        for nxt in sorted(graph[node]):
+            if state.get(nxt) == "open":
+                cycles.append(stack[stack.index(nxt) :] + [nxt])
+            elif nxt not in state:
+                visit(nxt, stack + [nxt])
+        state[node] = "done"
+
+    for node in sorted(graph):
+        if node not in state:
+            visit(node, [node])
+    return cycles
+
+
+def test_no_import_cycles_between_packages():
+    """The packages' layers run one way: no package imports, through any of its modules, a package that imports it
+    back (the front door, elastoactive/, on top; the shared records, elastoactive.core, at the bottom)."""
+    cycles = _cycles(_package_graph())
+    assert not cycles, "package cycles: " + "; ".join(" -> ".join(c) for c in cycles)
+
+
+def test_the_package_cycle_check_finds_a_cycle():
+    graph = {"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": set()}
+    assert _cycles(graph) == [["a", "b", "c", "a"]]
+
+
+def test_the_shared_records_import_nothing_above_them():
+    """elastoactive.core is the bottom layer: it imports no other package of elastoactive."""
+    assert _package_graph()["elastoactive.core"] <= {"elastoactive"}, _package_graph()["elastoactive.core"]
+
+
 def _continues_imports(text: str) -> bool:
     """Whether a line belongs to an import statement: its first line, or a line of a parenthesised name list."""
     stripped = text.strip()
@@ -139,7 +212,7 @@ def test_analysis_is_pure(name):
     assert not outside, f"{name} imports {outside}"
 
 
-PURE = ("elastoactive.reduced", "elastoactive.networks", "elastoactive.errors", "elastoactive.constants")
+PURE = ("elastoactive.reduced", "elastoactive.networks", "elastoactive.core.errors", "elastoactive.core.constants")
 """The packages and leaves below the scenes: the reduced engine's mathematics, the network records, errors,
 constants."""
 
@@ -160,8 +233,7 @@ def test_tests_mirror_the_packages():
     """tests/ holds one folder per sub-package (the design's top-level folders among them), named as the package,
     plus docs/ (the README, the site, the notebook) and project/ (packaging, layering); the front door's modules
     are tested in tests/ itself."""
-    cfg = tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["setuptools"]
-    packages = {p.split(".")[1] for p in cfg["packages"] if p.count(".") == 1}
+    packages = {p.split(".")[1] for p in PACKAGES if p.count(".") == 1}
     folders = {p.name for p in (ROOT / "tests").iterdir() if p.is_dir() and not p.name.startswith((".", "_"))}
     assert folders - packages <= {"docs", "project"}, folders - packages
     stray = [

@@ -1,8 +1,9 @@
 """The package installs the way users install packages: a built wheel, non-editable, in a fresh environment.
 
-`[tool.setuptools] packages` in pyproject.toml is the list of sub-packages the wheel carries; the checks here hold
-it to the tree (every folder with an __init__.py) and install the wheel into a new virtual environment that sees
-none of the checkout, then run the command and the import from outside it.
+pyproject.toml finds the packages (`[tool.setuptools.packages.find]`: every folder with an __init__.py under
+elastoactive/, the design's top-level folders mjcf/, controllers/ and analysis/ through the links elastoactive/mjcf ->
+../mjcf and so on); the checks here hold what discovery finds to the tree and install the wheel into a new virtual
+environment that sees none of the checkout, then run the command and the import from outside it.
 """
 
 from __future__ import annotations
@@ -15,34 +16,40 @@ import tomllib
 from pathlib import Path
 
 import pytest
+from setuptools import find_packages
 
 ROOT = Path(__file__).resolve().parents[2]
 CONFIG = tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["setuptools"]
 
 
+DESIGN = ("mjcf", "controllers", "analysis")
+"""The design's top-level folders, each a sub-package of elastoactive."""
+
+
 def _tree_packages() -> set[str]:
-    """Package names of every folder holding an __init__.py, through pyproject's package-dir mapping."""
-    roots = {"elastoactive": ROOT / "elastoactive"}
-    roots.update(
-        {name: ROOT / folder for name, folder in CONFIG.get("package-dir", {}).items() if name != "elastoactive"}
-    )
+    """Package names of every folder holding an __init__.py under elastoactive/, its links followed."""
     found = set()
-    for name, folder in roots.items():
-        for init in folder.rglob("__init__.py"):
-            rel = init.parent.relative_to(folder)
-            if "__pycache__" in rel.parts:
-                continue
-            found.add(".".join((name,) + rel.parts))
+    for folder, dirs, files in os.walk(ROOT / "elastoactive", followlinks=True):
+        dirs[:] = [d for d in dirs if d != "__pycache__"]
+        if "__init__.py" in files:
+            found.add(".".join(Path(folder).relative_to(ROOT).parts))
     return found
 
 
-def test_package_list_is_the_tree():
-    listed = set(CONFIG["packages"])
-    tree = _tree_packages()
-    assert not tree - listed, (
-        f"sub-packages missing from pyproject.toml [tool.setuptools] packages: {sorted(tree - listed)}"
-    )
-    assert not listed - tree, f"packages listed in pyproject.toml with no __init__.py: {sorted(listed - tree)}"
+def test_discovery_finds_the_tree():
+    """pyproject's package discovery (no hand list) finds every package of the tree, the design's folders among them."""
+    found = set(find_packages(str(ROOT), include=CONFIG["packages"]["find"]["include"]))
+    assert found == _tree_packages(), found ^ _tree_packages()
+    assert {f"elastoactive.{name}" for name in DESIGN} | {"elastoactive.analysis.network", "elastoactive.core"} <= found
+
+
+@pytest.mark.parametrize("name", DESIGN)
+def test_the_design_folders_are_linked_into_the_package(name):
+    """mjcf/, controllers/ and analysis/ stay at the top level, where the design puts them; elastoactive/<name> is a
+    relative link to each, so that a checkout moved elsewhere still imports them."""
+    link = ROOT / "elastoactive" / name
+    assert link.is_symlink() and not Path(os.readlink(link)).is_absolute(), f"elastoactive/{name} is not a link"
+    assert link.resolve() == (ROOT / name).resolve()
 
 
 @pytest.mark.slow

@@ -17,12 +17,12 @@ from elastoactive.analysis.flutter import BEAD_INERTIA_FACTOR, mass_matrix_at
 from elastoactive.checks.validate import compare, inertial_cases
 from elastoactive.cli import main
 from elastoactive.controllers import follower_forces
+from elastoactive.core.errors import ParameterError
+from elastoactive.core.params import Numerics, Physics
 from elastoactive.engines.mujoco import simulate_mujoco
 from elastoactive.engines.reduced import regime, simulate_reduced, system_of
 from elastoactive.engines.timestep import check_timestep, stability_limits
-from elastoactive.errors import ParameterError
 from elastoactive.mjcf.chain import build_model
-from elastoactive.params import Numerics, Physics
 from elastoactive.results import measure
 
 CHAIN = Physics(n=7, sigma=0.8)

@@ -5,12 +5,13 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from elastoactive import registry
 from elastoactive.analysis import stability
 from elastoactive.controllers.noise import force_factor
+from elastoactive.core import registry
+from elastoactive.core.params import Numerics, ParameterError, Physics, scene_parameters
+from elastoactive.core.registry import initial_angles
 from elastoactive.engines import reduced as R
-from elastoactive.initial import initial_angles, pin_residual
-from elastoactive.params import Numerics, ParameterError, Physics, scene_parameters
+from elastoactive.reduced.initial import pin_residual
 
 SCENES = ("one-pinned", "two-pinned", "rotating-pin", "coupled-pair")
 DRAG_RATIOS = (1.0, 2.5, 0.4)

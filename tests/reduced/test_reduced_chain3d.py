@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from elastoactive.analysis import observables as obs
-from elastoactive.errors import ParameterError
+from elastoactive.core.errors import ParameterError
 from elastoactive.reduced import ChainSystem, rhs_reference, solve_ode
 from elastoactive.reduced.chain3d import (
     Chain3D,

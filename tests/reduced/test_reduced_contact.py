@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from elastoactive import reduced as M
-from elastoactive.errors import ParameterError
+from elastoactive.core.errors import ParameterError
 from elastoactive.reduced import ChainSystem, kernels
 from elastoactive.reduced.contact import capsule_clearance, contact_forces, core_span
 

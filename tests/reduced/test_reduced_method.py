@@ -11,8 +11,8 @@ import pytest
 
 from elastoactive import reduced as M
 from elastoactive.cli import main
+from elastoactive.core.params import Numerics, Physics
 from elastoactive.engines.reduced import simulate_reduced
-from elastoactive.params import Numerics, Physics
 from elastoactive.reduced import kernels as K
 from elastoactive.reduced.blas import _openblas_controls, one_blas_thread
 
@@ -205,7 +205,7 @@ def test_every_allowed_chain_length_finishes_or_is_refused_at_once():
     before any work (they sat in their stiffness check for over 300 s)."""
     import time
 
-    from elastoactive.errors import ParameterError
+    from elastoactive.core.errors import ParameterError
 
     physics = Physics(scene="one-pinned", n=1000)
     clock = time.perf_counter()

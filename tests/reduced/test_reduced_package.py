@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from elastoactive import reduced as M
-from elastoactive.errors import ParameterError
+from elastoactive.core.errors import ParameterError
 from elastoactive.reduced import dop853, dop853_coefficients, kernels
 
 PACKAGE = "elastoactive.reduced"
@@ -121,7 +121,12 @@ def test_package_imports_nothing_of_elastoactive_but_itself_the_network_records_
         for name, _ in _imports(path):
             if name == "elastoactive" or name.startswith("elastoactive."):
                 allowed = name.startswith(
-                    ("elastoactive.reduced", "elastoactive.networks", "elastoactive.errors", "elastoactive.constants")
+                    (
+                        "elastoactive.reduced",
+                        "elastoactive.networks",
+                        "elastoactive.core.errors",
+                        "elastoactive.core.constants",
+                    )
                 )
                 assert allowed, f"{path.name} imports {name}"
 

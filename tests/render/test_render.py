@@ -14,9 +14,9 @@ import pytest
 
 from elastoactive import render
 from elastoactive.cli import main
+from elastoactive.core.params import Numerics, Physics
+from elastoactive.core.trajectory import Trajectory
 from elastoactive.engines.mujoco import simulate_mujoco
-from elastoactive.params import Numerics, Physics
-from elastoactive.trajectory import Trajectory
 
 
 @pytest.fixture(scope="module")

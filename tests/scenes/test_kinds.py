@@ -12,8 +12,8 @@ import pytest
 
 import elastoactive as ea
 from elastoactive.cli import main
+from elastoactive.core.trajectory import Trajectory
 from elastoactive.scenes.base import Scene
-from elastoactive.trajectory import Trajectory
 
 KIND_HOOKS = (
     "run_mujoco",

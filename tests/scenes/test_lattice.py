@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 
 import elastoactive as ea
-from elastoactive import observables
-from elastoactive.errors import ParameterError
+from elastoactive.core import observables
+from elastoactive.core.errors import ParameterError
 from elastoactive.results import load_trajectory, summary, write_run
 from elastoactive.scenes.trap import orbit
 
@@ -183,7 +183,7 @@ def test_degenerate_modes_are_labelled_canonically(ratio):
 def _rigid_record(boundary, velocity, spin, duration=40.0):
     """A synthetic record of the R = 2 patch moving rigidly (translating at `velocity`, turning at `spin` about its
     centroid, or its pinned centre), its units aligned and still."""
-    from elastoactive.trajectory import Trajectory
+    from elastoactive.core.trajectory import Trajectory
 
     physics = ea.Physics(scene="lattice", rings=2, boundary=boundary, sigma=0.8, alignment_length=1.0)
     network = physics.scene_def.network(physics)
@@ -235,7 +235,7 @@ def test_the_guide_lattice_examples_show_what_their_table_says():
     import re
     from pathlib import Path
 
-    from elastoactive.trajectory import Trajectory
+    from elastoactive.core.trajectory import Trajectory
 
     guide = (Path(__file__).resolve().parents[2] / "docs" / "beyond.md").read_text()
     section = guide[guide.index("## Active solids") :]

@@ -5,7 +5,7 @@ results of every network scene."""
 import pytest
 
 import elastoactive as ea
-from elastoactive import observables
+from elastoactive.core import observables
 
 PATCH = dict(scene="lattice", rings=2, alignment_length=0.1)
 NAMED = ("network_state", "edge_rate", "bulk_rate", "counter_fraction", "mode_space", "mode_space_size")

@@ -9,9 +9,9 @@ import pytest
 import elastoactive as ea
 from elastoactive import render
 from elastoactive.cli import main
-from elastoactive.errors import ParameterError
+from elastoactive.core.errors import ParameterError
+from elastoactive.core.params import Numerics, Physics
 from elastoactive.mjcf.chain import build_model, prepare, qpos_of, state_of
-from elastoactive.params import Numerics, Physics
 from elastoactive.results import load_trajectory
 
 

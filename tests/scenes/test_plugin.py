@@ -12,10 +12,10 @@ import pytest
 import xarray as xr
 
 import elastoactive as ea
-from elastoactive import observables
 from elastoactive.checks.validate import observable_errors
 from elastoactive.cli import main
-from elastoactive.observables import Observable
+from elastoactive.core import observables
+from elastoactive.core.observables import Observable
 from elastoactive.results import Results, load_trajectory
 from elastoactive.scenes import ChainScene
 from elastoactive.scenes.base import ValidationCase

@@ -9,7 +9,7 @@ import dataclasses
 import numpy as np
 import pytest
 
-from elastoactive.errors import ParameterError
+from elastoactive.core.errors import ParameterError
 from elastoactive.studies import load_study, registry, states3d
 from elastoactive.studies.states3d import start_tangents, states3d_claims, states3d_figures, states3d_study
 

@@ -15,7 +15,7 @@ import pytest
 
 from elastoactive.analysis import stability as stab
 from elastoactive.cli import main
-from elastoactive.errors import ParameterError
+from elastoactive.core.errors import ParameterError
 from elastoactive.report import reproduce as reproduce_module
 from elastoactive.report.reproduce import Interrupted, reproduce
 from elastoactive.studies import STUDIES, SUMMARIES, Study, Summary, load_study, registry

@@ -2,7 +2,7 @@
 
 import xarray as xr
 
-from elastoactive.params import Numerics
+from elastoactive.core.params import Numerics
 
 FAST = Numerics.preset("fast")
 VOLATILE = ["wall_time_s", "finished_at"]

@@ -14,7 +14,7 @@ from sweep_helpers import FAST, REDUCED, VOLATILE, Stop, load  # shared with tes
 from elastoactive import sweep as sweep_module
 from elastoactive.batch import Case, run_case
 from elastoactive.cli import main
-from elastoactive.params import Numerics, ParameterError, Physics
+from elastoactive.core.params import Numerics, ParameterError, Physics
 from elastoactive.sweep import SweepMismatch, normalize_grid, parse_grid, run_point, run_sweep
 
 

@@ -5,7 +5,7 @@ import time
 import numpy as np
 import pytest
 
-from elastoactive.errors import ParameterError
+from elastoactive.core.errors import ParameterError
 from elastoactive.sweep.grid import MAX_GRID_POINTS, make_sweep, parse_grid
 
 

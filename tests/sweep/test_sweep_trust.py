@@ -18,7 +18,7 @@ import xarray as xr
 from sweep_helpers import REDUCED, VOLATILE, Stop, load  # shared with test_sweep.py
 
 from elastoactive.cli import main
-from elastoactive.params import ParameterError
+from elastoactive.core.params import ParameterError
 from elastoactive.sweep import make_sweep, run_sweep
 from elastoactive.sweep import netcdf as sweep_netcdf
 

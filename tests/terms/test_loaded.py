@@ -6,15 +6,15 @@ import numpy as np
 import pytest
 
 from elastoactive import reduced as M
-from elastoactive import registry
 from elastoactive.analysis.flutter import critical_sigma
 from elastoactive.cli import build_parser
 from elastoactive.cli.run import settings_from
+from elastoactive.core import registry
+from elastoactive.core.errors import ParameterError
+from elastoactive.core.params import Numerics, Physics
 from elastoactive.engines.mujoco import simulate_mujoco
 from elastoactive.engines.reduced import load_factors, rhs, simulate_reduced, system_of
-from elastoactive.errors import ParameterError
 from elastoactive.mjcf.chain import build_model
-from elastoactive.params import Numerics, Physics
 from elastoactive.results import measure
 
 

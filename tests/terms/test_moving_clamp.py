@@ -10,8 +10,8 @@ from conftest import refused
 
 import elastoactive as ea
 from elastoactive.analysis import locking
-from elastoactive.errors import ParameterError
-from elastoactive.parameters import Parameter
+from elastoactive.core.errors import ParameterError
+from elastoactive.core.parameters import Parameter
 from elastoactive.terms import Term
 from elastoactive.terms.base import ClampMotion
 from elastoactive.terms.moving_clamp import ANGLE_LIMIT, clamp_path
@@ -254,8 +254,8 @@ def test_a_drive_faster_than_the_step_is_refused_with_a_passing_setting(capsys, 
     """A term's own rate (Term.rate: the clamp's or the tip drive's 2 pi f) is resolved by MuJoCo's pre-flight check
     like the chain's: f = 100 at dt = 0.0025 (4 steps a period) had diverged with a misleading cause; now one line
     names the term, a dt and the frequency that pass."""
+    from elastoactive.core.params import Numerics
     from elastoactive.engines import timestep as diagnose
-    from elastoactive.params import Numerics
 
     for option in ("--clamp-amplitude", "--drive-amplitude"):
         name = option[2:].split("-")[0]

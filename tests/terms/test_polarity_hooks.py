@@ -9,7 +9,7 @@ import pytest
 
 import elastoactive as ea
 from elastoactive import terms
-from elastoactive.parameters import Parameter
+from elastoactive.core.parameters import Parameter
 from elastoactive.terms import Term
 
 

@@ -148,8 +148,8 @@ def test_stiff_units_are_refused_at_once_naming_the_alignment_length(capsys, sce
 def test_the_units_turning_sets_mujocos_timestep(capsys, no_simulation):
     """A chain's pre-flight check resolves the units' turning (dt x sigma / l_a <= RESOLUTION) and its suggestion
     passes every check."""
+    from elastoactive.core.params import Numerics
     from elastoactive.engines import timestep as diagnose
-    from elastoactive.params import Numerics
 
     line = refused(
         capsys,

@@ -8,9 +8,9 @@ import pytest
 
 import elastoactive as ea
 from elastoactive.cli import main
-from elastoactive.errors import ParameterError
+from elastoactive.core.errors import ParameterError
+from elastoactive.core.params import Numerics, Physics
 from elastoactive.mjcf.chain import build_model, qpos_of
-from elastoactive.params import Numerics, Physics
 from elastoactive.reduced.contact import capsule_clearance, core_span
 from elastoactive.reduced.system import CONTACT_LENGTH
 

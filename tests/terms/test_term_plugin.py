@@ -14,10 +14,10 @@ import pytest
 import xarray as xr
 
 import elastoactive as ea
-from elastoactive import observables
 from elastoactive.cli import main
-from elastoactive.observables import Observable
-from elastoactive.parameters import Parameter
+from elastoactive.core import observables
+from elastoactive.core.observables import Observable
+from elastoactive.core.parameters import Parameter
 from elastoactive.scenes.base import ValidationCase
 from elastoactive.sweep import run_sweep
 from elastoactive.terms import Term

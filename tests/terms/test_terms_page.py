@@ -10,7 +10,7 @@ from pathlib import Path
 import pytest
 
 import elastoactive as ea
-from elastoactive.parameters import Parameter
+from elastoactive.core.parameters import Parameter
 from elastoactive.results import _aliasing
 from elastoactive.terms import Term
 from elastoactive.terms.base import slower_advice

@@ -12,9 +12,9 @@ the package asks this table:
   sweeps             which names can be swept, and each coordinate's long name and units in the netCDF
 
 A parameter's help and units are written in the chain's symbols (l, tau); a scene of other units reads them in its
-own (`help_in`, `units_in`: elastoactive.units), with the spec's `worded` help where the chain's words do not fit.
+own (`help_in`, `units_in`: elastoactive.core.units), with the spec's `worded` help where the chain's words do not fit.
 
-A leaf module: it imports nothing of the package but its errors and elastoactive.units.
+A leaf module: it imports nothing of the package but its errors and elastoactive.core.units.
 """
 
 from __future__ import annotations
@@ -223,7 +223,7 @@ class Parameter:
 
 
 _TABLE: Registry[Parameter] = Registry("parameter", replaceable=False)
-"""Every declared parameter spec with who declared it (elastoactive.table.Registry)."""
+"""Every declared parameter spec with who declared it (elastoactive.core.table.Registry)."""
 
 
 def register(spec: Parameter, owner: str) -> Parameter:
@@ -238,7 +238,7 @@ def unregister(name: str) -> None:
 
 
 def get(name: str) -> Parameter:
-    """The spec called `name` (elastoactive.table.UnknownName, a KeyError, if none)."""
+    """The spec called `name` (elastoactive.core.table.UnknownName, a KeyError, if none)."""
     return _TABLE.get(name)
 
 

@@ -1,10 +1,10 @@
-"""The scene registry's table: scene name -> Scene object (a `Registry`, elastoactive.table: the one registry type
+"""The scene registry's table: scene name -> Scene object (a `Registry`, elastoactive.core.table: the one registry type
 that parameters, scenes, terms and studies share).
 
 A leaf module but for the parameter and observable tables, where a scene's specs are registered with it, so that
 `params` can look a scene up while the scene modules themselves import `params`. Scenes enter the table through
 `register`; the built-in ones when `elastoactive.scenes` is imported, which `import elastoactive` does first; those of
-the `elastoactive.scenes` entry points when the table is first listed (elastoactive.table.load_entry_points).
+the `elastoactive.scenes` entry points when the table is first listed (elastoactive.core.table.load_entry_points).
 `elastoactive.scenes` is the public face of this table.
 """
 
@@ -57,7 +57,7 @@ def register(scene: Scene, *, replace: bool = False) -> Scene:
         elif not _parameters.known(spec):
             raise ValueError(
                 f"scene {name!r} names the parameter {spec!r}, which nothing declares "
-                "(declare it as an elastoactive.parameters.Parameter in the scene's parameters)"
+                "(declare it as an elastoactive.core.parameters.Parameter in the scene's parameters)"
             )
     declared = (*getattr(scene, "observables", ()), *getattr(scene, "occasional_observables", ()))
     _observables.declare(declared, f"scene {name}")  # its specs, or names of declared ones
@@ -107,3 +107,9 @@ __all__ = [
     "scenes",
     "unregister",
 ]
+
+
+def initial_angles(physics, numerics):
+    """Absolute angles theta_i at t = 0 of a scene (chain 1 then chain 2 for the pair): its choice
+    (Scene.initial_angles, from the start shapes of elastoactive.reduced.initial)."""
+    return get(physics.scene).initial_angles(physics, numerics)

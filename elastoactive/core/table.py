@@ -1,11 +1,12 @@
 """One registry type: a table of named entries with one way to register, look up, list and refuse an unknown name.
 
-The package's four registries are instances of `Registry`: the parameter specs (elastoactive.parameters), the scenes
-(elastoactive.registry), the terms (elastoactive.terms) and the studies (elastoactive.studies.registry). Each entry is
-kept with its owner (who declared it: 'term contact', 'scene ring'); registering the same entry again is a no-op,
-another entry under a taken name is refused unless replace=True; an unknown name raises the registry's UnknownName
-(a KeyError) whose message is one line listing the names that are. A registry with an entry-point group loads the
-plug-ins of that group (`load_entry_points`) the first time it is asked for a name it does not hold or listed.
+The package's four registries are instances of `Registry`: the parameter specs (elastoactive.core.parameters), the
+scenes (elastoactive.core.registry), the terms (elastoactive.core.term_registry) and the studies
+(elastoactive.studies.registry). Each entry is kept with its owner (who declared it: 'term contact', 'scene ring');
+registering the same entry again is a no-op, another entry under a taken name is refused unless replace=True; an unknown
+name raises the registry's UnknownName (a KeyError) whose message is one line listing the names that are. A registry
+with an entry-point group loads the plug-ins of that group (`load_entry_points`) the first time it is asked for a name
+it does not hold or listed.
 
 A leaf module: it imports nothing of the package, so that every registry can use it.
 """

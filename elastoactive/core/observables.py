@@ -13,9 +13,9 @@ table through `get` and `find`:
 
 A scene reports each observable in its own units (`described`: a network's frequency in k/gamma, its amplitude in a,
 not the chain's 1/tau and rad): specs write their units in the chain's symbols, and `worded` long names where a scene
-of other units calls the quantity something else (elastoactive.units).
+of other units calls the quantity something else (elastoactive.core.units).
 
-A leaf module: it imports nothing of the package but elastoactive.units. (The functions that compute observables
+A leaf module: it imports nothing of the package but elastoactive.core.units. (The functions that compute observables
 from a trajectory are elastoactive.analysis.)
 """
 
@@ -111,7 +111,9 @@ def register(spec: Observable, owner: str) -> Observable:
     """Add a spec under its name; `owner` names who declares it (a scene or a term). Registering the same spec again
     is a no-op; another spec under a taken name is refused."""
     if not isinstance(spec, Observable):
-        raise ValueError(f"{owner}: an observable is declared as an elastoactive.observables.Observable, got {spec!r}")
+        raise ValueError(
+            f"{owner}: an observable is declared as an Observable (elastoactive.core.observables), got {spec!r}"
+        )
     known = _TABLE.get(spec.name)
     if known is not None and known[0] != spec:
         raise ValueError(f"an observable named {spec.name!r} is already declared by {known[1]}")
@@ -169,7 +171,7 @@ def declare(declared: Iterable[Observable | str], owner: str) -> tuple[str, ...]
     for item in declared:
         if not isinstance(item, (str, Observable)):
             raise ValueError(
-                f"{owner}: an observable is an elastoactive.observables.Observable or a name, got {item!r}"
+                f"{owner}: an observable is an elastoactive.core.observables.Observable or a name, got {item!r}"
             )
         known = _TABLE.get(getattr(item, "name", None))
         if isinstance(item, Observable) and known is not None and known[0] != item:

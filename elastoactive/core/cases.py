@@ -18,6 +18,6 @@ class ValidationCase:
     """
 
     physics: Any
-    """An elastoactive.params.Physics."""
+    """An elastoactive.core.params.Physics."""
     duration: float
     convergence: bool = True

@@ -8,9 +8,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import registry
-from .errors import ParameterError
-from .reduced.constraints import pin_jacobian, pin_residual, project_on_pins  # noqa: F401 (re-exported)
+from ..core.errors import ParameterError
+from .constraints import pin_jacobian, pin_residual, project_on_pins  # noqa: F401 (re-exported)
 
 
 def buckled_arch(n: int, delta: float) -> np.ndarray:
@@ -58,8 +57,3 @@ def pushed_chains(n: int, n_chains: int, perturbation: float, seed: int) -> np.n
         shape = pushed_shape(n, rng.standard_normal(n))
         shapes.append(perturbation * shape / np.abs(shape).max())
     return np.concatenate(shapes)
-
-
-def initial_angles(physics, numerics) -> np.ndarray:
-    """Absolute angles theta_i at t = 0 of a scene (chain 1 then chain 2 for the pair): its choice."""
-    return registry.get(physics.scene).initial_angles(physics, numerics)

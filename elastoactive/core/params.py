@@ -19,7 +19,7 @@ import numpy as np
 
 from . import parameters as _parameters
 from . import registry
-from . import terms as _terms
+from . import term_registry as _terms
 from .constants import MAX_PARTICLES
 from .errors import ParameterError
 from .parameters import Parameter
@@ -96,7 +96,7 @@ class Physics:
     """The model in the paper's dimensionless numbers: a scene and the values of its parameters.
 
     Physics(scene=name, n=7, sigma=0.8, delta=0.1) for the two-pinned scene. Every parameter is declared once by
-    its owner (elastoactive.parameters): n by the chain; sigma and loaded by the follower force, drag_ratio by the
+    its owner (elastoactive.core.parameters): n by the chain; sigma and loaded by the follower force, drag_ratio by the
     drag, noise, noise_correlation and noise_calculus by the noise, contact, contact_radius and contact_friction by
     self-contact (elastoactive.terms); delta, kappa, rho, trap by their scenes. Each value is checked by its spec
     (one rule, one message naming it). A value given where it does not act is refused: a parameter the scene does
@@ -533,14 +533,10 @@ _RATES: dict = {}
 
 
 def _fastest_rate(physics) -> float:
-    """Fastest overdamped rate at the scene's base state (analysis.reduced.overdamped_rate, numpy), cached."""
+    """Fastest overdamped rate at the scene's base state (Scene.fastest_overdamped_rate), cached."""
     rate = _RATES.get(physics)
     if rate is None:
-        from .reduced.regime import overdamped_rate  # start-up time: only long chains need their rates
-
-        system = physics.scene_def.reduced_system(physics)
-        theta = np.asarray(physics.scene_def.initial_angles(physics, Numerics(perturbation=0.0)), dtype=float)
-        rate = _RATES[physics] = float(overdamped_rate(system, theta))
+        rate = _RATES[physics] = float(physics.scene_def.fastest_overdamped_rate(physics))
         if len(_RATES) > 1024:
             _RATES.pop(next(iter(_RATES)))
     return rate
@@ -613,7 +609,7 @@ def check_start(physics: Physics, numerics: Numerics) -> None:
 
 def parameter_fields(cls) -> tuple:
     """What a user sets, with its help text (`.name`, `.metadata["help"]`): the Parameter specs of every declared
-    physics parameter (elastoactive.parameters, in declaration order) for Physics; the dataclass fields of
+    physics parameter (elastoactive.core.parameters, in declaration order) for Physics; the dataclass fields of
     Numerics."""
     if cls is Physics:
         names = LEADING + _parameters.names()

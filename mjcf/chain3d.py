@@ -14,10 +14,14 @@ Mapping (docs/model3d.md, section 5):
                         turns it into generalised forces for ball joints and hinges alike)
   twist (ball joints)   a ball joint also turns link k about its own axis; no force of the model does (the particles
                         are on the axis), so the twist only relaxes to where the ball spring is least, zero twist,
-                        which is the reduced model's bending energy C/2 phi^2 (docs/model3d.md, section 3). A rotational
-                        drag twist_drag about the link (velocity actuator twist_k, gear about the site's x) makes that
-                        relaxation an overdamped one at rate C / twist_drag, taken implicitly; it costs the bending
-                        motion O(twist_drag) (measured in docs/model3d.md)
+                        which is the reduced model's bending energy C/2 phi^2 (docs/model3d.md, section 3). The twist
+                        degree of freedom of each ball joint (its rotation about the link's axis relative to the
+                        parent: the joint's first dof) gets an inertia twist_inertia (armature) and a damping
+                        twist_damping of its own, so the twist is a damped oscillator that MuJoCo steps stably with
+                        the explicit ball spring at any dt (twist_inertia ~ C dt^2); neither touches the bending dofs,
+                        and both act on the twist's rate relative to the parent, which is ~0 in a steady whirl (every
+                        link turning about e_x at one rate): measured, the damping moves the N = 7, sigma = 0.8 whirl's
+                        rate by -0.006% per 0.001 (-0.008% at the default)
   mass                  bead of mass m = mass_ratio at the particle (sphere of radius BEAD_RADIUS), as the planar chain
 
 With pairs of hinges there is no twist degree of freedom but the bend is Cardan's: cos(phi) = cos(a) cos(b), so the
@@ -39,11 +43,14 @@ from .chain import INTEGRATOR
 
 BASE_FILE = "clamped-3d.xml"
 JOINTS = ("ball", "hinges")
-TWIST_DRAG_STEPS = 2.0
-"""Default rotational drag of a link about its own axis (ball joints) in units of C dt: twist_drag = 2 C dt. The twist
-relaxes at rates ~ C / twist_drag, taken implicitly against the explicit ball spring; measured at N = 7, sigma = 0.8,
-dt = 0.0025, mass ratio 1e-4, 1.5 C dt is unstable (the run is wrong) and 2 C dt stable. Its cost to the bending
-motion is O(twist_drag), so O(dt) like the integrator's own error (docs/model3d.md, section 5)."""
+TWIST_INERTIA_STEPS = 2.0
+"""Default inertia of each ball joint's twist (its armature on the twist dof) in units of C dt^2: the twist oscillates
+at sqrt(C / twist_inertia) = 0.71 / dt, inside the stability limit 2 / dt of MuJoCo's explicit spring."""
+TWIST_DAMPING_STEPS = 0.5
+"""Default damping of each ball joint's twist in units of C dt: damping ratio 0.18 on the twist oscillation (it decays
+at 0.125 / dt). Measured on the N = 7, sigma = 0.8 whirl at dt = 0.0025 against the reduced model: frequency -0.03%,
+amplitude -0.08% (a rotational drag about each link against the lab, the earlier model, needed 2 C dt for stability
+and cost -0.32% in frequency; docs/model3d.md, section 5)."""
 
 
 @dataclass(frozen=True)
@@ -59,13 +66,21 @@ class Chain3DModel:
     mass_ratio: float = 1e-4
     dt: float = 0.0025
     integrator: str = "implicitfast"
-    twist_drag: float | None = None
-    """Rotational drag about each link (ball joints); None: TWIST_DRAG_STEPS C dt."""
+    twist_damping: float | None = None
+    """Damping of each ball joint's twist (torque per twist rate relative to the parent); None: TWIST_DAMPING_STEPS C
+    dt."""
+    twist_inertia: float | None = None
+    """Inertia of each ball joint's twist (its armature); None: TWIST_INERTIA_STEPS C dt^2."""
 
     @property
-    def twist(self) -> float:
-        """The twist drag in use."""
-        return TWIST_DRAG_STEPS * self.dt if self.twist_drag is None else self.twist_drag
+    def damping(self) -> float:
+        """The twist damping in use."""
+        return TWIST_DAMPING_STEPS * self.dt if self.twist_damping is None else self.twist_damping
+
+    @property
+    def inertia(self) -> float:
+        """The twist inertia in use."""
+        return TWIST_INERTIA_STEPS * self.dt**2 if self.twist_inertia is None else self.twist_inertia
 
     def checked(self) -> Chain3DModel:
         """The record, or ParameterError naming the first field out of range."""
@@ -75,10 +90,10 @@ class Chain3DModel:
             raise ParameterError(f"joints must be one of {JOINTS}, got {self.joints!r}")
         if self.integrator not in INTEGRATOR:
             raise ParameterError(f"integrator must be one of {tuple(INTEGRATOR)}, got {self.integrator!r}")
-        for name in ("drag_ratio", "mass_ratio", "dt", "twist"):
-            value = getattr(self, name)
+        for name, value in (("drag_ratio", self.drag_ratio), ("mass_ratio", self.mass_ratio), ("dt", self.dt),
+                            ("twist_damping", self.damping), ("twist_inertia", self.inertia)):  # fmt: skip
             if not (np.isfinite(value) and value > 0):
-                raise ParameterError(f"{name.replace('twist', 'twist_drag')} must be finite and > 0, got {value}")
+                raise ParameterError(f"{name} must be finite and > 0, got {value}")
         if not (np.isfinite(self.sigma) and self.sigma >= 0):
             raise ParameterError(f"sigma must be finite and >= 0, got {self.sigma}")
         return self
@@ -101,7 +116,8 @@ def _velocity_actuator(spec, name: str, site: str, axis: int, kv: float) -> None
 
 
 def build_spec3d(chain: Chain3DModel) -> mujoco.MjSpec:
-    """MjSpec of the 3D chain (compile it with .compile(); set the controls with `controls`)."""
+    """MjSpec of the 3D chain: its bodies, joints and actuators (compile3d adds the twist's inertia and damping; set the
+    controls with `controls`)."""
     chain.checked()
     spec = mujoco.MjSpec.from_file(str(mjcf_path(BASE_FILE)))
     segment = spec.find_default("segment")
@@ -124,12 +140,30 @@ def build_spec3d(chain: Chain3DModel) -> mujoco.MjSpec:
         _velocity_actuator(spec, f"drag_long_{k}", site, 0, chain.drag_ratio)
         _velocity_actuator(spec, f"drag_y_{k}", site, 1, 1.0)
         _velocity_actuator(spec, f"drag_z_{k}", site, 2, 1.0)
-        if chain.joints == "ball":
-            _velocity_actuator(spec, f"twist_{k}", site, 3, chain.twist)
     spec.option.timestep = chain.dt
     spec.option.integrator = INTEGRATOR[chain.integrator]
     spec.modelname = "chain3d"
     return spec
+
+
+def twist_dofs(model: mujoco.MjModel) -> np.ndarray:
+    """The twist dof of every ball joint (its first: the rotation about the child link's x axis, its own axis)."""
+    balls = np.flatnonzero(model.jnt_type == mujoco.mjtJoint.mjJNT_BALL)
+    return model.jnt_dofadr[balls]
+
+
+def compile3d(chain: Chain3DModel) -> mujoco.MjModel:
+    """The compiled 3D chain: build_spec3d's model with, on each ball joint's twist dof only, the armature
+    chain.inertia and the damping chain.damping (MuJoCo's passive damping, enabled here; implicit in implicitfast,
+    implicit and Euler). MjSpec sets a ball joint's armature and damping on all three of its dofs, hence after
+    compiling."""
+    model = build_spec3d(chain).compile()
+    twist = twist_dofs(model)
+    if twist.size:
+        model.dof_armature[twist] = chain.inertia
+        model.dof_damping[twist] = chain.damping
+        model.opt.disableflags &= ~int(mujoco.mjtDisableBit.mjDSBL_DAMPER)
+    return model
 
 
 def controls(model: mujoco.MjModel, chain: Chain3DModel) -> np.ndarray:
@@ -189,7 +223,7 @@ def tangents_of(data: mujoco.MjData, n: int) -> np.ndarray:
 
 def prepare3d(chain: Chain3DModel, tangents0: np.ndarray) -> tuple[mujoco.MjModel, mujoco.MjData]:
     """Model and data at rest at the tangents tangents0, with the follower controls set."""
-    model = build_spec3d(chain).compile()
+    model = compile3d(chain)
     data = mujoco.MjData(model)
     data.qpos[:] = qpos_of_tangents(chain, tangents0)
     data.ctrl[:] = controls(model, chain)
@@ -213,5 +247,5 @@ def simulate3d(chain: Chain3DModel, ts: np.ndarray, tangents0: np.ndarray) -> np
         mujoco.mj_kinematics(model, data)
         out[i] = tangents_of(data, chain.n)
         if not np.all(np.isfinite(out[i])):
-            raise RuntimeError(f"MuJoCo 3D chain diverged at t = {ts[i]:g} (smaller dt or a larger twist_drag)")
+            raise RuntimeError(f"MuJoCo 3D chain diverged at t = {ts[i]:g} (a smaller dt)")
     return out

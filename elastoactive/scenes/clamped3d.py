@@ -7,10 +7,16 @@ t_k = (cos psi cos phi, cos psi sin phi, sin psi). Its engines are elastoactive.
 elastoactive.mjcf.chain3d (MuJoCo, ball joints); the hooks import them at the engine boundary (inside the hook).
 Its beat is the tip's displacement along the major axis of its path across the clamp axis (analysis.motion3d), and it
 reports the tip's aspect, the whirl rate, the tip's radius, the bend and the state (rest, beat, whirl, other).
+
+Its automatic numerics (automatic_numerics): MuJoCo's error on the whirl is first order in dt, with a coefficient that
+grows with N and sigma (STEP_ERROR); where the default dt would miss ACCURACY_TARGET, a run whose dt,
+mass ratio and integrator are all left at their defaults takes the largest dt (a whole fraction of sample_dt) that meets
+it.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import time
 from typing import TYPE_CHECKING
@@ -27,6 +33,16 @@ from .base import Onset, Scene, ValidationCase
 
 if TYPE_CHECKING:  # typing only: params imports the registry that holds scenes
     from ..core.params import Numerics, Physics
+
+ACCURACY_TARGET = 0.005
+"""Relative error of the whirl's (or beat's) frequency and amplitude that the automatic numerics aim at: half the 1%
+the engines are held to against each other, the other half left to the measurement of a finite run."""
+STEP_ERROR = (0.0515, 1.25, 1.75, 1.0)
+"""(c, a, b, d): MuJoCo's relative error on the steady whirl per unit dt (tau), the larger of its frequency's and its
+amplitude's, is about c N^a sigma^b / drag_ratio^d. Fitted to the errors measured against Newton's whirl of the
+reduced model at N = 7, 12 and 20, sigma 0.3 to 5, drag ratios 0.5 to 2 (implicitfast, mass ratio 1e-4, ball joints;
+the error halves with dt: first order), where it exceeds 0.25: the measured errors are 0.77 to 1.44 times the fit's
+(docs/model3d.md, section 7)."""
 
 TIP = Signal("y_tip", "y_tip, the tip's displacement along the major axis of its path across the clamp axis", "l")
 
@@ -63,6 +79,10 @@ class Clamped3D(Scene):
     term_parameters = ("n", "sigma", "drag_ratio")
     no_linear_operator = ""
     min_n = 2
+    clamped = True
+    """A bending spring holds the first link along e_x (False: a free ball pivot, scenes.pivot3d)."""
+    planar_scene = "one-pinned"
+    """The planar scene whose straight chain linearises as this one does in each plane (the timestep check's)."""
     observables = (
         Observable("tip_aspect", "1", "minor over major axis of the tip's path (0: a beat in a plane, 1: a whirl)",
                    error="absolute", floor=0.0),
@@ -125,7 +145,7 @@ class Clamped3D(Scene):
         ts = self._times(numerics, duration)
         start = time.perf_counter()
         path = solve3d(
-            Chain3D(physics.n, physics.sigma, physics.drag_ratio),
+            Chain3D(physics.n, physics.sigma, physics.drag_ratio, self.clamped),
             ts,
             self._start(physics, numerics, theta0),
             rtol=rtol,
@@ -134,31 +154,63 @@ class Clamped3D(Scene):
         info = {"method": "DOP853", "rtol": rtol, "atol": atol}
         return Trajectory(ts, angles_of(path), physics, "reduced", time.perf_counter() - start, info)
 
+    def step_error(self, physics: Physics) -> float:
+        """MuJoCo's expected relative error on the steady motion per unit dt: STEP_ERROR's c N^a sigma^b /
+        drag_ratio^d."""
+        c, a, b, d = STEP_ERROR
+        return c * physics.n**a * physics.sigma**b / physics.drag_ratio**d
+
+    def automatic_numerics(self, physics: Physics, numerics: Numerics) -> Numerics:
+        """The numerics a MuJoCo run uses: these when dt, mass ratio or integrator was given; when all three are left
+        at their defaults (`automatic`), the default dt, or, where step_error x dt exceeds ACCURACY_TARGET, the
+        largest dt that meets it (a whole fraction of sample_dt), as given numerics (so that nothing downstream, the
+        pre-flight check or the summary, resolves them again). Never a larger dt than the default: the transient's
+        angles are held to the planar chain's accuracy too."""
+        if not numerics.automatic:
+            return numerics
+        dt = float(numerics.dt)
+        error = self.step_error(physics)
+        if error * dt > ACCURACY_TARGET:
+            dt = numerics.sample_dt / math.ceil(numerics.sample_dt * error / ACCURACY_TARGET - 1e-9)
+        return dataclasses.replace(numerics, dt=dt)
+
     def run_mujoco(
         self, physics: Physics, numerics: Numerics, duration: float, *, theta0=None, **options
     ) -> Trajectory:
         from ..mjcf.chain3d import Chain3DModel, simulate3d  # engine boundary: MuJoCo
 
+        given, numerics = numerics, self.automatic_numerics(physics, numerics)
         ts = self._times(numerics, duration)
         model = Chain3DModel(
             physics.n,
             physics.sigma,
             physics.drag_ratio,
+            clamped=self.clamped,
             mass_ratio=numerics.mass_ratio,
             dt=numerics.dt,
             integrator=numerics.integrator,
         )
         start = time.perf_counter()
         path = simulate3d(model, ts, self._start(physics, numerics, theta0))
-        info = {"joints": model.joints, "twist_drag": model.twist}
-        return Trajectory(ts, angles_of(path), physics, "mujoco", time.perf_counter() - start, info)
+        wall = time.perf_counter() - start
+        info = {"joints": model.joints, "twist_inertia": model.inertia, "twist_damping": model.damping}
+        if numerics is not given:
+            info["automatic_numerics"] = {
+                "integrator": numerics.integrator,
+                "dt": float(numerics.dt),
+                "mass_ratio": float(numerics.mass_ratio),
+                "reason": f"{self.name}: dt for {ACCURACY_TARGET:.1%} on the whirl (Clamped3D.automatic_numerics)",
+            }
+        return Trajectory(ts, angles_of(path), physics, "mujoco", wall, info)
 
     def check_timestep(self, physics: Physics, numerics: Numerics, safety: float, accuracy: bool, **options):
-        """The planar chain's limits: the straight chain's linearisation is the planar one twice (analysis.stability3d);
-        the ball joints' twist drag scales with dt (mjcf.chain3d.TWIST_DRAG_STEPS)."""
+        """The planar chain's limits at the numerics the run uses (automatic_numerics): the straight chain's
+        linearisation is the planar one twice (analysis.stability3d); the ball joints' twist, an oscillator whose
+        inertia scales with dt^2, is stable at any dt (mjcf.chain3d.TWIST_INERTIA_STEPS)."""
         from ..engines.timestep import check_chain_timestep  # engine boundary: the check loads mujoco
 
-        planar = scene_named("one-pinned").physics(n=physics.n, sigma=physics.sigma, drag_ratio=physics.drag_ratio)
+        numerics = self.automatic_numerics(physics, numerics)
+        planar = scene_named(self.planar_scene).physics(n=physics.n, sigma=physics.sigma, drag_ratio=physics.drag_ratio)
         return check_chain_timestep(planar, numerics, safety, accuracy)
 
     def reduced_methods(self) -> tuple[str, ...]:
@@ -243,8 +295,16 @@ class Clamped3D(Scene):
     def leading_eigenvalue(self, physics: Physics, sigma: float) -> complex:
         from ..analysis.stability3d import linear_operator3d  # start-up time: scipy
 
-        lam = np.linalg.eigvals(linear_operator3d(physics.n, sigma, physics.drag_ratio))
+        lam = np.linalg.eigvals(linear_operator3d(physics.n, sigma, physics.drag_ratio, self.clamped))
         return complex(lam[np.argmax(lam.real)])
+
+    def fastest_overdamped_rate(self, physics: Physics) -> float:
+        """The largest |eigenvalue| of the straight chain's 3D linear operator (the planar one twice) at the physics'
+        sigma, 1/tau."""
+        from ..analysis.stability3d import linear_operator3d  # start-up time: scipy
+
+        lam = np.linalg.eigvals(linear_operator3d(physics.n, physics.sigma, physics.drag_ratio, self.clamped))
+        return float(np.abs(lam).max())
 
     def stability_report(self, physics: Physics, sigma: float | None) -> list[str]:
         onset = self.onset(physics)
@@ -260,8 +320,8 @@ class Clamped3D(Scene):
         return lines
 
     def validation_cases(self) -> tuple[ValidationCase, ...]:
-        """N = 7 at sigma = 0.4 (2.5 times the onset): the engines' early angles agree within 1% (at 0.8 the twist
-        drag's O(dt) lag, amplified by the faster growth, leaves 3.8%: docs/model3d.md, section 5)."""
+        """N = 7 at sigma = 0.4 (2.5 times the onset): the engines' early tangents agree within 0.23%, amplitude and
+        frequency within 0.01% (at sigma = 0.8: 0.67%, 0.08%, 0.03%; docs/model3d.md, section 8)."""
         return (ValidationCase(self.physics(n=7, sigma=0.4), 300.0),)
 
 

@@ -8,13 +8,17 @@ the loads are multiples of it. At each load the chain of N links is run from two
 each run is analysis.motion3d's, over its last MEASURED_PERIODS periods; a run classed 'whirl' is refined by Newton's
 method (analysis.whirl.find_whirl: its exact rate and its stability in the rotating frame). The planar beat's
 out-of-plane Floquet multipliers (analysis.whirl.beat_out_of_plane) are computed at some of the loads (_grid).
+
+The engines' agreement (quick and full sizes, _engine_loads): the scene clamped-3d run as a user runs it, from its own
+seeded non-planar start at the default numerics (MuJoCo's automatic dt, the reduced engine's default tolerance), in
+both engines; the scene's frequency and amplitude (summary.json's) compared.
 """
 
 from __future__ import annotations
 
 import time
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -23,13 +27,15 @@ from ..analysis import stability
 from ..analysis.motion3d import measure3d
 from ..analysis.stability3d import onset3d
 from ..analysis.whirl import beat_out_of_plane, find_whirl
-from ..batch import default_workers
+from ..batch import Case, default_workers
 from ..core.errors import ParameterError
+from ..core.params import Numerics
 from ..io.executor import imap
 from ..reduced.chain3d import Chain3D, solve3d
+from ..scenes import clamped3d
 from . import plotting as plots
 from . import registry
-from .base import Study, Summary, pick
+from .base import Study, Summary, pick, run_measured
 from .claim_rows import Claim, fmt, verdict
 
 STATES = ("rest", "beat", "whirl", "other")
@@ -55,6 +61,10 @@ FLOQUET_SETTLE = 12
 is ~0.6 times as fast as expected: the second half must still hold two of its periods)."""
 ONSET_AGREEMENT = 1e-8
 """The 3D onset equals the planar one when they differ by less than this (relative)."""
+ENGINE_PERIODS = RUN_PERIODS
+"""Length of each run of the engines' agreement in expected periods (the second half measured)."""
+ENGINE_AGREEMENT = 0.01
+"""The engines agree when MuJoCo's frequency and amplitude are within this (relative) of the reduced engine's."""
 
 
 @dataclass(frozen=True)
@@ -108,6 +118,28 @@ class Floquet3D:
 
 
 @dataclass(frozen=True)
+class Engines3D:
+    """The scene clamped-3d at one load in both engines, each at its default numerics, from the scene's seeded
+    non-planar start: the scene's own numbers (results.measure, summary.json's)."""
+
+    load: float
+    sigma: float
+    duration: float
+    states: tuple[str, str]
+    """motion_state, reduced then MuJoCo."""
+    frequency: tuple[float, float]
+    amplitude: tuple[float, float]
+    dt: float
+    """The dt MuJoCo's automatic numerics chose."""
+    wall_s: tuple[float, float]
+
+    def difference(self, name: str) -> float:
+        """MuJoCo's relative difference from the reduced engine in `name` (frequency or amplitude)."""
+        reduced, mujoco = getattr(self, name)
+        return mujoco / reduced - 1.0
+
+
+@dataclass(frozen=True)
 class States3DSummary(Summary):
     n: int
     drag_ratios: list[float]
@@ -115,6 +147,7 @@ class States3DSummary(Summary):
     onsets: list[Onset3D]
     runs: list[Run3D]
     floquet: list[Floquet3D]
+    engines: list[Engines3D] = field(default_factory=list)
 
 
 STATES3D = registry.declare("states3d", summary=States3DSummary, order=216)
@@ -170,6 +203,41 @@ def _grid(size: str) -> tuple[int, tuple[float, ...], tuple[float, ...], tuple[f
     return 7, drags, loads, floquet
 
 
+def _engine_loads(size: str) -> tuple[float, ...]:
+    """The loads (sigma / sigma_c, drag ratio 1) of the engines' agreement: none at the tiny size."""
+    return pick(size, (), (2.0, 5.0), (2.0, 5.0))
+
+
+def _number(x) -> float:
+    """A measured number, NaN where the run gave none (a window of fewer than two periods)."""
+    return float("nan") if x is None else float(x)
+
+
+def engines3d(n: int, sigma_c: float, f_c: float, loads, workers, progress: bool) -> list[Engines3D]:
+    """The scene clamped-3d at each load in both engines (default numerics, the scene's seeded start), ENGINE_PERIODS
+    expected periods each, the second half measured."""
+    cases = []
+    for load in loads:
+        physics = clamped3d.SCENE.physics(n=n, sigma=load * sigma_c)
+        duration = ENGINE_PERIODS / (f_c * load**FREQUENCY_EXPONENT)
+        cases += [Case(physics, Numerics(), duration, engine) for engine in ("reduced", "mujoco")]
+    results = run_measured(cases, workers, progress, "states3d: engines")
+    out = []
+    for k, load in enumerate(loads):
+        reduced, mujoco = results[2 * k], results[2 * k + 1]
+        pair = (reduced.results, mujoco.results)
+        out.append(
+            Engines3D(
+                load, cases[2 * k].physics.sigma, cases[2 * k].duration,
+                tuple(str(r.extra["motion_state"]) for r in pair), tuple(_number(r.frequency) for r in pair),
+                tuple(float(r.amplitude) for r in pair),
+                float(mujoco.info.get("automatic_numerics", {}).get("dt", Numerics().dt)),
+                (reduced.wall_time_s, mujoco.wall_time_s),
+            )
+        )  # fmt: skip
+    return out
+
+
 @STATES3D.run
 def states3d_study(size: str = "quick", workers=None, progress: bool = True) -> Study:
     """The state reached from each start at each load and drag ratio, the onsets, the beat's Floquet multipliers."""
@@ -186,6 +254,11 @@ def states3d_study(size: str = "quick", workers=None, progress: bool = True) -> 
     results = [result for _, result in imap(_point, tasks, max(1, w))]
     runs = [r for point, _ in results for r in point]
     floquet = [f for _, f in results if f is not None]
+    isotropic = next(o for o in onsets if o.gamma_l == 1.0) if 1.0 in drags else None
+    engines = []
+    if isotropic is not None and _engine_loads(size):
+        f_c = isotropic.omega_c / (2 * np.pi)
+        engines = engines3d(n, isotropic.sigma_c, f_c, _engine_loads(size), w, progress)
     shape = (len(drags), len(loads), len(STARTS))
 
     def grid(field: str) -> np.ndarray:
@@ -201,7 +274,7 @@ def states3d_study(size: str = "quick", workers=None, progress: bool = True) -> 
         "floquet_load": np.array([f.load for f in floquet]),
         "floquet_growth": np.array([f.growth for f in floquet]),
     }
-    summary = States3DSummary(n, list(drags), list(loads), onsets, runs, floquet)
+    summary = States3DSummary(n, list(drags), list(loads), onsets, runs, floquet, engines)
     return Study("states3d", size, data, summary, time.perf_counter() - clock)
 
 
@@ -358,6 +431,25 @@ def states3d_claims(study: Study, read: Mapping[str, Study]) -> list[Claim]:
                 "drag ratios",
                 verdict(all(x > 1 for x in ratios), partly=any(x > 1 for x in ratios)),
                 engine,
+            )
+        )
+    if s.engines:
+        worst = max(abs(e.difference(name)) for e in s.engines for name in ("frequency", "amplitude"))
+        same = all(e.states[0] == e.states[1] for e in s.engines)
+        rows.append(
+            Claim(
+                "MuJoCo and the reduced 3D engine agree on the whirl at their default numerics",
+                source,
+                "-",
+                "; ".join(
+                    f"{fmt(e.load, 3)} sigma_c: {e.states[1]}, f {e.difference('frequency'):+.2%}, amplitude "
+                    f"{e.difference('amplitude'):+.2%} (MuJoCo dt {fmt(e.dt, 3)})"
+                    for e in s.engines
+                ),
+                verdict(same and worst < ENGINE_AGREEMENT),
+                f"scene clamped-3d from its seeded non-planar start, as `elastoactive run` gives it (default numerics, "
+                f"MuJoCo's automatic dt); frequency and amplitude within {ENGINE_AGREEMENT:.0%}, the second half of "
+                f"{ENGINE_PERIODS} expected periods; N = {s.n}, drag ratio 1",
             )
         )
     return rows

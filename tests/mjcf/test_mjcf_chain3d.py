@@ -11,11 +11,14 @@ import elastoactive as ea
 from elastoactive.analysis.motion3d import measure3d
 from elastoactive.core.errors import ParameterError
 from elastoactive.mjcf.chain3d import (
+    TWIST_DAMPING_STEPS,
+    TWIST_INERTIA_STEPS,
     Chain3DModel,
     prepare3d,
     qpos_of_tangents,
     simulate3d,
     tangents_of,
+    twist_dofs,
 )
 from elastoactive.reduced.chain3d import Chain3D, planar_angles, solve3d, tangents_of_angles
 
@@ -38,8 +41,7 @@ def test_tangents_round_trip(joints):
 @pytest.mark.parametrize("joints", ["ball", "hinges"])
 def test_actuators_are_the_follower_force_and_the_lab_frame_drag(joints):
     """At a non-planar state and a random velocity, the actuators' generalised force is sum_k J_k^T (-sigma t_k -
-    W_k v_k) (anisotropic drag W_k), plus, with ball joints, the twist drag -twist_drag (omega_k . t_k) t_k on each
-    link's rotation."""
+    W_k v_k) (anisotropic drag W_k); the only passive damping is -twist_damping on each ball joint's twist rate."""
     n, sigma, ratio = 4, 0.7, 2.5
     chain = Chain3DModel(n=n, sigma=sigma, drag_ratio=ratio, joints=joints)
     model, data = prepare3d(chain, _random_tangents(n, seed=1))
@@ -50,12 +52,33 @@ def test_actuators_are_the_follower_force_and_the_lab_frame_drag(joints):
     t = tangents_of(data, n)
     for k in range(n):
         mujoco.mj_jacSite(model, data, jacp, jacr, model.site(f"particle_{k}").id)
-        v, w, tk = jacp @ data.qvel, jacr @ data.qvel, t[k]
+        v, tk = jacp @ data.qvel, t[k]
         drag = -(v + (ratio - 1.0) * (v @ tk) * tk)
         expected += jacp.T @ (-sigma * tk + drag)
-        if joints == "ball":
-            expected += jacr.T @ (-chain.twist * (w @ tk) * tk)
     np.testing.assert_allclose(data.qfrc_actuator, expected, atol=1e-10)
+    damping = np.zeros(model.nv)
+    if joints == "ball":
+        damping[0::3] = -chain.damping * data.qvel[0::3]
+    np.testing.assert_allclose(data.qfrc_damper, damping, atol=1e-14)
+
+
+def test_twist_inertia_and_damping_sit_on_the_twist_dofs_only():
+    """Each ball joint's first dof turns its link about the link's own axis (the twist): the armature and damping are
+    there and nowhere else, at their defaults C dt^2 x TWIST_INERTIA_STEPS and C dt x TWIST_DAMPING_STEPS."""
+    chain = Chain3DModel(n=4, sigma=0.5, dt=0.004)
+    model, data = prepare3d(chain, _random_tangents(4, seed=5))
+    twist = twist_dofs(model)
+    np.testing.assert_array_equal(twist, [0, 3, 6, 9])
+    assert chain.inertia == pytest.approx(TWIST_INERTIA_STEPS * 0.004**2)
+    assert chain.damping == pytest.approx(TWIST_DAMPING_STEPS * 0.004)
+    np.testing.assert_array_equal(np.flatnonzero(model.dof_armature), twist)
+    np.testing.assert_array_equal(np.flatnonzero(model.dof_damping), twist)
+    jacp, jacr = np.zeros((3, model.nv)), np.zeros((3, model.nv))
+    t = tangents_of(data, 4)
+    for k in range(4):  # a twist dof turns its own link about that link's axis and moves no particle
+        mujoco.mj_jacSite(model, data, jacp, jacr, model.site(f"particle_{k}").id)
+        np.testing.assert_allclose(jacr[:, twist[k]], t[k], atol=1e-12)
+        np.testing.assert_allclose(jacp[:, twist[k]], 0.0, atol=1e-12)
 
 
 @pytest.mark.parametrize("joints", ["ball", "hinges"])
@@ -90,8 +113,10 @@ def test_whirl_agrees_with_the_reduced_model(drag_ratio):
 def test_bad_input_names_the_field():
     with pytest.raises(ParameterError, match="joints"):
         Chain3DModel(n=3, sigma=0.5, joints="gimbal").checked()
-    with pytest.raises(ParameterError, match="twist_drag"):
-        Chain3DModel(n=3, sigma=0.5, twist_drag=0.0).checked()
+    with pytest.raises(ParameterError, match="twist_damping"):
+        Chain3DModel(n=3, sigma=0.5, twist_damping=0.0).checked()
+    with pytest.raises(ParameterError, match="twist_inertia"):
+        Chain3DModel(n=3, sigma=0.5, twist_inertia=-1.0).checked()
     with pytest.raises(ParameterError, match="ts must"):
         simulate3d(Chain3DModel(n=3, sigma=0.5), np.array([0.0, 0.0011]), _random_tangents(3))
 

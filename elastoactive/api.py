@@ -299,7 +299,9 @@ def physics_doc(head: str = "") -> str:
     kind, default, units and help, grouped by who declares it; the registered scenes."""
     lines = [head.rstrip(), "", "Parameters", "----------", f"scene : str, default {DEFAULT_SCENE!r}"]
     scenes = "One of the registered scenes: " + ", ".join(registry.names()) + "."
-    lines.append(textwrap.fill(scenes, DOC_WIDTH, initial_indent="    ", subsequent_indent="    "))
+    lines.append(  # a scene's name is one word: never broken at its hyphens
+        textwrap.fill(scenes, DOC_WIDTH, initial_indent="    ", subsequent_indent="    ", break_on_hyphens=False)
+    )
     for owner, specs in _owners():
         lines += ["", f"Declared by {owner}:", ""]
         lines += [_entry(spec) for spec in specs]
@@ -307,7 +309,7 @@ def physics_doc(head: str = "") -> str:
     for system in SYSTEMS:  # each scene speaks its own (elastoactive.core.units); the entries above are in the chain's
         users = [s.name for s in registry.scenes() if scene_units(s) == system]
         text = f"{system.name} scenes ({', '.join(users)}). {system.text}"
-        lines.append(textwrap.fill(text, DOC_WIDTH))
+        lines.append(textwrap.fill(text, DOC_WIDTH, break_on_hyphens=False))
         worded = [f"{spec.name}: {spec.help_in(system)}" for _, specs in _owners() for spec in specs if spec.worded]
         if system != CHAIN and worded:
             lines.append(textwrap.fill("There: " + "; ".join(worded) + ".", DOC_WIDTH, subsequent_indent="    "))

@@ -19,6 +19,7 @@ from . import (
     network,
     one_pinned,
     paraboloid,
+    pivot3d,
     ring,
     rotating_pin,
     star,
@@ -41,6 +42,7 @@ for _module in (
     star,
     network,
     clamped3d,
+    pivot3d,
 ):  # the paper's order, then ours
     register(_module.SCENE)
 

@@ -73,7 +73,7 @@ class Clamped3D(Scene):
     state_name = "tangent"
     mujoco_batched = False
     seeded_start = False
-    paced_by_beat = False
+    paced_by_beat = True  # a video shows one beat or turn a second (the tip's beat, beat_signals)
     sized_by_n = True
     builder = "elastoactive.mjcf.chain3d"
     term_parameters = ("n", "sigma", "drag_ratio")
@@ -83,6 +83,7 @@ class Clamped3D(Scene):
     """A bending spring holds the first link along e_x (False: a free ball pivot, scenes.pivot3d)."""
     planar_scene = "one-pinned"
     """The planar scene whose straight chain linearises as this one does in each plane (the timestep check's)."""
+    file_variables = ("position",)
     observables = (
         Observable("tip_aspect", "1", "minor over major axis of the tip's path (0: a beat in a plane, 1: a whirl)",
                    error="absolute", floor=0.0),
@@ -221,7 +222,8 @@ class Clamped3D(Scene):
         return tangents_of(traj.theta, traj.physics.n)
 
     def positions(self, traj: Trajectory) -> np.ndarray:
-        """Shape (T, 1, N, 3): (x, y, z) of every particle in units of l."""
+        """Shape (T, 1, N, 3), as a planar chain's with (x, y, z): particle i of the one chain in units of l, the sum
+        of the first i + 1 tangents from the clamp at the origin (MuJoCo's site particle_i)."""
         return np.cumsum(self.tangents(traj), axis=-2)[:, None]
 
     def tip(self, traj: Trajectory) -> np.ndarray:
@@ -231,17 +233,27 @@ class Clamped3D(Scene):
         return self.positions(traj).mean(axis=-2)
 
     def state_variables(self, traj: Trajectory) -> tuple[dict, dict]:
+        """The tangents (time, particle, xyz), and the positions and the tip laid out as a planar chain's (time, chain,
+        particle, xyz; time, chain, xyz: one chain)."""
         n, units = traj.physics.n, self.length_units
-        coords = {"particle": ("particle", np.arange(n), {"long_name": "particle index (0-based, site particle_i)"})}
-        position = self.positions(traj)[:, 0]
+        coords = {
+            "chain": ("chain", np.arange(1), {"long_name": "chain index (0-based)"}),
+            "particle": ("particle", np.arange(n), {"long_name": "particle index (0-based, site particle_i)"}),
+            "xyz": ("xyz", ["x", "y", "z"], {"long_name": "lab-frame component"}),
+        }
+        position = self.positions(traj)
         data = {
             "tangent": (
                 ("time", "particle", "xyz"),
                 self.tangents(traj),
                 {"units": "1", "long_name": "unit tangent of each link"},
             ),
-            "position": (("time", "particle", "xyz"), position, {"units": units, "long_name": "particle position"}),
-            "tip": (("time", "xyz"), position[:, -1], {"units": units, "long_name": "tip position"}),
+            "position": (
+                ("time", "chain", "particle", "xyz"),
+                position,
+                {"units": units, "long_name": "particle position"},
+            ),
+            "tip": (("time", "chain", "xyz"), position[:, :, -1], {"units": units, "long_name": "tip position"}),
         }
         return coords, data
 

@@ -28,23 +28,46 @@ ParameterError, SimulationDiverged
 import importlib
 
 from . import _moved, scenes, terms  # scenes first: registers the built-in scenes that Physics looks up
-from .api import document_physics, load, load_sweep, measure, simulate
 from .core import registry
 from .core.errors import ParameterError, SimulationDiverged
 from .core.params import Numerics, Physics
+from .core.physics_doc import document_physics
 from .core.trajectory import Trajectory
-from .results import Results
 
 _moved.install()  # old module paths keep working for one release
 registry.entry_points_ready()  # the entry points' scenes, terms and studies load when a registry is first listed
 document_physics()  # help(ea.Physics): every registered parameter, with units
 
+_LAZY = {
+    "simulate": "api",
+    "measure": "api",
+    "load": "api",
+    "load_sweep": "api",
+    "Results": "results",
+}
+"""Names of the front door imported when first used, and their modules: running and measuring load the engines and
+the outputs' writers, which the command line's --help and a script that only builds a Physics do not need."""
+
 
 def __getattr__(name: str):
-    """`ea.plot`, imported when first used (it loads matplotlib)."""
-    if name == "plot":
-        return importlib.import_module(".plot", __name__)
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    """The front door's running names (`ea.simulate`, ...), `ea.plot` (matplotlib) and any sub-module (`ea.results`,
+    `ea.sweep`), each imported when first used."""
+    if name in _LAZY:
+        value = getattr(importlib.import_module(f".{_LAZY[name]}", __name__), name)
+        globals()[name] = value
+        return value
+    if name.startswith("_"):
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    try:
+        return importlib.import_module(f".{name}", __name__)
+    except ModuleNotFoundError as err:
+        if err.name != f"{__name__}.{name}":
+            raise
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}") from None
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_LAZY) | {"plot"})
 
 
 __all__ = [

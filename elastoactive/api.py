@@ -11,20 +11,15 @@ xarray is imported inside load_sweep, the sweep reader's boundary: it loads pand
 
 from __future__ import annotations
 
-import inspect
-import textwrap
 from collections.abc import Mapping
 from pathlib import Path
 
 import numpy as np
 
-from . import plugins, terms
-from .core import parameters as _parameters
-from .core import registry
+from . import plugins
 from .core.errors import ParameterError
-from .core.params import DEFAULT_SCENE, LEADING, Numerics, Physics, parameter_fields
+from .core.params import Numerics, Physics, parameter_fields
 from .core.trajectory import Trajectory
-from .core.units import CHAIN, SYSTEMS, scene_units
 from .engines import run_engine
 from .gate import preflight
 from .results import Results, check_measurable, check_transient, load_trajectory, read_summary
@@ -80,6 +75,7 @@ def simulate(
     theta0=None,
     start=None,
     method: str | None = None,
+    rtol: float | None = None,
 ) -> Trajectory:
     """Simulate a scene.
 
@@ -111,6 +107,10 @@ def simulate(
     method : str, optional
         Reduced engine only: the ODE method ("numba-DOP853", "LSODA", "Radau", ...); default: chosen from the
         stiffness of the linearisation at the start (trajectory.info["method"] says which ran).
+    rtol : float, optional
+        Reduced engine only: the adaptive solver's relative tolerance (atol = rtol / 100); default the scene kind's
+        (a chain's 1e-9, a network's 1e-9 up to ~750 free nodes, 1e-6 above: ``Scene.reduced_tolerances``;
+        trajectory.info["rtol"] says which ran).
 
     Returns
     -------
@@ -130,6 +130,10 @@ def simulate(
     """
     physics, numerics = as_physics(physics), as_numerics(numerics)
     run = preflight(physics, numerics, duration, engine, method=method, timestep=check, announce=progress)
+    if rtol is not None and (run.engine != "reduced" or not 0 < rtol < 1):
+        raise ParameterError(
+            f"rtol = {rtol:g}: the adaptive solver's relative tolerance applies to engine='reduced', in (0, 1)"
+        )
     options = {"theta0": theta0}
     if start is not None:
         if theta0 is not None:
@@ -138,6 +142,8 @@ def simulate(
     options["progress"] = progress  # MuJoCo's steps, or the reduced engine's time where its solver is slow
     if run.engine == "reduced" and method is not None:  # the reduced engine's ODE method (None: its automatic choice)
         options["method"] = method
+    if rtol is not None:
+        options.update(rtol=rtol, atol=rtol * 1e-2)
     return run_engine(run.engine, run.physics, run.numerics, run.duration, **options)
 
 
@@ -182,8 +188,6 @@ def measure(trajectory: Trajectory, transient: float | None = None) -> Results:
     return _measure(trajectory, transient)
 
 
-DOC_WIDTH = 116
-"""The width Physics' generated docstring is wrapped to."""
 RUN_FILES = ("summary.json", "trajectory.npz")
 """What a run's folder (`elastoactive run --out`) holds."""
 SWEEP_SUFFIX = ".nc"
@@ -266,88 +270,3 @@ def _path(path) -> Path:
     if not path.exists():
         raise ParameterError(f"path: {path} not found")
     return path
-
-
-# ------------------------------------------------------------------ Physics' generated docstring and signature
-
-
-def _owners() -> list[tuple[str, list]]:
-    """(who declares them, their specs) for the chain, every scene and every term, in registration order."""
-    registry.names(), terms.names()  # the entry points' scenes and terms join the table first
-    groups: dict[str, list] = {}
-    for name in _names():
-        groups.setdefault(_parameters.owner(name), []).append(_parameters.get(name))
-    return list(groups.items())
-
-
-def _names() -> tuple[str, ...]:
-    """Every declared parameter: the leading ones (n, sigma, ...) first, then in declaration order."""
-    return tuple(dict.fromkeys((*LEADING, *_parameters.names())))
-
-
-def _entry(spec) -> str:
-    kind = spec.kind.__name__
-    choices = f" {{{', '.join(map(repr, spec.choices))}}}" if spec.choices else ""
-    units = "" if spec.units in ("1", "") else f" [{spec.units}]"
-    needs = f" (acts with {spec.need_text})" if spec.needs else ""
-    text = textwrap.fill(f"{spec.help}{needs}", DOC_WIDTH, initial_indent="    ", subsequent_indent="    ")
-    return f"{spec.name} : {kind}{choices}, default {spec.default!r}{units}\n{text}"
-
-
-def physics_doc(head: str = "") -> str:
-    """Physics' docstring: `head`, then every registered parameter (the chain's, each scene's, each term's) with its
-    kind, default, units and help, grouped by who declares it; the registered scenes."""
-    lines = [head.rstrip(), "", "Parameters", "----------", f"scene : str, default {DEFAULT_SCENE!r}"]
-    scenes = "One of the registered scenes: " + ", ".join(registry.names()) + "."
-    lines.append(  # a scene's name is one word: never broken at its hyphens
-        textwrap.fill(scenes, DOC_WIDTH, initial_indent="    ", subsequent_indent="    ", break_on_hyphens=False)
-    )
-    for owner, specs in _owners():
-        lines += ["", f"Declared by {owner}:", ""]
-        lines += [_entry(spec) for spec in specs]
-    lines += ["", "Units", "-----"]
-    for system in SYSTEMS:  # each scene speaks its own (elastoactive.core.units); the entries above are in the chain's
-        users = [s.name for s in registry.scenes() if scene_units(s) == system]
-        text = f"{system.name} scenes ({', '.join(users)}). {system.text}"
-        lines.append(textwrap.fill(text, DOC_WIDTH, break_on_hyphens=False))
-        worded = [f"{spec.name}: {spec.help_in(system)}" for _, specs in _owners() for spec in specs if spec.worded]
-        if system != CHAIN and worded:
-            lines.append(textwrap.fill("There: " + "; ".join(worded) + ".", DOC_WIDTH, subsequent_indent="    "))
-    note = (
-        "The entries above are in the chain's units ([l] lengths, [tau] times); a number without units is "
-        "dimensionless. Pi is given in place of sigma where a scene has the coupling."
-    )
-    lines.append(textwrap.fill(note, DOC_WIDTH))
-    return "\n".join(lines)
-
-
-def physics_signature() -> inspect.Signature:
-    """Physics' signature: scene, then every registered parameter as a keyword with its default."""
-    _owners()
-    parameters = [inspect.Parameter("scene", inspect.Parameter.POSITIONAL_OR_KEYWORD, default=DEFAULT_SCENE)]
-    parameters += [
-        inspect.Parameter(name, inspect.Parameter.KEYWORD_ONLY, default=_parameters.get(name).default)
-        for name in _names()
-    ]
-    return inspect.Signature(parameters)
-
-
-class _Generated:
-    """A class attribute computed when read (``__doc__``, ``__signature__``), so that it lists what is registered
-    at the time (a plug-in's parameters included)."""
-
-    def __init__(self, make):
-        self.make = make
-
-    def __get__(self, obj, cls=None):
-        return self.make()
-
-
-def document_physics() -> None:
-    """Give Physics its generated docstring and signature (import elastoactive does this once)."""
-    if isinstance(Physics.__dict__.get("__doc__"), _Generated):
-        return
-    head = inspect.cleandoc(Physics.__dict__.get("__doc__") or "").split("\n\n    scene ")[0]
-    head = head.split("\n\nscene ")[0]
-    Physics.__doc__ = _Generated(lambda: physics_doc(head))
-    Physics.__signature__ = _Generated(physics_signature)

@@ -9,4 +9,5 @@ bash scripts/docs_setup.sh
 .venv/bin/ruff check .
 .venv/bin/ruff format --check .
 # the suite on every core (pytest-xdist; tests are spread one by one, an idle worker taking over another's queue)
-exec .venv/bin/python -m pytest -n auto --dist worksteal "$@"
+# --durations: the slowest tests, printed at the end, so that a slower suite names what grew
+exec .venv/bin/python -m pytest -n auto --dist worksteal --durations=25 "$@"

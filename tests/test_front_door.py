@@ -87,3 +87,18 @@ def test_python_dash_m():
     assert out.returncode == 0 and "reproduce" in out.stdout
     for name in ea.scenes.names():
         assert name in out.stdout
+
+
+def test_import_leaves_the_running_machinery_to_first_use():
+    """`import elastoactive` registers the scenes and terms and builds Physics, but imports the engines and the
+    outputs' writers only when a running name is first used; then `ea.simulate` and a sub-module by attribute work,
+    and an unknown name is an AttributeError."""
+    probe = (
+        "import sys, elastoactive as ea\n"
+        "late = ('elastoactive.api', 'elastoactive.results', 'elastoactive.engines', 'elastoactive.gate')\n"
+        "print([m for m in late if m in sys.modules])\n"
+        "print(len(ea.scenes.names()) > 5, callable(ea.simulate), callable(ea.results.read_summary))\n"
+        "print('simulate' in dir(ea), hasattr(ea, 'no_such_name'))\n"
+    )
+    out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, timeout=120, check=True)
+    assert out.stdout.split("\n")[:3] == ["[]", "True True True", "True False"], out.stdout + out.stderr

@@ -142,7 +142,8 @@ def preflight(
     check_engine(engine)
     if method is not None and engine == "mujoco":
         raise ParameterError(f"method = {method}: the ODE method applies to the reduced engine (engine='reduced')")
-    numerics = numerics.for_duration(duration)  # a long run's automatic sample_dt
+    # a large network's and a long run's automatic sample_dt
+    numerics = physics.scene_def.record_numerics(physics, numerics, duration).for_duration(duration)
     duration = numerics.check_duration(duration)
     check_measurable(physics)
     if given:

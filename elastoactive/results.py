@@ -26,7 +26,7 @@ from .io.jsonio import to_jsonable
 from .io.outputs import sha256, write_files
 from .sensitivity import estimate as estimate_sensitivity
 from .sensitivity import needs_estimate
-from .terms.base import fastest_term, slower_advice
+from .terms.base import ALIASING, fastest_term, slower_advice
 from .wording import summary_units
 
 PerChain = float | tuple[float, ...]
@@ -173,10 +173,6 @@ def measure(traj: Trajectory, transient: float | None = None) -> Results:
         amplitude, frequency, spread = (tuple(c) for c in columns)
     harmonics = spectra[0] if physics.n_chains == 1 else tuple(spectra)
     return Results(amplitude, frequency, periodic, spread, tuple(notes), harmonics, extra=extra)
-
-
-ALIASING = 1.0
-"""Most radians a term's fastest rate (Term.rate) may turn between two samples before the record may alias it."""
 
 
 def _aliasing(traj: Trajectory) -> list[str]:

@@ -4,8 +4,9 @@
 
 Pinned triangular hexagons of R rings (1 + 3R(R+1) nodes) at sigma = 0.2, l_a = 0.1 (Pi = 2), seeded start:
 
-- the reduced engine (simulate_network_reduced: DOP853 compiled with the O(N) right-hand side, rtol 1e-8) for
-  DURATION gamma / k, its wall time, right-hand sides and cost per evaluation;
+- the reduced engine (simulate_network_reduced: DOP853 compiled with the O(N) right-hand side, at a large network's
+  automatic tolerance, LARGE_TOLERANCES, at every size) for DURATION gamma / k, its wall time, right-hand sides and
+  cost per evaluation;
 - beside it, a plain numpy/scipy script of the same equations (benchmark_network.plain_rhs, solve_ivp DOP853 at the
   same rtol and atol: the same method and tolerances, so the same accuracy; the largest difference between the two
   runs' node positions over the span is reported) over SPAN gamma / k, scaled to DURATION;
@@ -13,8 +14,9 @@ Pinned triangular hexagons of R rings (1 + 3R(R+1) nodes) at sigma = 0.2, l_a = 
   same rtol) over IMPLICIT_SPAN, up to IMPLICIT_NODES nodes, scaled;
 - the lowest modes (normal_modes) and the stability bracket [lambda_1, ceiling] (analysis.network.stability: softest
   and coupling_ceiling), dense up to reduced.network.DENSE_MODES free coordinates, sparse above;
-- at the largest size, the whole process `elastoactive run network ... --duration DURATION` (its wall time: start-up,
-  the gate, the run, the observables, the files);
+- at the largest size, the whole process `elastoactive run network ... --duration DURATION` with the default
+  settings (its wall and CPU time: start-up, the gate, the run, the observables, the files; its record's spacing is
+  the large network's automatic one);
 - MuJoCo on the 1027-node patch (R = 18): its step cost and the automatic step.
 
 The log-log slope of the cost per evaluation and of the run against the node count is printed (1: linear).
@@ -37,13 +39,15 @@ import numpy as np
 from bench_common import CLI, CORES, load, log
 from benchmark_network import plain_rhs
 
+from elastoactive.scenes.network_kind import LARGE_TOLERANCES
+
 SIGMA, ALIGNMENT_LENGTH = 0.2, 0.1
 RINGS = (6, 10, 18, 31, 58)
 """127, 331, 1027, 2977 and 10 267 nodes."""
 DURATION = 1000.0
 SPAN = 20.0
 """gamma / k over which the plain script and the implicit method run (scaled to DURATION)."""
-RTOL, ATOL = 1e-8, 1e-10
+RTOL, ATOL = LARGE_TOLERANCES
 MUJOCO_RINGS, MUJOCO_TAU = 18, 1.0
 PARTIAL = Path(tempfile.gettempdir()) / "benchmark_network_scale_rows.json"
 """The rows measured so far (written after each size)."""
@@ -154,8 +158,6 @@ def _bench(quick: bool) -> dict:
                 "reduced",
                 "--duration",
                 f"{duration:g}",
-                "--sample-dt",
-                "0.5",
                 "--out",
                 os.path.join(tmp, "run"),
                 "--quiet",

@@ -1,4 +1,4 @@
-"""A run started from a given or saved state: continuing a run is the run (reduced engine, to round-off), MuJoCo
+"""A run started from a given or saved state: continuing a run is the run (reduced engine, to its tolerance), MuJoCo
 starts where it is told, and a state of another scene is refused in one line."""
 
 import numpy as np
@@ -17,8 +17,9 @@ def test_a_continued_network_run_is_the_run():
     half = ea.simulate(PATCH, SAMPLES, duration=10, engine="reduced")
     rest = ea.simulate(PATCH, SAMPLES, duration=10, engine="reduced", start=half)
     assert np.abs(rest.nodes[0] - half.nodes[-1]).max() == 0.0
-    assert np.abs(rest.nodes[-1] - whole.nodes[-1]).max() < 1e-8
-    assert np.abs(rest.polarity[-1] - whole.polarity[-1]).max() < 1e-8
+    tolerance = 0.1 * whole.info["rtol"]  # the adaptive steps restart at the state: apart by the solver's error
+    assert np.abs(rest.nodes[-1] - whole.nodes[-1]).max() < tolerance
+    assert np.abs(rest.polarity[-1] - whole.polarity[-1]).max() < tolerance
 
 
 def test_mujoco_starts_from_the_given_state():

@@ -29,7 +29,18 @@ STILL_RATE = 1e-6
 """rad / (gamma / k): units turning slower than this on average are still (actuation 0), at the least."""
 STILL_FRACTION = 1e-3
 """Units whose mean |dpsi/dt| is below this fraction of their turning scale sigma / l_a are still: the decaying
-residue of a rest state (~1e-5 rad per gamma / k after 100 gamma / k) has no direction worth a ratio."""
+residue of a rest state (~1e-5 rad per gamma / k after 100 gamma / k) has no direction worth a ratio (and a unit
+is still in the named states, analysis.network.states)."""
+SOLVER_JITTER = 1e3
+"""An adaptive solver's error in a unit's |dpsi/dt| is below this many times its relative tolerance x the turning
+scale Pi: still units measured 30-160 rtol Pi (the steps' jitter about a fixed point, sampled every 0.05 gamma / k;
+docs/performance.md, section 10). The named states' still level never goes below it, and polarity_speed's error
+counts it (block_errors)."""
+
+
+CHUNK = 64
+"""Samples per pass where an observable of every unit is reduced sample by sample (polarization): temporaries of
+CHUNK x units stay small."""
 
 
 def window(t: np.ndarray, transient: float) -> np.ndarray:
@@ -38,14 +49,31 @@ def window(t: np.ndarray, transient: float) -> np.ndarray:
     return t - t[0] >= transient - 1e-12 * max(1.0, transient)
 
 
+def unwrapped(polarity: np.ndarray) -> np.ndarray:
+    """(T, A) angles continuous in time: as given where no step between samples exceeds pi (the reduced engine's
+    polarities are never wrapped: checked, not copied), else np.unwrap along time. Equal to np.unwrap either way."""
+    psi = np.asarray(polarity, dtype=float)
+    if psi.shape[0] < 2 or float(np.abs(np.diff(psi, axis=0)).max(initial=0.0)) <= np.pi:
+        return psi
+    return np.unwrap(psi, axis=0)
+
+
 def polarization(polarity: np.ndarray) -> float:
-    """Time mean of |(1/A) sum_i exp(i psi_i)| over the samples given ((T, A) angles)."""
-    return float(np.abs(np.exp(1j * np.asarray(polarity)).mean(axis=1)).mean())
+    """Time mean of |(1/A) sum_i exp(i psi_i)| over the samples given ((T, A) angles), CHUNK samples at a time (no
+    complex (T, A) temporary: a large network's record is hundreds of MB)."""
+    psi = np.asarray(polarity, dtype=float)
+    if psi.shape[0] == 0:
+        return float("nan")
+    order = [
+        np.hypot(np.cos(part).mean(axis=1), np.sin(part).mean(axis=1))
+        for part in (psi[k : k + CHUNK] for k in range(0, psi.shape[0], CHUNK))
+    ]
+    return float(np.concatenate(order).mean())
 
 
 def turning_rates(t: np.ndarray, polarity: np.ndarray) -> np.ndarray:
     """(T, A) dpsi/dt by finite differences of the unwrapped angles."""
-    return np.gradient(np.unwrap(np.asarray(polarity), axis=0), np.asarray(t, dtype=float), axis=0)
+    return np.gradient(unwrapped(polarity), np.asarray(t, dtype=float), axis=0)
 
 
 def polarity_speed(t: np.ndarray, polarity: np.ndarray) -> float:
@@ -55,18 +83,64 @@ def polarity_speed(t: np.ndarray, polarity: np.ndarray) -> float:
 
 def polarity_rate(t: np.ndarray, polarity: np.ndarray) -> float:
     """Mean dpsi/dt over the samples and the units: (psi(end) - psi(start)) / duration, averaged over the units."""
-    psi = np.unwrap(np.asarray(polarity), axis=0)
+    psi = unwrapped(polarity)
     return float(((psi[-1] - psi[0]) / (t[-1] - t[0])).mean())
 
 
-def actuation(t: np.ndarray, polarity: np.ndarray, scale: float = 0.0) -> float:
+def actuation(t: np.ndarray, polarity: np.ndarray, scale: float = 0.0, rtol: float | None = None) -> float:
     """|<dpsi/dt>| / <|dpsi/dt|> over the units and samples (0 when the units are still: turning on average slower than
-    STILL_RATE or STILL_FRACTION x `scale`, their turning scale sigma / l_a)."""
+    STILL_RATE or STILL_FRACTION x `scale`, their turning scale sigma / l_a, or, for an adaptive solver's run of
+    relative tolerance `rtol`, than SOLVER_JITTER x rtol x scale: the named states' still level)."""
     rates = turning_rates(t, polarity)
     magnitude = float(np.abs(rates).mean())
-    if magnitude < max(STILL_RATE, STILL_FRACTION * scale):
+    jitter = 0.0 if rtol is None else SOLVER_JITTER * float(rtol)
+    if magnitude < max(STILL_RATE, max(STILL_FRACTION, jitter) * scale):
         return 0.0
     return float(abs(rates.mean()) / magnitude)
+
+
+ERROR_BLOCKS = 8
+"""Consecutive equal blocks of the measured window whose spread gives a time mean's standard error (block_errors)."""
+
+
+class BlockErrors(NamedTuple):
+    """Errors of a run's time means: the standard error from the spread of their values on ERROR_BLOCKS consecutive
+    blocks of the window, std / sqrt(blocks) (NaN when a block holds fewer than 3 samples), and, for an adaptive
+    solver's run, its own error added in quadrature (block_errors)."""
+
+    polarization: float
+    polarity_speed: float  # rad per gamma / k
+    actuation: float
+
+
+def block_errors(
+    t: np.ndarray, polarity: np.ndarray, scale: float = 0.0, rtol: float | None = None, blocks: int = ERROR_BLOCKS
+) -> BlockErrors:
+    """BlockErrors of polarization, polarity_speed and actuation (`scale`: the turning scale Pi) over the samples
+    given. The blocks are treated as independent: a state whose time means wander more slowly than a block (1/8 of
+    the window) has a larger error than this says. rtol: an adaptive solver's relative tolerance (None: a fixed-step
+    engine, whose error validate bounds): its error, rtol in polarization and actuation and SOLVER_JITTER rtol Pi in
+    polarity_speed, is added in quadrature: above what was measured against runs at rtol 1e-11 (a still patch at
+    rtol 1e-5 to 1e-3: 0.004-0.45 rtol in polarization, up to 0.8 rtol in actuation, 34 rtol Pi in polarity_speed;
+    docs/performance.md, section 10)."""
+    t = np.asarray(t, dtype=float)
+    psi = unwrapped(polarity)
+    size = len(t) // blocks
+    if size < 3:
+        return BlockErrors(float("nan"), float("nan"), float("nan"))
+    values = np.array(
+        [
+            (
+                polarization(psi[k : k + size]),
+                polarity_speed(t[k : k + size], psi[k : k + size]),
+                actuation(t[k : k + size], psi[k : k + size], scale, rtol),
+            )
+            for k in range(0, size * blocks, size)
+        ]
+    )
+    spread = values.std(axis=0, ddof=1) / np.sqrt(blocks)
+    solver = np.zeros(3) if rtol is None else float(rtol) * np.array([1.0, SOLVER_JITTER * scale, 1.0])
+    return BlockErrors(*(float(e) for e in np.hypot(spread, solver)))
 
 
 DEGENERATE = 1e-8
@@ -145,13 +219,15 @@ def rotation_angle(positions: np.ndarray, rest: np.ndarray, centre: np.ndarray |
     when None, each from its own centroid (least squares, Kabsch in 2D)."""
     rest = np.asarray(rest, dtype=float)
     positions = np.asarray(positions, dtype=float)
+    origin = rest.mean(axis=0) if centre is None else np.asarray(centre, dtype=float)
+    r = rest - origin
+    total = r.sum(axis=0)  # 0 about the centroid: x's own centroid then drops out of both sums
     if centre is None:
-        r = rest - rest.mean(axis=0)
-        x = positions - positions.mean(axis=-2, keepdims=True)
-    else:
-        r, x = rest - centre, positions - centre
-    cross = (r[:, 0] * x[..., 1] - r[:, 1] * x[..., 0]).sum(axis=-1)
-    dot = (r[:, 0] * x[..., 0] + r[:, 1] * x[..., 1]).sum(axis=-1)
+        total = np.zeros(2)
+    # the sums over the nodes as two matrix-vector products over the flat (T, 2P) positions (no (T, P) temporaries)
+    flat = positions.reshape(positions.shape[:-2] + (-1,))
+    cross = flat @ np.column_stack([-r[:, 1], r[:, 0]]).ravel() - (total[0] * origin[1] - total[1] * origin[0])
+    dot = flat @ r.ravel() - total @ origin
     return np.unwrap(np.arctan2(cross, dot))
 
 

@@ -15,7 +15,9 @@ The rule, in this order (T the window's length, dpsi_i = psi_i(end) - psi_i(star
 
 A unit's ring is its depth: the fewest bonds from it to the network's edge (`depth`). The thresholds are one turn
 over the window (the resolution of a rate measured on it) and the still level, a fraction of the units' own turning
-scale far above the solver's error (1e-3 against a relative tolerance of 1e-8 in the reduced engine).
+scale far above the solver's error: 1e-3 Pi, and at least 1e3 rtol Pi in the reduced engine (1e-3 Pi again at its
+automatic rtol 1e-6 for networks), where still units' measured |dpsi/dt| is 30-160 rtol Pi, the adaptive steps'
+jitter (docs/performance.md, section 10).
 """
 
 from __future__ import annotations
@@ -25,6 +27,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ...networks.geometry import Network
+from .observables import SOLVER_JITTER, STILL_FRACTION, unwrapped
 
 STATES = ("frozen", "collective", "mixed", "heterogeneous", "oscillating", "irregular")
 """The named states, in the order a sweep codes them (their index)."""
@@ -37,11 +40,6 @@ STATE_MEANING = {
     "irregular": "one sense, rates differing without an edge-to-interior order",
 }
 """What each state means, in a few words (docs, figure legends)."""
-STILL_FRACTION = 1e-3
-"""A unit whose mean |dpsi/dt| is below this fraction of its turning scale Pi = sigma / l_a is still."""
-SOLVER_JITTER = 1e3
-"""The still level is never below this many times the solver's relative tolerance (x Pi): rates the solver cannot
-resolve are not read as motion."""
 FULL_TURN = 2.0 * np.pi
 """A unit turns when its net turn over the window is at least one turn; two units share a frequency when their net
 turns differ by less than one turn."""
@@ -111,7 +109,7 @@ def classify(t: np.ndarray, polarity: np.ndarray, depths: np.ndarray, still: flo
     depth `depths` (A,) from the edge, a unit being still below `still` (still_rate). The rule: the module's
     docstring."""
     t = np.asarray(t, dtype=float)
-    psi = np.unwrap(np.asarray(polarity, dtype=float), axis=0)
+    psi = unwrapped(polarity)
     depths = np.asarray(depths)
     span = float(t[-1] - t[0])
     turns = psi[-1] - psi[0]

@@ -73,6 +73,13 @@ def fill(run: argparse.ArgumentParser, scene: str | None) -> None:
         help="the reduced engine's ODE method (default: chosen from the stiffness at the start: "
         "numba-DOP853, or the implicit LSODA for long chains near their onset); summary.json records it",
     )
+    run.add_argument(
+        "--rtol",
+        type=float,
+        default=None,
+        help="the reduced engine's relative tolerance (atol = rtol / 100; default the scene's: a chain's 1e-9, a "
+        "network's 1e-9, or 1e-6 above 1500 free coordinates); summary.json records it",
+    )
     run.add_argument("--out", type=output_path, help="folder for summary.json and trajectory.npz")
     run.add_argument(
         "--force",
@@ -104,6 +111,7 @@ def _recorded(path: Path) -> dict:
     s = read_summary(path)
     numerics = dict(s.get("numerics", {}))
     method = (s.get("solver") or {}).get("method")  # the reduced engine's ODE method, as it ran
+    rtol = (s.get("solver") or {}).get("rtol")  # and its tolerance
     return {
         "physics": dict(s["parameters"]),
         "duration": numerics.pop("duration", None),
@@ -111,6 +119,7 @@ def _recorded(path: Path) -> dict:
         "numerics": numerics,
         "engine": s.get("engine", "mujoco"),
         "method": method if method in METHODS else None,
+        "rtol": rtol if isinstance(rtol, (int, float)) else None,
     }
 
 
@@ -138,7 +147,8 @@ def settings_from(args) -> tuple[Physics, Numerics, str, float, float | None]:
     numerics = Numerics(**{**base["numerics"], **given(Numerics)})
     duration = args.duration if args.duration is not None else (base["duration"] or DEFAULT_DURATION)
     transient = args.transient if args.transient is not None else (base["transient"] if args.duration is None else None)
-    numerics = numerics.for_duration(duration)  # a long run's automatic sample_dt, recorded as it ran
+    # a large network's and a long run's automatic sample_dt, recorded as it ran
+    numerics = physics.scene_def.record_numerics(physics, numerics, duration).for_duration(duration)
     return physics, numerics, engine, numerics.check_duration(duration), transient
 
 
@@ -237,9 +247,17 @@ def _run(args, out: Path | None) -> int:
         check_video_options(args, duration)
     # --from repeats the reduced engine's recorded method (the automatic choice would pick it again; a given one too)
     method = args.method or (_recorded(args.source)["method"] if args.source and engine == "reduced" else None)
+    rtol = args.rtol or (_recorded(args.source)["rtol"] if args.source and engine == "reduced" else None)
     start = read_start(args.start_from) if args.start_from else None
     traj = simulate(
-        physics, numerics, duration=duration, engine=engine, progress=not args.quiet, method=method, start=start
+        physics,
+        numerics,
+        duration=duration,
+        engine=engine,
+        progress=not args.quiet,
+        method=method,
+        start=start,
+        rtol=rtol,
     )
     s = summary(traj, numerics, duration, transient)
     if start is not None:

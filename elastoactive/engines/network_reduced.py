@@ -26,8 +26,9 @@ from .network_step import network_numerics
 
 METHODS = _model.METHODS
 DEFAULT_METHOD = "DOP853"
-"""The network model is mildly stiff (fastest rate ~9 k / gamma in the bulk of a triangular lattice): the explicit
-DOP853 runs a 127-node patch for 1000 gamma / k in ~5 s on one core."""
+"""The network model is mildly stiff (fastest rate ~6 k / gamma on a triangular patch of any size): the explicit
+DOP853, compiled with the right-hand side, runs a 127-node patch for 1000 gamma / k in under a second of CPU
+(docs/performance.md, section 10)."""
 
 
 def system_of(physics: Physics) -> _model.NetworkSystem:
@@ -48,6 +49,12 @@ def network_rate(physics: Physics) -> float:
     return max(springs, turning_rate(physics) * turning_scale(network, physics.alignment_length))
 
 
+WHOLE_TURNS_RTOL = 1e-8
+"""Above this relative tolerance the solver runs with the starting polarities' whole turns taken out (put back in the
+record, which continues the start's angles): a ramp's step starts from units that may have turned hundreds of
+radians, and DOP853's error control, relative to |psi|, lets them jitter about a fixed point in proportion: at rtol
+1e-6 above the named states' still level (docs/performance.md, section 10), at a chain's 1e-9 a thousand times
+below it, where runs are left as they were to the bit."""
 PINNED_SLACK = 1e-6
 """Largest distance (units a) of a pinned node from its rest position in a given starting state (MuJoCo holds pins to
 its constraint's give; they are put back exactly)."""
@@ -92,12 +99,16 @@ def simulate_network_reduced(
     *,
     theta0=None,
     state0: NetworkState | None = None,
-    rtol: float = 1e-8,
-    atol: float = 1e-10,
+    rtol: float | None = None,
+    atol: float | None = None,
     method: str | None = None,
 ) -> Trajectory:
     """Integrate the network model from `state0` (start_state: default the scene's initial state) and sample every
-    numerics.sample_dt."""
+    numerics.sample_dt; rtol, atol default the scene's reduced_tolerances (scenes.network_kind.NetworkScene); above
+    WHOLE_TURNS_RTOL the starting polarities' whole turns are taken out while solving."""
+    default_rtol, default_atol = physics.scene_def.reduced_tolerances(physics)
+    rtol = default_rtol if rtol is None else rtol
+    atol = default_atol if atol is None else atol
     if theta0 is not None:
         raise ParameterError(f"theta0: {physics.scene} is a network (its initial state: Scene.initial_network)")
     method = DEFAULT_METHOD if method is None else method
@@ -127,7 +138,14 @@ def simulate_network_reduced(
             system, t, y0, dt=dt, seed=noise.seed, translational=noise.translational, rotational=noise.rotational
         )
     else:
-        solution = _model.solve(system, t, y0, rtol=rtol, atol=atol, method=method)
+        f2 = 2 * system.n_free
+        turns = np.zeros(y0.size - f2)
+        if rtol > WHOLE_TURNS_RTOL:  # the polarities' whole turns taken out while solving
+            turns = 2.0 * np.pi * np.round(y0[f2:] / (2.0 * np.pi))
+        solution = _model.solve(
+            system, t, np.concatenate([y0[:f2], y0[f2:] - turns]), rtol=rtol, atol=atol, method=method
+        )
+        solution.y[:, f2:] += turns
     wall = time.perf_counter() - start
     nodes, polarity = _model.unpack(system, solution.y)
     if not np.all(np.isfinite(solution.y)):

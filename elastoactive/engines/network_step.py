@@ -1,5 +1,6 @@
 """The automatic numerics of a network run: the step both engines take where the network's dynamics is stepped at a
-fixed dt (MuJoCo always; the reduced engine's Euler-Maruyama for noise on the units, terms.unit_noise).
+fixed dt (MuJoCo always; the reduced engine's Euler-Maruyama for noise on the units, terms.unit_noise), and the
+record's spacing of a large network (network_sampling: the sample interval left at its default).
 
 Imported by engines.network_mujoco and engines.network_reduced (which MuJoCo's module imports: the rule lives apart
 from both so that neither imports the other for it).
@@ -10,9 +11,12 @@ from __future__ import annotations
 import dataclasses
 import math
 
-from ..core.params import Numerics, Physics
+import numpy as np
+
+from ..core.params import DEFAULT_SAMPLE_DT, Numerics, Physics
 from ..networks.geometry import turning_scale
 from ..terms import turning_rate
+from ..terms.base import ALIASING, fastest_term
 
 AUTOMATIC_INTEGRATOR = "Euler"
 """The integrator a network run uses when dt, mass_ratio and integrator are all left at their defaults
@@ -43,3 +47,33 @@ def network_numerics(physics: Physics, numerics: Numerics, network=None) -> Nume
     if turning > 0:
         dt = min(dt, numerics.sample_dt / math.ceil(numerics.sample_dt * turning / TURN_RESOLUTION - 1e-9))
     return dataclasses.replace(numerics, integrator=AUTOMATIC_INTEGRATOR, dt=dt)
+
+
+RECORD_BUDGET = 60_000_000
+"""Numbers a network run records (samples x (2 per node + 1 per unit)) before network_sampling coarsens a sample
+interval left at its default: 480 MB of float64, the R = 18 patch (1027 nodes) over 1000 gamma / k at the default
+0.05. Above it the samples, the observables over them and the file cost more than the solve (docs/performance.md,
+section 10: 20 001 samples of the 10 267-node patch were 4.9 GB and three times the solve's time)."""
+
+
+def network_sampling(physics: Physics, numerics: Numerics, duration: float) -> Numerics:
+    """These numerics, or, where sample_dt was left at its default and the record would hold more than RECORD_BUDGET
+    numbers, a coarser sample_dt: the fewest whole multiples of the default keeping the record within the budget, but
+    never so coarse that the fastest term turns more than terms.base.ALIASING rad between samples (the record
+    stays unaliased, above the budget then). A given sample_dt is kept as it is."""
+    if type(numerics.sample_dt) is not type(DEFAULT_SAMPLE_DT):  # given (a default stays marked as one)
+        return numerics
+    network = physics.scene_def.network(physics)
+    columns = 2 * network.n_nodes + int(np.count_nonzero(network.active))
+    samples = duration / numerics.sample_dt + 1
+    if samples * columns <= RECORD_BUDGET:
+        return numerics
+    step = float(numerics.sample_dt)
+    wanted = math.ceil(duration * columns / (RECORD_BUDGET - columns) / step - 1e-9)
+    rate, _ = fastest_term(physics)
+    rate *= turning_scale(network, physics.alignment_length) if rate > 0 else 1.0
+    finest = max(1, math.floor(ALIASING / (rate * step) + 1e-9)) if rate > 0 else wanted
+    multiple = max(1, min(wanted, finest))
+    if multiple == 1:
+        return numerics
+    return dataclasses.replace(numerics, sample_dt=multiple * step)

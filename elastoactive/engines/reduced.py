@@ -248,8 +248,8 @@ def simulate_reduced(
     *,
     theta0=None,
     state0=None,
-    rtol: float = 1e-9,
-    atol: float = 1e-11,
+    rtol: float | None = None,
+    atol: float | None = None,
     method: str | None = None,
     beta: float = DEFAULT_BETA,
     inertial: bool | None = None,
@@ -270,8 +270,12 @@ def simulate_reduced(
     instead (the inertial model has no Ito-Stratonovich difference). Coloured noise (noise_correlation
     tau_c > 0): the Ornstein-Uhlenbeck realisation of elastoactive.controllers.noise.ColouredNoise, the one MuJoCo's
     callback applies, constant over each step (Euler steps of the random ODE; dt << tau_c resolves it). info
-    records "model" ("overdamped" / "inertial") and "mass_ratio".
+    records "model" ("overdamped" / "inertial") and "mass_ratio". rtol, atol: default the scene kind's
+    Scene.reduced_tolerances (a chain's 1e-9, 1e-11; a large network's 1e-6, 1e-8).
     """
+    default_rtol, default_atol = physics.scene_def.reduced_tolerances(physics)
+    rtol = default_rtol if rtol is None else rtol
+    atol = default_atol if atol is None else atol
     return physics.scene_def.run_reduced(
         physics,
         numerics,

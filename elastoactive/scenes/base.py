@@ -73,6 +73,10 @@ if TYPE_CHECKING:  # typing only: these modules import the registry that holds s
 __all__ = ["Onset", "Scene", "ValidationCase"]
 
 
+CHAIN_TOLERANCES = (1e-9, 1e-11)
+"""A chain's reduced-engine (rtol, atol) when a run gives none (Scene.reduced_tolerances)."""
+
+
 @dataclass(frozen=True)
 class Onset:
     """Where a scene's base state loses stability (Scene.onset): at sigma_c, with the unstable mode's angular
@@ -176,6 +180,16 @@ class Scene:
     def run_reduced(self, physics: Physics, numerics: Numerics, duration: float, **options) -> Trajectory:
         """The reduced engine's run of this scene (engines.reduced.simulate_reduced hands it here)."""
         raise self._kind_hook("run_reduced")
+
+    def reduced_tolerances(self, physics: Physics) -> tuple[float, float]:
+        """(rtol, atol) of the reduced engine's adaptive solvers when a run gives none (engines.reduced's
+        simulate_reduced): a chain's 1e-9, 1e-11, far below its observables' errors; a network kind chooses its own."""
+        return CHAIN_TOLERANCES
+
+    def record_numerics(self, physics: Physics, numerics: Numerics, duration: float) -> Numerics:
+        """The numerics a run of `duration` records with (the pre-flight gate and `run` ask it before
+        Numerics.for_duration): these; a network kind coarsens a large record's default sample interval."""
+        return numerics
 
     def check_timestep(self, physics: Physics, numerics: Numerics, safety: float, accuracy: bool, **options):
         """The MuJoCo pre-flight check of a timestep (engines.timestep.check_timestep hands it here): refuses, naming

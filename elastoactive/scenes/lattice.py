@@ -109,6 +109,15 @@ NETWORK_OBSERVABLES = (
         categories=states.STATES,
     ),
     Observable("edge_rate", "rad/tau", "mean |net turning rate| of the units nearest the edge", floor=1e-4),
+    *(
+        Observable(
+            f"{name}_error",
+            units,
+            f"standard error of {name} from its spread over {nobs.ERROR_BLOCKS} blocks of the measured window",
+            error="none",
+        )
+        for name, units in (("polarization", "1"), ("polarity_speed", "rad/tau"), ("actuation", "1"))
+    ),
     Observable("bulk_rate", "rad/tau", "mean |net turning rate| of the units deepest inside", floor=1e-4),
     Observable(
         "counter_fraction",
@@ -169,12 +178,18 @@ class ActiveNetwork(NetworkScene):
         """(T, P, 2) the nodes with the network's rigid motion taken out (here none: a network held in place)."""
         return traj.nodes
 
-    def free_displacements(self, traj: Trajectory) -> np.ndarray:
+    def free_displacements(self, traj: Trajectory, keep: np.ndarray | None = None) -> np.ndarray:
         """(T, 2F) the free nodes' displacements from rest in the network's own frame (body_nodes), node-interleaved
-        (the normal modes' coordinates)."""
+        (the normal modes' coordinates); at the samples `keep` (a mask of traj.t) when given."""
         network = self.network(traj.physics)
-        u = self.body_nodes(traj)[:, ~network.pinned, :] - network.positions[~network.pinned]
-        return u.reshape(len(traj.t), -1)
+        nodes = self.body_nodes(traj)
+        if keep is not None:  # the window is the record's tail: a view, not a copy of hundreds of MB
+            tail = int(np.argmax(keep)) if keep.any() else len(keep)
+            nodes = nodes[tail:] if keep[tail:].all() else nodes[keep]
+        free = np.flatnonzero(~network.pinned)
+        u = np.take(nodes, free, axis=1)
+        u -= network.positions[free]
+        return u.reshape(len(nodes), -1)
 
     def beat_signal(self, physics: Physics) -> Signal:
         """What beat_signals measures, for labels and units."""
@@ -193,18 +208,20 @@ class ActiveNetwork(NetworkScene):
         network = self.network(traj.physics)
         values, vectors = normal_modes(network)  # a large network's softest only: its shares are of the whole energy
         scale = traj.physics.sigma**2 * np.count_nonzero(network.active)  # a unit's force on a unit spring: sigma^2
-        u = self.free_displacements(traj)[keep]
+        u = self.free_displacements(traj, keep)
         total = float(elastic_energy(network, u).mean()) if is_large(network) else None
         modes = nobs.mode_energies(u, values, vectors, nobs.UNDEFORMED * scale, total)
         space = nobs.mode_space(modes, values)
         rtol = traj.info.get("rtol") if isinstance(traj.info, dict) else None  # the reduced engine's; MuJoCo: none
-        still = states.still_rate(turning_rate(traj.physics), rtol if isinstance(rtol, (int, float)) else None)
+        solver_rtol = rtol if isinstance(rtol, (int, float)) else None
+        still = states.still_rate(turning_rate(traj.physics), solver_rtol)
         named = states.classify(t, psi, states.depth(network)[network.active], still)
+        errors = nobs.block_errors(t, psi, turning_rate(traj.physics), solver_rtol)
         return {
             "polarization": nobs.polarization(psi),
             "polarity_rate": nobs.polarity_rate(t, psi),
             "polarity_speed": nobs.polarity_speed(t, psi),
-            "actuation": nobs.actuation(t, psi, turning_rate(traj.physics)),
+            "actuation": nobs.actuation(t, psi, turning_rate(traj.physics), solver_rtol),
             "condensation": modes.condensation,
             "dominant_mode": float(modes.dominant_modes[0]),
             "second_mode": float(modes.dominant_modes[1]),
@@ -215,6 +232,7 @@ class ActiveNetwork(NetworkScene):
             "edge_rate": named.edge_rate,
             "bulk_rate": named.bulk_rate,
             "counter_fraction": named.counter_fraction,
+            **{f"{name}_error": value for name, value in errors._asdict().items()},
         }
 
 
@@ -273,7 +291,8 @@ class Lattice(ActiveNetwork):
     def measure_extra(self, traj: Trajectory, transient: float) -> dict[str, float]:
         out = super().measure_extra(traj, transient)
         keep = nobs.window(traj.t, transient)
-        angle, t = self._rotation(traj)[keep], traj.t[keep]
+        t = traj.t[keep]
+        angle = nobs.rotation_angle(traj.nodes[keep], self.network(traj.physics).positions, self.centre(traj.physics))
         out["patch_rotation_rate"] = float((angle[-1] - angle[0]) / (t[-1] - t[0]))
         out["patch_drift"] = nobs.drift(t, traj.nodes[keep])
         return out

@@ -33,6 +33,14 @@ if TYPE_CHECKING:  # typing only: these modules import the registry that holds s
     from ..core.trajectory import Trajectory
 
 
+LARGE_TOLERANCES = (1e-6, 1e-8)
+"""A large network's automatic (rtol, atol) in the reduced engine (NetworkScene.reduced_tolerances): its time means'
+change from a run at rtol 1e-11 stays far below their reported errors, at 55-65% of rtol 1e-8's right-hand sides
+(docs/performance.md, section 10), and the named states' still level stays 1e-3 Pi (analysis.network.states:
+1e3 rtol Pi, where still units' jitter measures up to 160 rtol Pi); at rtol 1e-5 it would rise tenfold and move the
+freezing points of ramps down."""
+
+
 class NetworkScene(Scene):
     """A scene of an elastic network of active units (module docstring)."""
 
@@ -97,17 +105,32 @@ class NetworkScene(Scene):
         *,
         theta0=None,
         state0=None,
-        rtol: float = 1e-8,
-        atol: float = 1e-10,
+        rtol: float | None = None,
+        atol: float | None = None,
         method: str | None = None,
         **chain_options,
     ) -> Trajectory:
-        """engines.network_reduced; the chain model's options (beta, inertial, progress) do not apply."""
+        """engines.network_reduced (rtol, atol: default reduced_tolerances); the chain model's options (beta,
+        inertial, progress) do not apply."""
         from ..engines.network_reduced import simulate_network_reduced  # engine boundary: chains never load it
 
         return simulate_network_reduced(
             physics, numerics, duration, theta0=theta0, state0=state0, rtol=rtol, atol=atol, method=method
         )
+
+    def reduced_tolerances(self, physics: Physics) -> tuple[float, float]:
+        """A network's automatic (rtol, atol), chosen on the measured error against cost (docs/performance.md, section
+        10): a chain's where the run is cheap whatever its tolerance (a network of at most reduced.network.DENSE_MODES
+        free coordinates: 1000 gamma / k of 127 nodes in ~1.5 s of CPU), LARGE_TOLERANCES above, where it is not."""
+        from ..reduced.network import is_large  # engine boundary: the reduced engine's own module
+
+        return LARGE_TOLERANCES if is_large(self.network(physics)) else super().reduced_tolerances(physics)
+
+    def record_numerics(self, physics: Physics, numerics: Numerics, duration: float) -> Numerics:
+        """A large network's record coarsened (engines.network_step.network_sampling)."""
+        from ..engines.network_step import network_sampling  # engine boundary: chains never load it
+
+        return network_sampling(physics, numerics, duration)
 
     def check_timestep(self, physics: Physics, numerics: Numerics, safety: float, accuracy: bool, **options):
         """The network's own linearisation (engines.network_mujoco.check_network_timestep): its fastest rate."""

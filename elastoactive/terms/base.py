@@ -197,6 +197,11 @@ class Term:
         return f"<term {self.name!r}>"
 
 
+ALIASING = 1.0
+"""Most radians a term's fastest rate (Term.rate) may turn between two samples before the record may alias it (the
+results' note; the coarsest record a large network's automatic sampling takes, engines.network_step)."""
+
+
 def fastest_term(physics) -> tuple[float, Term | None]:
     """(rate, term): the active term with the fastest Term.rate, or (0.0, None) when no term imposes one."""
     rate, term = max(

@@ -180,8 +180,10 @@ def test_a_unit_of_force_zero_is_passive_in_both_engines(tmp_path):
     runs = {}
     for name, data in (("passive", passive), ("without", without)):
         physics = ea.Physics(scene="network", geometry=_file(tmp_path, data, f"{name}.json"), **KW)
-        for engine in ("reduced", "mujoco"):
-            runs[name, engine] = ea.simulate(physics, duration=30, engine=engine)
+        for engine in ("reduced", "mujoco"):  # the two networks' adaptive steps differ: a tight tolerance
+            runs[name, engine] = ea.simulate(
+                physics, duration=30, engine=engine, rtol=1e-9 if engine == "reduced" else None
+            )
     for engine, tol in (("reduced", 1e-6), ("mujoco", 1e-12)):
         a, b = runs["passive", engine], runs["without", engine]
         assert np.abs(a.nodes - b.nodes).max() <= tol, engine

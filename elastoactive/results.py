@@ -511,9 +511,29 @@ compress by a tenth at most, and deflating the 330 MB of a 10 000-node network's
 process (np.load reads either kind)."""
 
 
+def file_variables(traj: Trajectory) -> dict[str, np.ndarray]:
+    """The arrays a run's trajectory.npz holds for its scene's `file_variables` (Scene.file_variables): each named
+    variable of Scene.state_variables under its name, its dimensions joined by spaces under NAME_dims and each of its
+    attributes as a string under NAME_<attribute> (NAME_units, NAME_long_name), as the netCDF of
+    Trajectory.to_xarray has them. The 3D chain's: position (T, 1, N, 3), position_dims "time chain particle xyz",
+    position_units "l". Empty for a scene that names none (the planar and network scenes: their files are unchanged)."""
+    scene = traj.physics.scene_def
+    if not scene.file_variables:
+        return {}
+    _, variables = scene.state_variables(traj)
+    arrays = {}
+    for name in scene.file_variables:
+        dims, values, attrs = variables[name]
+        arrays[name] = np.asarray(values, dtype=float)
+        arrays[f"{name}_dims"] = np.array(" ".join(dims))
+        arrays.update({f"{name}_{key}": np.array(str(value)) for key, value in attrs.items()})
+    return arrays
+
+
 def write_run(out: Path, traj: Trajectory, summary_dict: dict) -> list[Path]:
     """summary.json and trajectory.npz (t in tau, theta: one column per particle; head (T, 2) for a scene whose
-    pivot moves; compressed up to COMPRESS_BYTES), written together:
+    pivot moves; the scene's file variables, e.g. the 3D chain's positions: file_variables; compressed up to
+    COMPRESS_BYTES), written together:
     each into a temporary file first, the trajectory renamed into place before the summary that
     records its SHA-256, so a summary never describes another trajectory unnoticed. Both record the digest of
     the run's settings (settings_digest), so neither can be edited into describing another run unnoticed.
@@ -529,7 +549,7 @@ def write_run(out: Path, traj: Trajectory, summary_dict: dict) -> list[Path]:
             head["polarity"] = traj.polarity
         if traj.nodes is not None:
             head["nodes"] = traj.nodes
-        arrays = {"t": traj.t, "theta": traj.theta, **head}
+        arrays = {"t": traj.t, "theta": traj.theta, **head, **file_variables(traj)}
         save = np.savez_compressed if sum(a.nbytes for a in arrays.values()) <= COMPRESS_BYTES else np.savez
         save(tmp, scene=traj.physics.scene, n=traj.physics.n, settings_sha256=digest, **arrays)
         checksum["sha256"] = sha256(tmp)
@@ -605,7 +625,9 @@ def read_summary(path: Path) -> dict:
 
 
 def load_trajectory(path: Path, physics: Physics | None = None) -> Trajectory:
-    """Read a trajectory.npz written by write_run (the physics from summary.json beside it).
+    """Read a trajectory.npz written by write_run (the physics from summary.json beside it). Its records are read
+    (t, theta, head, polarity, nodes); the scene's file variables (the 3D chain's positions) are not: they are what
+    Trajectory.positions computes again from the angles, the same numbers.
 
     Refuses, naming the file, a truncated or foreign file, missing or misshapen arrays, non-finite
     angles, and a trajectory that is not the one its summary.json describes (checksum)."""

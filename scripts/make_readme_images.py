@@ -2,7 +2,8 @@
 validation case (the paper's parameters), after the transient, with a beat's worth of fading trails; and the
 videos of the two experiments beyond the paper and of the outlook's structures (docs/img/<name>.mp4 with a still
 <name>.png): the N = 17 chain with self-contact, the chain in the dish, the beating N = 24 ring, the star of three
-arms on a turning hub and the actuated active solid (a hexagon of 3 rings).
+arms on a turning hub, the actuated active solid (a hexagon of 3 rings) and the chain in three dimensions whirling
+(its validation case, drawn in two views).
 
     .venv/bin/python scripts/make_readme_images.py [--out docs/img] [--width 640 --height 480] [--only ring,star]
 
@@ -31,6 +32,7 @@ VIDEOS = (
     ("ring", ea.Physics(scene="ring", n=24, sigma=0.5), 300.0, 8.0, Numerics(dt=0.001, sample_dt=0.1)),
     ("star", ea.Physics(scene="star", n=7, sigma=0.8, arms=3, hub_stiffness=1.0), 400.0, 8.0, Numerics()),
     ("lattice", ea.Physics(scene="lattice", rings=3, sigma=0.15, alignment_length=0.1), 100.0, 8.0, Numerics()),
+    ("clamped-3d", ea.Physics(scene="clamped-3d", n=7, sigma=0.4), 300.0, 6.0, Numerics()),
 )
 VIDEO_SIZE = (480, 360)
 VIDEO_FPS = 15.0

@@ -135,7 +135,9 @@ class Trajectory:
         numpy.ndarray
             A chain scene: shape (T, n_chains, n, 2), (x, y) of particle i (0-based, as the model's sites
             ``particle_{i}``) of each chain in units of l, from the angles and the moving pivot (`head`) if any. A
-            network scene: its nodes, shape (T, nodes, 2) in units of a, as recorded.
+            chain in three dimensions (clamped-3d): shape (T, 1, n, 3), (x, y, z) in units of l, from its azimuths
+            and elevations; a run's trajectory.npz holds the same array as ``position``. A network scene: its nodes,
+            shape (T, nodes, 2) in units of a, as recorded.
         """
         return self.physics.scene_def.positions(self)
 
@@ -174,7 +176,9 @@ class Trajectory:
         xarray.Dataset
             Coordinates ``time`` (tau) and ``xy``; a chain scene's ``chain`` and ``particle`` (0-based, as the model's
             sites) with ``theta`` (time, chain, particle; rad), ``position`` (time, chain, particle, xy; l) and
-            ``tip`` (time, chain, xy; l); a network's ``node`` with ``position`` (time, node, xy; a). ``head`` and
+            ``tip`` (time, chain, xy; l); a chain in three dimensions has ``tangent`` (time, particle, xyz; 1),
+            ``position`` (time, chain, particle, xyz; l) and ``tip`` (time, chain, xyz; l) instead, on the coordinate
+            ``xyz``; a network's ``node`` with ``position`` (time, node, xy; a). ``head`` and
             ``polarity`` when recorded. Attributes: the scene, the engine and every parameter that acts
             (Physics.relevant).
         """

@@ -27,7 +27,8 @@ asks of every scene:
   shape               `chain_count`, `head_count`, `angle_count` (Physics.n_chains, Trajectory.head's and theta's
                       columns), `min_n`, `pinned`, `inertial_model` (defaults: one chain, no head, no angles)
   trajectory          `positions`, `tip`, `centre_of_drag`, `state_variables` (Trajectory's positions and its
-                      xarray variables), `state_difference` (validate's sample-by-sample comparison)
+                      xarray variables), `file_variables` (which of those a run's trajectory.npz holds too),
+                      `state_difference` (validate's sample-by-sample comparison)
   drawing             `painter` (render's video painter), `draw_shape` (ea.plot.shape), `paced_by_beat` (whether
                       a video's pace follows the beat of `beat_signals`)
   stability           `sized_by_n` (whether N sizes it), `stability_report` (the lines `elastoactive stability`
@@ -156,6 +157,10 @@ class Scene:
     """Whether N (particles per chain) sizes the scene (elastoactive stability takes --n)."""
     builder: ClassVar[str] = ""
     """The module that builds the scene's MJCF model (elastoactive.mjcf.chain refuses the scenes it does not build)."""
+    file_variables: ClassVar[tuple[str, ...]] = ()
+    """Variables of `state_variables` that a run's trajectory.npz holds besides its records (results.write_run), each
+    with its dimensions, units and long name, for readers of the file without the package (the 3D chain's particle
+    positions); none by default, so a kind's file holds its records only."""
 
     @property
     def length_units(self) -> str:

@@ -112,8 +112,8 @@ def test_a_short_video_has_its_frames(backend, whirl, tmp_path):
     assert out["frames"] == 11
     frames, _ = imageio_ffmpeg.count_frames_and_secs(str(tmp_path / "whirl.mp4"))
     assert frames == 11
-    clip = render.render_frames(whirl, fps=10, rate=1.0, width=WIDTH, height=HEIGHT, start=28.0, end=29.0)
-    assert clip.shape == (11, HEIGHT, WIDTH, 3)
+    clip = render.render_frames(whirl, fps=3, rate=1.0, width=WIDTH, height=HEIGHT, start=28.0, end=29.0)
+    assert clip.shape == (4, HEIGHT, WIDTH, 3)  # the chain turns between frames
     assert np.abs(np.diff(clip[:, _band() : -_band()].astype(int), axis=0)).mean(axis=(1, 2, 3)).min() > 0.05
 
 

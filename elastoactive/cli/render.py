@@ -20,8 +20,9 @@ from ..results import jsonable, load_trajectory
 RENDER_HELP = (
     "Frame k shows t = start + k * rate / fps (times in tau). The default rate makes one beat of "
     "Theta last about a second (rate = 1 / (f tau), measured on the trajectory), or one turn of a "
-    "rotating chain; 10 tau/s when nothing oscillates. The GL back end is MUJOCO_GL if set, else "
-    "egl, else osmesa."
+    "rotating chain; 10 tau/s when nothing oscillates. A chain in three dimensions is drawn in two views side by "
+    "side, from the side (face on to the tip's path) and down the clamp axis, with the tip's trace. The GL back end "
+    "is MUJOCO_GL if set, else egl, else osmesa."
 )
 
 

@@ -95,9 +95,9 @@ def _bench(quick: bool) -> dict:
         bracket = (stability.softest(network), stability.coupling_ceiling(network))
         algebra = time.perf_counter() - start
         cpu = time.process_time()
-        run = simulate_network_reduced(physics, numerics, duration)
+        run = simulate_network_reduced(physics, numerics, duration, rtol=RTOL, atol=ATOL)
         cpu = time.process_time() - cpu
-        short = simulate_network_reduced(physics, numerics, span)
+        short = simulate_network_reduced(physics, numerics, span, rtol=RTOL, atol=ATOL)
         system = system_of(physics)
         f, free, count = plain_rhs(network, SIGMA, ALIGNMENT_LENGTH)
         y0 = model.pack(system, physics.scene_def.initial_network(physics, numerics))

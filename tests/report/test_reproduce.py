@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import re
 import runpy
 import subprocess
 import sys
@@ -30,9 +31,29 @@ def _png(path: Path) -> bool:
     return path.exists() and path.stat().st_size > 5000 and path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
 
+REPRODUCED = (
+    "stability",
+    "growth",
+    "hopf",
+    "normal_form",
+    "snapping",
+    "rotation",
+    "sync",
+    "tongue",
+    "sync_n2",
+    "noise",
+    "anisotropy",
+    "self_aligning",
+    "star",
+)
+"""The studies `reproduce --tiny` runs here: the paper's (the claims and figures checked below, the scenario scripts'
+figures) and those that no other test runs at the tiny size (test_every_study_runs_tiny_in_some_test)."""
+
+
 def test_reproduce_tiny_writes_report_figures_and_data(tmp_path):
     out = tmp_path / "repro"
-    assert main(["reproduce", "--tiny", "--out", str(out), "--workers", "2", "--quiet"]) == 0
+    argv = ["reproduce", "--tiny", "--only", ",".join(REPRODUCED), "--out", str(out), "--workers", "2", "--quiet"]
+    assert main(argv) == 0
     report = (out / "report.md").read_text()
     assert "| # | claim | paper | MuJoCo | reduced model | agree |" in report
     rows = [line for line in report.splitlines() if line.startswith("| ") and line[2].isdigit()]
@@ -53,10 +74,24 @@ def test_reproduce_tiny_writes_report_figures_and_data(tmp_path):
     figures = sorted({f for names in SCRIPTS.values() for f in names})
     for name in figures + ["fig2_limit_cycles.png", "growth_rates.png", "fig4b_snapping_shapes.png"]:
         assert _png(out / name), name
-    for name in STUDIES:
+    for name in REPRODUCED:
         summary = load_study(out, name).summary
         assert isinstance(summary, SUMMARIES[name]) and summary.as_dict(), name
     assert (out / "stability_sigma_c.csv").read_text().startswith("N,sigma_c,")
+
+
+def test_every_study_runs_tiny_in_some_test():
+    """Every registered study runs at the tiny size somewhere in the suite: in the reproduction above, or in a test of
+    its own (`<name>_study("tiny"`, or a `tiny_studies(...)` fixture call naming it), so that a new study cannot
+    go unrun."""
+    sources = "\n".join(p.read_text() for p in (ROOT / "tests").rglob("test_*.py"))
+    fixture_calls = " ".join(re.findall(r"tiny_studies\(([^)]*)\)", sources))
+    unrun = [
+        name
+        for name in STUDIES
+        if name not in REPRODUCED and f'{name}_study("tiny"' not in sources and f'"{name}"' not in fixture_calls
+    ]
+    assert not unrun, f"studies no test runs at the tiny size: {unrun}"
 
 
 def test_reproduce_rejects_unknown_study(tmp_path):

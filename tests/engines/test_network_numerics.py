@@ -126,3 +126,11 @@ def test_run_takes_a_tolerance_and_from_repeats_it(tmp_path):
     assert json.loads((again / "summary.json").read_text())["solver"]["rtol"] == 1e-7
     with pytest.raises(ParameterError, match="rtol"):
         ea.simulate("lattice", duration=10, engine="mujoco", rtol=1e-6)
+
+
+def test_a_run_through_the_gate_records_a_large_network_coarser(monkeypatch):
+    monkeypatch.setattr(network_step, "RECORD_BUDGET", 2_000)
+    physics = Physics(scene="lattice", rings=3, sigma=0.2, alignment_length=0.1)
+    for engine in ("reduced", "mujoco"):
+        traj = ea.simulate(physics, duration=40, engine=engine)
+        assert traj.t[1] - traj.t[0] == pytest.approx(0.5), engine  # 1 rad of the units' turning at Pi = 2

@@ -8,6 +8,9 @@ bash scripts/setup.sh
 bash scripts/docs_setup.sh
 .venv/bin/ruff check .
 .venv/bin/ruff format --check .
+# one BLAS thread per test process: the workers already fill every core, and a multi-threaded OpenBLAS in each of
+# them spins against the others (elastoactive/reduced/blas.py measured 65x on one LU on 2 shared cores)
+export OPENBLAS_NUM_THREADS="${OPENBLAS_NUM_THREADS:-1}" OMP_NUM_THREADS="${OMP_NUM_THREADS:-1}" MKL_NUM_THREADS="${MKL_NUM_THREADS:-1}"
 # the suite on every core (pytest-xdist; tests are spread one by one, an idle worker taking over another's queue)
 # --durations: the slowest tests, printed at the end, so that a slower suite names what grew
 exec .venv/bin/python -m pytest -n auto --dist worksteal --durations=25 "$@"

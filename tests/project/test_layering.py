@@ -68,14 +68,8 @@ def _imports(name: str, path: Path):
             yield target, node.lineno, id(node) in nested, id(node) in typing_only
 
 
-def test_no_import_cycles_between_modules():
-    """Imports inside functions count; importing a sub-module imports its package, so edges into a
-    package's __init__ are not counted (as in the team's import_cycles tool)."""
-    graph = {m: set() for m in MODULES}
-    for name, path in MODULES.items():
-        for target, *_ in _imports(name, path):
-            if target in MODULES and target != name and MODULES[target].name != "__init__.py":
-                graph[name].add(target)
+def _cycles(graph: dict[str, set[str]]) -> list[list[str]]:
+    """The cycles a depth-first search meets in `graph` (node -> what it imports), each closed on its first node."""
     cycles, state = [], {}
 
     def visit(node, stack):
@@ -87,9 +81,21 @@ def test_no_import_cycles_between_modules():
                 visit(nxt, stack + [nxt])
         state[node] = "done"
 
-    for m in sorted(graph):
-        if m not in state:
-            visit(m, [m])
+    for node in sorted(graph):
+        if node not in state:
+            visit(node, [node])
+    return cycles
+
+
+def test_no_import_cycles_between_modules():
+    """Imports inside functions count; importing a sub-module imports its package, so edges into a
+    package's __init__ are not counted (as in the team's import_cycles tool)."""
+    graph = {m: set() for m in MODULES}
+    for name, path in MODULES.items():
+        for target, *_ in _imports(name, path):
+            if target in MODULES and target != name and MODULES[target].name != "__init__.py":
+                graph[name].add(target)
+    cycles = _cycles(graph)
     assert not cycles, "import cycles: " + "; ".join(" -> ".join(c) for c in cycles)
 
 
@@ -118,24 +124,6 @@ def _package_graph() -> dict[str, set[str]]:
                     graph[source].add(_package_of(found))
         graph[source].discard(source)
     return graph
-
-
-def _cycles(graph: dict[str, set[str]]) -> list[list[str]]:
-    cycles, state = [], {}
-
-    def visit(node, stack):
-        state[node] = "open"
-        for nxt in sorted(graph[node]):
-            if state.get(nxt) == "open":
-                cycles.append(stack[stack.index(nxt) :] + [nxt])
-            elif nxt not in state:
-                visit(nxt, stack + [nxt])
-        state[node] = "done"
-
-    for node in sorted(graph):
-        if node not in state:
-            visit(node, [node])
-    return cycles
 
 
 def test_no_import_cycles_between_packages():

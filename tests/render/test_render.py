@@ -20,14 +20,6 @@ from elastoactive.engines.mujoco import simulate_mujoco
 
 
 @pytest.fixture(scope="module")
-def backend():
-    try:
-        return render.gl_backend()
-    except render.RenderError as err:
-        pytest.skip(f"no OpenGL back end can be made to work on this machine, so nothing can be rendered: {err}")
-
-
-@pytest.fixture(scope="module")
 def beating():
     """N = 7 at sigma = 0.8: beats with a period of about 40 tau."""
     return simulate_mujoco(Physics(scene="one-pinned", n=7, sigma=0.8), Numerics(), 120.0)

@@ -19,14 +19,6 @@ WIDTH, HEIGHT = 240, 120
 
 
 @pytest.fixture(scope="module")
-def backend():
-    try:
-        return render.gl_backend()
-    except render.RenderError as err:
-        pytest.skip(f"no OpenGL back end can be made to work on this machine, so nothing can be rendered: {err}")
-
-
-@pytest.fixture(scope="module")
 def whirl():
     """From the scene's seeded non-planar start: whirls (tip aspect ~1)."""
     return ea.simulate(ea.Physics(scene="clamped-3d", n=N, sigma=SIGMA), duration=30.0, engine="reduced")

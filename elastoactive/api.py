@@ -76,6 +76,7 @@ def simulate(
     start=None,
     method: str | None = None,
     rtol: float | None = None,
+    atol: float | None = None,
 ) -> Trajectory:
     """Simulate a scene.
 
@@ -107,10 +108,10 @@ def simulate(
     method : str, optional
         Reduced engine only: the ODE method ("numba-DOP853", "LSODA", "Radau", ...); default: chosen from the
         stiffness of the linearisation at the start (trajectory.info["method"] says which ran).
-    rtol : float, optional
-        Reduced engine only: the adaptive solver's relative tolerance (atol = rtol / 100); default the scene kind's
-        (a chain's 1e-9, a network's 1e-9 up to ~750 free nodes, 1e-6 above: ``Scene.reduced_tolerances``;
-        trajectory.info["rtol"] says which ran).
+    rtol, atol : float, optional
+        Reduced engine only: the adaptive solver's relative and absolute tolerances (atol default rtol / 100); default
+        the scene kind's (a chain's 1e-9, a network's 1e-9 up to ~750 free nodes, 1e-6 above:
+        ``Scene.reduced_tolerances``; trajectory.info["rtol"] and ["atol"] say which ran).
 
     Returns
     -------
@@ -130,10 +131,13 @@ def simulate(
     """
     physics, numerics = as_physics(physics), as_numerics(numerics)
     run = preflight(physics, numerics, duration, engine, method=method, timestep=check, announce=progress)
-    if rtol is not None and (run.engine != "reduced" or not 0 < rtol < 1):
-        raise ParameterError(
-            f"rtol = {rtol:g}: the adaptive solver's relative tolerance applies to engine='reduced', in (0, 1)"
-        )
+    for name, value in (("rtol", rtol), ("atol", atol)):
+        if value is not None and (run.engine != "reduced" or not 0 < value < 1):
+            raise ParameterError(
+                f"{name} = {value:g}: the adaptive solver's tolerances apply to engine='reduced', in (0, 1)"
+            )
+    if atol is not None and rtol is None:
+        raise ParameterError("atol: give rtol with it (the scene's automatic tolerances come as a pair)")
     options = {"theta0": theta0}
     if start is not None:
         if theta0 is not None:
@@ -143,7 +147,7 @@ def simulate(
     if run.engine == "reduced" and method is not None:  # the reduced engine's ODE method (None: its automatic choice)
         options["method"] = method
     if rtol is not None:
-        options.update(rtol=rtol, atol=rtol * 1e-2)
+        options.update(rtol=rtol, atol=rtol / 100 if atol is None else atol)
     return run_engine(run.engine, run.physics, run.numerics, run.duration, **options)
 
 

@@ -111,7 +111,7 @@ def _recorded(path: Path) -> dict:
     s = read_summary(path)
     numerics = dict(s.get("numerics", {}))
     method = (s.get("solver") or {}).get("method")  # the reduced engine's ODE method, as it ran
-    rtol = (s.get("solver") or {}).get("rtol")  # and its tolerance
+    rtol, atol = ((s.get("solver") or {}).get(k) for k in ("rtol", "atol"))  # and its tolerances
     return {
         "physics": dict(s["parameters"]),
         "duration": numerics.pop("duration", None),
@@ -120,6 +120,7 @@ def _recorded(path: Path) -> dict:
         "engine": s.get("engine", "mujoco"),
         "method": method if method in METHODS else None,
         "rtol": rtol if isinstance(rtol, (int, float)) else None,
+        "atol": atol if isinstance(rtol, (int, float)) and isinstance(atol, (int, float)) else None,
     }
 
 
@@ -213,10 +214,10 @@ def _check_destination(
 
 
 def trajectory_bytes(physics: Physics, samples: int) -> int:
-    """About the size of a run's trajectory.npz, uncompressed (compression gains ~10% on a moving chain): t and one
-    column per angle and moving pivot coordinate per sample, 8 bytes each."""
-    columns = 1 + physics.n_angles + (physics.scene_def.head_count(physics) or 0)
-    return 8 * columns * int(samples)
+    """About the size of a run's trajectory.npz, uncompressed (compression gains ~10% on a moving chain): t and the
+    scene's recorded columns per sample (Scene.record_columns: a chain's angles and moving pivot, a network's nodes and
+    polarities), 8 bytes each."""
+    return 8 * (1 + physics.scene_def.record_columns(physics)) * int(samples)
 
 
 def main(args) -> int:
@@ -247,7 +248,9 @@ def _run(args, out: Path | None) -> int:
         check_video_options(args, duration)
     # --from repeats the reduced engine's recorded method (the automatic choice would pick it again; a given one too)
     method = args.method or (_recorded(args.source)["method"] if args.source and engine == "reduced" else None)
-    rtol = args.rtol or (_recorded(args.source)["rtol"] if args.source and engine == "reduced" else None)
+    tolerances = {"rtol": args.rtol, "atol": None}  # given; else --from repeats the recorded run's, to the bit
+    if args.rtol is None and args.source and engine == "reduced":
+        tolerances = {k: _recorded(args.source)[k] for k in ("rtol", "atol")}
     start = read_start(args.start_from) if args.start_from else None
     traj = simulate(
         physics,
@@ -257,7 +260,7 @@ def _run(args, out: Path | None) -> int:
         progress=not args.quiet,
         method=method,
         start=start,
-        rtol=rtol,
+        **tolerances,
     )
     s = summary(traj, numerics, duration, transient)
     if start is not None:

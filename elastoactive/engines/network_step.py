@@ -11,8 +11,6 @@ from __future__ import annotations
 import dataclasses
 import math
 
-import numpy as np
-
 from ..core.params import DEFAULT_SAMPLE_DT, Numerics, Physics
 from ..networks.geometry import turning_scale
 from ..terms import turning_rate
@@ -64,7 +62,7 @@ def network_sampling(physics: Physics, numerics: Numerics, duration: float) -> N
     if type(numerics.sample_dt) is not type(DEFAULT_SAMPLE_DT):  # given (a default stays marked as one)
         return numerics
     network = physics.scene_def.network(physics)
-    columns = 2 * network.n_nodes + int(np.count_nonzero(network.active))
+    columns = physics.scene_def.record_columns(physics)
     samples = duration / numerics.sample_dt + 1
     if samples * columns <= RECORD_BUDGET:
         return numerics

@@ -253,6 +253,11 @@ class Scene:
         """Coordinates of a moving pivot (Trajectory.head's columns) for this physics: 0, none."""
         return 0
 
+    def record_columns(self, physics: Physics) -> int:
+        """Numbers a run records per sample besides its time (the size of trajectory.npz, checked before a run): one
+        per angle and per moving pivot coordinate (a network kind: its nodes' positions and units' polarities)."""
+        return physics.n_angles + (self.head_count(physics) or 0)
+
     def angle_count(self, physics: Physics) -> int:
         """Columns of Trajectory.theta (Physics.n_angles)."""
         return 0

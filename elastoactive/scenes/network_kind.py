@@ -126,6 +126,11 @@ class NetworkScene(Scene):
 
         return LARGE_TOLERANCES if is_large(self.network(physics)) else super().reduced_tolerances(physics)
 
+    def record_columns(self, physics: Physics) -> int:
+        """Two per node (Trajectory.nodes) and one per unit (Trajectory.polarity)."""
+        network = self.network(physics)
+        return 2 * network.n_nodes + int(np.count_nonzero(network.active))
+
     def record_numerics(self, physics: Physics, numerics: Numerics, duration: float) -> Numerics:
         """A large network's record coarsened (engines.network_step.network_sampling)."""
         from ..engines.network_step import network_sampling  # engine boundary: chains never load it

@@ -134,3 +134,18 @@ def test_a_run_through_the_gate_records_a_large_network_coarser(monkeypatch):
     for engine in ("reduced", "mujoco"):
         traj = ea.simulate(physics, duration=40, engine=engine)
         assert traj.t[1] - traj.t[0] == pytest.approx(0.5), engine  # 1 rad of the units' turning at Pi = 2
+
+
+def test_the_size_checked_before_a_run_is_the_networks_record(tmp_path):
+    from elastoactive.cli.run import trajectory_bytes
+    from elastoactive.results import write_run
+
+    physics = Physics(scene="lattice", rings=3, sigma=0.2, alignment_length=0.1)
+    traj = simulate_reduced(physics, Numerics(), 100.0)
+    write_run(tmp_path, traj, summary(traj, Numerics(), 100.0))
+    estimate = trajectory_bytes(physics, traj.t.size)
+    with np.load(tmp_path / "trajectory.npz") as held:
+        assert estimate == sum(held[name].nbytes for name in ("t", "theta", "nodes", "polarity"))
+    assert (tmp_path / "trajectory.npz").stat().st_size < 1.05 * estimate  # uncompressed above 64 MB: about this
+    chain = Physics(scene="one-pinned", n=7)
+    assert trajectory_bytes(chain, 100) == 8 * 100 * (1 + 7)  # a chain's: its angles

@@ -26,6 +26,7 @@ ParameterError, SimulationDiverged
 """
 
 import importlib
+from typing import TYPE_CHECKING
 
 from . import _moved, scenes, terms  # scenes first: registers the built-in scenes that Physics looks up
 from .core import registry
@@ -37,6 +38,10 @@ from .core.trajectory import Trajectory
 _moved.install()  # old module paths keep working for one release
 registry.entry_points_ready()  # the entry points' scenes, terms and studies load when a registry is first listed
 document_physics()  # help(ea.Physics): every registered parameter, with units
+
+if TYPE_CHECKING:  # what the lazy names are, for type checkers and the API reference (read without importing)
+    from .api import load, load_sweep, measure, simulate
+    from .results import Results
 
 _LAZY = {
     "simulate": "api",

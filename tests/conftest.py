@@ -65,3 +65,14 @@ def round_trip(tmp_path):
         return claims.claims_table(rows)
 
     return check
+
+
+@pytest.fixture(scope="module")
+def backend():
+    """The working OpenGL back end (the render tests); skips the test, saying why, where none can be made to work."""
+    from elastoactive import render  # the renderer loads only in the tests that use it
+
+    try:
+        return render.gl_backend()
+    except render.RenderError as err:
+        pytest.skip(f"no OpenGL back end can be made to work on this machine, so nothing can be rendered: {err}")

@@ -8,7 +8,9 @@ filament's onset (analysis/continuum.py) with what it means at this N. The one-p
 in O(N) per sigma (stability.onset): ~0.1 s at N = 200, ~0.3 s at N = 1000. A network scene (lattice,
 trapped-unit) reports in its coupling Pi = sigma / l_a; the lattice's fixed points form a family, so its onset is
 what is proved (every fixed point stable below lambda_1, none above the ceiling) apart from what a search found (one
-stable up to at least its Pi) (analysis/network/stability.py).
+stable up to at least its Pi) (analysis/network/stability.py). A network whose units have their own force f_u and
+alignment length l_u (a network file's unit_force, unit_alignment_length) gets the same bracket with each unit weighed
+by w_u = f_u l_a / l_u, the run's l_a the reference of Pi.
 """
 
 from __future__ import annotations
@@ -54,8 +56,8 @@ def register(subparsers) -> None:
         dest="alignment_length",
         type=float,
         default=None,
-        help="networks (lattice, trapped-unit): the units' alignment length l_a (default 1); the coupling "
-        "is Pi = sigma / l_a",
+        help="networks (lattice, network, trapped-unit): the units' alignment length l_a (default 1); the "
+        "coupling is Pi = sigma / l_a (the reference where a network's units have their own)",
     )
     for name, owners in _own_parameters().items():  # the scenes' own parameters (the pair's kappa, rho), from specs
         spec = parameter_spec(name)

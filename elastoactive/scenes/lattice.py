@@ -307,14 +307,15 @@ class Lattice(ActiveNetwork):
                 f"stability: boundary must be pinned for the {self.name}'s linear stability, got "
                 f"{self.hold(physics)!r} (a patch free to move or turn has zero modes: no threshold)"
             )
-        return stability.threshold(self.network(physics), samples=1)
+        return stability.threshold(self.network(physics), samples=1, alignment_length=physics.alignment_length)
 
     def onset(self, physics: Physics) -> Onset:
         """A family of fixed points, one per choice of the polarities, each losing stability through a real
         eigenvalue of -D + Pi Q: every one is stable below Pi = lambda_1 (sigma_c = lambda_1 l_a, the onset reported);
         some fixed point found stays stable up to sigma_all = Pi_found l_a (the best of a search, so where the last
         loses stability is at or above it); none is stable above sigma_ceiling = the proved ceiling x l_a
-        (analysis.network.stability, docs/network.md)."""
+        (analysis.network.stability, docs/network.md). Units of their own weigh Q by w_u = f_u l_a / l_u (the run's
+        l_a the reference): the onset is then lambda_1 / max_u w_u and the ceilings carry the weights."""
         bracket = self._threshold(physics)
         la = physics.alignment_length
         if bracket.floppy:
@@ -342,13 +343,15 @@ class Lattice(ActiveNetwork):
         )
 
     def leading_eigenvalue(self, physics: Physics, sigma: float) -> complex:
-        """The least stable fixed point's largest growth rate, Pi - lambda_1 (Q <= I, with equality on the softest
-        mode when every unit's n_perp lies along it): zero at sigma_c."""
+        """The least stable fixed point's largest growth rate (stability.least_stable_growth): Pi - lambda_1 with
+        equal units on every free node (Q <= I, with equality on the softest mode when every unit's n_perp lies along
+        it), zero at sigma_c; with units of their own or on some nodes only, zero at or above sigma_c."""
         from ..analysis.network import stability  # start-up time: scipy only for the stability analysis
 
         if self.hold(physics) != "pinned":
             self._threshold(physics)  # refuses, naming the boundary
-        return complex(sigma / physics.alignment_length - stability.softest(self.network(physics)))
+        la = physics.alignment_length
+        return complex(stability.least_stable_growth(self.network(physics), sigma / la, la))
 
     def validation_cases(self) -> tuple[ValidationCase, ...]:
         return (ValidationCase(self.physics(rings=2, boundary="pinned", sigma=0.2, alignment_length=0.1), 300.0),)

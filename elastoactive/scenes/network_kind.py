@@ -24,7 +24,7 @@ import numpy as np
 
 from ..core.errors import ParameterError
 from ..core.units import NETWORK
-from ..networks.geometry import Network
+from ..networks.geometry import Network, has_unit_fields
 from ..networks.state import NetworkState, initial_state
 from .base import Scene
 
@@ -216,11 +216,12 @@ class NetworkScene(Scene):
         def at(value: float) -> str:
             return f"Pi = {self.coupling(physics, value):.6g}, sigma = {value:.6g}"
 
+        lowest = "lambda_1 / max_u w_u, w_u = f_u l_a / l_u" if has_unit_fields(self.network(physics)) else "lambda_1"
         if onset.sigma_all is None:
             lines.append(f"  at sigma_c = {onset.sigma_c:.10g} (Pi_c = {self.coupling(physics, onset.sigma_c):.6g})")
         else:
             lines += [
-                f"  every fixed point is stable below {at(onset.sigma_c)} (lambda_1, proved)",
+                f"  every fixed point is stable below {at(onset.sigma_c)} ({lowest}, proved)",
                 f"  some fixed point is stable up to at least {at(onset.sigma_all)} (the best found)",
                 f"  no fixed point is stable above {at(onset.sigma_ceiling)} (proved ceiling)",
                 "  between, which fixed points are stable depends on their polarities",

@@ -193,8 +193,12 @@ def test_a_unit_of_force_zero_is_passive_in_both_engines(tmp_path):
     assert turned[1] == pytest.approx(turned[0], abs=0.02)
 
 
-def test_the_stability_bracket_refuses_unequal_units_in_one_line():
-    with pytest.raises(ParameterError, match=r"^stability: .*unit_force.*equal units only") as err:
+def test_the_stability_bracket_of_unequal_units_needs_the_runs_alignment_length():
+    """Units with their own alignment lengths weigh the bracket by f_u l_a / l_u: without the run's l_a (the reference
+    of Pi) it refuses in one line; with it, the bracket (tests/analysis/test_network_stability_weighted.py)."""
+    with pytest.raises(ParameterError, match=r"^stability: .*unit_alignment_length.*alignment_length") as err:
         stability.threshold(network_from_dict(HAND_WRITTEN), starts=1, samples=2)
     assert "\n" not in str(err.value)
+    found = stability.threshold(network_from_dict(HAND_WRITTEN), starts=1, samples=2, alignment_length=0.1)
+    assert 0 < found.softest < found.coupling <= found.ceiling
     assert stability.threshold(network_from_dict(_plain(HAND_WRITTEN)), starts=1, samples=2).softest > 0

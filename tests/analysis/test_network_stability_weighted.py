@@ -174,3 +174,30 @@ def test_stability_command_prints_the_bracket_of_unequal_units(tmp_path, capsys,
     assert f"no fixed point is stable above Pi = {ceiling:.6g}" in out
     assert f"growth rate {st.least_stable_growth(hand(), 1.0, LA):+.6g}" in out
     assert "equal units only" not in out
+
+
+def test_a_large_network_of_unequal_units_stays_sparse(monkeypatch):
+    """Above DENSE_MODES free coordinates the weighted bracket (lambda_1 / max w_u, the ceilings with the weights)
+    builds no dense matrix, and holds Pi_c of random polarities computed densely afterwards."""
+    from elastoactive.networks.lattices import generate
+
+    plain = generate("triangular", "hexagonal", 17, "pinned", 0.0, 0)
+    rng = np.random.default_rng(6)
+    count = int(plain.active.sum())
+    force = rng.uniform(0.5, 1.5, count)
+    force[::50] = 0.0  # some passive units
+    network = plain._replace(unit_force=force, unit_alignment_length=rng.uniform(0.08, 0.12, count))
+    assert m.is_large(network)
+
+    def refuse(*args, **kwargs):
+        raise AssertionError("a dense N x N matrix was built for a large network")
+
+    with monkeypatch.context() as patch:
+        patch.setattr(st, "dynamical_matrix", refuse)
+        found = st.threshold(network, alignment_length=LA)
+        growth = st.least_stable_growth(network, 1.0, LA)
+    weights = st.unit_weights(network, LA)
+    assert found.starts == 0 and found.softest == pytest.approx(st.softest(plain) / weights.max(), rel=1e-12)
+    assert found.softest < found.ceiling and growth == pytest.approx(weights.max() - st.softest(plain), rel=1e-12)
+    pi_c = st.critical_coupling(network, rng.uniform(0, 2 * np.pi, count), LA)
+    assert found.softest * (1 - 1e-9) <= pi_c <= found.ceiling

@@ -6,7 +6,9 @@ square-diagonals, honeycomb lattices cut to a `patch` of `size`, or a delaunay n
 pinned, free or centre; a fraction `dilution` of the bonds removed at random, seeded by `network_seed`, which also
 seeds a delaunay network's points), or the path of a network file (elastoactive.networks.files: nodes, bonds, pinned
 nodes, units). A file's network is held by what it pins: nothing (free), one node (it turns about it: centre) or more
-(held: pinned). The units' force and alignment length are the run's sigma and alignment_length.
+(held: pinned). The units' force is the run's sigma, times each unit's `unit_force` where the file gives one, and
+their alignment length the run's alignment_length, or each unit's `unit_alignment_length` (elastoactive.networks.
+geometry; such units' linear stability: the weights of analysis.network.stability).
 """
 
 from __future__ import annotations

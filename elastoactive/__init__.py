@@ -72,7 +72,9 @@ def __getattr__(name: str):
 
 
 def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(_LAZY) | {"plot"})
+    """The front door's names and the sub-modules already imported (not the module's own helpers)."""
+    public = {name for name in globals() if not name.startswith("_")} - {"TYPE_CHECKING", "importlib"}
+    return sorted(public | set(_LAZY) | {"plot"})
 
 
 __all__ = [

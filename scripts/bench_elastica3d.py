@@ -44,7 +44,7 @@ from pathlib import Path
 
 import numpy as np
 from bench_common import CORES, ROOT, load, log
-from benchmark_filament import ELASTICA_ROD, FILAMENT_S, elastica_classes
+from benchmark_filament import ELASTICA_ROD, FILAMENT_S, elastica_classes, elastica_rod
 from scipy.integrate import solve_ivp
 
 from elastoactive.analysis.motion3d import measure3d
@@ -147,21 +147,8 @@ def elastica_run(n_elem: int, periods: float, mass_per_length: float | None = No
 
     Filament, Follower = elastica_classes(ea)
 
-    r = ELASTICA_ROD["radius"] if radius is None else radius
-    m = ELASTICA_ROD["mass_per_length"] if mass_per_length is None else mass_per_length
-    area, inertia = np.pi * r**2, np.pi * r**4 / 4
-    young, dl = 1.0 / inertia, 1.0 / n_elem
-    rod = ea.CosseratRod.straight_rod(
-        n_elem,
-        np.zeros(3),
-        np.array([1.0, 0, 0]),
-        np.array([0, 0, 1.0]),
-        1.0,
-        r,
-        m / area,
-        youngs_modulus=young,
-        shear_modulus=young / 3.0,
-    )
+    rod, wave_speed = elastica_rod(ea, n_elem, radius, mass_per_length)
+    r, dl = ELASTICA_ROD["radius"] if radius is None else radius, 1.0 / n_elem
     tangents = start_tangents((np.arange(n_elem) + 0.5) * dl)
     rod.position_collection[:, 1:] = np.cumsum(tangents * dl, axis=0).T
     base = rod.director_collection[..., 0].copy()  # rows d1, d2, d3 = e_z, e_x x e_z, e_x
@@ -174,7 +161,7 @@ def elastica_run(n_elem: int, periods: float, mass_per_length: float | None = No
     sim.add_forcing_to(rod).using(Follower, load=FILAMENT_S * dl)
     share = np.full(n_elem + 1, dl)
     share[[0, -1]] = dl / 2
-    dt = ELASTICA_ROD["cfl"] * min(dl, r) / np.sqrt(young * area / m)
+    dt = ELASTICA_ROD["cfl"] * min(dl, r) / wave_speed
     sim.dampen(rod).using(
         ea.AnalyticalLinearDamper, translational_damping_constant=share, rotational_damping_constant=dl**3, time_step=dt
     )

@@ -98,6 +98,28 @@ def bench_filament_reduced(ns, continuum: dict, tmp: Path) -> list[dict]:
     return rows
 
 
+def elastica_rod(ea, n_elem: int, radius: float | None = None, mass_per_length: float | None = None):
+    """PyElastica's straight rod of length 1 along x, normal z, in `n_elem` elements, with bending stiffness E I = 1 and
+    shear modulus E / 3, of ELASTICA_ROD's radius and mass per length unless given; and its axial wave speed
+    sqrt(E A / (rho A)), which sets the explicit integrator's step. `ea` is the imported elastica module."""
+    r = ELASTICA_ROD["radius"] if radius is None else radius
+    m = ELASTICA_ROD["mass_per_length"] if mass_per_length is None else mass_per_length
+    area, inertia = np.pi * r**2, np.pi * r**4 / 4
+    young = 1.0 / inertia
+    rod = ea.CosseratRod.straight_rod(
+        n_elem,
+        np.zeros(3),
+        np.array([1.0, 0, 0]),
+        np.array([0, 0, 1.0]),
+        1.0,
+        r,
+        m / area,
+        youngs_modulus=young,
+        shear_modulus=young / 3.0,
+    )
+    return rod, float(np.sqrt(young * area / m))
+
+
 def elastica_classes(ea):
     """PyElastica's simulator class for one clamped, forced, damped rod and the chain's follower force as its forcing
     (-load t_e on the node at the end of each element e, load = f dl); `ea` is the imported elastica module (an
@@ -125,25 +147,13 @@ def _elastica_run(n_elem: int, periods: float) -> tuple[np.ndarray, np.ndarray, 
     import elastica as ea
 
     Filament, Follower = elastica_classes(ea)
-    r, m, cfl = ELASTICA_ROD["radius"], ELASTICA_ROD["mass_per_length"], ELASTICA_ROD["cfl"]
-    area, inertia = np.pi * r**2, np.pi * r**4 / 4
-    young, dl = 1.0 / inertia, 1.0 / n_elem
-    rod = ea.CosseratRod.straight_rod(
-        n_elem,
-        np.zeros(3),
-        np.array([1.0, 0, 0]),
-        np.array([0, 0, 1.0]),
-        1.0,
-        r,
-        m / area,
-        youngs_modulus=young,
-        shear_modulus=young / 3.0,
-    )
+    rod, wave_speed = elastica_rod(ea, n_elem)
+    dl = 1.0 / n_elem
     sim = Filament()
     sim.append(rod)
     sim.constrain(rod).using(ea.OneEndFixedBC, constrained_position_idx=(0,), constrained_director_idx=(0,))
     sim.add_forcing_to(rod).using(Follower, load=FILAMENT_S * dl)
-    dt = cfl * dl / np.sqrt(young * area / m)
+    dt = ELASTICA_ROD["cfl"] * dl / wave_speed
     sim.dampen(rod).using(
         ea.AnalyticalLinearDamper, translational_damping_constant=dl, rotational_damping_constant=dl**3, time_step=dt
     )

@@ -2,6 +2,17 @@
 
 import pytest
 
+HAND_WRITTEN = {
+    "nodes": [[0, 0], [1, 0], [2, 0], [3, 0], [0.5, 0.9], [1.5, 0.85], [2.5, 0.9], [3.5, 0.9], [0, 1.75], [1, 1.7],
+              [2, 1.8], [3, 1.75]],
+    "bonds": [[0, 1], [1, 2], [2, 3], [4, 5], [5, 6], [6, 7], [8, 9], [9, 10], [10, 11], [0, 4], [1, 4], [1, 5],
+              [2, 5], [2, 6], [3, 6], [3, 7], [4, 8], [4, 9], [5, 9], [5, 10], [6, 10], [6, 11], [7, 11]],
+    "pinned": [0, 8, 3],
+    "units": [5, 6, 9, 10, 1],
+}  # fmt: skip
+"""docs/network.md's network written by hand: 12 nodes, 3 pinned, 5 units, its rest lengths the initial distances
+(the network tests import it: `from conftest import HAND_WRITTEN`)."""
+
 
 def refused(capsys, argv, *words, code=2):
     """The command line `argv` exits `code` with one 'elastoactive: error:' line containing every word (the tests

@@ -8,6 +8,7 @@ import json
 
 import numpy as np
 import pytest
+from conftest import HAND_WRITTEN
 from scipy.optimize import brentq
 
 from elastoactive.analysis.network import NetworkState, hexagonal_patch
@@ -15,12 +16,7 @@ from elastoactive.analysis.network import stability as st
 from elastoactive.networks.geometry import make_network
 from elastoactive.reduced import network as m
 
-NODES = [[0, 0], [1, 0], [2, 0], [3, 0], [0.5, 0.9], [1.5, 0.85], [2.5, 0.9], [3.5, 0.9], [0, 1.75], [1, 1.7],
-         [2, 1.8], [3, 1.75]]  # fmt: skip
-BONDS = [[0, 1], [1, 2], [2, 3], [4, 5], [5, 6], [6, 7], [8, 9], [9, 10], [10, 11], [0, 4], [1, 4], [1, 5], [2, 5],
-         [2, 6], [3, 6], [3, 7], [4, 8], [4, 9], [5, 9], [5, 10], [6, 10], [6, 11], [7, 11]]  # fmt: skip
-PINNED = [0, 8, 3]
-UNITS = [5, 6, 9, 10, 1]
+NODES, BONDS, PINNED, UNITS = (HAND_WRITTEN[key] for key in ("nodes", "bonds", "pinned", "units"))
 FORCE = [1.0, 0.6, 1.5, 0.8, 1.2]
 LENGTH = [0.1, 0.15, 0.08, 0.12, 0.1]
 LA = 0.1

@@ -9,6 +9,7 @@ import json
 
 import numpy as np
 import pytest
+from conftest import HAND_WRITTEN
 
 import elastoactive as ea
 from elastoactive.analysis.network import stability
@@ -20,16 +21,6 @@ from elastoactive.reduced.network import normal_modes
 
 BULK = {"triangular": 6, "kagome": 4, "square": 4, "square-diagonals": 8, "honeycomb": 3}
 """Each periodic lattice's coordination in the bulk."""
-
-HAND_WRITTEN = {
-    "nodes": [[0, 0], [1, 0], [2, 0], [3, 0], [0.5, 0.9], [1.5, 0.85], [2.5, 0.9], [3.5, 0.9], [0, 1.75], [1, 1.7],
-              [2, 1.8], [3, 1.75]],
-    "bonds": [[0, 1], [1, 2], [2, 3], [4, 5], [5, 6], [6, 7], [8, 9], [9, 10], [10, 11], [0, 4], [1, 4], [1, 5],
-              [2, 5], [2, 6], [3, 6], [3, 7], [4, 8], [4, 9], [5, 9], [5, 10], [6, 10], [6, 11], [7, 11]],
-    "pinned": [0, 8, 3],
-    "units": [5, 6, 9, 10, 1],
-}  # fmt: skip
-"""A network written by hand: 12 nodes, 3 pinned, 5 units, its rest lengths the initial distances."""
 
 
 def _same(a, b) -> bool:

@@ -48,6 +48,12 @@ def fmt(x, d: int = 4) -> str:
     return f"{x:.{d}g}"
 
 
+def span(values, d: int = 3) -> str:
+    """'lo-hi' of the finite values (each to `d` significant digits: a threshold over seeds); '-' where none is."""
+    finite = [v for v in values if math.isfinite(v)]
+    return f"{fmt(min(finite), d)}-{fmt(max(finite), d)}" if finite else "-"
+
+
 def pm(v, e, d: int = 4) -> str:
     """'v ± e' (the error to one digit); v alone without a finite error, '-' without v."""
     if v is None:

@@ -31,7 +31,7 @@ from ..scenes import network as network_scene
 from . import plotting as plots
 from . import registry
 from .base import Study, Summary, pick
-from .claim_rows import Claim, fmt, verdict
+from .claim_rows import Claim, fmt, span, verdict
 
 ALIGNMENT = 0.1
 """l_a / a of the ramps (the hysteresis study's)."""
@@ -212,11 +212,6 @@ def disorder_figures(study: Study, out: Path) -> list[Path]:
     return [plots.save(fig, out, "figB_disorder.png")]
 
 
-def _span(values: list[float]) -> str:
-    finite = [v for v in values if np.isfinite(v)]
-    return f"{fmt(min(finite), 3)}-{fmt(max(finite), 3)}" if finite else "-"
-
-
 def _previous(couplings: list[float], value: float) -> float:
     """The coupling of the ramp's step before `value` (-inf before the first)."""
     index = couplings.index(value)
@@ -229,7 +224,7 @@ def disorder_claims(study: Study, read: Mapping[str, Study]) -> list[Claim]:
     couplings = study.summary.couplings
     step = couplings[1] - couplings[0]
     where = "; ".join(
-        f"{n.name}: moving from Pi = {_span(n.up_motion)}, turning from {_span(n.up_start)}, lambda_1 = {n.softest:.3f}"
+        f"{n.name}: moving from Pi = {span(n.up_motion)}, turning from {span(n.up_start)}, lambda_1 = {n.softest:.3f}"
         for n in nets
     )
     bounded = [

@@ -29,7 +29,7 @@ from ..scenes import lattice, network
 from . import plotting as plots
 from . import registry
 from .base import Study, Summary, pick
-from .claim_rows import Claim, fmt, verdict
+from .claim_rows import Claim, fmt, span, verdict
 
 ALIGNMENT = 0.1
 """l_a / a of the ramps (as the active-solid study's): displacements of order l_a stay in the linear regime."""
@@ -164,11 +164,6 @@ def hysteresis_figures(study: Study, out: Path) -> list[Path]:
     return [plots.save(fig, out, "figB_hysteresis.png")]
 
 
-def _bracket(values: list[float]) -> str:
-    finite = [v for v in values if np.isfinite(v)]
-    return f"{fmt(min(finite), 3)}-{fmt(max(finite), 3)}" if finite else "-"
-
-
 @HYSTERESIS.claims
 def hysteresis_claims(study: Study, read: Mapping[str, Study]) -> list[Claim]:
     rows = []
@@ -187,8 +182,8 @@ def hysteresis_claims(study: Study, read: Mapping[str, Study]) -> list[Claim]:
                 f"{loop.lattice}: lowering Pi keeps the motion below where raising it started (hysteresis)",
                 source,
                 "-",
-                f"up: moving from Pi = {_bracket(loop.up_start)} (seeds); down: still moving at "
-                f"{_bracket(loop.down_stop)}, frozen at Pi <= {_bracket(loop.down_freeze)}; a loop in "
+                f"up: moving from Pi = {span(loop.up_start)} (seeds); down: still moving at "
+                f"{span(loop.down_stop)}, frozen at Pi <= {span(loop.down_freeze)}; a loop in "
                 f"{sum(opened)} of {len(loop.up_start)} seeds; moving states: {', '.join(loop.moving_states) or '-'}",
                 verdict(bool(opened) and all(opened) and inside, partly=any(opened)),
                 f"steps of {fmt(step, 2)} in Pi, each from the last state; every fixed point stable below "

@@ -31,7 +31,7 @@ from ..scenes import lattice
 from . import plotting as plots
 from . import registry
 from .base import Study, Summary, pick
-from .claim_rows import Claim, fmt, verdict
+from .claim_rows import Claim, fmt, span, verdict
 
 ALIGNMENT = 0.1
 """l_a / a of the ramps (the hysteresis study's)."""
@@ -148,11 +148,6 @@ def noise_threshold_figures(study: Study, out: Path) -> list[Path]:
     return [plots.save(fig, out, "figB_noise_threshold.png")]
 
 
-def _span(values: list[float]) -> str:
-    finite = [v for v in values if np.isfinite(v)]
-    return f"{fmt(min(finite), 3)}-{fmt(max(finite), 3)}" if finite else "-"
-
-
 @NOISE_THRESHOLD.claims
 def noise_threshold_claims(study: Study, read: Mapping[str, Study]) -> list[Claim]:
     levels = study.summary.levels
@@ -171,8 +166,8 @@ def noise_threshold_claims(study: Study, read: Mapping[str, Study]) -> list[Clai
         or bool(np.isfinite(down[0]) and np.isfinite(down[-1]) and abs(down[-1] - down[0]) >= step - 1e-9)
     )
     table = "; ".join(
-        f"D_r = {level.rotational_diffusion:g}: turning up from Pi = {_span(level.up_start)}, down still at "
-        f"{_span(level.down_stop)}"
+        f"D_r = {level.rotational_diffusion:g}: turning up from Pi = {span(level.up_start)}, down still at "
+        f"{span(level.down_stop)}"
         for level in levels
     )
     return [

@@ -17,7 +17,7 @@ numbers they are set against in `elastoactive.studies.paper`.
     normal_form   the N = 2 Landau-Stuart coefficient
     snapping      self-snapping with both ends pinned
     rotation      the freely rotating pin
-    sync          the coupled pair, the Arnold tongue, kappa_c of N = 2
+    sync          the coupled pair (Fig. 5); tongue: its Arnold tongue; sync_n2: kappa_c of N = 2
     noise         multiplicative noise and anisotropic drag (N = 2)
     inertia       the overdamped idealisation: sigma_c(mass ratio), Ziegler's column, the experiment's mass ratio
     noise_readings  claim 21 under Ito, Stratonovich and coloured noise; the experiment's noise regime
@@ -79,7 +79,9 @@ from .skin import SkinSummary, skin_study
 from .snapping import SnappingSummary, snapping_study
 from .star import StarSummary, star_study
 from .states3d import States3DSummary, states3d_study
-from .sync import SyncN2Summary, SyncSummary, TongueSummary, sync_n2_study, sync_study, tongue_study
+from .sync import SyncSummary, sync_study
+from .sync_n2 import SyncN2Summary, sync_n2_study
+from .tongue import TongueSummary, tongue_study
 
 __all__ = [
     "ENGINES",

@@ -1,4 +1,5 @@
-"""Synchronisation of a coupled pair (Fig. 5), the Arnold tongue, and the N = 2 theory of kappa_c.
+"""Synchronisation of a coupled pair (Fig. 5): the study `sync`, and the pair's measurements and the N = 2 threshold
+formulas that the studies `tongue` (studies/tongue.py) and `sync_n2` (studies/sync_n2.py) share.
 
 sync_study: frequency mismatch against kappa for the paper's pair (N = 7, sigma_1 = 0.8, rho = 4/3,
 so sigma_2 = 0.6), both engines; the critical kappa; phase differences Psi(t); and a what-if with
@@ -91,61 +92,12 @@ class SyncSummary(EngineParts):
     alt_same_stiffness: AltPair | None = None
 
 
-@dataclass(frozen=True)
-class TongueEngine(Summary):
-    kappa_c_by_rho: dict[str, float]
-    """Grid kappa_c (inf: none of the grid locks) by rho (formatted .4g)."""
-    tongue_widens: bool
-    kappa_c_min_rho: float
-
-
-@dataclass(frozen=True)
-class TongueSummary(EngineParts):
-    engines: list[str]
-    duration: float
-    mujoco: TongueEngine | None = None
-    reduced: TongueEngine | None = None
-
-
-@dataclass(frozen=True)
-class N2MujocoCheck(Summary):
-    """MuJoCo against the reduced kappa_c of one (mu, rho): full size bisects (kappa_c, halfwidth);
-    smaller sizes probe just below and above the reduced threshold (probe_factors, locked, consistent)."""
-
-    kappa_c: float | None = None
-    halfwidth: float | None = None
-    probe_factors: list[float] | None = None
-    locked: list[bool] | None = None
-    consistent: bool | None = None
-
-
-@dataclass(frozen=True)
-class SyncN2Summary(Summary):
-    duration: float
-    combos: list[tuple[float, float]]
-    """(mu, rho) of each point."""
-    prefactor_formula: float
-    prefactor_fit: float
-    prefactor_mean: float
-    prefactor_std: float
-    ratio_sim_over_formula: list[float]
-    ratio_sim_over_phase_equation: list[float]
-    kappa_c: list[float]
-    """Reduced model, by bisection."""
-    kappa_c_formula: list[float]
-    kappa_c_phase_equation: list[float]
-    mujoco: dict[str, N2MujocoCheck]
-    """By "mu,rho"."""
-    exponent_mu: float | None = None
-    exponent_mu_err: float | None = None
-    exponent_rho: float | None = None
-    exponent_rho_err: float | None = None
-
-
 # --------------------------------------------------------------------------------------------------
 # measurements
 # --------------------------------------------------------------------------------------------------
-def _pair_measures(tr, transient):
+def pair_measures(tr, transient):
+    """The pair's two beats after `transient`: each chain's frequency and amplitude, their mismatch, phase slips
+    and whether they lock (the sync, tongue and sync_n2 studies' one measurement of a coupled run)."""
     x1, x2 = obs.curvature(tr.chain(0)), obs.curvature(tr.chain(1))
     f1, f2 = obs.frequency(tr.t, x1, transient), obs.frequency(tr.t, x2, transient)
     a1, a2 = obs.amplitude(tr.t, x1, transient), obs.amplitude(tr.t, x2, transient)
@@ -227,7 +179,7 @@ def sync_study(size: str = "quick", workers=None, progress: bool = True) -> Stud
     res = {}
     psi_keep = {}
     for (k, eng), tr in zip(meta, trajs):
-        res[(k, eng)] = _pair_measures(tr, tr_)
+        res[(k, eng)] = pair_measures(tr, tr_)
         if eng == "mujoco":
             try:
                 tp, psi = ms.phase_difference(tr.t, obs.curvature(tr.chain(0)), obs.curvature(tr.chain(1)), 0.0)
@@ -298,204 +250,6 @@ def sync_study(size: str = "quick", workers=None, progress: bool = True) -> Stud
         n=n, sigma_1=sigma, rho=rho, sigma_2=sigma / rho, duration=dur, alt_same_stiffness=alt, **parts
     )
     return Study("sync", size, data, summary, time.perf_counter() - start)
-
-
-# --------------------------------------------------------------------------------------------------
-# Arnold tongue
-# --------------------------------------------------------------------------------------------------
-TONGUE = registry.declare("tongue", summary=TongueSummary, order=80)
-
-
-@TONGUE.run
-def tongue_study(size: str = "quick", workers=None, progress: bool = True) -> Study:
-    """|frequency mismatch| and locking over (rho, kappa) for N = 7, sigma_1 = 0.8 (quick: reduced
-    model; full: both engines)."""
-    start = time.perf_counter()
-    rhos = pick(
-        size,
-        (0.5, 1.0, 3.0),
-        (0.5, 0.75, 1.0, PAPER.sync_rho, 2.0, 3.0),
-        tuple(np.r_[np.geomspace(0.4, 4.0, 15), PAPER.sync_rho]),
-    )
-    rhos = tuple(sorted(set(round(float(r), 6) for r in rhos)))
-    kappas = pick(
-        size,
-        (0.0, 0.1, 0.5),
-        (0.0, 0.03, 0.07, 0.15, 0.3, 0.6),
-        (0.0, 0.01, 0.02, 0.035, 0.05, 0.075, 0.1, 0.15, 0.2, 0.3, 0.4, 0.6, 0.8, 1.1, 1.5),
-    )
-    engines = pick(size, ("reduced",), ("reduced",), ENGINES)
-    dur = pick(size, 600.0, 2400.0, 6000.0)
-    cases, meta = [], []
-    for r in rhos:
-        for k in kappas:
-            for eng in engines:
-                cases.append(
-                    Case(
-                        coupled_pair.SCENE.physics(n=7, sigma=PAPER.sync_sigma_1, rho=r, kappa=k),
-                        fast(perturbation=0.3, sample_dt=0.2),
-                        dur,
-                        eng,
-                        dur / 2,
-                    )
-                )
-                meta.append((r, k, eng))
-    trajs = run(cases, workers, progress, "Arnold tongue")
-    data = {"rho": np.array(rhos), "kappa": np.array(kappas)}
-    grids = {
-        eng: (np.full((len(rhos), len(kappas)), np.nan), np.zeros((len(rhos), len(kappas)), bool)) for eng in engines
-    }
-    for (r, k, eng), tr in zip(meta, trajs):
-        m = _pair_measures(tr, dur / 2)
-        i, j = rhos.index(r), kappas.index(k)
-        grids[eng][0][i, j] = m["mismatch"]
-        grids[eng][1][i, j] = m["locked"]
-    parts = {}
-    for eng in engines:
-        data[f"mismatch_{eng}"], data[f"locked_{eng}"] = grids[eng]
-        kc = np.array([syn.locking_threshold(kappas, row)[1] for row in grids[eng][1]])
-        data[f"kappa_c_{eng}"] = kc
-        r = np.array(rhos)
-        parts[eng] = TongueEngine(
-            kappa_c_by_rho={f"{x:.4g}": float(y) for x, y in zip(rhos, kc)},
-            tongue_widens=bool(np.all(np.diff(kc[r >= 1]) >= 0) and np.all(np.diff(kc[r <= 1]) <= 0)),
-            kappa_c_min_rho=float(r[int(np.argmin(kc))]),
-        )
-    summary = TongueSummary(engines=list(engines), duration=dur, **parts)
-    return Study("tongue", size, data, summary, time.perf_counter() - start)
-
-
-# --------------------------------------------------------------------------------------------------
-# N = 2 near onset
-# --------------------------------------------------------------------------------------------------
-def _bisect_locking(combos, make_case, lo0, hi0, steps, workers, progress, desc, transient_of):
-    """Bisection on kappa for every combo at once (one batch per step, each with its own progress line, so that
-    every step's time shows)."""
-    lo, hi = dict(lo0), dict(hi0)
-    for step in range(steps):
-        cases = [make_case(c, 0.5 * (lo[c] + hi[c])) for c in combos]
-        trajs = run(cases, workers, progress, f"{desc} (bisection step {step + 1}/{steps})")
-        for c, tr, case in zip(combos, trajs, cases):
-            if _pair_measures(tr, transient_of(case))["locked"]:
-                hi[c] = case.physics.kappa
-            else:
-                lo[c] = case.physics.kappa
-    return lo, hi
-
-
-SYNC_N2 = registry.declare("sync_n2", summary=SyncN2Summary, order=90)
-
-
-@SYNC_N2.run
-def sync_n2_study(size: str = "quick", workers=None, progress: bool = True) -> Study:
-    """The locking threshold kappa_c of two N = 2 chains near onset (mu = sigma - 3 small, rho near 1),
-    by bisection on kappa with the reduced model, checked with MuJoCo, against
-    kappa_c = 11 / (4 sqrt 6) sqrt(mu |1 - rho|)."""
-    start = time.perf_counter()
-    combos = pick(
-        size,
-        ((0.1, 0.98),),
-        tuple((m, r) for m in (0.05, 0.1, 0.2) for r in (0.97, 0.99)),
-        tuple((m, r) for m in (0.05, 0.1, 0.2) for r in (0.97, 0.98, 0.99)),
-    )
-    steps = pick(size, 5, 9, 12)
-    dur = pick(size, 1500.0, 6000.0, 12000.0)
-
-    def make(c, k, engine="reduced", dt=0.01, duration=dur):
-        mu, rho = c
-        num = Numerics(
-            dt=dt, mass_ratio=1e-5 if engine == "mujoco" else 1e-4, perturbation=math.sqrt(mu), sample_dt=0.1
-        )
-        return Case(
-            coupled_pair.SCENE.physics(n=2, sigma=3.0 + mu, rho=rho, kappa=k), num, duration, engine, duration / 2
-        )
-
-    hi0 = {c: 2.0 * float(kappa_c_formula(*c)) for c in combos}
-    lo, hi = _bisect_locking(
-        combos,
-        make,
-        {c: 0.0 for c in combos},
-        hi0,
-        steps,
-        workers,
-        progress,
-        "kappa_c N=2",
-        lambda case: case.duration / 2,
-    )
-    kc_red = {c: 0.5 * (lo[c] + hi[c]) for c in combos}
-    # MuJoCo: quick checks the classification just below and above the reduced threshold for one combo;
-    # full bisects every combo (dt small: implicitfast shifts the N = 2 onset by ~dt/2 in mu)
-    mj_dt = 0.00125
-    if size == "full":
-        mj_dur = pick(size, 600.0, 3000.0, 6000.0)
-        mlo, mhi = _bisect_locking(
-            combos,
-            lambda c, k: make(c, k, "mujoco", mj_dt, mj_dur),
-            {c: 0.7 * kc_red[c] for c in combos},
-            {c: 1.3 * kc_red[c] for c in combos},
-            6,
-            workers,
-            progress,
-            "kappa_c N=2 MuJoCo",
-            lambda case: case.duration / 2,
-        )
-        mj = {c: N2MujocoCheck(kappa_c=0.5 * (mlo[c] + mhi[c]), halfwidth=0.5 * (mhi[c] - mlo[c])) for c in combos}
-    else:
-        c = combos[0] if size == "tiny" else (0.1, 0.97)
-        probe = (0.85, 1.15)
-        probe_dur = pick(size, 1000.0, 1500.0, 3000.0)  # quick: ~3 slips in the window at 0.85 x, none at 1.15 x
-        trajs = run(
-            [make(c, f * kc_red[c], "mujoco", mj_dt, probe_dur) for f in probe],
-            workers,
-            progress,
-            "kappa_c N=2 MuJoCo check",
-        )
-        checks = [_pair_measures(tr, probe_dur / 2)["locked"] for tr in trajs]
-        mj = {c: N2MujocoCheck(probe_factors=list(probe), locked=checks, consistent=(not checks[0]) and checks[1])}
-    mus = np.array([c[0] for c in combos])
-    rhos = np.array([c[1] for c in combos])
-    kc = np.array([kc_red[c] for c in combos])
-    half = np.array([0.5 * (hi[c] - lo[c]) for c in combos])
-    formula = kappa_c_formula(mus, rhos)
-    phase_eq = kappa_c_phase_equation(mus, rhos)
-    data = {
-        "mu": mus,
-        "rho": rhos,
-        "kappa_c_reduced": kc,
-        "kappa_c_halfwidth": half,
-        "kappa_c_formula": formula,
-        "kappa_c_phase_equation": phase_eq,
-    }
-    if size == "full":
-        data["kappa_c_mujoco"] = np.array([mj[c].kappa_c for c in combos])
-    x = np.sqrt(mus * np.abs(1 - rhos))
-    prefactor = kc / x
-    exponents = {}
-    if len(set(mus)) >= 2 and len(set(rhos)) >= 2:
-        A = np.column_stack([np.ones_like(mus), np.log(mus), np.log(np.abs(1 - rhos))])
-        coef, cov = fits._lstsq(A, np.log(kc))
-        exponents = {
-            "exponent_mu": float(coef[1]),
-            "exponent_mu_err": float(math.sqrt(cov[1, 1])),
-            "exponent_rho": float(coef[2]),
-            "exponent_rho_err": float(math.sqrt(cov[2, 2])),
-        }
-    summary = SyncN2Summary(
-        duration=dur,
-        combos=[tuple(c) for c in combos],
-        prefactor_formula=PAPER.kappa_c_n2_prefactor,
-        prefactor_fit=float(np.sum(kc * x) / np.sum(x * x)),
-        prefactor_mean=float(prefactor.mean()),
-        prefactor_std=float(prefactor.std()),
-        ratio_sim_over_formula=[float(v) for v in kc / formula],
-        ratio_sim_over_phase_equation=[float(v) for v in kc / phase_eq],
-        kappa_c=[float(v) for v in kc],
-        kappa_c_formula=[float(v) for v in formula],
-        kappa_c_phase_equation=[float(v) for v in phase_eq],
-        mujoco={f"{c[0]:g},{c[1]:g}": v for c, v in mj.items()},
-        **exponents,
-    )
-    return Study("sync_n2", size, data, summary, time.perf_counter() - start)
 
 
 # --------------------------------------------------------------------------------------------------
@@ -615,99 +369,6 @@ def sync_figures(study: Study, out: Path) -> list[Path]:
     fig.subplots_adjust(left=0.07, right=0.98, top=0.86, bottom=0.13)
     paths.append(plots.save(fig, out, "fig5ef_sync.png"))
     return paths
-
-
-@TONGUE.figure
-@plots.styled
-def tongue_figures(study: Study, out: Path) -> list[Path]:
-    plt = plots.pyplot()
-    mpl = plots.matplotlib()
-    d, s = study.data, study.summary
-    engines = s.engines
-    rho, kap = d["rho"], d["kappa"]
-    fig, axes = plt.subplots(1, len(engines), figsize=(5.6 * len(engines), 4.4), squeeze=False)
-    for ax, eng in zip(axes[0], engines):
-        locked = d[f"locked_{eng}"].astype(bool).T
-        mism = np.ma.masked_where(locked, np.abs(d[f"mismatch_{eng}"]).T)
-        re, ke = plots.edges(rho, log=True), plots.edges(kap)
-        ax.pcolormesh(re, ke, np.where(locked, 1.0, np.nan), cmap=mpl.colors.ListedColormap(["0.85"]), vmin=0, vmax=1)
-        m = ax.pcolormesh(re, ke, mism, cmap="viridis", vmin=0)
-        fig.colorbar(m, ax=ax, label=r"$|f_2-f_1|$ when slipping (cycles/$\tau$)")
-        gx, gy = np.meshgrid(rho, kap)
-        ax.plot(gx.ravel(), gy.ravel(), "k.", ms=2)
-        kc = d[f"kappa_c_{eng}"]
-        ok = np.isfinite(kc)
-        ax.plot(
-            rho[ok], kc[ok], "o-", color="C3", ms=5, lw=1.3, label=r"$\kappa_c(\rho)$: lowest grid $\kappa$ that locks"
-        )
-        if (~ok).any():
-            ax.plot(
-                rho[~ok],
-                np.full((~ok).sum(), 0.5 * (kap.max() + ke[-1])),
-                "^",
-                color="C3",
-                ms=8,
-                label=rf"no locking up to $\kappa$ = {kap.max():g}",
-            )
-        h, lab = ax.get_legend_handles_labels()
-        lp = plots.patch(facecolor="0.85", edgecolor="0.6", label="locked")
-        ax.legend([lp] + h, [lp.get_label()] + lab, loc="upper center", bbox_to_anchor=(0.5, -0.17))
-        ax.set_xscale("log")
-        ax.set_xlim(re[0], re[-1])
-        ax.set_ylim(ke[0], ke[-1])
-        ticks = rho if rho.size <= 8 else [v for v in (0.25, 0.5, 1, 2, 4, 8) if re[0] <= v <= re[-1]]
-        plots.log_ticks(ax, ticks)
-        ax.set_xticklabels([f"{r:.3g}" for r in ticks])
-        ax.set_xlabel(rf"$\rho = C_2/C_1$ (log scale; $\sigma_2 = {PAPER.sync_sigma_1:g}/\rho$)")
-        ax.set_ylabel(r"coupling $\kappa$")
-        ax.set_title(
-            f"Fig. 5f inset: Arnold tongue, N = 7, $\\sigma_1$ = {PAPER.sync_sigma_1:g}\n"
-            f"({plots.ENGINE_STYLE[eng]['label']}; cells centred on the simulated points)"
-        )
-    fig.tight_layout()
-    return [plots.save(fig, out, "fig5f_tongue.png")]
-
-
-@SYNC_N2.figure
-@plots.styled
-def sync_n2_figures(study: Study, out: Path) -> list[Path]:
-    plt = plots.pyplot()
-    d, s = study.data, study.summary
-    fig, ax = plt.subplots(figsize=(6, 4.5))
-    x = np.sqrt(d["mu"] * np.abs(1 - d["rho"]))
-    xx = np.linspace(0, x.max() * 1.15, 50)
-    printed = r"$\frac{11}{4\sqrt{6}}\sqrt{\mu|1-\rho|}$"  # PAPER.kappa_c_n2_printed, typeset
-    ax.plot(
-        xx, s.prefactor_formula * xx, "k--", lw=1, label=f"supplement: {printed} (prefactor {s.prefactor_formula:.3f})"
-    )
-    ax.plot(xx, s.prefactor_fit * xx, "C3-", lw=0.8, label=f"fit through 0: prefactor {s.prefactor_fit:.3f}")
-    ax.errorbar(
-        x, d["kappa_c_reduced"], yerr=d["kappa_c_halfwidth"], fmt="x", color="C3", label="reduced model (bisection)"
-    )
-    ax.plot(x, d["kappa_c_phase_equation"], "+", color="C2", ms=9, label="supplement's phase equation, solved exactly")
-    if "kappa_c_mujoco" in d:
-        ax.plot(x, d["kappa_c_mujoco"], **plots.ENGINE_STYLE["mujoco"])
-    rhos = sorted(set(np.round(d["rho"], 6)))
-    for xi, yi, yp, mu, rho in zip(x, d["kappa_c_reduced"], d["kappa_c_phase_equation"], d["mu"], d["rho"]):
-        # label above the higher of the two markers for the larger |1 - rho|, below the lower one otherwise
-        up = np.isclose(rho, rhos[0])
-        ax.annotate(
-            f"μ={mu:g}\nρ={rho:g}",
-            (xi, max(yi, yp) if up else min(yi, yp)),
-            fontsize=7,
-            ha="center",
-            va="bottom" if up else "top",
-            xytext=(0, 5 if up else -6),
-            textcoords="offset points",
-            color="0.3",
-        )
-    ax.set_xlabel(r"$\sqrt{\mu|1-\rho|}$")
-    ax.set_ylabel(r"locking threshold $\kappa_c$")
-    ax.set_ylim(-0.005, ax.get_ylim()[1])
-    ax.legend(loc="upper left")
-    ax.set_title(r"N = 2 pair near onset ($\mu=\sigma_1-3$, $\rho=C_2/C_1$)")
-    fig.tight_layout()
-    return [plots.save(fig, out, "sync_n2_kappa_c.png")]
 
 
 # --------------------------------------------------------------------------------------------------

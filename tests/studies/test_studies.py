@@ -189,7 +189,7 @@ def test_noise_and_anisotropy_studies():
 def test_every_bisection_step_shows_its_progress(monkeypatch):
     """sync_n2's bisection runs one batch per step: each must show (it hid all but the first, so a quick reproduce's
     progress lines accounted for a sixth of the study's time)."""
-    from elastoactive.studies import sync
+    from elastoactive.studies import sync_n2
 
     shown = []
 
@@ -197,10 +197,10 @@ def test_every_bisection_step_shows_its_progress(monkeypatch):
         shown.append((progress, desc))
         return [None] * len(cases)
 
-    monkeypatch.setattr(sync, "run", fake_run)
-    monkeypatch.setattr(sync, "_pair_measures", lambda tr, transient: {"locked": True})
+    monkeypatch.setattr(sync_n2, "run", fake_run)
+    monkeypatch.setattr(sync_n2, "pair_measures", lambda tr, transient: {"locked": True})
     make = lambda c, k: type("FakeCase", (), {"physics": type("P", (), {"kappa": k})(), "duration": 10.0})()  # noqa: E731
-    lo, hi = sync._bisect_locking(
+    lo, hi = sync_n2._bisect_locking(
         [(0.1, 0.98)], make, {(0.1, 0.98): 0.0}, {(0.1, 0.98): 1.0}, 4, 1, True, "kappa_c N=2", lambda case: 5.0
     )
     assert hi[(0.1, 0.98)] == 0.0625

@@ -28,37 +28,43 @@ ParameterError, SimulationDiverged
 import importlib
 from typing import TYPE_CHECKING
 
-from . import _moved, scenes, terms  # scenes first: registers the built-in scenes that Physics looks up
-from .core import registry
+from . import _moved
 from .core.errors import ParameterError, SimulationDiverged
-from .core.params import Numerics, Physics
-from .core.physics_doc import document_physics
-from .core.trajectory import Trajectory
+from .core.table import entry_points_ready
 
 _moved.install()  # old module paths keep working for one release
-registry.entry_points_ready()  # the entry points' scenes, terms and studies load when a registry is first listed
-document_physics()  # help(ea.Physics): every registered parameter, with units
+entry_points_ready()  # the entry points' scenes, terms and studies load when a registry is first listed
 
 if TYPE_CHECKING:  # what the lazy names are, for type checkers and the API reference (read without importing)
+    from . import scenes, terms
     from .api import load, load_sweep, measure, simulate
+    from .core.params import Numerics, Physics
+    from .core.trajectory import Trajectory
     from .results import Results
 
 _LAZY = {
+    "Physics": "core.physics_doc",
+    "Numerics": "core.params",
+    "Trajectory": "core.trajectory",
     "simulate": "api",
     "measure": "api",
     "load": "api",
     "load_sweep": "api",
     "Results": "results",
 }
-"""Names of the front door imported when first used, and their modules: running and measuring load the engines and
-the outputs' writers, which the command line's --help and a script that only builds a Physics do not need."""
+"""Names of the front door imported when first used, and their modules: the records load numpy, running and measuring
+the engines and the outputs' writers, which the command line's --help does not need. The registries load the
+package's own scenes and terms when first read (elastoactive.core.table.load_built_ins)."""
 
 
 def __getattr__(name: str):
     """The front door's running names (`ea.simulate`, ...), `ea.plot` (matplotlib) and any sub-module (`ea.results`,
     `ea.sweep`), each imported when first used."""
     if name in _LAZY:
-        value = getattr(importlib.import_module(f".{_LAZY[name]}", __name__), name)
+        module = importlib.import_module(f".{_LAZY[name]}", __name__)
+        value = getattr(module, name)
+        if name == "Physics":
+            module.document_physics()  # help(ea.Physics): every registered parameter, with units
         globals()[name] = value
         return value
     if name.startswith("_"):

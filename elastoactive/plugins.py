@@ -14,8 +14,7 @@ import json
 import sys
 from pathlib import Path
 
-from . import terms
-from .core import registry
+from .core import registry, term_registry
 from .core.errors import ParameterError
 
 _SOURCES: dict[tuple[str, str], str] = {}
@@ -31,7 +30,7 @@ def _names() -> dict[str, set[str]]:
     studies = sys.modules.get("elastoactive.studies.registry")
     return {
         "scenes": set(registry.SCENES),
-        "terms": set(terms.TERMS),
+        "terms": set(term_registry.TERMS),
         "studies": set(studies.STUDIES) if studies is not None else set(),
     }
 
@@ -120,7 +119,7 @@ def needed(physics) -> list[str]:
     that act in it or whose parameters it records."""
     recorded = set(physics.relevant())
     specs = [source("scenes", physics.scene)]
-    for term in terms.terms():
+    for term in term_registry.terms():
         if term.active(physics) or any(p.name in recorded for p in term.parameters):
             specs.append(source("terms", term.name))
     return list(dict.fromkeys(s for s in specs if s))

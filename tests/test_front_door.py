@@ -90,15 +90,22 @@ def test_python_dash_m():
 
 
 def test_import_leaves_the_running_machinery_to_first_use():
-    """`import elastoactive` registers the scenes and terms and builds Physics, but imports the engines and the
-    outputs' writers only when a running name is first used; then `ea.simulate` and a sub-module by attribute work,
-    and an unknown name is an AttributeError."""
+    """`import elastoactive` loads neither numpy nor a scene, a term or an engine: the records load when a front-door
+    name is first used, the package's scenes and terms when a registry is first read, the engines and the outputs'
+    writers when a running name is; then `ea.simulate` and a sub-module by attribute work, and an unknown name is an
+    AttributeError."""
     probe = (
         "import sys, elastoactive as ea\n"
-        "late = ('elastoactive.api', 'elastoactive.results', 'elastoactive.engines', 'elastoactive.gate')\n"
+        "late = ('numpy', 'elastoactive.core.params', 'elastoactive.scenes', 'elastoactive.terms', "
+        "'elastoactive.api', 'elastoactive.results', 'elastoactive.engines', 'elastoactive.gate')\n"
+        "print([m for m in late if m in sys.modules])\n"
+        "physics = ea.Physics(scene='ring')\n"
         "print([m for m in late if m in sys.modules])\n"
         "print(len(ea.scenes.names()) > 5, callable(ea.simulate), callable(ea.results.read_summary))\n"
         "print('simulate' in dir(ea), hasattr(ea, 'no_such_name'))\n"
     )
     out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, timeout=120, check=True)
-    assert out.stdout.split("\n")[:3] == ["[]", "True True True", "True False"], out.stdout + out.stderr
+    lines = out.stdout.split("\n")
+    assert lines[0] == "[]", out.stdout + out.stderr
+    assert lines[1] == "['numpy', 'elastoactive.core.params', 'elastoactive.scenes', 'elastoactive.terms']", lines[1]
+    assert lines[2:4] == ["True True True", "True False"], out.stdout + out.stderr

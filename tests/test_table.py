@@ -3,6 +3,9 @@ register, look up, list and refuse an unknown name."""
 
 from __future__ import annotations
 
+import json
+import subprocess
+import sys
 from typing import NamedTuple
 
 import pytest
@@ -58,3 +61,46 @@ def test_each_registry_refuses_an_unknown_name_its_own_way():
             get("nope")
     with pytest.raises(KeyError, match="no study called 'nope'; the registered studies: "):
         studies.get("nope")
+
+
+_ORDER = """
+import importlib, json, sys
+importlib.import_module(sys.argv[1])
+from elastoactive.core import observables, parameters, registry, term_registry
+print(json.dumps([parameters.names(), observables.names(), term_registry.names(), registry.names()]))
+"""
+
+
+def _tables(first: str) -> list:
+    """The parameter, observable, term and scene tables' names in a fresh process that imports `first` first."""
+    out = subprocess.run([sys.executable, "-c", _ORDER, first], capture_output=True, text=True, timeout=120, check=True)
+    return json.loads(out.stdout)
+
+
+@pytest.mark.parametrize(
+    "first", ["elastoactive.terms.noise", "elastoactive.scenes.ring", "elastoactive.core.params", "elastoactive.api"]
+)
+def test_the_registries_hold_the_same_order_whatever_is_imported_first(first):
+    """The package's own scenes and terms join on a registry's first read, or on their import (a module that imports
+    one first): the chain's parameters lead, then the terms', then the scenes', and every table is in one order,
+    whichever module a fresh process imports first (the order of options, of help(ea.Physics), of a summary's
+    parameters)."""
+    tables = _tables(first)
+    assert tables == _tables("elastoactive")
+    names = tables[0]
+    assert names[:2] == ["n", "Pi"]
+    assert names.index("drag_ratio") < names.index("delta")  # a term's before a scene's
+
+
+def test_a_registry_read_loads_the_package_s_own_first():
+    """In a fresh process nothing is registered beyond the chain's parameters and the beat observables until a
+    registry is read; the first read (any registry) registers every built-in scene and term."""
+    probe = (
+        "import sys\n"
+        "from elastoactive.core import parameters, table\n"
+        "print(table.built_ins_loaded(), 'elastoactive.scenes' in sys.modules, len(parameters._TABLE._table))\n"
+        "from elastoactive.core import term_registry\n"
+        "print('drag' in term_registry.TERMS, table.built_ins_loaded(), 'elastoactive.scenes' in sys.modules)\n"
+    )
+    out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, timeout=120, check=True)
+    assert out.stdout.split("\n")[:2] == ["False False 2", "True True True"], out.stdout

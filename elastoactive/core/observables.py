@@ -24,6 +24,7 @@ from __future__ import annotations
 from collections.abc import Iterable
 from dataclasses import dataclass, replace
 
+from .table import load_built_ins
 from .units import CHAIN, THETA, Signal, Units, Worded, worded
 
 ERRORS = ("relative", "absolute", "none")
@@ -96,6 +97,13 @@ BEAT = beat_specs(THETA)
 """The beat observables every scene reports (results.measure), whatever its own."""
 
 _TABLE: dict[str, tuple[Observable, str]] = {}
+"""Every declared observable spec with who declared it; read through `_read` (declaring is no read)."""
+
+
+def _read() -> dict[str, tuple[Observable, str]]:
+    """The table, once the package's own terms and scenes have declared theirs (elastoactive.core.table)."""
+    load_built_ins()
+    return _TABLE
 
 
 def described(spec: Observable, units: Units = CHAIN, signal: Signal = THETA) -> Observable:
@@ -123,40 +131,41 @@ def register(spec: Observable, owner: str) -> Observable:
 
 def unregister(name: str, owner: str | None = None) -> None:
     """Remove a spec (only if `owner` declared it, when given): a plug-in scene or term that leaves takes its own."""
-    if name in _TABLE and (owner is None or _TABLE[name][1] == owner) and _TABLE[name][1] != "every run":
-        del _TABLE[name]
+    table = _read()
+    if name in table and (owner is None or table[name][1] == owner) and table[name][1] != "every run":
+        del table[name]
 
 
 def get(name: str) -> Observable:
     """The spec called `name` (KeyError if nothing declares it)."""
-    return _TABLE[name][0]
+    return _read()[name][0]
 
 
 def spec_or_default(name: str) -> Observable:
     """The spec called `name`, or for a value nothing declares the spec it is treated by: no units, no long name,
     compared relatively by validate (Observable's defaults)."""
-    known = _TABLE.get(name)
+    known = _read().get(name)
     return Observable(name, "", "") if known is None else known[0]
 
 
 def find(name: str) -> Observable | None:
     """The spec called `name`, or None if nothing declares it (an undeclared value a plug-in measures)."""
-    known = _TABLE.get(name)
+    known = _read().get(name)
     return None if known is None else known[0]
 
 
 def owner(name: str) -> str:
     """Who declared the observable `name`."""
-    return _TABLE[name][1]
+    return _read()[name][1]
 
 
 def known(name: str) -> bool:
-    return name in _TABLE
+    return name in _read()
 
 
 def names() -> tuple[str, ...]:
     """Every declared observable, in declaration order."""
-    return tuple(_TABLE)
+    return tuple(_read())
 
 
 def declare(declared: Iterable[Observable | str], owner: str) -> tuple[str, ...]:

@@ -21,11 +21,11 @@ from __future__ import annotations
 
 import math
 import numbers
+import sys
 from dataclasses import dataclass
 from typing import Any
 
-import numpy as np
-
+from .constants import MAX_PARTICLES
 from .errors import ParameterError
 from .table import Registry
 from .units import CHAIN, Units, Worded, worded
@@ -142,7 +142,7 @@ class Parameter:
         """The value as its kind (a numpy integer or float is its Python number), checked against the range and
         choices; a ParameterError naming the parameter otherwise."""
         if self.kind is bool:
-            if isinstance(value, (bool, np.bool_)):
+            if _is_bool(value):
                 return bool(value)
             raise ParameterError(f"{self.label} must be true or false, got {value!r}")
         if self.kind is str:
@@ -151,7 +151,7 @@ class Parameter:
             if self.choices is not None and value not in self.choices:
                 raise ParameterError(f"{self.name} must be one of {', '.join(self.choices)}, got {value!r}")
             return value
-        if isinstance(value, (bool, np.bool_)):
+        if _is_bool(value):
             raise ParameterError(f"{self.label} must be a number, got {value!r}")
         if self.kind is int:
             if isinstance(value, numbers.Integral):
@@ -222,7 +222,14 @@ class Parameter:
         return text if self.or_needs is None else f"{text} or {self.or_needs} = {self.or_needs_value}"
 
 
-_TABLE: Registry[Parameter] = Registry("parameter", replaceable=False)
+def _is_bool(value) -> bool:
+    """Whether `value` is a truth value, Python's or numpy's (a value can be numpy's only once numpy is loaded: the
+    records do not load it themselves)."""
+    numpy = sys.modules.get("numpy")
+    return isinstance(value, bool) or (numpy is not None and isinstance(value, numpy.bool_))
+
+
+_TABLE: Registry[Parameter] = Registry("parameter", replaceable=False, built_ins=True)
 """Every declared parameter spec with who declared it (elastoactive.core.table.Registry)."""
 
 
@@ -254,3 +261,26 @@ def known(name: str) -> bool:
 def names() -> tuple[str, ...]:
     """Every declared parameter, in declaration order."""
     return _TABLE.names()
+
+
+# The chain's own parameter and the coupling, declared with the table: whatever registers next (a term, a scene,
+# imported in any order), every scene has the chain, and they lead the table.
+N = register(
+    Parameter("n", 7, "particles per chain N", kind=int, low=1, high=MAX_PARTICLES, title="number of particles N"),
+    "the chain",
+)
+"""The one parameter of the chain itself; every other belongs to a term (elastoactive.terms) or a scene."""
+COUPLING = register(
+    Parameter(
+        "Pi",
+        None,
+        "elasto-active coupling Pi = l_e / l_a (l_e = F_a / k), given instead of sigma: the scene turns it into "
+        "sigma (lattice, network: sigma = Pi l_a; trapped-unit: sigma = Pi k_t l_a) and records sigma",
+        low=0.0,
+        title="elasto-active coupling",
+        symbol="Π",
+        instead_of="sigma",
+    ),
+    "the coupling",
+)
+"""The coupling Pi of the scenes that have one (Scene.coupling: the network scenes), given in place of sigma."""

@@ -20,34 +20,14 @@ import numpy as np
 from . import parameters as _parameters
 from . import registry
 from . import term_registry as _terms
-from .constants import MAX_PARTICLES
 from .errors import ParameterError
-from .parameters import Parameter
+from .parameters import COUPLING
 from .units import NETWORK, Worded
 
 INTEGRATORS = ("implicitfast", "implicit", "discrete", "Euler", "RK4")
 DEFAULT_SCENE = "one-pinned"
 """The scene a Physics() without a scene describes: the paper's flagellar beating."""
 
-N = _parameters.register(
-    Parameter("n", 7, "particles per chain N", kind=int, low=1, high=MAX_PARTICLES, title="number of particles N"),
-    "the chain",
-)
-"""The one parameter of the chain itself; every other belongs to a term (elastoactive.terms) or a scene."""
-COUPLING = _parameters.register(
-    Parameter(
-        "Pi",
-        None,
-        "elasto-active coupling Pi = l_e / l_a (l_e = F_a / k), given instead of sigma: the scene turns it into "
-        "sigma (lattice, network: sigma = Pi l_a; trapped-unit: sigma = Pi k_t l_a) and records sigma",
-        low=0.0,
-        title="elasto-active coupling",
-        symbol="Π",
-        instead_of="sigma",
-    ),
-    "the coupling",
-)
-"""The coupling Pi of the scenes that have one (Scene.coupling: the network scenes), given in place of sigma."""
 LEADING = ("n", "sigma", "drag_ratio", "noise")
 """The parameters every summary reports first, in this order; then the scene's own, then the terms' others."""
 

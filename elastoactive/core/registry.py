@@ -38,7 +38,7 @@ def _adopt(scene: Scene) -> None:
         register(scene)
 
 
-SCENES: Registry[Scene] = Registry("scene", error=UnknownScene, group="scenes", adopt=_adopt)
+SCENES: Registry[Scene] = Registry("scene", error=UnknownScene, group="scenes", adopt=_adopt, built_ins=True)
 """The scenes, in registration order."""
 
 

@@ -6,13 +6,16 @@ scenes (elastoactive.core.registry), the terms (elastoactive.core.term_registry)
 registering the same entry again is a no-op, another entry under a taken name is refused unless replace=True; an unknown
 name raises the registry's UnknownName (a KeyError) whose message is one line listing the names that are. A registry
 with an entry-point group loads the plug-ins of that group (`load_entry_points`) the first time it is asked for a name
-it does not hold or listed.
+it does not hold or listed. The package's own entries (its scenes and terms, with their parameters and observables)
+join when a registry is first read (`load_built_ins`): `import elastoactive` imports neither, so that what needs no
+scene (the command line's --help, a script that reads one record) does not load numpy and the engines.
 
 A leaf module: it imports nothing of the package, so that every registry can use it.
 """
 
 from __future__ import annotations
 
+import importlib
 import types
 import warnings
 from collections.abc import Callable, Iterator
@@ -23,6 +26,11 @@ T = TypeVar("T")
 ENTRY_POINT_GROUPS = {"scenes": "elastoactive.scenes", "terms": "elastoactive.terms", "studies": "elastoactive.studies"}
 """The entry-point group of each registry: a distribution's entry point names a module (importing it registers what
 it defines) or a Scene or Term (an instance, or a class to instantiate), which its registry registers."""
+BUILT_INS = {"terms": "elastoactive.terms", "scenes": "elastoactive.scenes"}
+"""The package's own entries: the module whose import registers its terms, and its scenes (each with the parameter and
+observable specs it declares), imported in this order: the chain's specs, the terms', the scenes'."""
+_built_ins = {"loaded": False}
+"""Whether the package's own entries are registered, or registering (load_built_ins)."""
 _entry_points = {"ready": False, "loaded": set()}
 """Whether `import elastoactive` has finished (a plug-in imports the package itself), and the groups loaded."""
 
@@ -32,6 +40,29 @@ def entry_points_ready() -> None:
     _entry_points["ready"] = True
 
 
+def load_built_ins() -> None:
+    """Import the package's own scenes and terms (BUILT_INS), once: what a registry's first read needs. Marked before
+    the import, so that a read while they import (a scene module looking up a parameter) sees what is registered so
+    far and does not start it again; the order of registration is that of the imports, whichever registry is read
+    first."""
+    if not _built_ins["loaded"]:
+        _built_ins["loaded"] = True
+        for module in BUILT_INS.values():
+            importlib.import_module(module)
+
+
+def built_ins_loaded() -> bool:
+    """Whether the package's own scenes and terms are registered, or registering (load_built_ins)."""
+    return _built_ins["loaded"]
+
+
+def entry_points(kind: str) -> tuple:
+    """The installed distributions' entry points of registry `kind` ("scenes", "terms" or "studies"), not loaded."""
+    import importlib.metadata  # the plug-in boundary: reading the installed distributions' metadata costs ~40 ms
+
+    return tuple(importlib.metadata.entry_points(group=ENTRY_POINT_GROUPS[kind]))
+
+
 def load_entry_points(kind: str, register_object=None) -> None:
     """Load the entry points of registry `kind` ("scenes", "terms" or "studies"), once, when the package is whole;
     `register_object(obj)` registers what an entry point names unless it is a module. A plug-in that fails to load
@@ -39,9 +70,7 @@ def load_entry_points(kind: str, register_object=None) -> None:
     if not _entry_points["ready"] or kind in _entry_points["loaded"]:
         return
     _entry_points["loaded"].add(kind)  # before loading: a plug-in that lists the registry does not load it again
-    import importlib.metadata  # the plug-in boundary: reading the installed distributions' metadata costs ~20 ms
-
-    for point in importlib.metadata.entry_points(group=ENTRY_POINT_GROUPS[kind]):
+    for point in entry_points(kind):
         try:
             obj = point.load()
             if register_object is not None and not isinstance(obj, types.ModuleType):
@@ -76,6 +105,8 @@ class Registry(Generic[T]):
     kind, kinds   what an entry is called in messages ('scene', 'scenes')
     error         the UnknownName subclass `get` raises (default: one made for `kind`)
     group         the entry-point group whose plug-ins join on first need ("scenes", ...), or None
+    built_ins     whether the package's own scenes and terms hold or declare entries of this registry: they are
+                  imported before its first read (load_built_ins; registering is no read: their modules register)
     adopt         adopt(obj): registers what an entry point names (a Scene, a Term); checks it is one
     order         key of `entries` and `names` (default: registration order)
     same          same(known, entry): whether registering `entry` under a name `known` holds is the same entry again
@@ -94,11 +125,20 @@ class Registry(Generic[T]):
         order: Callable[[T], float] | None = None,
         same: Callable[[T, T], bool] = lambda known, entry: known is entry or known == entry,
         replaceable: bool = True,
+        built_ins: bool = False,
     ):
         self.kind, self.kinds = kind, kinds or f"{kind}s"
         self.error = error or type(f"Unknown{kind.title()}", (UnknownName,), {"kind": kind, "kinds": self.kinds})
         self.group, self.adopt, self.order, self.same, self.replaceable = group, adopt, order, same, replaceable
+        self.built_ins = built_ins
         self._table: dict[str, tuple[T, str]] = {}
+
+    @property
+    def _read(self) -> dict[str, tuple[T, str]]:
+        """The table, once the package's own entries are in it (load_built_ins)."""
+        if self.built_ins:
+            load_built_ins()
+        return self._table
 
     # ------------------------------------------------------------------ register
     def admit(self, entry: T, name: str | None = None, replace: bool = False) -> str:
@@ -124,17 +164,19 @@ class Registry(Generic[T]):
 
     def unregister(self, name: str) -> T | None:
         """Remove the entry called `name` (a test's toy cleans up with this); returns it, or None if there was none."""
-        known = self._table.pop(name, None)
+        known = self._read.pop(name, None)
         return None if known is None else known[0]
 
     # ------------------------------------------------------------------ look up
     def _plugins(self) -> None:
+        if self.built_ins:  # the package's own first: a plug-in may replace one of them
+            load_built_ins()
         if self.group is not None:
             load_entry_points(self.group, self.adopt)
 
     def find(self, name: str) -> T | None:
         """The entry called `name` (the entry points' included), or None."""
-        known = self._table.get(name) if isinstance(name, str) else None
+        known = self._read.get(name) if isinstance(name, str) else None
         if known is None and self.group is not None:
             self._plugins()
             known = self._table.get(name) if isinstance(name, str) else None
@@ -149,11 +191,11 @@ class Registry(Generic[T]):
 
     def known(self, name: str) -> bool:
         """Whether an entry is called `name` (without loading plug-ins)."""
-        return name in self._table
+        return name in self._read
 
     def owner(self, name: str) -> str:
         """Who declared the entry called `name`."""
-        if name not in self._table:
+        if name not in self._read:
             raise self.error(name, tuple(self._table))
         return self._table[name][1]
 
@@ -161,22 +203,22 @@ class Registry(Generic[T]):
     def entries(self) -> tuple[T, ...]:
         """Every entry (the entry points' included), in `order` (default: registration order)."""
         self._plugins()
-        values = [entry for entry, _ in self._table.values()]
+        values = [entry for entry, _ in self._read.values()]
         return tuple(sorted(values, key=self.order) if self.order is not None else values)
 
     def names(self) -> tuple[str, ...]:
         """The entries' names, in the order of `entries`."""
         if self.order is None:
             self._plugins()
-            return tuple(self._table)
+            return tuple(self._read)
         order = {id(entry): i for i, entry in enumerate(self.entries())}
         return tuple(sorted(self._table, key=lambda n: order[id(self._table[n][0])]))
 
     def __contains__(self, name: object) -> bool:
-        return name in self._table
+        return name in self._read
 
     def __iter__(self) -> Iterator[str]:
-        return iter(self._table)
+        return iter(self._read)
 
     def __len__(self) -> int:
-        return len(self._table)
+        return len(self._read)

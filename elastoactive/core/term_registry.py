@@ -41,7 +41,7 @@ def _adopt(term) -> None:
         register(term)
 
 
-TERMS: Registry[Term] = Registry("term", error=UnknownTerm, group="terms", adopt=_adopt)
+TERMS: Registry[Term] = Registry("term", error=UnknownTerm, group="terms", adopt=_adopt, built_ins=True)
 """The terms, in registration order."""
 
 

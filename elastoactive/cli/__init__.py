@@ -1,22 +1,36 @@
 """`elastoactive`: the command line, in the paper's dimensionless parameters.
 
-One module per subcommand, each with register(subparsers) and main(args). Building the parser
-imports nothing heavy (the engines, matplotlib, xarray load only when a command runs), and the command line
-builds it lazily: a subcommand's options are added only when that subcommand parses, so `elastoactive --help`
-reads no more than each command's one-line help (tests/cli/test_help_imports.py holds both).
+One module per subcommand, each with register(subparsers) and main(args), listed with its one-line help in COMMANDS.
+The command line builds its parser lazily: `elastoactive --help` reads COMMANDS and the scenes' lines from source
+(elastoactive.cli.catalogue) and imports no command, no scene and not numpy; a subcommand's module is imported, and
+its parser built, when that subcommand parses (`command_module`: the boundary past which a command loads what it
+runs). tests/cli/test_help_imports.py holds both, and that the lazy parser prints what the whole one does.
 """
 
 from __future__ import annotations
 
 import argparse
+import importlib
 import sys
 
 from ..core.errors import ParameterError, SimulationDiverged
-from . import accuracy, filament, ramp, render, reproduce, run, stability, sweep, validate, whirl
-from .options import UNITS, plugin_argument, preload_plugins, scene_help
+from .options import UNITS, check_mujoco_gl, plugin_argument, preload_plugins, scene_help
 
-COMMANDS = (run, validate, sweep, ramp, render, accuracy, reproduce, stability, filament, whirl)
-"""The subcommands, in the order --help lists them."""
+COMMANDS = {
+    "run": "simulate one scene and write summary.json + trajectory.npz",
+    "validate": "run MuJoCo and the reduced model on the paper's cases and tabulate the error",
+    "sweep": "run a scene over a grid of parameters (every core or a Dask cluster) into a netCDF file",
+    "ramp": "ramp one parameter up then down in steps, each from the last state (hysteresis) into a netCDF file",
+    "render": "render a saved run (folder or trajectory.npz) to an MP4 video and/or a PNG still",
+    "accuracy": "error against wall time for MuJoCo integrators/timesteps/mass ratios and reduced-model solvers",
+    "reproduce": "regenerate the paper's figures, their data and report.md (claim by claim)",
+    "stability": "onset sigma_c, omega_c and growth rates from the linear operator (no simulation)",
+    "filament": "the clamped filament's beat and onset, extrapolated from a ladder of chains",
+    "whirl": "the clamped filament's whirl in 3D (rate, tip radius), extrapolated from a ladder of chains",
+}
+"""The subcommands, in the order --help lists them, with the one line it gives each. The command `name` is the module
+elastoactive.cli.<name>: its register(subparsers) builds the command's parser (subparsers.add_parser(name, ...): its
+description, epilog and options; the one line is here) and sets its main(args) as the parser's func."""
 
 
 class _Parser(argparse.ArgumentParser):
@@ -28,53 +42,55 @@ class _Parser(argparse.ArgumentParser):
         self.exit(2, f"elastoactive: error: {command + ': ' if command else ''}{message} (see {self.prog} --help)\n")
 
 
-class _Declared(Exception):
-    """Raised by _Declaring.add_parser: a subcommand's name and add_parser keywords, read without the rest of its
-    module's register (which builds every option)."""
-
-    def __init__(self, name: str, kwargs: dict):
-        super().__init__(name)
-        self.name, self.kwargs = name, kwargs
+def command_module(name: str):
+    """The module of the subcommand `name` (COMMANDS), imported: the command line's boundary, past which a command
+    loads what it runs (the engines, numpy, the writers) and which --help does not cross."""
+    return importlib.import_module(f".{name}", __name__)
 
 
-class _Declaring:
-    """The subparsers that `register` sees while its command's one-line help is read: add_parser, the first call of
-    every register, stops it there."""
+class _Listed:
+    """The subparsers a command's register sees in the whole parser: add_parser adds the command with its one line."""
 
-    def add_parser(self, name: str, **kwargs):
-        raise _Declared(name, kwargs)
-
-
-class _Filling:
-    """The subparsers that `register` sees when a lazily built command parses: add_parser hands back that command's
-    parser (made with the same keywords), which register then fills with its options."""
-
-    def __init__(self, parser: argparse.ArgumentParser):
-        self.parser = parser
+    def __init__(self, subparsers):
+        self.subparsers = subparsers
 
     def add_parser(self, name: str, **kwargs):
+        return self.subparsers.add_parser(name, help=COMMANDS[name], **kwargs)
+
+
+class _Own:
+    """The subparsers a command's register sees when its lazily listed parser first parses: add_parser makes the
+    command's parser on its own, under the listed parser's name (prog)."""
+
+    def __init__(self, prog: str):
+        self.prog = prog
+        self.parser: argparse.ArgumentParser | None = None
+
+    def add_parser(self, name: str, **kwargs):
+        self.parser = _Parser(prog=self.prog, **kwargs)
         return self.parser
 
 
 class _Command(_Parser):
-    """A subcommand's parser whose options its module's register adds when it first parses (its --help, its
-    arguments): what it prints and accepts is that of the parser register builds."""
+    """A subcommand listed by name and one line, whose parser its module's register builds when it first parses (its
+    --help, its arguments); parsing is then that parser's, so it prints and accepts what the whole parser does."""
 
-    def __init__(self, *args, command=None, **kwargs):
-        super().__init__(*args, **kwargs)
-        self._command = command
+    def __init__(self, *args, command: str, **kwargs):
+        super().__init__(*args, add_help=False, **kwargs)
+        self._command, self._built = command, None
 
     def parse_known_args(self, args=None, namespace=None):
-        if self._command is not None:
-            command, self._command = self._command, None
-            command.register(_Filling(self))
-        return super().parse_known_args(args, namespace)
+        if self._built is None:
+            own = _Own(self.prog)
+            command_module(self._command).register(own)
+            self._built = own.parser
+        return self._built.parse_known_args(args, namespace)
 
 
 def build_parser(*, lazy: bool = False) -> argparse.ArgumentParser:
-    """The command line's parser. lazy=True (what `main` uses): each subcommand's options are added when it parses,
-    so the top-level --help builds none of them; lazy=False: every subcommand's parser whole (for the reference
-    pages and the tests that read a subcommand's options)."""
+    """The command line's parser. lazy=True (what `main` uses): each subcommand listed by its name and one line, its
+    module imported and its parser built when it parses, so the top-level --help imports no command; lazy=False: every
+    subcommand's parser whole (for the reference pages and the tests that read a subcommand's options)."""
     parser = _Parser(
         prog="elastoactive",
         description="Elasto-active chains in MuJoCo (Zheng et al., 'Self-oscillation and synchronisation "
@@ -86,14 +102,11 @@ def build_parser(*, lazy: bool = False) -> argparse.ArgumentParser:
     sub = parser.add_subparsers(
         dest="command", required=True, metavar="COMMAND", parser_class=_Command if lazy else _Parser
     )
-    for command in COMMANDS:
-        if not lazy:
-            command.register(sub)
-            continue
-        try:
-            command.register(_Declaring())
-        except _Declared as declared:
-            sub.add_parser(declared.name, command=command, **declared.kwargs)
+    for name, line in COMMANDS.items():
+        if lazy:
+            sub.add_parser(name, help=line, command=name)
+        else:
+            command_module(name).register(_Listed(sub))
     return parser
 
 
@@ -107,7 +120,7 @@ def main(argv: list[str] | None = None) -> int:
     parser = build_parser(lazy=True)
     args = parser.parse_args(argv)
     try:
-        render.check_mujoco_gl()
+        check_mujoco_gl()
         return args.func(args)
     except ParameterError as err:
         print(f"elastoactive: error: {err}", file=sys.stderr)

@@ -41,7 +41,6 @@ def main(args) -> int:
 def register(sub) -> None:
     p = sub.add_parser(
         "accuracy",
-        help="error against wall time for MuJoCo integrators/timesteps/mass ratios and reduced-model solvers",
         description="Measure the error of MuJoCo (integrator, dt, mass ratio) and of the reduced model (method, "
         "tolerance) against a tight reduced-model solution (rtol 1e-11) on the paper's cases, with their wall "
         "time; write a log-log plot, tables (markdown + CSV) and the cheapest settings for 1%, 0.1%, 0.01%.",

@@ -80,7 +80,6 @@ class Rung:
 def register(subparsers) -> None:
     p = subparsers.add_parser(
         "filament",
-        help="the clamped filament's beat and onset, extrapolated from a ladder of chains",
         description="Run the reduced engine on chains of N particles at sigma = S / N^3 and extrapolate the beat "
         "(omega in B / (zeta L^4), amplitude of Theta) and the onset to the continuum filament in 1/N "
         "(docs/filament.md).",

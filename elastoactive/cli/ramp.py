@@ -19,7 +19,8 @@ from ..core.errors import ParameterError
 from ..core.params import Numerics, Physics, parameter_fields
 from ..engines import ENGINES
 from ..io.outputs import output_path
-from .options import UNITS, add_fields, scene_argument
+from .fields import add_fields, scene_argument
+from .options import UNITS
 
 EXAMPLES = """examples:
   elastoactive ramp lattice --rings 3 --alignment-length 0.1 --ramp Pi=0.55:0.8:6 --seeds 0,1,2 \\
@@ -39,7 +40,6 @@ its journal (OUT.journal); the same --out with another ramp is refused. Results:
 def register(subparsers) -> None:
     p = subparsers.add_parser(
         "ramp",
-        help="ramp one parameter up then down in steps, each from the last state (hysteresis) into a netCDF file",
         description="Ramp one parameter up and then down in steps, each step starting from the previous step's end, "
         "for several seeds; write the measurements as one netCDF file with the direction as a coordinate (the "
         "hysteresis loop as data) and its figure; resumable. " + UNITS,

@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import os
 import sys
 from pathlib import Path
 
@@ -24,23 +23,6 @@ RENDER_HELP = (
     "side, from the side (face on to the tip's path) and down the clamp axis, with the tip's trace. The GL back end "
     "is MUJOCO_GL if set, else egl, else osmesa."
 )
-
-
-def check_mujoco_gl() -> None:
-    """Refuse a MUJOCO_GL that MuJoCo rejects (it reads the variable when it is imported, and raises on a value it
-    does not know), in one line naming the variable, before any command loads MuJoCo. Unset, nothing is loaded."""
-    value = os.environ.get("MUJOCO_GL")
-    if not value:
-        return
-    try:
-        import mujoco  # noqa: F401 (loaded by every command that simulates or renders)
-    except RuntimeError as err:
-        if "MUJOCO_GL" not in str(err):
-            raise
-        raise ParameterError(
-            f"environment variable MUJOCO_GL={value!r} is not a value MuJoCo accepts ({err}); "
-            "unset it (rendering then tries egl, then osmesa) or set egl, osmesa or glfw"
-        ) from None
 
 
 def add_video_args(p: argparse.ArgumentParser, *, still: bool = False, time_units: str = "tau") -> None:
@@ -123,7 +105,6 @@ def main(args) -> int:
 def register(sub) -> None:
     p = sub.add_parser(
         "render",
-        help="render a saved run (folder or trajectory.npz) to an MP4 video and/or a PNG still",
         description="Render a saved run off-screen. The physics comes from summary.json beside "
         "trajectory.npz. " + RENDER_HELP,
     )

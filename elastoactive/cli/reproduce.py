@@ -32,7 +32,6 @@ DESCRIPTION = (
 def register(subparsers) -> None:
     p = subparsers.add_parser(
         "reproduce",
-        help="regenerate the paper's figures, their data and report.md (claim by claim)",
         description=DESCRIPTION,
     )
     p.add_argument(

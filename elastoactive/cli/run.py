@@ -24,7 +24,8 @@ from ..io.outputs import check_file, check_folder, check_space, folder_lock, out
 from ..reduced.settings import METHODS
 from ..results import check_transient, jsonable, read_summary, recorded_numerics, summary, write_run
 from ..starts import read_start
-from .options import UNITS, add_fields, help_argument, scene_argument, scene_description, scene_help
+from .fields import add_fields, help_argument, scene_argument, scene_description
+from .options import UNITS, scene_help
 from .render import add_video_args, check_video_options, video_after_run
 
 DEFAULT_DURATION = 300.0
@@ -33,11 +34,10 @@ DEFAULT_DURATION = 300.0
 def register(subparsers) -> None:
     run = subparsers.add_parser(
         "run",
-        help="simulate one scene and write summary.json + trajectory.npz",
         description="Simulate one scene. " + UNITS,
         epilog=scene_help(),
         formatter_class=argparse.RawDescriptionHelpFormatter,
-        conflict_handler="resolve",  # its -h: options.SceneHelp
+        conflict_handler="resolve",  # its -h: fields.SceneHelp
     )
     help_argument(run, fill)
     fill(run, None)

@@ -43,7 +43,6 @@ def _own_parameters() -> dict[str, list[str]]:
 def register(subparsers) -> None:
     p = subparsers.add_parser(
         "stability",
-        help="onset sigma_c, omega_c and growth rates from the linear operator (no simulation)",
         description="Linear stability of a scene's straight chain: sigma_c and omega_c, the growth rate at --sigma, "
         "and the continuum filament's onset. " + UNITS,
         formatter_class=argparse.RawDescriptionHelpFormatter,

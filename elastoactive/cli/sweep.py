@@ -24,7 +24,8 @@ from ..core.params import PRESETS, Numerics, Physics, parameter_fields, scene_pa
 from ..core.units import CHAIN, scene_units
 from ..engines import ENGINES
 from ..io.outputs import check_file, output_path
-from .options import UNITS, add_fields, help_argument, scene_argument, scene_description
+from .fields import add_fields, help_argument, scene_argument, scene_description
+from .options import UNITS
 
 EXAMPLES = """examples:
   elastoactive sweep one-pinned --grid sigma=0.2:1.0:9 --grid n=5,7,9 --duration 300 --out onset.nc
@@ -48,12 +49,11 @@ runs, naming a --dt that passes), or an unusable --out."""
 def register(subparsers) -> None:
     p = subparsers.add_parser(
         "sweep",
-        help="run a scene over a grid of parameters (every core or a Dask cluster) into a netCDF file",
         description="Run a scene at every point of a parameter grid and write the measurements (amplitude, "
         "frequency, ...) as an xarray Dataset to netCDF, point by point; resumable. " + UNITS,
         epilog=EXAMPLES,
         formatter_class=argparse.RawDescriptionHelpFormatter,
-        conflict_handler="resolve",  # its -h: options.SceneHelp
+        conflict_handler="resolve",  # its -h: fields.SceneHelp
     )
     help_argument(p, fill)
     fill(p, None)

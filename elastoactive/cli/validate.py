@@ -11,7 +11,8 @@ import sys
 from ..core import registry
 from ..core.errors import ParameterError, SimulationDiverged
 from ..core.params import Numerics
-from .options import UNITS, numerics_args, numerics_from
+from .fields import numerics_args, numerics_from
+from .options import UNITS
 
 TOLERANCE_RANGE = (1e-4, 1.0)
 """Tolerances validate accepts: below 1e-4 (0.01%) no setting passes (the MuJoCo discretisation error alone is
@@ -33,7 +34,6 @@ def check_tolerance(tolerance: float) -> float:
 def register(subparsers) -> None:
     val = subparsers.add_parser(
         "validate",
-        help="run MuJoCo and the reduced model on the paper's cases and tabulate the error",
         description="Cross-validate the MuJoCo scenes against the reduced model on the paper's cases. " + UNITS,
     )
     val.add_argument(

@@ -51,7 +51,6 @@ class WhirlRung:
 def register(subparsers) -> None:
     p = subparsers.add_parser(
         "whirl",
-        help="the clamped filament's whirl in 3D (rate, tip radius), extrapolated from a ladder of chains",
         description="Find the whirl of the clamped chain in three dimensions (a rigid non-planar shape turning about "
         "the clamp axis) by Newton's method on chains of N particles at sigma = S / N^3 (reduced 3D model), and "
         "extrapolate its rate N^4 Omega (B / (zeta L^4)), tip radius R / L and bend to the continuum filament in 1/N "

@@ -4,6 +4,7 @@ scenes and studies declared as entry points of an installed distribution join th
 """
 
 import json
+import os
 import subprocess
 import sys
 import textwrap
@@ -252,3 +253,51 @@ def test_a_broken_entry_point_warns_and_the_others_load(tmp_path, monkeypatch, f
     with pytest.warns(RuntimeWarning, match="'broken'"):
         names = studies.names()
     assert "hopf" in names
+
+
+def test_an_installed_scene_is_in_the_top_level_help(tmp_path):
+    """In a fresh process whose path holds a distribution declaring a scene, `elastoactive --help` lists it (the help
+    reads the registry, not the source, once a distribution may add a scene: table.declares_entry_points)."""
+    (tmp_path / "toy_ep_help.py").write_text(
+        textwrap.dedent(
+            """
+            from elastoactive.scenes.one_pinned import OnePinned
+
+            class Listed(OnePinned):
+                name = "entry-listed"
+                summary = "an installed distribution's scene"
+            """
+        )
+    )
+    _distribution(tmp_path, "elastoactive.scenes", "entry-listed = toy_ep_help:Listed")
+    env = dict(os.environ, PYTHONPATH=str(tmp_path))
+    out = subprocess.run(
+        [sys.executable, "-m", "elastoactive", "--help"], env=env, capture_output=True, text=True, timeout=120
+    )
+    assert out.returncode == 0, out.stderr
+    assert "entry-listed" in out.stdout and "an installed distribution's scene" in out.stdout
+    assert "one-pinned" in out.stdout
+
+
+@pytest.mark.parametrize("group", ["elastoactive.scenes", "elastoactive.terms", "elastoactive.studies"])
+def test_a_distribution_s_entry_points_are_seen_without_reading_metadata(tmp_path, monkeypatch, group):
+    """declares_entry_points answers for the group a distribution on sys.path declares, and only for it."""
+    kinds = {v: k for k, v in table.ENTRY_POINT_GROUPS.items()}
+    assert not any(table.declares_entry_points(kind) for kind in kinds.values())
+    _distribution(tmp_path, group, "toy = toy_module")
+    monkeypatch.syspath_prepend(str(tmp_path))
+    assert [table.declares_entry_points(kind) for kind in kinds.values()] == [g == group for g in kinds]
+
+
+def test_an_unknown_distribution_finder_is_not_ruled_out(monkeypatch):
+    """A finder of distributions other than Python's own: the answer is 'maybe' (the registry then reads them)."""
+
+    class Finder:
+        def find_spec(self, *args):
+            return None
+
+        def find_distributions(self, *args, **kwargs):
+            return iter(())
+
+    monkeypatch.setattr(sys, "meta_path", [Finder(), *sys.meta_path])
+    assert table.declares_entry_points("scenes")

@@ -16,8 +16,7 @@ import re
 import sys
 from pathlib import Path
 
-from ..core import registry
-from ..core.table import BUILT_INS, built_ins_loaded, entry_points
+from ..core.table import BUILT_INS, built_ins_loaded, declares_entry_points
 
 _SCENE = re.compile(r"^SCENE = (\w+)\(\)$", re.MULTILINE)
 """A scene module's registered instance: `SCENE = ClassName()`."""
@@ -80,9 +79,11 @@ def scenes() -> tuple[tuple[str, str], ...]:
     """(name, summary) of every registered scene, in registration order: from source while nothing but the package's
     own can be registered (module docstring), else from the registry."""
     untouched = not built_ins_loaded() and BUILT_INS["scenes"] not in sys.modules
-    if untouched and not entry_points("scenes"):  # an installed distribution's scenes: the registry loads them
+    if untouched and not declares_entry_points("scenes"):  # an installed distribution's scenes: the registry loads them
         try:
             return from_source()
         except (NotLiteral, OSError):
             pass
+    from ..core import registry  # the registry's first read: every scene, its terms and numpy load past here
+
     return tuple((s.name, s.summary) for s in registry.scenes())

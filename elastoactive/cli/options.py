@@ -9,7 +9,6 @@ import argparse
 import os
 from pathlib import Path
 
-from .. import plugins
 from ..core.errors import ParameterError
 from ..core.units import CHAIN, NETWORK
 from . import catalogue
@@ -91,18 +90,22 @@ def preload_plugins(argv: list[str]) -> list[str]:
             specs.append(item.split("=", 1)[1])
         else:
             rest.append(item)
+    values = (item.split("=", 1)[1] if item.startswith("--from=") else item for item in rest)
+    runs = [
+        v for v in values if v and not v.startswith("-") and (Path(v).is_dir() or Path(v).suffix in (".json", ".npz"))
+    ]
+    if not (specs or runs):
+        return rest
+    from .. import plugins  # the plug-in boundary: loading one reads the registries (every scene, term, numpy)
+
     for spec in dict.fromkeys(specs):
         plugins.load(spec)
-    for item in rest:
-        value = item.split("=", 1)[1] if item.startswith("--from=") else item
-        if value and not value.startswith("-") and (Path(value).is_dir() or Path(value).suffix in (".json", ".npz")):
-            for spec in plugins.recorded(Path(value)):
-                try:
-                    plugins.load(spec)
-                except ParameterError as err:
-                    raise ParameterError(
-                        f"{value} was run with the plug-in {spec}, which did not load: {err}"
-                    ) from None
+    for value in runs:
+        for spec in plugins.recorded(Path(value)):
+            try:
+                plugins.load(spec)
+            except ParameterError as err:
+                raise ParameterError(f"{value} was run with the plug-in {spec}, which did not load: {err}") from None
     return rest
 
 

@@ -104,3 +104,21 @@ def test_a_registry_read_loads_the_package_s_own_first():
     )
     out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, timeout=120, check=True)
     assert out.stdout.split("\n")[:2] == ["False False 2", "True True True"], out.stdout
+
+
+def test_a_built_in_that_fails_to_import_is_raised_at_every_read():
+    """In a fresh process whose scenes cannot import (numpy made unimportable): the first read raises the import's
+    error, and so does the next; no read returns a table without the package's own."""
+    probe = (
+        "import sys\n"
+        "sys.modules['numpy'] = None\n"
+        "from elastoactive.core import registry\n"
+        "for _ in range(2):\n"
+        "    try:\n"
+        "        registry.names()\n"
+        "        print('listed')\n"
+        "    except ImportError as err:\n"
+        "        print(type(err).__name__)\n"
+    )
+    out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, timeout=120, check=True)
+    assert out.stdout.split() == ["ModuleNotFoundError", "ModuleNotFoundError"], out.stdout + out.stderr

@@ -91,9 +91,7 @@ def preload_plugins(argv: list[str]) -> list[str]:
         else:
             rest.append(item)
     values = (item.split("=", 1)[1] if item.startswith("--from=") else item for item in rest)
-    runs = [
-        v for v in values if v and not v.startswith("-") and (Path(v).is_dir() or Path(v).suffix in (".json", ".npz"))
-    ]
+    runs = [v for v in values if v and not v.startswith("-") and Path(v).exists()]  # a run's record, maybe
     if not (specs or runs):
         return rest
     from .. import plugins  # the plug-in boundary: loading one reads the registries (every scene, term, numpy)

@@ -48,11 +48,15 @@ def load_built_ins() -> None:
     """Import the package's own scenes and terms (BUILT_INS), once: what a registry's first read needs. Marked before
     the import, so that a read while they import (a scene module looking up a parameter) sees what is registered so
     far and does not start it again; the order of registration is that of the imports, whichever registry is read
-    first."""
+    first. An import that fails is raised, and the next read tries again (never a table silently short)."""
     if not _built_ins["loaded"]:
         _built_ins["loaded"] = True
-        for module in BUILT_INS.values():
-            importlib.import_module(module)
+        try:
+            for module in BUILT_INS.values():
+                importlib.import_module(module)
+        except BaseException:
+            _built_ins["loaded"] = False
+            raise
 
 
 def built_ins_loaded() -> bool:

@@ -283,9 +283,9 @@ def test_an_installed_scene_is_in_the_top_level_help(tmp_path):
 def test_a_distribution_s_entry_points_are_seen_without_reading_metadata(tmp_path, monkeypatch, group):
     """declares_entry_points answers for the group a distribution on sys.path declares, and only for it."""
     kinds = {v: k for k, v in table.ENTRY_POINT_GROUPS.items()}
+    monkeypatch.setattr(sys, "path", [str(tmp_path)])  # only this folder's distributions (none yet)
     assert not any(table.declares_entry_points(kind) for kind in kinds.values())
     _distribution(tmp_path, group, "toy = toy_module")
-    monkeypatch.syspath_prepend(str(tmp_path))
     assert [table.declares_entry_points(kind) for kind in kinds.values()] == [g == group for g in kinds]
 
 

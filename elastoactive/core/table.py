@@ -16,7 +16,6 @@ A leaf module: it imports nothing of the package, so that every registry can use
 from __future__ import annotations
 
 import importlib
-import importlib.machinery
 import os
 import re
 import sys
@@ -64,15 +63,22 @@ def built_ins_loaded() -> bool:
     return _built_ins["loaded"]
 
 
+_PATH_FINDERS = ("_frozen_importlib_external.PathFinder", "importlib_metadata.MetadataPathFinder")
+"""The finders of distributions that look where declares_entry_points looks (the folders of sys.path): Python's own,
+and the importlib_metadata backport's, which a dependency may have installed."""
+
+
 def declares_entry_points(kind: str) -> bool:
     """Whether an installed distribution may declare entry points of registry `kind`, answered in a few milliseconds
     without importlib.metadata (which takes ~40 ms to import): False only when no distribution folder (*.dist-info,
     *.egg-info) in a folder of sys.path names the group in its entry_points.txt, no entry of sys.path is an archive
-    and no import finder but Python's own finds distributions; True otherwise (load_entry_points then reads them)."""
+    and no import finder but those of _PATH_FINDERS finds distributions; True otherwise (load_entry_points then reads
+    them)."""
     header = re.compile(rf"^\s*\[\s*{re.escape(ENTRY_POINT_GROUPS[kind])}\s*\]", re.MULTILINE)
-    finders = [f for f in sys.meta_path if hasattr(f, "find_distributions")]
-    if finders != [importlib.machinery.PathFinder]:
-        return True
+    for finder in sys.meta_path:
+        cls = finder if isinstance(finder, type) else type(finder)
+        if hasattr(finder, "find_distributions") and f"{cls.__module__}.{cls.__qualname__}" not in _PATH_FINDERS:
+            return True
     for entry in sys.path:
         if os.path.isfile(entry):
             return True

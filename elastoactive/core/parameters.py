@@ -161,12 +161,7 @@ class Parameter:
             else:
                 raise ParameterError(f"{self.label} must be an integer, got {value!r}")
         else:
-            try:
-                value = float(value)
-            except (TypeError, ValueError):
-                raise ParameterError(f"{self.name} must be a number, got {value!r}") from None
-            if not math.isfinite(value):
-                raise ParameterError(f"{self.name} must be finite, got {value}")
+            value = finite(self.name, value)
         low_bad = self.low is not None and (value <= self.low if self.low_open else value < self.low)
         high_bad = self.high is not None and (value >= self.high if self.high_open else value > self.high)
         if low_bad or high_bad:
@@ -220,6 +215,17 @@ class Parameter:
         """What this parameter needs, in messages: 'contact', 'active = self-aligning'."""
         text = self.needs if self.needs_value is None else f"{self.needs} = {self.needs_value}"
         return text if self.or_needs is None else f"{text} or {self.or_needs} = {self.or_needs_value}"
+
+
+def finite(name: str, value) -> float:
+    """`value` as a finite float; a ParameterError naming `name` if it is not a number, or not finite."""
+    try:
+        value = float(value)
+    except (TypeError, ValueError):
+        raise ParameterError(f"{name} must be a number, got {value!r}") from None
+    if not math.isfinite(value):
+        raise ParameterError(f"{name} must be finite, got {value}")
+    return value
 
 
 def _is_bool(value) -> bool:

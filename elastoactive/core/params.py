@@ -21,7 +21,7 @@ from . import parameters as _parameters
 from . import registry
 from . import term_registry as _terms
 from .errors import ParameterError
-from .parameters import COUPLING
+from .parameters import COUPLING, finite
 from .units import NETWORK, Worded
 
 INTEGRATORS = ("implicitfast", "implicit", "discrete", "Euler", "RK4")
@@ -30,16 +30,6 @@ DEFAULT_SCENE = "one-pinned"
 
 LEADING = ("n", "sigma", "drag_ratio", "noise")
 """The parameters every summary reports first, in this order; then the scene's own, then the terms' others."""
-
-
-def _finite(name: str, value: float) -> float:
-    try:
-        value = float(value)
-    except (TypeError, ValueError):
-        raise ParameterError(f"{name} must be a number, got {value!r}") from None
-    if not math.isfinite(value):
-        raise ParameterError(f"{name} must be finite, got {value}")
-    return value
 
 
 def scene_parameters(scene) -> tuple[str, ...]:
@@ -358,7 +348,7 @@ class Numerics:
     def __post_init__(self) -> None:
         for name in ("dt", "mass_ratio", "perturbation", "sample_dt"):
             if not isinstance(getattr(self, name), _Unset):  # a default stays marked as one (automatic)
-                object.__setattr__(self, name, _finite(name, getattr(self, name)))
+                object.__setattr__(self, name, finite(name, getattr(self, name)))
         if not 0 < self.dt <= 0.1:
             raise ParameterError(f"dt (timestep, in tau) must lie in (0, 0.1], got {self.dt}")
         if not 1e-7 <= self.mass_ratio <= MAX_MASS_RATIO:
@@ -420,7 +410,7 @@ class Numerics:
         """These numerics, or, where sample_dt was left at its default and the run would record more than AUTO_SAMPLES
         samples, a coarser sample_dt: the fewest whole steps of dt that keep the count at most AUTO_SAMPLES. A given
         sample_dt is kept as it is."""
-        duration = _finite("duration", duration)
+        duration = finite("duration", duration)
         if not isinstance(self.sample_dt, _Unset) or duration / self.sample_dt <= AUTO_SAMPLES:
             return self
         return dataclasses.replace(self, sample_dt=self.dt * math.ceil(duration / AUTO_SAMPLES / self.dt - 1e-9))
@@ -428,7 +418,7 @@ class Numerics:
     def sample_count(self, duration: float) -> int:
         """How many samples a run of `duration` records (sample_times' size), checked against MAX_SAMPLES without
         allocating them."""
-        duration = _finite("duration", duration)
+        duration = finite("duration", duration)
         if duration < 0:
             raise ParameterError(f"duration (in tau) must be >= 0, got {duration}")
         spacing = self.steps_per_sample * self.dt
@@ -447,7 +437,7 @@ class Numerics:
 
     def check_duration(self, duration: float) -> float:
         """A run length the engines can record and measure: at least MIN_SAMPLES samples."""
-        duration = _finite("duration", duration)
+        duration = finite("duration", duration)
         if duration <= 0:
             raise ParameterError(f"duration (in tau) must be > 0, got {duration:g}")
         count = self.sample_count(duration)

@@ -145,6 +145,9 @@ def block_errors(
 
 DEGENERATE = 1e-8
 """Relative gap (to the stiffest mode's eigenvalue) below which two normal modes share an eigenspace."""
+ENERGY_TIE = 1e-9
+"""Relative gap (to the largest mode energy) below which two modes' energies are equal: round-off, not physics,
+would order them (ranked_modes gives a tie to the lower rank)."""
 UNDEFORMED = 1e-8
 """A patch whose elastic energy is below this fraction of its scale sigma^2 A (A units of force sigma on springs of
 stiffness 1; `floor` of mode_energies) is undeformed, displacements below ~1e-4 sigma: its energy has no modes to
@@ -176,9 +179,9 @@ def mode_energies(
 
     The energies do not depend on which basis an eigensolver returned for a degenerate eigenspace: within each, the
     modes are its principal axes of <a a^T> (the most energetic first, on the lowest rank), so a state has one
-    labelling; ties between modes go to the lower rank. A total at or below `floor` leaves no modes to name. `total`:
-    the whole time-mean elastic energy when the modes are only the softest of a large network (the shares are then
-    of it); None: the modes' sum (every mode given)."""
+    labelling; ties between modes (energies equal within ENERGY_TIE) go to the lower rank. A total at or below
+    `floor` leaves no modes to name. `total`: the whole time-mean elastic energy when the modes are only the softest
+    of a large network (the shares are then of it); None: the modes' sum (every mode given)."""
     amplitudes = np.asarray(displacements) @ vectors
     second = amplitudes.T @ amplitudes / max(len(amplitudes), 1)  # <a a^T>
     held = np.zeros(len(values))
@@ -186,11 +189,26 @@ def mode_energies(
         held[space] = np.sort(np.linalg.eigvalsh(second[np.ix_(space, space)]))[::-1]
     energy = 0.5 * np.clip(values, 0.0, None) * np.clip(held, 0.0, None)
     total = float(energy.sum()) if total is None else float(total)
-    order = np.lexsort((np.arange(energy.size), -energy))  # most energetic first, ties to the lower rank
+    order = ranked_modes(energy, 2)
     if not total > floor:
         return ModeEnergies(energy, float("nan"), (0, 0), total)
     top = (int(order[0]) + 1, int(order[1]) + 1) if energy.size > 1 else (int(order[0]) + 1, 0)
     return ModeEnergies(energy, float(energy[order[:2]].sum() / total), top, total)
+
+
+def ranked_modes(energy: np.ndarray, count: int) -> np.ndarray:
+    """The indices of the `count` most energetic modes, the most energetic first; energies within ENERGY_TIE of the
+    largest (relative) are equal, and of equal ones the lower rank comes first, so that round-off in the energies
+    never decides an order."""
+    energy = np.asarray(energy, dtype=float)
+    tie = ENERGY_TIE * max(float(np.abs(energy).max(initial=0.0)), 1e-300)
+    left = np.arange(energy.size)
+    order = []
+    for _ in range(min(count, energy.size)):
+        best = int(np.flatnonzero(energy[left] >= energy[left].max() - tie)[0])  # the lowest rank among the ties
+        order.append(int(left[best]))
+        left = np.delete(left, best)
+    return np.array(order, dtype=int)
 
 
 class ModeSpace(NamedTuple):

@@ -589,6 +589,10 @@ CSV_FIELDS = (
 )
 
 
+OUTPUTS = ("accuracy.csv", "accuracy.md", "accuracy.png", "accuracy_steady.png", "accuracy_provenance.json")
+"""The files write_outputs writes into its folder: a folder holding any of them holds a study's results."""
+
+
 def write_outputs(out: Path, rows: list[dict], meta: dict) -> dict:
     """accuracy.csv (every run), accuracy.md (tables) and accuracy.png / accuracy_steady.png."""
     out = Path(out)

@@ -7,13 +7,14 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from ..io.outputs import check_folder
+from ..io.outputs import check_file, check_folder
 from .options import workers_argument
 
 
 def main(args) -> int:
     # both engines, matplotlib and the process pool load only when the study runs
     from ..checks.accuracy import (
+        OUTPUTS,
         format_defaults,
         format_recommendations,
         recommend,
@@ -23,6 +24,8 @@ def main(args) -> int:
     )
 
     check_folder(args.out)
+    for name in OUTPUTS:  # a folder of results (of any size) is replaced only when asked
+        check_file(args.out / name, "--out", (), force=args.force)
     size = "tiny" if args.tiny else "quick" if args.quick else "full"
     rows, meta = run_study(size, workers=args.workers, progress=not args.quiet)
     write_outputs(args.out, rows, meta)
@@ -54,5 +57,6 @@ def register(sub) -> None:
         help="one case, two settings per engine (a smoke test, a few seconds; numbers are rough)",
     )
     workers_argument(p, "processes (default: every core)")
+    p.add_argument("--force", action="store_true", help="replace the results of a study already in --out")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=main)

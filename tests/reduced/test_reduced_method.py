@@ -168,26 +168,33 @@ def test_ctrl_c_stops_a_long_reduced_run_within_a_second(tmp_path):
     import sys
     import time
 
-    proc = subprocess.Popen(
-        [
-            sys.executable,
-            "-m",
-            "elastoactive",
-            "run",
-            "one-pinned",
-            "--engine",
-            "reduced",
-            "--duration",
-            "200000",
-            "--sample-dt",
-            "1",
-            "--quiet",
-        ],
-        cwd=tmp_path,
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        text=True,
-    )
+    # a terminal's Ctrl-C, whatever the shell that started the tests left (a background job ignores SIGINT, and
+    # an ignored signal stays ignored across exec): handled here while the run starts, so that exec gives it the
+    # default disposition, on which Python raises KeyboardInterrupt
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        proc = subprocess.Popen(
+            [
+                sys.executable,
+                "-m",
+                "elastoactive",
+                "run",
+                "one-pinned",
+                "--engine",
+                "reduced",
+                "--duration",
+                "200000",
+                "--sample-dt",
+                "1",
+                "--quiet",
+            ],
+            cwd=tmp_path,
+            stdout=subprocess.PIPE,
+            stderr=subprocess.PIPE,
+            text=True,
+        )
+    finally:
+        signal.signal(signal.SIGINT, previous)
     time.sleep(6.0)  # start-up, then well into the integration (the whole run takes ~15 s)
     assert proc.poll() is None
     proc.send_signal(signal.SIGINT)

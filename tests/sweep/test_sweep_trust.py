@@ -25,8 +25,17 @@ from elastoactive.sweep import netcdf as sweep_netcdf
 # ----------------------------------------------------------------------------- "Trustworthy runs"
 
 
+@pytest.fixture
+def terminal_ctrl_c():
+    """SIGINT raising KeyboardInterrupt, as at a terminal, whatever the shell that started the tests left (a
+    background job ignores it); the disposition found is restored after."""
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    yield
+    signal.signal(signal.SIGINT, previous)
+
+
 @pytest.mark.parametrize("how", ["signal", "exception"])
-def test_ctrl_c_during_final_save_loses_nothing(tmp_path, monkeypatch, how):
+def test_ctrl_c_during_final_save_loses_nothing(tmp_path, monkeypatch, how, terminal_ctrl_c):
     """Item 1: a Ctrl-C during the final save, and a second one during the save on the way out,
     neither delete the journal before the netCDF is on disk; re-running resumes."""
     grid = {"sigma": [0.3, 0.6, 0.9]}

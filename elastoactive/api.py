@@ -104,7 +104,8 @@ def simulate(
     start : Trajectory, path, NetworkState, (positions, polarity) or array_like, optional
         The state to start from instead of the scene's: a trajectory's last sample, a saved run's (its folder), a
         network's node positions and unit polarities, or a chain's angles (``elastoactive.starts``); checked against
-        the scene, a state of another scene refused naming it. Not with ``theta0``.
+        the scene: a run of another scene (or of another shape: N, chains, nodes), a state of the wrong kind or size,
+        or one off the scene's pin is refused in one line naming ``start`` and both scenes. Not with ``theta0``.
     method : str, optional
         Reduced engine only: the ODE method ("numba-DOP853", "LSODA", "Radau", ...); default: chosen from the
         stiffness of the linearisation at the start (trajectory.info["method"] says which ran).
@@ -130,6 +131,7 @@ def simulate(
         A MuJoCo run whose state blew up or left its pin; the message names the likely cause.
     """
     physics, numerics = as_physics(physics), as_numerics(numerics)
+    start = None if start is None else as_start(start).checked(physics)  # before the gate: it may take seconds
     run = preflight(physics, numerics, duration, engine, method=method, timestep=check, announce=progress)
     for name, value in (("rtol", rtol), ("atol", atol)):
         if value is not None and (run.engine != "reduced" or not 0 < value < 1):
@@ -142,7 +144,7 @@ def simulate(
     if start is not None:
         if theta0 is not None:
             raise ParameterError("start: give start or theta0, not both")
-        options = as_start(start).engine_options()
+        options = start.engine_options()
     options["progress"] = progress  # MuJoCo's steps, or the reduced engine's time where its solver is slow
     if run.engine == "reduced" and method is not None:  # the reduced engine's ODE method (None: its automatic choice)
         options["method"] = method

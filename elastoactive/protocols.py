@@ -136,11 +136,8 @@ def make_ramp(
         raise ParameterError(f"transient must be in [0, duration = {duration:g}), got {transient:g}")
     for value in values:  # every step's physics is checked before any runs
         physics.replace(**{parameter: value})
-    return Ramp(physics, numerics, parameter, values, seeds, float(duration), transient, engine, _start(start))
-
-
-def _start(start) -> Start | None:
-    return None if start is None else as_start(start)
+    start = None if start is None else as_start(start).checked(physics)  # a state of this scene (elastoactive.starts)
+    return Ramp(physics, numerics, parameter, values, seeds, float(duration), transient, engine, start)
 
 
 # ------------------------------------------------------------------------------------------------ one step

@@ -83,6 +83,7 @@ def register(subparsers) -> None:
 def main(args) -> int:
     # the subcommand's boundary: the ramp's runner and the sweep package (see the module docstring)
     from .. import protocols
+    from ..starts import read_start
     from ..sweep.grid import parse_values
 
     name, _, text = args.ramp.partition("=")
@@ -101,6 +102,7 @@ def main(args) -> int:
     if "seed" in numerics:
         raise ParameterError("--seed: a ramp's seeds are --seeds")
     physics = Physics(scene=args.scene, **given)
+    start = read_start(args.start_from).checked(physics, "--start-from") if args.start_from else None
     ramp = protocols.make_ramp(
         physics,
         name,
@@ -110,7 +112,7 @@ def main(args) -> int:
         duration=args.duration,
         transient=args.transient,
         engine=args.engine,
-        start=args.start_from,
+        start=start,
     )
     if args.workers is not None and args.workers < 1:
         raise ParameterError(f"--workers must be >= 1, got {args.workers}")

@@ -251,7 +251,7 @@ def _run(args, out: Path | None) -> int:
     tolerances = {"rtol": args.rtol, "atol": None}  # given; else --from repeats the recorded run's, to the bit
     if args.rtol is None and args.source and engine == "reduced":
         tolerances = {k: _recorded(args.source)[k] for k in ("rtol", "atol")}
-    start = read_start(args.start_from) if args.start_from else None
+    start = read_start(args.start_from).checked(physics, "--start-from") if args.start_from else None
     traj = simulate(
         physics,
         numerics,

@@ -267,6 +267,30 @@ class Scene:
         mass_ratio, engines.reduced)."""
         return False
 
+    # ------------------------------------------------------------------ starts (elastoactive.starts)
+    def state_label(self, physics: Physics) -> str:
+        """The shape of the scene's state in a few words, for messages: "N = 7", "2 chains of N = 7"; a scene not
+        sized by N: the numbers a sample records."""
+        if not self.sized_by_n:
+            return f"{self.record_columns(physics)} numbers a sample"
+        chains = self.chain_count(physics)
+        return f"N = {physics.n}" if chains == 1 else f"{chains} chains of N = {physics.n}"
+
+    def accepts_start(self, origin: Physics, physics: Physics) -> bool:
+        """Whether the last state of a run of `origin` (another scene, or this one with other parameters) is a state of
+        this scene at `physics`: the same scene with the same shape of state (state_label, record_columns). A scene
+        whose states another scene shares (the same coordinates, the same constraints) may say so here."""
+        return (
+            origin.scene == physics.scene
+            and self.state_label(origin) == self.state_label(physics)
+            and self.record_columns(origin) == self.record_columns(physics)
+        )
+
+    def start_violation(self, physics: Physics, theta: np.ndarray) -> str:
+        """Why the angles `theta` (of the right count) are not a state of this scene at `physics` (a constraint they
+        break, in words with its size), or "" when they are; none by default."""
+        return ""
+
     # ------------------------------------------------------------------ parameters
     @classmethod
     def own_parameter_names(cls) -> tuple[str, ...]:

@@ -11,7 +11,7 @@ from a single clamped chain (the one-pinned scene overrides nothing but its name
                       keyframes) to the chain(s) that elastoactive.mjcf.chain generates (`chain_prefixes`,
                       `chain_offset`)
   reduced model       `reduced_system`: the typed record the reduced solver integrates; `inertial_model`
-  initial state       `initial_angles`
+  initial state       `initial_angles`; `start_violation`: a given start off the scene's pin (START_PIN_GAP)
 
 The kind's hooks import their engine, builder and renderer inside the hook (the engine boundary: a chain's run loads
 only the engine in use, and the scenes load before the engines, which read the scene registry).
@@ -36,6 +36,12 @@ from .base import Scene
 if TYPE_CHECKING:  # typing only
     from ..core.params import Physics
     from ..core.trajectory import Trajectory
+
+
+START_PIN_GAP = 1e-2
+"""How far (l) a start's last particle may lie from the pin that holds it (a two-pinned chain's end, a ring's
+closure) before the start is refused (ChainScene.start_violation): far above a run's own drift, far below a start
+of another shape."""
 
 
 class ChainScene(Scene):
@@ -114,6 +120,19 @@ class ChainScene(Scene):
     def inertial_model(self, physics: Physics) -> bool:
         """A chain scene's reduced engine has an inertial model (the free ring's is overdamped only: it overrides)."""
         return True
+
+    def start_violation(self, physics: Physics, theta: np.ndarray) -> str:
+        """A pinned chain's start whose last particle lies farther than START_PIN_GAP from its pin (the reduced
+        model's constraint, reduced.constraints.pin_residual: a two-pinned chain's end, a ring's closure)."""
+        system = self.reduced_system(physics)
+        if not system.pinned:
+            return ""
+        from ..reduced.constraints import pin_residual  # plain numpy: the pins' constraint, as the engines hold it
+
+        gap = float(np.hypot(*pin_residual(np.asarray(theta, dtype=float)[: physics.n], system.delta)))
+        if gap <= START_PIN_GAP:
+            return ""
+        return f"its last particle is {gap:.3g} l from the pin that holds it (at most {START_PIN_GAP:g} l)"
 
     # ------------------------------------------------------------------ initial state
     def fastest_overdamped_rate(self, physics: Physics) -> float:

@@ -131,6 +131,12 @@ class NetworkScene(Scene):
         network = self.network(physics)
         return 2 * network.n_nodes + int(np.count_nonzero(network.active))
 
+    def state_label(self, physics: Physics) -> str:
+        """The network's nodes and units, for messages: "7 nodes, 1 unit"."""
+        network = self.network(physics)
+        units = int(np.count_nonzero(network.active))
+        return f"{network.n_nodes} nodes, {units} unit{'' if units == 1 else 's'}"
+
     def record_numerics(self, physics: Physics, numerics: Numerics, duration: float) -> Numerics:
         """A large network's record coarsened (engines.network_step.network_sampling)."""
         from ..engines.network_step import network_sampling  # engine boundary: chains never load it

@@ -68,4 +68,6 @@ def test_run_starts_from_a_saved_run(tmp_path, capsys):
     assert np.array_equal(then.nodes[0], first.nodes[-1]) and np.array_equal(then.polarity[0], first.polarity[-1])
     assert json.loads((tmp_path / "b" / "summary.json").read_text())["start"] == f"{tmp_path / 'a'} at t = 10"
     assert main([*run[:3], "3", *run[4:], "--duration", "10", "--start-from", str(tmp_path / "a")]) == 2
-    assert "positions must be 37 nodes" in capsys.readouterr().err
+    assert (
+        "--start-from: the run is of scene lattice (7 nodes, 1 unit), not lattice (37 nodes" in capsys.readouterr().err
+    )

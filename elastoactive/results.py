@@ -152,7 +152,7 @@ def measure(traj: Trajectory, transient: float | None = None) -> Results:
     beats = [_beat(t, x, transient, max(rest, _solver_level(traj, t, x, transient)), words) for x in thetas]
     spectra = [tuple(float(a) for a in spectrum.harmonics(t, x, transient, HARMONICS)) for x in thetas]
     extra = scene.measure_extra(traj, transient)
-    for term in physics.active_terms():  # the terms' own observables (self-contact's clearance, a plug-in's)
+    for term in physics.measured_terms():  # the terms' own observables (self-contact's clearance, a plug-in's)
         extra.update(term.measure(traj, transient))
     window = float(t[-1] - t[0] - transient)
     turns = _turning(traj, transient, extra.get(TURNING))

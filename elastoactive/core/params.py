@@ -184,6 +184,10 @@ class Physics:
         spec = _parameters.get(name)
         return spec.acts_in(self._values)
 
+    def acts(self, name: str) -> bool:
+        """Whether the parameter `name` acts in this physics: its scene has it and its switch (if any) is on."""
+        return name in self._values and self._acts(name)
+
     def require_acting(self, names) -> None:
         """Refuse, in one line, any of `names` (values a user gave, e.g. on the command line) that this physics leaves
         unused because its switch is off, even at its default value (which the constructor lets through: it is what
@@ -250,6 +254,10 @@ class Physics:
     def active_terms(self) -> tuple:
         """The registered terms that act in this physics (elastoactive.terms)."""
         return tuple(t for t in _terms.terms() if t.active(self))
+
+    def measured_terms(self) -> tuple:
+        """The registered terms whose observables a run of this physics reports (Term.measured)."""
+        return tuple(t for t in _terms.terms() if t.measured(self))
 
     def relevant(self) -> dict:
         """The parameters this run reports (summary.json, labels): the scene and every value that acts, less the

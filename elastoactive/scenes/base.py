@@ -119,6 +119,10 @@ class Scene:
     validate does not compare them)."""
     compared: ClassVar[tuple[str, ...]] = ("amplitude", "frequency")
     """Observables that validate holds to its tolerance (relative error)."""
+    agreement: ClassVar[float] = 0.01
+    """The largest relative difference between the two engines' states over a short run of the scene (its largest
+    difference over the largest value: state_difference) that it promises at the default numerics; the conformance
+    kit (elastoactive.testing) holds both engines to it."""
     no_linear_operator: ClassVar[str] = "no linear operator is written for it"
     """Why the scene has no linear operator about a base state that does not move with sigma (empty when it has one:
     `onset` and `leading_eigenvalue` are then overridden)."""

@@ -80,6 +80,11 @@ class Term:
     observables: ClassVar[tuple[Observable | str, ...]] = ()
     """Results it adds (their values: `measure`): specs the term declares (registered with the term), or names of
     declared ones."""
+    measured_at_rest: ClassVar[bool] = True
+    """Whether `measure` also runs while the term is at rest, wherever its parameters act on the scene (`takes`): its
+    observables then have their values at rest (a force's work is 0), so that a run or a sweep point at the defaults
+    reports them. False: they exist only while the term acts (self-contact's clearance, a drive's gain against the
+    beat) and are reported only then; a sweep leaves them NaN where the term rests."""
     labelled: ClassVar[bool] = True
     """Whether a case's label (Scene.label) names its parameters when it is active (the built-in terms' are named by
     the scenes' own labels and captions)."""
@@ -100,6 +105,15 @@ class Term:
     def active(self, physics) -> bool:
         """Whether the term acts: by default, whether any of its parameters differs from its default."""
         return any(getattr(physics, p.name) != p.default for p in self.parameters)
+
+    def takes(self, physics) -> bool:
+        """Whether any of the term's parameters acts on the physics' scene (the scene has them, their switches on)."""
+        return any(physics.acts(p.name) for p in self.parameters)
+
+    def measured(self, physics) -> bool:
+        """Whether a run of `physics` reports the term's observables: it acts, or it is measured at rest
+        (`measured_at_rest`) and takes part in the scene (`takes`)."""
+        return self.active(physics) or (self.measured_at_rest and bool(self.observables) and self.takes(physics))
 
     def build(self, spec, physics, numerics) -> None:
         """Add the term's MJCF elements to `spec` (an mujoco.MjSpec holding the scene's chains); only called when

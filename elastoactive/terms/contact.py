@@ -96,6 +96,7 @@ class Contact(Term):
     labelled = False
     parameters = (CONTACT, CONTACT_RADIUS, CONTACT_FRICTION)
     observables = (CONTACT_FRACTION, MIN_CLEARANCE)
+    measured_at_rest = False  # its observables describe the term acting
 
     def active(self, physics) -> bool:
         return physics.contact

@@ -199,6 +199,7 @@ class MovingClamp(Term):
     )
     parameters = (CLAMP_AMPLITUDE, CLAMP_FREQUENCY, CLAMP_MOTION)
     observables = (CLAMP_FREQUENCY_RATIO, CLAMP_PHASE_SPREAD, CLAMP_LAG)
+    measured_at_rest = False  # its observables describe the term acting
 
     def prepare(self, values: dict) -> None:
         if values.get("clamp_motion") == ROTATING and values.get("clamp_amplitude", 0.0) != 0:

@@ -75,6 +75,7 @@ class TipDrive(Term):
     summary = "a periodic force on the tip of chain 1"
     parameters = (DRIVE_AMPLITUDE, DRIVE_FREQUENCY, DRIVE_DIRECTION)
     observables = (DRIVE_GAIN, DRIVE_PHASE)
+    measured_at_rest = False  # its observables describe the term acting
 
     def active(self, physics) -> bool:
         return physics.drive_amplitude > 0

@@ -411,24 +411,27 @@ def _gl_available() -> bool:
     return True
 
 
-def _foreign_starts(subject: Subject) -> list[Scene]:
-    """Other registered scenes whose state the subject's start is offered: one of its kind and one of another kind
-    (where there are such)."""
-    others = [s for s in registry.scenes() if s.name != subject.scene.name]
-    same = [s for s in others if s.kind == subject.scene.kind]
-    other = [s for s in others if s.kind != subject.scene.kind]
+def _foreign_starts(subject: Subject) -> list[tuple[Scene, Physics]]:
+    """Other registered scenes, with the physics of their short case, whose state the subject does not accept as its
+    start (Scene.accepts_start): one of its kind and one of another kind, where there are such."""
+    others = [
+        (s, kit_physics(s))
+        for s in registry.scenes()
+        if s.name != subject.scene.name and not subject.scene.accepts_start(kit_physics(s), subject.physics)
+    ]
+    same = [o for o in others if o[0].kind == subject.scene.kind]
+    other = [o for o in others if o[0].kind != subject.scene.kind]
     return [*same[:1], *other[:1]]
 
 
 def _foreign_start_refused(subject: Subject, check: Check) -> None:
     from .. import api
+    from ..cli import main as cli_main
 
     engine = _engines(subject)[-1]
     mine = subject.scene.name
     with tempfile.TemporaryDirectory(prefix="elastoactive-kit-") as tmp:
-        for other in _foreign_starts(subject):
-            cases = other.validation_cases()
-            physics = cases[0].physics if cases else other.base_physics()
+        for other, physics in _foreign_starts(subject):
             start = api.simulate(physics, duration=1.0, engine="reduced")
             try:
                 api.simulate(subject.physics, duration=1.0, engine=engine, start=start)
@@ -444,8 +447,7 @@ def _foreign_start_refused(subject: Subject, check: Check) -> None:
             argv = ["run", *command_options(physics), "--engine", "reduced", "--duration", "1", "--out", str(folder)]
             _run_cli(subject, check, [*argv, "--quiet"])
             code, _, err = _quietly(
-                __import__("elastoactive.cli", fromlist=["main"]).main,
-                ["run", *command_options(subject.physics), "--start-from", str(folder), "--duration", "1"],
+                cli_main, ["run", *command_options(subject.physics), "--start-from", str(folder), "--duration", "1"]
             )
             lines = [line for line in err.strip().splitlines() if line.strip()]
             if code == 0 or not lines or not ("--start-from" in lines[-1] and other.name in lines[-1]):

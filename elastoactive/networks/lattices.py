@@ -194,11 +194,42 @@ def generate(
 ) -> Network:
     """The network of a lattice (LATTICES) cut to a patch (PATCHES) of `size`, held by `boundary` (BOUNDARIES), with
     a fraction `dilution` of its bonds removed at random (`seed` also seeds a delaunay network's points). A bad
-    argument is refused in one line naming it. The triangular hexagon is `hexagonal_patch(size, boundary)`'s to the
-    last digit (without its limit on the rings)."""
+    argument is refused in one line naming it, and so is a network that is none: without a bond (a patch too small
+    to hold one, or a dilution that removes them all), or one its boundary holds by no node (`held`). The triangular
+    hexagon is `hexagonal_patch(size, boundary)`'s to the last digit (without its limit on the rings)."""
     size, dilution, seed = _check(lattice, patch, size, boundary, dilution, seed)
     network = _generate(lattice, patch, size, boundary, dilution, seed)
+    held(network, lattice, patch, size, boundary, dilution, seed)
     return Network(*(np.copy(field) if isinstance(field, np.ndarray) else field for field in network))
+
+
+def held(network: Network, lattice: str, patch: str, size: int, boundary: str, dilution: float, seed: int) -> None:
+    """Refuse, in one line naming the parameter, a generated network without a bond (naming size, or dilution where
+    the undiluted patch has bonds) or whose boundary (pinned, centre) pins no node (naming size)."""
+    where = f"the {lattice} lattice cut to a {patch} patch of size {size}"
+    if len(network.bonds) == 0:
+        if dilution > 0 and len(_generate(lattice, patch, size, boundary, 0.0, seed).bonds):
+            raise ParameterError(
+                f"dilution = {dilution:g} removes every bond of {where}: no network is left; use a smaller dilution "
+                "or a larger size"
+            )
+        nodes = f"{network.n_nodes} node" + ("" if network.n_nodes == 1 else "s")
+        raise ParameterError(
+            f"size = {size}: {where} holds {nodes} and no bond: no network; use size >= "
+            f"{_smallest_bonded(lattice, patch, size)}"
+        )
+    if boundary != "free" and not np.any(network.pinned):
+        raise ParameterError(
+            f"size = {size}: boundary {boundary} pins no node of {where} (its nodes all have as many bonds); use a "
+            "larger size, or boundary free"
+        )
+
+
+def _smallest_bonded(lattice: str, patch: str, size: int) -> int:
+    """The smallest patch size above `size` whose undiluted lattice holds a bond."""
+    while size < MAX_SIZE and not len(lattice_points(lattice, patch, size + 1)[1]):
+        size += 1
+    return size + 1
 
 
 @functools.lru_cache(maxsize=32)

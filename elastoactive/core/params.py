@@ -302,6 +302,9 @@ DEFAULT_DT = _UnsetFloat(0.0025)
 DEFAULT_MASS_RATIO = _UnsetFloat(1e-4)
 DEFAULT_INTEGRATOR = _UnsetStr("implicitfast")
 DEFAULT_SAMPLE_DT = _UnsetFloat(0.05)
+MAX_SEED = 2**53
+"""Largest seed: MuJoCo's noise callback reads it from a model numeric, a double, which holds every integer up to 2^53
+exactly, so that both engines draw the same noise from it."""
 AUTO_SAMPLES = 100_000
 """Most samples a run records when its sample_dt is left at the default (Numerics.for_duration): a long chain's beat
 period grows like N^4 (about 1e6 tau at N = 80), and 0.05 would record millions of samples per beat."""
@@ -389,8 +392,8 @@ class Numerics:
         whole = isinstance(self.seed, numbers.Integral) or (
             isinstance(self.seed, numbers.Real) and float(self.seed).is_integer()
         )
-        if isinstance(self.seed, (bool, np.bool_)) or not whole or self.seed < 0:
-            raise ParameterError(f"seed must be a non-negative integer, got {self.seed!r}")
+        if isinstance(self.seed, (bool, np.bool_)) or not whole or not 0 <= self.seed <= MAX_SEED:
+            raise ParameterError(f"seed must be a non-negative integer at most 2^53 = {MAX_SEED}, got {self.seed!r}")
         object.__setattr__(self, "seed", int(self.seed))
 
     @property

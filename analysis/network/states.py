@@ -5,7 +5,11 @@ The rule, in this order (T the window's length, dpsi_i = psi_i(end) - psi_i(star
 
   frozen         every unit's mean |dpsi/dt| is below `still` (still_rate: STILL_FRACTION of the turning scale
                  Pi = sigma / l_a, and never below SOLVER_JITTER x the solver's relative tolerance x Pi)
-  oscillating    some unit moves, but none turns a full turn (|dpsi_i| < 2 pi): polarities swing back and forth
+  oscillating    some unit moves, none turns a full turn (|dpsi_i| < 2 pi), and some unit swings back within the
+                 window: its range max psi_i - min psi_i exceeds its net |dpsi_i| by SWING_BACK of the range or more
+  undetermined   some unit moves, none turns a full turn, and none swings back: every unit moves one way by less than
+                 a turn, which a slow steady turn, a creep towards rest and a swing slower than the window all do; the
+                 window cannot tell them apart (NamedState.note: the window a full turn at the units' rates needs)
   mixed          units turn full turns in both senses (mixed chirality)
   collective     every unit turns, all in one sense, and no unit slips a turn against another
                  (max dpsi - min dpsi < 2 pi: one frequency, to the window's resolution 2 pi / T)
@@ -29,7 +33,7 @@ import numpy as np
 from ...networks.geometry import Network
 from .observables import SOLVER_JITTER, STILL_FRACTION, unwrapped
 
-STATES = ("frozen", "collective", "mixed", "heterogeneous", "oscillating", "irregular")
+STATES = ("frozen", "collective", "mixed", "heterogeneous", "oscillating", "irregular", "undetermined")
 """The named states, in the order a sweep codes them (their index)."""
 STATE_MEANING = {
     "frozen": "every unit still",
@@ -38,11 +42,15 @@ STATE_MEANING = {
     "heterogeneous": "one sense, the edge slower than the interior",
     "oscillating": "units swing without a full turn",
     "irregular": "one sense, rates differing without an edge-to-interior order",
+    "undetermined": "units move one way by less than a turn: the window cannot tell a slow drift from an oscillation",
 }
 """What each state means, in a few words (docs, figure legends)."""
 FULL_TURN = 2.0 * np.pi
 """A unit turns when its net turn over the window is at least one turn; two units share a frequency when their net
 turns differ by less than one turn."""
+SWING_BACK = 0.1
+"""A unit swings back within the window when its range exceeds its net turn by this fraction of the range or more
+(an oscillation seen over about 0.6 of its period or longer; a one-way drift: 0)."""
 
 
 class NamedState(NamedTuple):
@@ -55,6 +63,7 @@ class NamedState(NamedTuple):
     ring_rates: np.ndarray  # (R,) mean |net rate| of each ring's units
     counter_fraction: float  # share of the turning units that turn against the majority's sense (0 .. 0.5)
     still: float  # the still level used
+    window: float  # the window's length T (gamma / k)
 
     @property
     def edge_rate(self) -> float:
@@ -65,6 +74,24 @@ class NamedState(NamedTuple):
     def bulk_rate(self) -> float:
         """Mean |net rate| of the ring of units deepest inside."""
         return float(self.ring_rates[-1])
+
+    @property
+    def needed_window(self) -> float:
+        """The window over which the slowest moving unit, at its net rate, would turn a full turn (inf when none
+        moves): an undetermined state's units turn, or swing back, within it."""
+        moving = np.abs(self.rates[self.speeds >= self.still])
+        moving = moving[moving > 0]
+        return float(FULL_TURN / moving.min()) if moving.size else float("inf")
+
+    @property
+    def note(self) -> str:
+        """What an undetermined state means for its run, in one line ("" for the other states)."""
+        if self.name != "undetermined":
+            return ""
+        return (
+            f"the window of {self.window:.4g} gamma/k cannot tell a slow drift from an oscillation (every unit moves "
+            f"one way by less than a turn); run longer: a window of {self.needed_window:.3g} or more"
+        )
 
 
 def depth(network: Network) -> np.ndarray:
@@ -123,12 +150,15 @@ def classify(t: np.ndarray, polarity: np.ndarray, depths: np.ndarray, still: flo
     counter = float(minority / senses.size) if senses.size else 0.0
 
     def named(name: str) -> NamedState:
-        return NamedState(name, rates, speeds, ring_depths, ring_rates, counter, float(still))
+        return NamedState(name, rates, speeds, ring_depths, ring_rates, counter, float(still), span)
 
-    if not np.any(speeds >= still):
+    moving = speeds >= still
+    if not np.any(moving):
         return named("frozen")
     if not np.any(turning):
-        return named("oscillating")
+        reach = psi.max(axis=0) - psi.min(axis=0)
+        swung = reach - np.abs(turns) >= SWING_BACK * reach
+        return named("oscillating" if np.any(swung & moving) else "undetermined")
     if minority > 0:
         return named("mixed")
     if np.all(turning) and turns.max() - turns.min() < FULL_TURN:

@@ -82,3 +82,33 @@ def test_a_degenerate_pair_is_one_space_in_any_basis():
         assert space.share == pytest.approx(expected, rel=1e-12)
     none = nobs.mode_space(nobs.mode_energies(np.zeros((5, 3)), values, np.eye(3), floor=1e-9), values)
     assert (none.rank, none.size) == (0, 0) and np.isnan(none.share)
+
+
+@pytest.mark.parametrize(
+    "psi",
+    [
+        angles([0.01] * 6),  # a steady turn of 1 rad over the window: a turn takes 628
+        0.5 * (1.0 - np.exp(-T / 30.0))[:, None] * np.ones(6),  # a creep one way towards rest
+        0.5 * np.sin(0.01 * T[:, None] + np.zeros(6)),  # a quarter of a slow swing: one way within the window
+    ],
+)
+def test_one_way_by_less_than_a_turn_is_undetermined(psi):
+    named = states.classify(T, psi, DEPTHS, STILL)
+    assert named.name == "undetermined"
+    assert named.note.startswith("the window of 100 gamma/k cannot tell a slow drift from an oscillation")
+    assert named.needed_window > 100.0 and f"a window of {named.needed_window:.3g} or more" in named.note
+
+
+def test_a_swing_seen_back_is_oscillating_and_a_long_window_turns():
+    assert states.classify(T, 0.5 * np.sin(0.05 * T[:, None] + np.zeros(6)), DEPTHS, STILL).name == "oscillating"
+    assert states.classify(T, angles([0.1] * 6), DEPTHS, STILL).name == "collective"  # 10 rad over the window
+    assert states.classify(T, angles([0.0] * 6, swing=0.5), DEPTHS, STILL).note == ""
+
+
+@pytest.mark.parametrize("duration, name", [(20.0, "undetermined"), (200.0, "collective")])
+def test_a_turning_unit_is_named_on_a_window_long_enough(duration, name):
+    """The trapped unit turning steadily (Pi = 3): 0.7 rad over a 20-long run's window of 10, collective over 200."""
+    import elastoactive as ea
+
+    run = ea.simulate(ea.Physics("trapped-unit", Pi=3.0, alignment_length=0.1), duration=duration, engine="reduced")
+    assert ea.measure(run).network_state == name

@@ -24,7 +24,7 @@ from .engines import run_engine
 from .gate import preflight
 from .results import Results, check_measurable, check_transient, load_trajectory, read_summary
 from .results import measure as _measure
-from .starts import as_start
+from .starts import as_start, finite_angles
 
 
 def _field_names(cls) -> tuple[str, ...]:
@@ -140,7 +140,7 @@ def simulate(
             )
     if atol is not None and rtol is None:
         raise ParameterError("atol: give rtol with it (the scene's automatic tolerances come as a pair)")
-    options = {"theta0": theta0}
+    options = {"theta0": None if theta0 is None else finite_angles(theta0, "theta0")}
     if start is not None:
         if theta0 is not None:
             raise ParameterError("start: give start or theta0, not both")

@@ -79,6 +79,7 @@ class Start:
                 "(its state: its angles)"
             )
         if self.theta is not None:
+            finite_angles(self.theta, option)
             count = np.asarray(self.theta).size
             if count != physics.n_angles:
                 raise ParameterError(f"{option}: {count} angles given; {_described(physics)} takes {physics.n_angles}")
@@ -92,6 +93,23 @@ class Start:
         if self.theta is not None:
             return {"theta0": np.asarray(self.theta, dtype=float)}
         return {"state0": NetworkState(np.asarray(self.positions, dtype=float), np.asarray(self.polarity, dtype=float))}
+
+
+def finite_angles(value, option: str) -> np.ndarray:
+    """A chain's angles as given (a start's, theta0): one-dimensional, every one a finite number; a ParameterError
+    naming `option` otherwise. How many a scene takes, its engine checks."""
+    try:
+        theta = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        raise ParameterError(f"{option}: a chain's angles must be numbers, got {type(value).__name__}") from None
+    if theta.ndim != 1:
+        raise ParameterError(
+            f"{option}: a chain's angles must be one-dimensional (chain 1 then chain 2), got shape {theta.shape}"
+        )
+    bad = np.flatnonzero(~np.isfinite(theta))
+    if bad.size:
+        raise ParameterError(f"{option}: angle {int(bad[0])} is {theta[bad[0]]}; every angle must be finite")
+    return theta
 
 
 def _described(physics: Physics) -> str:

@@ -18,6 +18,7 @@ matplotlib is imported inside _axes, the drawing's boundary: `import elastoactiv
 
 from __future__ import annotations
 
+import json
 import re
 from dataclasses import dataclass
 
@@ -293,25 +294,69 @@ def _label(array) -> str:
     return f"{name} ({units})" if units not in (None, "", "1") else str(name)
 
 
+def _shown(value) -> str:
+    """A coordinate's value as Python would write it: 0.6, 3, 'up'."""
+    value = value.item() if isinstance(value, np.generic) else value
+    return f"{value:g}" if isinstance(value, float) else repr(value)
+
+
+def _values(coordinate, limit: int = 8) -> str:
+    """A coordinate's values in a message, the first `limit` of them."""
+    shown = [_shown(v) for v in coordinate.values[:limit]]
+    return ", ".join(shown) + (f", ... ({coordinate.size} in all)" if coordinate.size > limit else "")
+
+
+SAME_VALUE = 1e-9
+"""Relative difference within which a value asked for is a coordinate's value (a grid's 0.1 steps are not exact)."""
+
+
+def _position(coordinate, value) -> int | None:
+    """Where `value` is in a 1-D coordinate (the first match; numbers within SAME_VALUE), None when it is not."""
+    values = coordinate.values
+    number = isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, (bool, np.bool_))
+    if values.dtype.kind in "biuf":
+        if not number:
+            return None
+        found = np.flatnonzero(np.isclose(values.astype(float), float(value), rtol=SAME_VALUE, atol=0.0))
+    else:
+        found = np.flatnonzero([v == value for v in values.tolist()])
+    return int(found[0]) if found.size else None
+
+
+def _swept(dataset) -> list[str]:
+    """The parameters a sweep's or a ramp's netCDF varies over its grid (empty when it does not say)."""
+    names = str(dataset.attrs.get("grid", "")).split()
+    try:
+        ramp = json.loads(dataset.attrs["ramp"])
+        names += [ramp["parameter"]] if isinstance(ramp, dict) and isinstance(ramp.get("parameter"), str) else []
+    except (KeyError, TypeError, ValueError):
+        pass
+    return names
+
+
 def sweep_map(dataset, variable: str = "amplitude", ax=None, **selection):
     """A sweep's observable over its grid: a line over one swept parameter, a colour map over two.
 
     Parameters
     ----------
     dataset : xarray.Dataset
-        From ea.load_sweep (or ea.load of a .nc file).
+        From ea.load_sweep (or ea.load of a .nc file: a sweep's, or a ramp's).
     variable : str
         The observable drawn (a data variable of the sweep, e.g. "amplitude", "frequency").
     ax : matplotlib.axes.Axes, optional
         Where to draw; default a new figure's.
     **selection
-        Values of the other dimensions (``chain=0``, a third swept parameter), picked with ``Dataset.sel``; a
-        dimension not given takes its first value.
+        One value of each dimension not drawn (``chain=1``, a third swept parameter, a ramp's ``seed`` and
+        ``direction``): a value of its coordinate (numbers equal within SAME_VALUE).
+
+    Every dimension is drawn or selected: the swept parameters (the netCDF's grid, a ramp's parameter) are drawn, two
+    at most; every other dimension, and a swept one beyond two, must be given a value in `selection` unless it has a
+    single one, else a ParameterError lists them with their values. The title says what was selected.
 
     Returns
     -------
     matplotlib.axes.Axes
-        Labelled with the long names and units of the netCDF attributes.
+        Labelled with the long names and units of the netCDF attributes, titled with the values selected.
     """
     if not hasattr(dataset, "data_vars") or not hasattr(dataset, "attrs"):
         raise TypeError(f"dataset must be an xarray.Dataset (from ea.load_sweep), got {type(dataset).__name__}")
@@ -324,19 +369,36 @@ def sweep_map(dataset, variable: str = "amplitude", ax=None, **selection):
     unknown = [k for k in selection if k not in data.dims]
     if unknown:
         raise ParameterError(f"{unknown[0]}: not a dimension of {variable} (its dimensions: {', '.join(data.dims)})")
-    data = data.sel(selection) if selection else data
-    swept = [d for d in data.dims if d in str(dataset.attrs.get("grid", "")).split()] or list(data.dims)
-    extra = [d for d in data.dims if d not in swept[:2]]
-    data = data.isel({d: 0 for d in extra})
-    ax = _axes(ax)
+    for name, value in selection.items():
+        at = _position(data[name], value)
+        if at is None:
+            raise ParameterError(
+                f"{name}={_shown(value)}: not a value of {name} in the sweep (its values: {_values(data[name])})"
+            )
+        data = data.isel({name: at})
+    swept = [d for d in data.dims if d in _swept(dataset)] or list(data.dims)
+    drawn = swept[:2]
+    data = data.isel({d: 0 for d in data.dims if d not in drawn and data.sizes[d] == 1})  # one value: nothing hidden
+    hidden = [d for d in data.dims if d not in drawn]
+    if hidden:
+        listed = "; ".join(f"{d} ({_values(data[d])})" for d in hidden)
+        example = ", ".join(f"{d}={_shown(data[d].values[0])}" for d in hidden)
+        raise ParameterError(
+            f"{variable} has dimensions beyond the {' and '.join(drawn)} drawn: {listed}; select one value of each, "
+            f"e.g. sweep_map(ds, {variable!r}, {example})"
+        )
     if data.ndim == 0:
         raise ParameterError(f"variable: {variable} has no swept dimension to draw")
+    ax = _axes(ax)
+    title = ", ".join(f"{name} = {_shown(c.values[()])}" for name, c in data.coords.items() if c.ndim == 0)
+    if title:
+        ax.set_title(title)
     if data.ndim == 1:
-        coordinate = dataset[data.dims[0]]
+        coordinate = data[data.dims[0]]
         ax.plot(coordinate.values, data.values, "o-")
-        ax.set(xlabel=_label(coordinate), ylabel=_label(dataset[variable]))
+        ax.set(xlabel=_label(dataset[data.dims[0]]), ylabel=_label(dataset[variable]))
         return ax
-    y, x = (dataset[d] for d in data.dims[:2])
+    y, x = (dataset[d] for d in data.dims)
     mesh = ax.pcolormesh(x.values, y.values, np.asarray(data.values, dtype=float), shading="auto")
     ax.figure.colorbar(mesh, ax=ax, label=_label(dataset[variable]))
     ax.set(xlabel=_label(x), ylabel=_label(y))

@@ -16,6 +16,8 @@ import sys
 from pathlib import Path
 
 from ..core.errors import ParameterError
+from ..core.parameters import get as parameter_spec
+from ..core.parameters import known
 from ..core.params import Numerics, Physics, parameter_fields
 from ..engines import ENGINES
 from ..io.outputs import output_path
@@ -50,9 +52,11 @@ def register(subparsers) -> None:
     p.add_argument(
         "--ramp",
         required=True,
+        action="append",
         metavar="NAME=VALUES",
         help="the parameter and its values upward: a comma list (Pi=0.6,0.7,0.8) or start:stop:num (Pi=0.6:0.8:5, "
-        "ends included); NAME a real-valued physics parameter (Pi, the elasto-active coupling, on network scenes)",
+        "ends included); NAME a real-valued physics parameter (Pi, the elasto-active coupling, on network scenes); "
+        "once: a ramp steps one parameter",
     )
     p.add_argument("--seeds", default="0", help="seeds of the first step's initial state, a comma list (default 0)")
     p.add_argument(
@@ -86,10 +90,16 @@ def main(args) -> int:
     from ..starts import read_start
     from ..sweep.grid import parse_values
 
-    name, _, text = args.ramp.partition("=")
+    if len(args.ramp) > 1:
+        raise ParameterError(
+            f"--ramp given {len(args.ramp)} times ({', '.join(args.ramp)}): a ramp steps one parameter; give one "
+            "--ramp (another parameter: a ramp of its own, or a fixed value)"
+        )
+    ramp = args.ramp[0]
+    name, _, text = ramp.partition("=")
     name = name.strip()
     if not name or not text:
-        raise ParameterError(f"--ramp must be NAME=VALUES (e.g. Pi=0.6:0.8:5), got {args.ramp!r}")
+        raise ParameterError(f"--ramp must be NAME=VALUES (e.g. Pi=0.6:0.8:5), got {ramp!r}")
     values = sorted(float(v) for v in parse_values(name, text))
     try:
         seeds = [int(s) for s in args.seeds.split(",")]
@@ -101,6 +111,8 @@ def main(args) -> int:
     numerics = {f.name: getattr(args, f.name) for f in parameter_fields(Numerics) if getattr(args, f.name) is not None}
     if "seed" in numerics:
         raise ParameterError("--seed: a ramp's seeds are --seeds")
+    if known(name) and parameter_spec(name).kind is float:  # beside the fixed ones, as `run` checks it: Pi and sigma
+        Physics(scene=args.scene, **given, **{name: values[0]})
     physics = Physics(scene=args.scene, **given)
     start = read_start(args.start_from).checked(physics, "--start-from") if args.start_from else None
     ramp = protocols.make_ramp(
@@ -117,8 +129,15 @@ def main(args) -> int:
     if args.workers is not None and args.workers < 1:
         raise ParameterError(f"--workers must be >= 1, got {args.workers}")
     outcome = protocols.run_ramp(ramp, args.out, workers=args.workers, progress=not args.quiet)
+    none_measured = len(outcome.errors) == outcome.ran + outcome.kept  # every step's measuring failed: no loop to draw
     figure = args.figure or args.out.with_suffix(".png")
-    protocols.ramp_figure(outcome.path, figure, args.plot)
+    if not none_measured:
+        protocols.ramp_figure(outcome.path, figure, args.plot)
     kept = f", {outcome.kept} kept from the journal" if outcome.kept else ""
-    print(f"wrote {outcome.path} ({outcome.ran} steps run{kept}, {outcome.wall_s:.1f} s) and {figure}", file=sys.stderr)
-    return 0
+    failed = f", {len(outcome.errors)} not measured" if outcome.errors else ""
+    drawn = "" if none_measured else f" and {figure}"
+    steps = f"{outcome.ran} steps run{kept}{failed}, {outcome.wall_s:.1f} s"
+    print(f"wrote {outcome.path} ({steps}){drawn}", file=sys.stderr)
+    for err in list(dict.fromkeys(outcome.errors))[:3]:  # as a sweep's failed points: the ramp is still a result
+        print(f"  not measured: {err}", file=sys.stderr)
+    return 1 if none_measured else 0

@@ -117,6 +117,11 @@ class NetworkFromData(Lattice):
                 f"geometry: the network {physics.geometry!r} carries no active unit; nothing drives it"
             )
 
+    def shaping_parameters(self, physics: Physics) -> tuple[str, ...]:
+        """A file's network: its geometry alone (GENERATOR_ONLY shape a generated one only)."""
+        own = self.own_parameter_names()
+        return tuple(k for k in own if k not in GENERATOR_ONLY) if is_file(physics.geometry) else own
+
     def hold(self, physics: Physics) -> str:
         """Generated: its boundary. A file's: by how many nodes it pins (none: free, one: centre, more: pinned)."""
         if not is_file(physics.geometry):

@@ -114,8 +114,16 @@ class NetworkScene(Scene):
         **chain_options,
     ) -> Trajectory:
         """engines.network_reduced (rtol, atol: default reduced_tolerances); the chain model's options (beta,
-        inertial, progress) do not apply."""
+        inertial, progress) do not apply. A method with noise on the units is refused, as a chain's with noise: the
+        noise takes fixed Euler-Maruyama steps, which no ODE method chooses."""
         from ..engines.network_reduced import simulate_network_reduced  # engine boundary: chains never load it
+        from ..terms.unit_noise import unit_noise
+
+        if method is not None and unit_noise(physics, numerics).active:
+            raise ParameterError(
+                f"method = {method}: with noise on the units (rotational_diffusion, translational_diffusion) the "
+                "reduced engine takes fixed Euler-Maruyama steps of --dt; leave --method out"
+            )
 
         return simulate_network_reduced(
             physics, numerics, duration, theta0=theta0, state0=state0, rtol=rtol, atol=atol, method=method
@@ -213,13 +221,18 @@ class NetworkScene(Scene):
         """Pi = l_e / l_a at `sigma` (default physics.sigma): l_e = F_a / k with the springs' k = 1."""
         return (physics.sigma if sigma is None else sigma) / physics.alignment_length
 
+    def shaping_parameters(self, physics: Physics) -> tuple[str, ...]:
+        """The scene's own parameters that shape this physics' network (what a report describes it by): all of them,
+        unless a scene's network comes from elsewhere (a file's) and some leave it untouched."""
+        return self.own_parameter_names()
+
     def stability_report(self, physics: Physics, sigma: float | None) -> list[str]:
         """The onset in the coupling Pi = l_e / l_a (coupling). Where its fixed points form a family: what is proved
         (every one stable below lambda_1, none above the ceiling) apart from what a search found (one stable up to at
         least its Pi), and, at `sigma`, which of these the given Pi falls in."""
         la = physics.alignment_length
         onset = self.onset(physics)
-        own = ", ".join(f"{k} = {getattr(physics, k)}" for k in self.own_parameter_names())
+        own = ", ".join(f"{k} = {getattr(physics, k)}" for k in self.shaping_parameters(physics))
         lines = [f"{physics.scene}, {own}, l_a = {la:g}:", f"  onset: {onset.kind}"]
 
         def at(value: float) -> str:

@@ -50,6 +50,8 @@ def test_refusals_are_one_line(tmp_path, capsys):
         (["--ramp", "Pi"], "NAME=VALUES"),
         (["--ramp", "Pi=1,2", "--seeds", "a"], "--seeds"),
         (["--ramp", "Pi=1,2", "--start-from", str(tmp_path)], "holds no saved run"),
+        (["--ramp", "Pi=1,2", "--sigma", "0.1"], "give sigma or Pi, not both"),  # as `run` refuses it
+        (["--ramp", "Pi=1,2", "--ramp", "alignment_length=0.1,0.2"], "--ramp given 2 times"),
     ):
         assert main([*base, *extra]) == 2
         err = capsys.readouterr().err

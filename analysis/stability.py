@@ -35,6 +35,8 @@ from scipy.sparse.linalg import LinearOperator, eigs, splu
 
 from elastoactive.core.errors import ParameterError
 
+from .flutter import follower_matrix
+
 __all__ = [
     "linear_operator",
     "eigenvalues",
@@ -52,57 +54,65 @@ __all__ = [
 ]
 
 
-def _matrices(n: int):
+def _matrices(n: int, loaded=None):
+    """(D0, K, S) of the module's docstring; S with the follower force on the particles `loaded` only (a bool mask or
+    0-based indices, analysis.flutter.follower_matrix; None: every particle)."""
     idx = np.arange(1, n + 1)
     D0 = (n - np.maximum(idx[:, None], idx[None, :]) + 1).astype(float)
     K = 2.0 * np.eye(n) - np.eye(n, k=1) - np.eye(n, k=-1)
     K[-1, -1] = 1.0
-    S = np.diag((n - idx).astype(float)) - np.triu(np.ones((n, n)), k=1)
-    return D0, K, S
+    return D0, K, follower_matrix(n, loaded)
 
 
-def linear_operator(n: int, sigma: float) -> np.ndarray:
-    """A(sigma, N) with theta' = A theta about the straight one-pinned chain."""
+def linear_operator(n: int, sigma: float, loaded=None) -> np.ndarray:
+    """A(sigma, N) with theta' = A theta about the straight one-pinned chain (the follower force on the particles
+    `loaded`: a bool mask or 0-based indices; None: every particle)."""
     n = int(n)
     if n < 1:
         raise ValueError(f"n must be >= 1, got {n}")
-    D0, K, S = _matrices(n)
+    D0, K, S = _matrices(n, loaded)
     return -np.linalg.solve(D0, K - sigma * S)
 
 
-def eigenvalues(n: int, sigma: float) -> np.ndarray:
+def eigenvalues(n: int, sigma: float, loaded=None) -> np.ndarray:
     """Eigenvalues of A(sigma, N), sorted by decreasing real part (then decreasing imaginary part)."""
-    lam = np.linalg.eigvals(linear_operator(n, sigma))
+    lam = np.linalg.eigvals(linear_operator(n, sigma, loaded))
     return lam[np.lexsort((-lam.imag, -lam.real))]
 
 
-def growth_rate(n: int, sigma: float) -> float:
+def growth_rate(n: int, sigma: float, loaded=None) -> float:
     """Largest real part of the eigenvalues."""
-    return float(np.max(np.linalg.eigvals(linear_operator(n, sigma)).real))
+    return float(np.max(np.linalg.eigvals(linear_operator(n, sigma, loaded)).real))
 
 
-def critical_sigma(n: int, tol: float = 1e-10) -> tuple[float, float]:
-    """(sigma_c, omega_c): first sigma where the largest real part crosses zero, and |Im lambda| there.
-
-    Bracketed by a geometric scan upward from a sigma well below the N^-3 estimate, then brentq. N = 1 is
-    stable for every sigma (a single follower force exerts no torque): returns (inf, nan).
-    """
-    n = int(n)
-    if n < 2:
-        return float("inf"), float("nan")
-    lo = 10.0 / n**3  # well below 76 / N^3 and below sigma_c = 3 at N = 2
-    if growth_rate(n, lo) >= 0:
+def _first_crossing(growth, n: int, tol: float) -> float:
+    """The first sigma where growth(sigma) crosses zero: a geometric scan upward from a sigma well below the N^-3
+    estimate (10 / N^3: below 76 / N^3, and below sigma_c = 3 at N = 2), then brentq."""
+    lo = 10.0 / n**3
+    if growth(lo) >= 0:
         lo = 0.0
     hi = lo
     while True:
         hi = 1.25 * hi if hi > 0 else 1e-3
-        if growth_rate(n, hi) > 0:
+        if growth(hi) > 0:
             break
         lo = hi
         if hi > 1e6:
             raise RuntimeError(f"no instability found for N = {n} up to sigma = {hi}")
-    sigma_c = brentq(lambda s: growth_rate(n, s), lo, hi, xtol=tol, rtol=4 * np.finfo(float).eps, maxiter=200)
-    lam = eigenvalues(n, sigma_c)
+    return float(brentq(growth, lo, hi, xtol=tol, rtol=4 * np.finfo(float).eps, maxiter=200))
+
+
+def critical_sigma(n: int, tol: float = 1e-10, loaded=None) -> tuple[float, float]:
+    """(sigma_c, omega_c): first sigma where the largest real part crosses zero, and |Im lambda| there.
+
+    Bracketed by a geometric scan upward from a sigma well below the N^-3 estimate, then brentq. N = 1, or a load
+    whose forces exert no torque (on the first particle only), is stable for every sigma: returns (inf, nan).
+    """
+    n = int(n)
+    if n < 2 or not np.any(follower_matrix(n, loaded)):
+        return float("inf"), float("nan")
+    sigma_c = _first_crossing(lambda s: growth_rate(n, s, loaded), n, tol)
+    lam = eigenvalues(n, sigma_c, loaded)
     return float(sigma_c), float(abs(lam[0].imag))
 
 
@@ -214,14 +224,19 @@ def slow_eigenvalues(n: int, sigma: float, count: int = SLOW_MODES) -> np.ndarra
     return lam[np.lexsort((-lam.imag, -lam.real))]
 
 
-def onset(n: int) -> tuple[float, float]:
+def onset(n: int, loaded=None) -> tuple[float, float]:
     """(sigma_c, omega_c) of the straight one-pinned chain as critical_sigma gives them, for any N: below
     SLOW_MODES + 2 particles by critical_sigma, from there on by brentq on the leading slow eigenvalue in
     ONSET_BRACKET / N^3 (~0.05 s at N = 200, ~0.3 s at N = 1000; more accurate than the dense eigensolver for
-    N >~ 50, see the module docstring)."""
+    N >~ 50, see the module docstring). With the follower force on some particles only (`loaded`: a bool mask or
+    0-based indices; None or every particle: the paper's chain) by critical_sigma, dense at every N: such a chain's
+    onset lies outside that bracket (N = 7 tip loaded: 0.5603), and its unstable mode need not be among the slowest
+    (N = 30 loaded on particles 3 and 6: the fourth and fifth slowest)."""
     n = int(n)
-    if n <= SLOW_MODES + 1:
-        return critical_sigma(n)
+    if loaded is not None and np.array_equal(follower_matrix(n, loaded), follower_matrix(n)):
+        loaded = None  # every particle (the first's force never exerts a torque): the paper's chain
+    if n <= SLOW_MODES + 1 or loaded is not None:
+        return critical_sigma(n, loaded=loaded)
 
     def growth(s: float) -> float:
         return float(slow_eigenvalues(n, s)[0].real)

@@ -248,7 +248,8 @@ class ChainScene(Scene):
     # ------------------------------------------------------------------ stability
     def stability_report(self, physics: Physics, sigma: float | None) -> list[str]:
         """The straight chain's onset (sigma_c, omega_c and their N scalings), the growth at `sigma`, and, for a
-        scene whose large-N limit is the continuum filament (`filament`), the filament's onset at this N."""
+        scene whose large-N limit is the continuum filament (`filament`) loaded on every particle, the filament's
+        onset at this N."""
         n = physics.n
         onset = self.onset(physics)
         sigma_c, omega_c = onset.sigma_c, onset.omega_c
@@ -273,7 +274,7 @@ class ChainScene(Scene):
                 f"{abs(lam.imag):.6g} rad/tau ({state}"
                 + (f"; sigma / sigma_c = {sigma / sigma_c:.4g})" if math.isfinite(sigma_c) else ")")
             )
-        if self.filament:
+        if self.filament and physics.all_loaded:  # the filament's load is distributed over every particle
             from ..analysis.continuum import continuum_critical  # start-up time: scipy only for this command
 
             s_c, w_c = continuum_critical()

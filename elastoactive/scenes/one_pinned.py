@@ -20,6 +20,11 @@ SLOW_GROWTH_MODES = 16
 """Slowest modes searched for the least stable one beyond DENSE_GROWTH_MAX."""
 
 
+def loaded_mask(physics: Physics) -> np.ndarray | None:
+    """The particles the follower force acts on (Physics.load_mask), None when it acts on every one."""
+    return None if physics.all_loaded else physics.load_mask()
+
+
 class OnePinned(ChainScene):
     name = "one-pinned"
     paper = True
@@ -29,18 +34,20 @@ class OnePinned(ChainScene):
     filament = True
 
     def onset(self, physics: Physics) -> Onset:
+        """The straight chain's flutter with the follower force on the particles `loaded` carries it on (every one:
+        O(N) per sigma, banded operator and slowest modes; some: dense, analysis.stability.onset)."""
         from ..analysis import stability  # start-up time: scipy
 
-        sigma_c, omega_c = stability.onset(physics.n)  # O(N) per sigma: banded operator, slowest modes
-        return Onset(sigma_c, omega_c, "flutter (Hopf)")
+        sigma_c, omega_c = stability.onset(physics.n, loaded_mask(physics))
+        return Onset(sigma_c, omega_c, "flutter (Hopf)" + ("" if physics.all_loaded else f", loaded {physics.loaded}"))
 
     def leading_eigenvalue(self, physics: Physics, sigma: float) -> complex:
         from ..analysis import stability  # start-up time: scipy
 
-        n = physics.n
+        n, loaded = physics.n, loaded_mask(physics)
         lam = (
-            stability.eigenvalues(n, sigma)
-            if n <= DENSE_GROWTH_MAX
+            stability.eigenvalues(n, sigma, loaded)
+            if n <= DENSE_GROWTH_MAX or loaded is not None  # a partial load's unstable mode need not be slow
             else stability.slow_eigenvalues(n, sigma, SLOW_GROWTH_MODES)
         )
         return complex(lam[np.argmax(lam.real)])

@@ -48,6 +48,7 @@ from .motion3d import measure3d
 
 __all__ = [
     "BeatStability",
+    "NoWhirl",
     "WhirlLadder",
     "WhirlState",
     "beat_out_of_plane",
@@ -65,6 +66,8 @@ STEP = 1e-7
 """Central-difference step of rotating_jacobian."""
 TOLERANCE = 1e-10
 """Largest residual (per tau) a whirl is accepted at."""
+STRAIGHT_TIP = 1e-6
+"""A converged shape whose tip lies within this distance (l) of the clamp axis is the straight chain, not a whirl."""
 EPSILON = 1e-8
 """Out-of-plane push of beat_out_of_plane's monodromy columns (l)."""
 SAMPLES_PER_PERIOD = 200
@@ -78,6 +81,15 @@ HELIX = 0.3
 PIECES = 8
 """Pieces of the period whose monodromies beat_out_of_plane multiplies (each piece's growth stays small enough for
 the push EPSILON to respond linearly: a beat may grow out of its plane by e^16 in one period)."""
+
+
+class NoWhirl(ParameterError):
+    """Newton's method found no whirl: `straight` when it converged to the straight chain (its tip on the clamp
+    axis, a solution of every load), else it did not converge."""
+
+    def __init__(self, message: str, straight: bool) -> None:
+        super().__init__(message)
+        self.straight = straight
 
 
 @dataclass(frozen=True)
@@ -147,8 +159,9 @@ def rotating_jacobian(chain: Chain3D, tangents: np.ndarray, omega: float) -> np.
 
 
 def find_whirl(chain: Chain3D, guess: np.ndarray, omega_guess: float) -> WhirlState:
-    """The whirl nearest the shape guess (N, 3) and rate omega_guess (rad / tau). Raises ParameterError when Newton's
-    method does not converge to a whirl (a guess too far, or no whirl at this load)."""
+    """The whirl nearest the shape guess (N, 3) and rate omega_guess (rad / tau). Raises NoWhirl (a ParameterError)
+    when Newton's method converges to the straight chain (its tip within STRAIGHT_TIP of the axis) or does not
+    converge (a guess too far, or no whirl at this load)."""
     chain = chain.checked()
     guess = np.asarray(guess, dtype=float)
     if guess.shape != (chain.n, 3):
@@ -171,10 +184,15 @@ def find_whirl(chain: Chain3D, guess: np.ndarray, omega_guess: float) -> WhirlSt
     omega = float(solution.x[-1])
     residual = float(np.abs(rhs(tangents, chain) - omega * np.cross(EX, tangents)).max())
     tip = tangents.sum(axis=0)
-    if residual > TOLERANCE or np.hypot(tip[1], tip[2]) < 1e-6:
-        raise ParameterError(
-            f"no whirl found near the guess at N = {chain.n}, sigma = {chain.sigma:g} (residual {residual:.1e}): "
-            "start from a settled whirl of a simulation"
+    where = f"N = {chain.n}, sigma = {chain.sigma:g}, drag ratio {chain.gamma_l:g}"
+    if residual > TOLERANCE:
+        raise NoWhirl(
+            f"Newton's method did not converge to a whirl at {where} (residual {residual:.1e} per tau)", straight=False
+        )
+    if np.hypot(tip[1], tip[2]) < STRAIGHT_TIP:
+        raise NoWhirl(
+            f"Newton's method converged to the straight chain (its tip on the clamp axis), not a whirl, at {where}",
+            straight=True,
         )
     lam = np.linalg.eigvals(rotating_jacobian(chain, tangents, omega))
     others = np.delete(lam, np.argmin(np.abs(lam)))  # the symmetry's 0
@@ -230,13 +248,21 @@ def ladder(load: float, ns, guess: np.ndarray, omega_guess: float, gamma_l: floa
 def settled_whirl(n: int, sigma: float, gamma_l: float = 1.0) -> WhirlState:
     """The whirl of N links at sigma, from a helix (HELIX) run SETTLE_TIME natural times N^4 / (N^3 sigma) until it
     settles (its rate measured over the second half, analysis.motion3d), then refined by Newton (find_whirl; its
-    ParameterError when the run did not reach a whirl)."""
+    NoWhirl, saying what the run ended in, when the run did not reach a whirl)."""
     chain = Chain3D(n=int(n), sigma=float(sigma), gamma_l=float(gamma_l)).checked()
     ts = np.linspace(0.0, SETTLE_TIME * chain.n / chain.sigma if chain.sigma > 0 else 1.0, SETTLE_SAMPLES + 1)
     s = np.arange(1, chain.n + 1) / chain.n
     t0 = np.column_stack([np.ones(chain.n), HELIX * s, HELIX * s * s])
     path = solve3d(chain, ts, t0 / np.linalg.norm(t0, axis=1)[:, None], rtol=1e-10, atol=1e-10)
-    return find_whirl(chain, path[-1], 2 * np.pi * measure3d(ts, path).whirl_rate)
+    motion = measure3d(ts, path)
+    try:
+        return find_whirl(chain, path[-1], 2 * np.pi * motion.whirl_rate)
+    except NoWhirl as missed:
+        raise NoWhirl(
+            f"{missed}: the run from a helix over {ts[-1]:.4g} tau had not settled into a whirl (its tip "
+            f"{motion.tip_radius:.3g} l from the axis, turning at {motion.whirl_rate:.2g} cycles per tau)",
+            missed.straight,
+        ) from None
 
 
 def continuum_whirl(load: float, ns, gamma_l: float = 1.0) -> WhirlLadder:

@@ -74,7 +74,7 @@ def register(subparsers) -> None:
 
 def main(args) -> int:
     from ..analysis.continuum import continuum_critical  # the continuum's onset (scipy)
-    from ..analysis.whirl import continuum_whirl  # the 3D model (numba) and Newton's method (scipy)
+    from ..analysis.whirl import NoWhirl, continuum_whirl  # the 3D model (numba) and Newton's method (scipy)
 
     if not (math.isfinite(args.S) and args.S > 0):
         raise ParameterError(f"S (follower load f L^3 / B) must be a positive number, got {args.S}")
@@ -88,7 +88,10 @@ def main(args) -> int:
         )
     check_resolution(args.S, args.ns)
     clock = time.perf_counter()
-    result = continuum_whirl(args.S, args.ns, args.gamma_l)
+    try:
+        result = continuum_whirl(args.S, args.ns, args.gamma_l)
+    except NoWhirl as missed:
+        raise ParameterError(f"no whirl found: {missed}; {_advice(args, missed.straight)}") from None
     wall = time.perf_counter() - clock
     rungs = [
         WhirlRung(s.n, s.sigma, s.omega * s.n**4, s.tip_radius / s.n, s.bend, s.growth * s.n**4, s.residual)
@@ -120,6 +123,14 @@ def main(args) -> int:
     if not args.quiet:
         print(f"wall time {wall:.1f} s")
     return 0
+
+
+def _advice(args, straight: bool) -> str:
+    """What to change among this command's options when no whirl was found."""
+    drag = f" or a --drag-ratio nearer 1 (it is {args.gamma_l:g})" if args.gamma_l != 1 else ""
+    if straight:
+        return f"this load may not whirl from a helix: try a larger --S (it is {args.S:g}){drag}"
+    return f"try a larger --S (it is {args.S:g}){drag}, or a ladder whose first N resolves the load better (--ns)"
 
 
 def _trend(converges: bool) -> str:

@@ -7,7 +7,14 @@ import numpy as np
 import pytest
 
 from elastoactive.analysis.motion3d import measure3d
-from elastoactive.analysis.whirl import beat_out_of_plane, find_whirl, ladder, resample_tangents, turn_about_axis
+from elastoactive.analysis.whirl import (
+    NoWhirl,
+    beat_out_of_plane,
+    find_whirl,
+    ladder,
+    resample_tangents,
+    turn_about_axis,
+)
 from elastoactive.core.errors import ParameterError
 from elastoactive.reduced.chain3d import Chain3D, solve3d
 
@@ -73,7 +80,7 @@ def test_ladder_approaches_a_limit(settled):
 def test_resample_keeps_a_straight_chain_and_bad_guesses_are_refused():
     straight = np.tile([1.0, 0.0, 0.0], (5, 1))
     np.testing.assert_array_equal(resample_tangents(straight, 9), np.tile([1.0, 0.0, 0.0], (9, 1)))
-    with pytest.raises(ParameterError, match="no whirl"):
+    with pytest.raises(ParameterError, match="converged to the straight chain"):
         find_whirl(Chain3D(n=3, sigma=0.5), np.tile([1.0, 0.0, 0.0], (3, 1)), 0.0)  # below onset: the straight chain
     with pytest.raises(ParameterError, match="guess"):
         find_whirl(Chain3D(n=3, sigma=0.5), straight, 0.0)
@@ -86,3 +93,12 @@ def test_planar_beat_is_unstable_out_of_its_plane():
     assert abs(result.period * 0.0862 - 1.0) < 0.01  # the planar beat's f tau = 0.0862
     assert np.min(np.abs(result.multipliers - 1.0)) < 1e-6
     assert abs(result.multipliers[0]) > 1e6 and result.growth > 1.0
+
+
+def test_landing_on_the_straight_chain_is_said():
+    """From a guess near the straight chain at zero rate, Newton converges to it: NoWhirl says so (straight)."""
+    guess = np.array([[1.0, 0.0, 0.0], [1.0, 1e-3, 0.0], [1.0, 2e-3, 1e-3]])
+    with pytest.raises(NoWhirl, match="^Newton's method converged to the straight chain") as missed:
+        find_whirl(Chain3D(n=3, sigma=2.5), guess, 0.0)
+    assert missed.value.straight and isinstance(missed.value, ParameterError)
+    assert "simulation" not in str(missed.value)

@@ -41,3 +41,22 @@ def test_whirl_refuses_bad_input(argv, words, capsys):
     assert main(["whirl", *argv]) == 2
     err = capsys.readouterr().err
     assert err.startswith("elastoactive: error: ") and words in err and err.count("\n") == 1
+
+
+@pytest.mark.parametrize(
+    "straight, advice",
+    [(True, "try a larger --S (it is 100) or a --drag-ratio nearer 1 (it is 1e+06)"), (False, "(--ns)")],
+)
+def test_no_whirl_says_what_happened_and_advises_the_commands_options(straight, advice, capsys, monkeypatch):
+    from elastoactive.analysis import whirl
+
+    what = "Newton's method converged to the straight chain" if straight else "Newton's method did not converge"
+
+    def missed(*args, **kwargs):
+        raise whirl.NoWhirl(f"{what} at N = 10", straight)
+
+    monkeypatch.setattr(whirl, "continuum_whirl", missed)
+    assert main(["whirl", "--S", "100", "--drag-ratio", "1e6"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith(f"elastoactive: error: no whirl found: {what} at N = 10; ") and err.count("\n") == 1
+    assert advice in err and "simulation" not in err

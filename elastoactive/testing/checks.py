@@ -33,6 +33,9 @@ from .watch import Outcome, watched
 
 KIT_DURATION = 10.0
 """The short case's length, in the scene's unit of time: both engines' states are compared over all of it."""
+BRIEF = 1.0
+"""A run long enough to tell two runs apart bit for bit (a parameter's effect, a round trip), in the scene's unit of
+time."""
 LONG_DURATION = 5000.0
 """A run long enough to need progress (the progress check stops it at its first update)."""
 ABSURD_SECONDS = 2.0
@@ -246,7 +249,9 @@ def _parameter_acts(subject: Subject, check: Check, name: str, cases: list[Physi
             if changed is None or before is None:
                 continue
             engines = [e for e in _engines(subject, changed) if e in _engines(subject, before)]
-            still = [e for e in engines if _differs(subject.run(e, before), subject.run(e, changed)) <= SAME]
+            still = [
+                e for e in engines if _differs(subject.run(e, before, BRIEF), subject.run(e, changed, BRIEF)) <= SAME
+            ]
             if engines and not still:
                 return
             if still and len(still) < len(engines):
@@ -382,10 +387,10 @@ def _round_trip(subject: Subject, check: Check) -> None:
         tmp = Path(tmp)
         for engine in _engines(subject):
             first, again = tmp / f"{engine}-run", tmp / f"{engine}-again"
-            options = ["--engine", engine, "--duration", repr(KIT_DURATION), "--quiet"]
+            options = ["--engine", engine, "--duration", repr(BRIEF), "--quiet"]
             _run_cli(subject, check, ["run", *command_options(physics), *options, "--out", str(first)])
             loaded = api.load(first)
-            fresh = subject.run(engine)
+            fresh = subject.run(engine, duration=BRIEF)
             if not (np.array_equal(loaded.t, fresh.t) and np.array_equal(_state(loaded), _state(fresh))):
                 raise check.fail(subject, f"ea.load of a {engine} run is not the run that ea.simulate makes")
             _run_cli(subject, check, ["run", "--from", str(first), "--out", str(again), "--quiet"])
@@ -432,9 +437,9 @@ def _foreign_start_refused(subject: Subject, check: Check) -> None:
     mine = subject.scene.name
     with tempfile.TemporaryDirectory(prefix="elastoactive-kit-") as tmp:
         for other, physics in _foreign_starts(subject):
-            start = api.simulate(physics, duration=1.0, engine="reduced")
+            start = api.simulate(physics, duration=BRIEF, engine="reduced")
             try:
-                api.simulate(subject.physics, duration=1.0, engine=engine, start=start)
+                api.simulate(subject.physics, duration=BRIEF, engine=engine, start=start)
             except ParameterError as err:
                 text = str(err)
                 if not (_one_line(err) and "start" in text and mine in text and other.name in text):
@@ -444,10 +449,12 @@ def _foreign_start_refused(subject: Subject, check: Check) -> None:
             else:
                 raise check.fail(subject, f"a state of scene {other.name} was taken as its start")
             folder = Path(tmp) / other.name
-            argv = ["run", *command_options(physics), "--engine", "reduced", "--duration", "1", "--out", str(folder)]
-            _run_cli(subject, check, [*argv, "--quiet"])
+            brief = ["--duration", repr(BRIEF)]
+            origin = ["run", *command_options(physics), "--engine", "reduced", *brief, "--out", str(folder)]
+            _run_cli(subject, check, origin)
             code, _, err = _quietly(
-                cli_main, ["run", *command_options(subject.physics), "--start-from", str(folder), "--duration", "1"]
+                cli_main,
+                ["run", *command_options(subject.physics), "--start-from", str(folder), *brief, "--out", f"{folder}+"],
             )
             lines = [line for line in err.strip().splitlines() if line.strip()]
             if code == 0 or not lines or not ("--start-from" in lines[-1] and other.name in lines[-1]):
@@ -470,7 +477,7 @@ def _declared_observables(subject: Subject, physics: Physics) -> list[str]:
 def _observables_defined(subject: Subject, check: Check) -> None:
     from .. import api
 
-    cases = [("its defaults", subject.scene.base_physics())]
+    cases = [("its defaults", subject.scene.physics())]
     if subject.term is not None:
         cases = [
             ("the term's defaults", subject.physics.replace(**_rest(subject.term))),

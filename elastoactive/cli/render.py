@@ -14,7 +14,7 @@ from pathlib import Path
 
 from ..core.errors import ParameterError
 from ..io.outputs import check_file
-from ..results import jsonable, load_trajectory
+from ..results import jsonable, read_run
 
 RENDER_HELP = (
     "Frame k shows t = start + k * rate / fps (times in tau). The default rate makes one beat of "
@@ -99,7 +99,10 @@ def main(args) -> int:
         check_file(args.output, "--output", (".mp4",), force=args.force)
     if args.still is not None:
         check_file(args.still, "--still", (".png",), force=args.force)
-    return _render(load_trajectory(args.run), args, args.output, args.still)
+    traj, notes = read_run(args.run, what=f"render {args.run}")  # the run's own inputs (its copy of a changed network)
+    for note in notes:
+        print(f"elastoactive: warning: {note}", file=sys.stderr)
+    return _render(traj, args, args.output, args.still)
 
 
 def register(sub) -> None:

@@ -8,10 +8,15 @@ written atomically, with a provenance record. `--from DIR` re-runs a recorded ru
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import json
 import sys
 import time
+import zipfile
+from dataclasses import dataclass
 from pathlib import Path
+
+import numpy as np
 
 from .. import plugins
 from ..api import simulate
@@ -22,8 +27,27 @@ from ..core.units import CHAIN, scene_units
 from ..engines import ENGINES
 from ..io.outputs import check_file, check_folder, check_space, folder_lock, output_path, provenance, utc_now
 from ..reduced.settings import METHODS
-from ..results import check_transient, jsonable, read_summary, recorded_numerics, summary, write_run
-from ..starts import read_start
+from ..results import (
+    STATE_ARRAYS,
+    RunInputs,
+    RunWriteError,
+    StartInput,
+    check_transient,
+    error_line,
+    jsonable,
+    read_run,
+    read_summary,
+    recorded_numerics,
+    recorded_physics,
+    resolved_inputs,
+    rewrite_summary,
+    run_inputs,
+    state_digest,
+    summary,
+    unmeasured_summary,
+    write_run,
+)
+from ..starts import Start, last_state, read_start
 from .fields import add_fields, help_argument, scene_argument, scene_description
 from .options import UNITS, scene_help
 from .render import add_video_args, check_video_options, video_after_run
@@ -106,32 +130,92 @@ def fill(run: argparse.ArgumentParser, scene: str | None) -> None:
     add_video_args(run, time_units=units.time_units)
 
 
-def _recorded(path: Path) -> dict:
-    """What --from re-runs: scene, physics, numerics, engine, duration and transient of a summary.json."""
+@dataclass(frozen=True)
+class Recorded:
+    """What --from re-runs: the recorded run's physics parameters (its network file as located: RunInputs), numerics,
+    duration, transient, engine, the reduced engine's method and tolerances, the state it started from (None: the
+    scene's seeded state), where that state came from, and one note per input that changed since the run."""
+
+    physics: dict
+    numerics: dict
+    duration: float | None = None
+    transient: float | None = None
+    engine: str | None = None
+    method: str | None = None
+    rtol: float | None = None
+    atol: float | None = None
+    start: Start | None = None
+    start_path: str | None = None
+    notes: tuple[str, ...] = ()
+
+
+NOTHING_RECORDED = Recorded(physics={}, numerics={})
+
+
+def _recorded(path: Path) -> Recorded:
+    """What --from re-runs of the record at `path` (a run's folder or its summary.json)."""
+    path = Path(path)
+    folder = path if path.is_dir() else path.parent
+    what = f"run --from {path}"
     s = read_summary(path)
+    physics, notes = recorded_physics(s, folder, what)
+    parameters = dict(s["parameters"])
+    if "geometry" in parameters:  # the network file the run read: the original, or the run's copy of it
+        parameters["geometry"] = physics.geometry
     numerics = dict(s.get("numerics", {}))
-    method = (s.get("solver") or {}).get("method")  # the reduced engine's ODE method, as it ran
-    rtol, atol = ((s.get("solver") or {}).get(k) for k in ("rtol", "atol"))  # and its tolerances
-    return {
-        "physics": dict(s["parameters"]),
-        "duration": numerics.pop("duration", None),
-        "transient": numerics.pop("transient", None),
-        "numerics": numerics,
-        "engine": s.get("engine", "mujoco"),
-        "method": method if method in METHODS else None,
-        "rtol": rtol if isinstance(rtol, (int, float)) else None,
-        "atol": atol if isinstance(rtol, (int, float)) and isinstance(atol, (int, float)) else None,
-    }
-
-
-def settings_from(args) -> tuple[Physics, Numerics, str, float, float | None]:
-    """physics, numerics, engine, duration, transient: the recorded run's (--from), overridden by options given."""
-    base = (
-        _recorded(args.source)
-        if args.source
-        else {"physics": {}, "numerics": {}, "engine": None, "duration": None, "transient": None}
+    solver = s.get("solver") or {}
+    method = solver.get("method")  # the reduced engine's ODE method, as it ran
+    rtol, atol = (solver.get(k) for k in ("rtol", "atol"))  # and its tolerances
+    start = RunInputs.of(s, f"{what}: summary.json").start
+    return Recorded(
+        physics=parameters,
+        duration=numerics.pop("duration", None),
+        transient=numerics.pop("transient", None),
+        numerics=numerics,
+        engine=s.get("engine", "mujoco"),
+        method=method if method in METHODS else None,
+        rtol=rtol if isinstance(rtol, (int, float)) else None,
+        atol=atol if isinstance(rtol, (int, float)) and isinstance(atol, (int, float)) else None,
+        start=None if start is None else _recorded_start(folder, start, s.get("start"), what),
+        start_path=None if start is None else start.path,
+        notes=tuple(notes),
     )
-    recorded_scene = base["physics"].pop("scene", None)
+
+
+def _recorded_start(folder: Path, record: StartInput, source, what: str) -> Start:
+    """The state a recorded run started from: its folder's copy, else the last state of the start run if that is
+    still the same state (state_digest); refused otherwise."""
+    source = source if isinstance(source, str) else record.path
+    try:
+        with np.load(folder / record.copy) as f:
+            arrays = {name: np.asarray(f[name], dtype=float) for name in STATE_ARRAYS if name in f.files}
+    except (OSError, ValueError, EOFError, zipfile.BadZipFile):
+        arrays = {}
+    if arrays and state_digest(arrays) == record.state_sha256:
+        return Start(**arrays, source=source)
+    try:
+        traj, _ = read_run(Path(record.path), what=what)
+        start = last_state(traj, source=record.path)
+    except ParameterError:
+        start = None
+    if start is not None and state_digest(_state_arrays(start)) == record.state_sha256:
+        return dataclasses.replace(start, source=source)
+    raise ParameterError(
+        f"{what}: the state it started from (sha256 {record.state_sha256[:12]}) is neither in its "
+        f"{record.copy} nor the last state of {record.path} now; give --start-from"
+    )
+
+
+def _state_arrays(start: Start) -> dict:
+    return {name: getattr(start, name) for name in STATE_ARRAYS}
+
+
+def settings_from(args, record: Recorded | None = None) -> tuple[Physics, Numerics, str, float, float | None]:
+    """physics, numerics, engine, duration, transient: the recorded run's (--from; `record`, read from args.source
+    when not given), overridden by options given. A network file is named by its absolute path."""
+    base = record if record is not None else (_recorded(args.source) if args.source else NOTHING_RECORDED)
+    recorded_physics_ = dict(base.physics)
+    recorded_scene = recorded_physics_.pop("scene", None)
     scene = args.scene or recorded_scene
     if scene is None:
         raise ParameterError("give a SCENE (or --from a recorded run)")
@@ -140,14 +224,16 @@ def settings_from(args) -> tuple[Physics, Numerics, str, float, float | None]:
     }
     # the recorded physics, then the options given (a value that stops acting, like contact_radius once --no-contact
     # is given, is dropped; one given where it does not act is refused)
-    physics = Physics(scene=recorded_scene or scene, **base["physics"]).replace(scene=scene, **given(Physics))
+    physics = Physics(scene=recorded_scene or scene, **recorded_physics_).replace(scene=scene, **given(Physics))
     physics.require_acting(given(Physics))  # an option typed where it does not act, even at its default
-    engine = args.engine or base["engine"] or "mujoco"
-    if base["engine"] and engine != base["engine"] and engine in ENGINES:  # the record's settings the engine reads
-        base["numerics"] = {k: v for k, v in base["numerics"].items() if k in recorded_numerics(engine, physics)}
-    numerics = Numerics(**{**base["numerics"], **given(Numerics)})
-    duration = args.duration if args.duration is not None else (base["duration"] or DEFAULT_DURATION)
-    transient = args.transient if args.transient is not None else (base["transient"] if args.duration is None else None)
+    physics = resolved_inputs(physics)
+    engine = args.engine or base.engine or "mujoco"
+    recorded_numerics_ = dict(base.numerics)
+    if base.engine and engine != base.engine and engine in ENGINES:  # the record's settings the engine reads
+        recorded_numerics_ = {k: v for k, v in recorded_numerics_.items() if k in recorded_numerics(engine, physics)}
+    numerics = Numerics(**{**recorded_numerics_, **given(Numerics)})
+    duration = args.duration if args.duration is not None else (base.duration or DEFAULT_DURATION)
+    transient = args.transient if args.transient is not None else (base.transient if args.duration is None else None)
     # a large network's and a long run's automatic sample_dt, recorded as it ran
     numerics = physics.scene_def.record_numerics(physics, numerics, duration).for_duration(duration)
     return physics, numerics, engine, numerics.check_duration(duration), transient
@@ -228,9 +314,30 @@ def main(args) -> int:
         return _run(args, Path(args.out))
 
 
+def _warn(note: str) -> None:
+    print(f"elastoactive: warning: {note}", file=sys.stderr)
+
+
+def _start(args, record: Recorded) -> tuple[Start | None, str | None]:
+    """The state the run starts from and the folder it comes from (absolute): --start-from's last state, else the
+    recorded run's start (--from), else None (the scene's seeded state)."""
+    if args.start_from is None:
+        return record.start, record.start_path
+    folder = Path(args.start_from).expanduser().resolve()
+    if not (folder / "trajectory.npz").is_file():
+        read_start(folder)  # refuses in one line: not a saved run
+    traj, notes = read_run(folder, what=f"--start-from {args.start_from}")
+    for note in notes:
+        _warn(note)
+    return last_state(traj, source=str(folder)), str(folder)
+
+
 def _run(args, out: Path | None) -> int:
     started, clock = utc_now(), time.perf_counter()
-    physics, numerics, engine, duration, transient = settings_from(args)
+    record = _recorded(args.source) if args.source else NOTHING_RECORDED
+    for note in record.notes:
+        _warn(note)
+    physics, numerics, engine, duration, transient = settings_from(args, record)
     if args.source:
         check_rerun(args, physics, engine)
     samples = numerics.sample_times(duration)
@@ -247,11 +354,14 @@ def _run(args, out: Path | None) -> int:
         check_file(args.video, "--video", (".mp4",), force=args.force)
         check_video_options(args, duration)
     # --from repeats the reduced engine's recorded method (the automatic choice would pick it again; a given one too)
-    method = args.method or (_recorded(args.source)["method"] if args.source and engine == "reduced" else None)
+    method = args.method or (record.method if args.source and engine == "reduced" else None)
     tolerances = {"rtol": args.rtol, "atol": None}  # given; else --from repeats the recorded run's, to the bit
     if args.rtol is None and args.source and engine == "reduced":
-        tolerances = {k: _recorded(args.source)[k] for k in ("rtol", "atol")}
-    start = read_start(args.start_from).checked(physics, "--start-from") if args.start_from else None
+        tolerances = {"rtol": record.rtol, "atol": record.atol}
+    start, start_path = _start(args, record)
+    if start is not None:  # a state of this scene, refused naming the option that gave it (elastoactive.starts)
+        start.checked(physics, "--start-from" if args.start_from else "--from")
+    inputs = run_inputs(physics, None if start is None else _state_arrays(start), start_path)
     traj = simulate(
         physics,
         numerics,
@@ -262,19 +372,56 @@ def _run(args, out: Path | None) -> int:
         start=start,
         **tolerances,
     )
-    s = summary(traj, numerics, duration, transient)
-    if start is not None:
-        s["start"] = start.source
-    s["provenance"] = provenance(started, time.perf_counter() - clock)
-    if needed := plugins.needed(physics):  # what `run --from` and `render` of this run load first
-        s["plugins"] = needed
+
+    def extras(s: dict) -> dict:
+        if start is not None:
+            s["start"] = start.source
+        s["provenance"] = provenance(started, time.perf_counter() - clock)
+        if needed := plugins.needed(physics):  # what `run --from` and `render` of this run load first
+            s["plugins"] = needed
+        if inputs.as_dict():
+            s["inputs"] = inputs.as_dict()
+        return s
+
+    # the trajectory first, with a summary that says it is not measured yet: measuring never loses a finished run
+    written, failed = _write(out, traj, extras(unmeasured_summary(traj, numerics, duration, transient)), inputs)
+    try:
+        s = extras(summary(traj, numerics, duration, transient))
+    except Exception as err:  # noqa: BLE001 (whatever measuring raised: recorded, and the trajectory kept)
+        line = error_line(err)
+        if written:
+            rewrite_summary(out, extras(unmeasured_summary(traj, numerics, duration, transient, error=line)))
+        if failed is not None:
+            raise failed from None
+        kept = f"; the trajectory is kept in {out / 'trajectory.npz'} and {out / 'summary.json'} records the error"
+        print(f"elastoactive: error: measuring the run failed ({line}){kept if out else ''}", file=sys.stderr)
+        if args.video:
+            video_after_run(args, traj, numerics)
+        return 1
     # the results first: shown even if the files cannot be written
     print(json.dumps(jsonable({"wall_time_s": round(s["wall_time_s"], 3), **s["results"]}), indent=2))
     for note in s["results"].get("notes", []):
-        print(f"elastoactive: warning: {note}", file=sys.stderr)
+        _warn(note)
+    if written:
+        rewrite_summary(out, s)
+    if failed is not None:
+        raise failed
     if out:
-        write_run(out, traj, s)
         print(f"wrote {out / 'summary.json'} and {out / 'trajectory.npz'}")
     if args.video:  # rendered from the recorded trajectory, after the simulation
         return video_after_run(args, traj, numerics)
     return 0
+
+
+def _write(out: Path | None, traj, pending: dict, inputs: RunInputs) -> tuple[bool, OSError | None]:
+    """Write the run's files (its summary not yet measured: `pending`) into `out`: (whether summary.json is this
+    run's now, the write's failure to raise once the results are shown)."""
+    if out is None:
+        return False, None
+    try:
+        write_run(out, traj, pending, inputs.copies)
+    except RunWriteError as err:  # the trajectory could not be written; the summary maybe alone
+        return err.summary is not None, err
+    except OSError as err:
+        return False, err
+    return True, None

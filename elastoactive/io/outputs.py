@@ -7,7 +7,9 @@ Every writer in the package goes through here:
   so a target is either the old file or the complete new one, never a torn one;
 - `write_files` writes a set of files that belong together (a run's summary and trajectory) the
   same way, the trajectory before the summary that names its checksum;
-- `provenance` records versions, command line, start time and wall time.
+- `provenance` records versions, command line, start time and wall time;
+- `InputFile` records a file a run read (its absolute path, its SHA-256, the name of the run folder's copy) and finds
+  the bytes the run read again (`InputFile.locate`).
 
 Files are created with the permissions the user's umask gives (0666 & ~umask), as `open` would, not the
 0600 of a bare temporary file. A write that fails (a full disk, a file-size limit) raises an OSError
@@ -33,6 +35,7 @@ import subprocess
 import sys
 import tempfile
 from collections.abc import Callable, Iterator
+from dataclasses import dataclass
 from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
 
@@ -249,15 +252,19 @@ def lock_file(path: Path, what: str, option: str = "--out") -> Iterator[Path]:
             break
         handle.close()
     try:
-        handle.seek(0)
-        handle.truncate()
-        handle.write(f"pid {os.getpid()} on {platform.node()}, started {utc_now()}\n")
-        handle.flush()
+        try:
+            handle.seek(0)
+            handle.truncate()
+            handle.write(f"pid {os.getpid()} on {platform.node()}, started {utc_now()}\n")
+            handle.flush()
+        except OSError as err:
+            raise _naming(err, path) from None
         yield path
     finally:
         with contextlib.suppress(OSError):
             path.unlink()  # while still locked: the next one opens a new file
-        handle.close()
+        with contextlib.suppress(OSError):  # a line a full disk kept in the buffer fails again, named above
+            handle.close()
 
 
 # ------------------------------------------------------------------------------------------------ writing
@@ -366,6 +373,46 @@ def sha256(path: Path) -> str:
         for block in iter(lambda: f.read(1 << 20), b""):
             digest.update(block)
     return digest.hexdigest()
+
+
+def _sha256_or_none(path: Path) -> str | None:
+    """The file's SHA-256, or None when it is not a readable file."""
+    try:
+        return sha256(path) if path.is_file() else None
+    except OSError:
+        return None
+
+
+@dataclass(frozen=True)
+class InputFile:
+    """A file a run read: `path`, absolute and resolved, where it was; `sha256`, the digest of the bytes read; `copy`,
+    the name of the file in the run's folder that holds those same bytes (None: not copied)."""
+
+    path: str
+    sha256: str
+    copy: str | None = None
+
+    @classmethod
+    def of(cls, path: str | os.PathLike, copy: str | None = None) -> tuple[InputFile, bytes]:
+        """The record of the file at `path` as it is now, and its bytes (what a copy holds)."""
+        path = Path(path).expanduser().resolve()
+        data = path.read_bytes()
+        return cls(str(path), hashlib.sha256(data).hexdigest(), copy), data
+
+    def locate(self, folder: Path, what: str) -> tuple[Path | None, str | None]:
+        """Where the bytes the run read are now, and a note when that is not the original: the original path when it
+        still holds them; else the copy in the run's `folder` (when it does), with a note naming the change; else
+        None, with a note saying neither holds them. `what` names the file in the notes ("network file")."""
+        original = Path(self.path)
+        now = _sha256_or_none(original)
+        if now == self.sha256:
+            return original, None
+        change = "is gone" if now is None else f"changed since the run (sha256 {self.sha256[:12]} then, {now[:12]} now)"
+        copy = Path(folder) / self.copy if self.copy else None
+        if copy is not None and _sha256_or_none(copy) == self.sha256:
+            return copy.resolve(), f"{what} {self.path} {change}; using the run's copy {self.copy}"
+        kept = f"the run's copy {self.copy} is missing or changed too" if self.copy else "the run kept no copy"
+        return None, f"{what} {self.path} {change}, and {kept}"
 
 
 def provenance_line(record: dict, sidecar: str = "provenance.json") -> str:

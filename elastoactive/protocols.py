@@ -15,8 +15,9 @@ parallel (one process each, `workers`); the steps of one seed are sequential by 
 
 The netCDF: dims seed, direction ("up", "down") and step (the ramped values, ascending, as the coordinate named after
 the parameter); one variable per measured observable (a categorical one as its index, its names in flag_meanings),
-`order` (when the step ran, 0-based along the ramp) and, where units have polarities, `unit_rate` (each unit's
-|net turning rate| over the measured window, dim unit).
+`order` (when the step ran, 0-based along the ramp), where units have polarities, `unit_rate` (each unit's
+|net turning rate| over the measured window, dim unit) and, where a step's measuring failed, `error` (that step's error
+in one line, its measurements NaN; the step still ran, and the next starts from its end).
 
 matplotlib is imported inside ramp_figure, the drawing's boundary: a ramp that is run without its figure never
 loads it.
@@ -42,6 +43,7 @@ from .core.errors import ParameterError
 from .core.params import Numerics, Physics
 from .io.executor import default_workers, imap
 from .io.outputs import atomic_file, lock_file, provenance, utc_now, write_netcdf
+from .results import error_line
 from .starts import Start, as_start, last_state
 
 DIRECTIONS = ("up", "down")
@@ -145,18 +147,23 @@ def make_ramp(
 
 def run_step(ramp: Ramp, seed: int, value: float, start: Start | None) -> tuple[dict, Start]:
     """One step: the run at `value` from `start` (None: the scene's seeded state), its record for the journal
-    (measurements, each unit's |net turning rate|, wall time) and the state it ended in."""
+    (measurements, each unit's |net turning rate|, wall time) and the state it ended in. A step whose measuring fails
+    is still a step run: its record holds no measurements and `error` (one line), and the next step starts from its
+    end."""
     began = time.perf_counter()
     traj = simulate(
         ramp.physics_at(value), ramp.numerics_of(seed), duration=ramp.duration, engine=ramp.engine, start=start
     )
-    results = measure(traj, ramp.transient)
     end = last_state(traj)
-    record = {"results": _measurements(results.as_dict()), "wall_s": time.perf_counter() - began}
-    if traj.polarity is not None and traj.polarity.size:
-        keep = traj.t - traj.t[0] >= ramp.transient
-        t, psi = traj.t[keep], np.unwrap(traj.polarity[keep], axis=0)
-        record["unit_rate"] = (np.abs(psi[-1] - psi[0]) / (t[-1] - t[0])).tolist()
+    try:
+        record = {"results": _measurements(measure(traj, ramp.transient).as_dict())}
+        if traj.polarity is not None and traj.polarity.size:
+            keep = traj.t - traj.t[0] >= ramp.transient
+            t, psi = traj.t[keep], np.unwrap(traj.polarity[keep], axis=0)
+            record["unit_rate"] = (np.abs(psi[-1] - psi[0]) / (t[-1] - t[0])).tolist()
+    except Exception as err:  # noqa: BLE001 (measuring failed: the step's error; the ramp goes on from its end)
+        record = {"results": {}, "error": error_line(err)}
+    record["wall_s"] = time.perf_counter() - began
     return record, end
 
 
@@ -272,6 +279,8 @@ class RampOutcome:
     ran: int
     kept: int
     wall_s: float
+    errors: tuple[str, ...] = ()
+    """The error of each step whose measuring failed (the netCDF's `error`), in the ramp's order."""
 
 
 def run_ramp(ramp: Ramp, out, *, workers: int | None = None, progress: bool = False) -> RampOutcome:
@@ -309,7 +318,8 @@ def run_ramp(ramp: Ramp, out, *, workers: int | None = None, progress: bool = Fa
         wall = time.perf_counter() - began
         write_ramp(out, ramp, done, provenance(started, wall))
         journal.unlink()
-    return RampOutcome(out, ran, len(_keys(ramp)) - ran, wall)
+    errors = tuple(done[key]["error"] for key in _keys(ramp) if done[key].get("error"))
+    return RampOutcome(out, ran, len(_keys(ramp)) - ran, wall, errors)
 
 
 def _say(shown: bool, text: str) -> None:
@@ -338,6 +348,11 @@ def write_ramp(out: Path, ramp: Ramp, done: dict, record: dict) -> None:
             rates[at] = entry["unit_rate"]
     dims = ("seed", "direction", ramp.parameter)
     variables = {name: (dims, values, _attrs(name)) for name, values in arrays.items()}
+    if any(entry.get("error") for entry in done.values()):  # steps whose measuring failed: their error, one line
+        errors = np.full(shape, "", dtype=object)
+        for (seed, direction, index), entry in done.items():
+            errors[ramp.seeds.index(seed), DIRECTIONS.index(direction), index] = entry.get("error", "")
+        variables["error"] = (dims, errors, {"long_name": "why the step was not measured (empty: measured)"})
     variables["order"] = (dims, order, {"long_name": "when the step ran along its seed's ramp (0: first)"})
     if units:
         variables["unit_rate"] = (

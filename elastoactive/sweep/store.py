@@ -153,7 +153,7 @@ class Store:
             lines = []  # a header torn by a kill as the sweep started: nothing was recorded yet
             self.journal.truncate(0)
         if not lines:
-            self.journal.write(json.dumps({"sweep_spec": self.spec}) + "\n")
+            self._append(json.dumps({"sweep_spec": self.spec}) + "\n")
             self._sync()
             return
         self.stale = True
@@ -197,7 +197,7 @@ class Store:
                 stacklevel=4,
             )
         if not text.endswith("\n"):
-            self.journal.write("\n")
+            self._append("\n")
             self._sync()
 
     def _read_netcdf(self) -> None:
@@ -367,11 +367,8 @@ class Store:
             line = {"i": flat, "coords": self.sweep.coords(flat), **entry}
         self.set(flat, entry)
         if self.journal is not None:
-            try:
-                self.journal.write(json.dumps(line) + "\n")
-                self.unsynced = True
-            except OSError as err:
-                raise self._journal_error(err) from err
+            self._append(json.dumps(line) + "\n")
+            self.unsynced = True
             if sync:
                 self.sync()
         return entry
@@ -380,10 +377,7 @@ class Store:
         """Flush and fsync the journal lines written since the last time."""
         if self.journal is None or not self.unsynced:
             return
-        try:
-            self._sync()
-        except OSError as err:
-            raise self._journal_error(err) from err
+        self._sync()
         self.unsynced = False
 
     def _journal_error(self, err: OSError) -> SweepStorageError:
@@ -392,9 +386,21 @@ class Store:
             "before are kept in it: fix this (e.g. free some space) and re-run the same sweep to resume."
         )
 
+    def _append(self, text: str) -> None:
+        """Write `text` to the journal (buffered until `_sync`); every write to it goes through here or `_sync`, and a
+        failure is a SweepStorageError naming the journal."""
+        try:
+            self.journal.write(text)
+        except OSError as err:
+            raise self._journal_error(err) from err
+
     def _sync(self) -> None:
-        self.journal.flush()
-        os.fsync(self.journal.fileno())
+        """Flush and fsync the journal; a failure is a SweepStorageError naming it."""
+        try:
+            self.journal.flush()
+            os.fsync(self.journal.fileno())
+        except OSError as err:
+            raise self._journal_error(err) from err
 
     def bytes_needed(self) -> int:
         """Free space asked for before writing a snapshot: twice the arrays' size, plus a margin."""
@@ -430,7 +436,9 @@ class Store:
             self.journal_path.unlink(missing_ok=True)
             with contextlib.suppress(OSError):
                 fsync_path(self.out.parent)
-        self.journal.close()  # releases the lock
+        # releases the lock; lines a failed sync left in the buffer fail again here, and were reported by then
+        with contextlib.suppress(OSError):
+            self.journal.close()
         self.journal = None
 
     # -- the Dataset

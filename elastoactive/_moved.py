@@ -1,4 +1,5 @@
-"""Old import paths of modules that moved into sub-packages: they keep working for one release, with a warning.
+"""Old import paths of modules that moved into sub-packages: they keep working, with a warning, through the 0.1
+releases (REMOVED_IN: they go in 0.2.0; docs/changelog.md lists them).
 
 `MOVED` maps each old dotted name to its new one. `install` puts a finder on sys.meta_path that answers an import
 of an old name with the new module itself (the same module object, so its private names, monkeypatching and
@@ -12,6 +13,9 @@ import importlib.abc
 import importlib.machinery
 import sys
 import warnings
+
+REMOVED_IN = "0.2.0"
+"""The release that drops the old names: they work, with a DeprecationWarning, in every 0.1 release."""
 
 MOVED = {
     "elastoactive.sweep_grid": "elastoactive.sweep.grid",
@@ -86,7 +90,9 @@ class MovedFinder(importlib.abc.MetaPathFinder):
         if new is None:
             return None
         warnings.warn(
-            f"{fullname} has moved to {new}; the old name goes in the next release", DeprecationWarning, stacklevel=3
+            f"{fullname} has moved to {new}; the old name works in 0.1.x and is removed in elastoactive {REMOVED_IN}",
+            DeprecationWarning,
+            stacklevel=3,
         )
         module = importlib.import_module(new)
         return importlib.machinery.ModuleSpec(fullname, _Alias(new), is_package=hasattr(module, "__path__"))

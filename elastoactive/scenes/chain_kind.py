@@ -10,7 +10,8 @@ from a single clamped chain (the one-pinned scene overrides nothing but its name
   MJCF                `base_file` (in mjcf/) and `build`, which adds the scene's own elements (pins, coupling,
                       keyframes) to the chain(s) that elastoactive.mjcf.chain generates (`chain_prefixes`,
                       `chain_offset`)
-  reduced model       `reduced_system`: the typed record the reduced solver integrates; `inertial_model`
+  reduced model       `reduced_system`: the typed record the reduced solver integrates, in units of chain 1's joint
+                      stiffness (`stiffness`, as MuJoCo's hinges carry it); `inertial_model`
   initial state       `initial_angles`; `start_violation`: a given start off the scene's pin (START_PIN_GAP)
 
 The kind's hooks import their engine, builder and renderer inside the hook (the engine boundary: a chain's run loads
@@ -26,6 +27,7 @@ import numpy as np
 
 from ..analysis import observables as obs
 from ..core.constants import BEAD_INERTIA_FACTOR
+from ..core.errors import ParameterError
 from ..core.params import Numerics
 from ..core.trajectory import particle_positions
 from ..core.units import CHAIN
@@ -96,9 +98,30 @@ class ChainScene(Scene):
         """Add the scene's own elements to `spec` (an mujoco.MjSpec holding the generated chains)."""
 
     # ------------------------------------------------------------------ reduced model
+    def reduced_stiffness(self, physics: Physics) -> tuple[float, float, str]:
+        """(k, rho, why not): the joint stiffness k of chain 1 (`stiffness`, units C1) and chain 2's over it, rho, as
+        the reduced kernels take them (chain 1 at 1, chain 2 at rho, every arm of a star at 1); `why not` is "" when
+        they take this scene's, else why not (the record then holds chain 1's, which run_reduced refuses)."""
+        stiffness = tuple(float(c) for c in self.stiffness(physics))
+        k = stiffness[0]
+        rho = stiffness[1] / k if len(stiffness) == 2 else 1.0
+        if not (math.isfinite(k) and k > 0 and math.isfinite(rho) and rho > 0):
+            return 1.0, 1.0, f"the joint stiffnesses must be finite and > 0, got {stiffness}"
+        if len(stiffness) > 2 and any(c != k for c in stiffness):
+            return k, 1.0, f"the reduced model's chains beyond the second share chain 1's stiffness, got {stiffness}"
+        return k, rho, ""
+
     def reduced_system(self, physics: Physics) -> ChainSystem:
         """The reduced model of this scene: overdamped (mass_ratio 0); the engine sets the particle mass for the
-        inertial model (engines.reduced.system_of), whose beads have MuJoCo's rotational inertia (mjcf/common.xml)."""
+        inertial model (engines.reduced.system_of), whose beads have MuJoCo's rotational inertia (mjcf/common.xml).
+
+        In units of chain 1's joint stiffness k (reduced_stiffness): the kernels hold chain 1's at 1 and chain 2's at
+        rho, so every other force and drag of the record (sigma, kappa, the trap, the contact penalty, the hub's spring
+        and the drags) is divided by k: D theta' = -k E + F is (D / k) theta' = -E + F / k, the same motion in the same
+        time. A subclass that sets such a force after this call gives it over k too. The inertial model's mass and
+        a term's own forces (node forces, polarity units, a moving clamp) are not in the record: run_reduced refuses
+        them where k is not 1."""
+        k, rho, _ = self.reduced_stiffness(physics)
         system = ChainSystem(
             n=physics.n,
             n_chains=self.chain_count(physics),
@@ -115,11 +138,36 @@ class ChainScene(Scene):
         )
         for term in physics.active_terms():  # the follower's sigma, the drag's gamma_l, the contact's penalty, ...
             system = term.reduced_system(system, physics)
-        return system
+        if k == 1.0:
+            return system._replace(rho=rho)
+        forces = ("sigma", "gamma_l", "gamma_t", "kappa", "trap", "contact_stiffness", "hub_stiffness", "hub_drag")
+        return system._replace(rho=rho, **{name: getattr(system, name) / k for name in forces})
+
+    def reduced_refusal(self, physics: Physics, numerics: Numerics, inertial: bool | None) -> str:
+        """Why the reduced engine does not run this physics (run_reduced refuses it in one line), or "": a stiffness
+        its kernels do not take, or, where chain 1's stiffness k is not 1, what the record in units of k leaves out
+        (reduced_system: the inertial model's mass, a term's node forces, polarity units or moving clamp)."""
+        k, _, why = self.reduced_stiffness(physics)
+        if why:
+            return why
+        if k == 1.0:
+            return ""
+        own = [t.name for t in physics.active_terms() if t.node_forces(physics) or t.clamp_motion(physics)]
+        own += [t.name for t in physics.active_terms() if t.polarity_switch is not None]
+        if own:
+            return f"chain 1's joint stiffness is {k:g} C1, and the term {own[0]}'s own forces are in units of C1"
+        if inertial is None:
+            from ..engines.regime import regime  # engine boundary: the reduced engine's overdamped limit
+
+            inertial = regime(physics, numerics).inertial
+        if inertial:
+            return f"chain 1's joint stiffness is {k:g} C1, and the inertial model's mass is not scaled with it"
+        return ""
 
     def inertial_model(self, physics: Physics) -> bool:
-        """A chain scene's reduced engine has an inertial model (the free ring's is overdamped only: it overrides)."""
-        return True
+        """A chain scene's reduced engine has an inertial model (the free ring's is overdamped only: it overrides),
+        where chain 1's joint stiffness is 1 (reduced_system)."""
+        return self.reduced_stiffness(physics)[0] == 1.0
 
     def start_violation(self, physics: Physics, theta: np.ndarray) -> str:
         """A pinned chain's start whose last particle lies farther than START_PIN_GAP from its pin (the reduced
@@ -160,6 +208,9 @@ class ChainScene(Scene):
     def run_reduced(self, physics: Physics, numerics: Numerics, duration: float, **options) -> Trajectory:
         from ..engines.reduced import simulate_chain_reduced  # engine boundary: load only the engine in use
 
+        refusal = self.reduced_refusal(physics, numerics, options.get("inertial"))
+        if refusal:
+            raise ParameterError(f"engine reduced: {refusal} (Scene.stiffness of {self.name}); use the MuJoCo engine")
         return simulate_chain_reduced(physics, numerics, duration, **options)
 
     def check_timestep(self, physics: Physics, numerics: Numerics, safety: float, accuracy: bool, **options):

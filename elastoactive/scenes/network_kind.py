@@ -26,6 +26,7 @@ from ..core.errors import ParameterError
 from ..core.units import NETWORK
 from ..networks.geometry import Network, has_unit_fields
 from ..networks.state import NetworkState, initial_state
+from ..terms.unit_noise import unit_noise
 from .base import Scene
 
 if TYPE_CHECKING:  # typing only: these modules import the registry that holds scenes
@@ -117,7 +118,6 @@ class NetworkScene(Scene):
         inertial, progress) do not apply. A method with noise on the units is refused, as a chain's with noise: the
         noise takes fixed Euler-Maruyama steps, which no ODE method chooses."""
         from ..engines.network_reduced import simulate_network_reduced  # engine boundary: chains never load it
-        from ..terms.unit_noise import unit_noise
 
         if method is not None and unit_noise(physics, numerics).active:
             raise ParameterError(

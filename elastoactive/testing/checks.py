@@ -19,6 +19,8 @@ from pathlib import Path
 
 import numpy as np
 
+from .. import api, plot
+from ..cli import main
 from ..core import observables as observable_specs
 from ..core import registry, term_registry
 from ..core.errors import ParameterError
@@ -27,6 +29,7 @@ from ..core.parameters import get as parameter_spec
 from ..core.params import Numerics, Physics
 from ..core.trajectory import Trajectory
 from ..engines import ENGINES
+from ..gate import preflight
 from ..scenes.base import Scene
 from ..terms.base import Term
 from .watch import Outcome, watched
@@ -77,8 +80,6 @@ class Subject:
         physics = self.physics if physics is None else physics
         key = (physics, engine, duration, tuple(sorted(options.items())))
         if key not in self.runs:
-            from .. import api  # the front door, as a user runs it
-
             self.runs[key] = api.simulate(physics, duration=duration, engine=engine, **options)
         return self.runs[key]
 
@@ -114,8 +115,6 @@ def _differs(a: Trajectory, b: Trajectory) -> float:
 
 def _engines(subject: Subject, physics: Physics | None = None) -> list[str]:
     """The engines that take the physics (the others refuse it in one line before running: they do not claim it)."""
-    from ..gate import preflight
-
     physics = subject.physics if physics is None else physics
     taken = []
     for engine in ENGINES:
@@ -280,8 +279,6 @@ def _parameters_act(subject: Subject, check: Check) -> None:
 
 def _absurd_runs(subject: Subject) -> list[tuple[str, str, Callable[[], object]]]:
     """(what, the parameter's name, the run) for every absurd value of the subject, in every engine."""
-    from .. import api
-
     physics = subject.physics
     cases: list[tuple[str, dict, float, dict | None]] = []  # (name, physics changes, duration, numerics)
     if subject.term is None:
@@ -346,8 +343,6 @@ def _silence(what: str, outcome: Outcome, limit: float, verdict: str) -> str:
 
 
 def _progress_shows(subject: Subject, check: Check) -> None:
-    from .. import api
-
     for engine in _engines(subject):
 
         def run(engine=engine):
@@ -365,8 +360,6 @@ def _progress_shows(subject: Subject, check: Check) -> None:
 
 def _run_cli(subject: Subject, check: Check, argv: list[str]) -> str:
     """Run the command line; its stderr, or a failure naming the command."""
-    from ..cli import main
-
     code, _, err = _quietly(main, argv)
     if code != 0:
         last = err.strip().splitlines()[-1] if err.strip() else f"exit status {code}"
@@ -380,8 +373,6 @@ def _arrays(folder: Path) -> dict[str, np.ndarray]:
 
 
 def _round_trip(subject: Subject, check: Check) -> None:
-    from .. import api
-
     physics = subject.physics
     with tempfile.TemporaryDirectory(prefix="elastoactive-kit-") as tmp:
         tmp = Path(tmp)
@@ -430,9 +421,6 @@ def _foreign_starts(subject: Subject) -> list[tuple[Scene, Physics]]:
 
 
 def _foreign_start_refused(subject: Subject, check: Check) -> None:
-    from .. import api
-    from ..cli import main as cli_main
-
     engine = _engines(subject)[-1]
     mine = subject.scene.name
     with tempfile.TemporaryDirectory(prefix="elastoactive-kit-") as tmp:
@@ -453,7 +441,7 @@ def _foreign_start_refused(subject: Subject, check: Check) -> None:
             origin = ["run", *command_options(physics), "--engine", "reduced", *brief, "--out", str(folder)]
             _run_cli(subject, check, origin)
             code, _, err = _quietly(
-                cli_main,
+                main,
                 ["run", *command_options(subject.physics), "--start-from", str(folder), *brief, "--out", f"{folder}+"],
             )
             lines = [line for line in err.strip().splitlines() if line.strip()]
@@ -475,8 +463,6 @@ def _declared_observables(subject: Subject, physics: Physics) -> list[str]:
 
 
 def _observables_defined(subject: Subject, check: Check) -> None:
-    from .. import api
-
     cases = [("its defaults", subject.scene.physics())]
     if subject.term is not None:
         cases = [
@@ -502,12 +488,10 @@ def _rest(term: Term) -> dict:
 
 
 def _words_fit(subject: Subject, check: Check) -> None:
-    import matplotlib
+    import matplotlib  # the plots' boundary: matplotlib loads only for this check
 
     matplotlib.use("Agg", force=False)
-    import matplotlib.pyplot as plt
-
-    from .. import api, plot
+    import matplotlib.pyplot as plt  # after the back end is chosen
 
     physics = subject.physics
     traj = subject.run(_engines(subject)[-1])

@@ -3,8 +3,10 @@
 # apt is available), a virtual environment in .venv, and elastoactive with its test extras.
 # Needs Python >= 3.11 with venv, a C compiler and the Python headers (the follower-force callback is
 # compiled at install), network access to PyPI, and about 1.1 GB of disk for .venv.
-# Idempotent and quick when nothing changed: the install is skipped while pyproject.toml, setup.py
-# and the C callback are as they were at the last install (stamp in .venv/.elastoactive-stamp), and the
+# Every package (pip included) is installed at the version in scripts/constraints.txt, what CI tested (the file says
+# how to refresh it); the MuJoCo the callback is compiled against too (--build-constraint).
+# Idempotent and quick when nothing changed: the install is skipped while pyproject.toml, setup.py, the C callback
+# and the constraints are as they were at the last install (stamp in .venv/.elastoactive-stamp), and the
 # numba kernels are compiled ahead (elastoactive.cli.warm) only after an install or a change of the sources.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -22,10 +24,11 @@ fi
 # bytecode of the package's sources (an editable install leaves it to the first import, which cannot write it
 # where PYTHONDONTWRITEBYTECODE is set: every process would compile ~100 modules, ~0.04 s); quick when up to date
 .venv/bin/python -m compileall -q elastoactive analysis controllers >/dev/null
-stamp=$(cat pyproject.toml setup.py controllers/follower.c | sha256sum | cut -d' ' -f1)
+constraints=scripts/constraints.txt
+stamp=$(cat pyproject.toml setup.py controllers/follower.c "$constraints" | sha256sum | cut -d' ' -f1)
 if [ "$(cat .venv/.elastoactive-stamp 2>/dev/null)" != "$stamp" ] || ! .venv/bin/python -c "import elastoactive.controllers" 2>/dev/null; then
-  .venv/bin/python -m pip install -q --upgrade pip
-  .venv/bin/python -m pip install -q -e '.[test]'
+  .venv/bin/python -m pip install -q --upgrade -c "$constraints" pip
+  .venv/bin/python -m pip install -q -c "$constraints" --build-constraint "$constraints" -e '.[test]'
   echo "$stamp" > .venv/.elastoactive-stamp
 fi
 # the reduced model's numba kernels, compiled into numba's on-disk cache here (~40 s on 2 cores) rather than by the

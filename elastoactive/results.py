@@ -21,7 +21,7 @@ from .analysis import spectrum
 from .core import observables
 from .core.errors import ParameterError
 from .core.observables import HARMONICS
-from .core.params import MIN_SAMPLES, Numerics, Physics
+from .core.params import MIN_SAMPLES, Numerics, Physics, option
 from .core.trajectory import Trajectory
 from .core.units import beat_signal, scene_units
 from .io.jsonio import from_jsonable, to_jsonable
@@ -190,7 +190,8 @@ def _aliasing(traj: Trajectory) -> list[str]:
     return [
         f"the record may alias the motion: the {term.name} term turns or drives at up to {rate:.3g} rad per unit "
         f"time, {rate * spacing:.2g} rad between samples (sample_dt = {spacing:g}); rates and frequencies may be "
-        f"wrong, even in sign: rerun with --sample-dt <= {ALIASING / rate:.2g} (and --dt; the reduced engine records "
+        f"wrong, even in sign: rerun with {option('sample_dt')} <= {ALIASING / rate:.2g} (and {option('dt')}; the "
+        "reduced engine records "
         f"no finer than the default dt){slower_advice(term, traj.physics, ALIASING / spacing)}"
     ]
 
@@ -255,8 +256,8 @@ def _pin_give(traj: Trajectory, beats: list) -> list[str]:
     return [
         f"{where}the beat (amplitude {amplitude}) is within what the pin's give allows: the pin gave by up to "
         f"{violation:.2g} l, which lets a chain held at its full length bend by ~{give:.2g} rad; it may be the "
-        f"{traj.engine} engine's soft pin, not the chain's beat: compare --engine reduced (hard pins) or a smaller "
-        "--dt"
+        f"{traj.engine} engine's soft pin, not the chain's beat: compare {option('engine', 'reduced')} (hard pins) or "
+        f"a smaller {option('dt')}"
     ]
 
 
@@ -319,7 +320,7 @@ def _beat(
             (
                 f"periodicity and frequency not judged: {theta} moves by {drift:.3g} {rad} one way over {window}, with "
                 "fewer than two cycles about its mean: a beat slower than the window, or a motion that creeps; run "
-                "longer (--duration) or discard less (--transient)",
+                f"longer ({option('duration')}) or discard less ({option('transient')})",
             ),
         )
     if cycles.count < 1:
@@ -330,7 +331,7 @@ def _beat(
             math.nan,
             (
                 f"frequency not measured: {window} holds fewer than two periods of {theta}; run longer "
-                "(--duration) or discard less (--transient)",
+                f"({option('duration')}) or discard less ({option('transient')})",
             ),
         )
     frequency = obs.frequency(t, theta_diff, transient)
@@ -342,7 +343,7 @@ def _beat(
             cycles.period_spread,
             (
                 f"periodicity not judged: {window} holds {cycles.count} whole cycle(s), fewer than {MIN_CYCLES}; "
-                "run longer (--duration)",
+                f"run longer ({option('duration')})",
             ),
         )
     spread = max(cycles.period_spread, cycles.amplitude_spread)
@@ -410,7 +411,8 @@ def check_transient(duration: float, transient: float | None, times: np.ndarray 
             latest = times[-MIN_SAMPLES] if times.size >= MIN_SAMPLES else 0.0
             raise ParameterError(
                 f"transient ({transient:g} tau) leaves {kept} recorded sample(s) of the {duration:g} tau run; at least "
-                f"{MIN_SAMPLES} are needed to measure it: use --transient <= {latest:.4g} or a longer --duration"
+                f"{MIN_SAMPLES} are needed to measure it: use {option('transient')} <= {latest:.4g} or a longer "
+                f"{option('duration')}"
             )
     return float(transient)
 
@@ -423,7 +425,7 @@ def check_measurable(physics: Physics) -> None:
         if physics.n < need:
             raise ParameterError(
                 f"n = {physics.n} is too short for scene {physics.scene}: it measures {name}, which needs "
-                f"N >= {need} particles; use --n {need} or more"
+                f"N >= {need} particles; use {option('n', need)} or more"
             )
 
 
@@ -589,12 +591,13 @@ class StartInput:
 
 @dataclass(frozen=True)
 class RunInputs:
-    """What a run read besides its settings, as summary.json's `inputs` records it: the network file (`network`), the
-    plug-in files (`plugin_files`, elastoactive.plugins), the entry points of installed distributions that provided its
-    scene or terms (`entry_points`), the state it started from (`start`). `copies` maps a file name in the run's folder
-    to the bytes written there (the network file's and plug-in files' bytes as read, the start state); not recorded."""
+    """What a run read besides its settings, as summary.json's `inputs` records it: the network file
+    (`network_file`), the plug-in files (`plugin_files`, elastoactive.plugins), the entry points of installed
+    distributions that provided its scene or terms (`entry_points`), the state it started from (`start`). `copies`
+    maps a file name in the run's folder to the bytes written there (the network file's and plug-in files' bytes as
+    read, the start state); not recorded."""
 
-    network: InputFile | None = None
+    network_file: InputFile | None = None
     plugin_files: tuple[InputFile, ...] = ()
     entry_points: tuple[plugins.EntryPointSource, ...] = ()
     start: StartInput | None = None
@@ -603,7 +606,7 @@ class RunInputs:
     def as_dict(self) -> dict:
         """summary.json's `inputs` (the empty ones left out)."""
         out = {
-            "network": self.network,
+            "network_file": self.network_file,
             "plugin_files": list(self.plugin_files),
             "entry_points": list(self.entry_points),
             "start": self.start,
@@ -618,10 +621,10 @@ class RunInputs:
         if inputs is None:
             return cls()
         try:
-            network = inputs.get("network")
+            network = inputs.get("network_file")
             start = inputs.get("start")
             return cls(
-                network=None if network is None else from_jsonable(InputFile, network),
+                network_file=None if network is None else from_jsonable(InputFile, network),
                 plugin_files=tuple(plugins.plugin_files(record).values()),
                 entry_points=tuple(plugins.entry_points(record)),
                 start=None if start is None else from_jsonable(StartInput, start),
@@ -852,8 +855,8 @@ def recorded_physics(summary_dict: Mapping, folder: Path, what: str) -> tuple[Ph
     notes = plugins.check_entry_points(dict(summary_dict), what)
     inputs = RunInputs.of(summary_dict, f"{what}: summary.json")
     parameters = dict(summary_dict["parameters"])
-    if inputs.network is not None:
-        found, note = inputs.network.locate(folder, "network file")
+    if inputs.network_file is not None:
+        found, note = inputs.network_file.locate(folder, "network file")
         if found is None:
             raise ParameterError(f"{what}: {note}; restore the network file it ran")
         if note is not None:

@@ -45,7 +45,7 @@ def test_a_network_run_records_its_file_by_absolute_path_with_a_copy_and_its_che
     run, good = network_run
     summary = _summary(run)
     assert summary["parameters"]["geometry"] == str(good.resolve())
-    recorded = summary["inputs"]["network"]
+    recorded = summary["inputs"]["network_file"]
     assert recorded["path"] == str(good.resolve()) and recorded["copy"] == results.NETWORK_COPY
     assert (run / "network.json").read_bytes() == good.read_bytes()
     assert recorded["sha256"] == results.sha256(good)
@@ -81,7 +81,7 @@ def test_after_the_network_file_is_edited_run_from_render_and_load_read_the_runs
     changed = [line for line in err if "changed since the run" in line]
     assert changed == [
         f"elastoactive: warning: network file {good.resolve()} changed since the run (sha256 "
-        f"{_summary(run)['inputs']['network']['sha256'][:12]} then, {results.sha256(good)[:12]} now); using the "
+        f"{_summary(run)['inputs']['network_file']['sha256'][:12]} then, {results.sha256(good)[:12]} now); using the "
         "run's copy network.json"
     ]
     again = ea.load(tmp_path / "again")

@@ -49,5 +49,5 @@ def test_neither_holding_the_bytes_read_is_said(recorded):
 def test_a_malformed_inputs_record_is_refused_in_one_line():
     expected = r"^RUN/summary.json: its inputs record is not one elastoactive run writes$"
     with pytest.raises(ParameterError, match=expected):
-        RunInputs.of({"inputs": {"network": {"path": "/x.json"}}}, "RUN/summary.json")
+        RunInputs.of({"inputs": {"network_file": {"path": "/x.json"}}}, "RUN/summary.json")
     assert RunInputs.of({}) == RunInputs()

@@ -1,6 +1,7 @@
-"""The documentation site (mkdocs.yml) builds offline with warnings as errors, broken links and anchors among them, and
-renders in a real browser: headless Chromium opens the home page, an API page and the gallery, served from the built
-site, and every image on them loads and decodes. scripts/docs_setup.sh installs what this needs (the `docs` extra and
+"""The documentation site (mkdocs.yml) builds offline with warnings as errors, broken links and anchors among them, its
+search index finds every public name and every parameter, and it renders in a real browser: headless Chromium opens
+the home page, the API pages, the gallery and the other pages of the nav, served from the built site, and every image
+on them loads and decodes. scripts/docs_setup.sh installs what this needs (the `docs` extra and
 Debian's chromium); without chromium the browser checks skip only where it cannot be installed (not root with apt)."""
 
 from __future__ import annotations
@@ -24,6 +25,21 @@ ROOT = Path(__file__).resolve().parents[2]
 
 OFFLINE = {"HTTP_PROXY": "http://127.0.0.1:9", "HTTPS_PROXY": "http://127.0.0.1:9", "NO_PROXY": "", "no_proxy": ""}
 """Any request the build tried to send over the network would fail through this proxy (nothing listens on port 9)."""
+
+OTHER_PAGES = (
+    "installation",
+    "faq",
+    "contributing",
+    "changelog",
+    "citing",
+    "cli",
+    "api/parameters",
+    "api/plot",
+    "api/scenes",
+    "api/terms",
+    "api/testing",
+)
+"""Pages of the nav opened in the browser besides the three screenshotted below (their DOM only: a launch each)."""
 
 MARK_IMAGES = b"""<script>
 addEventListener("DOMContentLoaded", () => {
@@ -90,6 +106,7 @@ def test_the_site_builds_offline_with_warnings_as_errors(site):
         "model",
         "errata",
         "performance",
+        *OTHER_PAGES,
     ):
         assert (site / f"{page}.html").is_file(), page
     cli = (site / "cli.html").read_text()
@@ -106,6 +123,46 @@ def test_the_site_builds_offline_with_warnings_as_errors(site):
     for name in ("elastoactive.simulate", "elastoactive.measure", "elastoactive.Physics", "elastoactive.Numerics"):
         assert f'id="{name}"' in api, name
     assert (site / "assets" / "mathjax" / "tex-svg.js").is_file()
+
+
+def _search_index(site: Path) -> dict[str, str]:
+    """location -> text of every entry of the built site's search index."""
+    import json
+
+    docs = json.loads((site / "search" / "search_index.json").read_text())["docs"]
+    return {doc["location"]: doc["title"] + " " + doc["text"] for doc in docs}
+
+
+def test_the_search_index_finds_every_public_name_and_parameter(site):
+    """Every name of the front door (ea.__all__), every function of ea.plot and every name of the conformance kit has
+    its own entry in the search index (a heading of the API reference), and every parameter of ea.Physics and every
+    setting of ea.Numerics is found on the parameters' page."""
+    import dataclasses
+
+    import elastoactive as ea
+    import elastoactive.plot
+    import elastoactive.testing
+    from elastoactive.core import parameters
+    from elastoactive.core.params import Numerics
+
+    index = _search_index(site)
+    anchors = {location.split("#", 1)[1] for location in index if "#" in location}
+    public = [f"elastoactive.{name}" for name in ea.__all__]
+    public += [f"elastoactive.plot.{name}" for name in elastoactive.plot.__all__]
+    public += [f"elastoactive.testing.{name}" for name in elastoactive.testing.__all__]
+    assert not [name for name in public if name not in anchors], "not in the search index"
+    text = " ".join(t for location, t in index.items() if location.startswith("api/parameters.html"))
+    names = [*parameters.names(), *(f.name for f in dataclasses.fields(Numerics))]
+    missing = [name for name in names if not re.search(rf"<code>{re.escape(name)}</code> (float|int|str|bool) ", text)]
+    assert not missing, f"not on the parameters' page of the search index: {missing}"
+
+
+def test_the_records_show_their_defaults_as_values(site):
+    """ea.Numerics' defaults and ea.Physics' scene read as values (0.0025, 'one-pinned'), not as the constants that
+    hold them."""
+    api = (site / "api" / "index.html").read_text()
+    assert not re.search(r'<span class="n">DEFAULT_', api), "a signature shows a constant's name"  # prose may name one
+    assert '<span class="mf">0.0025</span>' in api and "one-pinned" in api
 
 
 def test_a_broken_link_or_anchor_fails_the_build(tmp_path):
@@ -264,6 +321,18 @@ def test_pages_render_in_a_real_browser(served, tmp_path, page, at_least):
     shot = tmp_path / (page.replace("/", "_") + ".png")
     _open(chromium, f"{base}/{page}", dump=False, screenshot=shot)
     _assert_painted(shot)
+
+
+@pytest.mark.parametrize("page", OTHER_PAGES)
+def test_every_page_renders_in_a_real_browser(served, page):
+    """Chromium renders the page: its heading is there, every image on it decodes and nothing it asks for is
+    missing."""
+    chromium, base, missing = served
+    missing.clear()
+    dom = _open(chromium, f"{base}/{page}.html", dump=True)
+    _, failed = _rendered_images(dom)
+    assert not failed and not missing, (page, failed, missing)
+    assert re.search(r"<h1[^>]*>", dom) and "md-content" in dom, page
 
 
 def test_maths_is_typeset_offline(served):

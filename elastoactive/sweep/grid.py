@@ -174,6 +174,10 @@ def _check_size(sizes: Mapping[str, int]) -> None:
         )
 
 
+EXACT_INTEGER = 2**53
+"""The largest integer a grid's values (read as floating-point numbers) hold exactly."""
+
+
 def _axis(name: str, values) -> np.ndarray:
     values = np.atleast_1d(np.asarray(values, dtype=float))
     if values.ndim != 1 or values.size == 0:
@@ -183,6 +187,12 @@ def _axis(name: str, values) -> np.ndarray:
     if _integer(name):
         if not np.all(values == np.round(values)):
             raise ParameterError(f"grid {name}: values must be integers, got {values.tolist()}")
+        inexact = values[np.abs(values) > EXACT_INTEGER]
+        if inexact.size:
+            raise ParameterError(
+                f"grid {name}: {inexact[0]:.17g} is past the integers a grid holds exactly (|value| <= 2^53 = "
+                f"{EXACT_INTEGER})"
+            )
         values = values.astype(np.int64)
     if np.unique(values).size != values.size:
         raise ParameterError(f"grid {name}: repeated values {values.tolist()}")

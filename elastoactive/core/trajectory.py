@@ -169,26 +169,27 @@ class Trajectory:
         return self.physics.scene_def.centre_of_drag(self)
 
     def to_xarray(self):
-        """The trajectory as an xarray Dataset, every variable and coordinate with ``units`` and ``long_name``.
+        """The trajectory as an xarray Dataset, every variable and coordinate with a short ``long_name`` (what
+        xarray's own plots label an axis with) and a longer ``description``, every variable with ``units``.
 
         Returns
         -------
         xarray.Dataset
-            Coordinates ``time`` (tau) and ``xy``; a chain scene's ``chain`` and ``particle`` (0-based, as the model's
-            sites) with ``theta`` (time, chain, particle; rad), ``position`` (time, chain, particle, xy; l) and
-            ``tip`` (time, chain, xy; l); a chain in three dimensions has ``tangent`` (time, particle, xyz; 1),
-            ``position`` (time, chain, particle, xyz; l) and ``tip`` (time, chain, xyz; l) instead, on the coordinate
-            ``xyz``; a network's ``node`` with ``position`` (time, node, xy; a). ``head`` and
-            ``polarity`` when recorded. Attributes: the scene, the engine and every parameter that acts
-            (Physics.relevant).
+            Coordinate ``time`` (tau), and ``xy`` where a variable has lab-frame components in the plane; a chain
+            scene's ``chain`` and ``particle`` (0-based, as the model's sites) with ``theta`` (time, chain, particle;
+            rad), ``position`` (time, chain, particle, xy; l) and ``tip`` (time, chain, xy; l); a chain in three
+            dimensions has ``tangent`` (time, chain, particle, xyz; 1), ``position`` (time, chain, particle, xyz; l)
+            and ``tip`` (time, chain, xyz; l) instead, on the coordinate ``xyz``; a network's ``node`` (with
+            ``pinned``, the nodes held at rest) and ``position`` (time, node, xy; a). ``head`` and ``polarity``
+            (time, unit) when recorded, the ``unit`` dimension with where each unit sits (a network's ``unit_node``, a
+            chain's ``unit_chain`` and ``unit_particle``). Attributes: the scene, the engine and every parameter that
+            acts (Physics.relevant).
         """
         import xarray as xr  # start-up time: xarray loads pandas
 
         units = self.length_units
-        coords = {
-            "time": ("time", self.t, {"units": scene_units(self.physics.scene_def).time_units, "long_name": "time"}),
-            "xy": ("xy", ["x", "y"], {"long_name": "lab-frame component"}),
-        }
+        time_units = scene_units(self.physics.scene_def).time_units
+        coords = {"time": ("time", self.t, {"units": time_units, "long_name": "time", "description": "sample time"})}
         state_coords, data = self.physics.scene_def.state_variables(self)  # the scene's kind: angles or nodes
         coords.update(state_coords)
         if self.head is not None:
@@ -196,16 +197,18 @@ class Trajectory:
             data["head"] = (
                 ("time", "xy") if moving else ("time", "head_coordinate"),
                 self.head,
-                {"units": units, "long_name": "moving pivot position"}
+                {"units": units, "long_name": "pivot position", "description": "position of the moving pivot"}
                 if moving
-                else {"units": "rad", "long_name": "hub angle"},
+                else {"units": "rad", "long_name": "hub angle", "description": "angle of the star's hub"},
             )
         if self.polarity is not None:
             data["polarity"] = (
                 ("time", "unit"),
                 self.polarity,
-                {"units": "rad", "long_name": "polarity angle psi of each active unit"},
+                {"units": "rad", "long_name": "polarity", "description": "polarity angle psi of each active unit"},
             )
+        if any("xy" in dims for dims, *_ in data.values()):  # lab-frame components in the plane
+            coords["xy"] = ("xy", ["x", "y"], {"long_name": "component", "description": "lab-frame component"})
         attrs = {"scene": self.physics.scene, "engine": self.engine}
         for name, value in self.physics.relevant().items():
             if name != "scene":

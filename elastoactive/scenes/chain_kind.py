@@ -33,7 +33,7 @@ from ..core.trajectory import particle_positions
 from ..core.units import CHAIN
 from ..reduced.regime import overdamped_rate
 from ..reduced.system import ChainSystem
-from .base import Scene
+from .base import Onset, Scene
 
 if TYPE_CHECKING:  # typing only
     from ..core.params import Physics
@@ -244,24 +244,46 @@ class ChainScene(Scene):
         return centre
 
     def state_variables(self, traj: Trajectory) -> tuple[dict, dict]:
-        chains, n, units = traj.physics.n_chains, traj.physics.n, self.length_units
+        """The angles (time, chain, particle), the positions (time, chain, particle, xy) and the tips (time, chain,
+        xy); where polarities are recorded, the chain and the particle each unit sits on (``unit_chain``,
+        ``unit_particle`` on ``unit``, the polarity's dimension: the loaded particles, chain 1 then chain 2)."""
+        physics = traj.physics
+        chains, n, units = physics.n_chains, physics.n, self.length_units
         coords = {
-            "chain": ("chain", np.arange(chains), {"long_name": "chain index (0-based)"}),
-            "particle": ("particle", np.arange(n), {"long_name": "particle index (0-based, site particle_i)"}),
+            "chain": ("chain", np.arange(chains), {"long_name": "chain", "description": "chain index, 0-based"}),
+            "particle": (
+                "particle",
+                np.arange(n),
+                {"long_name": "particle", "description": "particle index, 0-based (the model's site particle_i)"},
+            ),
         }
+        if traj.polarity is not None:
+            chain, particle = np.nonzero(np.tile(physics.load_mask(), (chains, 1)))
+            if chain.size == traj.polarity.shape[1]:
+                coords["unit"] = ("unit", np.arange(chain.size), {"long_name": "unit", "description": "unit index"})
+                for name, values in (("chain", chain), ("particle", particle)):
+                    coords[f"unit_{name}"] = (
+                        "unit",
+                        values,
+                        {"long_name": f"{name} of the unit", "description": f"the {name} the self-aligning unit is on"},
+                    )
         position = self.positions(traj)
         data = {
             "theta": (
                 ("time", "chain", "particle"),
                 traj.theta.reshape(len(traj.t), chains, n),
-                {"units": "rad", "long_name": "absolute angle of each link"},
+                {"units": "rad", "long_name": "link angle", "description": "absolute angle of each link"},
             ),
             "position": (
                 ("time", "chain", "particle", "xy"),
                 position,
-                {"units": units, "long_name": "particle position"},
+                {"units": units, "long_name": "particle position", "description": "lab-frame particle position"},
             ),
-            "tip": (("time", "chain", "xy"), position[:, :, -1, :], {"units": units, "long_name": "tip position"}),
+            "tip": (
+                ("time", "chain", "xy"),
+                position[:, :, -1, :],
+                {"units": units, "long_name": "tip position", "description": "lab-frame position of the last particle"},
+            ),
         }
         return coords, data
 
@@ -297,12 +319,14 @@ class ChainScene(Scene):
             ax.legend(fontsize="small")
 
     # ------------------------------------------------------------------ stability
-    def stability_report(self, physics: Physics, sigma: float | None) -> list[str]:
+    def stability_report(
+        self, physics: Physics, sigma: float | None, onset: Onset | None = None, eigenvalue: complex | None = None
+    ) -> list[str]:
         """The straight chain's onset (sigma_c, omega_c and their N scalings), the growth at `sigma`, and, for a
         scene whose large-N limit is the continuum filament (`filament`) loaded on every particle, the filament's
         onset at this N."""
         n = physics.n
-        onset = self.onset(physics)
+        onset = self.onset(physics) if onset is None else onset
         sigma_c, omega_c = onset.sigma_c, onset.omega_c
         own = "".join(
             f", {k} = {v}" if isinstance(v := getattr(physics, k), str) else f", {k} = {v:g}"
@@ -318,7 +342,7 @@ class ChainScene(Scene):
         else:  # stable over the whole range the scene searched
             lines.append(f"  onset: {onset.kind}")
         if sigma is not None:
-            lam = self.leading_eigenvalue(physics, sigma)
+            lam = self.leading_eigenvalue(physics, sigma) if eigenvalue is None else eigenvalue
             state = "unstable" if lam.real > 0 else "stable"
             lines.append(
                 f"  at sigma = {sigma:g}: growth rate {lam.real:+.6g} /tau, angular frequency "

@@ -233,27 +233,35 @@ class Clamped3D(Scene):
         return self.positions(traj).mean(axis=-2)
 
     def state_variables(self, traj: Trajectory) -> tuple[dict, dict]:
-        """The tangents (time, particle, xyz), and the positions and the tip laid out as a planar chain's (time, chain,
-        particle, xyz; time, chain, xyz: one chain)."""
+        """The tangents, the positions and the tip laid out as a planar chain's, on ``xyz`` in place of ``xy`` (time,
+        chain, particle, xyz; time, chain, xyz: one chain)."""
         n, units = traj.physics.n, self.length_units
         coords = {
-            "chain": ("chain", np.arange(1), {"long_name": "chain index (0-based)"}),
-            "particle": ("particle", np.arange(n), {"long_name": "particle index (0-based, site particle_i)"}),
-            "xyz": ("xyz", ["x", "y", "z"], {"long_name": "lab-frame component"}),
+            "chain": ("chain", np.arange(1), {"long_name": "chain", "description": "chain index, 0-based"}),
+            "particle": (
+                "particle",
+                np.arange(n),
+                {"long_name": "particle", "description": "particle index, 0-based (the model's site particle_i)"},
+            ),
+            "xyz": ("xyz", ["x", "y", "z"], {"long_name": "component", "description": "lab-frame component"}),
         }
         position = self.positions(traj)
         data = {
             "tangent": (
-                ("time", "particle", "xyz"),
-                self.tangents(traj),
-                {"units": "1", "long_name": "unit tangent of each link"},
+                ("time", "chain", "particle", "xyz"),
+                self.tangents(traj)[:, None],
+                {"units": "1", "long_name": "link tangent", "description": "unit tangent of each link"},
             ),
             "position": (
                 ("time", "chain", "particle", "xyz"),
                 position,
-                {"units": units, "long_name": "particle position"},
+                {"units": units, "long_name": "particle position", "description": "lab-frame particle position"},
             ),
-            "tip": (("time", "chain", "xyz"), position[:, :, -1], {"units": units, "long_name": "tip position"}),
+            "tip": (
+                ("time", "chain", "xyz"),
+                position[:, :, -1],
+                {"units": units, "long_name": "tip position", "description": "lab-frame position of the last particle"},
+            ),
         }
         return coords, data
 

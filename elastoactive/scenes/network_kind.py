@@ -184,9 +184,35 @@ class NetworkScene(Scene):
         return self.positions(traj).mean(axis=-2)
 
     def state_variables(self, traj: Trajectory) -> tuple[dict, dict]:
-        coords = {"node": ("node", np.arange(traj.nodes.shape[1]), {"long_name": "node index (0-based)"})}
+        """The nodes' positions (time, node, xy); the coordinates say which nodes are pinned (``pinned`` on
+        ``node``) and, where polarities are recorded, which node each unit sits on (``unit_node`` on ``unit``, the
+        polarity's dimension)."""
+        network = self.network(traj.physics)
+        coords = {
+            "node": (
+                "node",
+                np.arange(traj.nodes.shape[1]),
+                {"long_name": "node", "description": "node index, 0-based"},
+            ),
+            "pinned": (
+                "node",
+                np.asarray(network.pinned, dtype=bool),
+                {"long_name": "pinned", "description": "whether the node is held at its rest position"},
+            ),
+        }
+        if traj.polarity is not None:
+            coords["unit"] = ("unit", np.arange(network.n_units), {"long_name": "unit", "description": "unit index"})
+            coords["unit_node"] = (
+                "unit",
+                np.flatnonzero(network.active),
+                {"long_name": "node of the unit", "description": "index of the node the active unit sits on"},
+            )
         data = {
-            "position": (("time", "node", "xy"), traj.nodes, {"units": self.length_units, "long_name": "node position"})
+            "position": (
+                ("time", "node", "xy"),
+                traj.nodes,
+                {"units": self.length_units, "long_name": "node position", "description": "lab-frame node position"},
+            )
         }
         return coords, data
 

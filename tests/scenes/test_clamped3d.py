@@ -37,7 +37,7 @@ def test_recorded_state_and_positions(runs):
     np.testing.assert_allclose(angles_of(tangents), traj.theta, atol=1e-9)
     assert traj.positions().shape == (traj.t.size, 1, 3, 3)
     dataset = traj.to_xarray()
-    assert dataset["tangent"].dims == ("time", "particle", "xyz")
+    assert dataset["tangent"].dims == ("time", "chain", "particle", "xyz")
 
 
 def test_planar_start_is_the_planar_scene():

@@ -33,16 +33,22 @@ _TEX = {"tau": r"\tau", "gamma": r"\gamma", "Theta": r"\Theta", "Omega": r"\Omeg
 """Symbols drawn as Greek letters in labels."""
 
 
+def _word(token: str) -> str:
+    """One name in TeX: a Greek name as its letter, a longer word upright (rad as \\mathrm{rad}), a letter as is."""
+    if token in _TEX:
+        return _TEX[token]
+    return rf"\mathrm{{{token}}}" if len(token) > 1 and token.isalpha() else token
+
+
 def _tex(text: str) -> str:
-    """A units string or a symbol in TeX: Greek names as letters, other words upright (rad as \\mathrm{rad})."""
+    """A units string or a symbol in matplotlib's mathtext: Greek names as letters, other words upright, a subscript
+    braced whole (y_tip as y_{\\mathrm{tip}}, not y_t followed by ip)."""
 
-    def word(match: re.Match) -> str:
-        token = match.group(0)
-        if token in _TEX:
-            return _TEX[token]
-        return rf"\mathrm{{{token}}}" if len(token) > 1 and token.isalpha() else token
+    def symbol(match: re.Match) -> str:
+        base, _, sub = match.group(0).partition("_")
+        return _word(base) + (f"_{{{_word(sub)}}}" if sub else "")
 
-    return "$" + re.sub(r"[A-Za-z]+(?:_[A-Za-z0-9]+)?", word, text).replace(" ", r"\,") + "$"
+    return "$" + re.sub(r"[A-Za-z]+(?:_[A-Za-z0-9]+)?", symbol, text).replace(" ", r"\,") + "$"
 
 
 @dataclass(frozen=True)
@@ -252,46 +258,81 @@ def shape(traj: Trajectory, time: float | None = None, ax=None):
     units = traj.length_units
     traj.physics.scene_def.draw_shape(ax, traj, i, _chains(traj))  # the scene's kind: chains or a network
     ax.set(
-        xlabel=f"$x$ ({units})", ylabel=f"$y$ ({units})", title=f"t = {traj.t[i]:g} " + labels(traj.physics).time_units
+        xlabel=f"$x$ ({units})",
+        ylabel=f"$y$ ({units})",
+        title=f"$t$ = {traj.t[i]:g} " + labels(traj.physics).time_units,
     )
     ax.set_aspect("equal", adjustable="datalim")
     return ax
 
 
 def tip_path(traj: Trajectory, ax=None, transient: float = 0.0):
-    """The path of every chain's tip (the last particle) in the lab frame.
+    """The path of every chain's tip (the last particle), in the views its scene draws it in (Scene.tip_views): a
+    planar chain's in the lab frame's xy plane; a chain in three dimensions across its clamp axis (where a whirl is a
+    circle; a free pivot's: in the plane of its turn), then in a 3D view.
 
     Parameters
     ----------
     traj : Trajectory
         A chain scene's trajectory.
     ax : matplotlib.axes.Axes, optional
-        Where to draw; default a new figure's.
+        Where to draw the first view (a 3D Axes: the 3D view); default a new figure's, which holds every view side by
+        side. Given an Axes, only the view it can show is drawn.
     transient : float
         Time (tau) left out at the start.
 
     Returns
     -------
     matplotlib.axes.Axes
+        The first view's (the others are its figure's other Axes).
     """
-    traj, ax = _trajectory(traj), _axes(ax)
+    traj = _trajectory(traj)
     keep = traj.t >= traj.t[0] + _time("transient", transient)
-    tips = traj.tip()[keep]
-    for k, label in enumerate(_chains(traj)):
-        ax.plot(tips[:, k, 0], tips[:, k, 1], lw=1, label=label or None)
-    length = labels(traj.physics).length
-    ax.set(xlabel=f"tip $x$ ({length})", ylabel=f"tip $y$ ({length})")
-    ax.set_aspect("equal", adjustable="datalim")
-    if tips.shape[1] > 1:
-        ax.legend(fontsize="small")
-    return ax
+    views = traj.physics.scene_def.tip_views(traj, keep)
+    if ax is not None:  # the one view the Axes can show: a 3D view on a 3D Axes
+        views = [next((v for v in views if (len(v.axes) == 3) == (ax.name == "3d")), views[0])]
+        axes = [ax]
+    else:
+        axes = _figure_axes([len(v.axes) for v in views])
+    length, chains = labels(traj.physics).length, _chains(traj)
+    for view, ax in zip(views, axes, strict=True):
+        for k, label in enumerate(chains):
+            ax.plot(*(view.points[:, k, c] for c in range(len(view.axes))), lw=1, label=label or None)
+        names = ("xlabel", "ylabel", "zlabel")
+        ax.set(**{name: f"tip ${axis}$ ({length})" for name, axis in zip(names, view.axes, strict=False)})
+        if view.title:
+            ax.set_title(view.title)
+        if len(view.axes) == 2:
+            ax.set_aspect("equal", adjustable="datalim")
+        if len(chains) > 1:
+            ax.legend(fontsize="small")
+    return axes[0]
+
+
+def _figure_axes(dimensions: list[int]) -> list:
+    """A new figure's Axes side by side, one per view: 2 for a plane, 3 for a 3D view."""
+    import matplotlib.pyplot as plt  # start-up time: matplotlib loads only when a figure is drawn
+
+    figure = plt.figure(figsize=(6.4 * len(dimensions) if len(dimensions) > 1 else 6.4, 4.8))
+    return [
+        figure.add_subplot(1, len(dimensions), k + 1, projection="3d" if d == 3 else None)
+        for k, d in enumerate(dimensions)
+    ]
 
 
 def _label(array) -> str:
-    """'long name (units)' from a netCDF variable's or coordinate's attributes."""
+    """'long name (units)' from a netCDF variable's or coordinate's attributes, the units in mathtext."""
     name = array.attrs.get("long_name", array.name)
     units = array.attrs.get("units")
-    return f"{name} ({units})" if units not in (None, "", "1") else str(name)
+    return f"{name} ({_tex(str(units))})" if units not in (None, "", "1") else str(name)
+
+
+def _integer_ticks(axis, coordinate) -> None:
+    """Ticks at whole numbers only on an axis that draws an integer coordinate (N, a seed)."""
+    if coordinate.dtype.kind in "iu":
+        from matplotlib.ticker import MaxNLocator  # start-up time: matplotlib loads only when a figure is drawn
+
+        axis.set_major_locator(MaxNLocator(integer=True))
 
 
 def _shown(value) -> str:
@@ -397,11 +438,14 @@ def sweep_map(dataset, variable: str = "amplitude", ax=None, **selection):
         coordinate = data[data.dims[0]]
         ax.plot(coordinate.values, data.values, "o-")
         ax.set(xlabel=_label(dataset[data.dims[0]]), ylabel=_label(dataset[variable]))
+        _integer_ticks(ax.xaxis, coordinate)
         return ax
     y, x = (dataset[d] for d in data.dims)
     mesh = ax.pcolormesh(x.values, y.values, np.asarray(data.values, dtype=float), shading="auto")
     ax.figure.colorbar(mesh, ax=ax, label=_label(dataset[variable]))
     ax.set(xlabel=_label(x), ylabel=_label(y))
+    _integer_ticks(ax.xaxis, x)
+    _integer_ticks(ax.yaxis, y)
     return ax
 
 

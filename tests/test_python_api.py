@@ -148,7 +148,7 @@ def test_a_sweep_opened_and_plotted_with_units(tmp_path, capsys):
     assert ds.equals(ea.load_sweep(str(out))) and set(ds["amplitude"].dims) == {"sigma", "n"}
     ax = ea.plot.sweep_map(ds, "amplitude")
     colourbar = ax.figure.axes[-1]
-    assert colourbar.get_ylabel() == f"{ds['amplitude'].attrs['long_name']} (rad)"
+    assert colourbar.get_ylabel() == f"{ds['amplitude'].attrs['long_name']} ($\\mathrm{{rad}}$)"
     assert ds["sigma"].attrs["long_name"] in ax.get_ylabel() + ax.get_xlabel()
     line = ea.plot.sweep_map(ds.sel(n=4), "frequency")
     assert line.get_lines()[0].get_xydata().shape == (2, 2)

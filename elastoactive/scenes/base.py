@@ -29,8 +29,9 @@ asks of every scene:
   trajectory          `positions`, `tip`, `centre_of_drag`, `state_variables` (Trajectory's positions and its
                       xarray variables), `file_variables` (which of those a run's trajectory.npz holds too),
                       `state_difference` (validate's sample-by-sample comparison)
-  drawing             `painter` (render's video painter), `draw_shape` (ea.plot.shape), `paced_by_beat` (whether
-                      a video's pace follows the beat of `beat_signals`)
+  drawing             `painter` (render's video painter), `draw_shape` (ea.plot.shape), `tip_views`
+                      (ea.plot.tip_path; default: the xy plane), `paced_by_beat` (whether a video's pace follows
+                      the beat of `beat_signals`)
   stability           `sized_by_n` (whether N sizes it), `stability_report` (the lines `elastoactive stability`
                       prints)
 
@@ -71,7 +72,7 @@ if TYPE_CHECKING:  # typing only: these modules import the registry that holds s
     from ..core.params import Numerics, Physics
     from ..core.trajectory import Trajectory
 
-__all__ = ["Onset", "Scene", "ValidationCase"]
+__all__ = ["Onset", "PathView", "Scene", "ValidationCase"]
 
 
 CHAIN_TOLERANCES = (1e-9, 1e-11)
@@ -92,6 +93,18 @@ class Onset:
     stability at or above it: a lower bound, from a search); None for a single base state."""
     sigma_ceiling: float | None = None
     """For a family: no base state is stable above this (a proved upper bound on where the last loses stability)."""
+
+
+@dataclass(frozen=True)
+class PathView:
+    """One view of the tips' paths that ea.plot.tip_path draws (Scene.tip_views): `points`, shape (T, chains, 2) for
+    a plane or (T, chains, 3) for a 3D view, in the scene's length unit; `axes`, the symbol of each of its axes in
+    TeX ('x', 'y', 'z', or the directions of a plane of the motion's own); `title`, what the view shows ('' for the
+    lab frame's xy plane)."""
+
+    points: np.ndarray
+    axes: tuple[str, ...]
+    title: str = ""
 
 
 class Scene:
@@ -239,6 +252,12 @@ class Scene:
     def draw_shape(self, ax, traj: Trajectory, i: int, labels: list[str]) -> None:
         """Draw the structure at sample i on matplotlib axes `ax` (ea.plot.shape); labels: one per chain."""
         raise self._kind_hook("draw_shape")
+
+    def tip_views(self, traj: Trajectory, keep: np.ndarray) -> tuple[PathView, ...]:
+        """The views of the tips' paths over the samples `keep` that ea.plot.tip_path draws, the first one on the
+        axes it is given: the lab frame's xy plane (a structure in three dimensions: views in which its motion
+        shows); a ParameterError from `tip` for a structure without one."""
+        return (PathView(self.tip(traj)[keep], ("x", "y")),)
 
     def stability_report(self, physics: Physics, sigma: float | None) -> list[str]:
         """The lines `elastoactive stability` prints: the onset, and the growth at `sigma` when given."""

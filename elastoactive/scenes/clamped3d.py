@@ -29,7 +29,7 @@ from ..core.observables import Observable
 from ..core.registry import get as scene_named
 from ..core.trajectory import Trajectory
 from ..core.units import CHAIN, Signal
-from .base import Onset, Scene, ValidationCase
+from .base import Onset, PathView, Scene, ValidationCase
 
 if TYPE_CHECKING:  # typing only: params imports the registry that holds scenes
     from ..core.params import Numerics, Physics
@@ -296,6 +296,12 @@ class Clamped3D(Scene):
 
         check_picture(width=options["width"], height=options["height"], trail=options["trail"])
         return Chain3DPainter(traj, **options)
+
+    def tip_views(self, traj: Trajectory, keep: np.ndarray) -> tuple[PathView, ...]:
+        """The tip's path across the clamp axis e_x (the yz plane, where a whirl is a circle and a beat a line), then
+        in three dimensions."""
+        tips = self.tip(traj)[keep]
+        return PathView(tips[..., 1:], ("y", "z"), "across the clamp axis"), PathView(tips, ("x", "y", "z"), "3D")
 
     def draw_shape(self, ax, traj: Trajectory, i: int, labels: list[str]) -> None:
         """The chain projected on the xy plane (dashed: on xz)."""

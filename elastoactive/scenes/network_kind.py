@@ -42,6 +42,11 @@ change from a run at rtol 1e-11 stays far below their reported errors, at 55-65%
 freezing points of ramps down."""
 
 
+POLARITY_ARROW = 0.4
+"""Length (units a) of a unit's polarity arrow in ea.plot.shape: shorter than the rest spacing, so that neighbours'
+arrows do not cross."""
+
+
 class NetworkScene(Scene):
     """A scene of an elastic network of active units (module docstring)."""
 
@@ -236,11 +241,31 @@ class NetworkScene(Scene):
         return NetworkPainter(traj, **options)
 
     def draw_shape(self, ax, traj: Trajectory, i: int, labels: list[str]) -> None:
-        """The nodes, the springs between them in grey."""
-        nodes = traj.nodes[i]
-        for a, b in self.network(traj.physics).bonds:
+        """The springs in grey, the free nodes as dots, the pinned nodes as dark squares (label 'pinned') and, where
+        polarities are recorded, an arrow of length POLARITY_ARROW along each unit's polarity (cos psi, sin psi) from
+        its node (a quiver labelled 'polarity')."""
+        network, nodes = self.network(traj.physics), traj.nodes[i]
+        for a, b in network.bonds:
             ax.plot(nodes[[a, b], 0], nodes[[a, b], 1], color="0.6", lw=0.8)
-        ax.plot(nodes[:, 0], nodes[:, 1], "o", ms=3)
+        free, pinned = nodes[~network.pinned], nodes[network.pinned]
+        ax.plot(free[:, 0], free[:, 1], "o", ms=3, label="free node")
+        if len(pinned):
+            ax.plot(pinned[:, 0], pinned[:, 1], "s", color="0.2", ms=5, label="pinned")
+        if traj.polarity is not None and network.n_units:
+            psi, at = traj.polarity[i], nodes[network.active]
+            ax.quiver(
+                at[:, 0],
+                at[:, 1],
+                POLARITY_ARROW * np.cos(psi),
+                POLARITY_ARROW * np.sin(psi),
+                angles="xy",
+                scale_units="xy",
+                scale=1.0,
+                color="tab:orange",
+                width=0.006,
+                label="polarity",
+            )
+        ax.legend(fontsize="small")
 
     # ------------------------------------------------------------------ stability
     def coupling(self, physics: Physics, sigma: float | None = None) -> float:

@@ -19,7 +19,7 @@ from ..analysis import observables as obs
 from ..core.observables import Observable
 from ..core.trajectory import Trajectory
 from ..core.units import Signal
-from .base import Onset, ValidationCase
+from .base import Onset, PathView, ValidationCase
 from .clamped3d import Clamped3D
 
 if TYPE_CHECKING:  # typing only: params imports the registry that holds scenes
@@ -76,6 +76,20 @@ class Pivot3D(Clamped3D):
     def validation_cases(self) -> tuple[ValidationCase, ...]:
         """N = 7 at sigma = 0.8, the planar rotating pin's case, from the seeded non-planar start."""
         return (ValidationCase(self.physics(n=7, sigma=0.8), 300.0),)
+
+    def tip_views(self, traj: Trajectory, keep: np.ndarray) -> tuple[PathView, ...]:
+        """The tip's path in the plane of the turn (where a rigid turn is a circle about the pivot), then in three
+        dimensions. The plane is the path's best fit (its normal the path's direction of least spread), its axes u
+        along e_x's projection on it (e_y's where e_x is its normal) and v = normal x u: a turn in the xy plane is
+        drawn on x and y."""
+        tips = self.tip(traj)[keep]
+        path = tips.reshape(-1, 3)
+        normal = np.linalg.svd(path - path.mean(axis=0), full_matrices=False)[2][-1]
+        u = next(u for e in np.eye(3)[:2] if np.linalg.norm(u := e - (e @ normal) * normal) > 1e-6)
+        u /= np.linalg.norm(u)
+        v = np.cross(normal if normal[2] >= 0 else -normal, u)
+        plane = np.stack([tips @ u, tips @ v], axis=-1)
+        return PathView(plane, ("u", "v"), "in the plane of the turn"), PathView(tips, ("x", "y", "z"), "3D")
 
     def video_period(self, traj: Trajectory) -> float | None:
         """One turn per second of video."""

@@ -105,7 +105,7 @@ def test_a_term_in_a_file_runs_from_the_cli_in_both_engines(tether_file, capsys)
     capsys.readouterr()
     # a fresh process, no --plugin: the record names the file, which --from loads before reading the options
     rerun = subprocess.run(
-        [sys.executable, "-m", "elastoactive", "run", "--from", str(tether_file.parent / "reduced"), "--quiet"],
+        [sys.executable, "-m", "elastoactive", "run", "--from", str(tether_file.parent / "reduced"), "--json"],
         capture_output=True,
         text=True,
         timeout=120,

@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
-import json
 import sys
 import time
 import zipfile
@@ -25,6 +24,7 @@ from ..core.errors import ParameterError
 from ..core.params import Numerics, Physics, parameter_fields
 from ..core.units import CHAIN, scene_units
 from ..engines import ENGINES
+from ..io import tables
 from ..io.outputs import check_file, check_folder, check_space, folder_lock, output_path, provenance, utc_now
 from ..reduced.settings import METHODS
 from ..results import (
@@ -125,7 +125,14 @@ def fill(run: argparse.ArgumentParser, scene: str | None) -> None:
         help="start from the last state of a saved run (its folder) instead of the scene's seeded state (a network's "
         "nodes and polarities, a chain's angles); summary.json records it",
     )
-    run.add_argument("--quiet", action="store_true", help="no progress bar")
+    run.add_argument(
+        "--quiet", action="store_true", help="no progress bar, and the results on one line (nothing else on stdout)"
+    )
+    run.add_argument(
+        "--json",
+        action="store_true",
+        help="print the results as JSON (wall time, every observable, notes, harmonics) instead of a table",
+    )
     run.add_argument("--video", type=output_path, help="also render the run to this MP4 (see `elastoactive render -h`)")
     add_video_args(run, time_units=units.time_units)
 
@@ -399,18 +406,33 @@ def _run(args, out: Path | None) -> int:
             video_after_run(args, traj, numerics)
         return 1
     # the results first: shown even if the files cannot be written
-    print(json.dumps(jsonable({"wall_time_s": round(s["wall_time_s"], 3), **s["results"]}), indent=2))
+    _print_results(args, s, engine, duration)
     for note in s["results"].get("notes", []):
         _warn(note)
     if written:
         rewrite_summary(out, s)
     if failed is not None:
         raise failed
-    if out:
-        print(f"wrote {out / 'summary.json'} and {out / 'trajectory.npz'}")
+    if out and not args.quiet:  # stdout holds the results alone with --json
+        print(
+            f"wrote {out / 'summary.json'} and {out / 'trajectory.npz'}", file=sys.stderr if args.json else sys.stdout
+        )
     if args.video:  # rendered from the recorded trajectory, after the simulation
         return video_after_run(args, traj, numerics)
     return 0
+
+
+def _print_results(args, s: dict, engine: str, duration: float) -> None:
+    """The run's results on stdout (io.tables): a table with units, one line with --quiet, the JSON with --json."""
+    units = s.get("units") or {}
+    wall = round(s["wall_time_s"], 3)
+    title = f"{s['parameters']['scene']}, {engine}: {duration:g} {units.get('time', '')} in {wall:g} s of wall time"
+    record = jsonable({"wall_time_s": wall, **s["results"]})
+    text = tables.results_text(
+        record, s["results"], units.get("results") or {}, as_json=args.json, quiet=args.quiet, title=title
+    )
+    if text:
+        print(text)
 
 
 def _write(out: Path | None, traj, pending: dict, inputs: RunInputs) -> tuple[bool, OSError | None]:

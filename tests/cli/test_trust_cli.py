@@ -21,7 +21,7 @@ import elastoactive as ea
 from elastoactive.cli import main
 from elastoactive.results import load_trajectory, settings_digest
 
-RUN = ["run", "one-pinned", "--n", "4", "--sigma", "1.2", "--duration", "60", "--quiet", "--engine", "reduced"]
+RUN = ["run", "one-pinned", *"--n 4 --sigma 1.2 --duration 60 --quiet --json --engine reduced".split()]
 
 
 @pytest.fixture(scope="module")

@@ -23,13 +23,13 @@ build MuJoCo models, which a reduced-engine run never loads.
 
 from __future__ import annotations
 
-import sys
 import threading
 from dataclasses import dataclass
 
 from .core.errors import ParameterError
 from .core.params import Numerics, Physics
 from .engines import check_engine, check_engine_numerics, check_steps
+from .io import progress
 from .results import check_measurable
 
 
@@ -94,7 +94,7 @@ class TimestepChecks:
 
         announcement = check_announcement(physics) if announce else None  # its time grows like the angles cubed
         if announcement:
-            print(f"elastoactive: {announcement}", file=sys.stderr, flush=True)
+            progress.announce(announcement)
         error = None
         with self._lock:
             model = self._models.get(key)

@@ -56,12 +56,17 @@ def check_engine(engine: str) -> str:
 
 
 def run_engine(engine: str, physics: Physics, numerics: Numerics, duration: float, **options) -> Trajectory:
-    """Simulate with the named engine; options go to simulate_mujoco or simulate_reduced."""
+    """Simulate with the named engine; options go to simulate_mujoco or simulate_reduced. Every engine path reports
+    through engines.runner (its cost, a refusal past its step limit, its progress): the progress option holds for
+    the whole run (runner.shown), whichever path the scene takes."""
+    from .runner import shown
+
     check_start(physics, numerics)  # perturbation 0 on an unstable base state, refused alike by both engines
-    if check_engine(engine) == "mujoco":
-        from .mujoco import simulate_mujoco  # start-up time: load only the engine in use (mujoco)
+    with shown(options.get("progress", False)):
+        if check_engine(engine) == "mujoco":
+            from .mujoco import simulate_mujoco  # start-up time: load only the engine in use (mujoco)
 
-        return simulate_mujoco(physics, numerics, duration, **options)
-    from .reduced import simulate_reduced  # start-up time: load only the engine in use (numba, ~0.3 s)
+            return simulate_mujoco(physics, numerics, duration, **options)
+        from .reduced import simulate_reduced  # start-up time: load only the engine in use (numba, ~0.3 s)
 
-    return simulate_reduced(physics, numerics, duration, **options)
+        return simulate_reduced(physics, numerics, duration, **options)

@@ -24,6 +24,7 @@ import numpy as np
 from ..controllers import follower_forces
 from ..core.errors import ParameterError
 from ..core.params import Numerics, Physics
+from .runner import ANNOUNCE_SECONDS, Meter, duration_text
 
 PROBE_SECONDS = 0.02
 """Wall time spent timing MuJoCo's samples (at least PROBE_MIN_SAMPLES samples)."""
@@ -31,7 +32,8 @@ PROBE_MIN_SAMPLES = 2
 PROBE_SHARE = 0.05
 """Most of a run's samples the probe steps (a short run is not made much longer by its own estimate)."""
 NOTE_SECONDS = 60.0
-"""A MuJoCo run estimated to take longer than this is compared with the reduced engine."""
+"""A MuJoCo run estimated to take longer than this is compared with the reduced engine (a shorter one of
+runner.ANNOUNCE_SECONDS or more is announced with its own estimate alone)."""
 FAR_BEYOND = 10.0
 """The note is shown when the MuJoCo estimate is more than this many times the reduced engine's."""
 PILOT_SHARE = 0.02
@@ -133,16 +135,8 @@ def check_announcement(physics: Physics) -> str | None:
         return None
     return (
         f"checking dt against the stability limits of the N = {physics.n} model (about "
-        f"{_duration_text(max(seconds, 1.0))})..."
+        f"{duration_text(max(seconds, 1.0))})..."
     )
-
-
-def _duration_text(seconds: float) -> str:
-    if seconds < 120:
-        return f"{seconds:.0f} s"
-    if seconds < 7200:
-        return f"{seconds / 60:.0f} min"
-    return f"{seconds / 3600:.1f} h"
 
 
 def cost_note(mujoco_estimate: MujocoCost, reduced_s: float | None) -> str | None:
@@ -150,13 +144,36 @@ def cost_note(mujoco_estimate: MujocoCost, reduced_s: float | None) -> str | Non
     reduced engine's where that is more than FAR_BEYOND times quicker."""
     if mujoco_estimate.wall_s < NOTE_SECONDS:
         return None
-    line = (
-        f"this MuJoCo run will take about {_duration_text(mujoco_estimate.wall_s)} ({mujoco_estimate.steps:.3g} "
-        f"steps at {mujoco_estimate.us_per_step:.3g} us)"
-    )
+    line = short_note(mujoco_estimate)
     if reduced_s is None or mujoco_estimate.wall_s < FAR_BEYOND * reduced_s:
         return line
     return (
-        f"{line}; the reduced engine gives the same observables in about {_duration_text(reduced_s)} "
+        f"{line}; the reduced engine gives the same observables in about {duration_text(reduced_s)} "
         "(--engine reduced, or engine='reduced'). Running it anyway"
+    )
+
+
+def announce_cost(
+    meter: Meter, model: mujoco.MjModel, data: mujoco.MjData, numerics: Numerics, samples: int, reduced_seconds
+) -> MujocoCost | None:
+    """A shown MuJoCo run's estimate (mujoco_cost; None when the meter is not shown), said through the meter before the
+    run: from runner.ANNOUNCE_SECONDS on with its estimated time, from NOTE_SECONDS on with the reduced engine's too
+    where far quicker (cost_note; reduced_seconds(): the reduced engine's estimate, a pilot run only then)."""
+    if not meter.shows:
+        return None
+    estimate = mujoco_cost(model, data, numerics, samples)
+    note = None
+    if estimate.wall_s >= NOTE_SECONDS:
+        note = cost_note(estimate, reduced_seconds())
+    elif estimate.wall_s >= ANNOUNCE_SECONDS:
+        note = short_note(estimate)
+    meter.announce(f"note: {note}" if note else None)
+    return estimate
+
+
+def short_note(estimate: MujocoCost) -> str:
+    """The line before a MuJoCo run of ANNOUNCE_SECONDS or more: its estimated wall time and steps."""
+    return (
+        f"this MuJoCo run will take about {duration_text(estimate.wall_s)} ({estimate.steps:.3g} "
+        f"steps at {estimate.us_per_step:.3g} us)"
     )

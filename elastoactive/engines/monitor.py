@@ -7,8 +7,9 @@ from __future__ import annotations
 import mujoco
 import numpy as np
 
+from .runner import PROGRESS_EVERY  # noqa: F401 (the run loops import it here)
+
 CHECK_EVERY = 100  # samples between divergence checks
-PROGRESS_EVERY = 0.25  # seconds between progress updates (a long chain's sample can take seconds)
 
 BAD_STATE_WARNINGS = (
     mujoco.mjtWarning.mjWARN_BADQPOS,
@@ -36,11 +37,15 @@ def is_check(k: int, samples: int) -> bool:
     return k % CHECK_EVERY == 0 or k == samples - 1
 
 
-def step_last_apart(model: mujoco.MjModel, data: mujoco.MjData, nstep: int) -> np.ndarray:
+def step_last_apart(model: mujoco.MjModel, data: mujoco.MjData, nstep: int, steps=None) -> np.ndarray:
     """Step `nstep` steps, the last one on its own (mj_step's nstep loops over mj_step in C: the state is bit for bit
-    that of one call), and return qpos one step before the end."""
+    that of one call), and return qpos one step before the end. steps(model, data, k): how the first nstep - 1 are
+    stepped (runner.StepChunks: in chunks that report progress), default one mj_step call."""
     if nstep > 1:
-        mujoco.mj_step(model, data, nstep=nstep - 1)
+        if steps is None:
+            mujoco.mj_step(model, data, nstep=nstep - 1)
+        else:
+            steps(model, data, nstep - 1)
     before = data.qpos.copy()
     mujoco.mj_step(model, data)
     return before

@@ -9,7 +9,6 @@ likely cause, instead of silently restarting from qpos0.
 from __future__ import annotations
 
 import contextlib
-import sys
 import time
 from collections.abc import Callable
 
@@ -20,13 +19,13 @@ from ..controllers import follower_forces
 from ..core.errors import ParameterError, SimulationDiverged
 from ..core.params import Numerics, Physics
 from ..core.trajectory import Trajectory
-from ..io.progress import progress_bar
 from ..mjcf.chain import prepare, state_of
 from ..terms import polarity_addresses
 from . import check_steps
-from .cost import NOTE_SECONDS, cost_note, mujoco_cost, reduced_cost
+from .cost import announce_cost, reduced_cost
 from .monitor import BAD_STATE_WARNINGS, CHECK_EVERY, PROGRESS_EVERY, is_check, runaway, step_last_apart  # noqa: F401 (the batch engine imports them here)
 from .monitor import bad_state as _bad_state
+from .runner import Meter, StepChunks
 from .timestep import divergence_cause
 
 PIN_DRIFT_LIMIT = 0.05  # l: beyond this the two-pinned end has left its pin (the exact model: 0)
@@ -119,15 +118,9 @@ def simulate_chain_mujoco(
     if on_sample is not None:
         on_sample(model, data)
 
-    estimate = None
-    if progress:
-        estimate = mujoco_cost(model, data, numerics, t.size - 1)
-        if estimate.wall_s >= NOTE_SECONDS:
-            note = cost_note(estimate, reduced_cost(physics, given, duration))
-            if note:
-                print(f"elastoactive: note: {note}", file=sys.stderr, flush=True)
-    bar = progress_bar(t.size - 1, f"mujoco {physics.scene}", "sample") if progress else None
-    shown = 0
+    meter = Meter(duration, f"mujoco {physics.scene}", progress, physics.scene_def.units.time_units)
+    estimate = announce_cost(meter, model, data, numerics, t.size - 1, lambda: reduced_cost(physics, given, duration))
+    steps = StepChunks(meter, mujoco.mj_step)
     nstep = numerics.steps_per_sample
     qpos = np.empty((t.size, model.nq))
     qpos[0] = data.qpos
@@ -135,14 +128,14 @@ def simulate_chain_mujoco(
     polarity = None if units is None else np.empty((t.size, units.size))
     if polarity is not None:
         polarity[0] = data.act[units]
-    start = last_shown = time.perf_counter()
-    with follower_forces() if install_callbacks else contextlib.nullcontext():
+    start = time.perf_counter()
+    with meter, follower_forces() if install_callbacks else contextlib.nullcontext():
         for k in range(1, t.size):
             check = is_check(k, t.size)
             if check:  # the last step apart: how far one step moves the state (monitor.MAX_STEP_CHANGE)
-                before = step_last_apart(model, data, nstep)
+                before = step_last_apart(model, data, nstep, steps)
             else:
-                mujoco.mj_step(model, data, nstep=nstep)
+                steps(model, data, nstep)
             qpos[k] = data.qpos
             if polarity is not None:
                 polarity[k] = data.act[units]
@@ -153,9 +146,7 @@ def simulate_chain_mujoco(
                 raise SimulationDiverged(
                     divergence_cause(physics, numerics, float(data.time), model, data, step_change=change)
                 )
-            if bar is not None and (k == t.size - 1 or time.perf_counter() - last_shown >= PROGRESS_EVERY):
-                bar.update(k - shown)
-                shown, last_shown = k, time.perf_counter()
+            meter.at(float(t[k]))
             if pinned:
                 violation = max(violation, pin_violation(model, data))
                 if violation > PIN_DRIFT_LIMIT:
@@ -164,8 +155,6 @@ def simulate_chain_mujoco(
                 on_sample(model, data)
     wall = time.perf_counter() - start
     theta, head = state_of(physics, qpos)
-    if bar is not None:
-        bar.close()
     info = {"steps": int((t.size - 1) * nstep), "integrator": numerics.integrator}
     info["us_per_step"] = 1e6 * wall / max(info["steps"], 1)
     if estimate is not None:

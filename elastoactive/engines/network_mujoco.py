@@ -11,7 +11,6 @@ Auto-reset is off (mjcf/common.xml): a state that blows up stops the run with Si
 from __future__ import annotations
 
 import contextlib
-import sys
 import time
 from collections.abc import Callable
 
@@ -22,18 +21,18 @@ from ..controllers import follower_forces
 from ..core.errors import ParameterError, SimulationDiverged
 from ..core.params import RESOLUTION, Numerics, Physics
 from ..core.trajectory import Trajectory
-from ..io.progress import progress_bar
 from ..mjcf.network import build_network_model, node_positions, qpos_of_positions, set_polarity
 from ..networks.state import NetworkState
 from ..reduced import INERTIA_RESOLUTION
 from ..terms import polarity_addresses, turning_rate
 from ..terms.unit_noise import unit_noise
 from . import check_steps
-from .cost import NOTE_SECONDS, mujoco_cost
-from .monitor import MAX_STEP_CHANGE, PROGRESS_EVERY, bad_state, is_check, runaway, step_last_apart
+from .cost import announce_cost
+from .monitor import MAX_STEP_CHANGE, bad_state, is_check, runaway, step_last_apart
 from .network_noise import NoisySteps
 from .network_reduced import network_rate, start_state
 from .network_step import network_numerics
+from .runner import Meter, StepChunks
 
 
 def check_network_timestep(physics: Physics, numerics: Numerics) -> float:
@@ -136,17 +135,8 @@ def simulate_network_mujoco(
     network, model, data = prepare_network(physics, numerics, network, positions0, polarity0)
     if on_sample is not None:
         on_sample(model, data)
-    estimate = None
-    if progress:
-        estimate = mujoco_cost(model, data, numerics, t.size - 1)
-        if estimate.wall_s >= NOTE_SECONDS:
-            print(
-                f"elastoactive: note: this MuJoCo run should take about {estimate.wall_s:.0f} s",
-                file=sys.stderr,
-                flush=True,
-            )
-    bar = progress_bar(t.size - 1, f"mujoco {physics.scene}", "sample") if progress else None
-    shown = 0
+    meter = Meter(duration, f"mujoco {physics.scene}", progress, physics.scene_def.units.time_units)
+    estimate = announce_cost(meter, model, data, numerics, t.size - 1, lambda: None)  # the reduced network: no pilot
     nstep = numerics.steps_per_sample
     qpos = np.empty((t.size, model.nq))
     qpos[0] = data.qpos
@@ -155,32 +145,29 @@ def simulate_network_mujoco(
     polarity[0] = data.act[units]
     noise = unit_noise(physics, numerics)
     noisy = NoisySteps(noise, numerics.dt, model.nq, units) if noise.active else None  # Python steps only if noisy
-    start = last_shown = time.perf_counter()
-    with follower_forces() if install_callbacks else contextlib.nullcontext():
+    steps = StepChunks(meter, mujoco.mj_step if noisy is None else noisy)
+    start = time.perf_counter()
+    with meter, follower_forces() if install_callbacks else contextlib.nullcontext():
         for k in range(1, t.size):
             check = is_check(k, t.size)
             if noisy is not None:  # each step kicked by the units' noise (no last step apart: a kick is no runaway)
-                noisy(model, data, nstep)
+                steps(model, data, nstep)
                 check_runaway = False
             elif check:  # the last step apart: how far one step moves the nodes (monitor.MAX_STEP_CHANGE)
-                before = step_last_apart(model, data, nstep)
+                before = step_last_apart(model, data, nstep, steps)
                 check_runaway = True
             else:
-                mujoco.mj_step(model, data, nstep=nstep)
+                steps(model, data, nstep)
             qpos[k] = data.qpos
             polarity[k] = data.act[units]
             if check and bad_state(data):
                 raise SimulationDiverged(_divergence_message(physics, numerics, float(data.time)))
             if check and check_runaway and (change := runaway(qpos, k, nstep, before)) is not None:
                 raise SimulationDiverged(_divergence_message(physics, numerics, float(data.time), change))
-            if bar is not None and (k == t.size - 1 or time.perf_counter() - last_shown >= PROGRESS_EVERY):
-                bar.update(k - shown)
-                shown, last_shown = k, time.perf_counter()
+            meter.at(float(t[k]))
             if on_sample is not None:
                 on_sample(model, data)
     wall = time.perf_counter() - start
-    if bar is not None:
-        bar.close()
     steps = int((t.size - 1) * nstep)
     info = {"steps": steps, "integrator": numerics.integrator, "us_per_step": 1e6 * wall / max(steps, 1)}
     if noise.active:

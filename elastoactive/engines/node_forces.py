@@ -36,6 +36,7 @@ from ..core.errors import ParameterError
 from ..core.params import Physics
 from ..core.trajectory import particle_positions
 from ..terms.base import PeriodicForce
+from .runner import reporting
 
 
 def positions(physics: Physics, theta: np.ndarray) -> np.ndarray:
@@ -129,9 +130,12 @@ def solve(
     beta: float,
     loads,
     clamp=None,
+    on_time=None,
+    budget=None,
 ) -> tuple[np.ndarray, dict]:
     """Sampled angles (len(t), n_angles) and solver info, the node forces `laws` (callables) added, and the drag
-    and clamp-spring terms of a moving clamp (`clamp`: elastoactive.terms.base.ClampMotion, or None)."""
+    and clamp-spring terms of a moving clamp (`clamp`: elastoactive.terms.base.ClampMotion, or None). on_time(t), at
+    every evaluation, and budget(method, None), before the first step: the engine runner's (engines.runner)."""
     # start-up time: scipy.integrate costs ~0.4 s to import; only runs with such a term need it
     from scipy.integrate import solve_ivp
 
@@ -139,6 +143,9 @@ def solve(
         f = _compiled(system, beta, loads, laws)  # forces that do not depend on the positions: one compiled call
     else:
         f = _python(physics, system, beta, loads, laws, clamp)
+    if budget is not None:
+        budget("DOP853", None)
+    f = reporting(f, on_time)
     sol = solve_ivp(f, (0.0, float(t[-1])), theta0, method="DOP853", t_eval=t, rtol=rtol, atol=atol)
     if not sol.success:
         raise ParameterError(f"the reduced engine could not integrate the node forces: {sol.message}")

@@ -27,6 +27,7 @@ from ..core.errors import ParameterError
 from ..core.params import Physics
 from ..terms import polarity_term
 from .node_forces import generalised, positions, time_law
+from .runner import reporting
 
 
 def check(physics: Physics, system, noisy: bool) -> None:
@@ -106,16 +107,29 @@ def rhs(physics: Physics, system, *, beta: float, laws=()):
 
 
 def solve(
-    physics: Physics, system, t: np.ndarray, theta0: np.ndarray, laws, *, rtol: float, atol: float, beta: float
+    physics: Physics,
+    system,
+    t: np.ndarray,
+    theta0: np.ndarray,
+    laws,
+    *,
+    rtol: float,
+    atol: float,
+    beta: float,
+    on_time=None,
+    budget=None,
 ) -> tuple[np.ndarray, np.ndarray, dict]:
     """(sampled angles (len(t), n_angles), sampled polarities (len(t), units), solver info) from theta0, every
-    polarity along the follower direction of theta0."""
+    polarity along the follower direction of theta0. on_time(t), at every evaluation, and budget(method, None), before
+    the first step: the engine runner's (engines.runner)."""
     from scipy.integrate import solve_ivp  # start-up time: scipy.integrate costs ~0.4 s to import
 
     mask = np.zeros(physics.n_angles, dtype=bool)
     mask[unit_indices(physics)] = True
     y0 = np.concatenate([theta0, polarity_term(physics).initial_polarity(theta0, mask)])
-    f = rhs(physics, system, beta=beta, laws=laws)
+    if budget is not None:
+        budget("DOP853", None)
+    f = reporting(rhs(physics, system, beta=beta, laws=laws), on_time)
     sol = solve_ivp(f, (0.0, float(t[-1])), y0, method="DOP853", t_eval=t, rtol=rtol, atol=atol)
     if not sol.success:
         raise ParameterError(f"the reduced engine could not integrate the self-aligning units: {sol.message}")

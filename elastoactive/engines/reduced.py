@@ -19,8 +19,6 @@ system_of(physics) (overdamped; mass_ratio > 0: the inertial model's, on the sta
 
 from __future__ import annotations
 
-import contextlib
-import math
 import time
 
 import numpy as np
@@ -31,13 +29,13 @@ from ..core.errors import ParameterError
 from ..core.params import Numerics, Physics
 from ..core.registry import initial_angles
 from ..core.trajectory import Trajectory
-from ..io.progress import progress_bar
 from ..reduced import DEFAULT_BETA, INERTIA_RESOLUTION, STIFF_RADIUS, ChainSystem
 from ..reduced.settings import METHODS
 from ..terms import check_reduced_span, polarity_term
 from . import node_forces
 from . import polarity as polarity_engine
 from .regime import Regime, base_state, regime  # re-exported: the engine runs the model these choose
+from .runner import Meter, fixed_step_budget, solver_budget
 
 __all__ = [
     "DEFAULT_BETA",
@@ -218,29 +216,6 @@ def check_method(physics: Physics, method: str | None) -> None:
         )
 
 
-@contextlib.contextmanager
-def _time_bar(duration: float, shown: bool):
-    """A progress bar in units of tau, fed with the solver's times (None when not shown): scipy's methods report
-    through it (a long chain's implicit solver runs for minutes), the compiled DOP853 does not need it."""
-    if not shown:
-        yield None
-        return
-    total = max(1, math.ceil(duration))
-    bar = progress_bar(total, "reduced engine", "tau")
-    done = [0]
-
-    def on_time(time: float) -> None:
-        reached = min(int(time), total)
-        if reached > done[0]:
-            bar.update(reached - done[0])
-            done[0] = reached
-
-    try:
-        yield on_time
-    finally:
-        bar.close()
-
-
 def simulate_reduced(
     physics: Physics,
     numerics: Numerics,
@@ -312,7 +287,7 @@ def simulate_chain_reduced(
     use_inertia, record = _use_inertia(physics, numerics, inertial)
     system = system_of(physics, numerics.mass_ratio if use_inertia else 0.0)
     t = numerics.sample_times(duration)
-    theta0 = _initial(physics, numerics, theta0)
+    theta0_given, theta0 = theta0, _initial(physics, numerics, theta0)
     loads = load_factors(physics)
     count = physics.n_angles if loads is None else int(np.count_nonzero(loads))  # particles with a force
     laws = [law for law in (term.node_forces(physics) for term in physics.active_terms()) if law is not None]
@@ -324,41 +299,80 @@ def simulate_chain_reduced(
     if units:
         polarity_engine.check(physics, system, physics.noise > 0)
         check_reduced_span(physics, duration)
+    units_of_time = physics.scene_def.units.time_units
+    budget = solver_budget(
+        physics,
+        duration,
+        "the reduced engine's",
+        units_of_time,
+        start=("perturbation", numerics.perturbation) if theta0_given is None else ("start-from", None),
+        base_rate=lambda: physics.scene_def.fastest_overdamped_rate(physics),
+    )
     start = time.perf_counter()
-    if units:  # the state (theta, psi)
-        theta, polarity, info = polarity_engine.solve(physics, system, t, theta0, laws, rtol=rtol, atol=atol, beta=beta)
-    elif physics.noise > 0:
-        dt = numerics.dt
-        scheme = "euler"
-        if physics.noise_correlation > 0:  # the shared Ornstein-Uhlenbeck realisation, constant over each step
-            coloured = ColouredNoise(numerics.seed, count, physics.noise, physics.noise_correlation, dt)
-            factors = coloured.force_factor
-        else:
-            scheme = "heun" if physics.noise_calculus == "stratonovich" and not use_inertia else "euler"
+    with Meter(duration, f"reduced {physics.scene}", progress, units_of_time) as meter:
+        if units:  # the state (theta, psi)
+            theta, polarity, info = polarity_engine.solve(
+                physics, system, t, theta0, laws, rtol=rtol, atol=atol, beta=beta, on_time=meter.at, budget=budget
+            )
+        elif physics.noise > 0:
+            dt = numerics.dt
+            scheme = "euler"
+            if physics.noise_correlation > 0:  # the shared Ornstein-Uhlenbeck realisation, constant over each step
+                coloured = ColouredNoise(numerics.seed, count, physics.noise, physics.noise_correlation, dt)
+                factors = coloured.force_factor
+            else:
+                scheme = "heun" if physics.noise_calculus == "stratonovich" and not use_inertia else "euler"
 
-            def factors(steps: np.ndarray) -> np.ndarray:
-                return force_factor(numerics.seed, steps, count, physics.noise, dt)
+                def factors(steps: np.ndarray) -> np.ndarray:
+                    return force_factor(numerics.seed, steps, count, physics.noise, dt)
 
-        theta, info = _math.solve_sde(
-            system, t, theta0, dt=dt, factors=_loaded_noise(factors, loads), beta=beta, scheme=scheme
-        )
-        info["seed"] = numerics.seed
-        if physics.noise_correlation > 0:
-            info["noise_correlation"] = physics.noise_correlation
+            theta, info = _math.solve_sde(
+                system,
+                t,
+                theta0,
+                dt=dt,
+                factors=_loaded_noise(factors, loads),
+                beta=beta,
+                scheme=scheme,
+                on_time=meter.at,
+                budget=fixed_step_budget(physics, duration, dt, f"the reduced engine's {scheme} scheme", units_of_time),
+            )
+            info["seed"] = numerics.seed
+            if physics.noise_correlation > 0:
+                info["noise_correlation"] = physics.noise_correlation
+            else:
+                info["noise_calculus"] = physics.noise_calculus
+        elif laws or clamp is not None:  # plug-in terms' forces on the particles, a moving clamp (engines.node_forces)
+            theta, info = node_forces.solve(
+                physics,
+                system,
+                t,
+                theta0,
+                laws,
+                rtol=rtol,
+                atol=atol,
+                beta=beta,
+                loads=loads,
+                clamp=clamp,
+                on_time=meter.at,
+                budget=budget,
+            )
         else:
-            info["noise_calculus"] = physics.noise_calculus
-    elif laws or clamp is not None:  # plug-in terms' forces on the particles, a moving clamp (engines.node_forces)
-        theta, info = node_forces.solve(
-            physics, system, t, theta0, laws, rtol=rtol, atol=atol, beta=beta, loads=loads, clamp=clamp
-        )
-    else:
-        try:
-            with _time_bar(duration, progress) as on_time:
+            try:
                 theta, info = _math.solve_ode(
-                    system, t, theta0, rtol=rtol, atol=atol, method=method, beta=beta, loads=loads, on_time=on_time
+                    system,
+                    t,
+                    theta0,
+                    rtol=rtol,
+                    atol=atol,
+                    method=method,
+                    beta=beta,
+                    loads=loads,
+                    on_time=meter.at,
+                    budget=budget,
                 )
-        except KeyboardInterrupt as err:  # Ctrl-C (numba-DOP853 sees it within ~0.1 s): keep the samples computed
-            raise _interrupted(err, system, t, physics, time.perf_counter() - start) from None
+            except KeyboardInterrupt as err:  # Ctrl-C (numba-DOP853 sees it within ~0.1 s): keep the samples computed
+                raise _interrupted(err, system, t, physics, time.perf_counter() - start) from None
     wall = time.perf_counter() - start
     info.update(model="inertial" if use_inertia else "overdamped", mass_ratio=float(numerics.mass_ratio), **record)
     if system.pinned:

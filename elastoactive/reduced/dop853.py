@@ -31,7 +31,15 @@ _TABLEAU = (np.ascontiguousarray(coef.A), coef.B, coef.C, coef.E3, coef.E5, coef
 
 
 def integrate(
-    system: ChainSystem, ts: np.ndarray, y0: np.ndarray, *, rtol: float, atol: float, beta: float, loads=None
+    system: ChainSystem,
+    ts: np.ndarray,
+    y0: np.ndarray,
+    *,
+    rtol: float,
+    atol: float,
+    beta: float,
+    loads=None,
+    on_time=None,
 ):
     """Integrate the deterministic model (force factors 1) from y0 at t = 0 and sample it at ts (y0: the angles
     of the overdamped model, then the head's position with a free head; or angles then rates of the inertial
@@ -47,7 +55,8 @@ def integrate(
 
     The compiled loop runs in calls of a bounded number of steps (STEP_BUDGET) and resumes exactly where it
     stopped (the same steps, bit for bit, as one call), so that Ctrl-C stops a long run within ~0.1 s: it raises
-    Interrupted carrying the samples computed so far.
+    Interrupted carrying the samples computed so far. on_time(t), when given, is told the time reached after every
+    call (a progress bar); what else it raises propagates as it is.
     """
     ts = np.ascontiguousarray(ts, dtype=float)
     y0 = np.ascontiguousarray(y0, dtype=float)
@@ -64,6 +73,8 @@ def integrate(
             status = _dop853(
                 y, f, clock, counts, ts, system, float(beta), float(rtol), float(atol), *_TABLEAU, out, fac, steps
             )
+            if on_time is not None:
+                on_time(float(clock[0]))
     except KeyboardInterrupt:
         raise Interrupted(out[: int(counts[0])].copy()) from None
     return out, int(status), int(counts[1]), int(counts[2]), int(counts[3])

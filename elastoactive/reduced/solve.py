@@ -341,6 +341,7 @@ def solve_ode(
     loads=None,
     head0=None,
     on_time=None,
+    budget=None,
 ) -> tuple[np.ndarray, dict]:
     """Integrate the deterministic model from theta0 at t = 0; returns (theta at the times t, info).
     The inertial model (system.mass_ratio > 0) starts at rest: solve_inertial, of which the angles are returned.
@@ -359,8 +360,12 @@ def solve_ode(
     None or all ones: every particle loaded, bit for bit the unmasked run. Otherwise the implicit methods
     (and method=None's stiffness check) use a central-difference Jacobian of the masked right-hand side.
 
-    on_time: optional callable given the time of every right-hand side evaluation of scipy's methods (the slow
-    ones: a long chain's implicit solver), for a progress bar; it changes nothing that is computed.
+    on_time: optional callable given the time reached, for a progress bar: at every right-hand side evaluation of
+    scipy's methods, after every call of numba-DOP853's compiled loop (a bounded number of steps); it changes nothing
+    that is computed, and what it raises stops the run.
+    budget: optional callable budget(method, eig) given the method that runs and the eigenvalues of the Jacobian at
+    the start (None where method was given: they are not computed), before the first step: it may refuse the run
+    (raise) from the fewest steps these allow.
     """
     system = system.typed()
     t, theta0 = _samples_and_state(system, t, theta0, head0)
@@ -368,11 +373,21 @@ def solve_ode(
         raise ParameterError(f"method must be None, one of {COMPILED_METHODS + SCIPY_METHODS}, got {method!r}")
     if system.inertial:
         y, info = solve_inertial(
-            system, t, theta0, rtol=rtol, atol=atol, method=method, beta=beta, loads=loads, on_time=on_time
+            system,
+            t,
+            theta0,
+            rtol=rtol,
+            atol=atol,
+            method=method,
+            beta=beta,
+            loads=loads,
+            on_time=on_time,
+            budget=budget,
         )
         return y[:, : theta0.size].copy(), info
     loads = _loads(system, loads)
     info = {"rtol": rtol, "atol": atol}
+    eig = None
     if method is None:
         with one_blas_thread():  # a dense eigenproblem: O(N^3), on a busy machine far slower threaded
             eig = _eigenvalues(system, theta0, beta, loads)
@@ -381,6 +396,8 @@ def solve_ode(
         info["stiffness_ratio"] = stiffness_ratio(eig)
         method = _overdamped_method(info["stiffness"], info["stiffness_ratio"], float(t[-1]))
     info["method"] = method
+    if budget is not None:
+        budget(method, eig)
     return _integrate(system, t, theta0, method, rtol, atol, beta, info, loads, on_time)
 
 
@@ -439,7 +456,9 @@ def _integrate(
         info.update(nfev=0, njev=0, nsteps=0, status=0)
         return y0[None, :].copy(), info
     if method == "numba-DOP853":
-        out, status, nfev, nacc, nrej = dop853.integrate(system, t, y0, rtol=rtol, atol=atol, beta=beta, loads=loads)
+        out, status, nfev, nacc, nrej = dop853.integrate(
+            system, t, y0, rtol=rtol, atol=atol, beta=beta, loads=loads, on_time=on_time
+        )
         if status != 0:
             raise SimulationDiverged(_gave_up(system, method, "its step size fell below round-off"))
         info.update(nfev=nfev, njev=0, nsteps=nacc, nreject=nrej, status=0)
@@ -520,6 +539,7 @@ def solve_inertial(
     loads=None,
     head0=None,
     on_time=None,
+    budget=None,
 ) -> tuple[np.ndarray, dict]:
     """Integrate the inertial model (system.mass_ratio > 0) from (theta0, omega0) at t = 0 (omega0 default 0:
     at rest, as MuJoCo starts); returns (the states (theta, omega) at the times t, shape (len(t), 2 n_angles),
@@ -527,7 +547,7 @@ def solve_inertial(
     in SCIPY_METHODS (implicit ones get the finite-difference Jacobian, kernels.eval_jacobian_inertial).
     loads: per-particle load factors as in solve_ode. With a free head the positions are (angles, x_h, y_h) (theta0
     whole or with head0, as in solve_ode), omega0 their rates, and the states (positions, rates), 2 (n_angles + 2)
-    numbers."""
+    numbers. on_time, budget: as in solve_ode."""
     system = system.typed()
     if not system.inertial:
         raise ParameterError("solve_inertial integrates the inertial model: system.mass_ratio must be > 0")
@@ -540,6 +560,7 @@ def solve_inertial(
     y0 = np.concatenate([theta0, omega0])
     loads = _loads(system, loads)
     info = {"rtol": rtol, "atol": atol, "model": "inertial", "mass_ratio": system.mass_ratio}
+    eig = None
     if method is None:
         with one_blas_thread():  # a dense eigenproblem: O(N^3), on a busy machine far slower threaded
             eig = _eigenvalues(system, y0, beta, loads)
@@ -547,6 +568,8 @@ def solve_inertial(
         info["stiffness"] = float(max(0.0, np.max(-eig.real)))
         method = _inertial_method(eig)
     info["method"] = method
+    if budget is not None:
+        budget(method, eig)
     return _integrate(system, t, y0, method, rtol, atol, beta, info, loads, on_time)
 
 
@@ -569,6 +592,8 @@ def solve_sde(
     beta: float,
     scheme: str = "euler",
     head0=None,
+    on_time=None,
+    budget=None,
 ) -> tuple[np.ndarray, dict]:
     """Euler-Maruyama (scheme "euler") or stochastic Heun ("heun") from theta0 at t = 0 with step dt; returns
     (theta at the times t, info).
@@ -579,6 +604,9 @@ def solve_sde(
     in the Stratonovich sense). Pinned systems are projected back onto the pins after each step. The
     inertial model ignores the scheme (the noise enters its accelerations: no Ito-Stratonovich difference).
     With a free head: theta0 and head0, and the returned states, as in solve_ode (the state ends with the head).
+    on_time(time reached) after every _SDE_CHUNK steps, for a progress bar (what it raises stops the run);
+    budget(steps, substeps) before the first step, with the run's steps and the inertial model's RK4 substeps per step
+    (1 otherwise): it may refuse the run (raise).
     """
     if scheme not in SDE_SCHEMES:
         raise ParameterError(f"scheme must be one of {SDE_SCHEMES}, got {scheme!r}")
@@ -590,12 +618,16 @@ def solve_sde(
     total = int(sidx[-1])
     out = np.empty((t.size, theta0.size))
     if system.inertial:
-        return _solve_sde_inertial(system, t, theta0, dt, factors, beta, sidx, total, out)
+        return _solve_sde_inertial(system, t, theta0, dt, factors, beta, sidx, total, out, on_time, budget)
+    if budget is not None:
+        budget(total, 1)
     y = theta0.copy()
     jptr = 0
     step = kernels.heun if scheme == "heun" else kernels.euler_maruyama
     for k0, facs in _factor_chunks(system, total, factors):
         jptr = step(y, k0, facs, dt, system, beta, sidx, out, jptr)
+        if on_time is not None:
+            on_time((k0 + facs.shape[0]) * dt)
     while jptr < t.size:  # samples at the final step
         out[jptr] = y
         jptr += 1
@@ -606,11 +638,11 @@ def solve_sde(
     return out, info
 
 
-def _factor_chunks(system: ChainSystem, total: int, factors):
-    """(first step, force factors of steps first .. first + _SDE_CHUNK - 1) up to `total` steps, each
+def _factor_chunks(system: ChainSystem, total: int, factors, chunk: int = _SDE_CHUNK):
+    """(first step, force factors of steps first .. first + chunk - 1) up to `total` steps, each
     checked for shape (len(steps), n_angles)."""
-    for k0 in range(0, total, _SDE_CHUNK):
-        steps = np.arange(k0, min(total, k0 + _SDE_CHUNK))
+    for k0 in range(0, total, chunk):
+        steps = np.arange(k0, min(total, k0 + chunk))
         facs = np.ascontiguousarray(factors(steps), dtype=float)
         if facs.shape != (steps.size, system.n_angles):
             raise ParameterError(
@@ -620,17 +652,21 @@ def _factor_chunks(system: ChainSystem, total: int, factors):
         yield k0, facs
 
 
-def _solve_sde_inertial(system, t, theta0, dt, factors, beta, sidx, total, out):
+def _solve_sde_inertial(system, t, theta0, dt, factors, beta, sidx, total, out, on_time=None, budget=None):
     """The inertial model under the step-wise constant noise forces: each step dt (its force factors fixed,
     as in MuJoCo's step) by nsub RK4 substeps, h x (spectral radius at theta0, at rest) <= RK4_STEP. With
     inertia the angles are smooth (the noise enters the accelerations), so there is no Ito correction and
     no projection onto the pins (the Baumgarte term holds them)."""
     radius = spectral_radius(system, theta0, beta=beta)
     nsub = max(1, int(np.ceil(dt * radius / RK4_STEP)))
+    if budget is not None:
+        budget(total, nsub)
     y = np.concatenate([theta0, np.zeros(theta0.size)])
     jptr = 0
-    for k0, facs in _factor_chunks(system, total, factors):
+    for k0, facs in _factor_chunks(system, total, factors, max(1, _SDE_CHUNK // nsub)):  # ~_SDE_CHUNK substeps a call
         jptr = kernels.rk4_piecewise(y, k0, facs, dt, nsub, system, beta, sidx, out, jptr)
+        if on_time is not None:
+            on_time((k0 + facs.shape[0]) * dt)
     while jptr < t.size:
         out[jptr] = y[: theta0.size]
         jptr += 1

@@ -31,6 +31,7 @@ exactly, the non-planar one approximately.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import mujoco
@@ -231,21 +232,40 @@ def prepare3d(chain: Chain3DModel, tangents0: np.ndarray) -> tuple[mujoco.MjMode
     return model, data
 
 
-def simulate3d(chain: Chain3DModel, ts: np.ndarray, tangents0: np.ndarray) -> np.ndarray:
+def simulate3d(
+    chain: Chain3DModel,
+    ts: np.ndarray,
+    tangents0: np.ndarray,
+    *,
+    prepared: Callable[[mujoco.MjModel, mujoco.MjData], None] | None = None,
+    step: Callable[[mujoco.MjModel, mujoco.MjData, int], None] | None = None,
+    reached: Callable[[float], None] | None = None,
+) -> np.ndarray:
     """Tangents (len(ts), N, 3) of the MuJoCo chain from rest at tangents0, sampled at ts (uniform, multiples of dt
-    from ts[0] = 0). Raises RuntimeError when MuJoCo leaves finite numbers."""
+    from ts[0] = 0). Raises RuntimeError when MuJoCo leaves finite numbers.
+
+    The engine runner's hooks (engines.runner; none changes the state): prepared(model, data) once before the first
+    step (a cost estimate on a copy of the state), step(model, data, nstep) instead of mj_step's nstep steps (in
+    chunks that report progress: the same state, bit for bit), reached(t) after every sample."""
     ts = np.asarray(ts, dtype=float)
-    step = ts[1] - ts[0] if ts.size > 1 else chain.dt
-    nstep = int(round(step / chain.dt))
+    sample = ts[1] - ts[0] if ts.size > 1 else chain.dt
+    nstep = int(round(sample / chain.dt))
     if ts[0] != 0.0 or nstep < 1 or not np.allclose(np.diff(ts), nstep * chain.dt, rtol=1e-9, atol=1e-12):
         raise ParameterError(f"ts must start at 0 and be evenly spaced by a multiple of dt = {chain.dt}")
     model, data = prepare3d(chain, tangents0)
+    if prepared is not None:
+        prepared(model, data)
     out = np.empty((ts.size, chain.n, 3))
     out[0] = tangents_of(data, chain.n)
     for i in range(1, ts.size):
-        mujoco.mj_step(model, data, nstep=nstep)
+        if step is None:
+            mujoco.mj_step(model, data, nstep=nstep)
+        else:
+            step(model, data, nstep)
         mujoco.mj_kinematics(model, data)
         out[i] = tangents_of(data, chain.n)
         if not np.all(np.isfinite(out[i])):
             raise RuntimeError(f"MuJoCo 3D chain diverged at t = {ts[i]:g} (a smaller dt)")
+        if reached is not None:
+            reached(float(ts[i]))
     return out

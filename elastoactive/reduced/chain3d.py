@@ -261,9 +261,22 @@ def rhs(tangents: np.ndarray, chain: Chain3D) -> np.ndarray:
     return out.reshape(chain.n, 3)
 
 
-def solve3d(chain: Chain3D, ts: np.ndarray, tangents0: np.ndarray, *, rtol: float = 1e-9, atol: float = 1e-9):
+def solve3d(
+    chain: Chain3D,
+    ts: np.ndarray,
+    tangents0: np.ndarray,
+    *,
+    rtol: float = 1e-9,
+    atol: float = 1e-9,
+    on_time=None,
+    budget=None,
+):
     """Tangents (len(ts), N, 3) of the chain from tangents0 (N, 3) at t = 0, sampled at ts (scipy's DOP853 on the
-    compiled right-hand side). Raises RuntimeError naming the solver's message when it fails."""
+    compiled right-hand side). Raises RuntimeError naming the solver's message when it fails.
+
+    on_time(t): told the time of every right-hand side evaluation (a progress bar; it changes nothing computed, what
+    it raises stops the run). budget(method, eig): given "DOP853" and the eigenvalues of the right-hand side's
+    Jacobian at the start (central differences over the tangents), before the first step: it may refuse the run."""
     # start-up time: scipy.integrate costs ~0.4 s to import; only the integration needs it
     from scipy.integrate import solve_ivp
 
@@ -272,13 +285,35 @@ def solve3d(chain: Chain3D, ts: np.ndarray, tangents0: np.ndarray, *, rtol: floa
     n, sigma, gamma_l, clamped = int(chain.n), float(chain.sigma), float(chain.gamma_l), bool(chain.clamped)
     out = np.empty(3 * n)
 
-    def fun(_t, y):
+    def rate(_t, y):
         return eval_rhs3d(y, n, sigma, gamma_l, clamped, out).copy()
 
     y0 = np.ascontiguousarray(tangents0, dtype=float).ravel()
     if y0.size != 3 * n:
         raise ParameterError(f"tangents0 must hold {n} tangents (shape ({n}, 3)), got {np.shape(tangents0)}")
+    if budget is not None:
+        budget("DOP853", np.linalg.eigvals(_jacobian(rate, y0)))
+    if on_time is None:
+        fun = rate
+    else:
+
+        def fun(t, y):
+            on_time(t)
+            return rate(t, y)
+
     sol = solve_ivp(fun, (ts[0], ts[-1]), y0, method="DOP853", t_eval=ts, rtol=rtol, atol=atol)
     if not sol.success:
         raise RuntimeError(f"3D chain: the DOP853 solver failed ({sol.message})")
     return sol.y.T.reshape(ts.size, n, 3)
+
+
+def _jacobian(f, y: np.ndarray) -> np.ndarray:
+    """d f(0, y) / dy by central differences (relative step 1e-7): what bounds an explicit solver's steps."""
+    J = np.empty((y.size, y.size))
+    for k in range(y.size):
+        h = 1e-7 * max(1.0, abs(y[k]))
+        up, down = y.copy(), y.copy()
+        up[k] += h
+        down[k] -= h
+        J[:, k] = (f(0.0, up) - f(0.0, down)) / (2.0 * h)
+    return J

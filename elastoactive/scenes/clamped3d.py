@@ -137,21 +137,33 @@ class Clamped3D(Scene):
         rtol: float = 1e-8,
         atol: float = 1e-10,
         method: str | None = None,
+        progress: bool = False,
         **options,
     ) -> Trajectory:
-        from ..reduced.chain3d import Chain3D, solve3d  # engine boundary: numba and scipy
+        from ..engines.runner import Meter, solver_budget  # engine boundary: numba and scipy
+        from ..reduced.chain3d import Chain3D, solve3d
 
         if method not in (None, "DOP853"):
             raise ParameterError(f"method: {self.name} integrates by DOP853 only, got {method!r}")
         ts = self._times(numerics, duration)
-        start = time.perf_counter()
-        path = solve3d(
-            Chain3D(physics.n, physics.sigma, physics.drag_ratio, self.clamped),
-            ts,
-            self._start(physics, numerics, theta0),
-            rtol=rtol,
-            atol=atol,
+        budget = solver_budget(
+            physics,
+            duration,
+            "the reduced engine's",
+            start=("perturbation", numerics.perturbation) if theta0 is None else ("start-from", None),
+            base_rate=lambda: self.fastest_overdamped_rate(physics),
         )
+        start = time.perf_counter()
+        with Meter(duration, f"reduced {physics.scene}", progress) as meter:
+            path = solve3d(
+                Chain3D(physics.n, physics.sigma, physics.drag_ratio, self.clamped),
+                ts,
+                self._start(physics, numerics, theta0),
+                rtol=rtol,
+                atol=atol,
+                on_time=meter.at,
+                budget=budget,
+            )
         info = {"method": "DOP853", "rtol": rtol, "atol": atol}
         return Trajectory(ts, angles_of(path), physics, "reduced", time.perf_counter() - start, info)
 
@@ -176,12 +188,25 @@ class Clamped3D(Scene):
         return dataclasses.replace(numerics, dt=dt)
 
     def run_mujoco(
-        self, physics: Physics, numerics: Numerics, duration: float, *, theta0=None, **options
+        self, physics: Physics, numerics: Numerics, duration: float, *, theta0=None, progress: bool = False, **options
     ) -> Trajectory:
-        from ..mjcf.chain3d import Chain3DModel, simulate3d  # engine boundary: MuJoCo
+        import mujoco  # engine boundary: MuJoCo
+
+        from ..engines.cost import announce_cost, reduced_cost
+        from ..engines.runner import Meter, StepChunks, refuse_steps
+        from ..mjcf.chain3d import Chain3DModel, simulate3d
 
         given, numerics = numerics, self.automatic_numerics(physics, numerics)
         ts = self._times(numerics, duration)
+        automatic = numerics is not given  # dt for the whirl's accuracy: sigma sets it
+        refuse_steps(
+            (ts.size - 1) * numerics.steps_per_sample,
+            what=f"MuJoCo at dt = {numerics.dt:.3g}" + (" (automatic, for the whirl's accuracy)" if automatic else ""),
+            duration=duration,
+            cause="sigma" if automatic else "dt",
+            value=physics.sigma if automatic else numerics.dt,
+            advice="a smaller --sigma" if automatic else "a larger --dt",
+        )
         model = Chain3DModel(
             physics.n,
             physics.sigma,
@@ -191,10 +216,27 @@ class Clamped3D(Scene):
             dt=numerics.dt,
             integrator=numerics.integrator,
         )
+        meter = Meter(duration, f"mujoco {physics.scene}", progress)
+        estimate = []
+
+        def prepared(mj_model, data) -> None:  # the run's estimate, and the reduced engine's where far quicker
+            pilot = lambda: reduced_cost(physics, given, duration)  # noqa: E731
+            estimate.append(announce_cost(meter, mj_model, data, numerics, ts.size - 1, pilot))
+
         start = time.perf_counter()
-        path = simulate3d(model, ts, self._start(physics, numerics, theta0))
+        with meter:
+            path = simulate3d(
+                model,
+                ts,
+                self._start(physics, numerics, theta0),
+                prepared=prepared,
+                step=StepChunks(meter, mujoco.mj_step),
+                reached=meter.at,
+            )
         wall = time.perf_counter() - start
         info = {"joints": model.joints, "twist_inertia": model.inertia, "twist_damping": model.damping}
+        if estimate and estimate[0] is not None:
+            info["estimated_wall_s"] = estimate[0].wall_s
         if numerics is not given:
             info["automatic_numerics"] = {
                 "integrator": numerics.integrator,
@@ -332,14 +374,16 @@ class Clamped3D(Scene):
         lam = np.linalg.eigvals(linear_operator3d(physics.n, physics.sigma, physics.drag_ratio, self.clamped))
         return float(np.abs(lam).max())
 
-    def stability_report(self, physics: Physics, sigma: float | None) -> list[str]:
-        onset = self.onset(physics)
+    def stability_report(
+        self, physics: Physics, sigma: float | None, onset: Onset | None = None, eigenvalue: complex | None = None
+    ) -> list[str]:
+        onset = self.onset(physics) if onset is None else onset
         lines = [
             f"{self.name}, N = {physics.n}:",
             f"  onset: {onset.kind} at sigma_c = {onset.sigma_c:.10g}, omega_c = {onset.omega_c:.6g} rad/tau",
         ]
         if sigma is not None:
-            lam = self.leading_eigenvalue(physics, sigma)
+            lam = self.leading_eigenvalue(physics, sigma) if eigenvalue is None else eigenvalue
             lines.append(
                 f"  at sigma = {sigma:g}: growth rate {lam.real:+.6g} /tau ({'unstable' if lam.real > 0 else 'stable'})"
             )

@@ -22,7 +22,7 @@ The modules, by concern (this one runs a sweep and holds their public names):
   sweep_store    the results while the sweep runs: arrays, the fsynced journal, Ctrl-C during the save
   sweep_netcdf   the netCDF file: its contents and its atomic, durable write
 
-The engine a sweep runs (mujoco, or the reduced engine's kernels) and tqdm are imported inside _run_sweep, the
+The engine a sweep runs (mujoco, or the reduced engine's kernels) is imported inside _run_sweep, the
 engines' boundary: the command line imports this module to build its parser, and forked pool workers start with
 what the sweep loaded before them.
 """
@@ -41,6 +41,7 @@ from ..core.errors import ParameterError
 from ..core.params import Numerics
 from ..gate import TimestepChecks
 from ..io.outputs import check_file
+from ..io.progress import progress_bar
 from .grid import (
     DIMENSION_ATTRS,
     FORMAT,
@@ -263,10 +264,10 @@ def _run_sweep(
     saved = False  # the final netCDF is on disk
     try:
         bar = None
-        if progress:
-            from tqdm.auto import tqdm  # start-up time: only when a bar is shown
-
-            bar = tqdm(total=sweep.size, initial=sweep.size - len(todo), desc=f"sweep {scene}", unit="point")
+        if progress:  # through io.progress: its observers see the sweep's points too
+            bar = progress_bar(sweep.size, f"sweep {scene}", "point")
+            if sweep.size > len(todo):  # the points a journal already holds
+                bar.update(sweep.size - len(todo))
         if todo:
             local = default_workers() if workers is None else int(workers)
             runner_flushes = scheduler is None and engine == "mujoco"  # yields FLUSH between groups of records

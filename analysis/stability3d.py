@@ -20,6 +20,9 @@ reports the coupling between them; `onset3d` finds the onset from the whole 2N x
 
 from __future__ import annotations
 
+import time
+from collections.abc import Callable
+from contextvars import ContextVar
 from dataclasses import dataclass
 
 import numpy as np
@@ -91,9 +94,18 @@ def branches(n: int, sigma: float, gamma_l: float = 1.0, clamped: bool = True) -
     return Branches(_sorted(np.linalg.eigvals(a3[:n, :n])), _sorted(np.linalg.eigvals(a3[n:, n:])), float(coupling))
 
 
+ONSET_EVALUATIONS = 14
+"""About how many operators (linear_operator3d, then its eigenvalues) onset3d's search builds: the bracket's two ends,
+brentq's ~10 iterations to xtol 1e-14, the last."""
+ON_COST: ContextVar[Callable[[str, float], None] | None] = ContextVar("onset cost", default=None)
+"""Told (what, estimated seconds) by onset3d once its first operator is timed (a caller's announcement of the search's
+cost: elastoactive stability); None: nobody asks."""
+
+
 def onset3d(n: int, gamma_l: float = 1.0) -> tuple[float, float]:
     """(sigma_c, omega_c) where the largest real part of the whole A3 crosses zero (brentq, bracketed around the planar
-    onset: the 3D onset is found, not assumed), and |Im lambda| there."""
+    onset: the 3D onset is found, not assumed), and |Im lambda| there. ON_COST, when set, is told the search's
+    estimated wall time (ONSET_EVALUATIONS times its first operator's) before the rest of it runs."""
     n = int(n)
     planar, _ = stability.critical_sigma(n)
 
@@ -101,7 +113,12 @@ def onset3d(n: int, gamma_l: float = 1.0) -> tuple[float, float]:
         return float(np.max(np.linalg.eigvals(linear_operator3d(n, sigma, gamma_l)).real))
 
     lo, hi = 0.8 * planar, 1.25 * planar
-    if not (growth(lo) < 0 < growth(hi)):
+    start = time.perf_counter()
+    low = growth(lo)
+    told = ON_COST.get()
+    if told is not None:
+        told(f"the 3D onset of N = {n}", ONSET_EVALUATIONS * (time.perf_counter() - start))
+    if not (low < 0 < growth(hi)):
         raise RuntimeError(f"3D onset of N = {n} not bracketed by [{lo:g}, {hi:g}]")
     sigma_c = brentq(growth, lo, hi, xtol=1e-14, rtol=1e-12)
     lam = np.linalg.eigvals(linear_operator3d(n, sigma_c, gamma_l))

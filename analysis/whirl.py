@@ -36,6 +36,7 @@ growth rate per tau. Pure functions (numbers and arrays in, records out).
 
 from __future__ import annotations
 
+import time
 from dataclasses import dataclass
 
 import numpy as np
@@ -223,16 +224,22 @@ class WhirlLadder:
     """The angle between the first and last link (rad), extrapolated."""
 
 
-def ladder(load: float, ns, guess: np.ndarray, omega_guess: float, gamma_l: float = 1.0) -> WhirlLadder:
+def ladder(
+    load: float, ns, guess: np.ndarray, omega_guess: float, gamma_l: float = 1.0, on_rung=None
+) -> WhirlLadder:
     """Whirls at S = load for each N of ns (increasing), the first from the shape guess (any number of links) and the
     rate omega_guess (rad / tau at ns[0]), each next from the previous carried to its N with the rate scaled by
-    N^-4; their continuum limits (analysis.filament.richardson)."""
+    N^-4; their continuum limits (analysis.filament.richardson). on_rung(n, seconds): told each rung's N and wall
+    time as it is found (a caller's cost estimate of the rungs left)."""
     ns = [int(n) for n in ns]
     states = []
     shape, omega, previous = np.asarray(guess, dtype=float), float(omega_guess), ns[0]
     for n in ns:
         omega *= (previous / n) ** 4  # the rate scales as N^-4 at a fixed load: the next rung's first guess
+        start = time.perf_counter()
         state = find_whirl(Chain3D(n=n, sigma=load / n**3, gamma_l=gamma_l), resample_tangents(shape, n), omega)
+        if on_rung is not None:
+            on_rung(n, time.perf_counter() - start)
         states.append(state)
         shape, omega, previous = state.tangents, state.omega, n
     n_arr = np.array(ns, dtype=float)
@@ -265,12 +272,12 @@ def settled_whirl(n: int, sigma: float, gamma_l: float = 1.0) -> WhirlState:
         ) from None
 
 
-def continuum_whirl(load: float, ns, gamma_l: float = 1.0) -> WhirlLadder:
+def continuum_whirl(load: float, ns, gamma_l: float = 1.0, on_rung=None) -> WhirlLadder:
     """The whirl's continuum limit at S = load: the first rung (ns[0]) settled from a helix (settled_whirl), the ladder
-    of ns from it (ladder)."""
+    of ns from it (ladder; on_rung as there)."""
     ns = [int(n) for n in ns]
     first = settled_whirl(ns[0], load / ns[0] ** 3, gamma_l)
-    return ladder(load, ns, first.tangents, first.omega, gamma_l)
+    return ladder(load, ns, first.tangents, first.omega, gamma_l, on_rung)
 
 
 @dataclass(frozen=True)

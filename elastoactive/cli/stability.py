@@ -21,7 +21,6 @@ from ..core import registry
 from ..core.errors import ParameterError
 from ..core.parameters import get as parameter_spec
 from ..core.params import Physics
-from ..reduced.blas import one_blas_thread
 from .options import UNITS
 
 
@@ -104,9 +103,24 @@ def _physics(args):
     return Physics(scene=args.scene, n=n, sigma=sigma, **given)
 
 
+def _announce_cost(what: str, seconds: float) -> None:
+    """An analysis's estimated wall time, said (io.progress.announce) from engines.runner.ANNOUNCE_SECONDS on."""
+    from ..engines.runner import ANNOUNCE_SECONDS, duration_text  # start-up time: loaded with the command
+    from ..io.progress import announce
+
+    if seconds >= ANNOUNCE_SECONDS:
+        announce(f"stability: {what} will take about {duration_text(seconds)}")
+
+
 def main(args) -> int:
+    from ..analysis.stability3d import ON_COST  # an analysis that times itself tells its cost here
+    from ..explore import stability  # the subcommand's boundary: the front door's analysis
+
     physics = _physics(args)
-    with one_blas_thread():
-        lines = physics.scene_def.stability_report(physics, args.sigma)  # the scene's kind's analysis
-    print("\n".join(lines))
+    token = ON_COST.set(_announce_cost)
+    try:
+        result = stability(physics, args.sigma)  # ea.stability: the scene's kind's analysis
+    finally:
+        ON_COST.reset(token)
+    print(result)
     return 0

@@ -26,6 +26,10 @@ from ..core.errors import ParameterError
 from .filament import check_resolution, converging
 from .options import ladder_argument
 
+RUNG_COST_POWER = 4
+"""A rung's wall time grows like N^RUNG_COST_POWER (Newton's method on N links: its Jacobian by 2N evaluations of a
+right-hand side that solves a dense 2N x 2N system): the rungs left are estimated from the last one found."""
+
 DEFAULT_LADDER = (10, 14, 20, 28, 40, 56)
 """The ladder of N (a few seconds in all at S = 100: Newton's method, no long runs but the coarsest rung's)."""
 
@@ -72,6 +76,28 @@ def register(subparsers) -> None:
     p.set_defaults(func=main)
 
 
+def _estimate(ns: list[int]):
+    """on_rung for continuum_whirl: after each rung, the rungs left estimated from its wall time (RUNG_COST_POWER),
+    announced once (io.progress.announce) when they come to engines.runner.ANNOUNCE_SECONDS or more."""
+    from ..engines.runner import ANNOUNCE_SECONDS, duration_text  # start-up time: loaded with the command
+    from ..io.progress import announce
+
+    said = []
+
+    def on_rung(n: int, seconds: float) -> None:
+        left = [m for m in ns if m > n]
+        estimate = sum(seconds * (m / n) ** RUNG_COST_POWER for m in left)
+        if not said and estimate >= ANNOUNCE_SECONDS:
+            said.append(n)
+            rungs = ", ".join(str(m) for m in left)
+            announce(
+                f"whirl: the rungs N = {rungs} will take about {duration_text(estimate)} (N = {n} took "
+                f"{seconds:.2g} s; a rung's time grows like N^{RUNG_COST_POWER})"
+            )
+
+    return on_rung
+
+
 def main(args) -> int:
     from ..analysis.continuum import continuum_critical  # the continuum's onset (scipy)
     from ..analysis.whirl import NoWhirl, continuum_whirl  # the 3D model (numba) and Newton's method (scipy)
@@ -89,7 +115,7 @@ def main(args) -> int:
     check_resolution(args.S, args.ns)
     clock = time.perf_counter()
     try:
-        result = continuum_whirl(args.S, args.ns, args.gamma_l)
+        result = continuum_whirl(args.S, args.ns, args.gamma_l, on_rung=_estimate(list(args.ns)))
     except NoWhirl as missed:
         raise ParameterError(f"no whirl found: {missed}; {_advice(args, missed.straight)}") from None
     wall = time.perf_counter() - clock

@@ -40,7 +40,6 @@ def test_a_run_far_slower_than_the_reduced_engine_is_named_in_one_line(monkeypat
     for reduced_s in (3600.0, None):  # not far beyond, or no reduced estimate: the run's own estimate is announced
         line = cost.cost_note(cost.MujocoCost(3.0 * 3600, 10**9, 10.8, 5), reduced_s)
         assert line.startswith("this MuJoCo run will take about 3.0 h") and "reduced" not in line
-    monkeypatch.setattr(engine, "NOTE_SECONDS", 0.0)
     monkeypatch.setattr(cost, "NOTE_SECONDS", 0.0)
     monkeypatch.setattr(cost, "FAR_BEYOND", 0.0)
     engine.simulate_mujoco(ea.Physics(n=4), ea.Numerics(), 5.0, progress=True)

@@ -51,9 +51,10 @@ EXPLICIT_REACH = 10.0
 """Largest h x |lambda| an explicit Runge-Kutta step stays stable at (DOP853's stability region reaches about 6 along
 the negative real axis, RK45's about 3): an explicit solver takes at least duration x spectral radius / EXPLICIT_REACH
 steps."""
-RESOLVED_TURN = 2.0 * math.pi
+RESOLVED_TURN = 1.0
 """Largest angle (rad) any solver turns a motion it follows (a growing or oscillating mode, a moving clamp) by in one
-step: every solver takes at least duration x rate / RESOLVED_TURN steps (DOP853 at rtol 1e-9 takes ~0.3 rad)."""
+step: every solver takes at least duration x rate / RESOLVED_TURN steps (DOP853 at rtol 1e-9 takes ~0.3 rad; Radau
+and LSODA at their default tolerances less)."""
 DEFAULT_DURATION = 300.0
 """The run length `elastoactive run` takes by default: steps that stay within MAX_STEPS over it are blamed on
 --duration, not on the rate."""

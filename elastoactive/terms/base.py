@@ -80,6 +80,10 @@ class Term:
     observables: ClassVar[tuple[Observable | str, ...]] = ()
     """Results it adds (their values: `measure`): specs the term declares (registered with the term), or names of
     declared ones."""
+    agreement: ClassVar[float | None] = None
+    """Where the engines model the term differently (MuJoCo's near-hard contact against the reduced model's steep
+    penalty), the relative difference between their states over a short run that it allows while it acts, beyond the
+    scene's own (Scene.agreement); None: the scene's."""
     measured_at_rest: ClassVar[bool] = True
     """Whether `measure` also runs while the term is at rest, wherever its parameters act on the scene (`takes`): its
     observables then have their values at rest (a force's work is 0), so that a run or a sweep point at the defaults
@@ -161,8 +165,13 @@ class Term:
         return self.node_forces(physics) is None and self.clamp_motion(physics) is None
 
     def measure(self, traj, transient: float) -> dict[str, float | str]:
-        """Values of `observables`."""
+        """Values of `observables` (each of `reported(physics)` at least)."""
         return {}
+
+    def reported(self, physics) -> tuple[str, ...]:
+        """The observables `measure` reports for a run of `physics` (Term.measured): all of them by default; a term
+        with observables that only some settings define (the rotating clamp's lag) leaves the others out here."""
+        return self.observable_names()
 
     def load_mask(self, physics) -> np.ndarray | None:
         """For the term that places the active force on the particles (the follower's `loaded`): the boolean mask of
@@ -200,6 +209,13 @@ class Term:
         """The reduced engine's polarity of the loaded particles (load mask `mask` over theta's columns) of chains with
         absolute angles theta at t = 0, as align_polarity gives MuJoCo's units."""
         raise NotImplementedError(f"the {self.name} term carries no polarity")
+
+    def short_case(self, physics):
+        """The physics of a short run in which the term acts visibly within a few time units (the conformance kit's
+        case for it, elastoactive.testing): by default its first validation case's, else None (the kit switches it on
+        in the first scene that takes it). `physics` is the Physics class, as for validation_cases."""
+        cases = self.validation_cases(physics)
+        return cases[0].physics if cases else None
 
     def validation_cases(self, physics) -> tuple:
         """Cases (elastoactive.core.cases.ValidationCase) that `validate` runs through both engines with this term on,

@@ -306,6 +306,12 @@ class MovingClamp(Term):
             ),
         )
 
+    def reported(self, physics) -> tuple[str, ...]:
+        """clamp_lag only for the rotating clamp (a lag behind a turning clamp; the other motions have no such
+        angle)."""
+        names = self.observable_names()
+        return names if physics.clamp_motion == ROTATING else tuple(n for n in names if n != CLAMP_LAG.name)
+
     def measure(self, traj, transient):
         """clamp_frequency_ratio and clamp_phase_spread of Theta = theta_N - theta_1 against the drive, over the steady
         window; null when the beat has no frequency there."""

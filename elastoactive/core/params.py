@@ -302,6 +302,9 @@ DEFAULT_DT = _UnsetFloat(0.0025)
 DEFAULT_MASS_RATIO = _UnsetFloat(1e-4)
 DEFAULT_INTEGRATOR = _UnsetStr("implicitfast")
 DEFAULT_SAMPLE_DT = _UnsetFloat(0.05)
+MAX_PERTURBATION = math.pi
+"""The largest seeded initial push (Numerics.perturbation): an angle past pi wraps round, a node moved past pi a
+crosses its neighbours."""
 MAX_SEED = 2**53
 """Largest seed: MuJoCo's noise callback reads it from a model numeric, a double, which holds every integer up to 2^53
 exactly, so that both engines draw the same noise from it."""
@@ -369,8 +372,12 @@ class Numerics:
             )
         if self.integrator not in INTEGRATORS:
             raise ParameterError(f"integrator must be one of {', '.join(INTEGRATORS)}, got {self.integrator!r}")
-        if self.perturbation < 0:
-            raise ParameterError(f"perturbation must be >= 0, got {self.perturbation}")
+        if not 0 <= self.perturbation <= MAX_PERTURBATION:
+            raise ParameterError(
+                f"perturbation = {self.perturbation:g}: the seeded initial push lies in [0, pi] (its largest angle, "
+                "rad; a network's largest node displacement, a): a push past pi is no longer a push away from the base "
+                "state"
+            )
         if not self.sample_dt > 0:
             raise ParameterError(
                 f"sample_dt (spacing of the recorded samples, in tau) must be > 0, got {self.sample_dt}"

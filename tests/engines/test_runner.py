@@ -39,7 +39,6 @@ def observed(physics, numerics=None, duration=300.0, engine="reduced"):
     "values,numerics,duration,named",
     [
         ({"scene": "one-pinned"}, None, 1e12, "duration = 1e+12: "),
-        ({"scene": "one-pinned"}, {"perturbation": 1e9}, 10.0, "perturbation = 1e+09: "),
         ({"scene": "one-pinned", "clamp_amplitude": 0.1, "clamp_frequency": 1e6}, None, 10.0, "clamp_frequency = "),
         ({"scene": "one-pinned", "noise": 0.1}, None, 1e8, "duration = 1e+08: "),
         ({"scene": "clamped-3d"}, None, 1e12, "duration = 1e+12: "),
@@ -50,6 +49,14 @@ def test_an_absurd_reduced_run_is_refused_in_one_line_before_it_steps(values, nu
         ea.simulate(ea.Physics(**values), numerics, duration=duration, engine="reduced")
     line = str(refusal.value)
     assert "\n" not in line and line.startswith(named) and re.search(r"; use (--)?duration \d", line)
+
+
+@pytest.mark.parametrize("engine", ["reduced", "mujoco"])
+def test_an_absurd_push_is_refused_by_the_numerics_in_every_engine(engine):
+    start = time.process_time()
+    with pytest.raises(ea.ParameterError, match=r"^perturbation = 1e\+09: the seeded initial push lies in \[0, pi\]"):
+        ea.simulate("one-pinned", {"perturbation": 1e9}, duration=10.0, engine=engine)
+    assert time.process_time() - start < 1.0
 
 
 def test_the_duration_a_refusal_gives_passes():
@@ -76,7 +83,9 @@ def test_a_long_run_announces_its_cost_then_shows_progress():
 def test_a_network_run_reached_through_a_hook_without_the_option_shows_progress():
     """run_engine's progress option holds for the whole run (runner.shown): the network scene's reduced engine
     reports though its hook is not handed the option."""
-    events = observed(ea.Physics(scene="network"), {"perturbation": 1e9})
+    events = []
+    with progress.observe(events.append):
+        ea.simulate(ea.Physics(scene="network"), duration=2e4, engine="reduced", progress=True)
     assert any(e.kind == "update" and e.desc == "reduced network" for e in events)
 
 

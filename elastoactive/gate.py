@@ -147,7 +147,7 @@ def preflight(
     duration = numerics.check_duration(duration)
     check_measurable(physics)
     if given:
-        check_engine_numerics(engine, numerics.given(), physics.noise > 0, lambda k: f"numerics.{k}")
+        check_engine_numerics(engine, numerics.given(), physics.noise > 0)
     if engine == "mujoco":
         check_steps(numerics.for_physics(physics), duration)  # before the timestep check's linearisation
         if timestep:

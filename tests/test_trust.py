@@ -16,6 +16,7 @@ from conftest import refused  # the shared one-line-refusal check
 import elastoactive as ea
 from elastoactive import results
 from elastoactive.cli import main
+from elastoactive.core.surface import command_line
 from elastoactive.engines.timestep import check_timestep
 from elastoactive.io import progress
 from elastoactive.results import load_trajectory
@@ -78,7 +79,7 @@ SUGGESTION_CASES = (
 def test_suggested_settings_pass_every_check(physics, numerics):
     """A refusal's suggested setting, typed back as printed with the run's other settings (its sample_dt), is
     accepted: by Numerics (sample_dt a whole multiple of dt) and by the pre-flight check."""
-    with pytest.raises(ea.ParameterError) as err:
+    with command_line(), pytest.raises(ea.ParameterError) as err:  # worded as the options to type
         check_timestep(physics, numerics)
     words = str(err.value).split("a setting that passes every check: --dt ")[1].split()
     dt, mass, integrator = float(words[0]), float(words[2]), words[4].rstrip(")")

@@ -14,6 +14,7 @@ import importlib
 import sys
 
 from ..core.errors import ParameterError, SimulationDiverged
+from ..core.surface import command_line
 from .options import UNITS, check_mujoco_gl, plugin_argument, preload_plugins, scene_help
 
 COMMANDS = {
@@ -121,7 +122,8 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     try:
         check_mujoco_gl()
-        return args.func(args)
+        with command_line():  # messages name settings as options (--dt), not as Python does (numerics.dt)
+            return args.func(args)
     except ParameterError as err:
         print(f"elastoactive: error: {err}", file=sys.stderr)
         return 2

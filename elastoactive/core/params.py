@@ -18,7 +18,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from . import parameters as _parameters
-from . import registry
+from . import registry, surface
 from . import term_registry as _terms
 from .errors import ParameterError
 from .parameters import COUPLING, finite
@@ -444,7 +444,7 @@ class Numerics:
         if count > MAX_SAMPLES:
             raise ParameterError(
                 f"duration ({duration:g} tau) at sample_dt = {spacing:g} would record {count:.3g} samples "
-                f"(limit {MAX_SAMPLES:.0e}); shorten --duration or raise --sample-dt"
+                f"(limit {MAX_SAMPLES:.0e}); shorten {option('duration')} or raise {option('sample_dt')}"
             )
         return count
 
@@ -466,7 +466,7 @@ class Numerics:
             raise ParameterError(
                 f"duration ({duration:g} tau) holds {count} sample(s) at sample_dt = {self.sample_dt:g}; at least "
                 f"{MIN_SAMPLES} are needed to measure a run, after its transient (by default the first half): "
-                f"lengthen --duration (>= {shortest:.4g} tau) or lower --sample-dt"
+                f"lengthen {option('duration')} (>= {shortest:.4g} tau) or lower {option('sample_dt')}"
             )
         return duration
 
@@ -591,7 +591,7 @@ def check_start(physics: Physics, numerics: Numerics) -> None:
         raise ParameterError(
             f"perturbation = 0 starts the run exactly on the base state of scene {physics.scene}, which is unstable "
             f"at sigma = {physics.sigma:g} (growth rate {growth:.3g}/tau): the run would stay on it up to round-off "
-            "and report that state, not the motion; give --perturbation > 0 (default 0.01)"
+            f"and report that state, not the motion; give {option('perturbation')} > 0 (default 0.01)"
         )
 
 
@@ -603,6 +603,14 @@ def parameter_fields(cls) -> tuple:
         names = LEADING + _parameters.names()
         return tuple(_parameters.get(name) for name in dict.fromkeys(names))
     return tuple(f for f in dataclasses.fields(cls) if "help" in f.metadata)
+
+
+def option(name: str, value=None) -> str:
+    """The setting `name` (a Numerics field, a physics parameter or an argument of a run such as duration), with `value`
+    when given, as the caller's surface spells it (core.surface.option): `--dt` on the command line, `numerics.dt` in
+    Python."""
+    numerics = {f.name for f in dataclasses.fields(Numerics)}
+    return surface.option(f"numerics.{name}" if name in numerics else name, value)
 
 
 def replace(obj, **changes):

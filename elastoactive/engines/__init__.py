@@ -6,6 +6,7 @@ from __future__ import annotations
 
 from ..core.errors import ParameterError
 from ..core.params import Numerics, Physics, check_start
+from ..core.surface import option
 from ..core.trajectory import Trajectory
 
 ENGINES = ("mujoco", "reduced")
@@ -19,7 +20,7 @@ def check_steps(numerics: Numerics, duration: float) -> int:
     if steps > MAX_STEPS:
         raise ParameterError(
             f"dt = {numerics.dt:g} over duration = {duration:g} tau is {steps:.2g} MuJoCo steps (limit "
-            f"{MAX_STEPS:.0e}, hours of computing); raise --dt or shorten --duration"
+            f"{MAX_STEPS:.0e}, hours of computing); raise {option('numerics.dt')} or shorten {option('duration')}"
         )
     return steps
 
@@ -29,12 +30,14 @@ MUJOCO_ONLY = ("dt", "integrator")
 mass_ratio, which decides whether a run is overdamped or inertial: docs/mujoco.md section 5)."""
 
 
-def check_engine_numerics(engine: str, names, noisy: bool, label=str) -> None:
+def check_engine_numerics(engine: str, names, noisy: bool, label=None) -> None:
     """Refuse MuJoCo-only numerical settings (`names`: those a user gave, or swept) with the reduced engine, where
     they change nothing: integrator always, dt unless the run (some point of a sweep) has noise > 0 (dt is then the
-    noise step). `label(name)` is how the message names the setting. The one rule for run, sweep and the API."""
+    noise step). `label(name)` is how the message names the setting (default: as the caller's surface spells a
+    Numerics field, core.surface.option). The one rule for run, sweep and the API."""
     if engine != "reduced":
         return
+    label = label or (lambda name: option(f"numerics.{name}"))
     for name in names:
         if name not in MUJOCO_ONLY or (name == "dt" and noisy):
             continue

@@ -33,7 +33,7 @@ import numpy as np
 
 from .. import reduced as _math
 from ..core.errors import ParameterError
-from ..core.params import Physics
+from ..core.params import Physics, option
 from ..core.trajectory import particle_positions
 from ..terms.base import PeriodicForce
 from .runner import reporting
@@ -84,7 +84,7 @@ def check(physics: Physics, system, noisy: bool) -> None:
         raise ParameterError(
             f"the reduced engine adds the forces of {names} to the overdamped model only, and "
             f"mass_ratio = {system.mass_ratio:g} is outside the overdamped limit here; give a smaller "
-            "--mass-ratio or use the MuJoCo engine"
+            f"{option('mass_ratio')} or use the MuJoCo engine"
         )
     if system.pinned or system.head_free or system.hub_free:
         has = "pins its far end" if system.pinned else ("slides its head" if system.head_free else "turns its hub")

@@ -26,7 +26,7 @@ import numpy as np
 from .. import reduced as _math
 from ..controllers.noise import ColouredNoise, force_factor
 from ..core.errors import ParameterError
-from ..core.params import Numerics, Physics
+from ..core.params import Numerics, Physics, option
 from ..core.registry import initial_angles
 from ..core.trajectory import Trajectory
 from ..reduced import DEFAULT_BETA, INERTIA_RESOLUTION, STIFF_RADIUS, ChainSystem
@@ -90,7 +90,8 @@ def _use_inertia(physics: Physics, numerics: Numerics, inertial: bool | None) ->
                 physics,
                 r.describe() + f"; its largest mass inside the limit is {r.mass_limit:.2g}; "
                 "the reduced engine's inertial model solves a dense mass matrix at every evaluation",
-                "give a smaller --mass-ratio (the overdamped chain), a smaller --sigma, or use MuJoCo",
+                f"give a smaller {option('mass_ratio')} (the overdamped chain), a smaller {option('sigma')}, or use "
+                "MuJoCo",
             )
         key = "inertia_number_bound" if r.rate_is_bound else "inertia_number"
         return r.inertial, {key: r.inertia_number}
@@ -211,8 +212,8 @@ def check_method(physics: Physics, method: str | None) -> None:
         raise ParameterError(f"method must be one of {', '.join(METHODS)} (or left out: automatic), got {method!r}")
     if physics.noise > 0:
         raise ParameterError(
-            f"method = {method}: with noise the reduced engine takes fixed steps of --dt "
-            "(Euler-Maruyama or Heun); leave --method out"
+            f"method = {method}: with noise the reduced engine takes fixed steps of {option('dt')} "
+            f"(Euler-Maruyama or Heun); leave {option('method')} out"
         )
 
 

@@ -32,6 +32,7 @@ from contextlib import contextmanager
 from contextvars import ContextVar
 
 from ..core.errors import ParameterError
+from ..core.params import option  # a setting as the caller's surface names it (--dt, numerics.dt)
 from ..io.progress import announce, progress_bar
 from . import MAX_STEPS
 
@@ -58,11 +59,6 @@ and LSODA at their default tolerances less)."""
 DEFAULT_DURATION = 300.0
 """The run length `elastoactive run` takes by default: steps that stay within MAX_STEPS over it are blamed on
 --duration, not on the rate."""
-
-
-def option(name: str) -> str:
-    """A parameter's name as the command line spells it (--clamp-frequency)."""
-    return "--" + name.replace("_", "-")
 
 
 def _round_down(x: float) -> float:

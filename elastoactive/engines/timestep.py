@@ -68,6 +68,7 @@ import numpy as np
 from ..controllers import follower_forces
 from ..core.errors import ParameterError
 from ..core.params import RESOLUTION, Numerics, Physics
+from ..core.surface import settings
 from ..mjcf.chain import build_model, prepare
 from ..reduced import INERTIA_RESOLUTION  # noqa: F401  (re-exported: the overdamped limit)
 from ..terms.base import fastest_term, slower_advice
@@ -421,10 +422,9 @@ def _suggest(physics: Physics, limits: StabilityLimits, numerics: Numerics) -> s
     if setting is None:
         return ""
     dt, m = setting
-    return (
-        f" (a setting that passes every check: --dt {dt:.{SUGGESTION_DIGITS}g} --mass-ratio {m:.6g} "
-        f"--integrator {numerics.integrator})"
-    )
+    dt, m = float(f"{dt:.{SUGGESTION_DIGITS}g}"), float(f"{m:.6g}")  # as printed: the value typed back is checked
+    passing = settings("Numerics", dt=dt, mass_ratio=m, integrator=numerics.integrator)
+    return f" (a setting that passes every check: {passing})"
 
 
 def check_timestep(

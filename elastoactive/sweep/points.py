@@ -23,7 +23,7 @@ from collections.abc import Callable, Sequence
 import numpy as np
 
 from ..batch import Case, checked, run_case
-from ..core import observables
+from ..core import observables, surface
 from ..core.errors import ParameterError
 from ..gate import TimestepChecks
 from ..io.jsonio import to_jsonable
@@ -270,11 +270,13 @@ def refuse_if_all_refused(cases: Sequence[Case], checks: TimestepChecks, grid_ke
         if dt is not None:
             masses = {setting[1] for setting, _ in settings}
             integrators = {numerics.integrator for _, numerics in settings}
-            parts = [f"dt <= {dt:g} on the grid" if "dt" in grid_keys else f"--dt {dt:g}"]
+            given = {} if "dt" in grid_keys else {"dt": dt}
             if len(masses) == 1 and "mass_ratio" not in grid_keys:
-                parts.append(f"--mass-ratio {masses.pop():g}")
+                given["mass_ratio"] = masses.pop()
             if len(integrators) == 1:
-                parts.append(f"--integrator {integrators.pop()}")
+                given["integrator"] = integrators.pop()
+            parts = [f"dt <= {dt:g} on the grid"] if "dt" in grid_keys else []
+            parts += [surface.settings("Numerics", **given)] if given else []
             advice = f"; a setting that passes every point: {' '.join(parts)}"
     raise ParameterError(
         f"the pre-flight check refuses every point of the sweep ({len(cases)}), so none runs; "

@@ -225,7 +225,7 @@ def test_every_allowed_chain_length_finishes_or_is_refused_at_once():
 
     physics = Physics(scene="one-pinned", n=1000)
     clock = time.perf_counter()
-    with pytest.raises(ParameterError, match="limited to 100 angles.*smaller --mass-ratio"):
+    with pytest.raises(ParameterError, match=r"limited to 100 angles.*smaller numerics\.mass_ratio"):
         simulate_reduced(physics, Numerics(), 10.0)
     with pytest.raises(ParameterError, match="self-contact .*limited to 100 angles"):
         simulate_reduced(physics.replace(contact=True), Numerics(mass_ratio=1e-7), 10.0)

@@ -18,7 +18,9 @@ Front door
 ----------
 Physics, Numerics        parameters of a run (elastoactive.core.params; help(ea.Physics) lists every parameter)
 simulate, measure        run a scene in either engine; measure the result (elastoactive.api)
-load, load_sweep         a run or a sweep written by the command line (elastoactive.api)
+save, load, load_sweep   a run's folder written and read back, a sweep's netCDF read (elastoactive.api)
+sweep, ramp              a grid of runs, a ramp up and down, as labelled xarray Datasets (elastoactive.explore)
+stability, Stability     the linear stability of a scene's base state, without simulating (elastoactive.explore)
 Trajectory, Results      what they return
 plot                     figures of a run or a sweep on matplotlib Axes (elastoactive.plot, imported when used)
 scenes, terms            the scene and term registries (elastoactive.scenes, elastoactive.terms)
@@ -26,6 +28,8 @@ ParameterError, SimulationDiverged
 """
 
 import importlib
+import sys
+import types
 from typing import TYPE_CHECKING
 
 from . import _moved
@@ -37,7 +41,7 @@ entry_points_ready()  # the entry points' scenes, terms and studies load when a 
 
 if TYPE_CHECKING:  # what the lazy names are, for type checkers and the API reference (read without importing)
     from . import scenes, terms
-    from .api import load, load_sweep, measure, simulate
+    from .api import load, load_sweep, measure, save, simulate
     from .core.params import Numerics, Physics
     from .core.trajectory import Trajectory
     from .results import Results
@@ -50,11 +54,34 @@ _LAZY = {
     "measure": "api",
     "load": "api",
     "load_sweep": "api",
+    "save": "api",
+    "sweep": "explore",
+    "ramp": "explore",
+    "stability": "explore",
+    "Stability": "explore",
     "Results": "results",
 }
 """Names of the front door imported when first used, and their modules: the records load numpy, running and measuring
 the engines and the outputs' writers, which the command line's --help does not need. The registries load the
 package's own scenes and terms when first read (elastoactive.core.table.load_built_ins)."""
+
+
+_VERBS_OVER_PACKAGES = frozenset({"sweep"})
+"""Front-door verbs named as a sub-package (ea.sweep, the function; elastoactive.sweep, the package of its runners)."""
+
+
+class _FrontDoor(types.ModuleType):
+    """The package's module: importing a sub-package binds it as the package's attribute, which would hide the verb
+    of the same name (`ea.sweep`); the verb stays (the sub-package is imported as ever: `from elastoactive.sweep
+    import run_sweep`)."""
+
+    def __setattr__(self, name: str, value) -> None:
+        if name in _VERBS_OVER_PACKAGES and isinstance(value, types.ModuleType):
+            return
+        super().__setattr__(name, value)
+
+
+sys.modules[__name__].__class__ = _FrontDoor
 
 
 def __getattr__(name: str):
@@ -79,7 +106,7 @@ def __getattr__(name: str):
 
 def __dir__() -> list[str]:
     """The front door's names and the sub-modules already imported (not the module's own helpers)."""
-    public = {name for name in globals() if not name.startswith("_")} - {"TYPE_CHECKING", "importlib"}
+    public = {name for name in globals() if not name.startswith("_")} - {"TYPE_CHECKING", "importlib", "sys", "types"}
     return sorted(public | set(_LAZY) | {"plot"})
 
 
@@ -89,12 +116,17 @@ __all__ = [
     "Physics",
     "Results",
     "SimulationDiverged",
+    "Stability",
     "Trajectory",
     "load",
     "load_sweep",
     "measure",
     "plot",
+    "ramp",
+    "save",
     "scenes",
     "simulate",
+    "stability",
+    "sweep",
     "terms",
 ]

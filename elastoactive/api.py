@@ -11,6 +11,8 @@ xarray is imported inside load_sweep, the sweep reader's boundary: it loads pand
 
 from __future__ import annotations
 
+import warnings
+import weakref
 from collections.abc import Mapping
 from pathlib import Path
 
@@ -22,9 +24,11 @@ from .core.params import Numerics, Physics, parameter_fields
 from .core.trajectory import Trajectory
 from .engines import run_engine
 from .gate import preflight
-from .results import Results, check_measurable, check_transient, load_trajectory, read_summary
+from .io.outputs import check_folder, check_space, folder_lock
+from .results import RecordWarning, Results, check_measurable, check_transient, load_trajectory, read_summary
 from .results import measure as _measure
-from .starts import as_start, finite_angles
+from .saving import RunSettings, check_destination, trajectory_bytes, write_folder
+from .starts import Start, as_start, finite_angles
 
 
 def _field_names(cls) -> tuple[str, ...]:
@@ -131,6 +135,7 @@ def simulate(
         A MuJoCo run whose state blew up or left its pin; the message names the likely cause.
     """
     physics, numerics = as_physics(physics), as_numerics(numerics)
+    start_path = str(Path(start).expanduser().resolve()) if isinstance(start, (str, Path)) else None
     start = None if start is None else as_start(start).checked(physics)  # before the gate: it may take seconds
     run = preflight(physics, numerics, duration, engine, method=method, timestep=check, announce=progress)
     for name, value in (("rtol", rtol), ("atol", atol)):
@@ -145,12 +150,41 @@ def simulate(
         if theta0 is not None:
             raise ParameterError("start: give start or theta0, not both")
         options = start.engine_options()
+    elif theta0 is not None:  # the angles it started from: a start state, as the record keeps one
+        start = Start(theta=options["theta0"], source="theta0")
     options["progress"] = progress  # MuJoCo's steps, or the reduced engine's time where its solver is slow
     if run.engine == "reduced" and method is not None:  # the reduced engine's ODE method (None: its automatic choice)
         options["method"] = method
     if rtol is not None:
         options.update(rtol=rtol, atol=rtol / 100 if atol is None else atol)
-    return run_engine(run.engine, run.physics, run.numerics, run.duration, **options)
+    trajectory = run_engine(run.engine, run.physics, run.numerics, run.duration, **options)
+    _remember(trajectory, RunSettings(run.numerics, run.duration, start, start_path))
+    return trajectory
+
+
+_RUNS: dict[int, tuple[weakref.ref, RunSettings]] = {}
+"""How each live trajectory `simulate` returned was run (by id, with a reference that tells a reused id apart): what
+`save` records of it."""
+
+
+def _remember(trajectory: Trajectory, settings: RunSettings) -> None:
+    key = id(trajectory)
+    _RUNS[key] = (weakref.ref(trajectory), settings)
+    weakref.finalize(trajectory, _RUNS.pop, key, None)
+
+
+def run_settings(trajectory: Trajectory) -> RunSettings | None:
+    """How `trajectory` was run: as `simulate` ran it, or as the summary of the run it was loaded from records it
+    (None for a trajectory made otherwise)."""
+    ref, settings = _RUNS.get(id(trajectory), (None, None))
+    if ref is not None and ref() is trajectory:
+        return settings
+    recorded = trajectory.info.get("summary") if isinstance(trajectory.info, Mapping) else None
+    numerics = (recorded or {}).get("numerics")
+    if not isinstance(numerics, Mapping) or numerics.get("duration") is None:
+        return None
+    settings = {k: v for k, v in numerics.items() if k not in ("duration", "transient")}
+    return RunSettings(Numerics(**settings), float(numerics["duration"]))
 
 
 def measure(trajectory: Trajectory, transient: float | None = None) -> Results:
@@ -192,6 +226,87 @@ def measure(trajectory: Trajectory, transient: float | None = None) -> Results:
             raise ParameterError(f"transient must be a time in tau, got {transient!r}") from None
     check_transient(float(t[-1] - t[0]) if t.size else 0.0, transient, t - t[0] if t.size else t)
     return _measure(trajectory, transient)
+
+
+def save(
+    trajectory: Trajectory,
+    path,
+    numerics: Numerics | str | Mapping | None = None,
+    *,
+    duration: float | None = None,
+    transient: float | None = None,
+    force: bool = False,
+) -> Path:
+    """Write a run's folder, as ``elastoactive run --out`` does: ``summary.json`` (settings, results, units, solver,
+    provenance, the run's inputs and the checksums that tie it to its trajectory) and ``trajectory.npz``, with copies
+    of the inputs it read (its network file, plug-in files, start state). ``load``, ``run --from`` and ``render`` read
+    it.
+
+    Parameters
+    ----------
+    trajectory : Trajectory
+        From ``simulate`` (its numerics, duration and start are known) or ``load`` (its summary's).
+    path : str or pathlib.Path
+        The run's folder, created if need be; a folder holding a run with other settings is refused unless ``force``.
+    numerics : Numerics, str or dict, optional
+        The numerics it ran with; needed only for a trajectory that neither ``simulate`` nor ``load`` made.
+    duration : float, optional
+        Its simulated time, likewise (default: as run).
+    transient : float, optional
+        Time discarded before measuring; default: half the run.
+    force : bool
+        Replace a run with other settings already in ``path``.
+
+    Returns
+    -------
+    pathlib.Path
+        The run's folder. Where measuring failed, summary.json records why (``measure_error``), the trajectory is
+        kept, and a RecordWarning says so.
+
+    Raises
+    ------
+    TypeError
+        ``trajectory`` is not a Trajectory, or ``path`` not a path.
+    ParameterError
+        Unknown numerics, a folder that cannot be written or holds another run, a transient outside the run.
+    OSError
+        A file could not be written (a full disk): the message names it.
+    """
+    if not isinstance(trajectory, Trajectory):
+        raise TypeError(
+            f"trajectory must be an ea.Trajectory (from ea.simulate or ea.load); got {type(trajectory).__name__}"
+        )
+    if not isinstance(path, (str, Path)):
+        raise TypeError(f"path must be a str or a pathlib.Path, got {type(path).__name__}")
+    settings = run_settings(trajectory)
+    if numerics is not None or duration is not None or settings is None:
+        if settings is None and (numerics is None or duration is None):
+            raise ParameterError(
+                "numerics, duration: give the Numerics and duration this trajectory was run with (it comes from "
+                "neither ea.simulate nor ea.load)"
+            )
+        numerics = as_numerics(numerics) if numerics is not None else settings.numerics
+        duration = float(duration) if duration is not None else settings.duration
+        settings = RunSettings(numerics, duration, *(() if settings is None else (settings.start, settings.start_path)))
+    physics = trajectory.physics
+    transient = check_transient(settings.duration, transient, np.asarray(trajectory.t) - trajectory.t[0])
+    out = check_folder(Path(path).expanduser(), "path")
+    with folder_lock(out, "path"):
+        check_destination(
+            out, physics, settings.numerics, trajectory.engine, settings.duration, transient, force, "path"
+        )
+        check_space(out, trajectory_bytes(physics, trajectory.t.size), "trajectory.npz", "path")
+        written = write_folder(out, trajectory, settings, transient)
+    if written.write_error is not None:
+        raise written.write_error
+    if written.measure_error is not None:
+        warnings.warn(
+            f"measuring the run failed ({written.measure_error}); {out / 'summary.json'} records the error and "
+            f"{out / 'trajectory.npz'} keeps the trajectory",
+            RecordWarning,
+            stacklevel=2,
+        )
+    return out
 
 
 RUN_FILES = ("summary.json", "trajectory.npz")

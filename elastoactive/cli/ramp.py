@@ -5,7 +5,8 @@ previous step's end, for several seeds, into one netCDF file with the direction 
 Exit status: 0 when the ramp finished; 2 for invalid options, a run the pre-flight check refuses, or an --out that
 holds another ramp; 3 when a step diverged (rerun to resume from the last finished step).
 
-The protocols (the ramp's runner and its process pool) and the sweep's value parser are imported inside `main`, the
+The ramp is `ea.ramp`'s (elastoactive.explore.ramp_outcome): this module parses the options into its arguments, draws
+the figure and reports. The protocols (the ramp's runner and its process pool) are imported inside `main`, the
 subcommand's boundary: `elastoactive --help` loads neither the sweep package nor the pools.
 """
 
@@ -16,8 +17,6 @@ import sys
 from pathlib import Path
 
 from ..core.errors import ParameterError
-from ..core.parameters import get as parameter_spec
-from ..core.parameters import known
 from ..core.params import Numerics, Physics, parameter_fields
 from ..engines import ENGINES
 from ..io.outputs import output_path
@@ -87,8 +86,8 @@ def register(subparsers) -> None:
 def main(args) -> int:
     # the subcommand's boundary: the ramp's runner and the sweep package (see the module docstring)
     from .. import protocols
+    from ..explore import ramp_outcome
     from ..starts import read_start
-    from ..sweep.grid import parse_values
 
     if len(args.ramp) > 1:
         raise ParameterError(
@@ -100,35 +99,31 @@ def main(args) -> int:
     name = name.strip()
     if not name or not text:
         raise ParameterError(f"--ramp must be NAME=VALUES (e.g. Pi=0.6:0.8:5), got {ramp!r}")
-    values = sorted(float(v) for v in parse_values(name, text))
     try:
         seeds = [int(s) for s in args.seeds.split(",")]
     except ValueError:
         raise ParameterError(f"--seeds must be a comma list of integers, got {args.seeds!r}") from None
     given = {f.name: getattr(args, f.name) for f in parameter_fields(Physics) if getattr(args, f.name) is not None}
-    if name in given:
-        raise ParameterError(f"--{name.replace('_', '-')}: {name} is ramped (--ramp); do not fix it too")
     numerics = {f.name: getattr(args, f.name) for f in parameter_fields(Numerics) if getattr(args, f.name) is not None}
-    if "seed" in numerics:
-        raise ParameterError("--seed: a ramp's seeds are --seeds")
-    if known(name) and parameter_spec(name).kind is float:  # beside the fixed ones, as `run` checks it: Pi and sigma
-        Physics(scene=args.scene, **given, **{name: values[0]})
-    physics = Physics(scene=args.scene, **given)
-    start = read_start(args.start_from).checked(physics, "--start-from") if args.start_from else None
-    ramp = protocols.make_ramp(
-        physics,
+    start = read_start(args.start_from) if args.start_from else None
+    if start is not None:  # refused naming the option (elastoactive.starts)
+        start = start.checked(
+            Physics(scene=args.scene, **{k: v for k, v in given.items() if k != name}), "--start-from"
+        )
+    outcome = ramp_outcome(
+        {"scene": args.scene, **given},
         name,
-        values,
-        numerics=Numerics(**numerics),
+        text,
+        numerics,
         seeds=seeds,
         duration=args.duration,
         transient=args.transient,
         engine=args.engine,
         start=start,
+        out=args.out,
+        workers=args.workers,
+        progress=not args.quiet,
     )
-    if args.workers is not None and args.workers < 1:
-        raise ParameterError(f"--workers must be >= 1, got {args.workers}")
-    outcome = protocols.run_ramp(ramp, args.out, workers=args.workers, progress=not args.quiet)
     none_measured = len(outcome.errors) == outcome.ran + outcome.kept  # every step's measuring failed: no loop to draw
     figure = args.figure or args.out.with_suffix(".png")
     if not none_measured:

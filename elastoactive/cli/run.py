@@ -17,7 +17,6 @@ from pathlib import Path
 
 import numpy as np
 
-from .. import plugins
 from ..api import simulate
 from ..core import registry
 from ..core.errors import ParameterError
@@ -25,28 +24,22 @@ from ..core.params import Numerics, Physics, parameter_fields
 from ..core.units import CHAIN, scene_units
 from ..engines import ENGINES
 from ..io import tables
-from ..io.outputs import check_file, check_folder, check_space, folder_lock, output_path, provenance, utc_now
+from ..io.outputs import check_file, check_folder, check_space, folder_lock, output_path, utc_now
 from ..reduced.settings import METHODS
 from ..results import (
     STATE_ARRAYS,
     RunInputs,
-    RunWriteError,
     StartInput,
     check_transient,
-    error_line,
     jsonable,
     read_run,
     read_summary,
     recorded_numerics,
     recorded_physics,
     resolved_inputs,
-    rewrite_summary,
-    run_inputs,
     state_digest,
-    summary,
-    unmeasured_summary,
-    write_run,
 )
+from ..saving import RunSettings, check_destination, trajectory_bytes, write_folder
 from ..starts import Start, last_state, read_start
 from .fields import add_fields, help_argument, scene_argument, scene_description
 from .options import UNITS, scene_help
@@ -277,42 +270,6 @@ def check_rerun(args, physics: Physics, engine: str) -> None:
         )
 
 
-def _check_destination(
-    out: Path, physics: Physics, numerics: Numerics, engine: str, duration: float, transient: float, force: bool
-) -> None:
-    """Refuse, before simulating, an --out that cannot be written or that holds another run."""
-    check_folder(out)
-    if force or not (out / "summary.json").exists():
-        return
-    try:
-        old = read_summary(out)
-    except ParameterError:
-        old = {}
-    new_settings = {"engine": engine, "parameters": physics.relevant(), "duration": duration, "transient": transient}
-    old_settings = {
-        "engine": old.get("engine"),
-        "parameters": old.get("parameters"),
-        "duration": (old.get("numerics") or {}).get("duration"),
-        "transient": (old.get("numerics") or {}).get("transient"),
-    }
-    old_numerics = {k: v for k, v in (old.get("numerics") or {}).items() if k not in ("duration", "transient")}
-    new_numerics = {k: getattr(numerics, k) for k in old_numerics if hasattr(numerics, k)}
-    differences = [k for k in new_settings if new_settings[k] != old_settings[k]]
-    differences += [k for k in old_numerics if old_numerics[k] != new_numerics.get(k)]
-    if differences:
-        raise ParameterError(
-            f"--out {out} already holds a run with other settings ({', '.join(differences)} differ); "
-            "choose another folder, or pass --force to replace it"
-        )
-
-
-def trajectory_bytes(physics: Physics, samples: int) -> int:
-    """About the size of a run's trajectory.npz, uncompressed (compression gains ~10% on a moving chain): t and the
-    scene's recorded columns per sample (Scene.record_columns: a chain's angles and moving pivot, a network's nodes and
-    polarities), 8 bytes each."""
-    return 8 * (1 + physics.scene_def.record_columns(physics)) * int(samples)
-
-
 def main(args) -> int:
     if not args.out:
         return _run(args, None)
@@ -350,7 +307,7 @@ def _run(args, out: Path | None) -> int:
     samples = numerics.sample_times(duration)
     transient = check_transient(duration, transient, samples)
     if out:
-        _check_destination(out, physics, numerics, engine, duration, transient, args.force)
+        check_destination(out, physics, numerics, engine, duration, transient, args.force, "out")
         check_space(
             out,
             trajectory_bytes(physics, samples.size),
@@ -368,7 +325,6 @@ def _run(args, out: Path | None) -> int:
     start, start_path = _start(args, record)
     if start is not None:  # a state of this scene, refused naming the option that gave it (elastoactive.starts)
         start.checked(physics, "--start-from" if args.start_from else "--from")
-    inputs = run_inputs(physics, None if start is None else _state_arrays(start), start_path)
     traj = simulate(
         physics,
         numerics,
@@ -379,29 +335,17 @@ def _run(args, out: Path | None) -> int:
         start=start,
         **tolerances,
     )
-
-    def extras(s: dict) -> dict:
-        if start is not None:
-            s["start"] = start.source
-        s["provenance"] = provenance(started, time.perf_counter() - clock)
-        if needed := plugins.needed(physics):  # what `run --from` and `render` of this run load first
-            s["plugins"] = needed
-        if inputs.as_dict():
-            s["inputs"] = inputs.as_dict()
-        return s
-
-    # the trajectory first, with a summary that says it is not measured yet: measuring never loses a finished run
-    written, failed = _write(out, traj, extras(unmeasured_summary(traj, numerics, duration, transient)), inputs)
-    try:
-        s = extras(summary(traj, numerics, duration, transient))
-    except Exception as err:  # noqa: BLE001 (whatever measuring raised: recorded, and the trajectory kept)
-        line = error_line(err)
-        if written:
-            rewrite_summary(out, extras(unmeasured_summary(traj, numerics, duration, transient, error=line)))
+    settings = RunSettings(numerics, duration, start, start_path)
+    written = write_folder(out, traj, settings, transient, started=started, clock=clock)  # as ea.save writes it
+    s, failed = written.summary, written.write_error
+    if written.measure_error is not None:
         if failed is not None:
             raise failed from None
         kept = f"; the trajectory is kept in {out / 'trajectory.npz'} and {out / 'summary.json'} records the error"
-        print(f"elastoactive: error: measuring the run failed ({line}){kept if out else ''}", file=sys.stderr)
+        print(
+            f"elastoactive: error: measuring the run failed ({written.measure_error}){kept if out else ''}",
+            file=sys.stderr,
+        )
         if args.video:
             video_after_run(args, traj, numerics)
         return 1
@@ -409,8 +353,6 @@ def _run(args, out: Path | None) -> int:
     _print_results(args, s, engine, duration)
     for note in s["results"].get("notes", []):
         _warn(note)
-    if written:
-        rewrite_summary(out, s)
     if failed is not None:
         raise failed
     if out and not args.quiet:  # stdout holds the results alone with --json
@@ -433,17 +375,3 @@ def _print_results(args, s: dict, engine: str, duration: float) -> None:
     )
     if text:
         print(text)
-
-
-def _write(out: Path | None, traj, pending: dict, inputs: RunInputs) -> tuple[bool, OSError | None]:
-    """Write the run's files (its summary not yet measured: `pending`) into `out`: (whether summary.json is this
-    run's now, the write's failure to raise once the results are shown)."""
-    if out is None:
-        return False, None
-    try:
-        write_run(out, traj, pending, inputs.copies)
-    except RunWriteError as err:  # the trajectory could not be written; the summary maybe alone
-        return err.summary is not None, err
-    except OSError as err:
-        return False, err
-    return True, None

@@ -7,20 +7,19 @@ error is shown); 2 for invalid options, settings the pre-flight check refuses at
 holds another sweep or a corrupted journal, or an output that cannot be written (e.g. a full disk:
 the journal is kept, re-run to resume).
 
-mujoco is imported inside _import_mujoco_headless, the MuJoCo engine's boundary (without its GL back end: see there),
-and elastoactive.sweep (its runners, the batch and the process pool) inside `fill` and `main`, the subcommand's
-boundary: `elastoactive --help` does not load it.
+The sweep is `ea.sweep`'s (elastoactive.explore.sweep_outcome): this module parses the options into its arguments and
+reports. elastoactive.sweep (its runners, the batch and the process pool) and elastoactive.explore are imported inside
+`fill` and `main`, the subcommand's boundary: `elastoactive --help` does not load them.
 """
 
 from __future__ import annotations
 
 import argparse
-import os
 import sys
 
 from ..core import registry
 from ..core.errors import ParameterError
-from ..core.params import PRESETS, Numerics, Physics, parameter_fields, scene_parameters
+from ..core.params import PRESETS, Numerics, Physics, option, parameter_fields, scene_parameters
 from ..core.units import CHAIN, scene_units
 from ..engines import ENGINES
 from ..io.outputs import check_file, output_path
@@ -121,22 +120,10 @@ def fill(p: argparse.ArgumentParser, scene: str | None) -> None:
     g.add_argument("--quiet", action="store_true", help="no progress bar")
 
 
-def _import_mujoco_headless() -> None:
-    """Import MuJoCo without its GL back end: a sweep renders nothing, and loading glfw costs a child
-    Python that probes the library (~0.07 s, before any point can start). MUJOCO_GL is set only for the
-    import and only if the user has not set it; elastoactive.render switches back ends if asked later."""
-    if "mujoco" in sys.modules or os.environ.get("MUJOCO_GL"):
-        return
-    os.environ["MUJOCO_GL"] = "disable"
-    try:
-        import mujoco  # noqa: F401 (start-up time: see the docstring)
-    finally:
-        os.environ.pop("MUJOCO_GL", None)
-
-
 def main(args) -> int:
     # the subcommand's boundary: the sweep package, its runners and pools (see the module docstring)
-    from ..sweep import MUJOCO_ONLY, check_engine_numerics, parse_grid, run_sweep_outcome
+    from ..explore import sweep_outcome
+    from ..sweep import MUJOCO_ONLY, check_engine_numerics, parse_grid
 
     if args.workers is not None and args.workers < 1:
         raise ParameterError(f"--workers must be >= 1, got {args.workers}")
@@ -146,23 +133,17 @@ def main(args) -> int:
     grid = parse_grid(args.grid)
     fixed = {f.name: getattr(args, f.name) for f in parameter_fields(Physics) if getattr(args, f.name) is not None}
     overrides = {f.name: getattr(args, f.name) for f in parameter_fields(Numerics) if getattr(args, f.name) is not None}
-    both = [k for k in grid if k in fixed or k in overrides]
+    both = [k for k in grid if k in overrides]  # the physics' are ea.sweep's to refuse
     if both:
-        raise ParameterError(f"{', '.join(both)} given both as an option and on the grid")
+        raise ParameterError(f"{', '.join(option(k) for k in both)} given both fixed and on the grid")
     noisy = bool((grid["noise"] > 0).any()) if "noise" in grid else fixed.get("noise", Physics().noise) > 0
-    check_engine_numerics(
-        args.engine, [k for k in overrides if k in MUJOCO_ONLY], noisy, lambda k: f"--{k.replace('_', '-')}"
-    )
-    numerics = Numerics.preset(args.preset, **overrides)
-    if args.engine == "mujoco":
-        _import_mujoco_headless()
-    # run_sweep_outcome: what run_sweep does, without building the xarray Dataset (which would load xarray and
-    # pandas, ~0.4 s of CPU, for three numbers and two texts)
-    outcome = run_sweep_outcome(
-        args.scene,
+    check_engine_numerics(args.engine, [k for k in overrides if k in MUJOCO_ONLY], noisy)
+    # ea.sweep's work, without building the xarray Dataset (which would load xarray and pandas, ~0.4 s of CPU, for
+    # three numbers and two texts): the options as the fields they set, the preset's numerics with those given
+    outcome = sweep_outcome(
+        {"scene": args.scene, **fixed},
         grid,
-        fixed=fixed,
-        numerics=numerics,
+        Numerics.preset(args.preset, **overrides),
         duration=args.duration,
         engine=args.engine,
         transient=args.transient,
@@ -171,8 +152,9 @@ def main(args) -> int:
         scheduler=args.scheduler,
         progress=not args.quiet,
         retry_errors=args.retry_errors,
-        timestep_check=not args.no_timestep_check,
+        check=not args.no_timestep_check,
         batch_size=args.batch_size,
+        dataset=False,
     )
     status, errors = outcome.status, outcome.error
     failed = status == "error"

@@ -259,8 +259,11 @@ class Scene:
         shows); a ParameterError from `tip` for a structure without one."""
         return (PathView(self.tip(traj)[keep], ("x", "y")),)
 
-    def stability_report(self, physics: Physics, sigma: float | None) -> list[str]:
-        """The lines `elastoactive stability` prints: the onset, and the growth at `sigma` when given."""
+    def stability_report(
+        self, physics: Physics, sigma: float | None, onset: Onset | None = None, eigenvalue: complex | None = None
+    ) -> list[str]:
+        """The lines `elastoactive stability` prints: the onset, and the growth at `sigma` when given (`onset` and
+        `eigenvalue`: this physics' Scene.onset and leading_eigenvalue at `sigma` where already computed)."""
         raise self._kind_hook("stability_report")
 
     def beat_signals(self, traj: Trajectory) -> list[np.ndarray]:

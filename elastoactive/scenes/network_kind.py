@@ -27,7 +27,7 @@ from ..core.units import NETWORK
 from ..networks.geometry import Network, has_unit_fields
 from ..networks.state import NetworkState, initial_state
 from ..terms.unit_noise import unit_noise
-from .base import Scene
+from .base import Onset, Scene
 
 if TYPE_CHECKING:  # typing only: these modules import the registry that holds scenes
     from ..core.params import Numerics, Physics
@@ -277,12 +277,14 @@ class NetworkScene(Scene):
         unless a scene's network comes from elsewhere (a file's) and some leave it untouched."""
         return self.own_parameter_names()
 
-    def stability_report(self, physics: Physics, sigma: float | None) -> list[str]:
+    def stability_report(
+        self, physics: Physics, sigma: float | None, onset: Onset | None = None, eigenvalue: complex | None = None
+    ) -> list[str]:
         """The onset in the coupling Pi = l_e / l_a (coupling). Where its fixed points form a family: what is proved
         (every one stable below lambda_1, none above the ceiling) apart from what a search found (one stable up to at
         least its Pi), and, at `sigma`, which of these the given Pi falls in."""
         la = physics.alignment_length
-        onset = self.onset(physics)
+        onset = self.onset(physics) if onset is None else onset
         own = ", ".join(f"{k} = {getattr(physics, k)}" for k in self.shaping_parameters(physics))
         lines = [f"{physics.scene}, {own}, l_a = {la:g}:", f"  onset: {onset.kind}"]
 
@@ -300,7 +302,7 @@ class NetworkScene(Scene):
                 "  between, which fixed points are stable depends on their polarities",
             ]
         if sigma is not None:
-            lam = self.leading_eigenvalue(physics, sigma)
+            lam = self.leading_eigenvalue(physics, sigma) if eigenvalue is None else eigenvalue
             which = "the least stable fixed point's" if onset.sigma_all is not None else "the rest state's"
             state = "unstable" if lam.real > 0 else "stable"
             line = (

@@ -11,11 +11,10 @@ import pytest
 import xarray as xr
 from sweep_helpers import FAST, REDUCED, VOLATILE, Stop, load  # shared with test_sweep_trust.py
 
-from elastoactive import sweep as sweep_module
 from elastoactive.batch import Case, run_case
 from elastoactive.cli import main
 from elastoactive.core.params import Numerics, ParameterError, Physics
-from elastoactive.sweep import SweepMismatch, normalize_grid, parse_grid, run_point, run_sweep
+from elastoactive.sweep import SweepMismatch, normalize_grid, parse_grid, run_point, run_sweep, run_sweep_outcome
 
 
 def check_against_run_case(ds, scene, fixed, numerics, duration, engine, timestep=True):
@@ -290,7 +289,7 @@ def test_sweep_outcome_is_what_the_dataset_says(tmp_path):
     kw = dict(fixed={"n": 3}, numerics=FAST, duration=5, progress=False, workers=2)
     grid = {"sigma": [0.3, 0.8], "dt": [0.01, 0.05]}  # dt 0.05 is refused by the pre-flight check
     ds = run_sweep("one-pinned", grid, out=tmp_path / "d.nc", **kw)
-    outcome = sweep_module.run_sweep_outcome("one-pinned", grid, out=tmp_path / "o.nc", **kw)
+    outcome = run_sweep_outcome("one-pinned", grid, out=tmp_path / "o.nc", **kw)
     np.testing.assert_array_equal(outcome.status, ds["status"].values.reshape(-1))
     np.testing.assert_array_equal(outcome.error, ds["error"].values.reshape(-1))
     assert (outcome.points_done, outcome.points_total) == (ds.attrs["points_done"], ds.attrs["points_total"]) == (4, 4)

@@ -224,9 +224,7 @@ class WhirlLadder:
     """The angle between the first and last link (rad), extrapolated."""
 
 
-def ladder(
-    load: float, ns, guess: np.ndarray, omega_guess: float, gamma_l: float = 1.0, on_rung=None
-) -> WhirlLadder:
+def ladder(load: float, ns, guess: np.ndarray, omega_guess: float, gamma_l: float = 1.0, on_rung=None) -> WhirlLadder:
     """Whirls at S = load for each N of ns (increasing), the first from the shape guess (any number of links) and the
     rate omega_guess (rad / tau at ns[0]), each next from the previous carried to its N with the rate scaled by
     N^-4; their continuum limits (analysis.filament.richardson). on_rung(n, seconds): told each rung's N and wall

@@ -20,4 +20,3 @@ def test_scene_keeps_its_promise(scene, check):
 @pytest.mark.parametrize("term", TERMS)
 def test_term_keeps_its_promise(term, check):
     assert testing.check_term(term, only=check) == [check]
-

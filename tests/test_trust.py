@@ -210,20 +210,14 @@ def test_progress_writes_lines_in_a_log(monkeypatch, capsys):
 def test_progress_moves_within_a_run_of_slow_samples(monkeypatch):
     """A long chain takes seconds per checked block of samples: the bar moves by wall time, not every 100 samples."""
     from elastoactive.engines import mujoco as engine
+    from elastoactive.engines import runner
+    from elastoactive.io import progress
 
     updates = []
-
-    class Bar:
-        def update(self, n):
-            updates.append(n)
-
-        def close(self):
-            pass
-
-    monkeypatch.setattr(engine, "progress_bar", lambda *a, **k: Bar())
-    monkeypatch.setattr(engine, "PROGRESS_EVERY", 0.0)
-    engine.simulate_mujoco(ea.Physics(n=3), ea.Numerics(), 2.0, progress=True)
-    assert len(updates) == 40 and sum(updates) == 40  # every sample, not only every CHECK_EVERY = 100
+    monkeypatch.setattr(runner, "PROGRESS_EVERY", 0.0)
+    with progress.observe(lambda event: updates.append(event) if event.kind == "update" else None):
+        engine.simulate_mujoco(ea.Physics(n=3), ea.Numerics(), 2.0, progress=True)
+    assert len(updates) >= 40 and updates[-1].done == pytest.approx(2.0)  # at least every sample, not every 100
 
 
 # ------------------------------------------------------------------------------- reproducible

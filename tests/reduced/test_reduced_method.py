@@ -277,6 +277,6 @@ def test_a_slow_reduced_run_shows_its_progress_in_tau_and_computes_the_same(caps
     capsys.readouterr()
     shown = ea.simulate(physics, numerics, duration=5, engine="reduced", method="Radau", progress=True)
     err = capsys.readouterr().err
-    assert "reduced engine" in err and "tau" in err, err
+    assert "reduced one-pinned" in err and "tau" in err, err
     np.testing.assert_array_equal(shown.theta, quiet.theta)
     assert shown.info["model"] == ("overdamped" if mass_ratio is None else "inertial")

@@ -62,7 +62,7 @@ def run_engine(engine: str, physics: Physics, numerics: Numerics, duration: floa
     """Simulate with the named engine; options go to simulate_mujoco or simulate_reduced. Every engine path reports
     through engines.runner (its cost, a refusal past its step limit, its progress): the progress option holds for
     the whole run (runner.shown), whichever path the scene takes."""
-    from .runner import shown
+    from .runner import shown  # engine boundary: the runner loads the cost model (MuJoCo) with it
 
     check_start(physics, numerics)  # perturbation 0 on an unstable base state, refused alike by both engines
     with shown(options.get("progress", False)):

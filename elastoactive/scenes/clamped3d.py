@@ -192,6 +192,7 @@ class Clamped3D(Scene):
     ) -> Trajectory:
         import mujoco  # engine boundary: MuJoCo
 
+        # engine boundary: the cost model, the runner and the 3D builder load MuJoCo
         from ..engines.cost import announce_cost, reduced_cost
         from ..engines.runner import Meter, StepChunks, refuse_steps
         from ..mjcf.chain3d import Chain3DModel, simulate3d

@@ -8,6 +8,7 @@ import math
 import numpy as np
 
 import elastoactive as ea
+from elastoactive.core.surface import command_line
 from elastoactive.core.trajectory import Trajectory
 from elastoactive.scenes.star import clamp_angles
 
@@ -24,9 +25,12 @@ def _chain(theta_last: np.ndarray, t: np.ndarray = T, info: dict | None = None, 
 def test_a_clean_beat_seen_for_less_than_two_periods_is_not_judged_irregular():
     t = np.arange(0.0, 50.0, 0.05)
     window = t >= 25.0  # the measured window holds 1.06 periods, from an upward crossing: its thirds drift by 1.4 A
-    res = ea.measure(_chain(2.9 * np.sin(2 * np.pi * 0.0425 * (t - t[window][0])), t))
+    short = _chain(2.9 * np.sin(2 * np.pi * 0.0425 * (t - t[window][0])), t)
+    res = ea.measure(short)
     assert res.periodic is None and res.frequency is None
-    assert "not judged" in res.notes[0] and "not periodic" not in res.notes[0] and "--duration" in res.notes[0]
+    assert "not judged" in res.notes[0] and "not periodic" not in res.notes[0] and "(duration)" in res.notes[0]
+    with command_line():  # the command line's entry names the options to type
+        assert "(--duration)" in ea.measure(short).notes[0]
     winding = ea.measure(_chain(0.1 * T))  # Theta wound by 10 rad over the window: no beat does that
     assert winding.periodic is False and "winds up" in winding.notes[0]
 
@@ -52,8 +56,11 @@ def test_arms_on_a_clamped_hub_are_uncoupled_not_locked_in_a_pattern():
 
 def test_a_beat_within_a_soft_pins_give_says_so():
     beat = 0.0058 * np.sin(2 * np.pi * 0.031 * T)
-    soft = ea.measure(_chain(beat, info={"constraint_violation": 2.3e-5}, scene="two-pinned", n=7, delta=0.0))
-    assert soft.frequency > 0 and any("pin's give" in note and "--engine reduced" in note for note in soft.notes)
+    given = _chain(beat, info={"constraint_violation": 2.3e-5}, scene="two-pinned", n=7, delta=0.0)
+    soft = ea.measure(given)
+    assert soft.frequency > 0 and any("pin's give" in note and "engine = 'reduced'" in note for note in soft.notes)
+    with command_line():  # the command line's entry names the options to type
+        assert any("pin's give" in note and "--engine reduced" in note for note in ea.measure(given).notes)
     hard = ea.measure(_chain(beat, info={"constraint_violation": 3e-14}, scene="two-pinned", n=7, delta=0.0))
     assert not any("pin's give" in note for note in hard.notes)
     slack = ea.measure(_chain(beat, info={"constraint_violation": 2.3e-5}, scene="two-pinned", n=7, delta=0.1))

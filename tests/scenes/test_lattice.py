@@ -12,6 +12,7 @@ import pytest
 import elastoactive as ea
 from elastoactive.core import observables
 from elastoactive.core.errors import ParameterError
+from elastoactive.core.surface import command_line
 from elastoactive.results import load_trajectory, summary, write_run
 from elastoactive.scenes.trap import orbit
 
@@ -112,8 +113,10 @@ def test_a_record_too_coarse_for_the_units_turning_says_so():
     +38 against -88 (aliased, even in sign) with only a note to run longer. The record's coarseness against the fastest
     rate a term imposes (Term.rate) is now a note naming the setting; a resolved record has none."""
     physics = ea.Physics(scene="trapped-unit", alignment_length=1e-5)
-    coarse = ea.measure(ea.simulate(physics, engine="reduced", duration=2.5))
-    assert any("may alias" in note and "--sample-dt" in note for note in coarse.notes)
+    traj = ea.simulate(physics, engine="reduced", duration=2.5)
+    assert any("may alias" in note and "numerics.sample_dt <=" in note for note in ea.measure(traj).notes)
+    with command_line():  # the command line's entry names the options to type
+        assert any("may alias" in note and "--sample-dt <=" in note for note in ea.measure(traj).notes)
     fine = ea.measure(
         ea.simulate(ea.Physics(scene="trapped-unit", sigma=0.8, trap=0.1), engine="reduced", duration=100.0)
     )

@@ -28,8 +28,6 @@ ParameterError, SimulationDiverged
 """
 
 import importlib
-import sys
-import types
 from typing import TYPE_CHECKING
 
 from . import _moved
@@ -55,7 +53,6 @@ _LAZY = {
     "load": "api",
     "load_sweep": "api",
     "save": "api",
-    "sweep": "explore",
     "ramp": "explore",
     "stability": "explore",
     "Stability": "explore",
@@ -64,24 +61,6 @@ _LAZY = {
 """Names of the front door imported when first used, and their modules: the records load numpy, running and measuring
 the engines and the outputs' writers, which the command line's --help does not need. The registries load the
 package's own scenes and terms when first read (elastoactive.core.table.load_built_ins)."""
-
-
-_VERBS_OVER_PACKAGES = frozenset({"sweep"})
-"""Front-door verbs named as a sub-package (ea.sweep, the function; elastoactive.sweep, the package of its runners)."""
-
-
-class _FrontDoor(types.ModuleType):
-    """The package's module: importing a sub-package binds it as the package's attribute, which would hide the verb
-    of the same name (`ea.sweep`); the verb stays (the sub-package is imported as ever: `from elastoactive.sweep
-    import run_sweep`)."""
-
-    def __setattr__(self, name: str, value) -> None:
-        if name in _VERBS_OVER_PACKAGES and isinstance(value, types.ModuleType):
-            return
-        super().__setattr__(name, value)
-
-
-sys.modules[__name__].__class__ = _FrontDoor
 
 
 def __getattr__(name: str):
@@ -106,7 +85,7 @@ def __getattr__(name: str):
 
 def __dir__() -> list[str]:
     """The front door's names and the sub-modules already imported (not the module's own helpers)."""
-    public = {name for name in globals() if not name.startswith("_")} - {"TYPE_CHECKING", "importlib", "sys", "types"}
+    public = {name for name in globals() if not name.startswith("_")} - {"TYPE_CHECKING", "importlib"}
     return sorted(public | set(_LAZY) | {"plot"})
 
 

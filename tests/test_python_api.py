@@ -198,7 +198,7 @@ def test_every_public_name_is_documented():
     Parameters or Returns section."""
     for name in ea.__all__:
         assert inspect.getdoc(getattr(ea, name)), name
-    functions = [ea.load, ea.load_sweep, ea.simulate, ea.measure, ea.save, ea.sweep, ea.ramp, ea.stability]
+    functions = [ea.load, ea.load_sweep, ea.simulate, ea.measure, ea.save, ea.sweep.__wrapped__, ea.ramp, ea.stability]
     functions += [getattr(ea.plot, name) for name in ea.plot.__all__]
     functions += [ea.Trajectory.positions, ea.Trajectory.tip, ea.Trajectory.centre_of_drag, ea.Trajectory.to_xarray]
     for fn in functions:

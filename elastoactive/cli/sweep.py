@@ -7,9 +7,9 @@ error is shown); 2 for invalid options, settings the pre-flight check refuses at
 holds another sweep or a corrupted journal, or an output that cannot be written (e.g. a full disk:
 the journal is kept, re-run to resume).
 
-The sweep is `ea.sweep`'s (elastoactive.explore.sweep_outcome): this module parses the options into its arguments and
-reports. elastoactive.sweep (its runners, the batch and the process pool) and elastoactive.explore are imported inside
-`fill` and `main`, the subcommand's boundary: `elastoactive --help` does not load them.
+The sweep is `ea.sweep`'s (elastoactive.sweep.verb.sweep_outcome): this module parses the options into its arguments
+and reports. elastoactive.sweep (its runners, the batch and the process pool) and elastoactive.explore are imported
+inside `fill` and `main`, the subcommand's boundary: `elastoactive --help` does not load them.
 """
 
 from __future__ import annotations

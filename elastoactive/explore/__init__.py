@@ -6,224 +6,40 @@ the commands parse their options and call these. A sweep and a ramp come back as
 netCDF file holds (one coordinate per swept parameter, units and long names in the attributes); given `out`, that file
 is written as they go and a re-run with the same arguments resumes it.
 
-A package above the sweep's (elastoactive.sweep, whose runners the front door's modules are below). The sweep package
-and the ramp's runner are imported inside `sweep_outcome` and `ramp_outcome`, the engines' boundary: `import
-elastoactive` loads neither.
+A package above the sweep's: the grid of runs is the sweep package's own verb (elastoactive.sweep.verb: the package,
+called, runs it), taken here beside the ramp and the stability. The ramp's runner is imported inside `ramp_outcome`,
+the engines' boundary: `import elastoactive` loads neither.
 """
 
 from __future__ import annotations
 
 import math
-import os
-import sys
 import tempfile
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
-from ..api import as_numerics, as_physics, load_sweep
+from ..api import as_physics, load_sweep
 from ..core.errors import ParameterError
 from ..core.parameters import get as parameter_spec
 from ..core.parameters import known
-from ..core.params import PRESETS, Numerics, Physics, option
-from ..io.outputs import check_file
+from ..core.params import Physics, option
 from ..reduced.blas import one_blas_thread
+from ..sweep.verb import DEFAULT_DURATION, DEFAULT_PRESET, sweep, sweep_outcome
 
-DEFAULT_DURATION = 300.0
-"""Simulated time of each point of a sweep and each step of a ramp, when not given (the commands' default)."""
-DEFAULT_PRESET = "accurate"
-"""A sweep's numerical settings when not given (Numerics.preset)."""
+__all__ = [
+    "DEFAULT_DURATION",
+    "DEFAULT_PRESET",
+    "Stability",
+    "ramp",
+    "ramp_outcome",
+    "stability",
+    "sweep",
+    "sweep_outcome",
+]
+
 RAMP_ENGINE = "reduced"
 """The engine a ramp runs when not told (its steps are long runs of large networks)."""
-
-
-# ------------------------------------------------------------------------------------------------ sweep
-
-
-def _sweep_settings(physics, grid: Mapping, numerics, engine: str) -> tuple[str, dict, dict, Numerics]:
-    """(scene, the fixed physics, the grid as arrays, the numerics) of a sweep, refused in one line where the same
-    parameter is both fixed by name and on the grid."""
-    from ..sweep import MUJOCO_ONLY, check_engine_numerics, normalize_grid  # the sweep's boundary (module docstring)
-
-    if not isinstance(grid, Mapping):
-        raise TypeError(f"grid must be a dict of parameter name -> values, got {type(grid).__name__}")
-    axes = normalize_grid(grid)
-    if isinstance(physics, Mapping):  # fields named by the caller: one on the grid too is a contradiction
-        fixed = {k: v for k, v in physics.items() if k != "scene"}
-        both = [k for k in axes if k in fixed]
-        if both:
-            raise ParameterError(f"{', '.join(option(k) for k in both)} given both fixed and on the grid")
-    physics = as_physics(physics)
-    replaced = (set(axes) | {parameter_spec(k).instead_of for k in axes if known(k)}) - {None}
-    fixed = {
-        k: v
-        for k, v in physics.relevant().items()
-        if k != "scene" and k not in replaced and not (known(k) and parameter_spec(k).instead_of in replaced)
-    }
-    if numerics is None:
-        numerics = Numerics.preset(DEFAULT_PRESET)
-    elif isinstance(numerics, str) and numerics in PRESETS:
-        numerics = Numerics.preset(numerics)
-    else:
-        if isinstance(numerics, Mapping):  # settings named by the caller: refused where they change nothing
-            both = [k for k in axes if k in numerics]
-            if both:
-                raise ParameterError(f"{', '.join(option(k) for k in both)} given both fixed and on the grid")
-            noisy = bool((axes["noise"] > 0).any()) if "noise" in axes else physics.noise > 0
-            check_engine_numerics(engine, [k for k in numerics if k in MUJOCO_ONLY], noisy)
-        numerics = as_numerics(numerics)
-    return physics.scene, fixed, axes, numerics
-
-
-def sweep_outcome(
-    physics,
-    grid: Mapping,
-    numerics=None,
-    *,
-    duration: float = DEFAULT_DURATION,
-    engine: str = "mujoco",
-    transient: float | None = None,
-    out=None,
-    workers: int | None = None,
-    scheduler=None,
-    batch_size: int | None = None,
-    retry_errors: bool = False,
-    check: bool = True,
-    progress: bool = False,
-    dataset: bool = True,
-):
-    """`sweep` (same arguments); with dataset=False its outcome without the Dataset (the points' status and error
-    texts: sweep.SweepOutcome, what the command reports, without loading xarray).
-
-    Returns
-    -------
-    xarray.Dataset or elastoactive.sweep.SweepOutcome
-        As `sweep`, or the outcome.
-    """
-    from ..sweep import run_sweep, run_sweep_outcome  # the sweep's boundary (module docstring)
-
-    scene, fixed, axes, numerics = _sweep_settings(physics, grid, numerics, engine)
-    if out is not None:
-        out = check_file(Path(out).expanduser(), option("out"), ())  # a writable place, not under a file
-    if engine == "mujoco":
-        _import_mujoco_headless()
-    run = run_sweep if dataset else run_sweep_outcome
-    return run(
-        scene,
-        axes,
-        fixed=fixed,
-        numerics=numerics,
-        duration=duration,
-        engine=engine,
-        transient=transient,
-        out=out,
-        workers=workers,
-        scheduler=scheduler,
-        progress=progress,
-        retry_errors=retry_errors,
-        timestep_check=check,
-        batch_size=batch_size,
-    )
-
-
-def sweep(
-    physics,
-    grid: Mapping,
-    numerics=None,
-    *,
-    duration: float = DEFAULT_DURATION,
-    engine: str = "mujoco",
-    transient: float | None = None,
-    out=None,
-    workers: int | None = None,
-    scheduler=None,
-    batch_size: int | None = None,
-    retry_errors: bool = False,
-    check: bool = True,
-    progress: bool = False,
-):
-    """Run a scene at every point of a parameter grid and measure each, as ``elastoactive sweep`` does.
-
-    Parameters
-    ----------
-    physics : Physics, str or dict
-        The scene and its fixed physics (off the grid): a Physics (its values off the grid are kept), a scene name
-        (its defaults) or a dict of Physics' fields (one also on the grid is refused).
-    grid : dict
-        Parameter name -> values: a sequence, or a string as ``--grid`` takes it (``"0.2:1.0:9"``, ``"0.5,1,2"``);
-        names from ``elastoactive.sweep.grid_keys()`` (physics parameters, ``seed``, ``dt``, ...). The Dataset's
-        dimensions follow its order.
-    numerics : Numerics, str or dict, optional
-        A preset name ("accurate", the default; "fast"), a Numerics or a dict of its fields.
-    duration : float
-        Simulated time of each point (default 300, as the command's).
-    engine : {"mujoco", "reduced"}
-        The engine every point runs.
-    transient : float, optional
-        Time discarded before measuring; default: half of each run.
-    out : str or pathlib.Path, optional
-        A netCDF file written point by point; a re-run with the same arguments resumes it, with other arguments it is
-        refused (elastoactive.sweep.SweepMismatch).
-    workers : int, optional
-        Local threads (MuJoCo: mujoco.batch) or processes (the reduced engine), >= 1; default: every core.
-    scheduler : str or dask.distributed.Client, optional
-        A Dask scheduler's address or a Client to run the points on (``workers`` is then unused).
-    batch_size : int, optional
-        Most MuJoCo points stepped together in one batch (default: 8 per thread).
-    retry_errors : bool
-        When resuming, run the failed points again.
-    check : bool
-        Refuse MuJoCo points whose timestep is beyond the integrator's limits (as ``simulate``'s ``check``); when
-        every point is refused, a ParameterError names a setting that passes before any runs.
-    progress : bool
-        Show a progress bar.
-
-    Returns
-    -------
-    xarray.Dataset
-        One coordinate per grid parameter (plus ``chain`` for two chains), one variable per observable with
-        ``units`` and ``long_name``, ``status`` ("ok", "error") and ``error`` per point; a failed point's
-        measurements are NaN. The same Dataset ``out`` holds.
-
-    Raises
-    ------
-    TypeError
-        An argument of the wrong kind; the message names it.
-    ParameterError
-        An invalid parameter or grid, a setting refused at every point, or an ``out`` that cannot be written or holds
-        another sweep; the message names it.
-    """
-    return sweep_outcome(
-        physics,
-        grid,
-        numerics,
-        duration=duration,
-        engine=engine,
-        transient=transient,
-        out=out,
-        workers=workers,
-        scheduler=scheduler,
-        batch_size=batch_size,
-        retry_errors=retry_errors,
-        check=check,
-        progress=progress,
-    )
-
-
-def _import_mujoco_headless() -> None:
-    """Import MuJoCo without its GL back end: a sweep renders nothing, and loading glfw costs a child Python that
-    probes the library (~0.07 s, before any point can start). MUJOCO_GL is set only for the import and only if the
-    user has not set it; elastoactive.render switches back ends if asked later."""
-    if "mujoco" in sys.modules or os.environ.get("MUJOCO_GL"):
-        return
-    os.environ["MUJOCO_GL"] = "disable"
-    try:
-        import mujoco  # noqa: F401 (start-up time: the engine's boundary, see the docstring)
-    finally:
-        os.environ.pop("MUJOCO_GL", None)
-
-
-# ------------------------------------------------------------------------------------------------ ramp
 
 
 def ramp_outcome(

@@ -1,6 +1,11 @@
 """Parameter sweeps: any grid of physics parameters (and seed / numerics) of any scene.
 
     elastoactive sweep one-pinned --grid sigma=0.2:1.0:9 --grid n=5,7 --duration 300 --out s.nc
+    ea.sweep(physics, {"sigma": np.linspace(0.2, 1.0, 9)}, duration=300)
+
+The package is the front door's verb too: called, `elastoactive.sweep(physics, grid, ...)` is
+elastoactive.sweep.verb.sweep (its signature and documentation), which returns the labelled Dataset the command
+writes; its names are the runners that verb and the command are built on.
 
 Each grid point is one `batch.Case`, measured by `results.measure`. The result is an xarray Dataset
 whose dimensions are the grid parameters (plus `chain` for the pair), written to netCDF (h5netcdf
@@ -31,6 +36,8 @@ from __future__ import annotations
 
 import dataclasses
 import os
+import sys
+import types
 from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 
@@ -329,3 +336,23 @@ def _run_sweep(
         if client is not None and client is not scheduler:
             client.close()
     return store
+
+
+class _Sweep(types.ModuleType):
+    """This package, callable: `ea.sweep(...)` runs elastoactive.sweep.verb.sweep, so that the name means one thing, the
+    sweep (the package of its runners, and the verb that returns its Dataset)."""
+
+    def __call__(self, *args, **kwargs):
+        from .verb import sweep  # the verb's module loads the front door's records (api), once it is called
+
+        return sweep(*args, **kwargs)
+
+    @property
+    def __wrapped__(self):
+        """The verb, for inspect.signature and editors (`ea.sweep?` shows its parameters)."""
+        from .verb import sweep  # as __call__
+
+        return sweep
+
+
+sys.modules[__name__].__class__ = _Sweep

@@ -165,8 +165,15 @@ def test_surface_words():
         assert surface.settings("Numerics", dt=0.01, integrator="euler") == "--dt 0.01 --integrator euler"
 
 
-def test_ea_sweep_stays_the_function_after_its_package_is_imported():
-    import elastoactive.sweep.grid  # noqa: F401  (binds the package as the front door's attribute, but for this)
-    from elastoactive.sweep import run_sweep
+def test_ea_sweep_is_the_sweep_package_called():
+    """One name, one thing: ea.sweep is the package elastoactive.sweep, whose call is its verb (signature included),
+    however it was imported."""
+    import inspect
 
-    assert callable(ea.sweep) and ea.sweep.__module__ == "elastoactive.explore" and callable(run_sweep)
+    import elastoactive.sweep.grid as grid
+    from elastoactive import sweep
+    from elastoactive.sweep import run_sweep
+    from elastoactive.sweep.verb import sweep as verb
+
+    assert sweep is ea.sweep and callable(sweep) and callable(run_sweep) and grid.parse_grid
+    assert inspect.signature(ea.sweep) == inspect.signature(verb) and "grid" in inspect.signature(ea.sweep).parameters

@@ -115,11 +115,28 @@ def load(spec: str) -> str:
         raise
     except Exception as err:  # noqa: BLE001  (whatever the plug-in's code raised: one line naming it)
         raise ParameterError(f"--plugin {spec}: it did not load ({type(err).__name__}: {err})") from None
+    added = {kind: names - before[kind] for kind, names in _names().items()}
+    if not any(added.values()) and not _registered_from(module_name):
+        raise ParameterError(
+            f"--plugin {spec}: it loaded and registered no scene, term or study (a plug-in calls "
+            "elastoactive.scenes.register, elastoactive.terms.register or registers a study when imported)"
+        )
     _LOADED[resolved] = _LOADED[recorded] = (module_name, recorded)
-    for kind, names in _names().items():
-        for name in names - before[kind]:
+    for kind, names in added.items():
+        for name in names:
             _SOURCES[(kind, name)] = recorded
     return recorded
+
+
+def _registered_from(module_name: str) -> bool:
+    """Whether a registered scene, term or study is defined in the module `module_name` (or below it): a plug-in
+    imported before it was named registered then."""
+    studies = sys.modules.get("elastoactive.studies.registry")
+    found = [*registry.SCENES.entries(), *term_registry.TERMS.entries()]
+    found += list(studies.STUDIES.entries()) if studies is not None else []
+    homes = {getattr(type(item), "__module__", "") for item in found}
+    homes |= {getattr(getattr(item, "run", None), "__module__", "") for item in found}
+    return any(home == module_name or home.startswith(module_name + ".") for home in homes)
 
 
 def source(kind: str, name: str) -> str | None:

@@ -161,6 +161,17 @@ def test_a_plugin_that_fails_is_one_error_line(tmp_path, monkeypatch, capsys):
     ]
 
 
+def test_a_plugin_that_registers_nothing_is_one_error_line(tmp_path, monkeypatch, capsys):
+    """A module that loads but adds no scene, term or study (a typo'd module name, `--plugin os`) is no plug-in: the
+    run would go on without what the user meant to add."""
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "empty_plugin.py").write_text("SCALE = 2.0\n")
+    for spec in ("empty_plugin.py", "os"):
+        assert main(["run", "one-pinned", "--plugin", spec, "--duration", "1"]) == 2
+        lines = capsys.readouterr().err.strip().splitlines()
+        assert len(lines) == 1 and lines[0].startswith(f"elastoactive: error: --plugin {spec}: it loaded and")
+
+
 def test_a_module_in_the_working_folder_is_found_and_recorded_by_its_file(tether_file, monkeypatch):
     """`--plugin tether` (a module name) finds tether.py in the working folder, which the console script does not put
     on sys.path; the record names the file, so a re-run from elsewhere finds it; importing it again does nothing."""

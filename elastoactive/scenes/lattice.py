@@ -32,7 +32,7 @@ from ..analysis.network import observables as nobs
 from ..core.errors import ParameterError
 from ..core.observables import Observable
 from ..core.parameters import Parameter
-from ..core.params import Physics
+from ..core.params import Physics, option
 from ..core.trajectory import Trajectory
 from ..core.units import Signal
 from ..terms import polarity_terms, turning_rate, unit_noise
@@ -140,6 +140,10 @@ PATCH_OBSERVABLES = (
 """The patch's rigid motion (the lattice's own)."""
 DISPLACEMENT = Signal("u_x", "u_x = the free nodes' mean displacement along x", "a")
 """A held network's beat signal (ActiveNetwork.beat_signals)."""
+
+
+HOLD_WORDS = {"free": "move and turn", "centre": "turn about its pinned node", "pinned": "hold still"}
+"""What each way of holding a network (Lattice.hold) leaves it free to do, in messages."""
 
 
 class ActiveNetwork(NetworkScene):
@@ -252,6 +256,10 @@ class Lattice(ActiveNetwork):
         node, `centre`) or free."""
         return physics.boundary
 
+    def held_text(self, physics: Physics) -> str:
+        """How the network is held, in the words the user chose it by: its boundary option."""
+        return f"{option('boundary', physics.boundary)} lets it {HOLD_WORDS[self.hold(physics)]}"
+
     def centre(self, physics: Physics) -> np.ndarray | None:
         """The pinned node the network turns about (held by its centre), else None (a free network's centroid)."""
         network = self.network(physics)
@@ -304,8 +312,8 @@ class Lattice(ActiveNetwork):
 
         if self.hold(physics) != "pinned":
             raise ParameterError(
-                f"stability: boundary must be pinned for the {self.name}'s linear stability, got "
-                f"{self.hold(physics)!r} (a patch free to move or turn has zero modes: no threshold)"
+                f"stability: the {self.name}'s linear stability needs a patch held in place, and "
+                f"{self.held_text(physics)} (a patch free to move or turn has zero modes: no threshold)"
             )
         return stability.threshold(self.network(physics), samples=1, alignment_length=physics.alignment_length)
 

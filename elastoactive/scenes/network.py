@@ -25,7 +25,7 @@ from ..networks.files import SUFFIX, read_network
 from ..networks.geometry import Network
 from ..networks.lattices import LATTICES, MAX_SIZE, PATCHES, generate
 from .base import ValidationCase
-from .lattice import Lattice
+from .lattice import HOLD_WORDS, Lattice
 
 GEOMETRY = Parameter(
     "geometry",
@@ -128,6 +128,16 @@ class NetworkFromData(Lattice):
             return physics.boundary
         pinned = int(np.count_nonzero(self.network(physics).pinned))
         return "free" if pinned == 0 else "centre" if pinned == 1 else "pinned"
+
+    def held_text(self, physics: Physics) -> str:
+        """A file's: the nodes it pins (its own words); a generated network's: its boundary option."""
+        if not is_file(physics.geometry):
+            return super().held_text(physics)
+        pinned = int(np.count_nonzero(self.network(physics).pinned))
+        return (
+            f"the file {physics.geometry} pins {pinned} node{'' if pinned == 1 else 's'}, which lets it "
+            + (HOLD_WORDS[self.hold(physics)])
+        )
 
     def validation_cases(self) -> tuple[ValidationCase, ...]:
         return (

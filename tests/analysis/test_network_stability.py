@@ -3,6 +3,8 @@ trapped unit's exact threshold."""
 
 from __future__ import annotations
 
+import json
+
 import numpy as np
 import pytest
 from scipy.optimize import fsolve
@@ -123,7 +125,19 @@ def test_stability_command_reports_the_lattices_bracket(capsys, monkeypatch):
     assert main(["stability", "lattice", "--rings", "2", "--alignment-length", "0.1", "--sigma", "0.3"]) == 0
     assert "(unstable; no fixed point is stable)" in capsys.readouterr().out
     assert main(["stability", "lattice", "--boundary", "centre"]) != 0
-    assert "boundary must be pinned" in capsys.readouterr().err
+    assert "needs a patch held in place, and --boundary centre lets it turn" in capsys.readouterr().err
+
+
+def test_a_network_file_held_by_one_pin_is_refused_in_its_own_words(tmp_path, capsys):
+    """A file has no --boundary: the refusal says what the file pins, not a boundary the user never gave."""
+    from elastoactive.cli import main
+    path = tmp_path / "one_pin.json"
+    path.write_text(
+        json.dumps({"nodes": [[0, 0], [1, 0], [0.5, 0.9]], "bonds": [[0, 1], [1, 2], [0, 2]], "pinned": [0]})
+    )
+    assert main(["stability", "network", "--geometry", str(path)]) != 0
+    err = capsys.readouterr().err
+    assert "one_pin.json pins 1 node, which lets it turn about its pinned node" in err and "boundary" not in err
 
 
 def test_the_coupling_is_the_scenes_own(capsys):

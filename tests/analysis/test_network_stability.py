@@ -131,6 +131,7 @@ def test_stability_command_reports_the_lattices_bracket(capsys, monkeypatch):
 def test_a_network_file_held_by_one_pin_is_refused_in_its_own_words(tmp_path, capsys):
     """A file has no --boundary: the refusal says what the file pins, not a boundary the user never gave."""
     from elastoactive.cli import main
+
     path = tmp_path / "one_pin.json"
     path.write_text(
         json.dumps({"nodes": [[0, 0], [1, 0], [0.5, 0.9]], "bonds": [[0, 1], [1, 2], [0, 2]], "pinned": [0]})

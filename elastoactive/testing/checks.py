@@ -329,7 +329,15 @@ def _absurd_runs(subject: Subject) -> list[tuple[str, str, Callable[[], object]]
     ]
 
 
+def _warm(subject: Subject) -> None:
+    """A brief run in every engine that takes the subject, before any is timed: loading an engine (numba's cache,
+    MuJoCo's library, the compiled callback) is the process's once, not a run's cost."""
+    for engine in _engines(subject):
+        subject.run(engine, duration=BRIEF)
+
+
 def _absurd_values(subject: Subject, check: Check) -> None:
+    _warm(subject)
     for what, name, run in _absurd_runs(subject):
         outcome = _quietly(watched, run, ABSURD_SECONDS, lambda o: o.announced is not None and o.updated is not None)
         outcome = outcome[0]
@@ -358,6 +366,7 @@ def _silence(what: str, outcome: Outcome, limit: float, verdict: str) -> str:
 
 
 def _progress_shows(subject: Subject, check: Check) -> None:
+    _warm(subject)
     for engine in _engines(subject):
 
         def run(engine=engine):

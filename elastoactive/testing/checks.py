@@ -339,8 +339,8 @@ def _warm(subject: Subject) -> None:
 def _absurd_values(subject: Subject, check: Check) -> None:
     _warm(subject)
     for what, name, run in _absurd_runs(subject):
-        outcome = _quietly(watched, run, ABSURD_SECONDS, lambda o: o.announced is not None and o.updated is not None)
-        outcome = outcome[0]
+        shown = lambda o: o.announced is not None and o.updated is not None
+        outcome, _, _ = _quietly(watched, run, ABSURD_SECONDS, shown)
         if outcome.refusal is not None:
             text = str(outcome.refusal)
             if not _one_line(outcome.refusal) or name not in text:

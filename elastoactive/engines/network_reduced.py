@@ -19,13 +19,11 @@ from ..core.trajectory import Trajectory
 from ..networks.geometry import turning_scale
 from ..networks.state import NetworkState
 from ..reduced import INERTIA_RESOLUTION
-from ..reduced import dop853_coefficients as _coefficients
 from ..reduced import network as _model
-from ..reduced import network_kernels as kernels
 from ..terms import check_reduced_span, turning_rate
 from ..terms.unit_noise import unit_noise
 from .network_step import network_numerics
-from .runner import EXPLICIT_METHODS, Meter, fixed_step_budget, refuse_rate, reporting, resume
+from .runner import EXPLICIT_METHODS, Meter, fixed_step_budget, refuse_rate, resume
 
 METHODS = _model.METHODS
 DEFAULT_METHOD = "DOP853"
@@ -144,7 +142,16 @@ def simulate_network_reduced(
             dt = network_numerics(physics, numerics).dt
             steps = round(float(t[-1]) / dt)
             fixed_step_budget(physics, duration, dt, "the reduced engine's Euler-Maruyama", units)(steps, 1)
-            solution = _solve_noisy(system, t, y0, dt, noise, meter)
+            solution = _model.solve_noisy(
+                system,
+                t,
+                y0,
+                dt=dt,
+                seed=noise.seed,
+                translational=noise.translational,
+                rotational=noise.rotational,
+                loop=_metered(meter),
+            )
         else:
             rate = network_rate(physics)
             refuse_rate(
@@ -160,7 +167,16 @@ def simulate_network_reduced(
             turns = np.zeros(y0.size - f2)
             if rtol > WHOLE_TURNS_RTOL:  # the polarities' whole turns taken out while solving
                 turns = 2.0 * np.pi * np.round(y0[f2:] / (2.0 * np.pi))
-            solution = _solve(system, t, np.concatenate([y0[:f2], y0[f2:] - turns]), rtol, atol, method, meter)
+            solution = _model.solve(
+                system,
+                t,
+                np.concatenate([y0[:f2], y0[f2:] - turns]),
+                rtol=rtol,
+                atol=atol,
+                method=method,
+                on_time=meter.at if meter.shows else None,
+                loop=_metered(meter),
+            )
             solution.y[:, f2:] += turns
     wall = time.perf_counter() - start
     nodes, polarity = _model.unpack(system, solution.y)
@@ -182,67 +198,8 @@ def simulate_network_reduced(
     )
 
 
-def _solve(system, t: np.ndarray, y0: np.ndarray, rtol: float, atol: float, method: str, meter: Meter):
-    """reduced.network.solve with the meter told the time reached: the compiled DOP853 after every call of its loop
-    (network_kernels.dop853, resumable: the same steps, bit for bit, as reduced.network's own calls), scipy's methods
-    at every evaluation. Without a shown meter: reduced.network.solve itself."""
-    if not meter.shows:
-        return _model.solve(system, t, y0, rtol=rtol, atol=atol, method=method)
-    if method != "DOP853":
-        from scipy.integrate import solve_ivp  # start-up time: scipy.integrate costs ~0.4 s to import
-
-        sparse = method != "LSODA" and system.state_size > _model.DENSE_MODES
-        sol = solve_ivp(
-            reporting(_model.rhs(system), meter.at),
-            (float(t[0]), float(t[-1])),
-            np.asarray(y0, dtype=float),
-            method=method,
-            t_eval=t,
-            rtol=rtol,
-            atol=atol,
-            jac=lambda time, y: _model.jacobian(system, y, sparse=sparse),
-        )
-        if not sol.success:
-            raise RuntimeError(f"solve_ivp ({method}) failed on the network model: {sol.message}")
-        return _model.Solution(sol.y.T, int(sol.nfev), method)
-    ts = np.ascontiguousarray(t, dtype=float)
-    y = np.array(y0, dtype=float)
-    out = np.empty((ts.size, y.size))
-    if ts.size < 2:
-        out[:] = y
-        return _model.Solution(out, 0, "DOP853")
-    f, clock, counts = np.empty(y.size), np.zeros(2), np.zeros(4, dtype=np.int64)
-    tableau = tuple(np.ascontiguousarray(getattr(_coefficients, name)) for name in ("A", "B", "E3", "E5", "D"))
-    args = _model.kernel_args(system)
-
-    def call(steps: int) -> int:
-        return kernels.dop853(y, f, clock, counts, ts, float(rtol), float(atol), *tableau, out, steps, *args)
-
-    status = resume(call, kernels.PAUSED, lambda: float(clock[0]), meter, kernels.STEP_BUDGET // max(y.size, 1))
-    if status < 0:
-        raise RuntimeError(f"DOP853 failed on the network model: the step size fell below round-off at t = {clock[0]}")
-    return _model.Solution(out, int(counts[1]), "DOP853")
-
-
-def _solve_noisy(system, t: np.ndarray, y0: np.ndarray, dt: float, noise, meter: Meter):
-    """reduced.network.solve_noisy with the meter told the time reached after every call of its compiled loop
-    (network_kernels.euler_maruyama, resumable: the same steps and draws, bit for bit)."""
-    if not meter.shows:
-        return _model.solve_noisy(
-            system, t, y0, dt=dt, seed=noise.seed, translational=noise.translational, rotational=noise.rotational
-        )
-    ts = np.asarray(t, dtype=float)
-    every = 1 if ts.size < 2 else int(round((ts[1] - ts[0]) / dt))
-    if ts.size > 1 and (every < 1 or abs(every * dt - (ts[1] - ts[0])) > 1e-9 * max(1.0, ts[1] - ts[0])):
-        raise ValueError(f"the sample spacing {ts[1] - ts[0]:g} must be a whole number of steps dt = {dt:g}")
-    y = np.array(y0, dtype=float)
-    out = np.empty((ts.size, y.size))
-    amplitude = _model.noise_amplitudes(system, dt, noise.translational, noise.rotational)
-    counts = np.zeros(1, dtype=np.int64)
-    args = _model.kernel_args(system)
-
-    def call(steps: int) -> int:
-        return kernels.euler_maruyama(y, counts, float(dt), every, int(noise.seed), amplitude, out, steps, *args)
-
-    resume(call, kernels.PAUSED, lambda: float(counts[0]) * dt, meter, kernels.STEP_BUDGET // max(y.size, 1))
-    return _model.Solution(out, int(counts[0]), "Euler-Maruyama")
+def _metered(meter: Meter):
+    """reduced.network's loop contract (run_loop) with the meter told the time reached after every call
+    (engines.runner.resume: calls cut to about a progress interval when the meter shows, the same steps bit for
+    bit)."""
+    return lambda call, paused, reached, steps: resume(call, paused, reached, meter, steps)

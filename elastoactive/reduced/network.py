@@ -22,6 +22,7 @@ no N x N array is built.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import NamedTuple
 
 import numpy as np
@@ -410,6 +411,17 @@ class Solution(NamedTuple):
     method: str
 
 
+def run_loop(call: Callable[[int], int], paused: int, reached: Callable[[], float], steps: int) -> int:
+    """Run a resumable compiled loop to its end: call(k) takes at most k steps and returns `paused` while unfinished
+    (any other status ends it, and is returned); every call here takes `steps`. A caller that reports progress gives
+    `solve` and `solve_noisy` a loop of its own (engines.runner.resume, told reached() after each call): a resumable
+    loop takes the same steps, bit for bit, however its calls are cut."""
+    status = paused
+    while status == paused:  # the compiled loop returns every `steps` steps: Ctrl-C is seen in between
+        status = call(steps)
+    return status
+
+
 def solve(
     system: NetworkSystem,
     t: np.ndarray,
@@ -418,19 +430,30 @@ def solve(
     rtol: float = 1e-8,
     atol: float = 1e-10,
     method: str = "DOP853",
+    on_time: Callable[[float], None] | None = None,
+    loop=run_loop,
 ) -> Solution:
     """Integrate from y0 at t[0] and sample at t: DOP853 compiled (O(N) per step, no Python per step), or scipy's
-    solve_ivp with the compiled right-hand side."""
+    solve_ivp with the compiled right-hand side. on_time(t) is told the time of every scipy evaluation; `loop` runs
+    the compiled loop (run_loop's contract)."""
     if method not in METHODS:
         raise ValueError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
     if method == "DOP853":
-        return _solve_compiled(system, t, y0, rtol, atol)
+        return _solve_compiled(system, t, y0, rtol, atol, loop)
     from scipy.integrate import solve_ivp  # start-up time: scipy.integrate costs ~0.4 s to import
 
     sparse = method != "LSODA" and system.state_size > DENSE_MODES
     options = {"jac": lambda t, y: jacobian(system, y, sparse=sparse)}
+    fun = rhs(system)
+    if on_time is not None:
+        compiled = fun
+
+        def fun(time, y):
+            on_time(time)
+            return compiled(time, y)
+
     sol = solve_ivp(
-        rhs(system),
+        fun,
         (float(t[0]), float(t[-1])),
         np.asarray(y0, dtype=float),
         method=method,
@@ -444,7 +467,7 @@ def solve(
     return Solution(sol.y.T, int(sol.nfev), method)
 
 
-def _solve_compiled(system: NetworkSystem, t: np.ndarray, y0: np.ndarray, rtol: float, atol: float) -> Solution:
+def _solve_compiled(system: NetworkSystem, t: np.ndarray, y0: np.ndarray, rtol: float, atol: float, loop) -> Solution:
     ts = np.ascontiguousarray(t, dtype=float)
     y = np.array(y0, dtype=float)
     out = np.empty((ts.size, y.size))
@@ -459,11 +482,12 @@ def _solve_compiled(system: NetworkSystem, t: np.ndarray, y0: np.ndarray, rtol: 
         np.ascontiguousarray(_coefficients.E5),
         np.ascontiguousarray(_coefficients.D),
     )
-    steps = max(1, STEP_BUDGET // max(y.size, 1))
     args = kernel_args(system)
-    status = PAUSED
-    while status == PAUSED:  # the compiled loop returns every `steps` steps: Ctrl-C is seen in between
-        status = dop853(y, f, clock, counts, ts, float(rtol), float(atol), *tableau, out, steps, *args)
+
+    def call(steps: int) -> int:
+        return dop853(y, f, clock, counts, ts, float(rtol), float(atol), *tableau, out, steps, *args)
+
+    status = loop(call, PAUSED, lambda: float(clock[0]), max(1, STEP_BUDGET // max(y.size, 1)))
     if status < 0:
         raise RuntimeError(f"DOP853 failed on the network model: the step size fell below round-off at t = {clock[0]}")
     return Solution(out, int(counts[1]), "DOP853")
@@ -489,11 +513,12 @@ def solve_noisy(
     seed: int,
     translational: float,
     rotational: float,
+    loop=run_loop,
 ) -> Solution:
     """The Ito SDE dx = v dt + sqrt(2 D_t) dW (free nodes), dpsi = psi' dt + sqrt(2 D_r) dW' (units) by
     Euler-Maruyama at step dt with the counter-based draws xi(seed, k, i) (network_kernels.euler_maruyama); the
     polarity turns toward the node's deterministic velocity v (the drift), not its noise. Samples at t, evenly spaced
-    by a whole number of steps."""
+    by a whole number of steps; `loop` runs the compiled loop (run_loop's contract)."""
     ts = np.asarray(t, dtype=float)
     every = 1 if ts.size < 2 else int(round((ts[1] - ts[0]) / dt))
     if ts.size > 1 and (every < 1 or abs(every * dt - (ts[1] - ts[0])) > 1e-9 * max(1.0, ts[1] - ts[0])):
@@ -502,9 +527,10 @@ def solve_noisy(
     out = np.empty((ts.size, y.size))
     amplitude = noise_amplitudes(system, dt, translational, rotational)
     counts = np.zeros(1, dtype=np.int64)
-    steps = max(1, STEP_BUDGET // max(y.size, 1))
     args = kernel_args(system)
-    status = PAUSED
-    while status == PAUSED:
-        status = euler_maruyama(y, counts, float(dt), every, int(seed), amplitude, out, steps, *args)
+
+    def call(steps: int) -> int:
+        return euler_maruyama(y, counts, float(dt), every, int(seed), amplitude, out, steps, *args)
+
+    loop(call, PAUSED, lambda: float(counts[0]) * dt, max(1, STEP_BUDGET // max(y.size, 1)))
     return Solution(out, int(counts[0]), "Euler-Maruyama")

@@ -9,12 +9,11 @@ To refresh the outputs stored in the notebook after changing it:
     ELASTOACTIVE_UPDATE_NOTEBOOK=1 .venv/bin/python -m pytest -q tests/docs/test_notebook.py
 """
 
-import copy
-import os
 import sys
 from pathlib import Path
 
 import pytest
+from notebooks import code_cells, execute  # shared with test_python_api_notebook.py
 
 nbformat = pytest.importorskip("nbformat")
 nbclient = pytest.importorskip("nbclient")
@@ -22,19 +21,14 @@ pytest.importorskip("ipykernel")
 
 NOTEBOOK = Path(__file__).resolve().parents[2] / "examples" / "tutorial.ipynb"
 CELL_TIMEOUT = 300  # s; the whole notebook takes about 15 s on 2 cores
-UPDATE = os.environ.get("ELASTOACTIVE_UPDATE_NOTEBOOK") == "1"
 
 
 def _read():
     return nbformat.read(NOTEBOOK, as_version=4)
 
 
-def _code_cells(nb):
-    return [c for c in nb.cells if c.cell_type == "code"]
-
-
 def _render_cell(nb):
-    tagged = [c for c in _code_cells(nb) if "render" in c.metadata.get("tags", [])]
+    tagged = [c for c in code_cells(nb) if "render" in c.metadata.get("tags", [])]
     assert len(tagged) == 1, "the notebook should have exactly one code cell tagged 'render'"
     return tagged[0]
 
@@ -42,28 +36,14 @@ def _render_cell(nb):
 @pytest.fixture(scope="module")
 def executed(tmp_path_factory):
     """The notebook executed in an empty temporary directory: (notebook, that directory)."""
-    nb = _read()
     cwd = tmp_path_factory.mktemp("tutorial-cwd")
-    client = nbclient.NotebookClient(
-        copy.deepcopy(nb),
-        timeout=CELL_TIMEOUT,
-        kernel_name="python3",
-        record_timing=False,
-        resources={"metadata": {"path": str(cwd)}},
-    )
-    try:
-        out = client.execute()
-    except nbclient.exceptions.CellExecutionError as err:
-        pytest.fail(f"a cell of {NOTEBOOK.name} raised:\n{err}", pytrace=False)
-    if UPDATE:
-        nbformat.validate(out)
-        nbformat.write(out, NOTEBOOK)
+    out, _ = execute(NOTEBOOK, cwd, CELL_TIMEOUT)
     return out, cwd
 
 
 def test_notebook_runs_without_error(executed):
     nb, _ = executed
-    for cell in _code_cells(nb):
+    for cell in code_cells(nb):
         errors = [o for o in cell.outputs if o.output_type == "error"]
         assert not errors, f"cell failed:\n{cell.source}\n{errors[0].ename}: {errors[0].evalue}"
         assert cell.execution_count is not None
@@ -78,7 +58,7 @@ def test_notebook_plots_limit_cycle_and_sweep(executed):
     nb, _ = executed
     figures = [
         c
-        for c in _code_cells(nb)
+        for c in code_cells(nb)
         if any("image/png" in o.get("data", {}) for o in c.outputs) and "render" not in c.metadata.get("tags", [])
     ]
     assert len(figures) >= 2, "expected the limit-cycle and the sweep figures"
@@ -108,7 +88,7 @@ def test_stored_notebook_has_outputs():
     """The committed notebook is executed (readable on a code host without running it) and modest in size."""
     nb = _read()
     nbformat.validate(nb)
-    cells = _code_cells(nb)
+    cells = code_cells(nb)
     assert cells and all(c.execution_count is not None for c in cells), "the stored notebook is not executed"
     assert sum("image/png" in o.get("data", {}) for c in cells for o in c.outputs) >= 2
     assert not any(o.output_type == "error" for c in cells for o in c.outputs)

@@ -9,12 +9,10 @@ To refresh the outputs stored in the notebook after changing it:
     ELASTOACTIVE_UPDATE_NOTEBOOK=1 .venv/bin/python -m pytest -q tests/docs/test_python_api_notebook.py
 """
 
-import copy
-import os
-import time
 from pathlib import Path
 
 import pytest
+from notebooks import code_cells, execute  # shared with test_notebook.py
 
 nbformat = pytest.importorskip("nbformat")
 nbclient = pytest.importorskip("nbclient")
@@ -25,42 +23,19 @@ CELL_SECONDS = 30
 """Most wall time one cell may take (its first run compiles the reduced engine's kernels; a few seconds on 2 cores)."""
 NOTEBOOK_SECONDS = 60
 """Most wall time the whole notebook may take, its kernel's start included."""
-UPDATE = os.environ.get("ELASTOACTIVE_UPDATE_NOTEBOOK") == "1"
-
-
-def _code_cells(nb):
-    return [c for c in nb.cells if c.cell_type == "code"]
 
 
 @pytest.fixture(scope="module")
 def executed(tmp_path_factory):
     """The notebook executed in an empty temporary directory: (notebook, that directory, wall time)."""
-    nb = nbformat.read(NOTEBOOK, as_version=4)
     cwd = tmp_path_factory.mktemp("python-api-cwd")
-    client = nbclient.NotebookClient(
-        copy.deepcopy(nb),
-        timeout=CELL_SECONDS,
-        kernel_name="python3",
-        record_timing=False,
-        resources={"metadata": {"path": str(cwd)}},
-    )
-    began = time.perf_counter()
-    try:
-        out = client.execute()
-    except nbclient.exceptions.CellExecutionError as err:
-        pytest.fail(f"a cell of {NOTEBOOK.name} raised:\n{err}", pytrace=False)
-    except TimeoutError as err:
-        pytest.fail(f"a cell of {NOTEBOOK.name} took more than {CELL_SECONDS} s: {err}", pytrace=False)
-    wall = time.perf_counter() - began
-    if UPDATE:
-        nbformat.validate(out)
-        nbformat.write(out, NOTEBOOK)
+    out, wall = execute(NOTEBOOK, cwd, CELL_SECONDS)
     return out, cwd, wall
 
 
 def test_notebook_runs_within_its_budget(executed):
     nb, _, wall = executed
-    for cell in _code_cells(nb):
+    for cell in code_cells(nb):
         errors = [o for o in cell.outputs if o.output_type == "error"]
         assert not errors, f"cell failed:\n{cell.source}\n{errors[0].ename}: {errors[0].evalue}"
     assert wall < NOTEBOOK_SECONDS, f"{NOTEBOOK.name} took {wall:.0f} s (budget {NOTEBOOK_SECONDS} s)"
@@ -73,7 +48,7 @@ def test_notebook_writes_nothing_in_its_working_directory(executed):
 
 def test_notebook_does_without_the_command_line():
     """Run, save, load, sweep (also on Dask), ramp, stability and the two figures, through the front door only."""
-    source = "\n".join(c.source for c in _code_cells(nbformat.read(NOTEBOOK, as_version=4)))
+    source = "\n".join(c.source for c in code_cells(nbformat.read(NOTEBOOK, as_version=4)))
     assert "elastoactive.cli" not in source and "!elastoactive" not in source and "subprocess" not in source
     for call in ("ea.simulate(", "ea.save(", "ea.load(", "ea.sweep(", "Client(", "ea.ramp(", "ea.stability("):
         assert call in source, call
@@ -84,7 +59,7 @@ def test_stored_notebook_has_outputs():
     """The committed notebook is executed (readable on a code host without running it), with its figures."""
     nb = nbformat.read(NOTEBOOK, as_version=4)
     nbformat.validate(nb)
-    cells = _code_cells(nb)
+    cells = code_cells(nb)
     assert cells and all(c.execution_count is not None for c in cells), "the stored notebook is not executed"
     assert sum("image/png" in o.get("data", {}) for c in cells for o in c.outputs) >= 4
     assert not any(o.output_type == "error" for c in cells for o in c.outputs)

@@ -599,6 +599,13 @@ def _selected(checks, only) -> tuple[Check, ...]:
     return tuple(c for c in checks if c.name in ([only] if isinstance(only, str) else only))
 
 
+def _hold(subject: Subject, checks: tuple[Check, ...]) -> list[str]:
+    """Run `checks` on the subject in order (the first broken promise raises); the names of those passed."""
+    for check in checks:
+        check(subject)
+    return [check.name for check in checks]
+
+
 def kit_physics(scene: Scene) -> Physics:
     """The scene's short case: its first validation case's physics, else the physics of its base file."""
     cases = scene.validation_cases()
@@ -611,12 +618,7 @@ def check_scene(scene, only=None) -> list[str]:
     promise; returns the names of the checks passed."""
     instance, undo = _registered(scene, registry.get, registry.scenes, registry.register, registry.unregister)
     try:
-        subject = Subject(instance, kit_physics(instance))
-        passed = []
-        for check in _selected(SCENE_CHECKS, only):
-            check(subject)
-            passed.append(check.name)
-        return passed
+        return _hold(Subject(instance, kit_physics(instance)), _selected(SCENE_CHECKS, only))
     finally:
         undo()
 
@@ -650,11 +652,6 @@ def check_term(term, only=None) -> list[str]:
     )
     try:
         physics = term_scene(instance)
-        subject = Subject(physics.scene_def, physics, term=instance)
-        passed = []
-        for check in _selected(TERM_CHECKS, only):
-            check(subject)
-            passed.append(check.name)
-        return passed
+        return _hold(Subject(physics.scene_def, physics, term=instance), _selected(TERM_CHECKS, only))
     finally:
         undo()

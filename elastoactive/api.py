@@ -25,7 +25,8 @@ from .core.trajectory import Trajectory
 from .engines import run_engine
 from .gate import preflight
 from .io.outputs import check_folder, check_space, folder_lock
-from .results import RecordWarning, Results, check_measurable, check_transient, load_trajectory, read_summary
+from .records import RecordWarning, load_trajectory, read_summary
+from .results import Results, check_measurable, check_transient
 from .results import measure as _measure
 from .saving import RunSettings, check_destination, trajectory_bytes, write_folder
 from .starts import Start, as_start, finite_angles
@@ -193,7 +194,7 @@ def measure(trajectory: Trajectory, transient: float | None = None) -> Results:
     Parameters
     ----------
     trajectory : Trajectory
-        From ``simulate`` (either engine) or ``results.load_trajectory``.
+        From ``simulate`` (either engine) or ``records.load_trajectory``.
     transient : float, optional
         Time (tau) discarded before measuring; default: half the run.
 
@@ -214,7 +215,7 @@ def measure(trajectory: Trajectory, transient: float | None = None) -> Results:
     """
     if not isinstance(trajectory, Trajectory):
         raise TypeError(
-            f"trajectory must be an ea.Trajectory (from ea.simulate or elastoactive.results.load_trajectory); "
+            f"trajectory must be an ea.Trajectory (from ea.simulate or elastoactive.records.load_trajectory); "
             f"got {type(trajectory).__name__}"
         )
     check_measurable(trajectory.physics)

@@ -43,7 +43,7 @@ from .core.errors import ParameterError
 from .core.params import Numerics, Physics
 from .io.executor import default_workers, imap
 from .io.outputs import atomic_file, lock_file, provenance, utc_now, write_netcdf
-from .results import error_line
+from .records import error_line
 from .starts import Start, as_start, last_state
 
 DIRECTIONS = ("up", "down")

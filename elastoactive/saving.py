@@ -19,7 +19,7 @@ from .core.errors import ParameterError
 from .core.params import Numerics, Physics, option
 from .core.trajectory import Trajectory
 from .io.outputs import provenance, utc_now
-from .results import (
+from .records import (
     RunInputs,
     RunWriteError,
     error_line,
@@ -109,7 +109,7 @@ def write_folder(
 ) -> Written:
     """Write the run `traj` (run with `settings`, measured after `transient`) into the folder `out` (None: measure
     only), with its provenance (`started`: the UTC time it started, `clock`: its perf_counter then; default now) and
-    inputs (results.run_inputs). The folder must have been checked (check_destination) and be locked by the caller
+    inputs (records.run_inputs). The folder must have been checked (check_destination) and be locked by the caller
     (io.outputs.folder_lock)."""
     started = utc_now() if started is None else started
     clock = time.perf_counter() if clock is None else clock

@@ -30,7 +30,7 @@ from .core.errors import ParameterError
 from .core.params import Physics
 from .core.trajectory import Trajectory
 from .networks.state import NetworkState
-from .results import load_trajectory
+from .records import load_trajectory
 
 
 @dataclass(frozen=True)

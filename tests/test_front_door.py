@@ -101,7 +101,7 @@ def test_import_leaves_the_running_machinery_to_first_use():
         "print([m for m in late if m in sys.modules])\n"
         "physics = ea.Physics(scene='ring')\n"
         "print([m for m in late if m in sys.modules])\n"
-        "print(len(ea.scenes.names()) > 5, callable(ea.simulate), callable(ea.results.read_summary))\n"
+        "print(len(ea.scenes.names()) > 5, callable(ea.simulate), callable(ea.records.read_summary))\n"
         "print('simulate' in dir(ea), hasattr(ea, 'no_such_name'))\n"
     )
     out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, timeout=120, check=True)

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import elastoactive as ea
-from elastoactive import quantities, results, sensitivity
+from elastoactive import quantities, records, results, sensitivity
 from elastoactive.core.trajectory import Trajectory
 from elastoactive.sweep.points import _ok_record
 
@@ -102,8 +102,8 @@ def test_every_note_summary_caption_and_label_fits_the_scenes_result_shape(name)
     for regime, (duration, _, _) in REGIMES.items():
         traj = _synthetic(name, regime)
         where = f"{name}, {regime}"
-        summary = results.summary(traj, ea.Numerics(), duration)
-        json.dumps(results.jsonable(summary), allow_nan=False)
+        summary = records.summary(traj, ea.Numerics(), duration)
+        json.dumps(records.jsonable(summary), allow_nan=False)
         recorded = summary["results"]
         for note in recorded["notes"]:
             _check_text(note, where)

@@ -14,12 +14,12 @@ import pytest
 from conftest import refused  # the shared one-line-refusal check
 
 import elastoactive as ea
-from elastoactive import results
+from elastoactive import records
 from elastoactive.cli import main
 from elastoactive.core.surface import command_line
 from elastoactive.engines.timestep import check_timestep
 from elastoactive.io import progress
-from elastoactive.results import load_trajectory
+from elastoactive.records import load_trajectory
 
 RUN = ["run", "one-pinned", "--n", "4", "--sigma", "1.2", "--duration", "60", "--quiet"]
 
@@ -127,10 +127,10 @@ def test_a_failed_write_keeps_the_previous_run_whole(tmp_path, capsys, monkeypat
 
 
 def test_a_large_trajectory_is_written_uncompressed_and_reads_back(tmp_path, monkeypatch):
-    """Above results.COMPRESS_BYTES the trajectory is stored, not deflated; it loads as a compressed one does."""
+    """Above records.COMPRESS_BYTES the trajectory is stored, not deflated; it loads as a compressed one does."""
     runs = {}
-    for name, limit in (("small", results.COMPRESS_BYTES), ("large", 0)):
-        monkeypatch.setattr(results, "COMPRESS_BYTES", limit)
+    for name, limit in (("small", records.COMPRESS_BYTES), ("large", 0)):
+        monkeypatch.setattr(records, "COMPRESS_BYTES", limit)
         assert main(RUN + ["--out", str(tmp_path / name), "--engine", "reduced"]) == 0
         with zipfile.ZipFile(tmp_path / name / "trajectory.npz") as archive:
             kinds = {info.compress_type for info in archive.infolist()}

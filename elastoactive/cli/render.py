@@ -14,7 +14,7 @@ from pathlib import Path
 
 from ..core.errors import ParameterError
 from ..io.outputs import check_file
-from ..results import jsonable, read_run
+from ..records import jsonable, read_run
 
 RENDER_HELP = (
     "Frame k shows t = start + k * rate / fps (times in tau). The default rate makes one beat of "

@@ -25,12 +25,10 @@ from ..core.units import CHAIN, scene_units
 from ..engines import ENGINES
 from ..io import tables
 from ..io.outputs import check_file, check_folder, check_space, folder_lock, output_path, utc_now
-from ..reduced.settings import METHODS
-from ..results import (
+from ..records import (
     STATE_ARRAYS,
     RunInputs,
     StartInput,
-    check_transient,
     jsonable,
     read_run,
     read_summary,
@@ -39,6 +37,8 @@ from ..results import (
     resolved_inputs,
     state_digest,
 )
+from ..reduced.settings import METHODS
+from ..results import check_transient
 from ..saving import RunSettings, check_destination, trajectory_bytes, write_folder
 from ..starts import Start, last_state, read_start
 from .fields import add_fields, help_argument, scene_argument, scene_description

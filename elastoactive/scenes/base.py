@@ -175,7 +175,7 @@ class Scene:
     builder: ClassVar[str] = ""
     """The module that builds the scene's MJCF model (elastoactive.mjcf.chain refuses the scenes it does not build)."""
     file_variables: ClassVar[tuple[str, ...]] = ()
-    """Variables of `state_variables` that a run's trajectory.npz holds besides its records (results.write_run), each
+    """Variables of `state_variables` that a run's trajectory.npz holds besides its records (records.write_run), each
     with its dimensions, units and long name, for readers of the file without the package (the 3D chain's particle
     positions); none by default, so a kind's file holds its records only."""
 

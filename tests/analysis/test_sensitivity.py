@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import elastoactive as ea
-from elastoactive import results, sensitivity
+from elastoactive import records, sensitivity
 from elastoactive.core.trajectory import Trajectory
 
 
@@ -37,7 +37,7 @@ def test_separation_rate_is_the_growth_rate_of_the_pilots_distance():
 
 
 def test_an_irregular_run_comes_with_the_errors_of_its_numbers():
-    s = results.summary(_beating(irregular=True), ea.Numerics(), 200.0)
+    s = records.summary(_beating(irregular=True), ea.Numerics(), 200.0)
     assert s["results"]["periodic"] is False
     record = s["results"]["sensitivity"]
     assert record["amplitude_error"] > 0 and record["frequency_error"] >= 0 and math.isfinite(record["lyapunov"])
@@ -49,14 +49,14 @@ def test_a_regular_run_pays_nothing_for_the_estimate(monkeypatch):
     def boom(*args, **kwargs):
         raise AssertionError("a regular run ran the sensitivity pilots")
 
-    monkeypatch.setattr(results, "estimate_sensitivity", boom)
-    s = results.summary(_beating(irregular=False), ea.Numerics(), 200.0)
+    monkeypatch.setattr(records, "estimate_sensitivity", boom)
+    s = records.summary(_beating(irregular=False), ea.Numerics(), 200.0)
     assert s["results"]["periodic"] is True and "sensitivity" not in s["results"]
 
 
 def test_a_sensitive_run_is_named_with_its_horizon(monkeypatch):
     monkeypatch.setattr(sensitivity, "separation_rate", lambda *a: 2.0)  # as the pilots part on chaotic dynamics
-    s = results.summary(_beating(irregular=True), ea.Numerics(), 200.0)
+    s = records.summary(_beating(irregular=True), ea.Numerics(), 200.0)
     record = s["results"]["sensitivity"]
     assert record["sensitive"] and record["horizon_tau"] == pytest.approx(math.log(1e5) / 2.0)
     assert any(note.startswith("sensitive dynamics") for note in s["results"]["notes"])
@@ -70,8 +70,8 @@ def test_a_run_the_reduced_pilots_cannot_take_keeps_its_results(tmp_path, capsys
     def refused(*args, **kwargs):
         raise ea.ParameterError("the reduced engine does not cover this run's terms")
 
-    monkeypatch.setattr(results, "estimate_sensitivity", refused)
-    monkeypatch.setattr(results, "needs_estimate", lambda *args: True)  # as an irregular run: a short one is not
+    monkeypatch.setattr(records, "estimate_sensitivity", refused)
+    monkeypatch.setattr(records, "needs_estimate", lambda *args: True)  # as an irregular run: a short one is not
     out = tmp_path / "ring"
     assert (
         main(["run", "ring", "--sigma", "3", "--engine", "mujoco", "--duration", "5", "--out", str(out), "--quiet"])
@@ -98,7 +98,7 @@ def test_a_run_still_leaving_its_unstable_start_is_too_short_to_measure(monkeypa
     record = sensitivity.estimate(traj, 0.5, ea.Numerics())
     assert record.sensitive is None and record.lyapunov is None and "whole cycles" in record.unsettled
     assert "too short to measure" in record.note(0.1, None)
-    s = results.summary(traj, ea.Numerics(), 1.0)
+    s = records.summary(traj, ea.Numerics(), 1.0)
     assert (s["results"].get("sensitivity") or {}).get("sensitive") is None
     assert not any("sensitive dynamics" in note or "chaotic" in note for note in s["results"]["notes"])
 
@@ -109,7 +109,7 @@ def test_a_beat_still_growing_is_not_on_its_attractor(monkeypatch):
     theta[:, -1] = 0.01 * np.exp(0.03 * t) * np.sin(2 * np.pi * t / 10.0)  # spiralling out of the unstable state
     traj = Trajectory(t=t, theta=theta, physics=ea.Physics(n=4, sigma=1.2), engine="reduced")
     _no_pilots(monkeypatch)
-    s = results.summary(traj, ea.Numerics(), 200.0)
+    s = records.summary(traj, ea.Numerics(), 200.0)
     assert s["results"]["periodic"] is False
     assert s["results"]["sensitivity"]["sensitive"] is None and "growing" in s["results"]["sensitivity"]["unsettled"]
     assert sensitivity.unsettled(_beating(irregular=True), 100.0) is None

@@ -15,7 +15,7 @@ from elastoactive import plugins
 from elastoactive.cli import main
 from elastoactive.core import table
 from elastoactive.io.outputs import sha256
-from elastoactive.results import RecordWarning
+from elastoactive.records import RecordWarning
 
 CHAIN = ["--n", "4", "--sigma", "0.3", "--duration", "4", "--engine", "reduced", "--quiet"]
 

@@ -10,7 +10,7 @@ import pytest
 from conftest import refused
 
 import elastoactive as ea
-from elastoactive import results
+from elastoactive import records
 from elastoactive.cli import main
 from elastoactive.cli import render as render_cli
 
@@ -46,9 +46,9 @@ def test_a_network_run_records_its_file_by_absolute_path_with_a_copy_and_its_che
     summary = _summary(run)
     assert summary["parameters"]["geometry"] == str(good.resolve())
     recorded = summary["inputs"]["network_file"]
-    assert recorded["path"] == str(good.resolve()) and recorded["copy"] == results.NETWORK_COPY
+    assert recorded["path"] == str(good.resolve()) and recorded["copy"] == records.NETWORK_COPY
     assert (run / "network.json").read_bytes() == good.read_bytes()
-    assert recorded["sha256"] == results.sha256(good)
+    assert recorded["sha256"] == records.sha256(good)
 
 
 def test_run_from_an_absolute_path_in_another_folder(network_run, tmp_path, monkeypatch, capsys):
@@ -81,13 +81,13 @@ def test_after_the_network_file_is_edited_run_from_render_and_load_read_the_runs
     changed = [line for line in err if "changed since the run" in line]
     assert changed == [
         f"elastoactive: warning: network file {good.resolve()} changed since the run (sha256 "
-        f"{_summary(run)['inputs']['network_file']['sha256'][:12]} then, {results.sha256(good)[:12]} now); using the "
+        f"{_summary(run)['inputs']['network_file']['sha256'][:12]} then, {records.sha256(good)[:12]} now); using the "
         "run's copy network.json"
     ]
     again = ea.load(tmp_path / "again")
     np.testing.assert_array_equal(again.nodes, first.nodes)  # the recorded network, not the edited one
     assert _summary(tmp_path / "again")["results"]["amplitude"] == _summary(run)["results"]["amplitude"]
-    with pytest.warns(results.RecordWarning, match="using the run's copy network.json"):
+    with pytest.warns(records.RecordWarning, match="using the run's copy network.json"):
         loaded = ea.load(run)
     assert ea.measure(loaded).amplitude == pytest.approx(_summary(run)["results"]["amplitude"], rel=1e-12)
     drawn = {}
@@ -100,7 +100,7 @@ def test_after_the_network_file_is_edited_run_from_render_and_load_read_the_runs
 def test_a_run_whose_network_file_is_gone_still_loads(network_run):
     run, good = network_run
     good.unlink()
-    with pytest.warns(results.RecordWarning, match="is gone; using the run's copy"):
+    with pytest.warns(records.RecordWarning, match="is gone; using the run's copy"):
         loaded = ea.load(run)
     assert loaded.physics.geometry == str((run / "network.json").resolve())
 
@@ -119,9 +119,9 @@ def test_a_start_state_is_recorded_and_repeated_by_run_from(tmp_path, monkeypatc
     assert main(["run", "one-pinned", *chain, "--start-from", "first", "--out", "second"]) == 0
     capsys.readouterr()
     start = _summary(tmp_path / "second")["inputs"]["start"]
-    assert start["path"] == str((tmp_path / "first").resolve()) and start["copy"] == results.START_COPY
+    assert start["path"] == str((tmp_path / "first").resolve()) and start["copy"] == records.START_COPY
     last = ea.load(tmp_path / "first").theta[-1]
-    assert start["state_sha256"] == results.state_digest({"theta": last})
+    assert start["state_sha256"] == records.state_digest({"theta": last})
     (tmp_path / "first" / "trajectory.npz").unlink()  # the run's copy of the state is enough
     other = tmp_path.parent / f"{tmp_path.name}-other"
     other.mkdir()
@@ -137,7 +137,7 @@ def _failing_measure(*args, **kwargs):
 
 
 def test_a_failure_in_measuring_keeps_the_trajectory_and_records_the_error(tmp_path, monkeypatch, capsys):
-    monkeypatch.setattr(results, "measure", _failing_measure)
+    monkeypatch.setattr(records, "measure", _failing_measure)
     argv = ["run", "one-pinned", "--n", "4", "--duration", "4", "--engine", "reduced", "--quiet"]
     line = refused(capsys, [*argv, "--out", str(tmp_path / "run")], "measuring the run failed", "IndexError", code=1)
     assert "trajectory is kept" in line
@@ -160,10 +160,10 @@ def test_a_run_killed_while_measuring_leaves_a_trajectory_and_a_summary_saying_s
         seen["files"] = sorted(os.listdir(tmp_path / "run"))
         raise KeyboardInterrupt
 
-    monkeypatch.setattr(results, "measure", dies)
+    monkeypatch.setattr(records, "measure", dies)
     argv = ["run", "one-pinned", "--n", "4", "--duration", "4", "--engine", "reduced", "--quiet"]
     assert main([*argv, "--out", str(tmp_path / "run")]) == 130
     assert seen["files"] == ["summary.json", "trajectory.npz"]
-    assert seen["summary"]["results"] is None and seen["summary"]["measure_error"] == results.MEASURING
+    assert seen["summary"]["results"] is None and seen["summary"]["measure_error"] == records.MEASURING
     monkeypatch.undo()
     assert ea.load(tmp_path / "run").t.size > 2

@@ -19,7 +19,7 @@ from conftest import refused  # the shared one-line-refusal check
 
 import elastoactive as ea
 from elastoactive.cli import main
-from elastoactive.results import load_trajectory, settings_digest
+from elastoactive.records import load_trajectory, settings_digest
 
 RUN = ["run", "one-pinned", *"--n 4 --sigma 1.2 --duration 60 --quiet --json --engine reduced".split()]
 
@@ -227,7 +227,7 @@ def test_a_trajectory_that_cannot_be_written_leaves_the_summary(tmp_path, capsys
     err = captured.err.strip().splitlines()
     assert err[-1].startswith("elastoactive: error:") and "trajectory.npz" in err[-1] and "File too large" in err[-1]
     assert "summary.json was written without it" in err[-1]
-    summary = ea.results.read_summary(out)
+    summary = ea.records.read_summary(out)
     assert summary["numerics"]["duration"] == 60 and summary["trajectory_sha256"] is None
     assert "File too large" in summary["trajectory_error"]
     assert json.loads(captured.out)["amplitude"] == summary["results"]["amplitude"]

@@ -15,8 +15,9 @@ from elastoactive.core.errors import ParameterError
 from elastoactive.core.params import Numerics, Physics
 from elastoactive.engines import network_step
 from elastoactive.engines.reduced import simulate_reduced
+from elastoactive.records import summary
 from elastoactive.reduced import network as network_model
-from elastoactive.results import measure, summary
+from elastoactive.results import measure
 from elastoactive.scenes.base import CHAIN_TOLERANCES
 from elastoactive.scenes.network_kind import LARGE_TOLERANCES
 
@@ -138,7 +139,7 @@ def test_a_run_through_the_gate_records_a_large_network_coarser(monkeypatch):
 
 def test_the_size_checked_before_a_run_is_the_networks_record(tmp_path):
     from elastoactive.cli.run import trajectory_bytes
-    from elastoactive.results import write_run
+    from elastoactive.records import write_run
 
     physics = Physics(scene="lattice", rings=3, sigma=0.2, alignment_length=0.1)
     traj = simulate_reduced(physics, Numerics(), 100.0)

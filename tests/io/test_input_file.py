@@ -5,7 +5,7 @@ import pytest
 
 from elastoactive.core.errors import ParameterError
 from elastoactive.io.outputs import InputFile
-from elastoactive.results import RunInputs
+from elastoactive.records import RunInputs
 
 
 @pytest.fixture

@@ -11,7 +11,7 @@ import pytest
 
 from elastoactive.analysis.fits import Fit
 from elastoactive.io.jsonio import from_jsonable, to_jsonable
-from elastoactive.results import jsonable
+from elastoactive.records import jsonable
 from elastoactive.studies import SUMMARIES
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -28,7 +28,7 @@ VALUE = {
 
 
 def test_summary_json_takes_every_value_the_studies_json_takes():
-    """summary.json (results.jsonable) is the same converter with non-finite floats as null: dataclasses, arrays,
+    """summary.json (records.jsonable) is the same converter with non-finite floats as null: dataclasses, arrays,
     complex numbers and non-text keys give valid JSON, not a TypeError at json.dumps."""
     text = json.dumps(jsonable(VALUE), allow_nan=False)
     assert json.loads(text) == {

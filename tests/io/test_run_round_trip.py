@@ -7,7 +7,7 @@ import json
 import pytest
 
 import elastoactive as ea
-from elastoactive import results
+from elastoactive import records
 from elastoactive.cli import main
 from elastoactive.cli import render as render_cli
 
@@ -30,13 +30,13 @@ def _same(a, b) -> None:
 
 def _save(out, physics, numerics, duration, engine):
     """Simulate and save as `elastoactive run --out` does; returns the trajectory in memory."""
-    physics = results.resolved_inputs(physics)
-    inputs = results.run_inputs(physics)
+    physics = records.resolved_inputs(physics)
+    inputs = records.run_inputs(physics)
     traj = ea.simulate(physics, numerics, duration=duration, engine=engine)
-    record = results.summary(traj, numerics, duration, sensitivity=False)
+    record = records.summary(traj, numerics, duration, sensitivity=False)
     if inputs.as_dict():
         record["inputs"] = inputs.as_dict()
-    results.write_run(out, traj, record, inputs.copies)
+    records.write_run(out, traj, record, inputs.copies)
     return traj
 
 

@@ -133,7 +133,7 @@ def test_trajectory_identical_with_and_without_video(backend, tmp_path, capsys):
 
 def _recorded(folder):
     """A minimal recorded run in `folder`: a 3-sample trajectory of N = 2 and its summary (with its digest)."""
-    from elastoactive.results import settings_digest
+    from elastoactive.records import settings_digest
 
     np.savez(folder / "trajectory.npz", t=np.arange(3.0), theta=np.zeros((3, 2)))
     summary = {"parameters": {"scene": "one-pinned", "n": 2, "sigma": 0.8}}

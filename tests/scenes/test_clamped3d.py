@@ -8,7 +8,7 @@ import pytest
 
 import elastoactive as ea
 from elastoactive.analysis.whirl import settled_whirl
-from elastoactive.results import summary
+from elastoactive.records import summary
 from elastoactive.scenes.clamped3d import ACCURACY_TARGET, angles_of, tangents_of
 
 

@@ -13,7 +13,7 @@ import elastoactive as ea
 from elastoactive.core import observables
 from elastoactive.core.errors import ParameterError
 from elastoactive.core.surface import command_line
-from elastoactive.results import load_trajectory, summary, write_run
+from elastoactive.records import load_trajectory, summary, write_run
 from elastoactive.scenes.trap import orbit
 
 

@@ -12,7 +12,7 @@ from elastoactive.cli import main
 from elastoactive.core.errors import ParameterError
 from elastoactive.core.params import Numerics, Physics
 from elastoactive.mjcf.chain import build_model, prepare, qpos_of, state_of
-from elastoactive.results import load_trajectory
+from elastoactive.records import load_trajectory
 
 
 def test_trap_is_exactly_minus_k_r_on_every_particle_and_the_head():

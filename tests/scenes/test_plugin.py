@@ -16,7 +16,8 @@ from elastoactive.checks.validate import observable_errors
 from elastoactive.cli import main
 from elastoactive.core import observables
 from elastoactive.core.observables import Observable
-from elastoactive.results import Results, load_trajectory
+from elastoactive.records import load_trajectory
+from elastoactive.results import Results
 from elastoactive.scenes import ChainScene
 from elastoactive.scenes.base import ValidationCase
 from elastoactive.sweep import run_sweep

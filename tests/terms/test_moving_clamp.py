@@ -219,7 +219,7 @@ def test_clamp_tongue_study_tiny(tongue, round_trip):
 def test_a_saved_run_keeps_the_clamps_path(tmp_path):
     """run --out writes the clamp's position as the trajectory's head, and reading the run back keeps it."""
     from elastoactive.cli import main  # the CLI loads only in the tests that use it
-    from elastoactive.results import load_trajectory
+    from elastoactive.records import load_trajectory
 
     out = tmp_path / "clamp"
     assert (

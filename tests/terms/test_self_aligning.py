@@ -10,7 +10,7 @@ import elastoactive as ea
 from elastoactive.engines import polarity
 from elastoactive.engines.reduced import rhs as follower_rhs
 from elastoactive.engines.reduced import system_of
-from elastoactive.results import load_trajectory
+from elastoactive.records import load_trajectory
 
 
 def unit(n=1, sigma=0.9, la=2.0, **kw):

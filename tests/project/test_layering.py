@@ -200,15 +200,21 @@ def test_analysis_is_pure(name):
     assert not outside, f"{name} imports {outside}"
 
 
-PURE = ("elastoactive.reduced", "elastoactive.networks", "elastoactive.core.errors", "elastoactive.core.constants")
-"""The packages and leaves below the scenes: the reduced engine's mathematics, the network records, errors,
-constants."""
+PURE = (
+    "elastoactive.reduced",
+    "elastoactive.networks",
+    "elastoactive.hydro",
+    "elastoactive.core.errors",
+    "elastoactive.core.constants",
+)
+"""The packages and leaves below the scenes: the reduced engine's mathematics, the network records, the
+hydrodynamic mobilities, errors, constants."""
 
 
-@pytest.mark.parametrize("name", sorted(m for m in MODULES if m.startswith(PURE[:2])))
+@pytest.mark.parametrize("name", sorted(m for m in MODULES if m.startswith(PURE[:3])))
 def test_reduced_engine_and_network_records_stand_alone(name):
-    """The reduced engine (elastoactive/reduced/) and the network records know no scene, term, Physics or engine:
-    arrays and records in, arrays out."""
+    """The reduced engine (elastoactive/reduced/), the network records and the mobilities (elastoactive/hydro/) know
+    no scene, term, Physics or engine: arrays and records in, arrays out."""
     outside = [
         f"line {line}: {target}"
         for target, line, *_ in _imports(name, MODULES[name])

@@ -1,0 +1,13 @@
+"""Hydrodynamic mobilities of beads: who moves how fast under whose force, through the fluid.
+
+Arrays in, arrays out (numpy and numba; nothing of the package but the error type). Units are the paper's: lengths in
+l, the drag of one bead gamma = 6 pi mu a = 1, so an isolated bead's self-mobility is the identity; the bead radius
+a / l is the parameter `radius`. A mobility is a (3n, 3n) array whose block (i, j) maps the force on bead j to the
+velocity of bead i.
+
+- `rpy`, `rpy_into`: free space, Rotne-Prager-Yamakawa with the overlap correction (elastoactive.hydro.rpy).
+"""
+
+from .rpy import rpy, rpy_into
+
+__all__ = ["rpy", "rpy_into"]

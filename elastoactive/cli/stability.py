@@ -5,7 +5,8 @@ For every scene with a linear operator about its base state (analysis/stability.
 loses stability (sigma_c) and how (omega_c: the flutter's angular frequency; 0 for the free pin's steady
 rotation), the growth rate and frequency of its least stable mode at a given --sigma, and the continuum
 filament's onset (analysis/continuum.py) with what it means at this N. The one-pinned chain's onset is computed
-in O(N) per sigma (stability.onset): ~0.1 s at N = 200, ~0.3 s at N = 1000. A network scene (lattice,
+in O(N) per sigma (stability.onset): ~0.1 s at N = 200, ~0.3 s at N = 1000; the clamped 3D chain's is the same
+computation (its linearisation is the planar one twice, analysis/stability3d.py). A network scene (lattice,
 trapped-unit) reports in its coupling Pi = sigma / l_a; the lattice's fixed points form a family, so its onset is
 what is proved (every fixed point stable below lambda_1, none above the ceiling) apart from what a search found (one
 stable up to at least its Pi) (analysis/network/stability.py). A network whose units have their own force f_u and
@@ -103,24 +104,8 @@ def _physics(args):
     return Physics(scene=args.scene, n=n, sigma=sigma, **given)
 
 
-def _announce_cost(what: str, seconds: float) -> None:
-    """An analysis's estimated wall time, said (io.progress.announce) from engines.runner.ANNOUNCE_SECONDS on."""
-    from ..engines.runner import ANNOUNCE_SECONDS, duration_text  # start-up time: loaded with the command
-    from ..io.progress import announce
-
-    if seconds >= ANNOUNCE_SECONDS:
-        announce(f"stability: {what} will take about {duration_text(seconds)}")
-
-
 def main(args) -> int:
-    from ..analysis.stability3d import ON_COST  # an analysis that times itself tells its cost here
     from ..explore import stability  # the subcommand's boundary: the front door's analysis
 
-    physics = _physics(args)
-    token = ON_COST.set(_announce_cost)
-    try:
-        result = stability(physics, args.sigma)  # ea.stability: the scene's kind's analysis
-    finally:
-        ON_COST.reset(token)
-    print(result)
+    print(stability(_physics(args), args.sigma))  # ea.stability: the scene's kind's analysis
     return 0

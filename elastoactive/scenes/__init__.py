@@ -31,6 +31,9 @@ BUILT_IN = (
     "network",
     "clamped3d",
     "pivot3d",
+    "cilium",
+    "cilia_pair",
+    "cilia_row",
 )
 """The package's own scenes: the modules whose `SCENE` registers, in the paper's order, then ours. The command line's
 --help reads this list and the scenes' names and summaries from source (elastoactive.cli.catalogue)."""

@@ -55,7 +55,7 @@ def align_polarities(model, data) -> None:
         term.align_polarity(model, data)
 
 
-from . import contact, drag, follower, moving_clamp, noise, self_aligning, tip_drive  # noqa: E402  (the built-in terms register into the term table)
+from . import contact, drag, follower, hydrodynamics, moving_clamp, noise, self_aligning, tip_drive  # noqa: E402  (the built-in terms register into the term table)
 
 for _module in (
     drag,
@@ -65,6 +65,7 @@ for _module in (
     tip_drive,
     self_aligning,
     moving_clamp,
+    hydrodynamics,
 ):  # this order: the summaries list noise before loaded
     register(_module.TERM)
 

@@ -1,0 +1,443 @@
+r"""Chains in three dimensions coupled through the fluid: the reduced overdamped model with a mobility among all beads.
+
+The chains are elastoactive.reduced.chain3d's (unit tangents t_k of each chain in its own frame, the clamp along e_x,
+bending U = C/2 sum phi_k^2, follower forces F_i = -sigma t_i), placed in the lab: chain c's anchor at the point
+b_c and its frame turned by the rotation R (lab = b_c + R chain), so particle i of chain c sits at
+r_ci = b_c + R sum_{k<=i} t_ck. Units l = C1 = gamma = 1 (gamma = 6 pi mu a, one bead's drag).
+
+The equations (docs/hydrodynamics.md, "The reduced equations"): with M (3B x 3B) the mobility among all B moving
+beads of the scene (velocity of bead i = sum_j M_ij F_j), the beads' velocities v = J q' (J lower block-triangular
+within each chain, J_{ci, ck} = R E_ck for i >= k) and the overdamped balance of virtual work
+
+    J^T M^-1 J q' = J^T F - dU/dq,
+
+F the lab forces on the beads (follower, the tips' spring), dU/dq the bending. J = S P, with S the block cumulative
+sum along each chain and P = blockdiag(R E_k) (orthonormal columns); Q = blockdiag(R t_k) completes P to an
+orthogonal matrix. With N = S^-1 M S^-T (the mobility of the links' end-to-end velocities: differences of M's rows
+and columns), J^T M^-1 J = P^T N^-1 P and, by the block inverse of U^T N U (U = [P Q]),
+
+    q' = (A - B D^-1 B^T) r,   A = P^T N P,  B = P^T N Q,  D = Q^T N Q,  r = J^T F - dU/dq:
+
+one Cholesky factorisation of the B x B matrix D (the links' tensions are D^-1 B^T r), no factorisation of M and
+no resistance matrix formed. Cost per evaluation: the mobility's O(B^2) entries, O(B^2) for N and N Q, B^3 / 3 for
+the Cholesky; at B = 14 (a pair of N = 7) about 10 us.
+
+Mobilities (`MOBILITIES`): "local", the lab-frame drag of each particle (M_ii = W_i^-1, W_i = 1 + (gamma_l - 1)
+t_i t_i^T, no coupling: the chain3d model exactly, to round-off); "identity" (M = 1: the local drag at gamma_l = 1,
+through the same code as the fluid's, for the tests); "rpy", the Rotne-Prager-Yamakawa mobility in free space;
+"rpb", the Rotne-Prager-Blake mobility above a no-slip wall at z = 0 (fluid at z > 0), both of bead radius a / l =
+radius (elastoactive.hydro).
+
+Two chains' tips may be joined by a linear spring of stiffness K (tip_coupling): energy K/2 |r_tip,c - r_tip,c+1 -
+(b_c - b_c+1)|^2 for each neighbouring pair c, c + 1, relaxed when the chains stand straight and parallel.
+
+`rhs_reference` writes the equations as above in plain numpy (J and M formed, J^T M^-1 J solved), `eval_rhs_fluid`
+is the compiled kernel; the tests hold them equal, and the kernel at "identity" and "local" equal to chain3d's.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import NamedTuple
+
+import numpy as np
+from numba import njit
+
+from ..core.errors import ParameterError
+from ..hydro.blake import rpb_into, rpb_kernel
+from ..hydro.rpy import rpy_into, rpy_kernel
+from .chain3d import _bend, _bend_into, basis_of
+
+__all__ = [
+    "MOBILITIES",
+    "Beds",
+    "eval_rhs_fluid",
+    "fluid_forces",
+    "lab_positions",
+    "mobility_matrix",
+    "rhs",
+    "rhs_reference",
+    "solve_fluid",
+]
+
+MOBILITIES = ("local", "identity", "rpy", "rpb")
+"""The kernel's mobilities, by their code (the index): module docstring."""
+LOCAL, IDENTITY, RPY, RPB = range(4)
+
+
+class Beds(NamedTuple):
+    """Chains of n links each, anchored at `bases` and turned by `rotation`, in a fluid (units l = C1 = gamma = 1).
+
+    n             particles (links) per chain, >= 1
+    sigma         follower force F_a l / C1 on every particle, along its link toward the anchor
+    bases         anchor points b_c (C, 3) in the lab, l
+    rotation      R (3, 3): lab = b_c + R chain (every chain's clamp axis e_x becomes R e_x)
+    mobility      one of MOBILITIES
+    radius        bead radius a / l (rpy, rpb; 0 for local, identity)
+    gamma_l       drag along each link (local only; the beads of a fluid are spheres)
+    tip_coupling  stiffness K l^2 / C1 of the springs between neighbouring chains' tips (0: none)
+    clamped       a bending spring holds each chain's first link along its clamp axis (False: a free ball pivot)
+    """
+
+    n: int
+    sigma: float
+    bases: np.ndarray
+    rotation: np.ndarray
+    mobility: str = "local"
+    radius: float = 0.0
+    gamma_l: float = 1.0
+    tip_coupling: float = 0.0
+    clamped: bool = True
+
+    @property
+    def chains(self) -> int:
+        return int(np.shape(self.bases)[0])
+
+    @property
+    def code(self) -> int:
+        return MOBILITIES.index(self.mobility)
+
+    def checked(self) -> Beds:
+        """The record, or ParameterError naming the first parameter out of range."""
+        if int(self.n) < 1:
+            raise ParameterError(f"n (number of particles N) must be >= 1, got {self.n}")
+        if not (np.isfinite(self.sigma) and self.sigma >= 0):
+            raise ParameterError(f"sigma must be finite and >= 0, got {self.sigma}")
+        bases = np.asarray(self.bases, dtype=float)
+        if bases.ndim != 2 or bases.shape[1] != 3 or bases.shape[0] < 1 or not np.all(np.isfinite(bases)):
+            raise ParameterError(f"bases must be finite anchor points of shape (C, 3), got shape {bases.shape}")
+        rotation = np.asarray(self.rotation, dtype=float)
+        if rotation.shape != (3, 3) or not np.allclose(rotation.T @ rotation, np.eye(3), atol=1e-12):
+            raise ParameterError("rotation must be a 3 x 3 orthogonal matrix")
+        if self.mobility not in MOBILITIES:
+            raise ParameterError(f"mobility must be one of {', '.join(MOBILITIES)}, got {self.mobility!r}")
+        fluid = self.mobility in ("rpy", "rpb")
+        if fluid and not (np.isfinite(self.radius) and self.radius > 0):
+            raise ParameterError(f"radius (bead radius a / l) must be > 0 with mobility {self.mobility}")
+        if not fluid and self.radius != 0:
+            raise ParameterError(f"radius: mobility {self.mobility} has no beads (radius 0), got {self.radius}")
+        if not (np.isfinite(self.gamma_l) and self.gamma_l > 0):
+            raise ParameterError(f"gamma_l (drag ratio) must be finite and > 0, got {self.gamma_l}")
+        if self.mobility != "local" and self.gamma_l != 1.0:
+            raise ParameterError(f"gamma_l: mobility {self.mobility} moves spheres (gamma_l 1), got {self.gamma_l}")
+        if not (np.isfinite(self.tip_coupling) and self.tip_coupling >= 0):
+            raise ParameterError(f"tip_coupling must be finite and >= 0, got {self.tip_coupling}")
+        return self
+
+
+def lab_positions(tangents: np.ndarray, beds: Beds) -> np.ndarray:
+    """Particle positions (..., C, N, 3) in the lab of chain-frame tangents (..., C, N, 3)."""
+    t = np.asarray(tangents, dtype=float)
+    return np.asarray(beds.bases, dtype=float)[:, None, :] + np.cumsum(t, axis=-2) @ np.asarray(beds.rotation).T
+
+
+def mobility_matrix(positions: np.ndarray, tangents: np.ndarray, beds: Beds) -> np.ndarray:
+    """M (3B, 3B) of the beads at lab positions (B, 3) whose links have lab tangents (B, 3) (the local drag's
+    direction): elastoactive.hydro's compiled mobilities (their tests hold them to the references)."""
+    x = np.ascontiguousarray(positions, dtype=float).reshape(-1, 3)
+    b = len(x)
+    if beds.mobility == "rpy":
+        return rpy_into(x, beds.radius, np.empty((3 * b, 3 * b)))
+    if beds.mobility == "rpb":
+        return rpb_into(x, beds.radius, np.empty((3 * b, 3 * b)))
+    if beds.mobility == "identity":
+        return np.eye(3 * b)
+    u = np.asarray(tangents, dtype=float).reshape(-1, 3)
+    u = u / np.linalg.norm(u, axis=1)[:, None]
+    blocks = np.eye(3)[None] + (1.0 / beds.gamma_l - 1.0) * np.einsum("ia,ib->iab", u, u)
+    m = np.zeros((3 * b, 3 * b))
+    for i in range(b):
+        m[3 * i : 3 * i + 3, 3 * i : 3 * i + 3] = blocks[i]
+    return m
+
+
+def _tip_forces(positions: np.ndarray, beds: Beds) -> np.ndarray:
+    """The tips' springs' lab forces (C, N, 3) at lab positions (C, N, 3)."""
+    force = np.zeros_like(positions)
+    bases = np.asarray(beds.bases, dtype=float)
+    for c in range(beds.chains - 1):
+        stretch = positions[c, -1] - positions[c + 1, -1] - (bases[c] - bases[c + 1])
+        force[c, -1] -= beds.tip_coupling * stretch
+        force[c + 1, -1] += beds.tip_coupling * stretch
+    return force
+
+
+def rhs_reference(tangents: np.ndarray, beds: Beds) -> np.ndarray:
+    """t' (C, N, 3) of the chains at chain-frame tangents (C, N, 3): J^T M^-1 J q' = J^T F - dU/dq solved as
+    written (plain numpy)."""
+    n, chains = beds.n, beds.chains
+    rot = np.asarray(beds.rotation, dtype=float)
+    t = np.asarray(tangents, dtype=float).reshape(chains, n, 3)
+    norm2 = np.einsum("cia,cia->ci", t, t)
+    u = t / np.sqrt(norm2)[..., None]
+    E = np.zeros((chains, n, 3, 2))
+    grad = np.zeros((chains, n, 3))
+    for c in range(chains):
+        for k in range(n):
+            E[c, k, :, 0], E[c, k, :, 1] = basis_of(u[c, k])
+        if beds.clamped:
+            grad[c, 0] += _bend(np.array([1.0, 0.0, 0.0]), u[c, 0])
+        for k in range(1, n):
+            grad[c, k] += _bend(u[c, k - 1], u[c, k])
+            grad[c, k - 1] += _bend(u[c, k], u[c, k - 1])
+    positions = lab_positions(u, beds)
+    force = -beds.sigma * u @ rot.T + _tip_forces(positions, beds)
+    b = chains * n
+    J = np.zeros((3 * b, 2 * b))
+    for c in range(chains):
+        for k in range(n):
+            for i in range(k, n):
+                row, col = 3 * (c * n + i), 2 * (c * n + k)
+                J[row : row + 3, col : col + 2] = rot @ E[c, k]
+    g = np.einsum("ckab,cka->ckb", E, grad).ravel()
+    M = mobility_matrix(positions.reshape(b, 3), u.reshape(b, 3) @ rot.T, beds)
+    D = J.T @ np.linalg.solve(M, J)
+    qdot = np.linalg.solve(D, J.T @ force.ravel() - g)
+    tdot = np.einsum("ckab,ckb->cka", E, qdot.reshape(chains, n, 2))
+    return tdot - 0.5 * (norm2 - 1.0)[..., None] * u
+
+
+@njit(cache=True)
+def eval_rhs_fluid(y, n, chains, sigma, gamma_l, clamped, code, radius, coupling, bases, rot, out):
+    """t' of the chains into out (3 C n), at the chain-frame tangents y (3 C n, chain by chain, link by link): the
+    module docstring's q' = (A - B D^-1 B^T) r, D by Cholesky."""
+    b = chains * n
+    u = np.empty((b, 3))
+    norm2 = np.empty(b)
+    for k in range(b):
+        x0, x1, x2 = y[3 * k], y[3 * k + 1], y[3 * k + 2]
+        norm2[k] = x0 * x0 + x1 * x1 + x2 * x2
+        r = 1.0 / math.sqrt(norm2[k])
+        u[k, 0], u[k, 1], u[k, 2] = x0 * r, x1 * r, x2 * r
+    E = np.empty((b, 2, 3))  # chain frame: E[k, 0] = a_k, E[k, 1] = b_k (chain3d.basis_of)
+    for k in range(b):
+        u0, u1, u2 = u[k, 0], u[k, 1], u[k, 2]
+        if u0 * u0 + u1 * u1 > 0.25:
+            a0, a1, a2 = -u1, u0, 0.0
+        else:
+            a0, a1, a2 = 0.0, -u2, u1
+        r = 1.0 / math.sqrt(a0 * a0 + a1 * a1 + a2 * a2)
+        a0, a1, a2 = a0 * r, a1 * r, a2 * r
+        E[k, 0, 0], E[k, 0, 1], E[k, 0, 2] = a0, a1, a2
+        E[k, 1, 0], E[k, 1, 1], E[k, 1, 2] = u1 * a2 - u2 * a1, u2 * a0 - u0 * a2, u0 * a1 - u1 * a0
+    grad = np.zeros((b, 3))
+    for c in range(chains):
+        o = c * n
+        if clamped:
+            _bend_into(1.0, 0.0, 0.0, u[o, 0], u[o, 1], u[o, 2], grad, o, 1.0)
+        for k in range(o + 1, o + n):
+            _bend_into(u[k - 1, 0], u[k - 1, 1], u[k - 1, 2], u[k, 0], u[k, 1], u[k, 2], grad, k, 1.0)
+            _bend_into(u[k, 0], u[k, 1], u[k, 2], u[k - 1, 0], u[k - 1, 1], u[k - 1, 2], grad, k - 1, 1.0)
+    # lab frame: the links' frames P (two columns) and Q (the tangent), the beads' positions and forces
+    P = np.empty((b, 2, 3))
+    Q = np.empty((b, 3))
+    pos = np.empty((b, 3))
+    force = np.empty((b, 3))
+    for k in range(b):
+        for a in range(3):
+            Q[k, a] = rot[a, 0] * u[k, 0] + rot[a, 1] * u[k, 1] + rot[a, 2] * u[k, 2]
+            for al in range(2):
+                P[k, al, a] = rot[a, 0] * E[k, al, 0] + rot[a, 1] * E[k, al, 1] + rot[a, 2] * E[k, al, 2]
+            force[k, a] = -sigma * Q[k, a]
+    for c in range(chains):
+        for a in range(3):
+            acc = bases[c, a]
+            for k in range(c * n, c * n + n):
+                acc += Q[k, a]
+                pos[k, a] = acc
+    if coupling != 0.0:
+        for c in range(chains - 1):
+            i, j = c * n + n - 1, c * n + 2 * n - 1
+            for a in range(3):
+                f = coupling * (pos[i, a] - pos[j, a] - bases[c, a] + bases[c + 1, a])
+                force[i, a] -= f
+                force[j, a] += f
+    # r = J^T F - dU/dq; w = P r (lab, one vector per link)
+    w = np.zeros((b, 3))
+    for c in range(chains):
+        s0 = s1 = s2 = 0.0
+        for k in range(c * n + n - 1, c * n - 1, -1):
+            s0 += force[k, 0]
+            s1 += force[k, 1]
+            s2 += force[k, 2]
+            for al in range(2):
+                rk = P[k, al, 0] * s0 + P[k, al, 1] * s1 + P[k, al, 2] * s2
+                rk -= E[k, al, 0] * grad[k, 0] + E[k, al, 1] * grad[k, 1] + E[k, al, 2] * grad[k, 2]
+                for a in range(3):
+                    w[k, a] += P[k, al, a] * rk
+    # the mobility M, then N = S^-1 M S^-T (differences of consecutive beads' rows, then columns, within each chain)
+    size = 3 * b
+    m = np.empty((size, size))
+    if code == RPY:
+        rpy_kernel(pos, radius, m)
+    elif code == RPB:
+        for k in range(b):
+            if not pos[k, 2] > 0.0:  # a bead through the wall: no mobility; the solver stops on the NaN
+                out[:] = np.nan
+                return out
+        rpb_kernel(pos, radius, m)
+    else:
+        m[:, :] = 0.0
+        d = 1.0 / gamma_l - 1.0 if code == LOCAL else 0.0
+        for k in range(b):
+            for p in range(3):
+                for q in range(3):
+                    m[3 * k + p, 3 * k + q] = (1.0 if p == q else 0.0) + d * Q[k, p] * Q[k, q]
+    for c in range(chains):
+        for k in range(c * n + n - 1, c * n, -1):
+            for p in range(3):
+                for col in range(size):
+                    m[3 * k + p, col] -= m[3 * k - 3 + p, col]
+    for row in range(size):
+        for c in range(chains):
+            for k in range(c * n + n - 1, c * n, -1):
+                for q in range(3):
+                    m[row, 3 * k + q] -= m[row, 3 * k - 3 + q]
+    # x = N w, NQ = N Q, the tensions' matrix D = Q^T N Q and right-hand side z = Q^T x
+    x = np.zeros(size)
+    nq = np.zeros((size, b))
+    for row in range(size):
+        sx = 0.0
+        for k in range(b):
+            m0, m1, m2 = m[row, 3 * k], m[row, 3 * k + 1], m[row, 3 * k + 2]
+            sx += m0 * w[k, 0] + m1 * w[k, 1] + m2 * w[k, 2]
+            nq[row, k] = m0 * Q[k, 0] + m1 * Q[k, 1] + m2 * Q[k, 2]
+        x[row] = sx
+    dm = np.empty((b, b))
+    z = np.empty(b)
+    for i in range(b):
+        z[i] = Q[i, 0] * x[3 * i] + Q[i, 1] * x[3 * i + 1] + Q[i, 2] * x[3 * i + 2]
+        for j in range(i + 1):
+            dm[i, j] = Q[i, 0] * nq[3 * i, j] + Q[i, 1] * nq[3 * i + 1, j] + Q[i, 2] * nq[3 * i + 2, j]
+    # Cholesky D = L L^T in place (lower triangle), then the tensions D^-1 z
+    for j in range(b):
+        s = dm[j, j]
+        for p in range(j):
+            s -= dm[j, p] * dm[j, p]
+        dj = math.sqrt(s)
+        dm[j, j] = dj
+        for i in range(j + 1, b):
+            s = dm[i, j]
+            for p in range(j):
+                s -= dm[i, p] * dm[j, p]
+            dm[i, j] = s / dj
+    for i in range(b):
+        s = z[i]
+        for p in range(i):
+            s -= dm[i, p] * z[p]
+        z[i] = s / dm[i, i]
+    for i in range(b - 1, -1, -1):
+        s = z[i]
+        for p in range(i + 1, b):
+            s -= dm[p, i] * z[p]
+        z[i] = s / dm[i, i]
+    # q'_k = P_k^T (x - N Q lambda)_k; t'_k = E_k q'_k
+    for k in range(b):
+        v0, v1, v2 = x[3 * k], x[3 * k + 1], x[3 * k + 2]
+        for j in range(b):
+            v0 -= nq[3 * k, j] * z[j]
+            v1 -= nq[3 * k + 1, j] * z[j]
+            v2 -= nq[3 * k + 2, j] * z[j]
+        q0 = P[k, 0, 0] * v0 + P[k, 0, 1] * v1 + P[k, 0, 2] * v2
+        q1 = P[k, 1, 0] * v0 + P[k, 1, 1] * v1 + P[k, 1, 2] * v2
+        h = 0.5 * (norm2[k] - 1.0)
+        for a in range(3):
+            out[3 * k + a] = E[k, 0, a] * q0 + E[k, 1, a] * q1 - h * u[k, a]
+    return out
+
+
+def _arguments(beds: Beds) -> tuple:
+    """The kernel's arguments after (y, ...) and before out."""
+    return (
+        int(beds.n),
+        beds.chains,
+        float(beds.sigma),
+        float(beds.gamma_l),
+        bool(beds.clamped),
+        beds.code,
+        float(beds.radius),
+        float(beds.tip_coupling),
+        np.ascontiguousarray(beds.bases, dtype=float),
+        np.ascontiguousarray(beds.rotation, dtype=float),
+    )
+
+
+def rhs(tangents: np.ndarray, beds: Beds) -> np.ndarray:
+    """t' (C, N, 3) by the compiled kernel."""
+    y = np.ascontiguousarray(tangents, dtype=float).ravel()
+    out = np.empty(y.size)
+    eval_rhs_fluid(y, *_arguments(beds), out)
+    return out.reshape(beds.chains, beds.n, 3)
+
+
+def fluid_forces(tangents: np.ndarray, beds: Beds) -> np.ndarray:
+    """The forces (C, N, 3) the beads exert on the fluid at chain-frame tangents (C, N, 3): M^-1 v, v the beads' lab
+    velocities of the motion the equations give there (zero for the local drag's mobilities, which have no fluid)."""
+    if beds.mobility not in ("rpy", "rpb"):
+        return np.zeros((beds.chains, beds.n, 3))
+    rot = np.asarray(beds.rotation, dtype=float)
+    velocity = np.cumsum(rhs(tangents, beds), axis=-2) @ rot.T
+    positions = lab_positions(tangents, beds)
+    b = beds.chains * beds.n
+    m = mobility_matrix(positions.reshape(b, 3), positions.reshape(b, 3), beds)
+    return np.linalg.solve(m, velocity.ravel()).reshape(beds.chains, beds.n, 3)
+
+
+def solve_fluid(
+    beds: Beds,
+    ts: np.ndarray,
+    tangents0: np.ndarray,
+    *,
+    rtol: float = 1e-9,
+    atol: float = 1e-9,
+    on_time=None,
+    budget=None,
+):
+    """Tangents (len(ts), C, N, 3) of the chains from tangents0 (C, N, 3) at t = 0, sampled at ts (scipy's DOP853 on
+    the compiled right-hand side). Raises RuntimeError naming the solver's message when it fails.
+
+    on_time(t) and budget(method, eig) as chain3d.solve3d's (the Jacobian by central differences: 2 x 3CN
+    evaluations before the first step)."""
+    from scipy.integrate import solve_ivp  # start-up time: scipy.integrate costs ~0.4 s to import
+
+    beds.checked()
+    ts = np.asarray(ts, dtype=float)
+    args = _arguments(beds)
+    size = 3 * beds.chains * beds.n
+    out = np.empty(size)
+
+    def rate(_t, y):
+        return eval_rhs_fluid(y, *args, out).copy()
+
+    y0 = np.ascontiguousarray(tangents0, dtype=float).ravel()
+    if y0.size != size:
+        raise ParameterError(
+            f"tangents0 must hold {beds.chains} x {beds.n} tangents (shape ({beds.chains}, {beds.n}, 3)), "
+            f"got {np.shape(tangents0)}"
+        )
+    if budget is not None:
+        budget("DOP853", np.linalg.eigvals(_jacobian(rate, y0)))
+    if on_time is None:
+        fun = rate
+    else:
+
+        def fun(t, y):
+            on_time(t)
+            return rate(t, y)
+
+    sol = solve_ivp(fun, (ts[0], ts[-1]), y0, method="DOP853", t_eval=ts, rtol=rtol, atol=atol)
+    if not sol.success:
+        raise RuntimeError(f"chains in a fluid: the DOP853 solver failed ({sol.message})")
+    return sol.y.T.reshape(ts.size, beds.chains, beds.n, 3)
+
+
+def _jacobian(f, y: np.ndarray) -> np.ndarray:
+    """d f(0, y) / dy by central differences (relative step 1e-7): what bounds an explicit solver's steps."""
+    J = np.empty((y.size, y.size))
+    for k in range(y.size):
+        h = 1e-7 * max(1.0, abs(y[k]))
+        up, down = y.copy(), y.copy()
+        up[k] += h
+        down[k] -= h
+        J[:, k] = (f(0.0, up) - f(0.0, down)) / (2.0 * h)
+    return J

@@ -1,0 +1,72 @@
+"""Hydrodynamic interactions: the lab-frame drag of every particle replaced by a mobility among all of them.
+
+With bead_radius a / l > 0 each particle is a sphere of radius a whose drag gamma = 6 pi mu a is the unit of drag
+(an isolated bead moves as under the lab-frame drag at drag_ratio 1), and every bead's force moves every other bead
+through the fluid: the Rotne-Prager-Yamakawa mobility in free space, the Rotne-Prager-Blake mobility above a no-slip
+wall where the scene has one (elastoactive.hydro; the reduced equations: elastoactive.reduced.fluid,
+docs/hydrodynamics.md). At bead_radius 0 (the default) the term rests and every run is the lab-frame drag's, bit for
+bit.
+
+Scenes: the ones that name bead_radius in their term_parameters (the cilia on a wall: cilium, cilia-pair,
+cilia-row); the others refuse it as having no effect on them (Physics), the paper's planar chains because their
+beads would move out of the plane under the fluid's forces no more than they do now but their engines carry no
+mobility. The beads are spheres, so a drag_ratio other than 1 is refused while the term acts (`check`).
+
+Engines: the reduced engine only for now; the MuJoCo engine refuses a run with the term on in one line (the
+scenes' run_mujoco: `mujoco_refusal`).
+"""
+
+from __future__ import annotations
+
+from ..core.errors import ParameterError
+from ..core.parameters import Parameter
+from .base import Term
+
+MAX_BEAD_RADIUS = 0.5
+"""The largest bead radius a / l: neighbouring beads of a chain (one link, l, apart) touch at a = l / 2."""
+
+BEAD_RADIUS = Parameter(
+    "bead_radius",
+    0.0,
+    "radius a / l of each bead for the hydrodynamic interactions (0: none, the lab-frame drag; "
+    f"(0, {MAX_BEAD_RADIUS:g}]: the RPY / RPB mobility among all beads)",
+    low=0.0,
+    high=MAX_BEAD_RADIUS,
+    units="l",
+    title="bead radius a / l",
+    symbol="a",
+    quiet_default=True,
+)
+
+
+def mujoco_refusal(physics) -> str:
+    """Why the MuJoCo engine does not run `physics` (a ParameterError's one line), or "" when it does."""
+    if physics.bead_radius > 0:
+        return (
+            f"bead_radius = {physics.bead_radius:g}: the MuJoCo engine does not carry the hydrodynamic "
+            "interactions yet; use engine reduced"
+        )
+    return ""
+
+
+class Hydrodynamics(Term):
+    name = "hydrodynamics"
+    summary = "hydrodynamic interactions among all beads (RPY in free space, RPB above a wall), bead radius a / l"
+    parameters = (BEAD_RADIUS,)
+
+    def active(self, physics) -> bool:
+        return physics.bead_radius > 0
+
+    def check(self, physics) -> None:
+        if physics.drag_ratio != 1.0:
+            raise ParameterError(
+                f"drag_ratio = {physics.drag_ratio:g} with bead_radius = {physics.bead_radius:g}: the beads are "
+                "spheres, their drag is isotropic (drag_ratio 1)"
+            )
+
+    def short_case(self, physics):
+        """Two cilia a little apart, above onset: the fluid couples them within a few tau."""
+        return physics(scene="cilia-pair", n=5, sigma=1.0, bead_radius=0.2)
+
+
+TERM = Hydrodynamics()

@@ -1,0 +1,102 @@
+"""The reduced equations of chains in a fluid (elastoactive.reduced.fluid): the compiled kernel against the equations
+written out (J^T M^-1 J q' = J^T F - dU/dq), and against the 3D chain's model where the mobility is its local drag."""
+
+import numpy as np
+import pytest
+
+from elastoactive.core.errors import ParameterError
+from elastoactive.reduced import chain3d, fluid
+
+R = np.array([[0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]])  # a cilium's: clamp axis e_x -> e_z
+
+
+def bent(n, chains=1, seed=0, planar=False):
+    """Chain-frame tangents (C, N, 3) bent off the clamp axis, slightly off unit length (the kernel normalises)."""
+    rng = np.random.default_rng(seed)
+    t = np.zeros((chains, n, 3))
+    t[..., 0] = 1.0
+    t[..., 1] = 0.6 * rng.normal(size=(chains, n))
+    t[..., 2] = 0.0 if planar else 0.6 * rng.normal(size=(chains, n))
+    t /= np.linalg.norm(t, axis=-1)[..., None]
+    return t * (1.0 + (0.0 if planar else 1e-3 * rng.normal(size=(chains, n, 1))))
+
+
+def beds(chains=1, mobility="identity", radius=0.0, gamma_l=1.0, coupling=0.0, spacing=3.0, sigma=2.3):
+    bases = np.array([[c * spacing, 0.0, 1.5] for c in range(chains)])
+    return fluid.Beds(7, sigma, bases, R, mobility, radius, gamma_l, coupling).checked()
+
+
+@pytest.mark.parametrize(("mobility", "gamma_l"), [("identity", 1.0), ("local", 1.0), ("local", 0.5), ("local", 2.0)])
+def test_the_local_drag_is_the_3d_chain_s_to_round_off(mobility, gamma_l):
+    t = bent(7)
+    expected = chain3d.rhs(t[0], chain3d.Chain3D(7, 2.3, gamma_l))
+    np.testing.assert_allclose(fluid.rhs(t, beds(1, mobility, gamma_l=gamma_l))[0], expected, rtol=0, atol=1e-13)
+
+
+@pytest.mark.parametrize("mobility", ["rpy", "rpb", "local"])
+def test_the_kernel_solves_the_equations_as_written(mobility):
+    radius = 0.0 if mobility == "local" else 0.3
+    b = beds(2, mobility, radius, gamma_l=1.0, coupling=0.7)
+    t = bent(7, chains=2, seed=3)
+    np.testing.assert_allclose(fluid.rhs(t, b), fluid.rhs_reference(t, b), rtol=0, atol=1e-12)
+
+
+def test_chains_far_apart_in_free_space_move_as_alone():
+    """The RPY coupling decays like a / r: at 10^7 l apart a chain moves as it does alone, to 1e-6."""
+    t = bent(7, chains=2, seed=5)
+    pair = fluid.rhs(t, beds(2, "rpy", 0.3, spacing=1e7))
+    for c in range(2):
+        alone = fluid.Beds(7, 2.3, np.array([[0.0, 0.0, 1.5]]), R, "rpy", 0.3).checked()
+        np.testing.assert_allclose(pair[c], fluid.rhs(t[c : c + 1], alone)[0], rtol=0, atol=1e-6)
+
+
+def test_the_wall_slows_a_chain_that_the_free_space_lets_move():
+    """Near the wall every bead is more resisted (Faxen): the same forces move the chain less."""
+    t = bent(7, seed=2)
+    free, wall = (np.linalg.norm(fluid.rhs(t, beds(1, m, 0.3))) for m in ("rpy", "rpb"))
+    assert wall < free
+
+
+def test_a_beat_across_the_wall_stays_in_its_plane():
+    """Cilia beating in the lab's xz plane (their own xy plane): the wall's mirror symmetry y -> -y keeps them there,
+    the chain-frame z rows exact zeros as in the 3D chain's model."""
+    t = bent(7, chains=2, seed=1, planar=True)
+    rate = fluid.rhs(t, beds(2, "rpb", 0.3, coupling=0.5))
+    assert np.all(rate[..., 2] == 0.0)
+
+
+def test_the_fluid_forces_move_the_beads_as_the_equations_do():
+    """M F = v: the forces on the fluid, pushed back through the mobility, give the beads' velocities."""
+    b = beds(2, "rpb", 0.3)
+    t = bent(7, chains=2, seed=4)
+    t /= np.linalg.norm(t, axis=-1)[..., None]
+    forces = fluid.fluid_forces(t, b)
+    x = fluid.lab_positions(t, b).reshape(-1, 3)
+    velocity = np.cumsum(fluid.rhs(t, b), axis=-2) @ R.T
+    m = fluid.mobility_matrix(x, x, b)
+    np.testing.assert_allclose(m @ forces.ravel(), velocity.ravel(), atol=1e-12)
+
+
+def test_a_solve_keeps_the_tangents_unit_and_reaches_its_end():
+    b = beds(2, "rpb", 0.2, sigma=1.0)
+    ts = np.linspace(0.0, 5.0, 11)
+    t0 = bent(7, chains=2, seed=6)
+    path = fluid.solve_fluid(b, ts, t0 / np.linalg.norm(t0, axis=-1)[..., None])
+    assert path.shape == (11, 2, 7, 3)
+    np.testing.assert_allclose(np.linalg.norm(path[-1], axis=-1), 1.0, atol=1e-6)
+
+
+@pytest.mark.parametrize(
+    ("changes", "named"),
+    [
+        ({"mobility": "rpb", "radius": 0.0}, "radius"),
+        ({"mobility": "local", "radius": 0.2}, "radius"),
+        ({"mobility": "rpy", "radius": 0.2, "gamma_l": 2.0}, "gamma_l"),
+        ({"mobility": "stokes"}, "mobility"),
+        ({"tip_coupling": -1.0}, "tip_coupling"),
+        ({"rotation": np.ones((3, 3))}, "rotation"),
+    ],
+)
+def test_a_record_out_of_range_is_refused_naming_its_field(changes, named):
+    with pytest.raises(ParameterError, match=named):
+        beds(1)._replace(**changes).checked()

@@ -6,8 +6,11 @@ a / l is the parameter `radius`. A mobility is a (3n, 3n) array whose block (i, 
 velocity of bead i.
 
 - `rpy`, `rpy_into`: free space, Rotne-Prager-Yamakawa with the overlap correction (elastoactive.hydro.rpy).
+- `rpb`, `rpb_into`: above a no-slip plane wall at z = 0, Rotne-Prager-Blake with Swan and Brady's finite-size
+  corrections (elastoactive.hydro.blake).
 """
 
+from .blake import rpb, rpb_into
 from .rpy import rpy, rpy_into
 
-__all__ = ["rpy", "rpy_into"]
+__all__ = ["rpb", "rpb_into", "rpy", "rpy_into"]

@@ -513,17 +513,21 @@ def run_chunk(
     on_start: Callable[[], None] | None = None,
     drop: Callable[[int], BaseException | None] | None = None,
     on_prepared: Callable[[int, mujoco.MjModel], None] | None = None,
+    on_batch_end: Callable[[], None] | None = None,
 ) -> None:
     """Prepare runs[i] for i in indices, group them by signature and run each group as one batch on
     `threads` threads; outcomes go to on_done(i, Trajectory | exception). The caller installs the
     follower callback. on_prepared(i, model) is given each run's compiled model (model.prepare's, built for
-    runs[i].used), e.g. for a pre-flight check that would otherwise build it again; it must only read it."""
+    runs[i].used), e.g. for a pre-flight check that would otherwise build it again; it must only read it.
+    on_batch_end() is called after each batch (or run alone) has given all its outcomes (e.g. to save them together)."""
     groups: dict[bytes, list[_Sim]] = {}
     for i in indices:
         if runs_alone(runs[i]):  # a scene of a kind the batch does not run: its own engine, alone on this thread
             if on_start is not None:
                 on_start()
             on_done(i, _alone_outcome(runs[i]))
+            if on_batch_end is not None:
+                on_batch_end()
             continue
         try:
             sim = _prepare(i, runs[i])
@@ -535,6 +539,8 @@ def run_chunk(
         groups.setdefault(signature(sim.model), []).append(sim)
     for sims in groups.values():
         run_batch(sims, threads, on_done, cancel, on_start, drop)
+        if on_batch_end is not None:
+            on_batch_end()
 
 
 def runs_alone(run: Run) -> bool:

@@ -253,6 +253,8 @@ class Sweep:
     duration: float
     engine: str
     transient: float | None
+    _cases: dict[int, Case] = dataclasses.field(default_factory=dict, init=False, repr=False, compare=False)
+    """The cases built so far, by flat index (a point's case is built once: its physics is validated then)."""
 
     @property
     def shape(self) -> tuple[int, ...]:
@@ -299,13 +301,18 @@ class Sweep:
         return {k: v[i].item() for (k, v), i in zip(self.grid.items(), index)}
 
     def case(self, flat: int) -> Case:
+        """The point's Case (its physics and numerics with the grid's values); an invalid point is a ParameterError
+        naming it. Built once per point (cases are immutable)."""
+        if flat in self._cases:
+            return self._cases[flat]
         point = self.coords(flat)
         try:
             physics = self.physics.replace(**{k: v for k, v in point.items() if k in physics_keys()})
             numerics = dataclasses.replace(self.numerics, **{k: v for k, v in point.items() if k in NUMERICS_KEYS})
         except ParameterError as err:
             raise ParameterError(f"grid point {point}: {err}") from None
-        return Case(physics, numerics, self.duration, self.engine, self.transient)
+        case = self._cases[flat] = Case(physics, numerics, self.duration, self.engine, self.transient)
+        return case
 
 
 def _chains(physics: Physics, key: str, value) -> int | None:

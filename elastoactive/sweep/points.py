@@ -88,8 +88,9 @@ def run_points(
 ) -> list[dict]:
     """MuJoCo grid points run together (engines.mujoco_batch, `threads` C threads); returns each point's
     record as run_point would (never raises for a failed point). on_record(j, record) is called as each
-    is known: a point that fails at once, the others when their batch ends. The follower callback must
-    be installed by the caller (mujoco_batch.run_chunks does).
+    is known: a point that fails at once, the others when their batch ends, all of that batch's together once
+    they are measured (the sweep saves them with one fsync). The follower callback must be installed by the
+    caller (mujoco_batch.run_chunks does).
 
     The pre-flight checks (diagnose.check_timestep, once per distinct model) run on a thread of their
     own while the batch steps: a refused point is dropped from its batch at its next chunk of samples
@@ -102,11 +103,21 @@ def run_points(
     checks = checks if checks is not None else TimestepChecks()
     stepping, finished = threading.Event(), threading.Event()
 
-    def put(j: int, record: dict) -> None:
+    held: list[int] = []  # measured points of the running batch, handed to on_record when it ends (release)
+
+    def put(j: int, record: dict, hold: bool = False) -> None:
         record["finished_at"] = time.time()
         records[j] = record
-        if on_record is not None:
+        if hold:
+            held.append(j)
+        elif on_record is not None:
             on_record(j, record)
+
+    def release() -> None:
+        while held:
+            j = held.pop(0)
+            if on_record is not None:
+                on_record(j, records[j])
 
     def drop(j: int) -> BaseException | None:
         return checks.known_refusal(cases[j].physics, cases[j].numerics)
@@ -118,10 +129,10 @@ def run_points(
         if isinstance(outcome, BaseException):
             put(j, error_record(outcome, time.perf_counter() - start))
             return
-        try:
-            put(j, _ok_record(measure(outcome, cases[j].transient), outcome.info, outcome.wall_time_s))
+        try:  # a finished simulation: its batch is ending, the record is handed over with the batch's (release)
+            put(j, _ok_record(measure(outcome, cases[j].transient), outcome.info, outcome.wall_time_s), hold=True)
         except Exception as err:  # measuring failed: the point's error, as in run_point
-            put(j, error_record(err, time.perf_counter() - start))
+            put(j, error_record(err, time.perf_counter() - start), hold=True)
 
     def check_all() -> None:
         # after the stepping has started: the checks need the GIL, which preparing the models needs too
@@ -158,10 +169,12 @@ def run_points(
         checker.start()
     try:
         offer = (lambda j, model: checks.offer(cases[j].physics, cases[j].numerics, model)) if timestep_check else None
-        run_chunk(runs, order, threads, done, cancel, started, drop if timestep_check else None, offer)
+        run_chunk(runs, order, threads, done, cancel, started, drop if timestep_check else None, offer, release)
+        release()
     except Cancelled:
         raise
     except Exception as err:  # the batch itself failed: its unfinished points are errors, the sweep goes on
+        release()
         for j, record in enumerate(records):
             if record is None:
                 put(j, error_record(err, time.perf_counter() - start))

@@ -66,6 +66,7 @@ from benchmark_mujoco import (
     bench_mujoco_long,
     bench_step_by_n,
     bench_sweep,
+    sweep_report,
 )
 from benchmark_network import bench_network, network_report
 from benchmark_network_scale import bench_network_scale, scale_report
@@ -394,17 +395,7 @@ def report(red, proc, sweep, mj, rl, cb, meta, steps=(), alt=(), alt_n=100, alt_
     ]
     o += [
         "",
-        "## C. MuJoCo sweep against the engine floor (target a)",
-        "",
-        "| command | median s (all) | engine floor s | sweep / floor |",
-        "|---|---|---|---|",
-        f"| `elastoactive sweep one-pinned --grid sigma=0.3:1.0:{sweep['points']} --duration {sweep['duration']:g} "
-        f"--out TMP --quiet` | **{sweep['wall_s']:.2f}** ({', '.join(f'{x:.2f}' for x in sweep['walls'])}) | "
-        f"{sweep['floor_s']:.2f} | **{sweep['wall_s'] / sweep['floor_s']:.2f}x** |",
-        "",
-        f"Floor = {sweep['us_per_step']:.2f} us per compiled step (mj_step with the C callback, N = 7, default "
-        f"numerics, best of 5 x 4000 steps) x {sweep['steps']} steps / {CORES} cores. The whole process includes "
-        f"start-up, model compilation, pre-flight checks and writing the netCDF file.",
+        *sweep_report(sweep),
     ]
     o += [
         "",

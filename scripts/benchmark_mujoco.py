@@ -6,12 +6,13 @@ from __future__ import annotations
 
 import statistics
 import tempfile
+import threading
 import time
 from pathlib import Path
 
 import mujoco
 import numpy as np
-from bench_common import CLI, CORES, run_wall  # scripts/ is on sys.path when a script runs
+from bench_common import CLI, CORES, load, run_wall  # scripts/ is on sys.path when a script runs
 
 from elastoactive.controllers import compiled_passive, follower_forces, reference_passive
 from elastoactive.core.params import Numerics, Physics
@@ -36,43 +37,94 @@ def step_cost(physics: Physics, numerics: Numerics, nstep: int, repeats: int) ->
     return best
 
 
+def step_cost_pair(physics: tuple[Physics, Physics], numerics: Numerics, nstep: int, repeats: int) -> float:
+    """The compiled step's cost with two threads stepping at once (one model each, as a sweep's two stepping
+    threads do): the slower thread's time per step, best of `repeats`. Against step_cost it tells what sharing the
+    cores costs the engine itself (memory, caches, clock), before any sweep machinery."""
+    pairs = [prepare(p, numerics) for p in physics]
+    starts = [data.qpos.copy() for _, data in pairs]
+    best = np.inf
+    with follower_forces(compiled_passive):
+        for _ in range(repeats):
+            gate = threading.Barrier(len(pairs))
+            times = [0.0] * len(pairs)
+
+            def run(k: int) -> None:
+                model, data = pairs[k]
+                mujoco.mj_resetData(model, data)
+                data.qpos[:] = starts[k]
+                gate.wait()
+                t0 = time.perf_counter()
+                mujoco.mj_step(model, data, nstep=nstep)  # releases the GIL
+                times[k] = time.perf_counter() - t0
+
+            threads = [threading.Thread(target=run, args=(k,)) for k in range(len(pairs))]
+            for t in threads:
+                t.start()
+            for t in threads:
+                t.join()
+            best = min(best, max(times) / nstep)
+    return best
+
+
 def bench_sweep(points: int, duration: float, repeats: int) -> dict:
+    """The sweep as a whole process against the engine floor, measured in pairs (the floor, then the sweep) so that
+    each ratio compares the two at the same moment of a shared machine; the ratio reported is the median of the
+    pairs'. The floor of a pair: the best of 5 x 4000 compiled steps (N = 7, the grid's first and last sigma, the
+    cheaper) x the sweep's steps / cores; beside it the same with two threads stepping at once (step_cost_pair)."""
     numerics = Numerics()
     sigmas = np.linspace(0.3, 1.0, points)
-    costs = [step_cost(Physics(n=7, sigma=s), numerics, 4000, 5) for s in (sigmas[0], sigmas[-1])]
+    ends = (Physics(n=7, sigma=sigmas[0]), Physics(n=7, sigma=sigmas[-1]))
     steps = points * round(duration / numerics.dt)
-    floor = min(costs) * steps / CORES
-    walls = []
+    walls, floors, costs, pair_costs, loads = [], [], [], [], []
     with tempfile.TemporaryDirectory() as tmp:
         for k in range(repeats):
+            cost = min(step_cost(p, numerics, 4000, 5) for p in ends)
+            pair_costs.append(step_cost_pair(ends, numerics, 4000, 5))
+            costs.append(cost)
+            floors.append(cost * steps / CORES)
             out = Path(tmp) / f"sweep{k}.nc"
-            walls.append(
-                run_wall(
-                    [
-                        CLI,
-                        "sweep",
-                        "one-pinned",
-                        "--grid",
-                        f"sigma=0.3:1.0:{points}",
-                        "--duration",
-                        f"{duration:g}",
-                        "--out",
-                        str(out),
-                        "--quiet",
-                    ],
-                    tmp,
-                )
-            )
+            command = [CLI, "sweep", "one-pinned", "--grid", f"sigma=0.3:1.0:{points}", "--duration", f"{duration:g}"]
+            walls.append(run_wall([*command, "--out", str(out), "--quiet"], tmp))
+            loads.append(load())
+    ratios = [w / f for w, f in zip(walls, floors)]
     return {
         "points": points,
         "duration": duration,
         "steps": steps,
-        "us_per_step": 1e6 * min(costs),
-        "floor_s": floor,
+        "us_per_step": 1e6 * statistics.median(costs),
+        "us_per_step_pair": 1e6 * statistics.median(pair_costs),
+        "floor_s": statistics.median(floors),
         "walls": walls,
+        "floors": floors,
+        "ratios": ratios,
+        "ratio": statistics.median(ratios),
+        "loads": loads,
         "wall_s": statistics.median(walls),
         "best_s": min(walls),
     }
+
+
+def sweep_report(sweep: dict) -> list[str]:
+    """Section C's lines (scripts/benchmark.py, and alone with --sweep)."""
+    pairs = ", ".join(f"{w:.2f} / {f:.2f}" for w, f in zip(sweep["walls"], sweep["floors"]))
+    return [
+        "## C. MuJoCo sweep against the engine floor (target a)",
+        "",
+        "| command | median s | engine floor s (median) | sweep / floor (median of the pairs) "
+        "| pairs (sweep / floor s) |",
+        "|---|---|---|---|---|",
+        f"| `elastoactive sweep one-pinned --grid sigma=0.3:1.0:{sweep['points']} --duration {sweep['duration']:g} "
+        f"--out TMP --quiet` | **{sweep['wall_s']:.2f}** | {sweep['floor_s']:.2f} | **{sweep['ratio']:.2f}x** "
+        f"({min(sweep['ratios']):.2f}-{max(sweep['ratios']):.2f}) | {pairs} |",
+        "",
+        f"Floor = {sweep['us_per_step']:.2f} us per compiled step (mj_step with the C callback, N = 7, default "
+        f"numerics, best of 5 x 4000 steps, measured just before each sweep) x {sweep['steps']} steps / {CORES} "
+        f"cores. Two threads stepping at once cost {sweep['us_per_step_pair']:.2f} us per step each "
+        f"({sweep['us_per_step_pair'] / sweep['us_per_step']:.2f}x): what sharing the cores costs the engine alone. "
+        f"The whole process includes start-up, model compilation, pre-flight checks and writing the netCDF file. "
+        f"Load average after each sweep: {'; '.join(sweep['loads'])}.",
+    ]
 
 
 # ------------------------------------------------------------------------------------------------

@@ -40,7 +40,8 @@ I. the clamped filament in 3D from an out-of-plane start (--elastica3d runs this
    reached, its rate and tip radius against the continuum, wall times (scripts/bench_elastica3d.py; ~20 min loaded).
 
 Timings are best of a few repeats unless said (the 2 cores are shared; the best is the least disturbed run);
-whole-process figures are medians. --quick shortens every part (about 1 min).
+whole-process figures are medians. --quick shortens every part (about 1 min). --sweep runs section C alone and
+prints it (5 pairs of floor and sweep, about 1 min).
 """
 
 from __future__ import annotations
@@ -496,8 +497,13 @@ def main(argv=None) -> int:
     ap.add_argument("--network-scale-out", type=Path, default=Path("docs/generated/benchmark_network_scale.md"))
     ap.add_argument("--elastica3d", action="store_true", help="only section I (the 3D filament against PyElastica)")
     ap.add_argument("--elastica3d-out", type=Path, default=Path("docs/generated/benchmark_elastica3d.md"))
+    ap.add_argument("--sweep", action="store_true", help="only section C (the MuJoCo sweep against the engine floor)")
     args = ap.parse_args(argv)
     q = args.quick
+    if args.sweep:
+        log(f"sweep (load {load()})")
+        print("\n".join(sweep_report(bench_sweep(8 if q else 16, 50.0 if q else 100.0, 2 if q else 5))))
+        return 0
     if args.filament:
         return write_filament(args.filament_out, q)
     if args.network:

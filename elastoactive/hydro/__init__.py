@@ -8,9 +8,11 @@ velocity of bead i.
 - `rpy`, `rpy_into`: free space, Rotne-Prager-Yamakawa with the overlap correction (elastoactive.hydro.rpy).
 - `rpb`, `rpb_into`: above a no-slip plane wall at z = 0, Rotne-Prager-Blake with Swan and Brady's finite-size
   corrections (elastoactive.hydro.blake).
+- `apply`: either mobility's product with forces, never forming the matrix (elastoactive.hydro.product).
 """
 
 from .blake import rpb, rpb_into
+from .product import apply
 from .rpy import rpy, rpy_into
 
-__all__ = ["rpb", "rpb_into", "rpy", "rpy_into"]
+__all__ = ["apply", "rpb", "rpb_into", "rpy", "rpy_into"]

@@ -11,7 +11,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy.signal import hilbert
 
 from . import observables as obs
 
@@ -55,6 +54,8 @@ def envelope(t, x, transient: float | None = 0.0, center: bool = True) -> tuple[
     dt = np.diff(ts)
     if np.max(np.abs(dt - dt.mean())) > 1e-3 * dt.mean():
         raise ValueError("envelope needs uniformly sampled t")
+    from scipy.signal import hilbert  # scipy's heavy part (~0.4 s of import): the scenes' registry loads this module
+
     return ts, np.abs(hilbert(xs - xs.mean() if center else xs))
 
 

@@ -24,7 +24,6 @@ import time
 import numpy as np
 
 from .. import reduced as _math
-from ..controllers.noise import ColouredNoise, force_factor
 from ..core.errors import ParameterError
 from ..core.params import Numerics, Physics, option
 from ..core.registry import initial_angles
@@ -316,6 +315,8 @@ def simulate_chain_reduced(
                 physics, system, t, theta0, laws, rtol=rtol, atol=atol, beta=beta, on_time=meter.at, budget=budget
             )
         elif physics.noise > 0:
+            from ..controllers.noise import ColouredNoise, force_factor  # controllers/__init__ loads mujoco: noisy runs
+
             dt = numerics.dt
             scheme = "euler"
             if physics.noise_correlation > 0:  # the shared Ornstein-Uhlenbeck realisation, constant over each step

@@ -33,6 +33,7 @@ Two chains' tips may be joined by a linear spring of stiffness K (tip_coupling):
 
 `rhs_reference` writes the equations as above in plain numpy (J and M formed, J^T M^-1 J solved), `eval_rhs_fluid`
 is the compiled kernel; the tests hold them equal, and the kernel at "identity" and "local" equal to chain3d's.
+`solve_fluid` integrates by DOP853 compiled around the kernel (reduced.dop853_loop), or by scipy's on it.
 """
 
 from __future__ import annotations
@@ -47,8 +48,11 @@ from ..core.errors import ParameterError
 from ..hydro.blake import rpb_into, rpb_kernel
 from ..hydro.rpy import rpy_into, rpy_kernel
 from .chain3d import _bend, _bend_into, basis_of
+from .dop853_loop import dop853_steps, integrate
+from .network import run_loop
 
 __all__ = [
+    "METHODS",
     "MOBILITIES",
     "Beds",
     "eval_rhs_fluid",
@@ -383,6 +387,24 @@ def fluid_forces(tangents: np.ndarray, beds: Beds) -> np.ndarray:
     return np.linalg.solve(m, velocity.ravel()).reshape(beds.chains, beds.n, 3)
 
 
+METHODS = ("numba-DOP853", "DOP853")
+"""solve_fluid's methods: scipy's DOP853 compiled around eval_rhs_fluid (reduced.dop853_loop: no Python per step),
+and scipy's solve_ivp(DOP853) on it (one Python call per evaluation: the reference the compiled loop agrees with to
+round-off)."""
+
+
+@njit(cache=True, inline="always")
+def _rate(y, out, args):
+    """eval_rhs_fluid in dop853_loop's form: args = _arguments(beds)."""
+    eval_rhs_fluid(y, *args, out)
+
+
+@njit(cache=True)
+def _dop853_fluid(y, f, clock, counts, ts, rtol, atol, A, B, E3, E5, DD, out, max_steps, args):
+    """dop853_loop.dop853_steps around eval_rhs_fluid (that module's driver)."""
+    return dop853_steps(_rate, args, y, f, clock, counts, ts, rtol, atol, A, B, E3, E5, DD, out, max_steps)
+
+
 def solve_fluid(
     beds: Beds,
     ts: np.ndarray,
@@ -390,17 +412,21 @@ def solve_fluid(
     *,
     rtol: float = 1e-9,
     atol: float = 1e-9,
+    method: str = "numba-DOP853",
     on_time=None,
     budget=None,
+    loop=run_loop,
 ):
-    """Tangents (len(ts), C, N, 3) of the chains from tangents0 (C, N, 3) at t = 0, sampled at ts (scipy's DOP853 on
-    the compiled right-hand side). Raises RuntimeError naming the solver's message when it fails.
+    """Tangents (len(ts), C, N, 3) of the chains from tangents0 (C, N, 3) at t = ts[0], sampled at ts, by `method`
+    (METHODS). Raises RuntimeError naming the solver's failure.
 
-    on_time(t) and budget(method, eig) as chain3d.solve3d's (the Jacobian by central differences: 2 x 3CN
-    evaluations before the first step)."""
-    from scipy.integrate import solve_ivp  # start-up time: scipy.integrate costs ~0.4 s to import
-
+    budget(method, eig), told the method and the eigenvalues of the right-hand side's Jacobian at the start (central
+    differences: 2 x 3CN evaluations) before the first step, may refuse the run (engines.runner.solver_budget).
+    Progress: the compiled loop runs through `loop` (reduced.network.run_loop's contract; engines.runner.resume with
+    a meter); scipy's tells on_time(t) at every evaluation."""
     beds.checked()
+    if method not in METHODS:
+        raise ParameterError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
     ts = np.asarray(ts, dtype=float)
     args = _arguments(beds)
     size = 3 * beds.chains * beds.n
@@ -416,10 +442,19 @@ def solve_fluid(
             f"got {np.shape(tangents0)}"
         )
     if budget is not None:
-        budget("DOP853", np.linalg.eigvals(_jacobian(rate, y0)))
-    if on_time is None:
-        fun = rate
-    else:
+        budget(method, np.linalg.eigvals(_jacobian(rate, y0)))
+    if method == "numba-DOP853":
+        run = integrate(_dop853_fluid, args, ts, y0, rtol, atol, loop)
+        if run.status != 0:
+            raise RuntimeError(
+                f"chains in a fluid: the DOP853 step size fell below round-off at t = {run.t:g} (a bead through the "
+                "wall, or a state the mobility does not hold)"
+            )
+        return run.y.reshape(ts.size, beds.chains, beds.n, 3)
+    from scipy.integrate import solve_ivp  # start-up time: scipy.integrate costs ~0.4 s to import
+
+    fun = rate
+    if on_time is not None:
 
         def fun(t, y):
             on_time(t)

@@ -189,11 +189,12 @@ class Cilium(Clamped3D):
                 for s in starts
             ]  # fmt: skip
             return self._joined(runs, physics, "reduced")
-        from ..engines.runner import Meter, solver_budget  # engine boundary: numba and scipy
-        from ..reduced.fluid import solve_fluid
+        from ..engines.runner import Meter, resume, solver_budget  # engine boundary: numba and scipy
+        from ..reduced.fluid import METHODS, solve_fluid
 
-        if method not in (None, "DOP853"):
-            raise ParameterError(f"method: {self.name} integrates by DOP853 only, got {method!r}")
+        method = METHODS[0] if method is None else method
+        if method not in METHODS:
+            raise ParameterError(f"method: {self.name} integrates by {' or '.join(METHODS)}, got {method!r}")
         ts = self._times(numerics, duration)
         budget = solver_budget(
             physics,
@@ -205,8 +206,11 @@ class Cilium(Clamped3D):
         beds = self.beds(physics)
         start = time.perf_counter()
         with Meter(duration, f"reduced {physics.scene}", progress) as meter:
-            path = solve_fluid(beds, ts, starts, rtol=rtol, atol=atol, on_time=meter.at, budget=budget)
-        info = {"method": "DOP853", "rtol": rtol, "atol": atol, "mobility": beds.mobility}
+            path = solve_fluid(
+                beds, ts, starts, rtol=rtol, atol=atol, method=method, on_time=meter.at, budget=budget,
+                loop=lambda call, paused, reached, steps: resume(call, paused, reached, meter, steps),
+            )  # fmt: skip
+        info = {"method": method, "rtol": rtol, "atol": atol, "mobility": beds.mobility}
         theta = angles_of(path).reshape(ts.size, -1)
         return Trajectory(ts, theta, physics, "reduced", time.perf_counter() - start, info)
 

@@ -100,3 +100,47 @@ def test_a_solve_keeps_the_tangents_unit_and_reaches_its_end():
 def test_a_record_out_of_range_is_refused_naming_its_field(changes, named):
     with pytest.raises(ParameterError, match=named):
         beds(1)._replace(**changes).checked()
+
+
+def test_the_compiled_loop_takes_scipy_s_steps():
+    """DOP853 compiled around the kernel (reduced.dop853_loop) against scipy's solve_ivp(DOP853) on it: the same
+    steps, so the same samples to round-off."""
+    b = beds(2, "rpb", 0.2, sigma=1.0)
+    ts = np.linspace(0.0, 5.0, 11)
+    t0 = bent(7, chains=2, seed=6)
+    compiled = fluid.solve_fluid(b, ts, t0, rtol=1e-6, atol=1e-8)
+    scipy = fluid.solve_fluid(b, ts, t0, rtol=1e-6, atol=1e-8, method="DOP853")
+    np.testing.assert_allclose(compiled, scipy, rtol=0, atol=1e-11)
+
+
+def test_the_compiled_loop_resumes_bit_for_bit_and_reports_its_time():
+    """A loop that cuts the compiled calls at 3 steps each gives the same bits as one call, told each time reached."""
+    b = beds(2, "rpy", 0.2, sigma=1.0)
+    ts = np.linspace(0.0, 3.0, 7)
+    t0 = bent(7, chains=2, seed=2)
+    reached = []
+
+    def cut(call, paused, told, steps):
+        status = paused
+        while status == paused:
+            status = call(3)
+            reached.append(told())
+        return status
+
+    whole = fluid.solve_fluid(b, ts, t0)
+    np.testing.assert_array_equal(fluid.solve_fluid(b, ts, t0, loop=cut), whole)
+    assert len(reached) > 3 and reached == sorted(reached) and reached[-1] == 3.0
+
+
+def test_a_start_through_the_wall_stops_the_run_in_one_line():
+    """Beads below the wall have no mobility (the kernel's rate is NaN there): the loop takes no step and says so."""
+    down = np.tile([[-0.7, 0.7, 0.0]], (1, 7, 1))  # chain x is the lab's z: pointing down from h = 0.5
+    b = fluid.Beds(7, 1.0, np.array([[0.0, 0.0, 0.5]]), R, "rpb", 0.2).checked()
+    assert np.all(np.isnan(fluid.rhs(down, b)))
+    with pytest.raises(RuntimeError, match="round-off at t = 0"):
+        fluid.solve_fluid(b, np.linspace(0.0, 5.0, 3), down)
+
+
+def test_an_unknown_method_is_refused_naming_it():
+    with pytest.raises(ParameterError, match="method"):
+        fluid.solve_fluid(beds(1, "rpy", 0.2), np.linspace(0, 1, 3), bent(7), method="RK45")

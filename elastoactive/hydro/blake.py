@@ -17,16 +17,18 @@ and for one bead at height h (H = h / a), the limit of the above as bead j reach
 
     M_wall_ii = -(9 / 16H - 1 / 8H^3 + 1 / 16H^5) (I - zhat zhat^T) - (9 / 8H - 1 / 2H^3 + 1 / 8H^5) zhat zhat^T
 
-so the self-mobility is Faxen's parallel series 1 - 9/16 (a/h) + 1/8 (a/h)^3 - 1/16 (a/h)^5 and Lorentz's (Brenner's
-to this order) perpendicular 1 - 9/8 (a/h) + 1/2 (a/h)^3 - 1/8 (a/h)^5. The matrix is symmetric (M_ij = M_ji^T).
+so the self-mobility is the parallel series 1 - 9/16 (a/h) + 1/8 (a/h)^3 - 1/16 (a/h)^5 (Faxen's, without its
+-45/256 (a/h)^4 term) and the perpendicular 1 - 9/8 (a/h) + 1/2 (a/h)^3 - 1/8 (a/h)^5 (Lorentz's leading term; 19%
+above Brenner's exact value at h = 1.54a, 0.9% at 3a). The matrix is symmetric (M_ij = M_ji^T).
 
 Validity. The tensor is positive definite for beads that overlap neither the wall (every height h >= a) nor each
-other (every separation >= 2a) -- and, as the checks in tests/hydro/test_blake.py measure, also for overlapping
-beads at heights >= a over the ranges docs/hydrodynamics.md lists. A bead that overlaps the wall (0 < h < a) is
-taken as in Swan and Brady's successors' codes (RigidMultiblobsWall, libMobility): the mobility is evaluated at the
-effective height max(h, a) and scaled by b = min(h / a, 1) on both sides, M = B M(h_eff) B with B = diag(b_i), which
-keeps it symmetric positive definite and makes it vanish as the bead reaches the wall (no slip). A bead at or below
-the wall (h <= 0) is refused.
+other (every separation >= 2a). For beads overlapping each other at heights >= a no counterexample was found
+(tests/hydro/test_blake.py and the searches docs/hydrodynamics.md lists), but that is not a theorem. A bead that
+overlaps the wall (0 < h < a) is taken as in Swan and Brady's successors' codes (RigidMultiblobsWall, libMobility):
+the mobility is evaluated at the effective height max(h, a) and scaled by b = min(h / a, 1) on both sides,
+M = B M(h_eff) B with B = diag(b_i), which keeps it symmetric positive definite and makes it vanish as the bead
+reaches the wall (no slip); the series alone turn negative below h = 0.64a. A bead at or below the wall (h <= 0)
+is refused.
 
 `rpb` is the readable reference (numpy); `rpb_into` the compiled twin writing into a preallocated array; the tests
 hold them equal.

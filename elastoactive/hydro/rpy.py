@@ -10,9 +10,10 @@ is the one parameter. For beads i != j at separation r = x_i - x_j (|r| = r, rha
 
 (Rotne and Prager 1969; Yamakawa 1970; the overlap form as in Wajnryb, Mizerski, Zuk and Szymczak, J. Fluid Mech.
 2013). The two forms meet at r = 2a (both 7/16 I + 3/16 rhat rhat^T) and M_ij -> I as r -> 0. The 3n x 3n matrix
-is symmetric and positive definite for every configuration, overlapping or not: it is the average of the Oseen
-tensor over two spheres' surfaces, a Gram matrix. The matrix's row block i, column block j (rows 3i..3i+2, columns
-3j..3j+2) is M_ij: the velocity of bead i is sum_j M_ij F_j.
+is symmetric and positive definite for every configuration of distinct beads, overlapping or not: it is the average
+of the Oseen tensor over two spheres' surfaces, a Gram matrix. Two beads at one point make it singular (equal and
+opposite forces on them move nothing), never indefinite. The matrix's row block i, column block j (rows 3i..3i+2,
+columns 3j..3j+2) is M_ij: the velocity of bead i is sum_j M_ij F_j.
 
 `rpy` is the readable reference (numpy, whole arrays); `rpy_into` the compiled twin that writes into a preallocated
 array, built for the solver's right-hand side; the tests hold them equal.

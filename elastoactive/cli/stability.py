@@ -31,11 +31,12 @@ def _with_operator() -> tuple[str, ...]:
 
 
 def _own_parameters() -> dict[str, list[str]]:
-    """The own parameters of the scenes with a linear operator, each with the scenes that have it."""
+    """The own parameters of the scenes with a linear operator and the term parameters their operators read
+    (Scene.operator_parameters), each with the scenes that have it."""
     owners: dict[str, list[str]] = {}
     for scene in registry.scenes():
         if not scene.no_linear_operator:
-            for name in scene.own_parameter_names():
+            for name in (*scene.own_parameter_names(), *scene.operator_parameters):
                 owners.setdefault(name, []).append(scene.name)
     return owners
 
@@ -81,7 +82,7 @@ def _physics(args):
             f"stability: {args.scene} has no linear operator here ({scene.no_linear_operator}); "
             f"scenes: {', '.join(_with_operator())}"
         )
-    own = scene.own_parameter_names()
+    own = (*scene.own_parameter_names(), *scene.operator_parameters)
     given = {k: getattr(args, k) for k in _own_parameters() if getattr(args, k) is not None}
     refused = [k for k in given if k not in own]
     if refused:

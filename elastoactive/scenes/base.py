@@ -139,6 +139,9 @@ class Scene:
     no_linear_operator: ClassVar[str] = "no linear operator is written for it"
     """Why the scene has no linear operator about a base state that does not move with sigma (empty when it has one:
     `onset` and `leading_eigenvalue` are then overridden)."""
+    operator_parameters: ClassVar[tuple[str, ...]] = ()
+    """Term parameters (beyond n) its linear operator reads, which `elastoactive stability` takes as options beside
+    the scene's own (a cilium's bead_radius)."""
     filament: ClassVar[bool] = False
     """Whether the clamped continuum filament under a distributed follower load is the scene's large-N limit."""
     paper: ClassVar[bool] = False

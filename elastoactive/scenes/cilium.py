@@ -38,7 +38,7 @@ from ..core.observables import Observable
 from ..core.parameters import Parameter
 from ..core.trajectory import Trajectory
 from ..terms.hydrodynamics import mujoco_refusal
-from .base import PathView, ValidationCase
+from .base import Onset, PathView, ValidationCase
 from .clamped3d import Clamped3D, angles_of, tangents_of
 
 if TYPE_CHECKING:  # typing only: params imports the registry that holds scenes
@@ -63,6 +63,10 @@ FLUID_TOLERANCES = (1e-6, 1e-8)
 1000 tau beats at f tau = 0.0686127255 with a tip phase difference of -1.5454156 rad at these and -1.5454160 rad at the
 chain's 1e-9, 1e-11 (frequency equal to 1e-10), in about a third of the evaluations (10.7k against ~31k per 200 tau)."""
 
+DEGENERATE = 1e-12
+"""Relative splitting of the two planes' spectra (analysis.stability_fluid.FluidBranches.splitting) below which the
+onset is reported as both planes' together: the symmetric scenes' is round-off, ~1e-15."""
+
 FLUX_SAMPLES = 2000
 """The most samples of the steady window whose forces the pumped flux averages (evenly spaced): a mean over many
 beats, each sample a dense solve of the beads' forces."""
@@ -85,6 +89,7 @@ class Cilium(Clamped3D):
     file_variables = ()
     observables = ("tip_aspect", "whirl_rate", "tip_radius", "bend", "motion_state", PUMPED_FLUX)
     no_linear_operator = ""
+    operator_parameters = ("bead_radius",)
 
     # ------------------------------------------------------------------ the cilia
     def cilia(self, physics: Physics) -> int:
@@ -342,18 +347,41 @@ class Cilium(Clamped3D):
         return "   ".join(parts)
 
     # ------------------------------------------------------------------ stability and cases
-    def onset(self, physics: Physics):
-        if physics.bead_radius > 0:
-            raise ParameterError(
-                f"stability: {self.name} has no linear operator with the fluid yet (bead_radius > 0); the lab-frame "
-                "drag's is clamped-3d's"
-            )
-        return super().onset(physics)
+    def onset(self, physics: Physics) -> Onset:
+        """clamped-3d's onset for independent cilia (no fluid, no spring); else the scene's linear operator's
+        (analysis.stability_fluid: the straight cilia's mobility through the fluid, the tips' springs), naming the
+        plane that crosses first, or both together where the symmetry keeps them degenerate (a single cilium)."""
+        if self._independent(physics):
+            return super().onset(physics)
+        from ..analysis.stability_fluid import branches_fluid, linear_operator_fluid, onset_fluid  # scipy
+
+        beds = self.beds(physics)
+        sigma_c, omega_c = onset_fluid(beds)
+        planes = branches_fluid(linear_operator_fluid(beds, sigma_c))
+        through = f" through the fluid (a / l = {physics.bead_radius:g})" if physics.bead_radius > 0 else ""
+        if planes.coupling == 0.0 and planes.splitting < DEGENERATE:
+            kind = f"flutter (Hopf), in-plane and out-of-plane pairs together{through}"
+        else:
+            first = "in-plane" if planes.in_plane[0].real >= planes.out_of_plane[0].real else "out-of-plane"
+            kind = f"flutter (Hopf), the {first} pair first{through}"
+        return Onset(sigma_c, omega_c, kind)
 
     def leading_eigenvalue(self, physics: Physics, sigma: float) -> complex:
-        if physics.bead_radius > 0:
-            self.onset(physics)
-        return super().leading_eigenvalue(physics, sigma)
+        if self._independent(physics):
+            return super().leading_eigenvalue(physics, sigma)
+        from ..analysis.stability_fluid import leading_eigenvalue_fluid  # scipy
+
+        return leading_eigenvalue_fluid(self.beds(physics), sigma)
+
+    def fastest_overdamped_rate(self, physics: Physics) -> float:
+        """The largest |eigenvalue| of the straight cilia's operator at the physics' sigma (clamped-3d's for
+        independent cilia), 1/tau."""
+        if self._independent(physics):
+            return super().fastest_overdamped_rate(physics)
+        from ..analysis.stability_fluid import linear_operator_fluid  # scipy
+
+        lam = np.linalg.eigvals(linear_operator_fluid(self.beds(physics), physics.sigma))
+        return float(np.abs(lam).max())
 
     def validation_cases(self) -> tuple[ValidationCase, ...]:
         """clamped-3d's case, standing on the wall (no fluid: MuJoCo and the reduced engine agree as for it)."""

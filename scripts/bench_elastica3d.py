@@ -21,8 +21,11 @@ t(s) proportional to (1, START s, START s^2) (s = arc length / L).
   2 sqrt(alpha_c G / rho) / r, limit 1.76 r / sqrt(E / rho) at G = E / 3) when the radius is the smaller (r = 0.01
   at 50 elements diverged on the axial limit alone).
 - The reduced 3D chain (elastoactive.reduced.chain3d) at sigma = S / N^3 from the same start (tangents sampled at the
-  links' midpoints), scipy's LSODA on the compiled right-hand side (the chain is stiff in time like the planar one:
-  its fastest relaxation stays ~16 / tau while its period grows like N^4).
+  links' midpoints), by solve3d's automatic method as `elastoactive run clamped-3d --engine reduced` runs it: LSODA
+  with the analytic Jacobian (the chain is stiff in time like the planar one: its fastest relaxation stays ~16 / tau
+  while its period grows like N^4). A chain converges to the filament like 1/N, so the chains of EXTRAPOLATED (each
+  one simulation) are extrapolated in 1/N (analysis.filament.richardson, second order through three N), their CPU
+  summed: the row at PyElastica's accuracy.
 - The continuum: the whirl found by Newton's method along a ladder of N (analysis.whirl.ladder, started from the
   chain's settled whirl), extrapolated in 1/N (scripts/whirl_continuum.py; docs/model3d.md section 6).
 
@@ -45,12 +48,12 @@ from pathlib import Path
 import numpy as np
 from bench_common import CORES, ROOT, load, log
 from benchmark_filament import ELASTICA_ROD, FILAMENT_S, elastica_classes, elastica_rod
-from scipy.integrate import solve_ivp
 
+from elastoactive.analysis.filament import richardson
 from elastoactive.analysis.motion3d import measure3d
 from elastoactive.analysis.whirl import find_whirl, ladder
 from elastoactive.io.outputs import git_commit, provenance, write_text
-from elastoactive.reduced.chain3d import Chain3D, eval_rhs3d
+from elastoactive.reduced.chain3d import Chain3D, solve3d
 
 START = 0.3
 """The out-of-plane start: t(s) proportional to (1, START s, START s^2), s in [0, 1] (the helix of
@@ -63,7 +66,9 @@ OMEGA_GUESS = 278.0
 """A whirl's |Omega| at S = 100 in B / (zeta L^4), close enough to size runs and their sampling."""
 SAMPLES_PER_PERIOD = 200
 CHAIN_TOL = dict(rtol=1e-8, atol=1e-10)
-"""LSODA's tolerances for the chain (the rate is then steady to ~1e-8)."""
+"""The chain's tolerances (the scene's defaults; the rate is then steady to ~1e-8)."""
+EXTRAPOLATED = ((20, 40), (14, 20, 28))
+"""The chains extrapolated in 1/N: first order through two N (the previous table's row), second order through three."""
 LADDER = (10, 14, 20, 28, 40, 56)
 """The Newton ladder's N (docs/model3d.md section 6)."""
 
@@ -185,23 +190,17 @@ def elastica_run(n_elem: int, periods: float, mass_per_length: float | None = No
 
 def chain_run(n: int, periods: float):
     """The reduced 3D chain of n links from the start over `periods` whirl periods: (t in filament time, tangents
-    (T, n, 3), wall s, cpu s)."""
-    sigma = FILAMENT_S / n**3
-    out = np.empty(3 * n)
-
-    def fun(_t, y):
-        return eval_rhs3d(y, n, sigma, 1.0, True, out).copy()
-
-    y0 = start_tangents((np.arange(n) + 0.5) / n).ravel()
-    fun(0.0, y0)  # compiled: not counted
+    (T, n, 3), wall s, cpu s, the method solve3d chose)."""
+    chain = Chain3D(n=n, sigma=FILAMENT_S / n**3)
+    t0 = start_tangents((np.arange(n) + 0.5) / n)
     duration = periods * 2 * np.pi / OMEGA_GUESS * n**4
     ts = np.linspace(0.0, duration, int(periods * SAMPLES_PER_PERIOD) + 1)
+    solve3d(chain, ts[:3], t0, method="LSODA", **CHAIN_TOL)  # compiled (right-hand side, Jacobian): not counted
+    chosen = []
     w0, c0 = time.perf_counter(), time.process_time()
-    sol = solve_ivp(fun, (0.0, duration), y0, method="LSODA", t_eval=ts, **CHAIN_TOL)
+    path = solve3d(chain, ts, t0, budget=lambda method, _eig: chosen.append(method), **CHAIN_TOL)
     wall, cpu = time.perf_counter() - w0, time.process_time() - c0
-    if not sol.success:
-        raise RuntimeError(f"3D chain N = {n}: LSODA failed ({sol.message})")
-    return ts / n**4, sol.y.T.reshape(ts.size, n, 3), wall, cpu
+    return ts / n**4, path, wall, cpu, chosen[0]
 
 
 def _window(t: np.ndarray) -> np.ndarray:
@@ -240,14 +239,34 @@ def bench_chain(ns) -> tuple[list[Row], np.ndarray, float]:
     """The reduced 3D chain at each N; also the last chain's final shape and rate (the ladder's first guess)."""
     rows = []
     for n in ns:
-        t, tangents, wall, cpu = chain_run(n, PERIODS[0])
+        t, tangents, wall, cpu, method = chain_run(n, PERIODS[0])
         keep = _window(t)
         got = _measure(t[keep], tangents[keep], float(n))
         state, omega, rad, settled, signed = got.state, abs(got.omega), got.radius, got.settled, got.omega
-        rows.append(Row("reduced 3D chain", f"N = {n}", state, omega, rad, settled, wall, cpu, wall / PERIODS[0]))
-        log(f"chain N = {n}: {state} Omega {omega:.3f} R/L {rad:.5f} ({wall:.1f} s wall, {cpu:.1f} s cpu)")
+        rows.append(
+            Row(f"reduced 3D chain ({method})", f"N = {n}", state, omega, rad, settled, wall, cpu, wall / PERIODS[0])
+        )
+        log(f"chain N = {n} ({method}): {state} Omega {omega:.3f} R/L {rad:.5f} ({wall:.1f} s wall, {cpu:.1f} s cpu)")
         guess, rate = tangents[-1], signed / n**4
     return rows, guess, rate
+
+
+def extrapolated(rows: list[Row], ns) -> Row:
+    """The chains at ns (rows by resolution "N = n") extrapolated in 1/N; their times summed."""
+    chains = [next(r for r in rows if r.resolution == f"N = {n}") for n in ns]
+    order = "first" if len(ns) == 2 else "second" if len(ns) == 3 else f"{len(ns) - 1}th"
+    wall, cpu = sum(r.wall_s for r in chains), sum(r.cpu_s for r in chains)
+    return Row(
+        f"the {len(ns)} chains extrapolated in 1/N ({order} order)",
+        f"N = {', '.join(map(str, ns))}",
+        "whirl" if all(r.state == "whirl" for r in chains) else "/".join(r.state for r in chains),
+        richardson(ns, [r.omega for r in chains]).value,
+        richardson(ns, [r.radius for r in chains]).value,
+        max(r.settled for r in chains),
+        wall,
+        cpu,
+        wall / PERIODS[0],
+    )
 
 
 def bench_ladder(guess: np.ndarray, rate: float) -> Row:
@@ -281,7 +300,9 @@ def bench_ladder(guess: np.ndarray, rate: float) -> Row:
 
 def bench_elastica3d(quick: bool) -> dict:
     log(f"3D filament (load {load()})")
-    chain, guess, rate = bench_chain((20,) if quick else (20, 40))
+    extrapolations = EXTRAPOLATED[1:] if quick else EXTRAPOLATED
+    chain, guess, rate = bench_chain(sorted({n for ns in extrapolations for n in ns}))
+    chain += [extrapolated(chain, ns) for ns in extrapolations]
     continuum = bench_ladder(guess, rate)
     elastica = bench_elastica((50,) if quick else (50, 100, 200), None if quick else 50)
 
@@ -342,6 +363,15 @@ def elastica3d_report(res: dict) -> str:
         f"(estimate) | +- {100 * c.radius_bar / c.radius:.1g}% (estimate) | - | {c.wall_s:.1f} ({c.cpu_s:.1f}) | "
         "(whole ladder) |"
     )
+    reference = [r for r in sims if r.tool == "PyElastica" and r.resolution == "100 elements"]
+    if reference:
+        lines.append("")
+        for r in res["chain"]:
+            if "extrapolated" in r.tool:
+                lines.append(
+                    f"CPU against PyElastica at 100 elements ({reference[0].cpu_s:.1f} s): {r.tool}, {r.resolution}, "
+                    f"{r.cpu_s:.2f} s, {reference[0].cpu_s / r.cpu_s:.0f}x less."
+                )
     return "\n".join(lines) + "\n"
 
 

@@ -11,6 +11,8 @@ from elastoactive.core.errors import ParameterError
 from elastoactive.reduced import ChainSystem, rhs_reference, solve_ode
 from elastoactive.reduced.chain3d import (
     Chain3D,
+    choose_method,
+    jacobian,
     planar_angles,
     rhs,
     solve3d,
@@ -39,10 +41,77 @@ def _rotation_about_x(angle: float) -> np.ndarray:
 
 
 @pytest.mark.parametrize("clamped", [True, False])
-def test_compiled_rhs_equals_reference(clamped):
-    chain = Chain3D(n=6, sigma=0.9, gamma_l=1.7, clamped=clamped)
-    t = _random_tangents(6)
+@pytest.mark.parametrize("load", [(), (0.0, 0.0, 0.5, 0.0, 0.0, 1.0)])
+def test_compiled_rhs_equals_reference(clamped, load):
+    """The O(N) recursion against the dense solve, off the unit sphere too; and a long chain."""
+    chain = Chain3D(n=6, sigma=0.9, gamma_l=1.7, clamped=clamped, load=load)
+    t = _random_tangents(6) * np.linspace(0.99, 1.01, 6)[:, None]
     np.testing.assert_allclose(rhs(t, chain), rhs3d_reference(t, chain), atol=1e-12)
+    long = Chain3D(n=60, sigma=0.002, gamma_l=0.5, clamped=clamped)
+    t = _random_tangents(60, seed=5)
+    np.testing.assert_allclose(rhs(t, long), rhs3d_reference(t, long), atol=1e-11)
+
+
+def _central_differences(t: np.ndarray, chain: Chain3D, step: float = 1e-6) -> np.ndarray:
+    y = t.ravel()
+    columns = []
+    for j in range(y.size):
+        dy = np.zeros(y.size)
+        dy[j] = step
+        columns.append((rhs((y + dy).reshape(t.shape), chain) - rhs((y - dy).reshape(t.shape), chain)).ravel())
+    return np.array(columns).T / (2 * step)
+
+
+@pytest.mark.parametrize(
+    "shape", ["random", "stretched", "straight", "planar", "near the pole"]
+)  # fmt: skip
+def test_analytic_jacobian_equals_central_differences(shape):
+    """The analytic Jacobian against central differences of the right-hand side (error ~1e-10 of step 1e-6), at a
+    general shape with anisotropic drag and uneven loads, off the unit sphere, and where the bending gradient's
+    second derivative takes its small-angle limit (straight, nearly straight)."""
+    n = 7
+    chain = Chain3D(n=n, sigma=0.8, gamma_l=1.6, load=tuple(np.linspace(0.2, 1.0, n)))
+    t = {
+        "random": _random_tangents(n, seed=6),
+        "stretched": _random_tangents(n, seed=7) * np.linspace(0.98, 1.02, n)[:, None],
+        "straight": np.tile([1.0, 0.0, 0.0], (n, 1)),
+        "planar": tangents_of_angles(1e-4 * np.arange(n)),
+        "near the pole": _random_tangents(n, seed=8) * 0.2 + [0.0, 0.0, 1.0],
+    }[shape]
+    J = jacobian(t, chain)
+    assert np.abs(J - _central_differences(t, chain)).max() < 1e-8 * max(1.0, np.abs(J).max())
+
+
+def test_tip_loaded_planar_rhs_is_the_planar_loaded_model():
+    """Loaded at its tip only (load = (0, ..., 0, 1)), the chain in a plane is the planar model with the same
+    per-particle force factors."""
+    n, sigma = 6, 3.0
+    load = (0.0,) * (n - 1) + (1.0,)
+    theta = np.random.default_rng(9).standard_normal(n) * 0.5
+    planar = rhs_reference(_planar_system(n, sigma), beta=10.0, factor=np.array(load))(0.0, theta)
+    v = rhs(tangents_of_angles(theta), Chain3D(n=n, sigma=sigma, load=load))
+    normals = np.stack([-np.sin(theta), np.cos(theta), np.zeros(n)], axis=1)
+    np.testing.assert_allclose(np.einsum("ka,ka->k", v, normals), planar, atol=1e-13)
+    unloaded = rhs(tangents_of_angles(theta), Chain3D(n=n, sigma=sigma, load=(0.0,) * n))
+    np.testing.assert_allclose(unloaded, rhs(tangents_of_angles(theta), Chain3D(n=n, sigma=0.0)), atol=1e-15)
+
+
+def test_the_long_chain_near_onset_runs_implicit_and_agrees():
+    """N = 16 at S = N^3 sigma = 100: over a whirl period the stiffness picks LSODA with the analytic Jacobian, whose
+    path agrees with DOP853's to the tolerance (over a quarter period); a short chain keeps DOP853."""
+    n = 16
+    chain = Chain3D(n=n, sigma=100.0 / n**3)
+    s = (np.arange(n) + 0.5) / n
+    t0 = np.column_stack([np.ones(n), 0.3 * s, 0.3 * s * s])
+    t0 /= np.linalg.norm(t0, axis=1)[:, None]
+    period = 2 * np.pi / 278.0 * n**4
+    assert choose_method(np.linalg.eigvals(jacobian(t0, chain)), period) == "LSODA"
+    ts = np.linspace(0.0, 0.25 * period, 11)
+    implicit = solve3d(chain, ts, t0, rtol=1e-10, atol=1e-12, method="LSODA")
+    explicit = solve3d(chain, ts, t0, rtol=1e-10, atol=1e-12, method="DOP853")
+    assert np.abs(implicit - explicit).max() < 1e-7
+    short = Chain3D(n=5, sigma=0.8)
+    assert choose_method(np.linalg.eigvals(jacobian(_random_tangents(5), short)), 100.0) == "DOP853"
 
 
 def test_velocities_are_tangent_and_the_norm_is_held():
@@ -125,3 +194,9 @@ def test_bad_input_names_the_parameter():
         solve3d(Chain3D(n=3, sigma=0.5, gamma_l=0.0), np.linspace(0, 1, 3), _random_tangents(3))
     with pytest.raises(ParameterError, match="tangents0"):
         solve3d(Chain3D(n=3, sigma=0.5), np.linspace(0, 1, 3), _random_tangents(4))
+    with pytest.raises(ParameterError, match="load"):
+        rhs(_random_tangents(3), Chain3D(n=3, sigma=0.5, load=(1.0, 1.0)))
+    with pytest.raises(ParameterError, match="load"):
+        rhs(_random_tangents(3), Chain3D(n=3, sigma=0.5, load=(1.0, -1.0, 1.0)))
+    with pytest.raises(ParameterError, match="method"):
+        solve3d(Chain3D(n=3, sigma=0.5), np.linspace(0, 1, 3), _random_tangents(3), method="Euler")

@@ -9,7 +9,8 @@ Mapping (docs/model3d.md, section 5):
   lab-frame drag        three velocity actuators on particle_k along the site's x (gamma_L = drag ratio), y and z
                         (gamma_T = 1): -(gamma_L t t^T + gamma_T (1 - t t^T)) v, exactly
   follower force        the longitudinal drag actuator's control: its force gamma_L (ctrl - v_x) with ctrl =
-                        -sigma / gamma_L is -sigma t - gamma_L (v . t) t, the follower force plus the drag, computed
+                        -w_k sigma / gamma_L is -w_k sigma t - gamma_L (v . t) t, the follower force plus the drag
+                        (w_k the particle's load weight: 1 on a loaded particle, 0 on the others), computed
                         by MuJoCo at every stage from the body's own axis (no callback: MuJoCo's site transmission
                         turns it into generalised forces for ball joints and hinges alike)
   twist (ball joints)   a ball joint also turns link k about its own axis; no force of the model does (the particles
@@ -72,6 +73,13 @@ class Chain3DModel:
     dt."""
     twist_inertia: float | None = None
     """Inertia of each ball joint's twist (its armature); None: TWIST_INERTIA_STEPS C dt^2."""
+    load: tuple[float, ...] = ()
+    """The follower force's weight on each particle, N numbers >= 0 (1.0 loaded, 0.0 not: particle k carries -load[k]
+    sigma t_k); empty: every particle carries it. The reduced model's Chain3D.load."""
+
+    def weights(self) -> np.ndarray:
+        """The load's weight on each particle, N numbers (ones when load is empty)."""
+        return np.ones(self.n) if len(self.load) == 0 else np.asarray(self.load, dtype=float)
 
     @property
     def damping(self) -> float:
@@ -97,6 +105,10 @@ class Chain3DModel:
                 raise ParameterError(f"{name} must be finite and > 0, got {value}")
         if not (np.isfinite(self.sigma) and self.sigma >= 0):
             raise ParameterError(f"sigma must be finite and >= 0, got {self.sigma}")
+        if len(self.load) not in (0, self.n):
+            raise ParameterError(f"load must hold {self.n} weights (one per particle) or none, got {len(self.load)}")
+        if not all(np.isfinite(w) and w >= 0 for w in self.load):
+            raise ParameterError(f"load (the particles' weights) must be finite and >= 0, got {self.load}")
         return self
 
 
@@ -168,11 +180,11 @@ def compile3d(chain: Chain3DModel) -> mujoco.MjModel:
 
 
 def controls(model: mujoco.MjModel, chain: Chain3DModel) -> np.ndarray:
-    """The actuators' controls: -sigma / gamma_L on each longitudinal drag actuator (the follower force), 0 on the
-    others."""
+    """The actuators' controls: -w_k sigma / gamma_L on particle k's longitudinal drag actuator (the follower force on
+    it, w_k its load weight: chain.weights), 0 on the others."""
     ctrl = np.zeros(model.nu)
-    for k in range(chain.n):
-        ctrl[model.actuator(f"drag_long_{k}").id] = -chain.sigma / chain.drag_ratio
+    for k, weight in enumerate(chain.weights()):
+        ctrl[model.actuator(f"drag_long_{k}").id] = -weight * chain.sigma / chain.drag_ratio
     return ctrl
 
 

@@ -140,3 +140,17 @@ def test_free_ball_pivot_turns_rigidly_in_both_engines():
     mujoco_ = _turn_rate(simulate3d(Chain3DModel(n=n, sigma=sigma, clamped=False), ts, t0)[-500:], dt)
     assert reduced.std() < 1e-6 * reduced.mean() and mujoco_.std() < 1e-6 * mujoco_.mean()  # rigid and steady
     assert mujoco_.mean() == pytest.approx(reduced.mean(), rel=1e-3)
+
+
+def test_the_load_places_the_follower_force_on_the_loaded_particles_only():
+    """With load weights w_k the actuators' generalised force is sum_k J_k^T (-w_k sigma t_k - W_k v_k): the tip alone
+    at (0, 0, 0, 1); a load of the wrong length is refused in one line."""
+    n, sigma = 4, 0.7
+    chain = Chain3DModel(n=n, sigma=sigma, load=(0.0, 0.0, 0.0, 1.0))
+    model, data = prepare3d(chain, _random_tangents(n, seed=3))
+    mujoco.mj_forward(model, data)  # at rest: the drag is zero, the actuators carry the follower force alone
+    jacp, jacr = np.zeros((3, model.nv)), np.zeros((3, model.nv))
+    mujoco.mj_jacSite(model, data, jacp, jacr, model.site(f"particle_{n - 1}").id)
+    np.testing.assert_allclose(data.qfrc_actuator, jacp.T @ (-sigma * tangents_of(data, n)[-1]), atol=1e-12)
+    with pytest.raises(ParameterError, match="load must hold 4 weights"):
+        Chain3DModel(n=n, sigma=sigma, load=(1.0, 1.0)).checked()

@@ -498,8 +498,13 @@ def main(argv=None) -> int:
     ap.add_argument("--elastica3d", action="store_true", help="only section I (the 3D filament against PyElastica)")
     ap.add_argument("--elastica3d-out", type=Path, default=Path("docs/generated/benchmark_elastica3d.md"))
     ap.add_argument("--sweep", action="store_true", help="only section C (the MuJoCo sweep against the engine floor)")
+    ap.add_argument("--fluid", action="store_true", help="only the cilia through the fluid (scripts/bench_fluid.py)")
     args = ap.parse_args(argv)
     q = args.quick
+    if args.fluid:
+        from bench_fluid import main as bench_fluid  # this folder's script: the cost table against the beads
+
+        return bench_fluid(["--quick"] if q else [])
     if args.sweep:
         log(f"sweep (load {load()})")
         print("\n".join(sweep_report(bench_sweep(8 if q else 16, 50.0 if q else 100.0, 2 if q else 5))))

@@ -55,7 +55,8 @@ def test_without_the_fluid_a_cilium_is_chain3ds_chain_turned():
 
 def test_settled_velocities_are_the_reduced_models():
     """At the start, the settled coupling moves the beads of a pair on the wall as J^T M^-1 J q' = J^T F - dU/dq
-    (reduced.fluid.rhs): the fixed point of the flow is the overdamped motion, up to MuJoCo's small inertia."""
+    (reduced.fluid.rhs): the fixed point of the flow is the overdamped motion, up to MuJoCo's small inertia (its
+    centripetal forces ~ mass_ratio: measured 1.2e-4 of the largest velocity at every dt)."""
     n, sigma, a = 4, 1.0, 0.3
     t0 = _tangents(2, n, seed=3, spread=0.4)
     run = prepare_cilia(CiliaModel(n, sigma, PAIR, UP, radius=a, dt=0.001), t0)
@@ -66,7 +67,7 @@ def test_settled_velocities_are_the_reduced_models():
     beds = Beds(n, sigma, PAIR, UP, mobility="rpb", radius=a)
     expected = np.cumsum(rhs(t0, beds), axis=1) @ UP.T
     assert np.max(np.abs(expected)) > 0.3
-    np.testing.assert_allclose(v[:, 3:], expected.reshape(-1, 3), atol=2e-3 * np.max(np.abs(expected)))
+    np.testing.assert_allclose(v[:, 3:], expected.reshape(-1, 3), atol=5e-4 * np.max(np.abs(expected)))
 
 
 def test_a_coupled_pair_follows_the_reduced_model_to_first_order_in_dt():

@@ -52,9 +52,10 @@ def claims_table(rows: list[Claim], explanations: bool = True) -> str:
 
 def render_report(studies: Mapping[str, Study], figures: Mapping[str, list], meta: dict) -> str:
     """report.md from the studies (by name), the figures each wrote and the run's record (`meta`: command, size,
-    workers, wall_s, provenance, `timings`: {name: reproduce.Timing}, `kept`: the studies whose saved data were
-    reused, `unreadable`: those left out because their saved data cannot be read, `other_size`: those left out as of
-    another size)."""
+    workers, wall_s, provenance, `timings`: {name: reproduce.Timing}, `slowest`: the studies that took longest now
+    (reproduce.slowest), `load_average`: the machine's at the end, `kept`: the studies whose saved data were reused,
+    `unreadable`: those left out because their saved data cannot be read, `other_size`: those left out as of another
+    size)."""
     rows = build_claims(studies)
     n_yes = sum(c.agree == "yes" for c in rows)
     out = [
@@ -86,17 +87,37 @@ def render_report(studies: Mapping[str, Study], figures: Mapping[str, list], met
         for p in figures.get(entry.name, []):
             out.append(f"- `{p.name}` ({entry.name})")
     timings = meta.get("timings") or {}
-    out += ["", "## Run times", "", "| study | wall s | figures s |", "|---|---|---|"]
+    out += [
+        "",
+        "## Run times",
+        "",
+        "| study | wall s | figures s | CPU s | budget s |",
+        "|---|---|---|---|---|",
+    ]
     for entry in registry.entries():
         if entry.name in studies:
             t = timings.get(entry.name)
+            figures = "-" if t is None else f"{t.figures_s:.1f}"
+            cpu = "-" if t is None or t.kept else f"{t.cpu_s:.1f}"
+            over = " (over)" if t is not None and t.over else ""
             out.append(
-                f"| {entry.name} | {studies[entry.name].wall_s:.1f} | {'-' if t is None else f'{t.figures_s:.1f}'} |"
+                f"| {entry.name} | {studies[entry.name].wall_s:.1f} | {figures} | {cpu} | {entry.budget:.0f}{over} |"
             )
+    total = sum(entry.budget for entry in registry.entries() if entry.name in studies)
     out += [
         "",
         "wall s: the study itself, when it ran (its simulations, with the pools' start-up, and its analysis); "
-        "figures s: drawing its figures and files in this run.",
+        "figures s: drawing its figures and files in this run; CPU s: the process tree's CPU time over both (a loaded "
+        "machine stretches the wall time, hardly the CPU time: on an idle machine of n cores a study takes at least "
+        "CPU s / n); budget s: what the study's run may take at the quick size on an idle 2-core machine "
+        f"(registry.StudyEntry.budget; {total:.0f} s for these studies)"
+        + (f"; the slowest now: {meta['slowest']}" if meta.get("slowest") else "")
+        + (
+            f"; load average at the end {', '.join(f'{x:.1f}' for x in meta['load_average'])}"
+            if meta.get("load_average")
+            else ""
+        )
+        + ".",
     ]
     if meta.get("kept"):
         out += [

@@ -15,6 +15,9 @@ A folder is reproduced in place, study by study, so that work is never lost or s
   sizes; with `force` those studies are rerun when asked for, otherwise left out of the report;
 - on Ctrl-C the studies already finished stay saved (a rerun resumes after them); the one running is
   dropped, and `Interrupted` says which;
+- each study's figures are drawn in a process of their own while the next study runs (with more than one worker,
+  where pools fork), and each study's wall time, figures' time, CPU time (the process tree's) and declared budget
+  (studies.registry.StudyEntry.budget) go into the log, provenance.json and report.md, the slowest named;
 - one reproduce writes into a folder at a time: a second is refused in one line while the first holds the folder's
   lock file (LOCK), which a killed run leaves stale, never blocking.
 
@@ -26,9 +29,13 @@ them, the studies' boundary: they load both engines, which `elastoactive reprodu
 from __future__ import annotations
 
 import argparse
+import contextlib
+import dataclasses
 import hashlib
 import importlib.util
 import json
+import os
+import resource
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -36,6 +43,7 @@ from typing import NamedTuple
 
 from ..batch import default_workers
 from ..core.errors import ParameterError
+from ..io.executor import forks, process_pool
 from ..io.outputs import lock_file, provenance, utc_now, write_text
 
 CODE_KEY = "code"
@@ -49,11 +57,58 @@ the same folder is refused; one left by a killed run is taken over."""
 @dataclass(frozen=True)
 class Timing:
     """Wall time of one study in this run: the study itself (simulations, pool start-up and compilation in its
-    workers, analysis) and drawing its figures and files; `kept` when its saved data were reused."""
+    workers, analysis) and drawing its figures and files; `kept` when its saved data were reused. `cpu_s`: the CPU
+    time of the process tree over both (this process's threads and its finished worker processes), which a loaded
+    machine does not inflate as it does the wall time: on an idle machine of `cores` cores the study takes at least
+    cpu_s / cores. `budget_s`: the study's declared budget for its run (registry.StudyEntry.budget)."""
 
     study_s: float
     figures_s: float
     kept: bool = False
+    cpu_s: float = 0.0
+    budget_s: float = float("nan")
+
+    @property
+    def total_s(self) -> float:
+        """The study and its figures."""
+        return self.study_s + self.figures_s
+
+    @property
+    def over(self) -> bool:
+        """Ran now and took longer than its budget (on a loaded machine every study may)."""
+        return not self.kept and self.study_s > self.budget_s
+
+
+def cpu_seconds() -> float:
+    """CPU time so far of this process (its threads) and of its children that have ended (the batch's pools)."""
+    me, children = resource.getrusage(resource.RUSAGE_SELF), resource.getrusage(resource.RUSAGE_CHILDREN)
+    return me.ru_utime + me.ru_stime + children.ru_utime + children.ru_stime
+
+
+def _draw(name: str, study, out: Path) -> tuple[list[Path], float, float]:
+    """The figures and files of study `name` drawn into `out` (in this process or the figure process): the figures'
+    paths, the wall and CPU seconds it took."""
+    from ..studies import registry  # start-up time: the studies load both engines
+
+    wall, cpu = time.perf_counter(), time.process_time()
+    entry = registry.get(name)
+    paths = entry.draw(study, out)
+    entry.write_files(study, out)
+    return paths, time.perf_counter() - wall, time.process_time() - cpu
+
+
+def _drawn(result: Reproduction, name: str, drawn: tuple[list[Path], float, float]) -> None:
+    """Record `_draw`'s outcome for study `name`: its figures, and their time in its Timing."""
+    paths, wall, cpu = drawn
+    result.figures[name] = paths
+    timing = result.timings[name]
+    result.timings[name] = dataclasses.replace(timing, figures_s=wall, cpu_s=timing.cpu_s + cpu)
+
+
+def slowest(timings: dict[str, Timing], count: int = 3) -> str:
+    """The `count` studies that took longest now (study and figures), e.g. 'states3d 41 s, long_chain 30 s'."""
+    ran = sorted(((t.total_s, name) for name, t in timings.items() if not t.kept), reverse=True)
+    return ", ".join(f"{name} {wall:.0f} s" for wall, name in ran[:count])
 
 
 @dataclass
@@ -228,32 +283,61 @@ def _reproduce(
     if dropped:
         log(f"left out of the report (another size; --force): {', '.join(dropped)}")
 
-    for i, name in enumerate(to_run, 1):
-        entry = registry.get(name)
-        log(f"[{i}/{len(to_run)}] {name} ...")
-        t0 = t1 = time.perf_counter()
-        saved = False
-        try:
-            study: Study = entry.run_fn(size, workers=workers, progress=progress)
-            study.save(out, {**provenance(started, study.wall_s), CODE_KEY: code})
-            saved, t1 = True, time.perf_counter()
-            result.figures[name] = entry.draw(study, out)
-            entry.write_files(study, out)
-        except KeyboardInterrupt:
-            kept = result.ran + ([name] if saved else []) + to_keep
-            raise Interrupted(
-                f"interrupted during {name} ({i}/{len(to_run)}): "
-                + ("its data are saved, its figures not; " if saved else "its data were not saved; ")
-                + f"kept in {out}: {', '.join(kept) or 'no finished study'}; "
-                "rerun the same command to resume"
-            ) from None
-        result.studies[name] = study
-        result.ran.append(name)
-        result.timings[name] = Timing(t1 - t0, time.perf_counter() - t1)
-        log(
-            f"[{i}/{len(to_run)}] {name} done in {t1 - t0:.1f} s (figures {time.perf_counter() - t1:.1f} s) -> "
-            f"{', '.join(p.name for p in result.figures[name])}"
-        )
+    with contextlib.ExitStack() as stack:
+        # the figures of each study are drawn in a process of their own while the next study runs (a study leaves a
+        # core idle part of its time); in this process with one worker, or where pools do not fork
+        painter = stack.enter_context(process_pool(1)) if workers > 1 and forks() and len(to_run) > 1 else None
+        drawing = {}
+        for i, name in enumerate(to_run, 1):
+            entry = registry.get(name)
+            log(f"[{i}/{len(to_run)}] {name} (budget {entry.budget:.0f} s) ...")
+            t0 = t1 = time.perf_counter()
+            cpu0 = cpu_seconds()
+            saved = False
+            try:
+                study: Study = entry.run_fn(size, workers=workers, progress=progress)
+                study.save(out, {**provenance(started, study.wall_s), CODE_KEY: code})
+                saved, t1 = True, time.perf_counter()
+                if painter is None:
+                    drawn = _draw(name, study, out)
+                else:
+                    drawing[name] = painter.submit(_draw, name, study, out)
+            except KeyboardInterrupt:
+                kept = result.ran + ([name] if saved else []) + to_keep
+                raise Interrupted(
+                    f"interrupted during {name} ({i}/{len(to_run)}): "
+                    + ("its data are saved, its figures not; " if saved else "its data were not saved; ")
+                    + f"kept in {out}: {', '.join(kept) or 'no finished study'} (a figure not drawn yet is drawn "
+                    "by the rerun); rerun the same command to resume"
+                ) from None
+            result.studies[name] = study
+            result.ran.append(name)
+            timing = Timing(t1 - t0, 0.0, cpu_s=cpu_seconds() - cpu0, budget_s=entry.budget)
+            result.timings[name] = timing
+            if painter is None:
+                _drawn(result, name, drawn)
+                timing = result.timings[name]
+            log(
+                f"[{i}/{len(to_run)}] {name} done in {timing.study_s:.1f} s (budget {timing.budget_s:.0f} s; CPU "
+                f"{timing.cpu_s:.1f} s) -> "
+                + (
+                    ", ".join(p.name for p in result.figures[name]) + f" ({timing.figures_s:.1f} s)"
+                    if painter is None
+                    else "its figures drawn beside the next study"
+                )
+            )
+        for name, future in drawing.items():
+            _drawn(result, name, future.result())
+        if drawing:
+            log(
+                "figures: "
+                + ", ".join(f"{name} {result.timings[name].figures_s:.1f} s" for name in drawing)
+                + (
+                    f"; over budget: {', '.join(n for n in drawing if result.timings[n].over)}"
+                    if any(result.timings[n].over for n in drawing)
+                    else ""
+                )
+            )
 
     for name in report_names:  # the studies not run now: their figures and files, drawn again from their data
         if name not in result.figures:
@@ -262,7 +346,7 @@ def _reproduce(
             result.figures[name] = entry.draw(result.studies[name], out)
             entry.write_files(result.studies[name], out)
             result.kept.append(name)
-            result.timings[name] = Timing(0.0, time.perf_counter() - t1, kept=True)
+            result.timings[name] = Timing(0.0, time.perf_counter() - t1, kept=True, budget_s=entry.budget)
     result.studies = {n: result.studies[n] for n in report_names}
     result.wall_s = time.perf_counter() - start
     command = "elastoactive reproduce" + (" --full" if size == "full" else "") + (" --tiny" if size == "tiny" else "")
@@ -271,6 +355,8 @@ def _reproduce(
         CODE_KEY: code,
         "studies_run": result.ran,
         "studies_kept": result.kept,
+        "load_average": list(os.getloadavg()),
+        "timings": {name: dataclasses.asdict(t) for name, t in result.timings.items()},
     }
     write_text(out / "provenance.json", json.dumps(record, indent=2) + "\n")
     result.report = out / "report.md"
@@ -286,13 +372,24 @@ def _reproduce(
                 "command": command,
                 "provenance": record,
                 "timings": result.timings,
+                "slowest": slowest(result.timings),
+                "load_average": record["load_average"],
                 "kept": result.kept,
                 "unreadable": unreadable,
                 "other_size": dropped,
             },
         ),
     )
-    log(f"wrote {result.report} ({result.wall_s:.0f} s)")
+    log(
+        f"wrote {result.report} ({result.wall_s:.0f} s"
+        + (f"; slowest: {slowest(result.timings)}" if result.ran else "")
+        + (
+            f"; over budget: {', '.join(n for n, t in result.timings.items() if t.over)}"
+            if any(t.over for t in result.timings.values())
+            else ""
+        )
+        + ")"
+    )
     return result
 
 

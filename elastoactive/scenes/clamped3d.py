@@ -11,7 +11,11 @@ reports the tip's aspect, the whirl rate, the tip's radius, the bend and the sta
 Its automatic numerics (automatic_numerics): MuJoCo's error on the whirl is first order in dt, with a coefficient that
 grows with N and sigma (STEP_ERROR); where the default dt would miss ACCURACY_TARGET, a run whose dt,
 mass ratio and integrator are all left at their defaults takes the largest dt (a whole fraction of sample_dt) that meets
-it.
+it. From core.params.LONG_CHAIN particles on (drag ratio at most 1) it steps as the planar chain's long-chain numerics
+do: explicit drag (Euler) with the mass matched to that dt (dt / mass = core.params.LONG_CHAIN_DT_PER_MASS), whose step
+skips implicitfast's dense drag derivatives (3N actuators by 3N dofs: O(N^3), 3x the whole step at N = 40) and whose
+error on the whirl is implicitfast's at the same dt, of the opposite sign (N = 20, sigma 0.8, dt 0.0025: +0.19% in rate
+against -0.20%; N = 40 at the automatic dt 0.00139: +0.33% against -0.34%, the tip radius +0.19% against -0.15%).
 """
 
 from __future__ import annotations
@@ -47,6 +51,12 @@ the error halves with dt: first order), where it exceeds 0.25: the measured erro
 TIP = Signal("y_tip", "y_tip, the tip's displacement along the major axis of its path across the clamp axis", "l")
 
 
+def load_weights(physics: Physics) -> tuple[float, ...]:
+    """The follower force's weight on each particle (1.0 loaded, 0.0 not) as both engines' records take it
+    (reduced.chain3d.Chain3D.load, mjcf.chain3d.Chain3DModel.load): empty when every particle is loaded."""
+    return () if physics.all_loaded else tuple(float(w) for w in physics.load_mask())
+
+
 def tangents_of(theta: np.ndarray, n: int) -> np.ndarray:
     """Tangents (..., N, 3) from the recorded angles (..., 2N): azimuths then elevations."""
     phi, psi = theta[..., :n], theta[..., n:]
@@ -76,7 +86,7 @@ class Clamped3D(Scene):
     paced_by_beat = True  # a video shows one beat or turn a second (the tip's beat, beat_signals)
     sized_by_n = True
     builder = "elastoactive.mjcf.chain3d"
-    term_parameters = ("n", "sigma", "drag_ratio")
+    term_parameters = ("n", "sigma", "drag_ratio", "loaded")
     no_linear_operator = ""
     min_n = 2
     clamped = True
@@ -156,7 +166,7 @@ class Clamped3D(Scene):
         start = time.perf_counter()
         with Meter(duration, f"reduced {physics.scene}", progress) as meter:
             path = solve3d(
-                Chain3D(physics.n, physics.sigma, physics.drag_ratio, self.clamped),
+                Chain3D(physics.n, physics.sigma, physics.drag_ratio, self.clamped, load=load_weights(physics)),
                 ts,
                 self._start(physics, numerics, theta0),
                 rtol=rtol,
@@ -178,14 +188,22 @@ class Clamped3D(Scene):
         at their defaults (`automatic`), the default dt, or, where step_error x dt exceeds ACCURACY_TARGET, the
         largest dt that meets it (a whole fraction of sample_dt), as given numerics (so that nothing downstream, the
         pre-flight check or the summary, resolves them again). Never a larger dt than the default: the transient's
-        angles are held to the planar chain's accuracy too."""
+        angles are held to the planar chain's accuracy too. A chain of LONG_CHAIN particles or more steps that dt by
+        Euler with explicit drag and the mass dt / LONG_CHAIN_DT_PER_MASS, the planar long chain's matched mass
+        (core.params.long_chain_numerics), where the drag ratio is at most 1; a larger one would need a mass that
+        many times larger for the explicit drag's stability, which the inertial chain's resolution refuses (N = 60,
+        sigma 0.8, drag ratio 2), and keeps implicitfast."""
+        from ..core.params import LONG_CHAIN, LONG_CHAIN_DT_PER_MASS  # params imports the registry that holds scenes
+
         if not numerics.automatic:
             return numerics
         dt = float(numerics.dt)
         error = self.step_error(physics)
         if error * dt > ACCURACY_TARGET:
             dt = numerics.sample_dt / math.ceil(numerics.sample_dt * error / ACCURACY_TARGET - 1e-9)
-        return dataclasses.replace(numerics, dt=dt)
+        if physics.n < LONG_CHAIN or physics.drag_ratio > 1.0:
+            return dataclasses.replace(numerics, dt=dt)
+        return dataclasses.replace(numerics, dt=dt, mass_ratio=dt / LONG_CHAIN_DT_PER_MASS, integrator="Euler")
 
     def run_mujoco(
         self, physics: Physics, numerics: Numerics, duration: float, *, theta0=None, progress: bool = False, **options
@@ -216,6 +234,7 @@ class Clamped3D(Scene):
             mass_ratio=numerics.mass_ratio,
             dt=numerics.dt,
             integrator=numerics.integrator,
+            load=load_weights(physics),
         )
         meter = Meter(duration, f"mujoco {physics.scene}", progress)
         estimate = []
@@ -253,9 +272,7 @@ class Clamped3D(Scene):
         inertia scales with dt^2, is stable at any dt (mjcf.chain3d.TWIST_INERTIA_STEPS)."""
         from ..engines.timestep import check_chain_timestep  # engine boundary: the check loads mujoco
 
-        numerics = self.automatic_numerics(physics, numerics)
-        planar = scene_named(self.planar_scene).physics(n=physics.n, sigma=physics.sigma, drag_ratio=physics.drag_ratio)
-        return check_chain_timestep(planar, numerics, safety, accuracy)
+        return check_chain_timestep(self.planar(physics), self.automatic_numerics(physics, numerics), safety, accuracy)
 
     def reduced_methods(self) -> tuple[str, ...]:
         return ("DOP853",)
@@ -355,23 +372,46 @@ class Clamped3D(Scene):
         ax.legend(fontsize="small")
 
     # ------------------------------------------------------------------ stability
+    def planar(self, physics: Physics) -> Physics:
+        """The planar scene's physics (planar_scene) whose straight chain linearises as this one does in each plane:
+        the same n, sigma, drag ratio and loaded particles."""
+        return scene_named(self.planar_scene).physics(
+            n=physics.n, sigma=physics.sigma, drag_ratio=physics.drag_ratio, loaded=physics.loaded
+        )
+
     def onset(self, physics: Physics) -> Onset:
+        """The planar onset (analysis.stability3d.onset3d), where the in-plane and out-of-plane pairs cross together:
+        the straight chain's operator is the planar one twice, for every particle loaded and for some (the follower
+        force acts along the link, the same in both planes), so a partial load's onset is the planar scene's with
+        that load."""
         from ..analysis.stability3d import onset3d  # start-up time: scipy
 
+        if not physics.all_loaded:
+            planar = self.planar(physics)
+            onset = planar.scene_def.onset(planar)
+            return Onset(onset.sigma_c, onset.omega_c, f"flutter (Hopf), in-plane and out-of-plane pairs together, "
+                                                       f"loaded {physics.loaded}")  # fmt: skip
         sigma_c, omega_c = onset3d(physics.n, physics.drag_ratio)
         return Onset(sigma_c, omega_c, "flutter (Hopf), in-plane and out-of-plane pairs together")
 
     def leading_eigenvalue(self, physics: Physics, sigma: float) -> complex:
+        """The planar operator's (each plane's block of the 3D one); a partial load's from the planar scene."""
         from ..analysis.stability3d import linear_operator3d  # start-up time: scipy
 
+        if not physics.all_loaded:
+            planar = self.planar(physics)
+            return planar.scene_def.leading_eigenvalue(planar, sigma)
         lam = np.linalg.eigvals(linear_operator3d(physics.n, sigma, physics.drag_ratio, self.clamped))
         return complex(lam[np.argmax(lam.real)])
 
     def fastest_overdamped_rate(self, physics: Physics) -> float:
         """The largest |eigenvalue| of the straight chain's 3D linear operator (the planar one twice) at the physics'
-        sigma, 1/tau."""
+        sigma, 1/tau; a partial load's from the planar scene."""
         from ..analysis.stability3d import linear_operator3d  # start-up time: scipy
 
+        if not physics.all_loaded:
+            planar = self.planar(physics)
+            return planar.scene_def.fastest_overdamped_rate(planar)
         lam = np.linalg.eigvals(linear_operator3d(physics.n, physics.sigma, physics.drag_ratio, self.clamped))
         return float(np.abs(lam).max())
 

@@ -46,6 +46,9 @@ class Pivot3D(Clamped3D):
     )
     clamped = False
     planar_scene = "rotating-pin"
+    term_parameters = ("n", "sigma", "drag_ratio")
+    """Every particle loaded: the planar rotating pin's threshold (analysis.stability.rotation_threshold) is the fully
+    loaded chain's, so a partial load has no onset to hold the 3D turn to."""
     paced_by_beat = False
     compared = ("rotation_rate",)
     observables = (

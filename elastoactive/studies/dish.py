@@ -121,7 +121,7 @@ def _point(case: Case, r: Results) -> DishPoint:
     )
 
 
-DISH = registry.declare("dish", summary=DishSummary, order=150)
+DISH = registry.declare("dish", summary=DishSummary, order=150, budget=10)
 
 
 @DISH.run

@@ -84,7 +84,7 @@ class DisorderSummary(Summary):
     networks: list[NetworkActuation]
 
 
-DISORDER = registry.declare("disorder", summary=DisorderSummary, order=214)
+DISORDER = registry.declare("disorder", summary=DisorderSummary, order=214, budget=12)
 
 
 def _networks(size: str) -> list[tuple[str, dict]]:

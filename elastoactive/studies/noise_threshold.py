@@ -60,7 +60,7 @@ class NoiseThresholdSummary(Summary):
     duration: float
 
 
-NOISE_THRESHOLD = registry.declare("noise_threshold", summary=NoiseThresholdSummary, order=213)
+NOISE_THRESHOLD = registry.declare("noise_threshold", summary=NoiseThresholdSummary, order=213, budget=20)
 
 
 def _first(couplings: np.ndarray, moving: np.ndarray) -> float:

@@ -3,7 +3,7 @@
 A study module declares itself once, after its summary type, and attaches its pieces with
 decorators (as dm_control's `suite` tags its tasks)::
 
-    HOPF = registry.declare("hopf", summary=HopfSummary, order=30)
+    HOPF = registry.declare("hopf", summary=HopfSummary, order=30, budget=14.0, budget=16)
 
     @HOPF.run
     def hopf_study(size="quick", workers=None, progress=True) -> Study: ...
@@ -15,7 +15,10 @@ decorators (as dm_control's `suite` tags its tasks)::
     def hopf_claims(study, read) -> list[Claim]: ...
 
 `order` places the study in reproduce and its claim rows in the table; `reads` names the other
-studies its claim rows read (they get them in `read`, a dict holding those that were run). A leaf
+studies its claim rows read (they get them in `read`, a dict holding those that were run); `budget` is the wall time
+the study may take at the quick size on an idle 2-core machine (seconds; its figures are drawn beside the next study):
+the budgets of the built-in studies sum to at most QUICK_BUDGET_S less START_S (a test holds it), and reproduce sets
+each study's time against its budget. A leaf
 module (it imports nothing of the package but the registries' shared pieces), so that any module can register a
 study; the built-in studies register when `elastoactive.studies` is imported, those of the `elastoactive.studies`
 entry points when the registry is first listed (elastoactive.plugins).
@@ -29,6 +32,13 @@ from pathlib import Path
 from typing import Any
 
 from ..core.table import Registry, UnknownName
+
+QUICK_BUDGET_S = 240.0
+"""The wall time of the default (quick) `elastoactive reproduce` on an idle 2-core machine (seconds): every built-in
+study's budget, plus START_S."""
+START_S = 15.0
+"""The part of QUICK_BUDGET_S that is no study's: importing the package and the engines, the code digest, the figures
+not drawn while a study ran (the last study's; those whose drawing a study left no core for), report.md."""
 
 RunFn = Callable[..., Any]
 """run(size="quick", workers=None, progress=True) -> Study."""
@@ -45,11 +55,13 @@ SectionFn = Callable[[Any], str]
 
 @dataclass
 class StudyEntry:
-    """One registered study. `run` and `summary` are required; the other pieces are optional."""
+    """One registered study. `run`, `summary` and `budget` are required; the other pieces are optional."""
 
     name: str
     summary: type
     order: float
+    budget: float
+    """Seconds of wall time at the quick size on an idle 2-core machine (the study's run, not its figures)."""
     reads: tuple[str, ...] = ()
     run_fn: RunFn | None = None
     figures: list[FigureFn] = field(default_factory=list)
@@ -117,14 +129,23 @@ STUDIES: Registry[StudyEntry] = Registry(
 
 
 def declare(
-    name: str, *, summary: type, order: float, reads: tuple[str, ...] | list[str] = (), replace: bool = False
+    name: str,
+    *,
+    summary: type,
+    order: float,
+    budget: float,
+    reads: tuple[str, ...] | list[str] = (),
+    replace: bool = False,
 ) -> StudyEntry:
-    """Register a study called `name` with its summary type, its place in reproduce (`order`, ascending) and
-    the other studies its claim rows read; returns the entry whose decorators attach its pieces."""
+    """Register a study called `name` with its summary type, its place in reproduce (`order`, ascending), its budget
+    (seconds of wall time of its run at the quick size on an idle 2-core machine) and the other studies its claim rows
+    read; returns the entry whose decorators attach its pieces."""
     if not isinstance(name, str) or not name.isidentifier():
         raise ValueError(f"a study name must be an identifier (it names <name>.npz and <name>.json), got {name!r}")
+    if isinstance(budget, bool) or not isinstance(budget, (int, float)) or not 0.0 < budget < float("inf"):
+        raise ValueError(f"study {name}: budget must be a positive number of seconds, got {budget!r}")
     return STUDIES.register(
-        StudyEntry(name, summary, float(order), tuple(reads)), owner=f"study {name}", replace=replace
+        StudyEntry(name, summary, float(order), float(budget), tuple(reads)), owner=f"study {name}", replace=replace
     )
 
 

@@ -88,7 +88,7 @@ class ResponseSummary(EngineParts):
     reduced: ResponseEngine
 
 
-RESPONSE = registry.declare("response", summary=ResponseSummary, order=170)
+RESPONSE = registry.declare("response", summary=ResponseSummary, order=170, budget=11)
 
 
 def _omegas(res: rs.Resonance) -> list[float]:
@@ -356,7 +356,7 @@ class EntrainmentSummary(Summary):
     edges: list[TongueEdge]
 
 
-ENTRAINMENT = registry.declare("entrainment", summary=EntrainmentSummary, order=175)
+ENTRAINMENT = registry.declare("entrainment", summary=EntrainmentSummary, order=175, budget=7)
 
 
 def _beat_mismatch(traj, drive_frequency: float, transient: float) -> float:

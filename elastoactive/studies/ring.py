@@ -62,7 +62,7 @@ class RingSummary(Summary):
     """Free N = 7 ring: largest Theta amplitude (rad) over its sigmas and both engines."""
 
 
-RINGS = registry.declare("rings", summary=RingSummary, order=180)
+RINGS = registry.declare("rings", summary=RingSummary, order=180, budget=12)
 
 
 @RINGS.run

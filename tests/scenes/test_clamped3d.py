@@ -104,3 +104,86 @@ def test_a_long_chain_runs_and_records_its_automatic_dt():
     traj = ea.simulate(physics, ea.Numerics(sample_dt=0.01), duration=0.2, engine="mujoco")
     assert traj.info["automatic_numerics"]["dt"] == pytest.approx(0.002)
     assert summary(traj, ea.Numerics(sample_dt=0.01), 0.2, sensitivity=False)["numerics"]["dt"] == pytest.approx(0.002)
+
+
+@pytest.fixture(scope="module")
+def tip_runs():
+    """N = 3 loaded at its tip at sigma = 4 (onset 1.943, the planar tip-loaded chain's), 60 tau in each engine."""
+    physics = ea.Physics(scene="clamped-3d", n=3, sigma=4.0, loaded="tip")
+    return {engine: ea.simulate(physics, duration=60.0, engine=engine) for engine in ("reduced", "mujoco")}
+
+
+def test_tip_loaded_engines_whirl_alike(tip_runs):
+    """The follower force on the last particle only, in MuJoCo (its longitudinal actuator's control) and in the reduced
+    model (Chain3D.load): the same whirl within 1%, and not the fully loaded chain's."""
+    results = {engine: ea.measure(traj) for engine, traj in tip_runs.items()}
+    reduced, mujoco = results["reduced"], results["mujoco"]
+    assert reduced.extra["motion_state"] == mujoco.extra["motion_state"] == "whirl"
+    assert mujoco.frequency == pytest.approx(reduced.frequency, rel=0.01)
+    assert mujoco.amplitude == pytest.approx(reduced.amplitude, rel=0.01)
+    assert mujoco.extra["whirl_rate"] == pytest.approx(reduced.extra["whirl_rate"], rel=0.01)
+    assert mujoco.extra["tip_radius"] == pytest.approx(reduced.extra["tip_radius"], rel=0.01)
+    everywhere = ea.simulate(ea.Physics(scene="clamped-3d", n=3, sigma=4.0), duration=60.0, engine="reduced")
+    everywhere = ea.measure(everywhere)
+    assert abs(everywhere.extra["whirl_rate"] / reduced.extra["whirl_rate"] - 1) > 0.1
+
+
+def test_tip_loaded_onset_is_the_planar_tip_loaded_one():
+    """A partial load's straight chain linearises as the planar chain with that load in each plane: the numerical
+    Jacobian of the reduced 3D right-hand side with load (0, ..., 0, 1) has no coupling between the y and z blocks and
+    each block's spectrum is the planar tip-loaded operator's; the scene's onset is that chain's."""
+    from elastoactive.analysis import stability
+    from elastoactive.reduced.chain3d import Chain3D, rhs
+
+    n, sigma, step = 5, 1.3, 1e-6
+    chain = Chain3D(n=n, sigma=sigma, load=(0.0,) * (n - 1) + (1.0,))
+    operator = np.empty((2 * n, 2 * n))
+    for block, axis in enumerate((1, 2)):
+        for k in range(n):
+            columns = []
+            for sign in (1.0, -1.0):
+                t = np.tile([1.0, 0.0, 0.0], (n, 1))
+                t[k, axis] = sign * step
+                t[k] /= np.linalg.norm(t[k])
+                v = rhs(t, chain)
+                columns.append(np.concatenate([v[:, 1], v[:, 2]]))
+            operator[:, block * n + k] = (columns[0] - columns[1]) / (2 * step)
+    assert np.abs(operator[:n, n:]).max() < 1e-6 and np.abs(operator[n:, :n]).max() < 1e-6
+    mask = np.zeros(n, dtype=bool)
+    mask[-1] = True
+    planar = np.sort_complex(stability.eigenvalues(n, sigma, mask))
+    for block in (operator[:n, :n], operator[n:, n:]):
+        np.testing.assert_allclose(np.sort_complex(np.linalg.eigvals(block)), planar, atol=1e-6)
+    scene = ea.scenes.get("clamped-3d")
+    physics = ea.Physics(scene="clamped-3d", n=n, sigma=sigma, loaded="tip")
+    planar_onset = ea.scenes.get("one-pinned").onset(ea.Physics(scene="one-pinned", n=n, loaded="tip"))
+    assert scene.onset(physics).sigma_c == pytest.approx(planar_onset.sigma_c, rel=1e-12)
+    leading = scene.leading_eigenvalue(physics, sigma)
+    assert leading.real == pytest.approx(planar.real.max(), abs=1e-6)
+    assert leading.real > 0
+    assert abs(leading.imag) == pytest.approx(abs(planar[np.argmax(planar.real)].imag), abs=1e-6)
+
+
+def test_loaded_is_refused_on_the_free_pivot():
+    with pytest.raises(ea.ParameterError, match="loaded has no effect on scene rotating-pin-3d"):
+        ea.Physics(scene="rotating-pin-3d", n=5, loaded="tip")
+
+
+@pytest.mark.parametrize("n, drag_ratio, integrator", [(29, 1.0, "implicitfast"), (30, 1.0, "Euler"),
+                                                       (40, 0.5, "Euler"), (40, 2.0, "implicitfast")])  # fmt: skip
+def test_a_long_chain_steps_by_explicit_drag_with_a_matched_mass(n, drag_ratio, integrator):
+    """From LONG_CHAIN particles on (drag ratio at most 1) the automatic numerics keep the accuracy dt and step it by
+    Euler with the mass dt / LONG_CHAIN_DT_PER_MASS, the planar long chain's, which the pre-flight check passes."""
+    from elastoactive.core.params import LONG_CHAIN_DT_PER_MASS
+    from elastoactive.engines.timestep import check_timestep
+
+    scene = ea.scenes.get("clamped-3d")
+    physics = ea.Physics(scene="clamped-3d", n=n, sigma=0.8, drag_ratio=drag_ratio)
+    chosen = scene.automatic_numerics(physics, ea.Numerics())
+    assert chosen.integrator == integrator
+    assert chosen.dt * scene.step_error(physics) <= ACCURACY_TARGET * (1 + 1e-9)
+    if integrator == "Euler":
+        assert chosen.mass_ratio == pytest.approx(chosen.dt / LONG_CHAIN_DT_PER_MASS)
+        check_timestep(physics, ea.Numerics())
+    else:
+        assert chosen.mass_ratio == ea.Numerics().mass_ratio

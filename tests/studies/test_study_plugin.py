@@ -82,7 +82,7 @@ def toys(monkeypatch):
     CALLS.clear()
     STOP.clear()
     for name, ns, order, reads in (("toy_short", (2, 3), 1001, ()), ("toy_long", (3, 4), 1002, ("toy_short",))):
-        entry = registry.declare(name, summary=OnsetSummary, order=order, reads=reads)
+        entry = registry.declare(name, summary=OnsetSummary, order=order, budget=60.0, reads=reads)
         entry.run(_onset_study(name, ns))
         entry.figure(_figure)
         entry.claims(_claims)
@@ -98,14 +98,18 @@ def _quiet(*_):
 def test_a_study_registered_in_a_test_file_reaches_the_report(toys, tmp_path):
     assert "toy_long" in STUDIES and SUMMARIES["toy_long"] is OnsetSummary
     assert list(STUDIES)[-2:] == ["toy_short", "toy_long"]  # ordered by `order`, after the built-in studies
-    result = reproduce(tmp_path, "tiny", 1, only=list(toys), progress=False, log=_quiet)
+    result = reproduce(tmp_path, "tiny", 2, only=list(toys), progress=False, log=_quiet)  # figures in their process
     report = result.report.read_text()
     assert "- `toy_short_onset.png` (toy_short)" in report and "- `toy_long_onset.png` (toy_long)" in report
     assert (tmp_path / "toy_long_onset.png").stat().st_size > 5000
     assert "| 1 | toy_short: sigma_c falls as N^-3 at small N |" in report
     assert "| 2 | toy_long: sigma_c falls as N^-3 at small N |" in report and "with toy_short:" in report
     assert "## Claims (2 of 2 agree)" in report
-    assert "| study | wall s | figures s |" in report and "| toy_long | " in report  # each study's time, figures apart
+    assert "| study | wall s | figures s | CPU s | budget s |" in report  # each study's time, figures apart, its budget
+    assert "| toy_long | " in report and " | 60 |" in report and "(registry.StudyEntry.budget; 120 s" in report
+    assert result.timings["toy_long"].budget_s == 60.0 and result.timings["toy_long"].cpu_s > 0
+    record = json.loads((tmp_path / "provenance.json").read_text())
+    assert record["timings"]["toy_long"]["budget_s"] == 60.0 and len(record["load_average"]) == 3
     assert isinstance(load_study(tmp_path, "toy_long").summary, OnsetSummary)
 
 

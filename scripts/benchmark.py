@@ -499,8 +499,14 @@ def main(argv=None) -> int:
     ap.add_argument("--elastica3d-out", type=Path, default=Path("docs/generated/benchmark_elastica3d.md"))
     ap.add_argument("--sweep", action="store_true", help="only section C (the MuJoCo sweep against the engine floor)")
     ap.add_argument("--fluid", action="store_true", help="only the cilia through the fluid (scripts/bench_fluid.py)")
+    ap.add_argument("--mujoco3d", action="store_true", help="only MuJoCo's 3D chain against the planar one (per step, "
+                    "per dof-step, whole process: scripts/bench_mujoco3d.py)")  # fmt: skip
     args = ap.parse_args(argv)
     q = args.quick
+    if args.mujoco3d:
+        from bench_mujoco3d import main as mujoco3d
+
+        return mujoco3d([])
     if args.fluid:
         from bench_fluid import main as bench_fluid  # this folder's script: the cost table against the beads
 

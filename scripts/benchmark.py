@@ -41,7 +41,7 @@ I. the clamped filament in 3D from an out-of-plane start (--elastica3d runs this
 
 Timings are best of a few repeats unless said (the 2 cores are shared; the best is the least disturbed run);
 whole-process figures are medians. --quick shortens every part (about 1 min). --sweep runs section C alone and
-prints it (5 pairs of floor and sweep, about 1 min).
+prints it (5 pairs of floor and sweep, about 1 min); --startup section B alone (about 30 s).
 """
 
 from __future__ import annotations
@@ -234,6 +234,15 @@ np.save(sys.argv[1], sol.y.T)
 '''
 
 
+def startup_rtol() -> float:
+    """LSODA's rtol matching the compiled run in section A's first case (one-pinned, N = 7, sigma 0.8, 600 tau)."""
+    physics, numerics = Physics(n=7, sigma=0.8), Numerics()
+    ref = simulate_reduced(physics, numerics, 600.0, **REF_TOL).theta
+    target = MATCH * max(float(np.abs(simulate_reduced(physics, numerics, 600.0).theta - ref).max()), 1e-13)
+    lsoda = match_method(physics, 600.0, "LSODA", ref, target, np.inf, 10.0)
+    return lsoda["rtol"] if isinstance(lsoda, dict) else 1e-10
+
+
 def bench_process(lsoda_rtol: float, repeats: int) -> dict:
     physics, numerics, duration = Physics(n=7, sigma=0.8), Numerics(), 600.0
     system = system_of(physics)
@@ -342,6 +351,24 @@ def _plain_cell(r) -> str:
     return "- (" + r + ")"
 
 
+def process_report(proc: dict) -> list[str]:
+    """Section B's lines (bench_process's figures)."""
+    cli, plain, hlp = (statistics.median(proc[k]) for k in ("cli", "plain", "help"))
+    return [
+        "## B. Whole process (targets e, b): median of " + str(len(proc["cli"])) + " subprocess wall times",
+        "",
+        "| command | median s | all runs s | max angle error |",
+        "|---|---|---|---|",
+        f"| `{proc['cmd']}` | **{cli:.2f}** | {', '.join(f'{x:.2f}' for x in proc['cli'])} | {proc['err_cli']:.0e} |",
+        f"| plain script: numpy + scipy LSODA, same equations, rtol {proc['rtol']:.0e} | **{plain:.2f}** | "
+        f"{', '.join(f'{x:.2f}' for x in proc['plain'])} | {proc['err_plain']:.0e} |",
+        f"| `elastoactive --help` (target < 0.2 s) | **{hlp:.3f}** | {', '.join(f'{x:.3f}' for x in proc['help'])} | |",
+        "",
+        f"Whole process, CLI / plain script: **{plain / cli:.2f}x** faster. For scale, "
+        f"`python -c 'import numpy, scipy.integrate'` alone took {proc['imports']:.2f} s.",
+    ]
+
+
 def report(red, proc, sweep, mj, rl, cb, meta, steps=(), alt=(), alt_n=100, alt_tau=20.0) -> str:
     o = [
         f"# Benchmark ({meta['date']}, {meta['machine']})",
@@ -379,21 +406,7 @@ def report(red, proc, sweep, mj, rl, cb, meta, steps=(), alt=(), alt_n=100, alt_
             + ", ".join(meta["skipped"])
             + ".",
         ]
-    cli, plain, hlp = (statistics.median(proc[k]) for k in ("cli", "plain", "help"))
-    o += [
-        "",
-        "## B. Whole process (targets e, b): median of " + str(len(proc["cli"])) + " subprocess wall times",
-        "",
-        "| command | median s | all runs s | max angle error |",
-        "|---|---|---|---|",
-        f"| `{proc['cmd']}` | **{cli:.2f}** | {', '.join(f'{x:.2f}' for x in proc['cli'])} | {proc['err_cli']:.0e} |",
-        f"| plain script: numpy + scipy LSODA, same equations, rtol {proc['rtol']:.0e} | **{plain:.2f}** | "
-        f"{', '.join(f'{x:.2f}' for x in proc['plain'])} | {proc['err_plain']:.0e} |",
-        f"| `elastoactive --help` (target < 0.2 s) | **{hlp:.3f}** | {', '.join(f'{x:.3f}' for x in proc['help'])} | |",
-        "",
-        f"Whole process, CLI / plain script: **{plain / cli:.2f}x** faster. For scale, "
-        f"`python -c 'import numpy, scipy.integrate'` alone took {proc['imports']:.2f} s.",
-    ]
+    o += ["", *process_report(proc)]
     o += [
         "",
         *sweep_report(sweep),
@@ -497,6 +510,7 @@ def main(argv=None) -> int:
     ap.add_argument("--network-scale-out", type=Path, default=Path("docs/generated/benchmark_network_scale.md"))
     ap.add_argument("--elastica3d", action="store_true", help="only section I (the 3D filament against PyElastica)")
     ap.add_argument("--elastica3d-out", type=Path, default=Path("docs/generated/benchmark_elastica3d.md"))
+    ap.add_argument("--startup", action="store_true", help="only section B (the whole process, --help)")
     ap.add_argument("--sweep", action="store_true", help="only section C (the MuJoCo sweep against the engine floor)")
     ap.add_argument("--fluid", action="store_true", help="only the cilia through the fluid (scripts/bench_fluid.py)")
     ap.add_argument("--mujoco3d", action="store_true", help="only MuJoCo's 3D chain against the planar one (per step, "
@@ -511,6 +525,10 @@ def main(argv=None) -> int:
         from bench_fluid import main as bench_fluid  # this folder's script: the cost table against the beads
 
         return bench_fluid(["--quick"] if q else [])
+    if args.startup:
+        log(f"whole process (load {load()})")
+        print("\n".join(process_report(bench_process(startup_rtol(), 3 if q else 5))))
+        return 0
     if args.sweep:
         log(f"sweep (load {load()})")
         print("\n".join(sweep_report(bench_sweep(8 if q else 16, 50.0 if q else 100.0, 2 if q else 5))))

@@ -13,8 +13,12 @@ import ctypes
 
 import mujoco
 
-from . import _follower
-from .reference import reference_passive
+from ..core.jit_cache import use_keyed_cache
+
+use_keyed_cache()  # before any kernel module (hydro): numba reads its cache folder when first imported
+
+from . import _follower  # noqa: E402
+from .reference import reference_passive  # noqa: E402
 
 _CALLBACK_TYPE = ctypes.CFUNCTYPE(None, ctypes.c_void_p, ctypes.c_void_p)
 _ACT_DYN_TYPE = ctypes.CFUNCTYPE(ctypes.c_double, ctypes.c_void_p, ctypes.c_void_p, ctypes.c_int)

@@ -19,14 +19,13 @@ finite mass), solved without MuJoCo: arrays and records in, arrays out.
   network.py               the elastic network of self-aligning units: right-hand side, Jacobian, normal modes
                            (dense, or sparse for large networks), the solvers
   network_kernels.py       the network's compiled kernels: right-hand side, DOP853, Euler-Maruyama, the noise draw
-  jit_cache.py             numba's on-disk cache, in a folder keyed by this package's sources
 
 This package knows no scene and no Physics: elastoactive.engines.reduced turns a Physics into a
 ChainSystem (Scene.reduced_system) and a Trajectory. Importing it is cheap (numpy and numba's import); the names
 of solve.py, which need numba, load it on first use.
 """
 
-from .jit_cache import use_keyed_cache
+from ..core.jit_cache import use_keyed_cache
 
 use_keyed_cache()  # before any kernel module: numba reads its cache folder when first imported
 

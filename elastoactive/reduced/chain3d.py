@@ -51,6 +51,7 @@ import numpy as np
 from numba import njit
 
 from ..core.errors import ParameterError
+from .blas import one_blas_thread
 
 __all__ = [
     "METHODS3D",
@@ -526,8 +527,6 @@ def solve3d(
     Jacobian at the start, before the first step: it may refuse the run."""
     # start-up time: scipy.integrate costs ~0.4 s to import; only the integration needs it
     from scipy.integrate import solve_ivp
-
-    from .blas import one_blas_thread
 
     if method is not None and method not in METHODS3D:
         raise ParameterError(f"method must be one of {', '.join(METHODS3D)} (or None: automatic), got {method!r}")

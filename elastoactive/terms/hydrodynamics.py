@@ -64,9 +64,5 @@ class Hydrodynamics(Term):
                 "spheres, their drag is isotropic (drag_ratio 1)"
             )
 
-    def short_case(self, physics):
-        """Two cilia a little apart, above onset: the fluid couples them within a few tau."""
-        return physics(scene="cilia-pair", n=5, sigma=1.0, bead_radius=0.2)
-
 
 TERM = Hydrodynamics()

@@ -206,9 +206,10 @@ PURE = (
     "elastoactive.hydro",
     "elastoactive.core.errors",
     "elastoactive.core.constants",
+    "elastoactive.core.jit_cache",
 )
 """The packages and leaves below the scenes: the reduced engine's mathematics, the network records, the
-hydrodynamic mobilities, errors, constants."""
+hydrodynamic mobilities, errors, constants, numba's keyed cache."""
 
 
 @pytest.mark.parametrize("name", sorted(m for m in MODULES if m.startswith(PURE[:3])))

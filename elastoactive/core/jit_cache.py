@@ -2,18 +2,20 @@
 
 The kernels are compiled with cache=True. numba invalidates a cached function when its own file changes, but not
 when a function it calls, in another file, changes: after an edit of elastoactive/reduced/kernels_extended.py, a cached
-kernels.eval_rhs (which inlines it) would keep running the old code, silently. So the cache lives in a folder
-named by a digest of all the sources numba compiles (this package, elastoactive/reduced/): any edit, upgrade or
+kernels.eval_rhs (which inlines it) would keep running the old code, silently; nor when the function comes from
+another package (the fluid's kernel compiles in elastoactive.hydro's mobilities). So the cache lives in a folder
+named by a digest of all the sources numba compiles (the packages of COMPILED_PACKAGES): any edit, upgrade or
 checkout of another commit starts a fresh folder, and nothing stale is ever loaded.
 
-`use_keyed_cache` runs when elastoactive.reduced is imported, before any kernel module is (it imports nothing
-heavy: numba reads NUMBA_CACHE_DIR when it is first imported, and the worker processes inherit it). A folder
+`use_keyed_cache` runs when any package of COMPILED_PACKAGES is imported, before its kernel modules are (it imports
+nothing heavy: numba reads NUMBA_CACHE_DIR when it is first imported, and the worker processes inherit it). A folder
 given in NUMBA_CACHE_DIR by the user is kept as the base; the default base is the user's cache folder
 ($XDG_CACHE_HOME or ~/.cache)/elastoactive.
 """
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import os
 import sys
@@ -36,17 +38,24 @@ def source_digest(folders: list[Path]) -> str:
     return digest.hexdigest()[:16]
 
 
+COMPILED_PACKAGES = ("reduced", "hydro", "controllers")
+"""The packages of elastoactive that hold numba kernels; each calls use_keyed_cache in its __init__."""
+
+
 def _compiled_sources() -> list[Path]:
-    """The folder holding every module numba compiles: the reduced engine's package, elastoactive/reduced/."""
-    return [Path(__file__).resolve().parent]
+    """The folders holding every module numba compiles: the packages of COMPILED_PACKAGES."""
+    package = Path(__file__).resolve().parents[1]
+    return [(package / name).resolve() for name in COMPILED_PACKAGES]
 
 
 def default_base() -> Path:
     return Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "elastoactive"
 
 
+@functools.cache
 def use_keyed_cache() -> Path:
-    """Point numba's cache at base/numba-<digest of the compiled sources>; returns the folder."""
+    """Point numba's cache at base/numba-<digest of the compiled sources>; returns the folder (once per process:
+    every package of COMPILED_PACKAGES calls it on import)."""
     base = Path(os.environ.get(BASE_ENV) or os.environ.get(ENV) or default_base())
     folder = base / f"numba-{source_digest(_compiled_sources())}"
     try:  # numba raises at a kernel's definition when it cannot create its cache folder

@@ -7,7 +7,7 @@ import subprocess
 import sys
 from pathlib import Path
 
-from elastoactive.reduced import jit_cache
+from elastoactive.core import jit_cache
 
 
 def test_the_digest_changes_with_any_source_and_only_with_them(tmp_path):
@@ -26,28 +26,32 @@ def test_the_digest_changes_with_any_source_and_only_with_them(tmp_path):
 
 
 def test_numba_caches_in_the_folder_of_the_current_sources(tmp_path):
-    """In a fresh process: numba's live setting and the workers' environment name the keyed folder, under the base
-    the user gave."""
+    """In a fresh process, once a compiled package is imported (the mobilities here): numba's live setting and the
+    workers' environment name the keyed folder, under the base the user gave."""
     env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path)}
     env.pop(jit_cache.BASE_ENV, None)
     code = (
-        "import os, elastoactive, numba.core.config as c; from elastoactive.reduced import jit_cache as j;"
+        "import os, elastoactive.hydro, numba.core.config as c; from elastoactive.core import jit_cache as j;"
         "print(c.CACHE_DIR); print(os.environ['NUMBA_CACHE_DIR']); print(j.source_digest(j._compiled_sources()))"
     )
     out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True)
     live, inherited, digest = out.stdout.split()
     assert live == inherited == str(tmp_path / f"numba-{digest}")
     assert Path(live).is_dir()
-    assert {p.name for p in jit_cache._compiled_sources()} == {"reduced"}
+    assert {p.name for p in jit_cache._compiled_sources()} == set(jit_cache.COMPILED_PACKAGES)
 
 
 def test_every_compiled_kernel_lives_in_the_keyed_folder():
-    """The cache is keyed by elastoactive/reduced/ alone: a numba kernel anywhere else would be cached unkeyed."""
+    """The cache is keyed by the packages of COMPILED_PACKAGES alone: a numba kernel anywhere else would be cached
+    unkeyed, and each of them sets the keyed folder when it is imported."""
     root = Path(jit_cache.__file__).resolve().parents[2]
+    keyed = jit_cache._compiled_sources()
     outside = [
         str(path.relative_to(root))
         for folder in ("elastoactive", "analysis", "mjcf", "controllers")
         for path in (root / folder).rglob("*.py")
-        if "from numba import" in path.read_text() and "reduced" not in path.relative_to(root).parts
+        if "from numba import" in path.read_text() and not any(path.resolve().is_relative_to(k) for k in keyed)
     ]
     assert not outside, outside
+    for folder in keyed:
+        assert "use_keyed_cache()" in (folder / "__init__.py").read_text(), folder

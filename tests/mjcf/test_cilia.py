@@ -136,3 +136,18 @@ def test_bad_input_is_named(change, word):
     fields = {"n": 3, "sigma": 0.5, "bases": PAIR, "rotation": UP} | change
     with pytest.raises(ParameterError, match=word):
         CiliaModel(**fields).checked()
+
+
+def test_a_chain_in_free_space_follows_the_reduced_model():
+    """The free-space flow (RPY) on clamped-3d's chain (clamp along e_x at the origin): within the first-order error
+    of the wall's case."""
+    n, sigma, a = 5, 1.5, 0.3
+    t0 = _tangents(1, n, seed=7, spread=0.3)
+    ts = np.arange(0.0, 1.0 + 1e-9, 0.05)
+    origin, eye = np.zeros((1, 3)), np.eye(3)
+    reference = solve_fluid(Beds(n, sigma, origin, eye, mobility="rpy", radius=a), ts, t0, rtol=1e-10, atol=1e-12)
+    local = solve_fluid(Beds(n, sigma, origin, eye), ts, t0, rtol=1e-10, atol=1e-12)
+    path = simulate_cilia(CiliaModel(n, sigma, origin, eye, radius=a, flow="rpy", dt=0.001), ts, t0)
+    error = np.max(np.abs(path - reference))
+    assert error < 3e-3
+    assert np.max(np.abs(local - reference)) > 20 * error

@@ -158,10 +158,13 @@ def lag_spectrum(positions: np.ndarray, bases: np.ndarray, radius: float, flow: 
 
 # ------------------------------------------------------------------------------------- the coupled step
 @njit(cache=True)
-def flow_controls(xpos, xmat, actvel, sites, actuators, base, radius, code, gain, u, f, x, ctrl):
+def flow_controls(xpos, xmat, actvel, sites, actuators, base, radius, code, gain, springs, offsets, stiffness, u, f,
+                  x, extra, ctrl):  # fmt: skip
     """One update of the flow after mj_step1: from the sites' positions xpos and frames xmat (MuJoCo's site_xpos,
     site_xmat), the drag actuators' velocities actvel and the flow u (n, 3) the last step was taken in, the forces
-    f = g (v - u), the new flow u = (M - I / g) f (in place), and the drag actuators' controls base + R^T u."""
+    f = g (v - u), the new flow u = (M - I / g) f (in place), the springs' forces `extra` (n, 3) (spring s joins beads
+    springs[s] = (i, j): energy stiffness/2 |x_i - x_j - offsets[s]|^2), and the drag actuators' controls
+    base + R^T (u + extra / g)."""
     n = sites.shape[0]
     for k in range(n):
         s = sites[k]
@@ -174,9 +177,18 @@ def flow_controls(xpos, xmat, actvel, sites, actuators, base, radius, code, gain
             f[k, p] = gain * (v - u[k, p])
     flow_kernel(x, f, radius, code, 1.0 / gain, u)
     for k in range(n):
+        for p in range(3):
+            extra[k, p] = u[k, p]
+    for s in range(springs.shape[0]):
+        i, j = springs[s, 0], springs[s, 1]
+        for p in range(3):
+            pull = stiffness / gain * (x[i, p] - x[j, p] - offsets[s, p])
+            extra[i, p] -= pull
+            extra[j, p] += pull
+    for k in range(n):
         s = sites[k]
         for ax in range(3):
-            ua = xmat[s, ax] * u[k, 0] + xmat[s, 3 + ax] * u[k, 1] + xmat[s, 6 + ax] * u[k, 2]
+            ua = xmat[s, ax] * extra[k, 0] + xmat[s, 3 + ax] * extra[k, 1] + xmat[s, 6 + ax] * extra[k, 2]
             ctrl[actuators[k, ax]] = base[k, ax] + ua
 
 
@@ -200,12 +212,14 @@ _MJ_STEP2 = types.ExternalFunction("mj_step2", types.void(types.uintp, types.uin
 
 
 @njit(cache=True)
-def coupled_steps(nstep, m_ptr, d_ptr, xpos, xmat, actvel, sites, actuators, base, radius, code, gain, u, f, x, ctrl):
+def coupled_steps(nstep, m_ptr, d_ptr, xpos, xmat, actvel, sites, actuators, base, radius, code, gain, springs, offsets,
+                  stiffness, u, f, x, extra, ctrl):  # fmt: skip
     """nstep coupled steps in compiled code: MuJoCo's mj_step1, flow_controls, MuJoCo's mj_step2 (m_ptr, d_ptr: the
     model's and data's addresses; the arrays: views of the data's)."""
     for _ in range(nstep):
         _MJ_STEP1(m_ptr, d_ptr)
-        flow_controls(xpos, xmat, actvel, sites, actuators, base, radius, code, gain, u, f, x, ctrl)
+        flow_controls(xpos, xmat, actvel, sites, actuators, base, radius, code, gain, springs, offsets, stiffness, u, f,
+                      x, extra, ctrl)  # fmt: skip
         _MJ_STEP2(m_ptr, d_ptr)
 
 
@@ -218,11 +232,14 @@ class FluidCoupling:
                the model: the coupling's g)
     radius     the beads' radius a / l (the mobility's; ignored by 'identity')
     flow       one of FLOWS
+    springs    optional linear springs between beads: ((i, j) pairs (S, 2) of indices into sites, offsets (S, 3),
+               stiffness K): energy K/2 |x_i - x_j - offset|^2 each, its forces explicit, carried by the drag
+               actuators' controls as the flow is (the tips' spring of a pair of cilia)
 
     The controls the model has when the coupling is made (data.ctrl: the follower force) are its base, to which the
     flow is added; the flow starts at zero (the lab-frame drag) unless `settle` finds the start's."""
 
-    def __init__(self, model, data, sites, actuators, radius: float, flow: str):
+    def __init__(self, model, data, sites, actuators, radius: float, flow: str, springs=None):
         self.code = check_flow(flow)
         self.flow = flow
         self.sites = np.ascontiguousarray(sites, dtype=np.int64)
@@ -241,6 +258,15 @@ class FluidCoupling:
         self.u = np.zeros((n, 3))
         self.f = np.zeros((n, 3))
         self._x = np.zeros((n, 3))
+        self._extra = np.zeros((n, 3))
+        pairs, offsets, stiffness = springs if springs is not None else (np.zeros((0, 2)), np.zeros((0, 3)), 0.0)
+        self.springs = np.ascontiguousarray(pairs, dtype=np.int64).reshape(-1, 2)
+        self.offsets = np.ascontiguousarray(offsets, dtype=float).reshape(-1, 3)
+        self.stiffness = float(stiffness)
+        if self.offsets.shape[0] != self.springs.shape[0] or np.any((self.springs < 0) | (self.springs >= n)):
+            raise ParameterError(f"springs: pairs of bead indices in [0, {n}) (S, 2) with offsets (S, 3)")
+        if not (math.isfinite(self.stiffness) and self.stiffness >= 0):
+            raise ParameterError(f"springs: the stiffness must be finite and >= 0, got {stiffness!r}")
         self.compiled = COMPILED_STEPS
 
     def update(self, model, data) -> None:
@@ -248,7 +274,8 @@ class FluidCoupling:
         if self.code == RPB:
             check_above_wall(data.site_xpos[self.sites])
         flow_controls(data.site_xpos, data.site_xmat, data.actuator_velocity, self.sites, self.actuators, self.base,
-                      self.radius, self.code, self.gain, self.u, self.f, self._x, data.ctrl)  # fmt: skip
+                      self.radius, self.code, self.gain, self.springs, self.offsets, self.stiffness, self.u, self.f,
+                      self._x, self._extra, data.ctrl)  # fmt: skip
 
     def python_steps(self, model, data, nstep: int = 1) -> None:
         """nstep coupled steps from Python (mj_step1, update, mj_step2): the compiled loop's reference."""
@@ -264,7 +291,8 @@ class FluidCoupling:
             return
         coupled_steps(int(nstep), model._address, data._address, data.site_xpos, data.site_xmat,
                        data.actuator_velocity, self.sites, self.actuators, self.base, self.radius, self.code,
-                       self.gain, self.u, self.f, self._x, data.ctrl)  # fmt: skip
+                       self.gain, self.springs, self.offsets, self.stiffness, self.u, self.f, self._x, self._extra,
+                       data.ctrl)  # fmt: skip
         if self.code == RPB and not np.all(data.site_xpos[self.sites, 2] > 0.0):
             raise RuntimeError("a bead went through the wall z = 0 (a smaller dt)")
 

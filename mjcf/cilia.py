@@ -12,7 +12,8 @@ Drag and follower force as chain3d's: three velocity actuators per particle alon
 force on the longitudinal one's control (-sigma / g). With the fluid (radius > 0) the beads are spheres: all three
 actuators have one gain g, and elastoactive.controllers.hydro.FluidCoupling adds the background flow
 u = (M - I / g) f of the mobility M (Rotne-Prager-Blake above the wall, or Rotne-Prager-Yamakawa in free space) to
-their controls at every step. g is the coupling's optimal gain at the start (controllers.hydro.lag_spectrum) unless
+their controls at every step (and the explicit forces of springs between neighbouring cilia's tips, when
+tip_coupling > 0). g is the coupling's optimal gain at the start (controllers.hydro.lag_spectrum) unless
 given: the beads' motion does not depend on it, the lag's stability does. Without the fluid each cilium is
 chain3d's chain (drag ratio gamma_L on the longitudinal actuator), turned and moved.
 """
@@ -50,6 +51,8 @@ class CiliaModel:
     flow      the mobility with the fluid: 'rpb' (above the no-slip wall z = 0) or 'rpy' (free space)
     gain      the drag actuators' gain g with the fluid (None: the lag's optimal gain at the start)
     drag_ratio  gamma_L of the longitudinal drag without the fluid (1 with it: spheres)
+    tip_coupling  stiffness K l^2 / C1 of springs between neighbouring cilia's tips: energy
+                K/2 |r_tip,c - r_tip,c+1 - (b_c - b_c+1)|^2 each (reduced.fluid.Beds.tip_coupling), explicit
     mass_ratio, dt, integrator, twist_damping, twist_inertia   as chain3d.Chain3DModel's
     """
 
@@ -61,6 +64,7 @@ class CiliaModel:
     flow: str = "rpb"
     gain: float | None = None
     drag_ratio: float = 1.0
+    tip_coupling: float = 0.0
     mass_ratio: float = 1e-4
     dt: float = 0.0025
     integrator: str = "implicitfast"
@@ -103,6 +107,12 @@ class CiliaModel:
             raise ParameterError(f"flow must be one of {FLOWS[1:]}, got {self.flow!r}")
         if self.fluid and self.drag_ratio != 1.0:
             raise ParameterError(f"drag_ratio: the beads of a fluid are spheres (drag_ratio 1), got {self.drag_ratio}")
+        if not (np.isfinite(self.tip_coupling) and self.tip_coupling >= 0):
+            raise ParameterError(f"tip_coupling must be finite and >= 0, got {self.tip_coupling}")
+        if self.tip_coupling > 0 and self.drag_ratio != 1.0:
+            raise ParameterError(
+                f"drag_ratio: the tips' spring rides on isotropic drag actuators (drag_ratio 1), got {self.drag_ratio}"
+            )
         if self.gain is not None and not (np.isfinite(self.gain) and self.gain > 0):
             raise ParameterError(f"gain (the drag actuators' kv) must be finite and > 0, got {self.gain}")
         if self.fluid and self.flow == "rpb" and not np.all(bases[:, 2] + 1.0 > 0):
@@ -155,7 +165,7 @@ def build_spec(cilia: CiliaModel, gain: float = 1.0) -> mujoco.MjSpec:
             body.add_geom(name=f"{prefix}bead_{k}", default=bead, mass=cilia.mass_ratio, size=[BEAD_RADIUS, 0, 0])
             body.add_site(name=f"{prefix}particle_{k}", default=segment, userdata=[0.0])
             parent, pos, orientation = body, [1.0, 0.0, 0.0], [1.0, 0.0, 0.0, 0.0]
-    gains = (gain, gain, gain) if cilia.fluid else (cilia.drag_ratio, 1.0, 1.0)
+    gains = (gain, gain, gain) if cilia.fluid else (cilia.drag_ratio, 1.0, 1.0)  # gain 1 without the fluid
     for c in range(cilia.chains):
         for k in range(cilia.n):
             site = f"cilium{c}_particle_{k}"
@@ -217,8 +227,9 @@ class PreparedCilia:
 
 
 def prepare_cilia(cilia: CiliaModel, tangents0: np.ndarray, *, settle: bool = True) -> PreparedCilia:
-    """The cilia at rest at chain-frame tangents tangents0 (C, N, 3), the follower controls set; with the fluid, the
-    coupling made and (settle) its flow and the velocities converged to the start's overdamped motion."""
+    """The cilia at rest at chain-frame tangents tangents0 (C, N, 3), the follower controls set; with the fluid or
+    the tips' springs, the coupling made (the springs ride on it) and, with the fluid, (settle) its flow and the
+    velocities converged to the start's overdamped motion."""
     cilia.checked()
     t0 = np.asarray(tangents0, dtype=float)
     if t0.shape != (cilia.chains, cilia.n, 3):
@@ -230,10 +241,16 @@ def prepare_cilia(cilia: CiliaModel, tangents0: np.ndarray, *, settle: bool = Tr
     actuators = drag_actuators(model, cilia)
     data.ctrl[actuators[:, 0]] = -cilia.sigma / (gain if cilia.fluid else cilia.drag_ratio)
     mujoco.mj_forward(model, data)
-    if not cilia.fluid:
+    if not (cilia.fluid or cilia.tip_coupling > 0):
         return PreparedCilia(model, data, None, gain)
-    coupling = FluidCoupling(model, data, particle_sites(model, cilia), actuators, cilia.radius, cilia.flow)
-    steps = coupling.settle(model, data) if settle else 0
+    springs = None
+    if cilia.tip_coupling > 0:
+        tips = np.arange(cilia.chains) * cilia.n + cilia.n - 1
+        bases = np.asarray(cilia.bases, dtype=float)
+        springs = (np.column_stack([tips[:-1], tips[1:]]), bases[:-1] - bases[1:], cilia.tip_coupling)
+    flow = cilia.flow if cilia.fluid else "identity"  # the spring alone: no flow (u = 0 at the gain 1)
+    coupling = FluidCoupling(model, data, particle_sites(model, cilia), actuators, cilia.radius, flow, springs)
+    steps = coupling.settle(model, data) if settle and cilia.fluid else 0
     return PreparedCilia(model, data, coupling, gain, steps)
 
 

@@ -130,6 +130,8 @@ def test_hooks_are_told():
         ({"radius": 0.2, "flow": "identity"}, "flow"),
         ({"bases": np.zeros((2, 2))}, "bases"),
         ({"gain": -1.0}, "gain"),
+        ({"tip_coupling": -1.0}, "tip_coupling"),
+        ({"tip_coupling": 1.0, "drag_ratio": 2.0}, "drag_ratio"),
     ],
 )
 def test_bad_input_is_named(change, word):
@@ -151,3 +153,20 @@ def test_a_chain_in_free_space_follows_the_reduced_model():
     error = np.max(np.abs(path - reference))
     assert error < 3e-3
     assert np.max(np.abs(local - reference)) > 20 * error
+
+
+@pytest.mark.parametrize("radius", [0.0, 0.25])
+def test_the_tips_spring_is_the_reduced_models(radius):
+    """A pair joined by the tips' spring (K = 2), without and with the fluid: the coupling carries the spring's
+    explicit force; the run follows reduced.fluid's to its first-order error."""
+    n, sigma, k = 4, 1.5, 2.0
+    t0 = _tangents(2, n, seed=8, spread=0.3)
+    ts = np.arange(0.0, 1.0 + 1e-9, 0.05)
+    mobility = "rpb" if radius else "local"
+    beds = Beds(n, sigma, PAIR, UP, mobility=mobility, radius=radius, tip_coupling=k)
+    reference = solve_fluid(beds, ts, t0, rtol=1e-10, atol=1e-12)
+    free = solve_fluid(beds._replace(tip_coupling=0.0), ts, t0, rtol=1e-10, atol=1e-12)
+    path = simulate_cilia(CiliaModel(n, sigma, PAIR, UP, radius=radius, tip_coupling=k, dt=0.001), ts, t0)
+    error = np.max(np.abs(path - reference))
+    assert error < 3e-3
+    assert np.max(np.abs(free - reference)) > 20 * error

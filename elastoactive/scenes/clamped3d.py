@@ -153,16 +153,24 @@ class Clamped3D(Scene):
         from ..engines.runner import Meter, solver_budget  # engine boundary: numba and scipy
         from ..reduced.chain3d import Chain3D, solve3d
 
-        if method not in (None, "DOP853"):
-            raise ParameterError(f"method: {self.name} integrates by DOP853 only, got {method!r}")
+        if method is not None and method not in self.reduced_methods():
+            raise ParameterError(
+                f"method: {self.name} integrates by {', '.join(self.reduced_methods())} (or automatic), got {method!r}"
+            )
         ts = self._times(numerics, duration)
-        budget = solver_budget(
+        refuse = solver_budget(
             physics,
             duration,
             "the reduced engine's",
             start=("perturbation", numerics.perturbation) if theta0 is None else ("start-from", None),
             base_rate=lambda: self.fastest_overdamped_rate(physics),
         )
+        chosen = []
+
+        def budget(name, eig):  # the method solve3d runs (its automatic choice too), for the record
+            chosen.append(name)
+            return refuse(name, eig)
+
         start = time.perf_counter()
         with Meter(duration, f"reduced {physics.scene}", progress) as meter:
             path = solve3d(
@@ -174,7 +182,7 @@ class Clamped3D(Scene):
                 on_time=meter.at,
                 budget=budget,
             )
-        info = {"method": "DOP853", "rtol": rtol, "atol": atol}
+        info = {"method": chosen[0] if chosen else method, "rtol": rtol, "atol": atol}
         return Trajectory(ts, angles_of(path), physics, "reduced", time.perf_counter() - start, info)
 
     def step_error(self, physics: Physics) -> float:
@@ -275,7 +283,9 @@ class Clamped3D(Scene):
         return check_chain_timestep(self.planar(physics), self.automatic_numerics(physics, numerics), safety, accuracy)
 
     def reduced_methods(self) -> tuple[str, ...]:
-        return ("DOP853",)
+        from ..reduced.chain3d import METHODS3D  # engine boundary: numba
+
+        return METHODS3D
 
     # ------------------------------------------------------------------ trajectory
     def tangents(self, traj: Trajectory) -> np.ndarray:

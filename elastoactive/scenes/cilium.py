@@ -14,8 +14,11 @@ does nothing: a cilium is then a clamped-3d chain, bit for bit (the reduced engi
 reduced.chain3d, MuJoCo through mjcf.chain3d, from the same start), at its base; the cilia of a pair or row without the
 term or a spring are independent clamped-3d chains.
 
-Engines: the reduced engine always; MuJoCo while the term rests and no spring joins the tips (each cilium its own
-clamped-3d model), and it refuses the rest in one line.
+Engines: both. Cilia that share nothing (no fluid, no spring) run as clamped-3d chains, each its own model; coupled
+cilia run in one MuJoCo model (elastoactive.mjcf.cilia), the fluid carried as a background flow on the beads' drag
+actuators from the step before (elastoactive.controllers.hydro, docs/hydrodynamics.md) and the tips' spring as an
+explicit force beside it, at the implicit integrator (automatic_numerics) and a dt sized for the whirl's accuracy with
+the fluid's larger step error (FLUID_STEP_FACTOR).
 
 Observables: the first cilium's motion (scenes.clamped3d's: tip_aspect, whirl_rate, tip_radius, bend, motion_state,
 in its own frame: the tip's path across the wall normal) and pumped_flux, the mean volume flux the cilia pump along
@@ -37,7 +40,6 @@ from ..core.errors import ParameterError
 from ..core.observables import Observable
 from ..core.parameters import Parameter
 from ..core.trajectory import Trajectory
-from ..terms.hydrodynamics import mujoco_refusal
 from .base import Onset, PathView, ValidationCase
 from .clamped3d import Clamped3D, angles_of, tangents_of
 
@@ -58,6 +60,9 @@ BASE_HEIGHT = Parameter(
     symbol="h",
 )
 
+FLUID_STEP_FACTOR = 1.8
+"""MuJoCo's first-order error on a cilium's whirl with the fluid on, over its error without it at the same dt (N = 7,
+sigma 1, a/l = 0.2, h = 0.5: -0.165% against -0.091% at dt 0.005, halving with dt in both; docs/hydrodynamics.md)."""
 FLUID_TOLERANCES = (1e-6, 1e-8)
 """The reduced engine's (rtol, atol) with the fluid on: a pair of N = 7 on the wall (bead_radius 0.1, sigma 0.8) over
 1000 tau beats at f tau = 0.0686127255 with a tip phase difference of -1.5454156 rad at these and -1.5454160 rad at the
@@ -219,22 +224,63 @@ class Cilium(Clamped3D):
         theta = angles_of(path).reshape(ts.size, -1)
         return Trajectory(ts, theta, physics, "reduced", time.perf_counter() - start, info)
 
+    def step_error(self, physics: Physics) -> float:
+        """Clamped-3d's, FLUID_STEP_FACTOR times larger with the fluid on."""
+        error = super().step_error(physics)
+        return error * FLUID_STEP_FACTOR if physics.bead_radius > 0 else error
+
+    def automatic_numerics(self, physics: Physics, numerics: Numerics) -> Numerics:
+        """Clamped-3d's, except that coupled cilia keep the given integrator and mass: their coupling rides on the
+        drag actuators (mjcf.cilia), which the long chain's explicit-drag numerics do not have."""
+        chosen = super().automatic_numerics(physics, numerics)
+        if self._independent(physics) or chosen.integrator == numerics.integrator:
+            return chosen
+        return dataclasses.replace(chosen, integrator=numerics.integrator, mass_ratio=numerics.mass_ratio)
+
     def run_mujoco(
         self, physics: Physics, numerics: Numerics, duration: float, *, theta0=None, progress: bool = False, **options
     ) -> Trajectory:
-        refusal = mujoco_refusal(physics)
-        if refusal:
-            raise ParameterError(f"{self.name}: {refusal}")
-        if not self._independent(physics):
-            raise ParameterError(
-                f"{self.name}: tip_coupling = {self.tip_coupling(physics):g}: the MuJoCo engine has no spring between "
-                "the cilia's tips yet; use engine reduced"
-            )
-        runs = [
-            super(Cilium, self).run_mujoco(physics, numerics, duration, theta0=angles_of(s), progress=progress)
-            for s in self._starts(physics, numerics, theta0)
-        ]
-        return self._joined(runs, physics, "mujoco")
+        if self._independent(physics):  # no fluid, no spring: each cilium clamped-3d's own run
+            runs = [
+                super(Cilium, self).run_mujoco(physics, numerics, duration, theta0=angles_of(s), progress=progress)
+                for s in self._starts(physics, numerics, theta0)
+            ]
+            return self._joined(runs, physics, "mujoco")
+        from ..engines.runner import Meter, StepChunks, refuse_steps  # engine boundary: MuJoCo
+        from ..mjcf.cilia import CiliaModel, simulate_cilia
+
+        given, numerics = numerics, self.automatic_numerics(physics, numerics)
+        automatic = numerics is not given  # dt for the whirl's accuracy: sigma sets it
+        ts = self._times(numerics, duration)
+        refuse_steps(
+            (ts.size - 1) * numerics.steps_per_sample,
+            what=f"MuJoCo at dt = {numerics.dt:.3g}" + (" (automatic, for the whirl's accuracy)" if automatic else ""),
+            duration=duration,
+            cause="sigma" if automatic else "dt",
+            value=physics.sigma if automatic else numerics.dt,
+            advice="a smaller --sigma" if automatic else "a larger --dt",
+        )
+        cilia = CiliaModel(
+            physics.n, physics.sigma, self.bases(physics), ROTATION, radius=physics.bead_radius, flow="rpb",
+            drag_ratio=physics.drag_ratio, tip_coupling=self.tip_coupling(physics), mass_ratio=numerics.mass_ratio,
+            dt=numerics.dt, integrator=numerics.integrator,
+        )  # fmt: skip
+        prepared = []
+        meter = Meter(duration, f"mujoco {physics.scene}", progress)
+        start = time.perf_counter()
+        with meter:
+            path = simulate_cilia(cilia, ts, self._starts(physics, numerics, theta0), prepared=prepared.append,
+                                  chunked=lambda stepper: StepChunks(meter, stepper), reached=meter.at)  # fmt: skip
+        info = {"joints": "ball", "coupling_gain": float(prepared[0].gain), "settle_steps": prepared[0].settle_steps}
+        if automatic:
+            info["automatic_numerics"] = {
+                "integrator": numerics.integrator,
+                "dt": float(numerics.dt),
+                "mass_ratio": float(numerics.mass_ratio),
+                "reason": f"{self.name}: dt for the whirl's accuracy with the coupling (Cilium.automatic_numerics)",
+            }
+        theta = angles_of(path).reshape(ts.size, -1)
+        return Trajectory(ts, theta, physics, "mujoco", time.perf_counter() - start, info)
 
     def _joined(self, runs: list[Trajectory], physics: Physics, engine: str) -> Trajectory:
         """One trajectory of the cilia from each cilium's own run (theta: cilium by cilium)."""
@@ -243,13 +289,6 @@ class Cilium(Clamped3D):
         theta = np.concatenate([r.theta for r in runs], axis=1)
         wall = sum(r.wall_time_s for r in runs)
         return Trajectory(runs[0].t, theta, physics, engine, wall, {**runs[0].info, "cilia_runs": len(runs)})
-
-    def check_timestep(self, physics: Physics, numerics: Numerics, safety: float, accuracy: bool, **options):
-        """MuJoCo's refusal of what it does not carry (the fluid, the tips' spring), else clamped-3d's check."""
-        refusal = mujoco_refusal(physics)
-        if refusal:
-            raise ParameterError(f"{self.name}: {refusal}")
-        return super().check_timestep(physics, numerics, safety, accuracy, **options)
 
     # ------------------------------------------------------------------ trajectory
     def chain_tangents(self, traj: Trajectory) -> np.ndarray:

@@ -12,8 +12,9 @@ cilia-row); the others refuse it as having no effect on them (Physics), the pape
 beads would move out of the plane under the fluid's forces no more than they do now but their engines carry no
 mobility. The beads are spheres, so a drag_ratio other than 1 is refused while the term acts (`check`).
 
-Engines: the reduced engine only for now; the MuJoCo engine refuses a run with the term on in one line (the
-scenes' run_mujoco: `mujoco_refusal`).
+Engines: both. The reduced engine solves the constrained mobility problem (elastoactive.reduced.fluid); MuJoCo carries
+the coupling as a background flow on the beads' drag actuators, explicit from the step before, the self-drag implicit
+(elastoactive.controllers.hydro, elastoactive.mjcf.cilia; docs/hydrodynamics.md).
 """
 
 from __future__ import annotations
@@ -37,16 +38,6 @@ BEAD_RADIUS = Parameter(
     symbol="a",
     quiet_default=True,
 )
-
-
-def mujoco_refusal(physics) -> str:
-    """Why the MuJoCo engine does not run `physics` (a ParameterError's one line), or "" when it does."""
-    if physics.bead_radius > 0:
-        return (
-            f"bead_radius = {physics.bead_radius:g}: the MuJoCo engine does not carry the hydrodynamic "
-            "interactions yet; use engine reduced"
-        )
-    return ""
 
 
 class Hydrodynamics(Term):

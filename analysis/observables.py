@@ -290,6 +290,14 @@ def _whole_period_window(ts: np.ndarray, xs: np.ndarray, hysteresis: float = 0.1
     return slice(i0, i1)  # i1 excluded: its sample is the start of the next period
 
 
+def whole_period_mean(t, x, transient: float | None = None) -> float:
+    """The mean of x over a whole number of its periods after transients (from its first to its last upward mean
+    crossing), so that a window's ragged ends do not bias the mean of an oscillating signal; the plain mean where x
+    has fewer than two crossings."""
+    ts, xs = _steady(t, x, transient, min_samples=2)
+    return float(np.mean(xs[_whole_period_window(ts, xs)]))
+
+
 def _phase(ts: np.ndarray, xs: np.ndarray, whole_periods: bool) -> tuple[np.ndarray, np.ndarray]:
     from scipy.signal import hilbert  # start-up time: scipy.signal costs ~0.4 s to import
 

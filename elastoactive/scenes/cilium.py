@@ -36,6 +36,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..analysis import cilia as cilia_analysis
+from ..analysis import observables
 from ..core.errors import ParameterError
 from ..core.observables import Observable
 from ..core.parameters import Parameter
@@ -336,7 +337,8 @@ class Cilium(Clamped3D):
 
     def pumped_flux(self, traj: Trajectory, transient: float) -> float:
         """The steady mean of Blake's flux 6 a sum_i F_x,i z_i, the beads' forces on the fluid from the state
-        (reduced.fluid.fluid_forces); NaN without the fluid."""
+        (reduced.fluid.fluid_forces), over a whole number of its periods (a whirl's flux oscillates about a mean
+        that is small against its swing, so a ragged window would bias it); NaN without the fluid."""
         physics = traj.physics
         if not physics.bead_radius > 0:
             return math.nan
@@ -348,7 +350,8 @@ class Cilium(Clamped3D):
         beds = self.beds(physics)
         forces = np.stack([fluid_forces(t, beds) for t in tangents])
         heights = self.positions(traj)[keep][..., 2]
-        return float(np.mean(cilia_analysis.blake_flux(forces[..., 0], heights, physics.bead_radius)))
+        flux = cilia_analysis.blake_flux(forces[..., 0], heights, physics.bead_radius)
+        return observables.whole_period_mean(traj.t[keep], flux, transient=0.0)
 
     # ------------------------------------------------------------------ drawing
     def painter(self, traj: Trajectory, **options):

@@ -223,3 +223,13 @@ def test_bad_input_raises():
         ob.phase_frequency(t, x, trim=0.6)
     with pytest.raises(ValueError, match="x2"):
         ob.frequency_mismatch(t, x, x[:50])
+
+
+def test_whole_period_mean_is_unbiased_by_a_ragged_window():
+    """A sine of amplitude 1 about 0.01 over 3.4 periods: the plain mean is off by the 0.4 period's swing (~0.05),
+    the whole-period mean by the sampling alone."""
+    t = np.linspace(0.0, 3.4, 3401)
+    x = 0.01 + np.sin(2 * np.pi * t)
+    assert abs(np.mean(x) - 0.01) > 0.02
+    assert ob.whole_period_mean(t, x, transient=0.0) == pytest.approx(0.01, abs=2e-3)
+    assert ob.whole_period_mean(t[:50], x[:50], transient=0.0) == pytest.approx(np.mean(x[:50]))

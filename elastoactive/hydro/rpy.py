@@ -130,6 +130,21 @@ def rpy_kernel(x, a, out):
                     out[3 * j + q, 3 * i + p] = block[p, q]
 
 
+@njit(cache=True)
+def rpy_block_into(x, i, j, a, block):
+    """Write M_ij (3, 3) of beads i and j of x (n, 3) into block: rpy_kernel's entries one block at a time (i == j, or
+    zero separation: the self block), for kernels that build the mobility in pieces."""
+    dx = x[i, 0] - x[j, 0]
+    dy = x[i, 1] - x[j, 1]
+    dz = x[i, 2] - x[j, 2]
+    if dx == 0.0 and dy == 0.0 and dz == 0.0:
+        for p in range(3):
+            for q in range(3):
+                block[p, q] = 1.0 if p == q else 0.0
+    else:
+        rpy_pair(dx, dy, dz, a, block)
+
+
 def rpy_into(positions, radius, out: np.ndarray) -> np.ndarray:
     """Write the free-space RPY mobility of `positions` (n, 3) into `out` (3n, 3n, float64, C-contiguous); returns
     out. The compiled twin of `rpy`, for calls at every right-hand-side evaluation."""

@@ -45,8 +45,8 @@ import numpy as np
 from numba import njit
 
 from ..core.errors import ParameterError
-from ..hydro.blake import rpb_into, rpb_kernel
-from ..hydro.rpy import rpy_into, rpy_kernel
+from ..hydro.blake import rpb_block_into, rpb_into
+from ..hydro.rpy import rpy_block_into, rpy_into
 from .chain3d import _bend, _bend_into, basis_of
 from .dop853_loop import dop853_steps, integrate
 from .network import run_loop
@@ -81,6 +81,8 @@ class Beds(NamedTuple):
     gamma_l       drag along each link (local only; the beads of a fluid are spheres)
     tip_coupling  stiffness K l^2 / C1 of the springs between neighbouring chains' tips (0: none)
     clamped       a bending spring holds each chain's first link along its clamp axis (False: a free ball pivot)
+    cutoff        chains whose anchors are farther apart than cutoff (l) do not interact: their mobility blocks are
+                  left out (inf: none left out, the exact mobility; module docstring, "Scale")
     """
 
     n: int
@@ -92,6 +94,7 @@ class Beds(NamedTuple):
     gamma_l: float = 1.0
     tip_coupling: float = 0.0
     clamped: bool = True
+    cutoff: float = math.inf
 
     @property
     def chains(self) -> int:
@@ -126,6 +129,8 @@ class Beds(NamedTuple):
             raise ParameterError(f"gamma_l: mobility {self.mobility} moves spheres (gamma_l 1), got {self.gamma_l}")
         if not (np.isfinite(self.tip_coupling) and self.tip_coupling >= 0):
             raise ParameterError(f"tip_coupling must be finite and >= 0, got {self.tip_coupling}")
+        if not (self.cutoff > 0):
+            raise ParameterError(f"cutoff (l) must be > 0 (inf: every chain interacts), got {self.cutoff}")
         return self
 
 
@@ -137,13 +142,17 @@ def lab_positions(tangents: np.ndarray, beds: Beds) -> np.ndarray:
 
 def mobility_matrix(positions: np.ndarray, tangents: np.ndarray, beds: Beds) -> np.ndarray:
     """M (3B, 3B) of the beads at lab positions (B, 3) whose links have lab tangents (B, 3) (the local drag's
-    direction): elastoactive.hydro's compiled mobilities (their tests hold them to the references)."""
+    direction): elastoactive.hydro's compiled mobilities (their tests hold them to the references), less the blocks
+    between chains beyond beds.cutoff."""
     x = np.ascontiguousarray(positions, dtype=float).reshape(-1, 3)
     b = len(x)
-    if beds.mobility == "rpy":
-        return rpy_into(x, beds.radius, np.empty((3 * b, 3 * b)))
-    if beds.mobility == "rpb":
-        return rpb_into(x, beds.radius, np.empty((3 * b, 3 * b)))
+    if beds.mobility in ("rpy", "rpb"):
+        m = (rpy_into if beds.mobility == "rpy" else rpb_into)(x, beds.radius, np.empty((3 * b, 3 * b)))
+        bases = np.asarray(beds.bases, dtype=float)
+        far = np.linalg.norm(bases[:, None, :] - bases[None, :, :], axis=-1) > beds.cutoff
+        beads = np.repeat(far, 3 * beds.n, axis=0).repeat(3 * beds.n, axis=1)
+        m[beads] = 0.0
+        return m
     if beds.mobility == "identity":
         return np.eye(3 * b)
     u = np.asarray(tangents, dtype=float).reshape(-1, 3)
@@ -202,9 +211,34 @@ def rhs_reference(tangents: np.ndarray, beds: Beds) -> np.ndarray:
 
 
 @njit(cache=True)
-def eval_rhs_fluid(y, n, chains, sigma, gamma_l, clamped, code, radius, coupling, bases, rot, out):
+def eval_rhs_fluid(y, n, chains, sigma, gamma_l, clamped, code, radius, coupling, bases, rot, near, work, out):
     """t' of the chains into out (3 C n), at the chain-frame tangents y (3 C n, chain by chain, link by link): the
-    module docstring's q' = (A - B D^-1 B^T) r, D by Cholesky."""
+    module docstring's q' = (A - B D^-1 B^T) r with N built block by block between the chains `near` lists
+    (`Near`: every chain, or those within the cutoff), into the workspace `work` (`Work`); the tensions D^-1 B^T r by
+    Cholesky up to DIRECT_UP_TO links, by conjugate gradients beyond (`_tensions`)."""
+    u, norm2, E, P, Q, pos, w = _links(y, n, chains, sigma, clamped, coupling, bases, rot)
+    if code == RPB:
+        for k in range(pos.shape[0]):
+            if not pos[k, 2] > 0.0:  # a bead through the wall: no mobility; the solver stops on the NaN
+                out[:] = np.nan
+                return out
+    nbr, count, rev, self_slot = near
+    nb, nqb, db = work
+    _link_mobility(code, pos, Q, radius, gamma_l, n, nbr, count, rev, nb)
+    b = chains * n
+    x = np.zeros(3 * b)
+    z = np.empty(b)
+    _tension_system(nb, w, Q, n, nbr, count, x, nqb, db, z)
+    _tensions(db, z, n, nbr, count, self_slot)
+    _velocities(x, nqb, z, P, E, u, norm2, n, nbr, count, out)
+    return out
+
+
+@njit(cache=True)
+def _links(y, n, chains, sigma, clamped, coupling, bases, rot):
+    """(u, norm2, E, P, Q, pos, w) at the chain-frame tangents y: unit tangents u and their squared lengths, the
+    chain-frame bases E (b, 2, 3), the lab frames P (b, 2, 3) and tangents Q (b, 3), the beads' lab positions, and
+    w = P r (lab, one vector per link), r = J^T F - dU/dq."""
     b = chains * n
     u = np.empty((b, 3))
     norm2 = np.empty(b)
@@ -232,7 +266,6 @@ def eval_rhs_fluid(y, n, chains, sigma, gamma_l, clamped, code, radius, coupling
         for k in range(o + 1, o + n):
             _bend_into(u[k - 1, 0], u[k - 1, 1], u[k - 1, 2], u[k, 0], u[k, 1], u[k, 2], grad, k, 1.0)
             _bend_into(u[k, 0], u[k, 1], u[k, 2], u[k - 1, 0], u[k - 1, 1], u[k - 1, 2], grad, k - 1, 1.0)
-    # lab frame: the links' frames P (two columns) and Q (the tangent), the beads' positions and forces
     P = np.empty((b, 2, 3))
     Q = np.empty((b, 3))
     pos = np.empty((b, 3))
@@ -256,7 +289,6 @@ def eval_rhs_fluid(y, n, chains, sigma, gamma_l, clamped, code, radius, coupling
                 f = coupling * (pos[i, a] - pos[j, a] - bases[c, a] + bases[c + 1, a])
                 force[i, a] -= f
                 force[j, a] += f
-    # r = J^T F - dU/dq; w = P r (lab, one vector per link)
     w = np.zeros((b, 3))
     for c in range(chains):
         s0 = s1 = s2 = 0.0
@@ -269,92 +301,282 @@ def eval_rhs_fluid(y, n, chains, sigma, gamma_l, clamped, code, radius, coupling
                 rk -= E[k, al, 0] * grad[k, 0] + E[k, al, 1] * grad[k, 1] + E[k, al, 2] * grad[k, 2]
                 for a in range(3):
                     w[k, a] += P[k, al, a] * rk
-    # the mobility M, then N = S^-1 M S^-T (differences of consecutive beads' rows, then columns, within each chain)
-    size = 3 * b
-    m = np.empty((size, size))
-    if code == RPY:
-        rpy_kernel(pos, radius, m)
-    elif code == RPB:
-        for k in range(b):
-            if not pos[k, 2] > 0.0:  # a bead through the wall: no mobility; the solver stops on the NaN
-                out[:] = np.nan
-                return out
-        rpb_kernel(pos, radius, m)
-    else:
-        m[:, :] = 0.0
-        d = 1.0 / gamma_l - 1.0 if code == LOCAL else 0.0
-        for k in range(b):
-            for p in range(3):
-                for q in range(3):
-                    m[3 * k + p, 3 * k + q] = (1.0 if p == q else 0.0) + d * Q[k, p] * Q[k, q]
-    for c in range(chains):
-        for k in range(c * n + n - 1, c * n, -1):
-            for p in range(3):
-                for col in range(size):
-                    m[3 * k + p, col] -= m[3 * k - 3 + p, col]
-    for row in range(size):
-        for c in range(chains):
-            for k in range(c * n + n - 1, c * n, -1):
-                for q in range(3):
-                    m[row, 3 * k + q] -= m[row, 3 * k - 3 + q]
-    # x = N w, NQ = N Q, the tensions' matrix D = Q^T N Q and right-hand side z = Q^T x
-    x = np.zeros(size)
-    nq = np.zeros((size, b))
-    for row in range(size):
-        sx = 0.0
-        for k in range(b):
-            m0, m1, m2 = m[row, 3 * k], m[row, 3 * k + 1], m[row, 3 * k + 2]
-            sx += m0 * w[k, 0] + m1 * w[k, 1] + m2 * w[k, 2]
-            nq[row, k] = m0 * Q[k, 0] + m1 * Q[k, 1] + m2 * Q[k, 2]
-        x[row] = sx
-    dm = np.empty((b, b))
-    z = np.empty(b)
-    for i in range(b):
-        z[i] = Q[i, 0] * x[3 * i] + Q[i, 1] * x[3 * i + 1] + Q[i, 2] * x[3 * i + 2]
-        for j in range(i + 1):
-            dm[i, j] = Q[i, 0] * nq[3 * i, j] + Q[i, 1] * nq[3 * i + 1, j] + Q[i, 2] * nq[3 * i + 2, j]
-    # Cholesky D = L L^T in place (lower triangle), then the tensions D^-1 z
-    for j in range(b):
-        s = dm[j, j]
-        for p in range(j):
-            s -= dm[j, p] * dm[j, p]
-        dj = math.sqrt(s)
-        dm[j, j] = dj
-        for i in range(j + 1, b):
-            s = dm[i, j]
-            for p in range(j):
-                s -= dm[i, p] * dm[j, p]
-            dm[i, j] = s / dj
-    for i in range(b):
-        s = z[i]
-        for p in range(i):
-            s -= dm[i, p] * z[p]
-        z[i] = s / dm[i, i]
-    for i in range(b - 1, -1, -1):
-        s = z[i]
-        for p in range(i + 1, b):
-            s -= dm[p, i] * z[p]
-        z[i] = s / dm[i, i]
-    # q'_k = P_k^T (x - N Q lambda)_k; t'_k = E_k q'_k
-    for k in range(b):
+    return u, norm2, E, P, Q, pos, w
+
+
+@njit(cache=True)
+def _link_mobility(code, pos, Q, radius, gamma_l, n, nbr, count, rev, nb):
+    """nb[c, s] <- N_{c c'} (3n, 3n), c' = nbr[c, s]: the beads' mobility M between chains c and c', then its
+    differences of consecutive beads' rows and columns within each chain (N = S^-1 M S^-T, blockwise). Each pair of
+    chains is built once (c <= c'), its transpose copied."""
+    size = 3 * n
+    block = np.empty((3, 3))
+    d = 1.0 / gamma_l - 1.0 if code == LOCAL else 0.0
+    for c in range(nbr.shape[0]):
+        for s in range(count[c]):
+            c2 = nbr[c, s]
+            if c2 < c:
+                continue
+            blk = nb[c, s]
+            for i in range(n):
+                gi = c * n + i
+                for j in range(n):
+                    gj = c2 * n + j
+                    if c2 == c and j < i:
+                        for p in range(3):
+                            for q in range(3):
+                                blk[3 * i + p, 3 * j + q] = blk[3 * j + q, 3 * i + p]
+                        continue
+                    if code == RPB:
+                        rpb_block_into(pos, gi, gj, radius, block)
+                    elif code == RPY:
+                        rpy_block_into(pos, gi, gj, radius, block)
+                    else:
+                        for p in range(3):
+                            for q in range(3):
+                                block[p, q] = ((1.0 if p == q else 0.0) + d * Q[gi, p] * Q[gi, q]) if gi == gj else 0.0
+                    for p in range(3):
+                        for q in range(3):
+                            blk[3 * i + p, 3 * j + q] = block[p, q]
+            for i in range(n - 1, 0, -1):
+                for p in range(3):
+                    for col in range(size):
+                        blk[3 * i + p, col] -= blk[3 * i - 3 + p, col]
+            for row in range(size):
+                for j in range(n - 1, 0, -1):
+                    for q in range(3):
+                        blk[row, 3 * j + q] -= blk[row, 3 * j - 3 + q]
+            if c2 != c:
+                other = nb[c2, rev[c, s]]
+                for row in range(size):
+                    for col in range(size):
+                        other[col, row] = blk[row, col]
+
+
+@njit(cache=True)
+def _tension_system(nb, w, Q, n, nbr, count, x, nqb, db, z):
+    """x += N w, nqb[c, s] = N_{c c'} Q_c', the tensions' matrix D = Q^T N Q by blocks db[c, s] (n, n) and its
+    right-hand side z = Q^T x."""
+    for c in range(nbr.shape[0]):
+        for s in range(count[c]):
+            o2 = nbr[c, s] * n
+            blk = nb[c, s]
+            nq = nqb[c, s]
+            for row in range(3 * n):
+                sx = 0.0
+                for j in range(n):
+                    k = o2 + j
+                    m0, m1, m2 = blk[row, 3 * j], blk[row, 3 * j + 1], blk[row, 3 * j + 2]
+                    sx += m0 * w[k, 0] + m1 * w[k, 1] + m2 * w[k, 2]
+                    nq[row, j] = m0 * Q[k, 0] + m1 * Q[k, 1] + m2 * Q[k, 2]
+                x[3 * c * n + row] += sx
+            dd = db[c, s]
+            for i in range(n):
+                k = c * n + i
+                for j in range(n):
+                    dd[i, j] = Q[k, 0] * nq[3 * i, j] + Q[k, 1] * nq[3 * i + 1, j] + Q[k, 2] * nq[3 * i + 2, j]
+    for k in range(z.size):
+        z[k] = Q[k, 0] * x[3 * k] + Q[k, 1] * x[3 * k + 1] + Q[k, 2] * x[3 * k + 2]
+
+
+@njit(cache=True)
+def _velocities(x, nqb, lam, P, E, u, norm2, n, nbr, count, out):
+    """q'_k = P_k^T (x - N Q lambda)_k at the tensions lam; t'_k = E_k q'_k, less the drift off unit length."""
+    for c in range(nbr.shape[0]):
+        for s in range(count[c]):
+            o2 = nbr[c, s] * n
+            nq = nqb[c, s]
+            for row in range(3 * n):
+                acc = 0.0
+                for j in range(n):
+                    acc += nq[row, j] * lam[o2 + j]
+                x[3 * c * n + row] -= acc
+    for k in range(lam.size):
         v0, v1, v2 = x[3 * k], x[3 * k + 1], x[3 * k + 2]
-        for j in range(b):
-            v0 -= nq[3 * k, j] * z[j]
-            v1 -= nq[3 * k + 1, j] * z[j]
-            v2 -= nq[3 * k + 2, j] * z[j]
         q0 = P[k, 0, 0] * v0 + P[k, 0, 1] * v1 + P[k, 0, 2] * v2
         q1 = P[k, 1, 0] * v0 + P[k, 1, 1] * v1 + P[k, 1, 2] * v2
         h = 0.5 * (norm2[k] - 1.0)
         for a in range(3):
             out[3 * k + a] = E[k, 0, a] * q0 + E[k, 1, a] * q1 - h * u[k, a]
-    return out
+
+
+@njit(cache=True)
+def _cholesky_solve(dm, z, lo, hi):
+    """z[lo:hi] <- D^-1 z[lo:hi] of the block D = dm[lo:hi, lo:hi] (lower triangle read), factorised in place."""
+    _cholesky_factor(dm, lo, hi)
+    _factor_solve(dm, z, lo, hi)
+
+
+@njit(cache=True)
+def _cholesky_factor(dm, lo, hi):
+    """D = L L^T of the block dm[lo:hi, lo:hi] in place (lower triangle read and written)."""
+    for j in range(lo, hi):
+        s = dm[j, j]
+        for p in range(lo, j):
+            s -= dm[j, p] * dm[j, p]
+        dj = math.sqrt(s)
+        dm[j, j] = dj
+        for i in range(j + 1, hi):
+            s = dm[i, j]
+            for p in range(lo, j):
+                s -= dm[i, p] * dm[j, p]
+            dm[i, j] = s / dj
+
+
+@njit(cache=True)
+def _factor_solve(L, z, lo, hi):
+    """z[lo:hi] <- (L L^T)^-1 z[lo:hi], L = L[lo:hi, lo:hi] lower triangular."""
+    for i in range(lo, hi):
+        s = z[i]
+        for p in range(lo, i):
+            s -= L[i, p] * z[p]
+        z[i] = s / L[i, i]
+    for i in range(hi - 1, lo - 1, -1):
+        s = z[i]
+        for p in range(i + 1, hi):
+            s -= L[p, i] * z[p]
+        z[i] = s / L[i, i]
+
+
+DIRECT_UP_TO = 100
+"""Links up to which the tensions are solved by Cholesky (B^3 / 3); beyond, by conjugate gradients (`_tensions`)."""
+CG_TOLERANCE = 1e-13
+"""The conjugate gradients' stop: |D lambda - z| <= CG_TOLERANCE |z| (2-norms)."""
+
+
+@njit(cache=True)
+def _block_product(db, p, n, nbr, count, out):
+    """out = D p, D by its blocks db[c, s]."""
+    out[:] = 0.0
+    for c in range(nbr.shape[0]):
+        for s in range(count[c]):
+            o2 = nbr[c, s] * n
+            dd = db[c, s]
+            for i in range(n):
+                acc = 0.0
+                for j in range(n):
+                    acc += dd[i, j] * p[o2 + j]
+                out[c * n + i] += acc
+
+
+@njit(cache=True)
+def _block_jacobi(factors, r, n, out):
+    """out = blockdiag(D_cc)^-1 r, the chains' own blocks' Cholesky factors `factors` (C, n, n)."""
+    for i in range(r.size):
+        out[i] = r[i]
+    for c in range(factors.shape[0]):
+        _factor_solve(factors[c], out[c * n : c * n + n], 0, n)
+
+
+@njit(cache=True)
+def _tensions(db, z, n, nbr, count, self_slot):
+    """z <- D^-1 z, D symmetric positive definite by its blocks db[c, s] (n, n) between chains c and nbr[c, s]: by
+    Cholesky of the whole matrix up to DIRECT_UP_TO links; beyond, by conjugate gradients preconditioned by each
+    chain's own block D_cc (Cholesky), from the block solution, until |D lambda - z| <= CG_TOLERANCE |z| (2-norms).
+    Returns the iterations (0: Cholesky; more than the links: not converged, z the last iterate)."""
+    chains = nbr.shape[0]
+    b = z.size
+    if b <= DIRECT_UP_TO:
+        dm = np.zeros((b, b))
+        for c in range(chains):
+            for s in range(count[c]):
+                o2 = nbr[c, s] * n
+                for i in range(n):
+                    for j in range(n):
+                        dm[c * n + i, o2 + j] = db[c, s, i, j]
+        _cholesky_solve(dm, z, 0, b)
+        return 0
+    factors = np.empty((chains, n, n))
+    for c in range(chains):
+        dd = db[c, self_slot[c]]
+        for i in range(n):
+            for j in range(i + 1):
+                factors[c, i, j] = dd[i, j]
+        _cholesky_factor(factors[c], 0, n)
+    rhs_ = z.copy()
+    target = CG_TOLERANCE * CG_TOLERANCE * (rhs_ @ rhs_)
+    _block_jacobi(factors, rhs_, n, z)
+    r = np.empty(b)
+    dp = np.empty(b)
+    _block_product(db, z, n, nbr, count, dp)
+    for i in range(b):
+        r[i] = rhs_[i] - dp[i]
+    s_ = np.empty(b)
+    _block_jacobi(factors, r, n, s_)
+    p = s_.copy()
+    rs = r @ s_
+    for it in range(1, b + 1):
+        if r @ r <= target:
+            return it
+        _block_product(db, p, n, nbr, count, dp)
+        alpha = rs / (p @ dp)
+        for i in range(b):
+            z[i] += alpha * p[i]
+            r[i] -= alpha * dp[i]
+        _block_jacobi(factors, r, n, s_)
+        rs_new = r @ s_
+        beta = rs_new / rs
+        rs = rs_new
+        for i in range(b):
+            p[i] = s_[i] + beta * p[i]
+    return b + 1
+
+
+class Near(NamedTuple):
+    """Which chains' mobility blocks the kernel builds: chain c's with chains nbr[c, :count[c]] (itself included, at
+    slot self_slot[c]); c is at slot rev[c, s] of chain nbr[c, s]'s list."""
+
+    nbr: np.ndarray
+    count: np.ndarray
+    rev: np.ndarray
+    self_slot: np.ndarray
+
+
+class Work(NamedTuple):
+    """The kernel's workspace: N's blocks nb (C, S, 3n, 3n), N Q's nqb (C, S, 3n, n), D's db (C, S, n, n), S the
+    longest Near list."""
+
+    nb: np.ndarray
+    nqb: np.ndarray
+    db: np.ndarray
+
+
+def near_chains(beds: Beds) -> Near:
+    """The chains each chain's beads interact with: every chain within beds.cutoff (anchor to anchor), itself
+    included; only itself for the local drag's mobilities (no coupling)."""
+    bases = np.asarray(beds.bases, dtype=float)
+    chains = len(bases)
+    if beds.mobility in ("rpy", "rpb"):
+        apart = np.linalg.norm(bases[:, None, :] - bases[None, :, :], axis=-1)
+        close = apart <= beds.cutoff
+        np.fill_diagonal(close, True)
+    else:
+        close = np.eye(chains, dtype=bool)
+    lists = [np.flatnonzero(row) for row in close]
+    width = max(len(x) for x in lists)
+    nbr = np.zeros((chains, width), dtype=np.int64)
+    count = np.array([len(x) for x in lists], dtype=np.int64)
+    for c, x in enumerate(lists):
+        nbr[c, : len(x)] = x
+    slot = {(c, int(c2)): s for c, x in enumerate(lists) for s, c2 in enumerate(x)}
+    rev = np.zeros_like(nbr)
+    for c, x in enumerate(lists):
+        for s, c2 in enumerate(x):
+            rev[c, s] = slot[(int(c2), c)]
+    self_slot = np.array([slot[(c, c)] for c in range(chains)], dtype=np.int64)
+    return Near(nbr, count, rev, self_slot)
 
 
 def _arguments(beds: Beds) -> tuple:
-    """The kernel's arguments after (y, ...) and before out."""
+    """The kernel's arguments after (y, ...) and before out (the workspace allocated here: one per run)."""
+    near = near_chains(beds)
+    n, chains, width = int(beds.n), beds.chains, near.nbr.shape[1]
+    work = Work(
+        np.empty((chains, width, 3 * n, 3 * n)), np.empty((chains, width, 3 * n, n)), np.empty((chains, width, n, n))
+    )
     return (
-        int(beds.n),
-        beds.chains,
+        n,
+        chains,
         float(beds.sigma),
         float(beds.gamma_l),
         bool(beds.clamped),
@@ -363,6 +585,8 @@ def _arguments(beds: Beds) -> tuple:
         float(beds.tip_coupling),
         np.ascontiguousarray(beds.bases, dtype=float),
         np.ascontiguousarray(beds.rotation, dtype=float),
+        near,
+        work,
     )
 
 

@@ -6,6 +6,7 @@ import pytest
 
 from elastoactive.core.errors import ParameterError
 from elastoactive.hydro import rpy, rpy_into
+from elastoactive.hydro.rpy import rpy_block_into
 
 
 def _block(m, i, j):
@@ -33,6 +34,17 @@ def test_the_compiled_twin_equals_the_reference(case):
     out = np.full((3 * len(x), 3 * len(x)), np.nan)
     assert rpy_into(x, a, out) is out
     np.testing.assert_allclose(out, rpy(x, a), rtol=0, atol=1e-14)
+
+
+@pytest.mark.parametrize("case", range(5))
+def test_the_blocks_one_at_a_time_are_the_whole_matrix_s(case):
+    x, a = list(_clouds())[case]
+    whole = rpy(x, a)
+    block = np.full((3, 3), np.nan)
+    for i in range(len(x)):
+        for j in range(len(x)):
+            rpy_block_into(x, i, j, a, block)
+            np.testing.assert_allclose(block, _block(whole, i, j), rtol=0, atol=1e-14)
 
 
 @pytest.mark.parametrize("case", range(4))

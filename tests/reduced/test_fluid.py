@@ -41,6 +41,35 @@ def test_the_kernel_solves_the_equations_as_written(mobility):
     np.testing.assert_allclose(fluid.rhs(t, b), fluid.rhs_reference(t, b), rtol=0, atol=1e-12)
 
 
+@pytest.mark.parametrize("mobility", ["rpy", "rpb"])
+def test_many_chains_solve_the_equations_as_written_by_conjugate_gradients(mobility):
+    """Beyond DIRECT_UP_TO links the tensions come from preconditioned conjugate gradients: still the equations' rate
+    (the reference solves them densely)."""
+    chains = fluid.DIRECT_UP_TO // 7 + 2
+    b = beds(chains, mobility, 0.2, spacing=1.5)
+    t = bent(7, chains=chains, seed=8) * np.array([1.0, 0.3, 0.3])
+    t /= np.linalg.norm(t, axis=-1)[..., None]
+    assert chains * 7 > fluid.DIRECT_UP_TO
+    np.testing.assert_allclose(fluid.rhs(t, b), fluid.rhs_reference(t, b), rtol=0, atol=1e-10)
+
+
+def test_a_cutoff_leaves_out_the_far_chains_mobility_and_nothing_else():
+    """With a cutoff the kernel solves the equations with M's blocks between chains beyond it zeroed (the reference
+    zeroes them in the dense matrix); chains alone within it move as alone, and an infinite cutoff is the exact
+    mobility."""
+    t = bent(7, chains=4, seed=9) * np.array([1.0, 0.4, 0.4])
+    t /= np.linalg.norm(t, axis=-1)[..., None]
+    exact = beds(4, "rpb", 0.2)
+    cut = exact._replace(cutoff=4.0)  # neighbours (3 apart) interact, the next ones (6 apart) do not
+    np.testing.assert_allclose(fluid.rhs(t, cut), fluid.rhs_reference(t, cut), rtol=0, atol=1e-12)
+    assert np.abs(fluid.rhs(t, cut) - fluid.rhs(t, exact)).max() > 1e-6
+    np.testing.assert_array_equal(fluid.rhs(t, exact._replace(cutoff=np.inf)), fluid.rhs(t, exact))
+    alone = fluid.rhs(t, exact._replace(cutoff=1.0))
+    for c in range(4):
+        single = fluid.Beds(7, 2.3, exact.bases[c : c + 1], R, "rpb", 0.2).checked()
+        np.testing.assert_allclose(alone[c], fluid.rhs(t[c : c + 1], single)[0], rtol=0, atol=1e-13)
+
+
 def test_chains_far_apart_in_free_space_move_as_alone():
     """The RPY coupling decays like a / r: at 10^7 l apart a chain moves as it does alone, to 1e-6."""
     t = bent(7, chains=2, seed=5)
@@ -95,6 +124,7 @@ def test_a_solve_keeps_the_tangents_unit_and_reaches_its_end():
         ({"mobility": "stokes"}, "mobility"),
         ({"tip_coupling": -1.0}, "tip_coupling"),
         ({"rotation": np.ones((3, 3))}, "rotation"),
+        ({"mobility": "rpb", "radius": 0.2, "cutoff": 0.0}, "cutoff"),
     ],
 )
 def test_a_record_out_of_range_is_refused_naming_its_field(changes, named):

@@ -1,0 +1,61 @@
+"""The pair through the fluid at the tiny size (N = 5, 3 sigma_c, d = 1.5, short runs): planar beats started near in
+phase lock in phase and near anti-phase lock in anti-phase (both locks reached), co-rotating whirls lock in phase from
+both starts; the claim rows follow the data; the figure and the saved summary are made."""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+import pytest
+
+from elastoactive.studies import cilia_pair_sync, cilia_runs, load_study
+from elastoactive.studies.cilia_pair_sync import (
+    cilia_pair_sync_claims,
+    cilia_pair_sync_figures,
+    cilia_pair_sync_study,
+    start_lags,
+    tip_angles,
+)
+
+
+@pytest.fixture(scope="module")
+def study():
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(cilia_runs, "CYCLE_SETTLE", 24)
+        mp.setattr(cilia_pair_sync, "RUN_PERIODS", 20)
+        mp.setattr(cilia_pair_sync, "MEASURED_PERIODS", 6)
+        return cilia_pair_sync_study("tiny", workers=1, progress=False)
+
+
+def test_locks(study):
+    s = study.summary
+    states = {(r.cycle, round(r.start_lag, 2)): r for r in s.runs}
+    assert states["beat", 0.2].state == "in-phase" and abs(states["beat", 0.2].lag) < 0.05
+    assert states["beat", 2.94].state == "anti-phase" and abs(abs(states["beat", 2.94].lag) - math.pi) < 0.05
+    assert states["whirl", 0.2].state == states["whirl", 2.94].state == "in-phase"
+    assert set(s.periods) == {"beat", "whirl"} and s.scene == []
+    assert study.data["trace_psi"].shape == (4, cilia_pair_sync.TRACE_POINTS)
+
+
+def test_starts_and_angles():
+    assert start_lags("tiny", "beat") == (0.2, math.pi - 0.2)
+    assert len(start_lags("quick", "beat")) == 4 and len(start_lags("full", "whirl")) == 8
+    t = np.linspace(0.0, 2 * math.pi, 50)
+    positions = np.zeros((50, 2, 1, 3))
+    positions[:, 0, 0, :2] = np.column_stack([np.cos(t), np.sin(t)])
+    positions[:, 1, 0, :2] = np.column_stack([np.cos(t + 1.0), np.sin(t + 1.0)])
+    angles = tip_angles(positions)
+    assert np.allclose(np.angle(np.exp(1j * (angles[1] - angles[0]))), 1.0)
+
+
+def test_claims_follow_the_data(study, tmp_path):
+    rows = cilia_pair_sync_claims(study, {})
+    assert rows[0].agree == "yes" and rows[-1].agree == "yes"
+    runs = [dataclasses.replace(r, state="in-phase", lag=0.0) for r in study.summary.runs]
+    changed = dataclasses.replace(study, summary=dataclasses.replace(study.summary, runs=runs))
+    assert cilia_pair_sync_claims(changed, {})[0].agree == "no"
+    assert cilia_pair_sync_figures(study, tmp_path)[0].exists()
+    study.save(tmp_path)
+    assert load_study(tmp_path, "cilia_pair_sync").summary.runs[0].state == study.summary.runs[0].state

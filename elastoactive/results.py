@@ -18,6 +18,7 @@ from .core.observables import HARMONICS
 from .core.params import MIN_SAMPLES, Physics, option
 from .core.trajectory import Trajectory
 from .core.units import beat_signal, scene_units
+from .reduced.blas import one_blas_thread
 from .terms.base import ALIASING, fastest_term, slower_advice
 
 PerChain = float | tuple[float, ...]
@@ -132,7 +133,13 @@ def default_transient(duration: float) -> float:
 
 def measure(traj: Trajectory, transient: float | None = None) -> Results:
     """amplitude and frequency of Theta = theta_N - theta_1 (per chain for the pair), plus the
-    scene's own observables (Scene.measure_extra: snap_amplitude, rotation_rate, ...)."""
+    scene's own observables (Scene.measure_extra: snap_amplitude, rotation_rate, ...). On one BLAS thread: its
+    fits are small least-squares problems, where OpenBLAS's threads only spin (a third of a loaded run's CPU)."""
+    with one_blas_thread():
+        return _measure(traj, transient)
+
+
+def _measure(traj: Trajectory, transient: float | None) -> Results:
     t = traj.t
     transient = default_transient(t[-1] - t[0]) if transient is None else transient
     physics = traj.physics

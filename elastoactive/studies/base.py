@@ -25,6 +25,7 @@ from ..core.trajectory import Trajectory
 from ..engines import ENGINES
 from ..io.jsonio import from_jsonable, to_jsonable
 from ..io.outputs import write_files
+from ..io.progress import progress_bar
 
 __all__ = [
     "ENGINES",
@@ -153,6 +154,53 @@ def run_measured(
     if not cases:
         return []
     return run_cases(cases, workers=workers, progress=progress, keep_trajectory=keep_trajectory, desc=desc)
+
+
+def run_ramps(ramps: list, folder: Path, workers, progress: bool) -> list:
+    """Each ramp (elastoactive.protocols.Ramp) run and read back (api.load_sweep: an xarray Dataset, dims seed,
+    direction and the parameter), as protocols.run_ramp gives it, but with every seed of every ramp one task of one
+    pool of `workers` processes (None: every core): a seed's steps follow one another, the seeds and the ramps run
+    side by side, so that a study of several ramps with fewer seeds than cores (or a seed count the cores do not
+    divide) keeps every core busy. A seed's run does not depend on the others' (its start and its noise are its own),
+    so the result is run_ramp's. Files go to `folder`."""
+    import dataclasses
+
+    import xarray as xr
+
+    from ..api import load_sweep
+    from ..io.executor import default_workers, imap
+
+    jobs = [(dataclasses.replace(ramp, seeds=(seed,)), Path(folder) / f"ramp{k}_seed{seed}.nc") for k, ramp in
+            enumerate(ramps) for seed in ramp.seeds]  # fmt: skip
+    workers = default_workers() if workers is None else workers
+    bar = progress_bar(len(jobs), "ramps", "seed") if progress else None
+    try:
+        if workers <= 1 or len(jobs) <= 1:
+            for job in jobs:
+                _run_ramp_job(job)
+                if bar:
+                    bar.update()
+        else:
+            for _ in imap(_run_ramp_job, jobs, workers, completed=True):
+                if bar:
+                    bar.update()
+    finally:
+        if bar:
+            bar.close()
+    sweeps, k = [], 0
+    for ramp in ramps:
+        parts = [load_sweep(path) for _, path in jobs[k : k + len(ramp.seeds)]]
+        k += len(ramp.seeds)
+        sweeps.append(parts[0] if len(parts) == 1 else xr.concat(parts, dim="seed", data_vars="all"))
+    return sweeps
+
+
+def _run_ramp_job(job) -> None:
+    """One seed's ramp into its file (run_ramps' task, on one core)."""
+    from ..protocols import run_ramp  # start-up time: the protocols load the engines
+
+    ramp, path = job
+    run_ramp(ramp, path, workers=1)
 
 
 def fast(**kw) -> Numerics:

@@ -121,7 +121,7 @@ def _point(case: Case, r: Results) -> DishPoint:
     )
 
 
-DISH = registry.declare("dish", summary=DishSummary, order=150, budget=10)
+DISH = registry.declare("dish", summary=DishSummary, order=150, budget=12)
 
 
 @DISH.run
@@ -131,7 +131,7 @@ def dish_study(size: str = "quick", workers=None, progress: bool = True) -> Stud
     sigmas = pick(
         size,
         (0.3, 1.2),
-        (0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.8, 1.0, 1.2, 1.6, 2.0),
+        (0.1, 0.2, 0.3, 0.5, 0.8, 1.2, 2.0),
         tuple(np.round(np.geomspace(0.1, 3.0, 25), 4)),
     )
     traps = pick(

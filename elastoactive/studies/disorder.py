@@ -24,13 +24,12 @@ import numpy as np
 
 from ..analysis.network import stability
 from ..analysis.network.states import STATES
-from ..api import load_sweep
 from ..core.params import Numerics
 from ..networks.state import initial_state
 from ..scenes import network as network_scene
 from . import plotting as plots
 from . import registry
-from .base import Study, Summary, pick
+from .base import Study, Summary, pick, run_ramps
 from .claim_rows import Claim, fmt, span, verdict
 
 ALIGNMENT = 0.1
@@ -84,7 +83,7 @@ class DisorderSummary(Summary):
     networks: list[NetworkActuation]
 
 
-DISORDER = registry.declare("disorder", summary=DisorderSummary, order=214, budget=12)
+DISORDER = registry.declare("disorder", summary=DisorderSummary, order=214, budget=10)
 
 
 def _networks(size: str) -> list[tuple[str, dict]]:
@@ -128,7 +127,7 @@ def _bracket(network, seeds, numerics: Numerics) -> tuple[float, float, float, l
 @DISORDER.run
 def disorder_study(size: str = "quick", workers=None, progress: bool = True) -> Study:
     """Ramps up and down on each network, several seeds, with each network's linear bracket."""
-    from ..protocols import make_ramp, run_ramp  # start-up time: the protocols load the engines
+    from ..protocols import make_ramp  # start-up time: the protocols load the engines
 
     start = time.perf_counter()
     seeds = pick(size, (0,), (0, 1), (0, 1, 2, 3))
@@ -141,44 +140,46 @@ def disorder_study(size: str = "quick", workers=None, progress: bool = True) -> 
     )
     data: dict = {"couplings": np.asarray(couplings)}
     networks, speeds, states = [], [], []
+    nets = _networks(size)
+    physics = [network_scene.SCENE.physics(alignment_length=ALIGNMENT, **own) for _, own in nets]
+    ramps = [
+        make_ramp(p, "Pi", couplings, numerics=Numerics(sample_dt=0.25), seeds=seeds, duration=duration)
+        for p in physics
+    ]
     with tempfile.TemporaryDirectory() as folder:
-        for k, (name, own) in enumerate(_networks(size)):
-            physics = network_scene.SCENE.physics(alignment_length=ALIGNMENT, **own)
-            network = network_scene.SCENE.network(physics)
-            ramp = make_ramp(
-                physics, "Pi", couplings, numerics=Numerics(sample_dt=0.25), seeds=seeds, duration=duration
+        loops = run_ramps(ramps, Path(folder), workers, progress)
+    for (name, own), p, ramp, loop in zip(nets, physics, ramps, loops):
+        network = network_scene.SCENE.network(p)
+        state = loop.network_state.values.astype(int)  # (seed, direction, coupling): index into STATES
+        turning = np.isin(state, TURNING)
+        values = loop.Pi.values
+        softest, typical, ceiling, start_coupling = _bracket(network, seeds, ramp.numerics)
+        searched = size == "full" and not stability.floppy_modes(network)
+        best = stability.threshold(network, starts=4, samples=2).coupling if searched else float("nan")
+        free = ~network.pinned
+        degree = np.bincount(network.bonds.ravel(), minlength=network.n_nodes)
+        networks.append(
+            NetworkActuation(
+                name=name,
+                geometry=own["geometry"],
+                dilution=float(own.get("dilution", 0.0)),
+                network_seed=int(own.get("network_seed", 0)),
+                bonds=int(network.n_bonds),
+                coordination=float(degree[free].mean()),
+                floppy=int(stability.floppy_modes(network)),
+                softest=softest,
+                typical=typical,
+                best_found=float(best),
+                ceiling=ceiling,
+                start_coupling=[float(c) for c in start_coupling],
+                up_motion=[_first(values, state[s, 0] != FROZEN) for s in range(state.shape[0])],
+                up_start=[_first(values, turning[s, 0]) for s in range(turning.shape[0])],
+                down_stop=[_first(values, turning[s, 1]) for s in range(turning.shape[0])],
+                top_states=[STATES[state[s, 0, -1]] for s in range(state.shape[0])],
             )
-            loop = load_sweep(run_ramp(ramp, Path(folder) / f"net{k}.nc", workers=workers, progress=progress).path)
-            state = loop.network_state.values.astype(int)  # (seed, direction, coupling): index into STATES
-            turning = np.isin(state, TURNING)
-            values = loop.Pi.values
-            softest, typical, ceiling, start_coupling = _bracket(network, seeds, ramp.numerics)
-            searched = size == "full" and not stability.floppy_modes(network)
-            best = stability.threshold(network, starts=4, samples=2).coupling if searched else float("nan")
-            free = ~network.pinned
-            degree = np.bincount(network.bonds.ravel(), minlength=network.n_nodes)
-            networks.append(
-                NetworkActuation(
-                    name=name,
-                    geometry=own["geometry"],
-                    dilution=float(own.get("dilution", 0.0)),
-                    network_seed=int(own.get("network_seed", 0)),
-                    bonds=int(network.n_bonds),
-                    coordination=float(degree[free].mean()),
-                    floppy=int(stability.floppy_modes(network)),
-                    softest=softest,
-                    typical=typical,
-                    best_found=float(best),
-                    ceiling=ceiling,
-                    start_coupling=[float(c) for c in start_coupling],
-                    up_motion=[_first(values, state[s, 0] != FROZEN) for s in range(state.shape[0])],
-                    up_start=[_first(values, turning[s, 0]) for s in range(turning.shape[0])],
-                    down_stop=[_first(values, turning[s, 1]) for s in range(turning.shape[0])],
-                    top_states=[STATES[state[s, 0, -1]] for s in range(state.shape[0])],
-                )
-            )
-            speeds.append(loop.polarity_speed.values)
-            states.append(state)
+        )
+        speeds.append(loop.polarity_speed.values)
+        states.append(state)
     data["polarity_speed"] = np.asarray(speeds)  # (network, seed, direction, coupling)
     data["network_state"] = np.asarray(states)
     summary = DisorderSummary(

@@ -82,7 +82,7 @@ def _hopf_duration(
     return float(np.ceil(transient + window)), float(transient)
 
 
-HOPF = registry.declare("hopf", summary=HopfSummary, order=30, budget=16)
+HOPF = registry.declare("hopf", summary=HopfSummary, order=30, budget=15)
 
 
 @HOPF.run

@@ -22,13 +22,12 @@ import numpy as np
 
 from ..analysis.network import stability
 from ..analysis.network.states import STATES
-from ..api import load_sweep
 from ..core.params import Numerics
-from ..protocols import make_ramp, run_ramp
+from ..protocols import make_ramp
 from ..scenes import lattice, network
 from . import plotting as plots
 from . import registry
-from .base import Study, Summary, pick
+from .base import Study, Summary, pick, run_ramps
 from .claim_rows import Claim, fmt, span, verdict
 
 ALIGNMENT = 0.1
@@ -65,7 +64,7 @@ class HysteresisSummary(Summary):
     loops: list[LoopSummary]
 
 
-HYSTERESIS = registry.declare("hysteresis", summary=HysteresisSummary, order=212, budget=10)
+HYSTERESIS = registry.declare("hysteresis", summary=HysteresisSummary, order=212, budget=8)
 
 
 def _cases(size: str) -> list[tuple[str, object, dict, tuple[float, ...]]]:
@@ -93,18 +92,18 @@ def hysteresis_study(size: str = "quick", workers=None, progress: bool = True) -
     seeds = pick(size, (0,), (0, 1, 2), tuple(range(6)))
     duration = pick(size, 60.0, 400.0, 800.0)
     data: dict = {}
-    loops = []
+    cases = _cases(size)
+    physics = [scene.physics(alignment_length=ALIGNMENT, **own) for _, scene, own, _ in cases]
+    ramps = [
+        make_ramp(p, "Pi", couplings, numerics=Numerics(sample_dt=0.25), seeds=seeds, duration=duration)
+        for p, (_, _, _, couplings) in zip(physics, cases)
+    ]
     with tempfile.TemporaryDirectory() as folder:
-        for k, (name, scene, own, couplings) in enumerate(_cases(size)):
-            physics = scene.physics(alignment_length=ALIGNMENT, **own)
-            ramp = make_ramp(
-                physics, "Pi", couplings, numerics=Numerics(sample_dt=0.25), seeds=seeds, duration=duration
-            )
-            loop = run_ramp(ramp, Path(folder) / f"loop{k}.nc", workers=workers, progress=progress)
-            bracket = stability.threshold(
-                scene.network(physics), starts=pick(size, 1, 2, 6), samples=pick(size, 10, 50, 200)
-            )
-            loops.append(_summarise(name, load_sweep(loop.path), bracket, data, k))
+        sweeps = run_ramps(ramps, Path(folder), workers, progress)
+    loops = []
+    for k, ((name, scene, _, _), p, sweep) in enumerate(zip(cases, physics, sweeps)):
+        bracket = stability.threshold(scene.network(p), starts=pick(size, 1, 2, 6), samples=pick(size, 10, 50, 200))
+        loops.append(_summarise(name, sweep, bracket, data, k))
     return Study("hysteresis", size, data, HysteresisSummary(loops=loops), time.perf_counter() - start)
 
 

@@ -73,7 +73,7 @@ class ActiveSolidSummary(Summary):
     reduced_modes: list[list[int]]
 
 
-ACTIVE_SOLID = registry.declare("active_solid", summary=ActiveSolidSummary, order=210, budget=4)
+ACTIVE_SOLID = registry.declare("active_solid", summary=ActiveSolidSummary, order=210, budget=3)
 
 
 @ACTIVE_SOLID.run

@@ -78,7 +78,7 @@ class AnisotropySummary(EngineParts):
     reduced: AnisotropyEngine
 
 
-NOISE = registry.declare("noise", summary=NoiseSummary, order=100, reads=("anisotropy",), budget=3)
+NOISE = registry.declare("noise", summary=NoiseSummary, order=100, reads=("anisotropy",), budget=1)
 
 
 @NOISE.run
@@ -137,7 +137,7 @@ def noise_study(size: str = "quick", workers=None, progress: bool = True) -> Stu
     return Study("noise", size, data, summary, time.perf_counter() - start)
 
 
-ANISOTROPY = registry.declare("anisotropy", summary=AnisotropySummary, order=110, budget=3)
+ANISOTROPY = registry.declare("anisotropy", summary=AnisotropySummary, order=110, budget=1)
 
 
 @ANISOTROPY.run
@@ -279,7 +279,7 @@ def _reading_engine(amps, rows) -> NoiseEngine:
     )
 
 
-NOISE_READINGS = registry.declare("noise_readings", summary=NoiseReadingsSummary, order=120, budget=3)
+NOISE_READINGS = registry.declare("noise_readings", summary=NoiseReadingsSummary, order=120, budget=2)
 
 
 @NOISE_READINGS.run

@@ -3,7 +3,7 @@
 A study module declares itself once, after its summary type, and attaches its pieces with
 decorators (as dm_control's `suite` tags its tasks)::
 
-    HOPF = registry.declare("hopf", summary=HopfSummary, order=30, budget=14.0, budget=16)
+    HOPF = registry.declare("hopf", summary=HopfSummary, order=30, budget=15, budget=15)
 
     @HOPF.run
     def hopf_study(size="quick", workers=None, progress=True) -> Study: ...
@@ -36,7 +36,7 @@ from ..core.table import Registry, UnknownName
 QUICK_BUDGET_S = 240.0
 """The wall time of the default (quick) `elastoactive reproduce` on an idle 2-core machine (seconds): every built-in
 study's budget, plus START_S."""
-START_S = 15.0
+START_S = 10.0
 """The part of QUICK_BUDGET_S that is no study's: importing the package and the engines, the code digest, the figures
 not drawn while a study ran (the last study's; those whose drawing a study left no core for), report.md."""
 

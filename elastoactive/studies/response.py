@@ -88,7 +88,7 @@ class ResponseSummary(EngineParts):
     reduced: ResponseEngine
 
 
-RESPONSE = registry.declare("response", summary=ResponseSummary, order=170, budget=11)
+RESPONSE = registry.declare("response", summary=ResponseSummary, order=170, budget=9)
 
 
 def _omegas(res: rs.Resonance) -> list[float]:

@@ -62,7 +62,7 @@ class RingSummary(Summary):
     """Free N = 7 ring: largest Theta amplitude (rad) over its sigmas and both engines."""
 
 
-RINGS = registry.declare("rings", summary=RingSummary, order=180, budget=12)
+RINGS = registry.declare("rings", summary=RingSummary, order=180, budget=19)
 
 
 @RINGS.run
@@ -72,7 +72,7 @@ def ring_study(size: str = "quick", workers=None, progress: bool = True) -> Stud
     small = pick(size, (0.8, 3.0), (0.2, 3.0, 30.0), (0.1, 0.2, 0.4, 0.8, 1.5, 3.0, 6.0, 10.0, 20.0, 40.0, 80.0))
     large = pick(size, (0.5, 8.0), (0.25, 0.5, 2.0, 8.0), (0.1, 0.25, 0.5, 0.75, 1.0, 1.5, 2.0, 3.0, 4.0, 6.0, 8.0))
     free = pick(size, (0.8,), (0.2, 3.0), (0.1, 0.8, 3.0, 10.0, 30.0))  # the free N = 7 ring
-    duration = pick(size, 120.0, 250.0, 800.0)
+    duration = pick(size, 120.0, 200.0, 800.0)
     transient = duration / 2
     numerics = Numerics(dt=0.001, sample_dt=0.1)  # resolves the N = 24 ring's fastest rate up to sigma = 8 (~120/tau)
     grid = [(n, s, ring.PINNED) for n, sigmas in zip(SIZES_N, (small, large)) for s in sigmas]

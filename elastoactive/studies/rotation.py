@@ -51,7 +51,7 @@ class RotationSummary(EngineParts):
     reduced: RotationEngine
 
 
-ROTATION = registry.declare("rotation", summary=RotationSummary, order=60, budget=5)
+ROTATION = registry.declare("rotation", summary=RotationSummary, order=60, budget=4)
 
 
 @ROTATION.run

@@ -86,7 +86,7 @@ def _snap_measures(tr, transient):
     return snap, freq
 
 
-SNAPPING = registry.declare("snapping", summary=SnappingSummary, order=50, budget=12)
+SNAPPING = registry.declare("snapping", summary=SnappingSummary, order=50, budget=19)
 
 
 def narrow(lo: float, hi: float, probes: list[tuple[float, bool]]) -> tuple[float, float]:
@@ -104,7 +104,7 @@ def snapping_study(size: str = "quick", workers=None, progress: bool = True) -> 
     deltas = pick(
         size,
         (0.0, 0.1, 0.3),
-        (0.0, 0.01, 0.02, 0.05, 0.1, 0.15, 0.2, 0.3),
+        (0.0, 0.01, 0.05, 0.1, 0.2, 0.3),
         tuple(np.round(np.r_[0.0, 0.005, 0.01, 0.02, np.arange(0.03, 0.401, 0.025)], 4)),
     )
     dur7 = pick(size, 300.0, 800.0, 2000.0)
@@ -126,7 +126,7 @@ def snapping_study(size: str = "quick", workers=None, progress: bool = True) -> 
     map_sig = pick(
         size,
         (0.1, 0.3, 0.8),
-        (0.1, 0.15, 0.2, 0.3, 0.8),
+        (0.1, 0.15, 0.2, 0.8),
         tuple(
             np.round(np.r_[0.05, 0.1, 0.125, 0.15, 0.16, 0.17, 0.18, 0.19, 0.2, 0.25, 0.3, 0.4, 0.5, 0.65, 0.8, 1.0], 4)
         ),

@@ -150,7 +150,7 @@ class States3DSummary(Summary):
     engines: list[Engines3D] = field(default_factory=list)
 
 
-STATES3D = registry.declare("states3d", summary=States3DSummary, order=216, budget=20)
+STATES3D = registry.declare("states3d", summary=States3DSummary, order=216, budget=15)
 
 
 def start_tangents(n: int, start: str) -> np.ndarray:
@@ -198,14 +198,15 @@ def _point(task: tuple[int, float, float, float, float, bool]) -> tuple[list[Run
 def _grid(size: str) -> tuple[int, tuple[float, ...], tuple[float, ...], tuple[float, ...]]:
     """(N, drag ratios, loads sigma / sigma_c, the loads with Floquet multipliers) of this size."""
     drags = pick(size, (1.0,), (0.5, 1.0, 2.0), (0.5, 1.0, 2.0))
-    loads = pick(size, (2.0, 5.0), (1.5, 2.0, 3.0, 5.0, 8.0), (1.25, 1.5, 2.0, 3.0, 5.0, 8.0, 12.0))
-    floquet = pick(size, (5.0,), (2.0, 5.0), loads)
+    loads = pick(size, (2.0, 5.0), (1.5, 5.0, 8.0), (1.25, 1.5, 2.0, 3.0, 5.0, 8.0, 12.0))
+    floquet = pick(size, (5.0,), (5.0,), loads)
     return 7, drags, loads, floquet
 
 
 def _engine_loads(size: str) -> tuple[float, ...]:
-    """The loads (sigma / sigma_c, drag ratio 1) of the engines' agreement: none at the tiny size."""
-    return pick(size, (), (2.0, 5.0), (2.0, 5.0))
+    """The loads (sigma / sigma_c, drag ratio 1) of the engines' agreement: none at the tiny size; the quick size's
+    the two highest of its grid (the shortest runs: a run lasts ENGINE_PERIODS periods, longer at a lower load)."""
+    return pick(size, (), (5.0, 8.0), (2.0, 5.0, 8.0))
 
 
 def _number(x) -> float:

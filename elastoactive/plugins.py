@@ -23,7 +23,7 @@ from pathlib import Path
 
 from .core import registry, term_registry
 from .core.errors import ParameterError
-from .core.table import ENTRY_POINT_GROUPS
+from .core.table import ENTRY_POINT_GROUPS, installed_entry_points
 from .io.jsonio import from_jsonable
 from .io.outputs import InputFile
 
@@ -272,11 +272,9 @@ def _rank(point, module: str, name: str) -> int | None:
 
 def _entry_point(kind: str, name: str, obj) -> EntryPointSource | None:
     """The installed entry point that provided `obj` (registered as `name` in registry `kind`), or None."""
-    import importlib.metadata  # the plug-in boundary, as registry.load_entry_points
-
     group = ENTRY_POINT_GROUPS[kind]
     module = _module(obj)
-    ranked = [(r, p) for p in importlib.metadata.entry_points(group=group) if (r := _rank(p, module, name)) is not None]
+    ranked = [(r, p) for p in installed_entry_points(kind) if (r := _rank(p, module, name)) is not None]
     if not ranked:
         return None
     point = min(ranked, key=lambda rp: rp[0])[1]

@@ -312,3 +312,26 @@ def test_an_unknown_distribution_finder_is_not_ruled_out(monkeypatch):
 
     monkeypatch.setattr(sys, "meta_path", [Finder(), *sys.meta_path])
     assert table.declares_entry_points("scenes")
+
+
+def test_the_distributions_are_read_once_for_every_group(tmp_path, monkeypatch):
+    """One importlib.metadata listing serves every registry's group (none at all while no distribution declares one);
+    a distribution installed on sys.path afterwards is read again."""
+    import importlib.metadata
+
+    listings = []
+    listed = importlib.metadata.entry_points
+
+    def counted(**kwargs):
+        listings.append(kwargs)
+        return listed(**kwargs)
+
+    monkeypatch.setattr(importlib.metadata, "entry_points", counted)
+    monkeypatch.setattr(sys, "path", [str(tmp_path)])
+    monkeypatch.setattr(table, "_installed", [])
+    assert [table.installed_entry_points(kind) for kind in table.ENTRY_POINT_GROUPS] == [(), (), ()]
+    assert listings == []  # nothing declared: no metadata read
+    _distribution(tmp_path, "elastoactive.terms", "toy = toy_module")
+    points = {kind: table.installed_entry_points(kind) for kind in (*table.ENTRY_POINT_GROUPS, "terms")}
+    assert [p.name for p in points["terms"]] == ["toy"] and points["scenes"] == points["studies"] == ()
+    assert listings == [{}]  # one listing for every group, read when a group was first declared

@@ -53,6 +53,7 @@ class CiliaModel:
     drag_ratio  gamma_L of the longitudinal drag without the fluid (1 with it: spheres)
     tip_coupling  stiffness K l^2 / C1 of springs between neighbouring cilia's tips: energy
                 K/2 |r_tip,c - r_tip,c+1 - (b_c - b_c+1)|^2 each (reduced.fluid.Beds.tip_coupling), explicit
+    clamped   a bending spring holds each chain's first link along its clamp axis (False: a free ball pivot)
     mass_ratio, dt, integrator, twist_damping, twist_inertia   as chain3d.Chain3DModel's
     """
 
@@ -70,6 +71,7 @@ class CiliaModel:
     integrator: str = "implicitfast"
     twist_damping: float | None = None
     twist_inertia: float | None = None
+    clamped: bool = True
 
     @property
     def chains(self) -> int:
@@ -81,9 +83,9 @@ class CiliaModel:
 
     @property
     def chain(self) -> Chain3DModel:
-        """One cilium as chain3d's record (ball joints, clamped): its checks and its twist's inertia and damping."""
+        """One cilium as chain3d's record (ball joints): its checks and its twist's inertia and damping."""
         return Chain3DModel(
-            self.n, self.sigma, self.drag_ratio, clamped=True, joints="ball", mass_ratio=self.mass_ratio,
+            self.n, self.sigma, self.drag_ratio, clamped=self.clamped, joints="ball", mass_ratio=self.mass_ratio,
             dt=self.dt, integrator=self.integrator, twist_damping=self.twist_damping,
             twist_inertia=self.twist_inertia,
         )  # fmt: skip
@@ -160,7 +162,8 @@ def build_spec(cilia: CiliaModel, gain: float = 1.0) -> mujoco.MjSpec:
         parent, pos, orientation = spec.worldbody, base, quat
         for k in range(cilia.n):
             body = parent.add_body(name=f"{prefix}segment_{k}", pos=pos, quat=orientation, childclass="segment")
-            body.add_joint(name=f"{prefix}ball_{k}", type=mujoco.mjtJoint.mjJNT_BALL, stiffness=[1.0, 0, 0])
+            stiffness = [0.0 if (k == 0 and not cilia.clamped) else 1.0, 0, 0]
+            body.add_joint(name=f"{prefix}ball_{k}", type=mujoco.mjtJoint.mjJNT_BALL, stiffness=stiffness)
             body.add_geom(name=f"{prefix}link_{k}", default=link)
             body.add_geom(name=f"{prefix}bead_{k}", default=bead, mass=cilia.mass_ratio, size=[BEAD_RADIUS, 0, 0])
             body.add_site(name=f"{prefix}particle_{k}", default=segment, userdata=[0.0])

@@ -15,10 +15,11 @@ reduced.chain3d, MuJoCo through mjcf.chain3d, from the same start), at its base;
 term or a spring are independent clamped-3d chains.
 
 Engines: both. Cilia that share nothing (no fluid, no spring) run as clamped-3d chains, each its own model; coupled
-cilia run in one MuJoCo model (elastoactive.mjcf.cilia), the fluid carried as a background flow on the beads' drag
-actuators from the step before (elastoactive.controllers.hydro, docs/hydrodynamics.md) and the tips' spring as an
-explicit force beside it, at the implicit integrator (automatic_numerics) and a dt sized for the whirl's accuracy with
-the fluid's larger step error (FLUID_STEP_FACTOR).
+cilia take clamped-3d's route through the fluid (scenes.clamped3d: reduced.fluid, and one MuJoCo model,
+elastoactive.mjcf.cilia, the fluid carried as a background flow on the beads' drag actuators from the step before,
+elastoactive.controllers.hydro, docs/hydrodynamics.md, and the tips' spring as an explicit force beside it, at the
+implicit integrator and a dt sized for the whirl's accuracy with the fluid's larger step error,
+clamped3d.FLUID_STEP_FACTOR), with the wall's mobility (Rotne-Prager-Blake), the frame ROTATION and the bases here.
 
 Observables: the first cilium's motion (scenes.clamped3d's: tip_aspect, whirl_rate, tip_radius, bend, motion_state,
 in its own frame: the tip's path across the wall normal) and pumped_flux, the mean volume flux the cilia pump along
@@ -30,7 +31,6 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import time
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -41,8 +41,10 @@ from ..core.errors import ParameterError
 from ..core.observables import Observable
 from ..core.parameters import Parameter
 from ..core.trajectory import Trajectory
-from .base import Onset, PathView, ValidationCase
-from .clamped3d import Clamped3D, angles_of, tangents_of
+from .base import PathView, ValidationCase
+from .clamped3d import FLUID_TOLERANCES, Clamped3D, angles_of, tangents_of
+
+__all__ = ["BASE_HEIGHT", "FLUID_TOLERANCES", "PUMPED_FLUX", "ROTATION", "Cilium"]
 
 if TYPE_CHECKING:  # typing only: params imports the registry that holds scenes
     from ..core.params import Numerics, Physics
@@ -60,18 +62,6 @@ BASE_HEIGHT = Parameter(
     title="base height above the wall",
     symbol="h",
 )
-
-FLUID_STEP_FACTOR = 1.8
-"""MuJoCo's first-order error on a cilium's whirl with the fluid on, over its error without it at the same dt (N = 7,
-sigma 1, a/l = 0.2, h = 0.5: -0.165% against -0.091% at dt 0.005, halving with dt in both; docs/hydrodynamics.md)."""
-FLUID_TOLERANCES = (1e-6, 1e-8)
-"""The reduced engine's (rtol, atol) with the fluid on: a pair of N = 7 on the wall (bead_radius 0.1, sigma 0.8) over
-1000 tau beats at f tau = 0.0686127255 with a tip phase difference of -1.5454156 rad at these and -1.5454160 rad at the
-chain's 1e-9, 1e-11 (frequency equal to 1e-10), in about a third of the evaluations (10.7k against ~31k per 200 tau)."""
-
-DEGENERATE = 1e-12
-"""Relative splitting of the two planes' spectra (analysis.stability_fluid.FluidBranches.splitting) below which the
-onset is reported as both planes' together: the symmetric scenes' is round-off, ~1e-15."""
 
 FLUX_SAMPLES = 2000
 """The most samples of the steady window whose forces the pumped flux averages (evenly spaced): a mean over many
@@ -94,8 +84,8 @@ class Cilium(Clamped3D):
     term_parameters = ("n", "sigma", "drag_ratio", "bead_radius")
     file_variables = ()
     observables = ("tip_aspect", "whirl_rate", "tip_radius", "bend", "motion_state", PUMPED_FLUX)
-    no_linear_operator = ""
-    operator_parameters = ("bead_radius",)
+    fluid_mobility = "rpb"
+    frame = ROTATION
 
     # ------------------------------------------------------------------ the cilia
     def cilia(self, physics: Physics) -> int:
@@ -106,31 +96,10 @@ class Cilium(Clamped3D):
         """Distance between neighbouring cilia's bases along x (l)."""
         return 0.0
 
-    def tip_coupling(self, physics: Physics) -> float:
-        """Stiffness of the spring joining neighbouring cilia's tips (reduced.fluid.Beds.tip_coupling)."""
-        return 0.0
-
     def bases(self, physics: Physics) -> np.ndarray:
         """The cilia's base points b_c = (c d, 0, h), shape (C, 3)."""
         c = np.arange(self.cilia(physics), dtype=float)
         return np.stack([c * self.spacing(physics), np.zeros_like(c), np.full_like(c, physics.base_height)], axis=1)
-
-    def beds(self, physics: Physics):
-        """The reduced model's record of the scene (elastoactive.reduced.fluid.Beds)."""
-        from ..reduced.fluid import Beds  # engine boundary: numba
-
-        fluid = physics.bead_radius > 0
-        return Beds(
-            physics.n,
-            physics.sigma,
-            self.bases(physics),
-            ROTATION,
-            mobility="rpb" if fluid else "local",
-            radius=physics.bead_radius,
-            gamma_l=physics.drag_ratio,
-            tip_coupling=self.tip_coupling(physics),
-            clamped=self.clamped,
-        ).checked()
 
     def chain_count(self, physics: Physics) -> int:
         return self.cilia(physics)
@@ -168,14 +137,6 @@ class Cilium(Clamped3D):
             )
         return tangents_of(theta0.reshape(self.cilia(physics), 2 * physics.n), physics.n)
 
-    def reduced_tolerances(self, physics: Physics) -> tuple[float, float]:
-        """FLUID_TOLERANCES with the fluid on, else the chain's (a cilium without it is a clamped-3d chain)."""
-        return FLUID_TOLERANCES if physics.bead_radius > 0 else super().reduced_tolerances(physics)
-
-    def _independent(self, physics: Physics) -> bool:
-        """Whether the cilia are clamped-3d chains that share nothing (no fluid, no spring)."""
-        return physics.bead_radius == 0 and self.tip_coupling(physics) == 0
-
     # ------------------------------------------------------------------ engines (the engine boundary)
     def run_reduced(
         self,
@@ -190,8 +151,8 @@ class Cilium(Clamped3D):
         progress: bool = False,
         **options,
     ) -> Trajectory:
-        starts = self._starts(physics, numerics, theta0)
         if self._independent(physics):  # each cilium a clamped-3d chain, its own run
+            starts = self._starts(physics, numerics, theta0)
             runs = [
                 super(Cilium, self).run_reduced(
                     physics, numerics, duration, theta0=angles_of(s), rtol=rtol, atol=atol, method=method,
@@ -200,43 +161,9 @@ class Cilium(Clamped3D):
                 for s in starts
             ]  # fmt: skip
             return self._joined(runs, physics, "reduced")
-        from ..engines.runner import Meter, resume, solver_budget  # engine boundary: numba and scipy
-        from ..reduced.fluid import METHODS, solve_fluid
-
-        method = METHODS[0] if method is None else method
-        if method not in METHODS:
-            raise ParameterError(f"method: {self.name} integrates by {' or '.join(METHODS)}, got {method!r}")
-        ts = self._times(numerics, duration)
-        budget = solver_budget(
-            physics,
-            duration,
-            "the reduced engine's",
-            start=("perturbation", numerics.perturbation) if theta0 is None else ("start-from", None),
-            base_rate=lambda: self.fastest_overdamped_rate(physics),
+        return super().run_reduced(
+            physics, numerics, duration, theta0=theta0, rtol=rtol, atol=atol, method=method, progress=progress
         )
-        beds = self.beds(physics)
-        start = time.perf_counter()
-        with Meter(duration, f"reduced {physics.scene}", progress) as meter:
-            path = solve_fluid(
-                beds, ts, starts, rtol=rtol, atol=atol, method=method, on_time=meter.at, budget=budget,
-                loop=lambda call, paused, reached, steps: resume(call, paused, reached, meter, steps),
-            )  # fmt: skip
-        info = {"method": method, "rtol": rtol, "atol": atol, "mobility": beds.mobility}
-        theta = angles_of(path).reshape(ts.size, -1)
-        return Trajectory(ts, theta, physics, "reduced", time.perf_counter() - start, info)
-
-    def step_error(self, physics: Physics) -> float:
-        """Clamped-3d's, FLUID_STEP_FACTOR times larger with the fluid on."""
-        error = super().step_error(physics)
-        return error * FLUID_STEP_FACTOR if physics.bead_radius > 0 else error
-
-    def automatic_numerics(self, physics: Physics, numerics: Numerics) -> Numerics:
-        """Clamped-3d's, except that coupled cilia keep the given integrator and mass: their coupling rides on the
-        drag actuators (mjcf.cilia), which the long chain's explicit-drag numerics do not have."""
-        chosen = super().automatic_numerics(physics, numerics)
-        if self._independent(physics) or chosen.integrator == numerics.integrator:
-            return chosen
-        return dataclasses.replace(chosen, integrator=numerics.integrator, mass_ratio=numerics.mass_ratio)
 
     def run_mujoco(
         self, physics: Physics, numerics: Numerics, duration: float, *, theta0=None, progress: bool = False, **options
@@ -247,41 +174,7 @@ class Cilium(Clamped3D):
                 for s in self._starts(physics, numerics, theta0)
             ]
             return self._joined(runs, physics, "mujoco")
-        from ..engines.runner import Meter, StepChunks, refuse_steps  # engine boundary: MuJoCo
-        from ..mjcf.cilia import CiliaModel, simulate_cilia
-
-        given, numerics = numerics, self.automatic_numerics(physics, numerics)
-        automatic = numerics is not given  # dt for the whirl's accuracy: sigma sets it
-        ts = self._times(numerics, duration)
-        refuse_steps(
-            (ts.size - 1) * numerics.steps_per_sample,
-            what=f"MuJoCo at dt = {numerics.dt:.3g}" + (" (automatic, for the whirl's accuracy)" if automatic else ""),
-            duration=duration,
-            cause="sigma" if automatic else "dt",
-            value=physics.sigma if automatic else numerics.dt,
-            advice="a smaller --sigma" if automatic else "a larger --dt",
-        )
-        cilia = CiliaModel(
-            physics.n, physics.sigma, self.bases(physics), ROTATION, radius=physics.bead_radius, flow="rpb",
-            drag_ratio=physics.drag_ratio, tip_coupling=self.tip_coupling(physics), mass_ratio=numerics.mass_ratio,
-            dt=numerics.dt, integrator=numerics.integrator,
-        )  # fmt: skip
-        prepared = []
-        meter = Meter(duration, f"mujoco {physics.scene}", progress)
-        start = time.perf_counter()
-        with meter:
-            path = simulate_cilia(cilia, ts, self._starts(physics, numerics, theta0), prepared=prepared.append,
-                                  chunked=lambda stepper: StepChunks(meter, stepper), reached=meter.at)  # fmt: skip
-        info = {"joints": "ball", "coupling_gain": float(prepared[0].gain), "settle_steps": prepared[0].settle_steps}
-        if automatic:
-            info["automatic_numerics"] = {
-                "integrator": numerics.integrator,
-                "dt": float(numerics.dt),
-                "mass_ratio": float(numerics.mass_ratio),
-                "reason": f"{self.name}: dt for the whirl's accuracy with the coupling (Cilium.automatic_numerics)",
-            }
-        theta = angles_of(path).reshape(ts.size, -1)
-        return Trajectory(ts, theta, physics, "mujoco", time.perf_counter() - start, info)
+        return super().run_mujoco(physics, numerics, duration, theta0=theta0, progress=progress)
 
     def _joined(self, runs: list[Trajectory], physics: Physics, engine: str) -> Trajectory:
         """One trajectory of the cilia from each cilium's own run (theta: cilium by cilium)."""
@@ -388,43 +281,7 @@ class Cilium(Clamped3D):
             parts.append(f"a = {physics.bead_radius:.3g}")
         return "   ".join(parts)
 
-    # ------------------------------------------------------------------ stability and cases
-    def onset(self, physics: Physics) -> Onset:
-        """clamped-3d's onset for independent cilia (no fluid, no spring); else the scene's linear operator's
-        (analysis.stability_fluid: the straight cilia's mobility through the fluid, the tips' springs), naming the
-        plane that crosses first, or both together where the symmetry keeps them degenerate (a single cilium)."""
-        if self._independent(physics):
-            return super().onset(physics)
-        from ..analysis.stability_fluid import branches_fluid, linear_operator_fluid, onset_fluid  # scipy
-
-        beds = self.beds(physics)
-        sigma_c, omega_c = onset_fluid(beds)
-        planes = branches_fluid(linear_operator_fluid(beds, sigma_c))
-        through = f" through the fluid (a / l = {physics.bead_radius:g})" if physics.bead_radius > 0 else ""
-        if planes.coupling == 0.0 and planes.splitting < DEGENERATE:
-            kind = f"flutter (Hopf), in-plane and out-of-plane pairs together{through}"
-        else:
-            first = "in-plane" if planes.in_plane[0].real >= planes.out_of_plane[0].real else "out-of-plane"
-            kind = f"flutter (Hopf), the {first} pair first{through}"
-        return Onset(sigma_c, omega_c, kind)
-
-    def leading_eigenvalue(self, physics: Physics, sigma: float) -> complex:
-        if self._independent(physics):
-            return super().leading_eigenvalue(physics, sigma)
-        from ..analysis.stability_fluid import leading_eigenvalue_fluid  # scipy
-
-        return leading_eigenvalue_fluid(self.beds(physics), sigma)
-
-    def fastest_overdamped_rate(self, physics: Physics) -> float:
-        """The largest |eigenvalue| of the straight cilia's operator at the physics' sigma (clamped-3d's for
-        independent cilia), 1/tau."""
-        if self._independent(physics):
-            return super().fastest_overdamped_rate(physics)
-        from ..analysis.stability_fluid import linear_operator_fluid  # scipy
-
-        lam = np.linalg.eigvals(linear_operator_fluid(self.beds(physics), physics.sigma))
-        return float(np.abs(lam).max())
-
+    # ------------------------------------------------------------------ cases
     def validation_cases(self) -> tuple[ValidationCase, ...]:
         """clamped-3d's case, standing on the wall (no fluid: MuJoCo and the reduced engine agree as for it)."""
         return (ValidationCase(self.physics(n=7, sigma=0.4), 300.0),)

@@ -8,6 +8,15 @@ elastoactive.mjcf.chain3d (MuJoCo, ball joints); the hooks import them at the en
 Its beat is the tip's displacement along the major axis of its path across the clamp axis (analysis.motion3d), and it
 reports the tip's aspect, the whirl rate, the tip's radius, the bend and the state (rest, beat, whirl, other).
 
+The fluid: with the hydrodynamics term on (bead_radius a / l > 0) the chain's beads interact through the free-space
+Rotne-Prager-Yamakawa mobility (elastoactive.hydro.rpy), each bead a sphere of drag gamma = 6 pi mu a = 1. Both engines
+then run the chains-in-a-fluid models: the reduced engine elastoactive.reduced.fluid (solve_fluid, one chain at
+`bases`, turned by `frame`, `fluid_mobility`), MuJoCo elastoactive.mjcf.cilia (the coupling a background flow on the
+drag actuators); the onset, leading eigenvalue and fastest rate are the linear operator's through the fluid
+(analysis.stability_fluid). The scene.cilium subclasses share this route and change only the placement (the wall's
+normal as the clamp axis, their bases), the mobility (Rotne-Prager-Blake above the wall) and the coupling of their
+cilia. With the term off, every run is the lab-frame drag's, bit for bit (reduced.chain3d, mjcf.chain3d).
+
 Its automatic numerics (automatic_numerics): MuJoCo's error on the whirl is first order in dt, with a coefficient that
 grows with N and sigma (STEP_ERROR); where the default dt would miss ACCURACY_TARGET, a run whose dt,
 mass ratio and integrator are all left at their defaults takes the largest dt (a whole fraction of sample_dt) that meets
@@ -48,6 +57,18 @@ reduced model at N = 7, 12 and 20, sigma 0.3 to 5, drag ratios 0.5 to 2 (implici
 the error halves with dt: first order), where it exceeds 0.25: the measured errors are 0.77 to 1.44 times the fit's
 (docs/model3d.md, section 7)."""
 
+FLUID_STEP_FACTOR = 1.8
+"""MuJoCo's first-order error on the whirl with the fluid on, over its error without it at the same dt (a cilium of
+N = 7, sigma 1, a/l = 0.2, h = 0.5: -0.165% against -0.091% at dt 0.005, halving with dt in both;
+docs/hydrodynamics.md): step_error's factor while the term acts."""
+FLUID_TOLERANCES = (1e-6, 1e-8)
+"""The reduced engine's (rtol, atol) with the fluid on: a pair of N = 7 on the wall (bead_radius 0.1, sigma 0.8) over
+1000 tau beats at f tau = 0.0686127255 with a tip phase difference of -1.5454156 rad at these and -1.5454160 rad at the
+chain's 1e-9, 1e-11 (frequency equal to 1e-10), in about a third of the evaluations (10.7k against ~31k per 200 tau)."""
+DEGENERATE = 1e-12
+"""Relative splitting of the two planes' spectra (analysis.stability_fluid.FluidBranches.splitting) below which the
+onset is reported as both planes' together: the symmetric scenes' is round-off, ~1e-15."""
+
 TIP = Signal("y_tip", "y_tip, the tip's displacement along the major axis of its path across the clamp axis", "l")
 
 
@@ -86,8 +107,14 @@ class Clamped3D(Scene):
     paced_by_beat = True  # a video shows one beat or turn a second (the tip's beat, beat_signals)
     sized_by_n = True
     builder = "elastoactive.mjcf.chain3d"
-    term_parameters = ("n", "sigma", "drag_ratio", "loaded")
+    term_parameters = ("n", "sigma", "drag_ratio", "loaded", "bead_radius")
     no_linear_operator = ""
+    operator_parameters = ("bead_radius",)
+    fluid_mobility = "rpy"
+    """The mobility among the beads with the hydrodynamics term on (reduced.fluid.MOBILITIES; MuJoCo's flow): free
+    space."""
+    frame = np.eye(3)
+    """R (3, 3): the lab frame of every chain, lab = base + R chain (the clamp axis e_x becomes R e_x)."""
     min_n = 2
     clamped = True
     """A bending spring holds the first link along e_x (False: a free ball pivot, scenes.pivot3d)."""
@@ -111,6 +138,46 @@ class Clamped3D(Scene):
     def beat_signal(self, physics: Physics) -> Signal:
         return TIP
 
+    def check(self, physics: Physics) -> None:
+        super().check(physics)
+        if physics.bead_radius > 0 and not physics.all_loaded:
+            raise ParameterError(
+                f"loaded = {physics.loaded}: with bead_radius = {physics.bead_radius:g} every bead carries the "
+                "follower force (the fluid's model loads them all)"
+            )
+
+    # ------------------------------------------------------------------ the chains in the fluid
+    def bases(self, physics: Physics) -> np.ndarray:
+        """The chains' anchor points b_c (C, 3), l: one chain clamped at the origin."""
+        return np.zeros((1, 3))
+
+    def tip_coupling(self, physics: Physics) -> float:
+        """Stiffness of the spring joining neighbouring chains' tips (reduced.fluid.Beds.tip_coupling): none."""
+        return 0.0
+
+    def _independent(self, physics: Physics) -> bool:
+        """Whether the chains share nothing (no fluid, no spring): each then runs as a chain of its own, with the
+        lab-frame drag (reduced.chain3d, mjcf.chain3d)."""
+        return physics.bead_radius == 0 and self.tip_coupling(physics) == 0
+
+    def beds(self, physics: Physics):
+        """The reduced model's record of the scene's chains (elastoactive.reduced.fluid.Beds): at `bases`, turned by
+        `frame`, through `fluid_mobility` with the term on (else the lab-frame drag, "local")."""
+        from ..reduced.fluid import Beds  # engine boundary: numba
+
+        fluid = physics.bead_radius > 0
+        return Beds(
+            physics.n,
+            physics.sigma,
+            self.bases(physics),
+            self.frame,
+            mobility=self.fluid_mobility if fluid else "local",
+            radius=physics.bead_radius,
+            gamma_l=physics.drag_ratio,
+            tip_coupling=self.tip_coupling(physics),
+            clamped=self.clamped,
+        ).checked()
+
     # ------------------------------------------------------------------ initial state
     def initial_tangents(self, physics: Physics, numerics: Numerics) -> np.ndarray:
         """A non-planar start: seeded static pushes across the axis in y and in z, each of largest angle
@@ -132,6 +199,10 @@ class Clamped3D(Scene):
             )
         return tangents_of(theta0, physics.n)
 
+    def _starts(self, physics: Physics, numerics: Numerics, theta0) -> np.ndarray:
+        """Every chain's chain-frame tangents (C, N, 3) at t = 0: here the one chain's."""
+        return self._start(physics, numerics, theta0)[None]
+
     def _times(self, numerics: Numerics, duration: float) -> np.ndarray:
         count = int(math.floor(duration / numerics.sample_dt + 1e-9))
         return numerics.sample_dt * np.arange(count + 1)
@@ -150,6 +221,8 @@ class Clamped3D(Scene):
         progress: bool = False,
         **options,
     ) -> Trajectory:
+        if not self._independent(physics):
+            return self._reduced_coupled(physics, numerics, duration, theta0, rtol, atol, method, progress)
         from ..engines.runner import Meter, solver_budget  # engine boundary: numba and scipy
         from ..reduced.chain3d import Chain3D, solve3d
 
@@ -185,11 +258,45 @@ class Clamped3D(Scene):
         info = {"method": chosen[0] if chosen else method, "rtol": rtol, "atol": atol}
         return Trajectory(ts, angles_of(path), physics, "reduced", time.perf_counter() - start, info)
 
+    def _reduced_coupled(self, physics, numerics, duration, theta0, rtol, atol, method, progress) -> Trajectory:
+        """The chains sharing the fluid (or a spring) in one reduced model: reduced.fluid.solve_fluid on `beds`."""
+        from ..engines.runner import Meter, resume, solver_budget  # engine boundary: numba and scipy
+        from ..reduced.fluid import METHODS, solve_fluid
+
+        method = METHODS[0] if method is None else method
+        if method not in METHODS:
+            raise ParameterError(f"method: {self.name} through the fluid integrates by {' or '.join(METHODS)}, "
+                                 f"got {method!r}")  # fmt: skip
+        ts = self._times(numerics, duration)
+        budget = solver_budget(
+            physics,
+            duration,
+            "the reduced engine's",
+            start=("perturbation", numerics.perturbation) if theta0 is None else ("start-from", None),
+            base_rate=lambda: self.fastest_overdamped_rate(physics),
+        )
+        beds = self.beds(physics)
+        starts = self._starts(physics, numerics, theta0)
+        start = time.perf_counter()
+        with Meter(duration, f"reduced {physics.scene}", progress) as meter:
+            path = solve_fluid(
+                beds, ts, starts, rtol=rtol, atol=atol, method=method, on_time=meter.at, budget=budget,
+                loop=lambda call, paused, reached, steps: resume(call, paused, reached, meter, steps),
+            )  # fmt: skip
+        info = {"method": method, "rtol": rtol, "atol": atol, "mobility": beds.mobility}
+        theta = angles_of(path).reshape(ts.size, -1)
+        return Trajectory(ts, theta, physics, "reduced", time.perf_counter() - start, info)
+
+    def reduced_tolerances(self, physics: Physics) -> tuple[float, float]:
+        """FLUID_TOLERANCES with the fluid on, else the chain's."""
+        return FLUID_TOLERANCES if physics.bead_radius > 0 else super().reduced_tolerances(physics)
+
     def step_error(self, physics: Physics) -> float:
         """MuJoCo's expected relative error on the steady motion per unit dt: STEP_ERROR's c N^a sigma^b /
-        drag_ratio^d."""
+        drag_ratio^d, FLUID_STEP_FACTOR times larger with the fluid on."""
         c, a, b, d = STEP_ERROR
-        return c * physics.n**a * physics.sigma**b / physics.drag_ratio**d
+        error = c * physics.n**a * physics.sigma**b / physics.drag_ratio**d
+        return error * FLUID_STEP_FACTOR if physics.bead_radius > 0 else error
 
     def automatic_numerics(self, physics: Physics, numerics: Numerics) -> Numerics:
         """The numerics a MuJoCo run uses: these when dt, mass ratio or integrator was given; when all three are left
@@ -200,7 +307,9 @@ class Clamped3D(Scene):
         Euler with explicit drag and the mass dt / LONG_CHAIN_DT_PER_MASS, the planar long chain's matched mass
         (core.params.long_chain_numerics), where the drag ratio is at most 1; a larger one would need a mass that
         many times larger for the explicit drag's stability, which the inertial chain's resolution refuses (N = 60,
-        sigma 0.8, drag ratio 2), and keeps implicitfast."""
+        sigma 0.8, drag ratio 2), and keeps implicitfast. Chains coupled through the fluid (or a spring) keep the
+        given integrator and mass at any N: their coupling rides on the drag actuators (mjcf.cilia), which the long
+        chain's explicit-drag numerics do not have."""
         from ..core.params import LONG_CHAIN, LONG_CHAIN_DT_PER_MASS  # params imports the registry that holds scenes
 
         if not numerics.automatic:
@@ -209,7 +318,7 @@ class Clamped3D(Scene):
         error = self.step_error(physics)
         if error * dt > ACCURACY_TARGET:
             dt = numerics.sample_dt / math.ceil(numerics.sample_dt * error / ACCURACY_TARGET - 1e-9)
-        if physics.n < LONG_CHAIN or physics.drag_ratio > 1.0:
+        if physics.n < LONG_CHAIN or physics.drag_ratio > 1.0 or not self._independent(physics):
             return dataclasses.replace(numerics, dt=dt)
         return dataclasses.replace(numerics, dt=dt, mass_ratio=dt / LONG_CHAIN_DT_PER_MASS, integrator="Euler")
 
@@ -218,6 +327,8 @@ class Clamped3D(Scene):
     ) -> Trajectory:
         import mujoco  # engine boundary: MuJoCo
 
+        if not self._independent(physics):
+            return self._mujoco_coupled(physics, numerics, duration, theta0, progress)
         # engine boundary: the cost model, the runner and the 3D builder load MuJoCo
         from ..engines.cost import announce_cost, reduced_cost
         from ..engines.runner import Meter, StepChunks, refuse_steps
@@ -273,6 +384,46 @@ class Clamped3D(Scene):
                 "reason": f"{self.name}: dt for {ACCURACY_TARGET:.1%} on the whirl (Clamped3D.automatic_numerics)",
             }
         return Trajectory(ts, angles_of(path), physics, "mujoco", wall, info)
+
+    def _mujoco_coupled(self, physics, numerics, duration, theta0, progress) -> Trajectory:
+        """The chains sharing the fluid (or a spring) in one MuJoCo model (mjcf.cilia: the coupling a background flow
+        on the drag actuators from the step before, at the implicit integrator)."""
+        from ..engines.runner import Meter, StepChunks, refuse_steps  # engine boundary: MuJoCo
+        from ..mjcf.cilia import CiliaModel, simulate_cilia
+
+        given, numerics = numerics, self.automatic_numerics(physics, numerics)
+        automatic = numerics is not given  # dt for the whirl's accuracy: sigma sets it
+        ts = self._times(numerics, duration)
+        refuse_steps(
+            (ts.size - 1) * numerics.steps_per_sample,
+            what=f"MuJoCo at dt = {numerics.dt:.3g}" + (" (automatic, for the whirl's accuracy)" if automatic else ""),
+            duration=duration,
+            cause="sigma" if automatic else "dt",
+            value=physics.sigma if automatic else numerics.dt,
+            advice="a smaller --sigma" if automatic else "a larger --dt",
+        )
+        chains = CiliaModel(
+            physics.n, physics.sigma, self.bases(physics), self.frame, radius=physics.bead_radius,
+            flow=self.fluid_mobility, drag_ratio=physics.drag_ratio, tip_coupling=self.tip_coupling(physics),
+            mass_ratio=numerics.mass_ratio, dt=numerics.dt, integrator=numerics.integrator, clamped=self.clamped,
+        )  # fmt: skip
+        prepared = []
+        meter = Meter(duration, f"mujoco {physics.scene}", progress)
+        start = time.perf_counter()
+        with meter:
+            path = simulate_cilia(chains, ts, self._starts(physics, numerics, theta0), prepared=prepared.append,
+                                  chunked=lambda stepper: StepChunks(meter, stepper), reached=meter.at)  # fmt: skip
+        info = {"joints": "ball", "coupling_gain": float(prepared[0].gain), "settle_steps": prepared[0].settle_steps}
+        if automatic:
+            info["automatic_numerics"] = {
+                "integrator": numerics.integrator,
+                "dt": float(numerics.dt),
+                "mass_ratio": float(numerics.mass_ratio),
+                "reason": f"{self.name}: dt for the whirl's accuracy with the coupling "
+                f"({type(self).__name__}.automatic_numerics)",
+            }
+        theta = angles_of(path).reshape(ts.size, -1)
+        return Trajectory(ts, theta, physics, "mujoco", time.perf_counter() - start, info)
 
     def check_timestep(self, physics: Physics, numerics: Numerics, safety: float, accuracy: bool, **options):
         """The planar chain's limits at the numerics the run uses (automatic_numerics): the straight chain's
@@ -393,9 +544,11 @@ class Clamped3D(Scene):
         """The planar onset (analysis.stability3d.onset3d), where the in-plane and out-of-plane pairs cross together:
         the straight chain's operator is the planar one twice, for every particle loaded and for some (the follower
         force acts along the link, the same in both planes), so a partial load's onset is the planar scene's with
-        that load."""
+        that load. Through the fluid (or chains joined by a spring): the linear operator's (onset_coupled)."""
         from ..analysis.stability3d import onset3d  # start-up time: scipy
 
+        if not self._independent(physics):
+            return self.onset_coupled(physics)
         if not physics.all_loaded:
             planar = self.planar(physics)
             onset = planar.scene_def.onset(planar)
@@ -404,10 +557,32 @@ class Clamped3D(Scene):
         sigma_c, omega_c = onset3d(physics.n, physics.drag_ratio)
         return Onset(sigma_c, omega_c, "flutter (Hopf), in-plane and out-of-plane pairs together")
 
+    def onset_coupled(self, physics: Physics) -> Onset:
+        """The onset of the scene's linear operator through the fluid and the tips' springs
+        (analysis.stability_fluid), naming the plane that crosses first, or both together where the symmetry keeps
+        them degenerate (a single chain: RPY of collinear beads, RPB along the wall's normal)."""
+        from ..analysis.stability_fluid import branches_fluid, linear_operator_fluid, onset_fluid  # scipy
+
+        beds = self.beds(physics)
+        sigma_c, omega_c = onset_fluid(beds)
+        planes = branches_fluid(linear_operator_fluid(beds, sigma_c))
+        through = f" through the fluid (a / l = {physics.bead_radius:g})" if physics.bead_radius > 0 else ""
+        if planes.coupling == 0.0 and planes.splitting < DEGENERATE:
+            kind = f"flutter (Hopf), in-plane and out-of-plane pairs together{through}"
+        else:
+            first = "in-plane" if planes.in_plane[0].real >= planes.out_of_plane[0].real else "out-of-plane"
+            kind = f"flutter (Hopf), the {first} pair first{through}"
+        return Onset(sigma_c, omega_c, kind)
+
     def leading_eigenvalue(self, physics: Physics, sigma: float) -> complex:
-        """The planar operator's (each plane's block of the 3D one); a partial load's from the planar scene."""
+        """The planar operator's (each plane's block of the 3D one); a partial load's from the planar scene; through
+        the fluid (or a spring) the scene's operator's (analysis.stability_fluid)."""
         from ..analysis.stability3d import linear_operator3d  # start-up time: scipy
 
+        if not self._independent(physics):
+            from ..analysis.stability_fluid import leading_eigenvalue_fluid  # scipy
+
+            return leading_eigenvalue_fluid(self.beds(physics), sigma)
         if not physics.all_loaded:
             planar = self.planar(physics)
             return planar.scene_def.leading_eigenvalue(planar, sigma)
@@ -416,9 +591,15 @@ class Clamped3D(Scene):
 
     def fastest_overdamped_rate(self, physics: Physics) -> float:
         """The largest |eigenvalue| of the straight chain's 3D linear operator (the planar one twice) at the physics'
-        sigma, 1/tau; a partial load's from the planar scene."""
+        sigma, 1/tau; a partial load's from the planar scene; through the fluid (or a spring) the scene's operator's
+        (analysis.stability_fluid)."""
         from ..analysis.stability3d import linear_operator3d  # start-up time: scipy
 
+        if not self._independent(physics):
+            from ..analysis.stability_fluid import linear_operator_fluid  # scipy
+
+            lam = np.linalg.eigvals(linear_operator_fluid(self.beds(physics), physics.sigma))
+            return float(np.abs(lam).max())
         if not physics.all_loaded:
             planar = self.planar(physics)
             return planar.scene_def.fastest_overdamped_rate(planar)

@@ -39,6 +39,50 @@ def turn_vectors(t: np.ndarray, tangents: np.ndarray) -> np.ndarray:
     return np.linalg.solve(a, b[..., None])[..., 0]
 
 
+def turn_quotient(operator: np.ndarray, n: int) -> np.ndarray:
+    """The linear operator (2N x 2N, q ordered as analysis.stability_fluid's: one chain's y then z) on the quotient by
+    the rigid turns about the pivot (q = 1 in either plane, which every L = -G (H - sigma S) of a free pivot sends to
+    0): in the basis whose first vector in each plane is that turn, its block without the turns' rows and columns
+    (2N - 2 x 2N - 2). Its spectrum is L's without the turns' two zeros."""
+    size = operator.shape[0]
+    basis = np.eye(size)
+    for plane in range(size // n):
+        basis[plane * n : (plane + 1) * n, plane * n] = 1.0
+    turned = np.linalg.solve(basis, operator @ basis)
+    keep = np.array([i for i in range(size) if i % n])
+    return turned[np.ix_(keep, keep)]
+
+
+def rotation_threshold_fluid(beds) -> tuple[float, float]:
+    """(sigma_r, omega): the first sigma where the largest real part of the free pivot's operator through the fluid
+    (analysis.stability_fluid.linear_operator_fluid of one unclamped chain, on turn_quotient) crosses 0, and |Im| of
+    that eigenvalue there (0: a real crossing, the steady turn). A geometric scan up from a quarter of the lab-frame
+    drag's threshold, then brentq. At the local drag's mobility it is analysis.stability.rotation_threshold."""
+    from scipy.optimize import brentq  # start-up time: scipy
+
+    from ..analysis import stability
+    from ..analysis.stability_fluid import linear_operator_fluid, mobility_operator
+
+    g = mobility_operator(beds)
+
+    def spectrum(sigma: float) -> np.ndarray:
+        return np.linalg.eigvals(turn_quotient(linear_operator_fluid(beds, sigma, g), beds.n))
+
+    def growth(sigma: float) -> float:
+        return float(spectrum(sigma).real.max())
+
+    local = stability.rotation_threshold(beds.n)
+    lo = 0.25 * local
+    while growth(lo) >= 0:
+        lo /= 4.0
+    hi = lo
+    while growth(hi) < 0:
+        lo, hi = hi, 1.25 * hi
+    sigma_r = float(brentq(growth, lo, hi, xtol=1e-15, rtol=1e-12))
+    lam = spectrum(sigma_r)
+    return sigma_r, float(abs(lam[np.argmax(lam.real)].imag))
+
+
 class Pivot3D(Clamped3D):
     name = "rotating-pin-3d"
     summary = (
@@ -46,9 +90,10 @@ class Pivot3D(Clamped3D):
     )
     clamped = False
     planar_scene = "rotating-pin"
-    term_parameters = ("n", "sigma", "drag_ratio")
+    term_parameters = ("n", "sigma", "drag_ratio", "bead_radius")
     """Every particle loaded: the planar rotating pin's threshold (analysis.stability.rotation_threshold) is the fully
-    loaded chain's, so a partial load has no onset to hold the 3D turn to."""
+    loaded chain's, so a partial load has no onset to hold the 3D turn to. The fluid (bead_radius) as clamped-3d's:
+    the free-space RPY mobility among the beads, in both engines."""
     paced_by_beat = False
     compared = ("rotation_rate",)
     observables = (
@@ -72,9 +117,16 @@ class Pivot3D(Clamped3D):
         return {"rotation_rate": rate, "turn_tilt": tilt}
 
     def onset(self, physics: Physics) -> Onset:
+        """The planar rotating pin's threshold (analysis.stability.rotation_threshold) with the lab-frame drag; through
+        the fluid, the fluid operator's (rotation_threshold_fluid), which the mobility moves: the crossing eigenvalue
+        meets the rigid turns' zero, where the mobility enters."""
         from ..analysis import stability  # start-up time: scipy
 
-        return Onset(stability.rotation_threshold(physics.n), 0.0, "steady rotation (a real eigenvalue crosses 0)")
+        kind = "steady rotation (a real eigenvalue crosses 0)"
+        if self._independent(physics):
+            return Onset(stability.rotation_threshold(physics.n), 0.0, kind)
+        sigma_r, omega = rotation_threshold_fluid(self.beds(physics))
+        return Onset(sigma_r, omega, f"{kind} through the fluid (a / l = {physics.bead_radius:g})")
 
     def validation_cases(self) -> tuple[ValidationCase, ...]:
         """N = 7 at sigma = 0.8, the planar rotating pin's case, from the seeded non-planar start."""

@@ -182,34 +182,29 @@ def rpb_kernel(x, a, out):
 
 
 @njit(cache=True)
-def rpb_block_into(x, i, j, a, block):
-    """Write M_ij (3, 3) of beads i and j of x (n, 3), every z > 0, into block: rpb_kernel's entries one block at a
-    time (i == j: the self block), for kernels that build the mobility in pieces."""
-    zi = max(x[i, 2], a)
-    zj = max(x[j, 2], a)
-    bb = min(x[i, 2] / a, 1.0) * min(x[j, 2] / a, 1.0)
-    for p in range(3):
-        for q in range(3):
-            block[p, q] = 0.0
-    if i == j:
-        s = a / zi
-        s3 = s * s * s
-        s5 = s3 * s * s
-        block[0, 0] = block[1, 1] = bb * (1.0 - (9.0 / 16.0 * s - 1.0 / 8.0 * s3 + 1.0 / 16.0 * s5))
-        block[2, 2] = bb * (1.0 - (9.0 / 8.0 * s - 1.0 / 2.0 * s3 + 1.0 / 8.0 * s5))
-        return
-    dx = x[i, 0] - x[j, 0]
-    dy = x[i, 1] - x[j, 1]
-    dz = zi - zj
-    if dx == 0.0 and dy == 0.0 and dz == 0.0:
-        for p in range(3):
-            block[p, p] = 1.0
-    else:
-        rpy_pair(dx, dy, dz, a, block)
-    wall_pair_into(x[i, 0], x[i, 1], zi, x[j, 0], x[j, 1], zj, a, block)
-    for p in range(3):
-        for q in range(3):
-            block[p, q] *= bb
+def rpb_cross_kernel(x, y, a, out):
+    """Fill out (3n, 3m) with the blocks M_ij between beads x (n, 3) and other beads y (m, 3), every z > 0:
+    rpb_kernel's off-diagonal blocks for the beads x then y, for kernels that build the mobility in pieces."""
+    block = np.empty((3, 3))
+    for i in range(x.shape[0]):
+        zi = max(x[i, 2], a)
+        bi = min(x[i, 2] / a, 1.0)
+        for j in range(y.shape[0]):
+            zj = max(y[j, 2], a)
+            dx = x[i, 0] - y[j, 0]
+            dy = x[i, 1] - y[j, 1]
+            dz = zi - zj
+            if dx == 0.0 and dy == 0.0 and dz == 0.0:
+                for p in range(3):
+                    for q in range(3):
+                        block[p, q] = 1.0 if p == q else 0.0
+            else:
+                rpy_pair(dx, dy, dz, a, block)
+            wall_pair_into(x[i, 0], x[i, 1], zi, y[j, 0], y[j, 1], zj, a, block)
+            bb = bi * min(y[j, 2] / a, 1.0)
+            for p in range(3):
+                for q in range(3):
+                    out[3 * i + p, 3 * j + q] = bb * block[p, q]
 
 
 def rpb_into(positions, radius, out: np.ndarray) -> np.ndarray:

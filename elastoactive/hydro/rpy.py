@@ -131,18 +131,24 @@ def rpy_kernel(x, a, out):
 
 
 @njit(cache=True)
-def rpy_block_into(x, i, j, a, block):
-    """Write M_ij (3, 3) of beads i and j of x (n, 3) into block: rpy_kernel's entries one block at a time (i == j, or
-    zero separation: the self block), for kernels that build the mobility in pieces."""
-    dx = x[i, 0] - x[j, 0]
-    dy = x[i, 1] - x[j, 1]
-    dz = x[i, 2] - x[j, 2]
-    if dx == 0.0 and dy == 0.0 and dz == 0.0:
-        for p in range(3):
-            for q in range(3):
-                block[p, q] = 1.0 if p == q else 0.0
-    else:
-        rpy_pair(dx, dy, dz, a, block)
+def rpy_cross_kernel(x, y, a, out):
+    """Fill out (3n, 3m) with the blocks M_ij between beads x (n, 3) and other beads y (m, 3): rpy_kernel's
+    off-diagonal blocks for the beads x then y, for kernels that build the mobility in pieces."""
+    block = np.empty((3, 3))
+    for i in range(x.shape[0]):
+        for j in range(y.shape[0]):
+            dx = x[i, 0] - y[j, 0]
+            dy = x[i, 1] - y[j, 1]
+            dz = x[i, 2] - y[j, 2]
+            if dx == 0.0 and dy == 0.0 and dz == 0.0:
+                for p in range(3):
+                    for q in range(3):
+                        block[p, q] = 1.0 if p == q else 0.0
+            else:
+                rpy_pair(dx, dy, dz, a, block)
+            for p in range(3):
+                for q in range(3):
+                    out[3 * i + p, 3 * j + q] = block[p, q]
 
 
 def rpy_into(positions, radius, out: np.ndarray) -> np.ndarray:

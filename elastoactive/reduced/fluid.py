@@ -18,9 +18,18 @@ and columns), J^T M^-1 J = P^T N^-1 P and, by the block inverse of U^T N U (U = 
 
     q' = (A - B D^-1 B^T) r,   A = P^T N P,  B = P^T N Q,  D = Q^T N Q,  r = J^T F - dU/dq:
 
-one Cholesky factorisation of the B x B matrix D (the links' tensions are D^-1 B^T r), no factorisation of M and
-no resistance matrix formed. Cost per evaluation: the mobility's O(B^2) entries, O(B^2) for N and N Q, B^3 / 3 for
-the Cholesky; at B = 14 (a pair of N = 7) about 10 us.
+one solve with the B x B matrix D (the links' tensions are D^-1 B^T r), no factorisation of M and no resistance
+matrix formed.
+
+Scale. N is built chain pair by chain pair: the block of M between chains c and c' (elastoactive.hydro's block
+functions), then its differences within each chain, N Q and D by the same blocks, into a workspace allocated once
+per run. D is solved by Cholesky up to DIRECT_UP_TO links (B^3 / 3), beyond by conjugate gradients preconditioned by
+each chain's own block D_cc (O(B^2) per iteration; ~10 iterations to CG_TOLERANCE for rows of cilia on the wall,
+whose coupling is weak next to each chain's own tensions). Per evaluation the O(B^2) Blake pair formulas then
+dominate (about 10 us at B = 14, a pair of N = 7; tens of ms at B = 640). Beds.cutoff leaves out M's blocks between
+chains whose anchors lie farther apart (the reference zeroes the same blocks): O(B x neighbours) per evaluation, an
+approximation whose error on a row's period and phase lags is measured (docs), not bounded; the truncated M need
+not stay positive definite, and where D proves not to be the kernel's rate is NaN and the solver stops.
 
 Mobilities (`MOBILITIES`): "local", the lab-frame drag of each particle (M_ii = W_i^-1, W_i = 1 + (gamma_l - 1)
 t_i t_i^T, no coupling: the chain3d model exactly, to round-off); "identity" (M = 1: the local drag at gamma_l = 1,
@@ -45,8 +54,8 @@ import numpy as np
 from numba import njit
 
 from ..core.errors import ParameterError
-from ..hydro.blake import rpb_block_into, rpb_into
-from ..hydro.rpy import rpy_block_into, rpy_into
+from ..hydro.blake import rpb_cross_kernel, rpb_into, rpb_kernel
+from ..hydro.rpy import rpy_cross_kernel, rpy_into, rpy_kernel
 from .chain3d import _bend, _bend_into, basis_of
 from .dop853_loop import dop853_steps, integrate
 from .network import run_loop
@@ -310,7 +319,6 @@ def _link_mobility(code, pos, Q, radius, gamma_l, n, nbr, count, rev, nb):
     differences of consecutive beads' rows and columns within each chain (N = S^-1 M S^-T, blockwise). Each pair of
     chains is built once (c <= c'), its transpose copied."""
     size = 3 * n
-    block = np.empty((3, 3))
     d = 1.0 / gamma_l - 1.0 if code == LOCAL else 0.0
     for c in range(nbr.shape[0]):
         for s in range(count[c]):
@@ -318,26 +326,25 @@ def _link_mobility(code, pos, Q, radius, gamma_l, n, nbr, count, rev, nb):
             if c2 < c:
                 continue
             blk = nb[c, s]
-            for i in range(n):
-                gi = c * n + i
-                for j in range(n):
-                    gj = c2 * n + j
-                    if c2 == c and j < i:
+            mine, theirs = pos[c * n : c * n + n], pos[c2 * n : c2 * n + n]
+            if code == RPB:
+                if c2 == c:
+                    rpb_kernel(mine, radius, blk)
+                else:
+                    rpb_cross_kernel(mine, theirs, radius, blk)
+            elif code == RPY:
+                if c2 == c:
+                    rpy_kernel(mine, radius, blk)
+                else:
+                    rpy_cross_kernel(mine, theirs, radius, blk)
+            else:
+                blk[:, :] = 0.0
+                if c2 == c:
+                    for i in range(n):
+                        k = c * n + i
                         for p in range(3):
                             for q in range(3):
-                                blk[3 * i + p, 3 * j + q] = blk[3 * j + q, 3 * i + p]
-                        continue
-                    if code == RPB:
-                        rpb_block_into(pos, gi, gj, radius, block)
-                    elif code == RPY:
-                        rpy_block_into(pos, gi, gj, radius, block)
-                    else:
-                        for p in range(3):
-                            for q in range(3):
-                                block[p, q] = ((1.0 if p == q else 0.0) + d * Q[gi, p] * Q[gi, q]) if gi == gj else 0.0
-                    for p in range(3):
-                        for q in range(3):
-                            blk[3 * i + p, 3 * j + q] = block[p, q]
+                                blk[3 * i + p, 3 * i + q] = (1.0 if p == q else 0.0) + d * Q[k, p] * Q[k, q]
             for i in range(n - 1, 0, -1):
                 for p in range(3):
                     for col in range(size):
@@ -473,7 +480,8 @@ def _tensions(db, z, n, nbr, count, self_slot):
     """z <- D^-1 z, D symmetric positive definite by its blocks db[c, s] (n, n) between chains c and nbr[c, s]: by
     Cholesky of the whole matrix up to DIRECT_UP_TO links; beyond, by conjugate gradients preconditioned by each
     chain's own block D_cc (Cholesky), from the block solution, until |D lambda - z| <= CG_TOLERANCE |z| (2-norms).
-    Returns the iterations (0: Cholesky; more than the links: not converged, z the last iterate)."""
+    Returns the iterations (0: Cholesky), or -1 with z NaN where D proves not positive definite or the iterations
+    do not converge within as many as unknowns (the solver then rejects the step)."""
     chains = nbr.shape[0]
     b = z.size
     if b <= DIRECT_UP_TO:
@@ -509,7 +517,11 @@ def _tensions(db, z, n, nbr, count, self_slot):
         if r @ r <= target:
             return it
         _block_product(db, p, n, nbr, count, dp)
-        alpha = rs / (p @ dp)
+        curvature = p @ dp
+        if not curvature > 0.0:  # D not positive definite (a cutoff's truncated mobility can lose it): no tensions
+            z[:] = np.nan
+            return -1
+        alpha = rs / curvature
         for i in range(b):
             z[i] += alpha * p[i]
             r[i] -= alpha * dp[i]
@@ -519,7 +531,8 @@ def _tensions(db, z, n, nbr, count, self_slot):
         rs = rs_new
         for i in range(b):
             p[i] = s_[i] + beta * p[i]
-    return b + 1
+    z[:] = np.nan  # not converged in as many iterations as unknowns
+    return -1
 
 
 class Near(NamedTuple):

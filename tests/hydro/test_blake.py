@@ -7,7 +7,7 @@ import pytest
 
 from elastoactive.core.errors import ParameterError
 from elastoactive.hydro import rpb, rpb_into, rpy
-from elastoactive.hydro.blake import rpb_block_into
+from elastoactive.hydro.blake import rpb_cross_kernel
 
 
 def _block(m, i, j):
@@ -67,14 +67,13 @@ def test_the_compiled_twin_equals_the_reference(case):
 
 
 @pytest.mark.parametrize("case", range(4))
-def test_the_blocks_one_at_a_time_are_the_whole_matrix_s(case):
+def test_the_blocks_between_two_sets_of_beads_are_the_whole_matrix_s(case):
     x, a = list(_configurations())[case]
     whole = rpb(x, a)
-    block = np.full((3, 3), np.nan)
-    for i in range(len(x)):
-        for j in range(len(x)):
-            rpb_block_into(x, i, j, a, block)
-            np.testing.assert_allclose(block, _block(whole, i, j), rtol=0, atol=1e-14)
+    for split in (1, len(x) // 2):
+        out = np.full((3 * split, 3 * (len(x) - split)), np.nan)
+        rpb_cross_kernel(x[:split], x[split:], a, out)
+        np.testing.assert_allclose(out, whole[: 3 * split, 3 * split :], rtol=0, atol=1e-14)
 
 
 @pytest.mark.parametrize("case", range(4))

@@ -7,9 +7,10 @@ error is shown); 2 for invalid options, settings the pre-flight check refuses at
 holds another sweep or a corrupted journal, or an output that cannot be written (e.g. a full disk:
 the journal is kept, re-run to resume).
 
-The sweep is `ea.sweep`'s (elastoactive.sweep.verb.sweep_outcome): this module parses the options into its arguments
-and reports. elastoactive.sweep (its runners, the batch and the process pool) and elastoactive.explore are imported
-inside `fill` and `main`, the subcommand's boundary: `elastoactive --help` does not load them.
+The sweep is `ea.sweep`'s (elastoactive.sweep.verb.sweep_outcome): this module parses the options into its records
+(a Physics, a Numerics: the verb then needs not the front door's conversions) and reports. elastoactive.sweep (its
+runners, the batch and the process pool) is imported inside `fill` and `main`, the subcommand's boundary:
+`elastoactive --help` does not load it.
 """
 
 from __future__ import annotations
@@ -122,8 +123,8 @@ def fill(p: argparse.ArgumentParser, scene: str | None) -> None:
 
 def main(args) -> int:
     # the subcommand's boundary: the sweep package, its runners and pools (see the module docstring)
-    from ..explore import sweep_outcome
     from ..sweep import MUJOCO_ONLY, check_engine_numerics, parse_grid
+    from ..sweep.verb import sweep_outcome
 
     if args.workers is not None and args.workers < 1:
         raise ParameterError(f"--workers must be >= 1, got {args.workers}")
@@ -133,7 +134,7 @@ def main(args) -> int:
     grid = parse_grid(args.grid)
     fixed = {f.name: getattr(args, f.name) for f in parameter_fields(Physics) if getattr(args, f.name) is not None}
     overrides = {f.name: getattr(args, f.name) for f in parameter_fields(Numerics) if getattr(args, f.name) is not None}
-    both = [k for k in grid if k in overrides]  # the physics' are ea.sweep's to refuse
+    both = [k for k in grid if k in overrides or k in fixed]
     if both:
         raise ParameterError(f"{', '.join(option(k) for k in both)} given both fixed and on the grid")
     noisy = bool((grid["noise"] > 0).any()) if "noise" in grid else fixed.get("noise", Physics().noise) > 0
@@ -141,7 +142,7 @@ def main(args) -> int:
     # ea.sweep's work, without building the xarray Dataset (which would load xarray and pandas, ~0.4 s of CPU, for
     # three numbers and two texts): the options as the fields they set, the preset's numerics with those given
     outcome = sweep_outcome(
-        {"scene": args.scene, **fixed},
+        Physics(scene=args.scene, **fixed),
         grid,
         Numerics.preset(args.preset, **overrides),
         duration=args.duration,

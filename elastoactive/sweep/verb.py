@@ -2,7 +2,10 @@
 and `ea.sweep(...)` (this package, called) returns it: the labelled xarray Dataset of its netCDF file.
 
 The runners (elastoactive.sweep's run_sweep, run_sweep_outcome) are imported inside `sweep_outcome` and MuJoCo inside
-`_import_mujoco_headless`, the engines' boundary: the command line imports this module to build its parser.
+`_import_mujoco_headless`, the engines' boundary: the command line imports this module to build its parser. The front
+door's conversions (elastoactive.api: a scene name or a dict into a Physics, a preset name or a dict into a Numerics)
+are imported only for an argument that is not already the record, since the front door loads the single run's
+records, saving and starts, which a sweep given its records (the command line) does not need.
 """
 
 from __future__ import annotations
@@ -12,11 +15,10 @@ import sys
 from collections.abc import Mapping
 from pathlib import Path
 
-from ..api import as_numerics, as_physics
 from ..core.errors import ParameterError
 from ..core.parameters import get as parameter_spec
 from ..core.parameters import known
-from ..core.params import PRESETS, Numerics, option
+from ..core.params import PRESETS, Numerics, Physics, option
 from ..io.outputs import check_file
 
 DEFAULT_DURATION = 300.0
@@ -38,7 +40,10 @@ def _sweep_settings(physics, grid: Mapping, numerics, engine: str) -> tuple[str,
         both = [k for k in axes if k in fixed]
         if both:
             raise ParameterError(f"{', '.join(option(k) for k in both)} given both fixed and on the grid")
-    physics = as_physics(physics)
+    if not isinstance(physics, Physics):
+        from ..api import as_physics  # the front door's conversion (module docstring)
+
+        physics = as_physics(physics)
     replaced = (set(axes) | {parameter_spec(k).instead_of for k in axes if known(k)}) - {None}
     fixed = {
         k: v
@@ -56,7 +61,10 @@ def _sweep_settings(physics, grid: Mapping, numerics, engine: str) -> tuple[str,
                 raise ParameterError(f"{', '.join(option(k) for k in both)} given both fixed and on the grid")
             noisy = bool((axes["noise"] > 0).any()) if "noise" in axes else physics.noise > 0
             check_engine_numerics(engine, [k for k in numerics if k in MUJOCO_ONLY], noisy)
-        numerics = as_numerics(numerics)
+        if not isinstance(numerics, Numerics):
+            from ..api import as_numerics  # the front door's conversion (module docstring)
+
+            numerics = as_numerics(numerics)
     return physics.scene, fixed, axes, numerics
 
 

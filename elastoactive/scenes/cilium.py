@@ -272,7 +272,7 @@ class Cilium(Clamped3D):
             ax.plot(chain[:, 0], chain[:, 2], "-o", ms=4, label=labels[c] if c < len(labels) else None)
             ax.plot(chain[:, 1] + base[0], chain[:, 2], "--", lw=1)
         ax.axhline(0.0, color="k", lw=1)
-        if labels:
+        if any(labels):  # a single cilium has the one empty label
             ax.legend(fontsize="small")
 
     def caption_line(self, physics: Physics) -> str:

@@ -130,7 +130,7 @@ def _alt_pair_run(args):
 # --------------------------------------------------------------------------------------------------
 # the paper's pair
 # --------------------------------------------------------------------------------------------------
-SYNC = registry.declare("sync", summary=SyncSummary, order=70, reads=("tongue", "sync_n2"), budget=17)
+SYNC = registry.declare("sync", summary=SyncSummary, order=70, reads=("tongue", "sync_n2"), budget=21)
 
 
 @SYNC.run

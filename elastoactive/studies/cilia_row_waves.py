@@ -70,6 +70,9 @@ class RowRun:
     flux_rms: float
     """Root mean square of the flux along the row over the window."""
     frequency: float
+    closest: float
+    """The smallest distance between beads of different cilia over the run (l): below 2 a the chains pass through each
+    other (the mobility's overlap correction holds them; no contact force keeps them apart)."""
     wall_s: float
 
 
@@ -125,9 +128,13 @@ def _row_run(task) -> tuple[RowRun, np.ndarray]:
     qx = ca.blake_flux(forces[..., 0], heights, cr.RADIUS)
     qy = ca.blake_flux(forces[..., 1], heights, cr.RADIUS)
     frequency = float(measure3d(ts, path[:, 0], transient=transient).frequency or math.nan)
+    closest = min(
+        float(np.min(np.linalg.norm(positions[:, m, :, None] - positions[:, m + 1, None, :], axis=-1)))
+        for m in range(cilia - 1)
+    )
     shown = signals[:, ts >= duration - 3 * cycle.period]
     run = RowRun(cycle_name, spacing, phases, [float(x) for x in wave.lags], float(wave.wave_number), wave.direction,
-                 float(qx.mean()), float(qy.mean()), float(np.sqrt(np.mean(qx * qx))), frequency,
+                 float(qx.mean()), float(qy.mean()), float(np.sqrt(np.mean(qx * qx))), frequency, closest,
                  time.perf_counter() - clock)  # fmt: skip
     return run, shown
 
@@ -220,7 +227,7 @@ def cilia_row_waves_claims(study: Study, read: Mapping[str, Study]) -> list[Clai
         waves = [r for r in locked if r.direction in ("+x", "-x")]
         text = "; ".join(
             f"d = {fmt(r.spacing, 3)}: {r.direction}, k = {fmt(r.wave_number, 3)} rad/l (lags "
-            f"{', '.join(f'{x:+.3f}' for x in r.lags)})"
+            f"{', '.join(f'{x:+.3f}' for x in r.lags)}; closest beads {fmt(r.closest, 2)} l)"
             for r in runs
         )
         rows.append(
@@ -232,7 +239,8 @@ def cilia_row_waves_claims(study: Study, read: Mapping[str, Study]) -> list[Clai
                 text,
                 verdict(len(waves) == len(runs), partly=bool(waves)),
                 f"'synchronous': every neighbour within pi/8 of in phase; 'none': some pair not locked "
-                f"(analysis.cilia.metachronal_wave); {engine}",
+                f"(analysis.cilia.metachronal_wave); closest beads below 2a = {fmt(2 * s.radius, 2)} l: neighbours "
+                f"pass through each other (no contact force); {engine}",
             )
         )
     beats = sorted((r for r in s.runs if r.cycle == "beat" and np.isfinite(r.wave_number)), key=lambda r: r.spacing)

@@ -34,6 +34,7 @@ def test_locks(study):
     states = {(r.cycle, round(r.start_lag, 2)): r for r in s.runs}
     assert states["beat", 0.2].state == "in-phase" and abs(states["beat", 0.2].lag) < 0.05
     assert states["beat", 2.94].state == "anti-phase" and abs(abs(states["beat", 2.94].lag) - math.pi) < 0.05
+    assert states["beat", 2.94].closest < 2 * s.radius  # anti-phase at d = 1.5: the chains pass through each other
     assert states["whirl", 0.2].state == states["whirl", 2.94].state == "in-phase"
     assert set(s.periods) == {"beat", "whirl"} and s.scene == []
     assert study.data["trace_psi"].shape == (4, cilia_pair_sync.TRACE_POINTS)
@@ -50,12 +51,20 @@ def test_starts_and_angles():
     assert np.allclose(np.angle(np.exp(1j * (angles[1] - angles[0]))), 1.0)
 
 
+def _with(study, **changes):
+    runs = [dataclasses.replace(r, **changes) for r in study.summary.runs]
+    return dataclasses.replace(study, summary=dataclasses.replace(study.summary, runs=runs))
+
+
 def test_claims_follow_the_data(study, tmp_path):
     rows = cilia_pair_sync_claims(study, {})
-    assert rows[0].agree == "yes" and rows[-1].agree == "yes"
-    runs = [dataclasses.replace(r, state="in-phase", lag=0.0) for r in study.summary.runs]
-    changed = dataclasses.replace(study, summary=dataclasses.replace(study.summary, runs=runs))
-    assert cilia_pair_sync_claims(changed, {})[0].agree == "no"
+    assert rows[-1].agree == "yes"  # the whirls lock in phase
+    apart = _with(study, closest=1.0)
+    assert cilia_pair_sync_claims(apart, {})[0].agree == "yes"  # in phase and anti-phase, the chains apart
+    through = _with(study, closest=0.0)
+    assert cilia_pair_sync_claims(through, {})[0].agree == "no"  # runs whose beads overlap do not count
+    assert cilia_pair_sync_claims(_with(apart, state="in-phase", lag=0.0), {})[0].agree == "no"
+    assert cilia_pair_sync_claims(_with(apart, state="lag", lag=1.9), {})[1].agree == "yes"
     assert cilia_pair_sync_figures(study, tmp_path)[0].exists()
     study.save(tmp_path)
     assert load_study(tmp_path, "cilia_pair_sync").summary.runs[0].state == study.summary.runs[0].state

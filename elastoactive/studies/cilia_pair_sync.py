@@ -55,6 +55,10 @@ RUN_PERIODS = 40
 within 0.5 rad of in phase after 30)."""
 MEASURED_PERIODS = 8
 """The last this many periods are measured."""
+SETTLED = 0.05
+"""A run has settled when its mean lag over the last MEASURED_PERIODS differs by less than this (rad) from the mean
+over the MEASURED_PERIODS before: a slow drift (weak coupling at large d) is not yet a lock, however small the lag's
+spread over one window."""
 TRACE_POINTS = 120
 """Samples of each run's lag Psi(t) kept for the figure."""
 START_OFFSET = 0.2
@@ -89,7 +93,15 @@ class PairRun:
     closest: float
     """The smallest distance between a bead of one cilium and a bead of the other over the run (l): below 2 a the
     beads overlap (the mobility's overlap correction holds them; no contact force keeps them apart)."""
+    drift: float
+    """The mean lag over the last MEASURED_PERIODS less that over the MEASURED_PERIODS before (rad, wrapped); NaN
+    without both."""
     wall_s: float
+
+    @property
+    def settled(self) -> bool:
+        """Whether the lag has stopped moving (|drift| < SETTLED)."""
+        return bool(abs(self.drift) < SETTLED)
 
 
 @dataclass(frozen=True)
@@ -163,6 +175,10 @@ def _pair(task) -> tuple[PairRun, np.ndarray, np.ndarray]:
     first, second = ca.tip_signals(cr.tips(path, beds))
     transient = duration - MEASURED_PERIODS * cycle.period
     lock = ca.pair_locking(ts, first, second, transient=transient)
+    before = ts <= transient
+    earlier = ca.pair_locking(ts[before], first[before], second[before], transient=transient - MEASURED_PERIODS
+                              * cycle.period)  # fmt: skip
+    drift = float(np.angle(np.exp(1j * (lock.lag - earlier.lag))))
     m = measure3d(ts, path[:, 0], transient=transient)
     positions = cr.tips(path, beds)
     closest = float(np.min(np.linalg.norm(positions[:, 0, :, None] - positions[:, 1, None, :], axis=-1)))
@@ -173,7 +189,7 @@ def _pair(task) -> tuple[PairRun, np.ndarray, np.ndarray]:
     except ValueError:
         trace = (np.full(TRACE_POINTS, np.nan), np.full(TRACE_POINTS, np.nan))
     run = PairRun(cycle_name, load, sigma, spacing, start_lag, lock.lag, lock.spread, lock.state,
-                  float(m.frequency or np.nan), closest, time.perf_counter() - clock)  # fmt: skip
+                  float(m.frequency or np.nan), closest, drift, time.perf_counter() - clock)  # fmt: skip
     return run, trace[0], trace[1]
 
 
@@ -302,7 +318,11 @@ def _points(s: PairSyncSummary, cycle: str) -> dict[tuple[float, float], list[Pa
 
 
 def _lags(runs: list[PairRun]) -> str:
-    return ", ".join(f"{r.start_lag:.2f} -> {r.lag:+.3f} ({r.state}, {r.closest:.2g} l)" for r in runs)
+    return ", ".join(
+        f"{r.start_lag:.2f} -> {r.lag:+.3f} ({r.state}{'' if r.settled else f', drifting {r.drift:+.2g}'}, "
+        f"{r.closest:.2g} l)"
+        for r in runs
+    )
 
 
 @CILIA_PAIR_SYNC.claims
@@ -315,9 +335,10 @@ def cilia_pair_sync_claims(study: Study, read: Mapping[str, Study]) -> list[Clai
     )
     rows = []
     beats = _points(s, "beat")
-    apart = {k: [r for r in runs if r.closest >= 2 * s.radius] for k, runs in beats.items()}
+    apart = {k: [r for r in runs if r.closest >= 2 * s.radius and r.settled] for k, runs in beats.items()}
     total = sum(len(v) for v in beats.values())
-    kept = sum(len(v) for v in apart.values())
+    overlapping = sum(1 for runs in beats.values() for r in runs if r.closest < 2 * s.radius)
+    drifting = sum(1 for runs in beats.values() for r in runs if not r.settled)
     both = [k for k, runs in apart.items() if {"in-phase", "anti-phase"} <= {r.state for r in runs}]
     both_any = [k for k, runs in beats.items() if {"in-phase", "anti-phase"} <= {r.state for r in runs}]
     detail = "; ".join(f"{fmt(k[0], 3)} sigma_c, d {fmt(k[1], 3)}: {_lags(v)}" for k, v in beats.items())
@@ -329,17 +350,18 @@ def cilia_pair_sync_claims(study: Study, read: Mapping[str, Study]) -> list[Clai
             f"{SOURCE}; {GUO}",
             "-",
             f"both locks reached at {len(both_any)} of {len(beats)} (load, d) points, at {len(both)} with the chains "
-            f"apart; {total - kept} of {total} runs bring beads of the two cilia closer than 2a (states "
-            f"{', '.join(crossing) or '-'})",
+            f"apart and settled; {overlapping} of {total} runs bring beads of the two cilia closer than 2a (states "
+            f"{', '.join(crossing) or '-'}), {drifting} still drift",
             verdict(len(both) == len(beats), partly=bool(both)),
             f"start lag -> final lag (closest approach): {detail}. Runs whose beads come closer than 2a pass through "
             "each other (the mobility's overlap correction holds them; no contact force keeps them apart) and do not "
-            "count. Their filaments are continuous and driven at the base by a torque; here every bead carries a "
+            f"count, nor do runs whose lag still drifts by {SETTLED:g} rad or more between the last two windows. "
+            "Their filaments are continuous and driven at the base by a torque; here every bead carries a "
             f"follower force; {engine}",
         )
     )
     lagged = [r for runs in beats.values() for r in runs if r.state == "lag"]
-    lagged_apart = [r for r in lagged if r.closest >= 2 * s.radius]
+    lagged_apart = [r for r in lagged if r.closest >= 2 * s.radius and r.settled]
     rows.append(
         Claim(
             "planar beats also lock at lags between 0 and pi (multisynchrony, as Man & Kanso find)",
@@ -347,7 +369,7 @@ def cilia_pair_sync_claims(study: Study, read: Mapping[str, Study]) -> list[Clai
             "-",
             f"locked at a lag in {len(lagged)} of {total} runs ("
             + (", ".join(f"{fmt(r.load, 3)} sigma_c, d {fmt(r.spacing, 3)}: {r.lag:+.3f}" for r in lagged) or "none")
-            + f"), {len(lagged_apart)} with the chains apart",
+            + f"), {len(lagged_apart)} settled with the chains apart",
             verdict(bool(lagged_apart), partly=bool(lagged)),
             f"'lag': locked farther than pi/8 from 0 and pi (analysis.cilia); their filaments are driven by one "
             f"follower force at the tip; {engine}",
@@ -356,7 +378,9 @@ def cilia_pair_sync_claims(study: Study, read: Mapping[str, Study]) -> list[Clai
     )
     whirls = _points(s, "whirl")
     if whirls:
-        states = [r.state for runs in whirls.values() for r in runs]
+        settled = [r for runs in whirls.values() for r in runs if r.settled]
+        drifting = [r for runs in whirls.values() for r in runs if not r.settled]
+        states = [r.state for r in settled]
         rows.append(
             Claim(
                 "two co-rotating whirls lock in phase from near in-phase and near anti-phase starts (one lock, no "
@@ -364,8 +388,9 @@ def cilia_pair_sync_claims(study: Study, read: Mapping[str, Study]) -> list[Clai
                 SOURCE,
                 "-",
                 "; ".join(f"{fmt(k[0], 3)} sigma_c, d {fmt(k[1], 3)}: {_lags(v)}" for k, v in whirls.items()),
-                verdict(all(x == "in-phase" for x in states), partly="in-phase" in states),
-                engine,
+                verdict(all(x == "in-phase" for x in states) and not drifting, partly="in-phase" in states),
+                f"{len(drifting)} runs still drift (their lag moved by {SETTLED:g} rad or more between the last two "
+                f"windows of {MEASURED_PERIODS} periods: weak coupling at large d); {engine}",
             )
         )
     if s.scene:

@@ -37,6 +37,7 @@ def test_locks(study):
     assert states["beat", 2.94].closest < 2 * s.radius  # anti-phase at d = 1.5: the chains pass through each other
     assert states["whirl", 0.2].state == states["whirl", 2.94].state == "in-phase"
     assert set(s.periods) == {"beat", "whirl"} and s.scene == []
+    assert all(np.isfinite(r.drift) for r in s.runs)
     assert study.data["trace_psi"].shape == (4, cilia_pair_sync.TRACE_POINTS)
 
 
@@ -65,6 +66,7 @@ def test_claims_follow_the_data(study, tmp_path):
     assert cilia_pair_sync_claims(through, {})[0].agree == "no"  # runs whose beads overlap do not count
     assert cilia_pair_sync_claims(_with(apart, state="in-phase", lag=0.0), {})[0].agree == "no"
     assert cilia_pair_sync_claims(_with(apart, state="lag", lag=1.9), {})[1].agree == "yes"
+    assert cilia_pair_sync_claims(_with(apart, drift=0.5), {})[0].agree == "no"  # a drifting lag is no lock yet
     assert cilia_pair_sync_figures(study, tmp_path)[0].exists()
     study.save(tmp_path)
     assert load_study(tmp_path, "cilia_pair_sync").summary.runs[0].state == study.summary.runs[0].state

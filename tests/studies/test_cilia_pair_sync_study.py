@@ -9,27 +9,26 @@ import math
 
 import numpy as np
 import pytest
+from fluid_registry import study_module
 
-from elastoactive.studies import cilia_pair_sync, cilia_runs, load_study
-from elastoactive.studies.cilia_pair_sync import (
-    cilia_pair_sync_claims,
-    cilia_pair_sync_figures,
-    cilia_pair_sync_study,
-    start_lags,
-    tip_angles,
-)
+from elastoactive.studies import cilia_runs, load_study
 
 
 @pytest.fixture(scope="module")
-def study():
+def mod():
+    yield from study_module("cilia_pair_sync")
+
+
+@pytest.fixture(scope="module")
+def study(mod):
     with pytest.MonkeyPatch.context() as mp:
         mp.setattr(cilia_runs, "CYCLE_SETTLE", 24)
-        mp.setattr(cilia_pair_sync, "RUN_PERIODS", 20)
-        mp.setattr(cilia_pair_sync, "MEASURED_PERIODS", 6)
-        return cilia_pair_sync_study("tiny", workers=1, progress=False)
+        mp.setattr(mod, "RUN_PERIODS", 20)
+        mp.setattr(mod, "MEASURED_PERIODS", 6)
+        return mod.cilia_pair_sync_study("tiny", workers=1, progress=False)
 
 
-def test_locks(study):
+def test_locks(mod, study):
     s = study.summary
     states = {(r.cycle, round(r.start_lag, 2)): r for r in s.runs}
     assert states["beat", 0.2].state == "in-phase" and abs(states["beat", 0.2].lag) < 0.05
@@ -38,17 +37,17 @@ def test_locks(study):
     assert states["whirl", 0.2].state == states["whirl", 2.94].state == "in-phase"
     assert set(s.periods) == {"beat", "whirl"} and s.scene == []
     assert all(np.isfinite(r.drift) for r in s.runs)
-    assert study.data["trace_psi"].shape == (4, cilia_pair_sync.TRACE_POINTS)
+    assert study.data["trace_psi"].shape == (4, mod.TRACE_POINTS)
 
 
-def test_starts_and_angles():
-    assert start_lags("tiny", "beat") == (0.2, math.pi - 0.2)
-    assert len(start_lags("quick", "beat")) == 4 and len(start_lags("full", "whirl")) == 8
+def test_starts_and_angles(mod):
+    assert mod.start_lags("tiny", "beat") == (0.2, math.pi - 0.2)
+    assert len(mod.start_lags("quick", "beat")) == 4 and len(mod.start_lags("full", "whirl")) == 8
     t = np.linspace(0.0, 2 * math.pi, 50)
     positions = np.zeros((50, 2, 1, 3))
     positions[:, 0, 0, :2] = np.column_stack([np.cos(t), np.sin(t)])
     positions[:, 1, 0, :2] = np.column_stack([np.cos(t + 1.0), np.sin(t + 1.0)])
-    angles = tip_angles(positions)
+    angles = mod.tip_angles(positions)
     assert np.allclose(np.angle(np.exp(1j * (angles[1] - angles[0]))), 1.0)
 
 
@@ -57,16 +56,16 @@ def _with(study, **changes):
     return dataclasses.replace(study, summary=dataclasses.replace(study.summary, runs=runs))
 
 
-def test_claims_follow_the_data(study, tmp_path):
-    rows = cilia_pair_sync_claims(study, {})
+def test_claims_follow_the_data(mod, study, tmp_path):
+    rows = mod.cilia_pair_sync_claims(study, {})
     assert rows[-1].agree == "yes"  # the whirls lock in phase
     apart = _with(study, closest=1.0)
-    assert cilia_pair_sync_claims(apart, {})[0].agree == "yes"  # in phase and anti-phase, the chains apart
+    assert mod.cilia_pair_sync_claims(apart, {})[0].agree == "yes"  # in phase and anti-phase, the chains apart
     through = _with(study, closest=0.0)
-    assert cilia_pair_sync_claims(through, {})[0].agree == "no"  # runs whose beads overlap do not count
-    assert cilia_pair_sync_claims(_with(apart, state="in-phase", lag=0.0), {})[0].agree == "no"
-    assert cilia_pair_sync_claims(_with(apart, state="lag", lag=1.9), {})[1].agree == "yes"
-    assert cilia_pair_sync_claims(_with(apart, drift=0.5), {})[0].agree == "no"  # a drifting lag is no lock yet
-    assert cilia_pair_sync_figures(study, tmp_path)[0].exists()
+    assert mod.cilia_pair_sync_claims(through, {})[0].agree == "no"  # runs whose beads overlap do not count
+    assert mod.cilia_pair_sync_claims(_with(apart, state="in-phase", lag=0.0), {})[0].agree == "no"
+    assert mod.cilia_pair_sync_claims(_with(apart, state="lag", lag=1.9), {})[1].agree == "yes"
+    assert mod.cilia_pair_sync_claims(_with(apart, drift=0.5), {})[0].agree == "no"  # a drifting lag is no lock yet
+    assert mod.cilia_pair_sync_figures(study, tmp_path)[0].exists()
     study.save(tmp_path)
     assert load_study(tmp_path, "cilia_pair_sync").summary.runs[0].state == study.summary.runs[0].state

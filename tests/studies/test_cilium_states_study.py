@@ -7,16 +7,21 @@ from __future__ import annotations
 import dataclasses
 
 import pytest
+from fluid_registry import study_module
 
-from elastoactive.studies import cilium_states, load_study
-from elastoactive.studies.cilium_states import cilium_states_claims, cilium_states_figures, cilium_states_study
+from elastoactive.studies import load_study
 
 
 @pytest.fixture(scope="module")
-def study():
+def mod():
+    yield from study_module("cilium_states")
+
+
+@pytest.fixture(scope="module")
+def study(mod):
     with pytest.MonkeyPatch.context() as mp:
-        mp.setattr(cilium_states, "RUN_PERIODS", 24)
-        return cilium_states_study("tiny", workers=1, progress=False)
+        mp.setattr(mod, "RUN_PERIODS", 24)
+        return mod.cilium_states_study("tiny", workers=1, progress=False)
 
 
 def test_states_and_numbers(study):
@@ -28,15 +33,15 @@ def test_states_and_numbers(study):
     assert abs(runs["helix"].whirl_rate) > runs["planar"].frequency
 
 
-def test_claims_follow_the_data(study, tmp_path):
-    rows = cilium_states_claims(study, {})
+def test_claims_follow_the_data(mod, study, tmp_path):
+    rows = mod.cilium_states_claims(study, {})
     verdicts = {r.claim: r.agree for r in rows}
     assert verdicts["a follower-force cilium on the wall whirls from a non-planar start at every load tested"] == "yes"
     tilted = next(r for r in study.summary.runs if r.start == "tilted")
     runs = [dataclasses.replace(r, state="beat") if r is tilted else r for r in study.summary.runs]
     changed = dataclasses.replace(study, summary=dataclasses.replace(study.summary, runs=runs))
-    rows = {r.claim.split(" (")[0]: r.agree for r in cilium_states_claims(changed, {})}
+    rows = {r.claim.split(" (")[0]: r.agree for r in mod.cilium_states_claims(changed, {})}
     assert rows["the planar beat is unstable out of its plane and the whirl is the attractor"] == "no"
-    assert cilium_states_figures(study, tmp_path)[0].exists()
+    assert mod.cilium_states_figures(study, tmp_path)[0].exists()
     study.save(tmp_path)
     assert load_study(tmp_path, "cilium_states").summary.runs[0].state == study.summary.runs[0].state

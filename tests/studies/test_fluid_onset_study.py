@@ -7,15 +7,20 @@ from __future__ import annotations
 import dataclasses
 
 import pytest
+from fluid_registry import study_module
 
 from elastoactive.analysis import stability
 from elastoactive.studies import load_study
-from elastoactive.studies.fluid_onset import fluid_onset_claims, fluid_onset_figures, fluid_onset_study
 
 
 @pytest.fixture(scope="module")
-def study():
-    return fluid_onset_study("tiny", workers=1, progress=False)
+def mod():
+    yield from study_module("fluid_onset")
+
+
+@pytest.fixture(scope="module")
+def study(mod):
+    return mod.fluid_onset_study("tiny", workers=1, progress=False)
 
 
 def test_onsets(study):
@@ -31,14 +36,14 @@ def test_onsets(study):
     assert study.data["sigma_c"].shape == (2, 2)
 
 
-def test_claims_follow_the_data(study, tmp_path):
-    rows = fluid_onset_claims(study, {})
+def test_claims_follow_the_data(mod, study, tmp_path):
+    rows = mod.fluid_onset_claims(study, {})
     assert [r.agree for r in rows] == ["yes"] * 4
     split = dataclasses.replace(study.summary.onsets[0], splitting=1e-3)
     changed = dataclasses.replace(
         study, summary=dataclasses.replace(study.summary, onsets=[split, *study.summary.onsets[1:]])
     )
-    assert fluid_onset_claims(changed, {})[-1].agree == "no"
-    assert fluid_onset_figures(study, tmp_path)[0].exists()
+    assert mod.fluid_onset_claims(changed, {})[-1].agree == "no"
+    assert mod.fluid_onset_figures(study, tmp_path)[0].exists()
     study.save(tmp_path)
     assert load_study(tmp_path, "fluid_onset").summary.pair.splitting == study.summary.pair.splitting

@@ -188,12 +188,15 @@ def cilia_row_waves_figures(study: Study, out: Path) -> list[Path]:
     ax.set_xlabel("t / T (last periods)")
     ax.set_yticks([])
     ax = axes[1]
-    for cy, marker in (("beat", "s"), ("whirl", "*")):
-        pick_c = d["cycle"] == cr.CYCLES.index(cy)
-        ax.plot(d["spacing"][pick_c], d["wave_number"][pick_c], marker + "-", label=cy)
+    for k, run in enumerate(s.runs):
+        marker = "s--" if run.cycle == "beat" else "*-"
+        wave = "no lock" if run.direction == "none" else f"{run.direction}, k = {run.wave_number:.2g}"
+        ax.plot(np.arange(1, len(run.lags) + 1), run.lags, marker, color=f"C{k}",
+                label=f"{run.cycle}, d = {run.spacing:g}: {wave}")  # fmt: skip
     ax.axhline(0.0, color="0.5", lw=0.8)
-    ax.set_xlabel(r"spacing $d/l$")
-    ax.set_ylabel(r"wave number $k$ (rad/$l$, + toward +x)")
+    ax.set_yticks([-np.pi, -np.pi / 2, 0, np.pi / 2, np.pi], [r"$-\pi$", r"$-\pi/2$", "0", r"$\pi/2$", r"$\pi$"])
+    ax.set_xlabel("neighbour pair m (cilia m, m + 1)")
+    ax.set_ylabel(r"lag $\langle\Phi_{m+1} - \Phi_m\rangle$")
     ax.set_title(f"M = {s.cilia}, N = {s.n}, a/l = {s.radius:g}, " rf"$\sigma$ = {s.load:g} $\sigma_c$", fontsize=9)
     ax.legend(fontsize=7)
     ax = axes[2]

@@ -38,8 +38,9 @@ def scene_parameters(scene) -> tuple[str, ...]:
     if scene.term_parameters is not None:  # a network scene: only the terms' parameters that act on its units
         acting = tuple(scene.term_parameters)
         names = tuple(k for k in LEADING if k in acting) + tuple(scene.own_parameter_names()) + acting
-    else:
-        names = LEADING + tuple(scene.own_parameter_names()) + _terms.parameter_names()
+    else:  # a chain scene: every term's parameters but those of a term that only the scenes naming them take
+        terms = tuple(p.name for t in _terms.terms() if not getattr(t, "named_only", False) for p in t.parameters)
+        names = LEADING + tuple(scene.own_parameter_names()) + terms
     return tuple(dict.fromkeys(names)) + ((COUPLING.name,) if has_coupling(scene) else ())
 
 

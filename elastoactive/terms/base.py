@@ -92,6 +92,10 @@ class Term:
     labelled: ClassVar[bool] = True
     """Whether a case's label (Scene.label) names its parameters when it is active (the built-in terms' are named by
     the scenes' own labels and captions)."""
+    named_only: ClassVar[bool] = False
+    """Whether only the scenes that name its parameters in their term_parameters take them: the chain scenes that take
+    every term (term_parameters None) then refuse them as having no effect (the hydrodynamics term, which the planar
+    chains' engines do not carry)."""
 
     @classmethod
     def observable_names(cls) -> tuple[str, ...]:

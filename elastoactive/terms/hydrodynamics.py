@@ -8,10 +8,10 @@ docs/hydrodynamics.md). At bead_radius 0 (the default) the term rests and every 
 bit.
 
 Scenes: the ones that name bead_radius in their term_parameters (the 3D chains clamped-3d and rotating-pin-3d in
-free space, the cilia on a wall: cilium, cilia-pair, cilia-row). The others refuse it: the network scenes as having
-no effect on them (Physics), the paper's planar chains, which take every chain term, here (`check`): their engines,
-the planar kernels and planar MuJoCo models, carry no mobility among the beads (docs/hydrodynamics.md, "Which scenes
-take the term"). The beads are spheres, so a drag_ratio other than 1 is refused while the term acts.
+free space, the cilia on a wall: cilium, cilia-pair, cilia-row). The others refuse it as having no effect on them
+(Physics; `named_only`: the paper's planar chains too, which take every other chain term): their engines, the planar
+kernels and planar MuJoCo models, carry no mobility among the beads (docs/hydrodynamics.md, "Which scenes take the
+term"). The beads are spheres, so a drag_ratio other than 1 is refused while the term acts (`check`).
 
 Engines: both. The reduced engine solves the constrained mobility problem (elastoactive.reduced.fluid); MuJoCo carries
 the coupling as a background flow on the beads' drag actuators, explicit from the step before, the self-drag implicit
@@ -45,16 +45,12 @@ class Hydrodynamics(Term):
     name = "hydrodynamics"
     summary = "hydrodynamic interactions among all beads (RPY in free space, RPB above a wall), bead radius a / l"
     parameters = (BEAD_RADIUS,)
+    named_only = True  # the planar chains' engines carry no mobility among the beads
 
     def active(self, physics) -> bool:
         return physics.bead_radius > 0
 
     def check(self, physics) -> None:
-        if "bead_radius" not in (physics.scene_def.term_parameters or ()):
-            raise ParameterError(
-                f"bead_radius has no effect on scene {physics.scene}: its engines carry no mobility among its beads "
-                "(the 3D chains and the cilia take it: docs/hydrodynamics.md)"
-            )
         if physics.drag_ratio != 1.0:
             raise ParameterError(
                 f"drag_ratio = {physics.drag_ratio:g} with bead_radius = {physics.bead_radius:g}: the beads are "

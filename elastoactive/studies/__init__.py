@@ -39,6 +39,9 @@ numbers they are set against in `elastoactive.studies.paper`.
                   against each network's linear bracket
     states3d      beyond the paper: the clamped chain in 3D, the state reached (planar beat, whirl) against the load,
                   the start and the drag ratio; the beat's out-of-plane Floquet multipliers, the whirl's stability
+    fluid_onset, cilium_states, cilia_pair_sync, cilia_row_waves
+                  beyond the paper, through the fluid (docs/fluid_studies.md): the onset against the bead radius in
+                  free space and on a wall, a cilium's beat or whirl, a pair's locks, a row's waves and flux
 
 and what they share: `registry` (the studies by name), `base` (sizes, the Study container, running a
 batch of cases), `plotting` (figure style and helpers), `claim_rows` (the claim row and its number
@@ -52,9 +55,13 @@ from pathlib import Path
 
 from . import registry
 from .base import ENGINES, SIZES, Study, Summary
+from .cilia_pair_sync import PairSyncSummary, cilia_pair_sync_study
+from .cilia_row_waves import RowWavesSummary, cilia_row_waves_study
+from .cilium_states import CiliumStatesSummary, cilium_states_study
 from .clamp_tongue import ClampTongueSummary, clamp_tongue_study
 from .dish import DishSummary, dish_study
 from .disorder import DisorderSummary, disorder_study
+from .fluid_onset import FluidOnsetSummary, fluid_onset_study
 from .hopf import HopfSummary, hopf_study
 from .hysteresis import HysteresisSummary, hysteresis_study
 from .inertia import InertiaSummary, inertia_study
@@ -146,6 +153,14 @@ __all__ = [
     "star_study",
     "States3DSummary",
     "states3d_study",
+    "FluidOnsetSummary",
+    "fluid_onset_study",
+    "CiliumStatesSummary",
+    "cilium_states_study",
+    "PairSyncSummary",
+    "cilia_pair_sync_study",
+    "RowWavesSummary",
+    "cilia_row_waves_study",
 ]
 
 

@@ -88,7 +88,7 @@ class CiliumStatesSummary(Summary):
     runs: list[CiliumRun]
 
 
-CILIUM_STATES = registry.declare("cilium_states", summary=CiliumStatesSummary, order=222, budget=4)
+CILIUM_STATES = registry.declare("cilium_states", summary=CiliumStatesSummary, order=222, budget=1)
 
 
 def _grid(size: str) -> tuple[int, tuple[float, ...]]:

@@ -36,9 +36,12 @@ from ..core.table import Registry, UnknownName
 QUICK_BUDGET_S = 240.0
 """The wall time of the default (quick) `elastoactive reproduce` on an idle 2-core machine (seconds): every built-in
 study's budget, plus START_S."""
-START_S = 10.0
+START_S = 8.0
 """The part of QUICK_BUDGET_S that is no study's: importing the package and the engines, the code digest, the figures
-not drawn while a study ran (the last study's; those whose drawing a study left no core for), report.md."""
+not drawn while a study ran (the last study's; those whose drawing a study left no core for), report.md. Measured at
+load 6-7 (whose CPU times are about 3x an idle machine's wall times, as for the studies' budgets): the command alone,
+parsed and refused, 2.7 s of CPU; `reproduce --only stability` whole, its 1 s study, report and figures included,
+6.9 s of CPU, so about 2 s idle for what is no study's, 8 s with a margin for the last figures."""
 
 RunFn = Callable[..., Any]
 """run(size="quick", workers=None, progress=True) -> Study."""

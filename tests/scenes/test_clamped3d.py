@@ -243,3 +243,13 @@ def test_the_fluid_takes_every_bead_loaded_and_no_planar_chain():
     for planar in ("one-pinned", "two-pinned", "rotating-pin", "coupled-pair"):
         with pytest.raises(ea.ParameterError, match=f"bead_radius has no effect on scene {planar} "):
             ea.Physics(scene=planar, bead_radius=0.1)
+
+
+def test_through_the_fluid_a_planar_start_stays_planar():
+    """RPY is isotropic and a planar chain's forces lie in its plane: from zero elevations the chain beats in its
+    plane in both engines (elevations exactly 0), the planar scene's chain through the fluid."""
+    theta = 0.01 * np.sin(0.3 * np.arange(1, 6))
+    physics = ea.Physics(scene="clamped-3d", n=5, sigma=0.8, bead_radius=0.1)
+    for engine in ("reduced", "mujoco"):
+        traj = ea.simulate(physics, duration=10.0, engine=engine, theta0=np.concatenate([theta, np.zeros(5)]))
+        assert np.all(traj.theta[:, 5:] == 0.0) and np.abs(traj.theta[:, :5]).max() > 0.05

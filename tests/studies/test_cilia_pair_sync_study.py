@@ -5,18 +5,18 @@ both starts; the claim rows follow the data; the figure and the saved summary ar
 from __future__ import annotations
 
 import dataclasses
+import importlib
 import math
 
 import numpy as np
 import pytest
-from fluid_registry import study_module
 
 from elastoactive.studies import cilia_runs, load_study
 
 
 @pytest.fixture(scope="module")
 def mod():
-    yield from study_module("cilia_pair_sync")
+    return importlib.import_module("elastoactive.studies.cilia_pair_sync")
 
 
 @pytest.fixture(scope="module")

@@ -5,18 +5,18 @@ data; the figure and the saved summary are made."""
 from __future__ import annotations
 
 import dataclasses
+import importlib
 import math
 
 import numpy as np
 import pytest
-from fluid_registry import study_module
 
 from elastoactive.studies import cilia_runs, load_study
 
 
 @pytest.fixture(scope="module")
 def mod():
-    yield from study_module("cilia_row_waves")
+    return importlib.import_module("elastoactive.studies.cilia_row_waves")
 
 
 @pytest.fixture(scope="module")

@@ -5,16 +5,16 @@ follow the data; the figure and the saved summary are made."""
 from __future__ import annotations
 
 import dataclasses
+import importlib
 
 import pytest
-from fluid_registry import study_module
 
 from elastoactive.studies import load_study
 
 
 @pytest.fixture(scope="module")
 def mod():
-    yield from study_module("cilium_states")
+    return importlib.import_module("elastoactive.studies.cilium_states")
 
 
 @pytest.fixture(scope="module")

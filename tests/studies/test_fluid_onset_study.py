@@ -5,9 +5,9 @@ follow the data; the figure and the saved summary are made."""
 from __future__ import annotations
 
 import dataclasses
+import importlib
 
 import pytest
-from fluid_registry import study_module
 
 from elastoactive.analysis import stability
 from elastoactive.studies import load_study
@@ -15,7 +15,7 @@ from elastoactive.studies import load_study
 
 @pytest.fixture(scope="module")
 def mod():
-    yield from study_module("fluid_onset")
+    return importlib.import_module("elastoactive.studies.fluid_onset")
 
 
 @pytest.fixture(scope="module")

@@ -575,26 +575,20 @@ class Clamped3D(Scene):
         return Onset(sigma_c, omega_c, kind)
 
     def leading_eigenvalue(self, physics: Physics, sigma: float) -> complex:
-        """The planar operator's (each plane's block of the 3D one); a partial load's from the planar scene; through
-        the fluid (or a spring) the scene's operator's (analysis.stability_fluid)."""
-        from ..analysis.stability3d import linear_operator3d  # start-up time: scipy
-
+        """The planar scene's (planar_scene: each plane's block of the 3D operator is its operator, so its slowest
+        modes, not the 2N x 2N operator's dense eigenvalues, and its own treatment of a free pivot's rigid turn);
+        through the fluid (or a spring) the scene's operator's (analysis.stability_fluid)."""
         if not self._independent(physics):
             from ..analysis.stability_fluid import leading_eigenvalue_fluid  # scipy
 
             return leading_eigenvalue_fluid(self.beds(physics), sigma)
-        if not physics.all_loaded:
-            planar = self.planar(physics)
-            return planar.scene_def.leading_eigenvalue(planar, sigma)
-        lam = np.linalg.eigvals(linear_operator3d(physics.n, sigma, physics.drag_ratio, self.clamped))
-        return complex(lam[np.argmax(lam.real)])
+        planar = self.planar(physics)
+        return planar.scene_def.leading_eigenvalue(planar, sigma)
 
     def fastest_overdamped_rate(self, physics: Physics) -> float:
-        """The largest |eigenvalue| of the straight chain's 3D linear operator (the planar one twice) at the physics'
-        sigma, 1/tau; a partial load's from the planar scene; through the fluid (or a spring) the scene's operator's
-        (analysis.stability_fluid)."""
-        from ..analysis.stability3d import linear_operator3d  # start-up time: scipy
-
+        """The largest |eigenvalue| of the straight chain's 3D linear operator at the physics' sigma, 1/tau: its
+        planar block's (analysis.stability3d.fastest_rate3d); a partial load's from the planar scene; through the
+        fluid (or a spring) the scene's operator's (analysis.stability_fluid)."""
         if not self._independent(physics):
             from ..analysis.stability_fluid import linear_operator_fluid  # scipy
 
@@ -603,8 +597,9 @@ class Clamped3D(Scene):
         if not physics.all_loaded:
             planar = self.planar(physics)
             return planar.scene_def.fastest_overdamped_rate(planar)
-        lam = np.linalg.eigvals(linear_operator3d(physics.n, physics.sigma, physics.drag_ratio, self.clamped))
-        return float(np.abs(lam).max())
+        from ..analysis.stability3d import fastest_rate3d  # start-up time: scipy
+
+        return fastest_rate3d(physics.n, physics.sigma, self.clamped)
 
     def stability_report(
         self, physics: Physics, sigma: float | None, onset: Onset | None = None, eigenvalue: complex | None = None

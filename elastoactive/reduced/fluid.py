@@ -61,13 +61,18 @@ from .dop853_loop import dop853_steps, integrate
 from .network import run_loop
 
 __all__ = [
+    "CG_TOLERANCE",
+    "DIRECT_UP_TO",
     "METHODS",
     "MOBILITIES",
     "Beds",
+    "Near",
+    "Work",
     "eval_rhs_fluid",
     "fluid_forces",
     "lab_positions",
     "mobility_matrix",
+    "near_chains",
     "rhs",
     "rhs_reference",
     "solve_fluid",

@@ -160,7 +160,7 @@ def main(argv=None) -> int:
     lines += [
         "",
         head + " exact (ms) | cutoff (ms) | 100 beats exact (s) | exact, loose (s) | cutoff, loose (s) |",
-        "|---" * (head.count("|") + 5) + "|",
+        "|---" * (head.count("|") - 1 + 5) + "|",
     ]
     largest = {"exact": 0, "exact, loose": 0, "cutoff, loose": 0}
     for m in sizes:

@@ -80,7 +80,8 @@ def test_a_chain_of_one_link_has_no_onset():
 def test_the_cilium_s_stability_is_through_the_fluid_when_it_has_beads():
     physics = Physics(scene="cilium", n=6, bead_radius=0.2)
     onset = physics.scene_def.onset(physics)
-    assert (onset.sigma_c, onset.omega_c) == sf.onset_fluid(physics.scene_def.beds(physics))
+    # the same search twice: equal but for the last digits a threaded BLAS's eigenvalues may move
+    assert (onset.sigma_c, onset.omega_c) == pytest.approx(sf.onset_fluid(physics.scene_def.beds(physics)), rel=1e-12)
     assert "together through the fluid" in onset.kind
     dry = Physics(scene="cilium", n=6)
     assert dry.scene_def.onset(dry).sigma_c == pytest.approx(stability3d.onset3d(6)[0], rel=1e-12)

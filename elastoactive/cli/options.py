@@ -107,11 +107,35 @@ def preload_plugins(argv: list[str]) -> list[str]:
     return rest
 
 
+MUJOCO_GL_ACCEPTED = (
+    "",
+    "disable",
+    "disabled",
+    "off",
+    "false",
+    "0",
+    "enable",
+    "enabled",
+    "on",
+    "true",
+    "1",
+    "glfw",
+    "glx",
+    "egl",
+    "osmesa",
+    "wgl",
+    "cgl",
+)
+"""Values of MUJOCO_GL that MuJoCo's renderer takes on some system (mujoco.rendering.classic.gl_context): these need
+no check, so a command that never simulates in MuJoCo (a reduced run) does not load it for one."""
+
+
 def check_mujoco_gl() -> None:
     """Refuse a MUJOCO_GL that MuJoCo rejects (it reads the variable when it is imported, and raises on a value it
-    does not know), in one line naming the variable, before any command loads MuJoCo. Unset, nothing is loaded."""
+    does not know), in one line naming the variable, before any command loads MuJoCo. Unset, or a value MuJoCo takes
+    (MUJOCO_GL_ACCEPTED), nothing is loaded; any other is put to MuJoCo itself, which has the last word."""
     value = os.environ.get("MUJOCO_GL")
-    if not value:
+    if not value or value.lower().strip() in MUJOCO_GL_ACCEPTED:
         return
     try:
         import mujoco  # noqa: F401 (loaded by every command that simulates or renders)

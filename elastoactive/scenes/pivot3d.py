@@ -60,7 +60,7 @@ def rotation_threshold_fluid(beds) -> tuple[float, float]:
     drag's threshold, then brentq. At the local drag's mobility it is analysis.stability.rotation_threshold."""
     from scipy.optimize import brentq  # start-up time: scipy
 
-    from ..analysis import stability
+    from ..analysis import stability  # start-up time: the stability analyses load scipy
     from ..analysis.stability_fluid import linear_operator_fluid, mobility_operator
 
     g = mobility_operator(beds)

@@ -10,6 +10,7 @@ from the dataclass's type hints.
 
 from __future__ import annotations
 
+import dataclasses
 import json
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -163,11 +164,9 @@ def run_ramps(ramps: list, folder: Path, workers, progress: bool) -> list:
     side by side, so that a study of several ramps with fewer seeds than cores (or a seed count the cores do not
     divide) keeps every core busy. A seed's run does not depend on the others' (its start and its noise are its own),
     so the result is run_ramp's. Files go to `folder`."""
-    import dataclasses
+    import xarray as xr  # start-up time: xarray reads the ramps back
 
-    import xarray as xr
-
-    from ..api import load_sweep
+    from ..api import load_sweep  # the front door imports the studies' package: at call time
     from ..io.executor import default_workers, imap
 
     jobs = [(dataclasses.replace(ramp, seeds=(seed,)), Path(folder) / f"ramp{k}_seed{seed}.nc") for k, ramp in

@@ -9,6 +9,7 @@ names who brought the module in. The figures of time are scripts/benchmark.py's 
 
 from __future__ import annotations
 
+import os
 import subprocess
 import sys
 from typing import NamedTuple
@@ -34,6 +35,7 @@ def _imports(args: tuple[str, ...], cwd) -> list[Imported]:
     done = subprocess.run(
         [sys.executable, "-X", "importtime", "-m", "elastoactive", *args],
         cwd=cwd,
+        env={**os.environ, "MUJOCO_GL": "egl"},  # set, as a user's shell may: its check must not load MuJoCo
         capture_output=True,
         text=True,
         timeout=600,

@@ -141,6 +141,19 @@ def wall_pair_into(xi0, xi1, xi2, xj0, xj1, xj2, a, block):
 
 
 @njit(cache=True)
+def self_mobility(a, h):
+    """(parallel, perpendicular): the self-mobility of a bead of radius a at height h above the wall, the Faxen /
+    Lorentz series 1 - 9/16 s + 1/8 s^3 - 1/16 s^5 and 1 - 9/8 s + 1/2 s^3 - 1/8 s^5, s = a / h: 1 + wall_self's
+    corrections, for the compiled kernels' self blocks."""
+    s = a / h
+    s3 = s * s * s
+    s5 = s3 * s * s
+    parallel = 1.0 - (9.0 / 16.0 * s - 1.0 / 8.0 * s3 + 1.0 / 16.0 * s5)
+    perpendicular = 1.0 - (9.0 / 8.0 * s - 1.0 / 2.0 * s3 + 1.0 / 8.0 * s5)
+    return parallel, perpendicular
+
+
+@njit(cache=True)
 def rpb_kernel(x, a, out):
     """Fill out (3n, 3n) with the Rotne-Prager-Blake mobility of positions x (n, 3), every z > 0."""
     n = x.shape[0]
@@ -151,11 +164,7 @@ def rpb_kernel(x, a, out):
         b[i] = min(x[i, 2] / a, 1.0)
     block = np.empty((3, 3))
     for i in range(n):
-        s = a / z[i]
-        s3 = s * s * s
-        s5 = s3 * s * s
-        parallel = 1.0 - (9.0 / 16.0 * s - 1.0 / 8.0 * s3 + 1.0 / 16.0 * s5)
-        perpendicular = 1.0 - (9.0 / 8.0 * s - 1.0 / 2.0 * s3 + 1.0 / 8.0 * s5)
+        parallel, perpendicular = self_mobility(a, z[i])
         bb = b[i] * b[i]
         for p in range(3):
             for q in range(3):
@@ -167,12 +176,7 @@ def rpb_kernel(x, a, out):
             dx = x[i, 0] - x[j, 0]
             dy = x[i, 1] - x[j, 1]
             dz = z[i] - z[j]
-            if dx == 0.0 and dy == 0.0 and dz == 0.0:
-                for p in range(3):
-                    for q in range(3):
-                        block[p, q] = 1.0 if p == q else 0.0
-            else:
-                rpy_pair(dx, dy, dz, a, block)
+            rpy_pair(dx, dy, dz, a, block)
             wall_pair_into(x[i, 0], x[i, 1], z[i], x[j, 0], x[j, 1], z[j], a, block)
             bb = b[i] * b[j]
             for p in range(3):
@@ -194,12 +198,7 @@ def rpb_cross_kernel(x, y, a, out):
             dx = x[i, 0] - y[j, 0]
             dy = x[i, 1] - y[j, 1]
             dz = zi - zj
-            if dx == 0.0 and dy == 0.0 and dz == 0.0:
-                for p in range(3):
-                    for q in range(3):
-                        block[p, q] = 1.0 if p == q else 0.0
-            else:
-                rpy_pair(dx, dy, dz, a, block)
+            rpy_pair(dx, dy, dz, a, block)
             wall_pair_into(x[i, 0], x[i, 1], zi, y[j, 0], y[j, 1], zj, a, block)
             bb = bi * min(y[j, 2] / a, 1.0)
             for p in range(3):

@@ -10,7 +10,7 @@ import numpy as np
 from numba import njit
 
 from ..core.errors import ParameterError
-from .blake import check_above_wall, wall_pair_into
+from .blake import check_above_wall, self_mobility, wall_pair_into
 from .rpy import check_positions, check_radius, rpy_pair
 
 
@@ -35,11 +35,7 @@ def product_kernel(x, a, f, wall, u):
         parallel = 1.0
         perpendicular = 1.0
         if wall:
-            s = a / z[i]
-            s3 = s * s * s
-            s5 = s3 * s * s
-            parallel = 1.0 - (9.0 / 16.0 * s - 1.0 / 8.0 * s3 + 1.0 / 16.0 * s5)
-            perpendicular = 1.0 - (9.0 / 8.0 * s - 1.0 / 2.0 * s3 + 1.0 / 8.0 * s5)
+            parallel, perpendicular = self_mobility(a, z[i])
         u[i, 0] += parallel * fb[i, 0]
         u[i, 1] += parallel * fb[i, 1]
         u[i, 2] += perpendicular * fb[i, 2]
@@ -47,12 +43,7 @@ def product_kernel(x, a, f, wall, u):
             dx = x[i, 0] - x[j, 0]
             dy = x[i, 1] - x[j, 1]
             dz = z[i] - z[j]
-            if dx == 0.0 and dy == 0.0 and dz == 0.0:
-                for p in range(3):
-                    for q in range(3):
-                        block[p, q] = 1.0 if p == q else 0.0
-            else:
-                rpy_pair(dx, dy, dz, a, block)
+            rpy_pair(dx, dy, dz, a, block)
             if wall:
                 wall_pair_into(x[i, 0], x[i, 1], z[i], x[j, 0], x[j, 1], z[j], a, block)
             for p in range(3):

@@ -87,8 +87,14 @@ def rpy(positions, radius) -> np.ndarray:
 
 @njit(cache=True)
 def rpy_pair(dx, dy, dz, a, block):
-    """The RPY pair block M_ij for separation (dx, dy, dz) = x_i - x_j != 0, written into block (3, 3)."""
+    """The RPY pair block M_ij for separation (dx, dy, dz) = x_i - x_j, written into block (3, 3); at zero separation
+    the self block, the identity (the overlap form's limit)."""
     r2 = dx * dx + dy * dy + dz * dz
+    if r2 == 0.0:
+        for p in range(3):
+            for q in range(3):
+                block[p, q] = 1.0 if p == q else 0.0
+        return
     r = np.sqrt(r2)
     if r >= 2.0 * a:
         s = 0.75 * a / r
@@ -118,12 +124,7 @@ def rpy_kernel(x, a, out):
             dx = x[i, 0] - x[j, 0]
             dy = x[i, 1] - x[j, 1]
             dz = x[i, 2] - x[j, 2]
-            if dx == 0.0 and dy == 0.0 and dz == 0.0:
-                for p in range(3):
-                    for q in range(3):
-                        block[p, q] = 1.0 if p == q else 0.0
-            else:
-                rpy_pair(dx, dy, dz, a, block)
+            rpy_pair(dx, dy, dz, a, block)
             for p in range(3):
                 for q in range(3):
                     out[3 * i + p, 3 * j + q] = block[p, q]
@@ -140,12 +141,7 @@ def rpy_cross_kernel(x, y, a, out):
             dx = x[i, 0] - y[j, 0]
             dy = x[i, 1] - y[j, 1]
             dz = x[i, 2] - y[j, 2]
-            if dx == 0.0 and dy == 0.0 and dz == 0.0:
-                for p in range(3):
-                    for q in range(3):
-                        block[p, q] = 1.0 if p == q else 0.0
-            else:
-                rpy_pair(dx, dy, dz, a, block)
+            rpy_pair(dx, dy, dz, a, block)
             for p in range(3):
                 for q in range(3):
                     out[3 * i + p, 3 * j + q] = block[p, q]

@@ -19,6 +19,10 @@ finite mass), solved without MuJoCo: arrays and records in, arrays out.
   network.py               the elastic network of self-aligning units: right-hand side, Jacobian, normal modes
                            (dense, or sparse for large networks), the solvers
   network_kernels.py       the network's compiled kernels: right-hand side, DOP853, Euler-Maruyama, the noise draw
+  chain3d.py               the chain in three dimensions: unit tangents, O(N) drag solve, Jacobian, solve3d
+  fluid.py                 chains coupled through the fluid: J^T M^-1 J q' = J^T F - dU/dq by the links' tensions
+  tensions.py              those tensions' system: Cholesky, or block-preconditioned conjugate gradients
+  dop853_loop.py           DOP853 compiled once, its right-hand side plugged in through a cached driver
 
 This package knows no scene and no Physics: elastoactive.engines.reduced turns a Physics into a
 ChainSystem (Scene.reduced_system) and a Trajectory. Importing it is cheap (numpy and numba's import); the names

@@ -29,6 +29,9 @@ PAGES = {"README.md": README, **{f"docs/{name}.md": (ROOT / "docs" / f"{name}.md
 SHORT = 20.0
 """tau: the longest run a documented command makes here (its files and messages are what is checked, not its physics,
 which the physics tests check)."""
+LADDERS = {"filament": "10,20", "whirl": "8,10,14"}
+"""The continuum commands' ladders of N in the guide tests: the same code as the default ladders, without their longest
+chains (the default filament ladder reaches N = 160)."""
 
 FRONT_PAGE_LINES = 150
 """The README is a front page: at most this many lines, the rest is on the site."""
@@ -94,6 +97,8 @@ def _shrink(argv: list[str], scheduler=None) -> list[str]:
         argv += ["--duration", str(SHORT)]
     if argv[0] == "reproduce":
         argv += ["--tiny", "--workers", "1"]
+    if argv[0] in LADDERS and "--ns" not in argv:
+        argv += ["--ns", LADDERS[argv[0]]]
     if argv[0] == "validate" and (len(argv) == 1 or argv[1].startswith("-")):
         # every scene's cases (or convergence ladders) take minutes: one scene's go through the same code (the
         # convergence ladder's nine MuJoCo runs: the single trapped unit's take 7 s, a chain's 38)

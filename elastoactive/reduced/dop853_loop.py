@@ -13,15 +13,18 @@ that each model compiles with its own rate as a global, e.g.
 A driver so written is cached like any kernel: numba cannot cache a function that takes another compiled function as
 an argument (the dispatcher is a dynamic global, recompiled in every process), while the inlined loop names the rate
 only through the driver's global. `integrate(driver, args, ts, y0, ...)` allocates the loop's state and runs it through
-a `loop` (reduced.network.run_loop's contract: engines.runner.resume with a meter for progress).
+a `loop` (run_loop's contract; engines.runner.resume with a meter for progress).
 
-Taking the same steps as scipy's on the same right-hand side, it agrees with solve_ivp(DOP853) to round-off (the
-stages' sums are taken row by row, as reduced.network_kernels.dop853's, an order apart from scipy's).
+reduced.fluid's DOP853 and reduced.network_kernels.dop853 (the network) are drivers of this loop. `dop853_sums` is the loop with the order of its weighted sums chosen
+(SCALED_ROWS or COLUMNS, for the stages and for the dense output), so that each driver keeps the round-off of the
+loop it replaced, bit for bit; dop853_steps sums by SCALED_ROWS throughout. Taking the same steps as scipy's on the
+same right-hand side, each agrees with solve_ivp(DOP853) to round-off (the sums' order is not scipy's).
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from typing import NamedTuple
 
 import numpy as np
@@ -29,9 +32,19 @@ from numba import njit
 
 from . import dop853_coefficients as coef
 from .dop853_coefficients import INTERPOLATOR_POWER, N_STAGES, N_STAGES_EXTENDED
-from .network import run_loop
 
-__all__ = ["PAUSED", "Integrated", "STEP_BUDGET", "TABLEAU", "dop853_steps", "integrate"]
+__all__ = [
+    "COLUMNS",
+    "PAUSED",
+    "SCALED_ROWS",
+    "Integrated",
+    "STEP_BUDGET",
+    "TABLEAU",
+    "dop853_steps",
+    "dop853_sums",
+    "integrate",
+    "run_loop",
+]
 
 PAUSED = 1
 """dop853_steps' status when it returns after its step budget, to be called again."""
@@ -40,6 +53,12 @@ STEP_BUDGET = 2_000_000
 ms per call at small states, so Ctrl-C is seen within ~0.1 s while the calls cost nothing measurable."""
 TABLEAU = tuple(np.ascontiguousarray(x, dtype=float) for x in (coef.A, coef.B, coef.E3, coef.E5, coef.D))
 """(A, B, E3, E5, D): the arguments dop853_steps takes after atol."""
+SCALED_ROWS = 0
+"""A weighted sum z = y + h sum_j w_j K_j taken row by row, h folded into each weight: z = y, then z += (h w_j) K_j
+for every j with w_j != 0 (K's rows are contiguous)."""
+COLUMNS = 1
+"""A weighted sum taken entry by entry, h applied last: z_i = y_i + h (sum_j w_j K_ji) (the dense output's, from
+y = 0: 0 + x is x exactly, the sum never being -0)."""
 
 
 @njit(cache=True)
@@ -51,16 +70,29 @@ def _rms(x):
 
 
 @njit(cache=True, inline="always")
-def _stages(rate, args, first, last, y, h, A, K, ytmp):
-    """K[s] = rate(y + h sum_{j<s} A[s, j] K[j]) for s = first .. last - 1."""
-    for s in range(first, last):
+def _weighted_sum(order, y, h, w, K, count, z):
+    """z = y + h sum_{j < count} w[j] K[j], summed in `order` (SCALED_ROWS or COLUMNS)."""
+    if order == COLUMNS:
         for i in range(y.size):
-            ytmp[i] = y[i]
-        for j in range(s):
-            a = h * A[s, j]
+            acc = 0.0
+            for j in range(count):
+                acc += w[j] * K[j, i]
+            z[i] = y[i] + h * acc
+    else:
+        for i in range(y.size):
+            z[i] = y[i]
+        for j in range(count):
+            a = h * w[j]
             if a != 0.0:
                 for i in range(y.size):
-                    ytmp[i] += a * K[j, i]
+                    z[i] += a * K[j, i]
+
+
+@njit(cache=True, inline="always")
+def _stages(rate, args, order, first, last, y, h, A, K, ytmp):
+    """K[s] = rate(y + h sum_{j<s} A[s, j] K[j]) for s = first .. last - 1."""
+    for s in range(first, last):
+        _weighted_sum(order, y, h, A[s], K, s, ytmp)
         rate(ytmp, K[s], args)
 
 
@@ -72,6 +104,18 @@ def dop853_steps(rate, args, y, f, clock, counts, ts, rtol, atol, A, B, E3, E5, 
     carry the integration from one call to the next (counts[0] == 0: start). Takes at most max_steps steps per call;
     returns 0 (done), PAUSED (call again) or -1 (the step size fell below the round-off limit; a rate that is not
     finite rejects the step, as scipy's does, so a model that left its domain ends so)."""
+    return dop853_sums(
+        rate, args, SCALED_ROWS, SCALED_ROWS, y, f, clock, counts, ts, rtol, atol, A, B, E3, E5, DD, out, max_steps
+    )
+
+
+@njit(cache=True, inline="always")
+def dop853_sums(
+    rate, args, stage_sums, dense_sums, y, f, clock, counts, ts, rtol, atol, A, B, E3, E5, DD, out, max_steps
+):
+    """dop853_steps with the order of its weighted sums chosen (SCALED_ROWS or COLUMNS, each a compile-time constant
+    of the driver): stage_sums for the stages' states and the step's new state, dense_sums for the dense output's
+    coefficients."""
     ns = N_STAGES
     nse = N_STAGES_EXTENDED
     na = y.size
@@ -83,6 +127,7 @@ def dop853_steps(rate, args, y, f, clock, counts, ts, rtol, atol, A, B, E3, E5, 
     scale = np.empty(na)
     e3 = np.empty(na)
     e5 = np.empty(na)
+    zero = np.zeros(na)  # the dense output's coefficients are sums from 0
     t0 = ts[0]
     T = ts[-1]
     nsamp = ts.size
@@ -154,14 +199,8 @@ def dop853_steps(rate, args, y, f, clock, counts, ts, rtol, atol, A, B, E3, E5, 
             h = t_new - t
             h_abs = abs(h)
             K[0, :] = f
-            _stages(rate, args, 1, ns, y, h, A, K, ytmp)
-            for i in range(na):
-                y_new[i] = y[i]
-            for j in range(ns):
-                a = h * B[j]
-                if a != 0.0:
-                    for i in range(na):
-                        y_new[i] += a * K[j, i]
+            _stages(rate, args, stage_sums, 1, ns, y, h, A, K, ytmp)
+            _weighted_sum(stage_sums, y, h, B, K, ns, y_new)
             rate(y_new, f_new, args)
             K[ns, :] = f_new
             nfev += ns
@@ -204,7 +243,7 @@ def dop853_steps(rate, args, y, f, clock, counts, ts, rtol, atol, A, B, E3, E5, 
             break
         naccept += 1
         if isamp < nsamp and ts[isamp] < t_new:  # the dense output's extra stages, only when a sample falls here
-            _stages(rate, args, ns + 1, nse, y, h, A, K, ytmp)
+            _stages(rate, args, stage_sums, ns + 1, nse, y, h, A, K, ytmp)
             nfev += nse - ns - 1
             for i in range(na):
                 dy = y_new[i] - y[i]
@@ -212,13 +251,7 @@ def dop853_steps(rate, args, y, f, clock, counts, ts, rtol, atol, A, B, E3, E5, 
                 F[1, i] = h * K[0, i] - dy
                 F[2, i] = 2.0 * dy - h * (f_new[i] + K[0, i])
             for r in range(INTERPOLATOR_POWER - 3):
-                for i in range(na):
-                    F[3 + r, i] = 0.0
-                for j in range(nse):
-                    a = h * DD[r, j]
-                    if a != 0.0:
-                        for i in range(na):
-                            F[3 + r, i] += a * K[j, i]
+                _weighted_sum(dense_sums, zero, h, DD[r], K, nse, F[3 + r])
         while isamp < nsamp and ts[isamp] <= t_new:
             if ts[isamp] == t_new:
                 out[isamp, :] = y_new
@@ -260,9 +293,35 @@ class Integrated(NamedTuple):
     nreject: int
 
 
-def integrate(driver, args: tuple, ts: np.ndarray, y0: np.ndarray, rtol: float, atol: float, loop=run_loop):
+def run_loop(call: Callable[[int], int], paused: int, reached: Callable[[], float], steps: int) -> int:
+    """Run a resumable compiled loop to its end: call(k) takes at most k steps and returns `paused` while unfinished
+    (any other status ends it, and is returned); every call here takes `steps`. A caller that reports progress gives
+    a loop of its own (engines.runner.resume, told reached() after each call): a resumable loop takes the same steps,
+    bit for bit, however its calls are cut."""
+    status = paused
+    while status == paused:  # the compiled loop returns every `steps` steps: Ctrl-C is seen in between
+        status = call(steps)
+    return status
+
+
+def integrate(
+    driver,
+    args: tuple,
+    ts: np.ndarray,
+    y0: np.ndarray,
+    rtol: float,
+    atol: float,
+    loop=run_loop,
+    *,
+    steps: int | None = None,
+    on_interrupt: Callable[[np.ndarray], KeyboardInterrupt] | None = None,
+):
     """Run a driver (the module docstring's) from y0 at ts[0], sampled at ts, through `loop` (run_loop's contract:
-    loop(call, PAUSED, reached, steps))."""
+    loop(call, PAUSED, reached, steps)).
+
+    steps: the steps per call of the compiled loop (default STEP_BUDGET / the state's size squared, a dense right-hand
+    side's cost). on_interrupt: on Ctrl-C, the exception raised instead of the KeyboardInterrupt, made from the
+    samples reached (ts[:len(samples)]); None lets the KeyboardInterrupt through."""
     ts = np.ascontiguousarray(ts, dtype=float)
     y = np.array(y0, dtype=float)
     out = np.empty((ts.size, y.size))
@@ -270,9 +329,16 @@ def integrate(driver, args: tuple, ts: np.ndarray, y0: np.ndarray, rtol: float, 
         out[:] = y
         return Integrated(out, 0, float(ts[0]) if ts.size else 0.0, 0, 0, 0)
     f, clock, counts = np.empty(y.size), np.zeros(2), np.zeros(4, dtype=np.int64)
+    if steps is None:
+        steps = STEP_BUDGET // max(y.size**2, 1)
 
-    def call(steps: int) -> int:
-        return driver(y, f, clock, counts, ts, float(rtol), float(atol), *TABLEAU, out, steps, args)
+    def call(count: int) -> int:
+        return driver(y, f, clock, counts, ts, float(rtol), float(atol), *TABLEAU, out, count, args)
 
-    status = loop(call, PAUSED, lambda: float(clock[0]), max(1, STEP_BUDGET // max(y.size**2, 1)))
+    try:
+        status = loop(call, PAUSED, lambda: float(clock[0]), max(1, steps))
+    except KeyboardInterrupt:
+        if on_interrupt is None:
+            raise
+        raise on_interrupt(out[: int(counts[0])].copy()) from None
     return Integrated(out, int(status), float(clock[0]), int(counts[1]), int(counts[2]), int(counts[3]))

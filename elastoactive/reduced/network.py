@@ -29,8 +29,8 @@ import numpy as np
 
 from ..networks.geometry import Network, unit_alignment_lengths, unit_forces
 from ..networks.state import NetworkState
-from . import dop853_coefficients as _coefficients
 from .blas import one_blas_thread
+from .dop853_loop import integrate, run_loop
 from .network_kernels import PAUSED, STEP_BUDGET, dop853, euler_maruyama, rhs_into
 
 
@@ -411,17 +411,6 @@ class Solution(NamedTuple):
     method: str
 
 
-def run_loop(call: Callable[[int], int], paused: int, reached: Callable[[], float], steps: int) -> int:
-    """Run a resumable compiled loop to its end: call(k) takes at most k steps and returns `paused` while unfinished
-    (any other status ends it, and is returned); every call here takes `steps`. A caller that reports progress gives
-    `solve` and `solve_noisy` a loop of its own (engines.runner.resume, told reached() after each call): a resumable
-    loop takes the same steps, bit for bit, however its calls are cut."""
-    status = paused
-    while status == paused:  # the compiled loop returns every `steps` steps: Ctrl-C is seen in between
-        status = call(steps)
-    return status
-
-
 def solve(
     system: NetworkSystem,
     t: np.ndarray,
@@ -468,29 +457,12 @@ def solve(
 
 
 def _solve_compiled(system: NetworkSystem, t: np.ndarray, y0: np.ndarray, rtol: float, atol: float, loop) -> Solution:
-    ts = np.ascontiguousarray(t, dtype=float)
-    y = np.array(y0, dtype=float)
-    out = np.empty((ts.size, y.size))
-    if ts.size < 2:
-        out[:] = y
-        return Solution(out, 0, "DOP853")
-    f, clock, counts = np.empty(y.size), np.zeros(2), np.zeros(4, dtype=np.int64)
-    tableau = (
-        np.ascontiguousarray(_coefficients.A),
-        np.ascontiguousarray(_coefficients.B),
-        np.ascontiguousarray(_coefficients.E3),
-        np.ascontiguousarray(_coefficients.E5),
-        np.ascontiguousarray(_coefficients.D),
-    )
-    args = kernel_args(system)
-
-    def call(steps: int) -> int:
-        return dop853(y, f, clock, counts, ts, float(rtol), float(atol), *tableau, out, steps, *args)
-
-    status = loop(call, PAUSED, lambda: float(clock[0]), max(1, STEP_BUDGET // max(y.size, 1)))
-    if status < 0:
-        raise RuntimeError(f"DOP853 failed on the network model: the step size fell below round-off at t = {clock[0]}")
-    return Solution(out, int(counts[1]), "DOP853")
+    y0 = np.asarray(y0, dtype=float)
+    steps = STEP_BUDGET // max(y0.size, 1)  # rhs_into costs O(N)
+    run = integrate(dop853, kernel_args(system), t, y0, rtol, atol, loop, steps=steps)
+    if run.status < 0:
+        raise RuntimeError(f"DOP853 failed on the network model: the step size fell below round-off at t = {run.t}")
+    return Solution(run.y, run.nfev, "DOP853")
 
 
 def noise_amplitudes(system: NetworkSystem, dt: float, translational: float, rotational: float) -> np.ndarray:

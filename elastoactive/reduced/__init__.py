@@ -9,7 +9,7 @@ finite mass), solved without MuJoCo: arrays and records in, arrays out.
   kernels.py               numba kernels: drag matrix, forces, right-hand side, Jacobian, Euler-Maruyama;
                            the inertial model's right-hand side (dense mass matrix), its Jacobian and RK4
   dop853_coefficients.py   the DOP853 tableau (copied from scipy, BSD)
-  dop853.py                DOP853 compiled together with the right-hand side
+  dop853.py                the chain's DOP853: dop853_loop's driver around the compiled right-hand side
   regime.py                the overdamped limit: when a particle mass needs the inertial model (numpy)
   settings.py              solver settings read outside the solvers (Baumgarte rate, stiffness thresholds)
   blas.py                  one BLAS thread while the implicit solvers factorise (ctypes)
@@ -22,7 +22,7 @@ finite mass), solved without MuJoCo: arrays and records in, arrays out.
   chain3d.py               the chain in three dimensions: unit tangents, O(N) drag solve, Jacobian, solve3d
   fluid.py                 chains coupled through the fluid: J^T M^-1 J q' = J^T F - dU/dq by the links' tensions
   tensions.py              those tensions' system: Cholesky, or block-preconditioned conjugate gradients
-  dop853_loop.py           DOP853 compiled once, its right-hand side plugged in through a cached driver
+  dop853_loop.py           DOP853's step loop, written once: every compiled DOP853 is a cached driver of it
 
 This package knows no scene and no Physics: elastoactive.engines.reduced turns a Physics into a
 ChainSystem (Scene.reduced_system) and a Trajectory. Importing it is cheap (numpy and numba's import); the names

@@ -15,7 +15,8 @@ an argument (the dispatcher is a dynamic global, recompiled in every process), w
 only through the driver's global. `integrate(driver, args, ts, y0, ...)` allocates the loop's state and runs it through
 a `loop` (run_loop's contract; engines.runner.resume with a meter for progress).
 
-reduced.fluid's DOP853 and reduced.network_kernels.dop853 (the network) are drivers of this loop. `dop853_sums` is the loop with the order of its weighted sums chosen
+Every compiled DOP853 of the package is a driver of this loop: reduced.fluid's, reduced.network_kernels.dop853 (the
+network) and reduced.dop853 (the planar chain). `dop853_sums` is the loop with the order of its weighted sums chosen
 (SCALED_ROWS or COLUMNS, for the stages and for the dense output), so that each driver keeps the round-off of the
 loop it replaced, bit for bit; dop853_steps sums by SCALED_ROWS throughout. Taking the same steps as scipy's on the
 same right-hand side, each agrees with solve_ivp(DOP853) to round-off (the sums' order is not scipy's).

@@ -182,7 +182,7 @@ def restore_pins(th, delta):
 def _sde_workspace(system, na):
     """The workspace (L, D, X, lam) of eval_rhs in euler_maruyama and heun for a state of na numbers:
     make_general_workspace's arrays with an extended term (the state: angles, then the free head), else
-    make_workspace's (dense below RECURSIVE_MIN_N), allocated as dop853._dop853 allocates them."""
+    make_workspace's (dense below RECURSIVE_MIN_N), allocated as dop853._workspace allocates them."""
     n = system.n
     nch = system.n_chains
     if is_extended(system):  # make_general_workspace

@@ -46,8 +46,11 @@ def _systems():
 
 
 def _record_types(dispatcher):
-    """The ChainSystem argument types of each compiled signature of `dispatcher`."""
-    return {arg for sig in dispatcher.signatures for arg in sig if "NamedTuple" in type(arg).__name__}
+    """The ChainSystem argument types of each compiled signature of `dispatcher` (given itself, or in a tuple of
+    arguments: dop853._dop853's args)."""
+    args = [arg for sig in dispatcher.signatures for arg in sig]
+    args += [inner for arg in args if type(arg).__name__ in ("Tuple", "UniTuple") for inner in arg.types]
+    return {arg for arg in args if "NamedTuple" in type(arg).__name__}
 
 
 def test_kernels_compile_once_for_chain_systems():

@@ -205,8 +205,8 @@ def _grid(size: str) -> tuple[int, tuple[float, ...], tuple[float, ...], tuple[f
 
 def _engine_loads(size: str) -> tuple[float, ...]:
     """The loads (sigma / sigma_c, drag ratio 1) of the engines' agreement: none at the tiny size; the quick size's
-    the two highest of its grid (the shortest runs: a run lasts ENGINE_PERIODS periods, longer at a lower load)."""
-    return pick(size, (), (5.0, 8.0), (2.0, 5.0, 8.0))
+    the highest of its grid (the shortest run: a run lasts ENGINE_PERIODS periods, longer at a lower load)."""
+    return pick(size, (), (8.0,), (2.0, 5.0, 8.0))
 
 
 def _number(x) -> float:

@@ -2,7 +2,8 @@
 
 Snap amplitude (std of theta_3) and frequency against the compression delta for N = 7 at the
 paper's two sigma (0.6, 0.8), both engines; the (delta, sigma) map for N = 9 (MuJoCo; full: both);
-the sigma below which a compressed N = 9 chain stays buckled, by a bracket search (THRESHOLD_PROBES sigmas a step).
+the sigma below which a compressed N = 9 chain stays buckled, by a bracket search (THRESHOLD_PROBES sigmas a step, the
+first step in the same batch as the rest).
 """
 
 from __future__ import annotations
@@ -28,8 +29,14 @@ from .paper import PAPER
 
 SNAP_THRESHOLD = 0.02
 """rad: a std of theta_3 above this is self-snapping (the static arch has ~0)."""
-THRESHOLD_PROBES = 2
-"""Sigmas run at once per step of the N = 9 threshold's search: the bracket shrinks (1 + this)-fold a step."""
+THRESHOLD_PROBES = 5
+"""Sigmas run at once per step of the N = 9 threshold's search (quick and full): the bracket shrinks (1 + this)-fold a
+step."""
+THRESHOLD_DELTA = 0.1
+"""The compression at which the N = 9 snapping threshold in sigma is searched."""
+THRESHOLD_BRACKET = (0.15, 0.2)
+"""Where the N = 9 threshold's search starts (delta = THRESHOLD_DELTA): the map's neighbouring sigmas there, 0.15 stays
+buckled and 0.2 snaps (both engines, at every size)."""
 
 
 @dataclass(frozen=True)
@@ -86,7 +93,7 @@ def _snap_measures(tr, transient):
     return snap, freq
 
 
-SNAPPING = registry.declare("snapping", summary=SnappingSummary, order=50, budget=20)
+SNAPPING = registry.declare("snapping", summary=SnappingSummary, order=50, budget=19)
 
 
 def narrow(lo: float, hi: float, probes: list[tuple[float, bool]]) -> tuple[float, float]:
@@ -94,6 +101,23 @@ def narrow(lo: float, hi: float, probes: list[tuple[float, bool]]) -> tuple[floa
     largest probe below the smallest that snaps to that one."""
     hi = min([sig for sig, snap in probes if snap], default=hi)
     return max([sig for sig, _ in probes if sig < hi], default=lo), hi
+
+
+def _threshold_cases(lo: dict, hi: dict, n: int, duration: float, probes: int) -> list[Case]:
+    """One step of the threshold's search: `probes` sigmas evenly inside each engine's bracket (lo, hi)."""
+    return [
+        Case(
+            two_pinned.SCENE.physics(
+                n=n, sigma=lo[e] + (hi[e] - lo[e]) * (j + 1) / (probes + 1), delta=THRESHOLD_DELTA
+            ),
+            fast(perturbation=0.05, sample_dt=0.1),
+            duration,
+            e,
+            duration / 2,
+        )
+        for e in ENGINES
+        for j in range(probes)
+    ]
 
 
 @SNAPPING.run
@@ -107,7 +131,7 @@ def snapping_study(size: str = "quick", workers=None, progress: bool = True) -> 
         (0.0, 0.01, 0.05, 0.1, 0.2, 0.3),
         tuple(np.round(np.r_[0.0, 0.005, 0.01, 0.02, np.arange(0.03, 0.401, 0.025)], 4)),
     )
-    dur7 = pick(size, 300.0, 800.0, 2000.0)
+    dur7 = pick(size, 300.0, 400.0, 2000.0)
     cases, meta = [], []
     for s in sigmas7:
         for d in deltas:
@@ -133,7 +157,7 @@ def snapping_study(size: str = "quick", workers=None, progress: bool = True) -> 
     )
     map_del = pick(size, (0.0, 0.1, 0.3), (0.0, 0.1, 0.2, 0.3), tuple(np.round(np.arange(0.0, 0.401, 0.04), 4)))
     map_engines = pick(size, ("mujoco",), ("mujoco",), ENGINES)
-    dur9 = pick(size, 300.0, 1000.0, 3000.0)
+    dur9 = pick(size, 300.0, 600.0, 3000.0)
     for s in map_sig:
         for d in map_del:
             for eng in map_engines:
@@ -147,6 +171,16 @@ def snapping_study(size: str = "quick", workers=None, progress: bool = True) -> 
                     )
                 )
                 meta.append(("n9", s, d, eng))
+    # the smallest sigma that snaps, N = 9, delta = THRESHOLD_DELTA, both engines: each step runs THRESHOLD_PROBES
+    # sigmas evenly inside the bracket at once and keeps the part between the largest that stays buckled and the
+    # smallest that snaps; the first step runs in the same batch as the rest (quick: the only step)
+    steps = pick(size, 1, 1, 3)
+    probes = pick(size, 2, THRESHOLD_PROBES, THRESHOLD_PROBES)
+    dur_thr = pick(size, 400.0, 1000.0, 6000.0)
+    lo = {eng: THRESHOLD_BRACKET[0] for eng in ENGINES}
+    hi = {eng: THRESHOLD_BRACKET[1] for eng in ENGINES}
+    cases += _threshold_cases(lo, hi, n9, dur_thr, probes)
+    meta += [("threshold", c.physics.sigma, THRESHOLD_DELTA, c.engine) for c in cases[len(meta) :]]
     trajs = run(cases, workers, progress, "self-snapping")
     data = {"delta": np.array(deltas), "map_sigma": np.array(map_sig), "map_delta": np.array(map_del)}
     n7 = {}
@@ -154,9 +188,12 @@ def snapping_study(size: str = "quick", workers=None, progress: bool = True) -> 
     mapf = {eng: np.full((len(map_sig), len(map_del)), np.nan) for eng in map_engines}
     example = None
     example_sigma, example_delta = PAPER.snapping_sigma, 0.1
+    threshold_probes = {eng: [] for eng in ENGINES}
     for (kind, s, d, eng), tr in zip(meta, trajs):
         snap, freq = _snap_measures(tr, tr.t[-1] / 2)
-        if kind == "n7":
+        if kind == "threshold":
+            threshold_probes[eng].append((s, snap > SNAP_THRESHOLD))
+        elif kind == "n7":
             n7[(s, d, eng)] = (snap, freq)
             if eng == "mujoco" and s == example_sigma and abs(d - example_delta) < 1e-9:
                 example = tr
@@ -174,37 +211,16 @@ def snapping_study(size: str = "quick", workers=None, progress: bool = True) -> 
         m = example.t >= example.t[-1] - (1.0 / f if np.isfinite(f) and f > 0 else 50.0)
         data["example_t"], data["example_theta"] = example.t[m], example.theta[m]
 
-    # the smallest sigma that snaps, N = 9, delta = 0.1 (both engines side by side): each step runs THRESHOLD_PROBES
-    # sigmas evenly inside the bracket at once (the MuJoCo runs on as many threads) and keeps the part between the
-    # largest that stays buckled and the smallest that snaps
-    steps = pick(size, 1, 3, 6)
-    d_thr = 0.1
-    lo = {eng: 0.1 for eng in ENGINES}
-    hi = {eng: 0.3 for eng in ENGINES}
-    dur_thr = pick(size, 400.0, 2000.0, 6000.0)
-    for step in range(steps):
-        probes = [
-            (e, lo[e] + (hi[e] - lo[e]) * (j + 1) / (THRESHOLD_PROBES + 1))
-            for e in ENGINES
-            for j in range(THRESHOLD_PROBES)
-        ]
-        cs = [
-            Case(
-                two_pinned.SCENE.physics(n=n9, sigma=sig, delta=d_thr),
-                fast(perturbation=0.05, sample_dt=0.1),
-                dur_thr,
-                e,
-                dur_thr / 2,
-            )
-            for e, sig in probes
-        ]
-        snaps = [
-            _snap_measures(tr, dur_thr / 2)[0] > SNAP_THRESHOLD
-            for tr in run(cs, workers, progress, f"snap threshold (step {step + 1}/{steps})")
-        ]
+    for step in range(1, steps):
         for e in ENGINES:
-            lo[e], hi[e] = narrow(lo[e], hi[e], [(sig, snap) for (f, sig), snap in zip(probes, snaps) if f == e])
-
+            lo[e], hi[e] = narrow(lo[e], hi[e], threshold_probes[e])
+        cs = _threshold_cases(lo, hi, n9, dur_thr, probes)
+        trs = run(cs, workers, progress, f"snap threshold (step {step + 1}/{steps})")
+        threshold_probes = {e: [] for e in ENGINES}
+        for c, tr in zip(cs, trs):
+            threshold_probes[c.engine].append((c.physics.sigma, _snap_measures(tr, dur_thr / 2)[0] > SNAP_THRESHOLD))
+    for e in ENGINES:
+        lo[e], hi[e] = narrow(lo[e], hi[e], threshold_probes[e])
     parts = {}
     d = np.array(deltas)
     pos = d > 0
@@ -245,7 +261,7 @@ def snapping_study(size: str = "quick", workers=None, progress: bool = True) -> 
             map=snap_map,
         )
     summary = SnappingSummary(
-        snap_threshold_rad=SNAP_THRESHOLD, threshold_delta=d_thr, n7_sigmas=tuple(sigmas7), **parts
+        snap_threshold_rad=SNAP_THRESHOLD, threshold_delta=THRESHOLD_DELTA, n7_sigmas=tuple(sigmas7), **parts
     )
     return Study("snapping", size, data, summary, time.perf_counter() - start)
 

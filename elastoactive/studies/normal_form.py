@@ -102,7 +102,7 @@ def normal_form_study(size: str = "quick", workers=None, progress: bool = True) 
     """<|z|^2> and omega on the N = 2 limit cycle near onset against both printed cubic coefficients."""
     start = time.perf_counter()
     mus = pick(size, (0.05, 0.1), (0.01, 0.02, 0.04, 0.08), (0.005, 0.01, 0.02, 0.04, 0.08, 0.16))
-    dts = pick(size, (0.0025, 0.00125), (0.00125, 0.000625), (0.00125, 0.000625))
+    dts = pick(size, (0.0025, 0.00125), (0.0025, 0.00125), (0.00125, 0.000625))
     window = pick(size, 100.0, 250.0, 500.0)
     cases, meta = [], []
     for mu in mus:

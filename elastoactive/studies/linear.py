@@ -178,7 +178,7 @@ def stability_study(size: str = "quick", workers=None, progress: bool = True) ->
 # --------------------------------------------------------------------------------------------------
 # 2. the linear growth seen by the simulations
 # --------------------------------------------------------------------------------------------------
-GROWTH = registry.declare("growth", summary=GrowthSummary, order=20, budget=6)
+GROWTH = registry.declare("growth", summary=GrowthSummary, order=20, budget=8)
 
 
 @GROWTH.run
@@ -197,7 +197,7 @@ def growth_study(size: str = "quick", workers=None, progress: bool = True) -> St
             lam = stab.eigenvalues(n, sigma)[0]
             settle = 5.0 / max(lam.real - stab.subdominant_rate(n, sigma), 1e-6)
             period = 2 * np.pi / abs(lam.imag)
-            window = max(2.5 * period, 3.0 / abs(lam.real))
+            window = max(2.5 * period, 2.0 / abs(lam.real))
             # small enough to stay linear: the kick ends near 1e-3 rad when it grows
             kick = max(1e-8, 1e-3 * math.exp(-max(lam.real, 0.0) * (settle + window)))
             num = (

@@ -23,6 +23,7 @@ import numpy as np
 from ..analysis.network import stability
 from ..analysis.network.states import STATES
 from ..core.params import Numerics
+from ..io.executor import process_pool
 from ..protocols import make_ramp
 from ..scenes import lattice, network
 from . import plotting as plots
@@ -98,12 +99,18 @@ def hysteresis_study(size: str = "quick", workers=None, progress: bool = True) -
         make_ramp(p, "Pi", couplings, numerics=Numerics(sample_dt=0.25), seeds=seeds, duration=duration)
         for p, (_, _, _, couplings) in zip(physics, cases)
     ]
-    with tempfile.TemporaryDirectory() as folder:
+    starts, samples = pick(size, 1, 2, 6), pick(size, 10, 50, 200)
+    with process_pool(1) as pool, tempfile.TemporaryDirectory() as folder:  # the brackets beside the ramps
+        pending = [
+            pool.submit(stability.threshold, scene.network(p), starts=starts, samples=samples)
+            for (_, scene, _, _), p in zip(cases, physics)
+        ]
         sweeps = run_ramps(ramps, Path(folder), workers, progress)
-    loops = []
-    for k, ((name, scene, _, _), p, sweep) in enumerate(zip(cases, physics, sweeps)):
-        bracket = stability.threshold(scene.network(p), starts=pick(size, 1, 2, 6), samples=pick(size, 10, 50, 200))
-        loops.append(_summarise(name, sweep, bracket, data, k))
+        brackets = [future.result() for future in pending]
+    loops = [
+        _summarise(name, sweep, bracket, data, k)
+        for k, ((name, _, _, _), sweep, bracket) in enumerate(zip(cases, sweeps, brackets))
+    ]
     return Study("hysteresis", size, data, HysteresisSummary(loops=loops), time.perf_counter() - start)
 
 

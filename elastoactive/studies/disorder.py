@@ -25,6 +25,7 @@ import numpy as np
 from ..analysis.network import stability
 from ..analysis.network.states import STATES
 from ..core.params import Numerics
+from ..io.executor import process_pool
 from ..networks.state import initial_state
 from ..scenes import network as network_scene
 from . import plotting as plots
@@ -83,7 +84,7 @@ class DisorderSummary(Summary):
     networks: list[NetworkActuation]
 
 
-DISORDER = registry.declare("disorder", summary=DisorderSummary, order=214, budget=10)
+DISORDER = registry.declare("disorder", summary=DisorderSummary, order=214, budget=13)
 
 
 def _networks(size: str) -> list[tuple[str, dict]]:
@@ -146,14 +147,19 @@ def disorder_study(size: str = "quick", workers=None, progress: bool = True) -> 
         make_ramp(p, "Pi", couplings, numerics=Numerics(sample_dt=0.25), seeds=seeds, duration=duration)
         for p in physics
     ]
-    with tempfile.TemporaryDirectory() as folder:
+    with process_pool(1) as pool, tempfile.TemporaryDirectory() as folder:  # the brackets beside the ramps
+        pending = [
+            pool.submit(_bracket, network_scene.SCENE.network(p), seeds, ramp.numerics)
+            for p, ramp in zip(physics, ramps)
+        ]
         loops = run_ramps(ramps, Path(folder), workers, progress)
-    for (name, own), p, ramp, loop in zip(nets, physics, ramps, loops):
+        brackets = [future.result() for future in pending]
+    for (name, own), p, loop, bracket in zip(nets, physics, loops, brackets):
         network = network_scene.SCENE.network(p)
         state = loop.network_state.values.astype(int)  # (seed, direction, coupling): index into STATES
         turning = np.isin(state, TURNING)
         values = loop.Pi.values
-        softest, typical, ceiling, start_coupling = _bracket(network, seeds, ramp.numerics)
+        softest, typical, ceiling, start_coupling = bracket
         searched = size == "full" and not stability.floppy_modes(network)
         best = stability.threshold(network, starts=4, samples=2).coupling if searched else float("nan")
         free = ~network.pinned

@@ -65,7 +65,7 @@ class HysteresisSummary(Summary):
     loops: list[LoopSummary]
 
 
-HYSTERESIS = registry.declare("hysteresis", summary=HysteresisSummary, order=212, budget=8)
+HYSTERESIS = registry.declare("hysteresis", summary=HysteresisSummary, order=212, budget=7)
 
 
 def _cases(size: str) -> list[tuple[str, object, dict, tuple[float, ...]]]:
@@ -90,7 +90,7 @@ def _cases(size: str) -> list[tuple[str, object, dict, tuple[float, ...]]]:
 def hysteresis_study(size: str = "quick", workers=None, progress: bool = True) -> Study:
     """The ramp up and down of each lattice, several seeds, with the linear bracket."""
     start = time.perf_counter()
-    seeds = pick(size, (0,), (0, 1, 2), tuple(range(6)))
+    seeds = pick(size, (0,), (0, 1), tuple(range(6)))  # each seed is a job of its own (run_ramps)
     duration = pick(size, 60.0, 400.0, 800.0)
     data: dict = {}
     cases = _cases(size)

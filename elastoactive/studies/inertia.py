@@ -143,7 +143,7 @@ def _duration(base: float, m: float) -> float:
     return base if m <= 1.0 else 10.0 * math.ceil(base * math.sqrt(m) / 10.0 - 1e-9)
 
 
-INERTIA = registry.declare("inertia", summary=InertiaSummary, order=130, budget=5)
+INERTIA = registry.declare("inertia", summary=InertiaSummary, order=130, budget=7)
 
 
 @INERTIA.run
@@ -151,9 +151,9 @@ def inertia_study(size: str = "quick", workers=None, progress: bool = True) -> S
     """sigma_c(m), f_c(m) for N = 2, 7; the 1% mass ratio; Ziegler's loads; N = 7 beats vs m in both engines;
     the experiment's own mass ratio."""
     start = time.perf_counter()
-    masses = np.logspace(-4, 2, pick(size, 13, 37, 73))
+    masses = np.logspace(-4, 2, pick(size, 13, 25, 73))
     sims = pick(size, (1e-4, 0.5), (1e-4, 0.1, 0.5, 2.0, 10.0), (1e-4, 0.01, 0.1, 0.5, 1.0, 2.0, 5.0, 10.0, 30.0))
-    base = pick(size, 150.0, 400.0, 800.0)
+    base = pick(size, 150.0, 250.0, 800.0)
     data: dict = {"mass_ratio": masses}
     s0, shift, s_big = {}, {}, {}
     for n in (2, 7):

@@ -2,7 +2,7 @@
 
 The algorithm is scipy's solve_ivp(method="DOP853") (E. Hairer and G. Wanner's DOP853: explicit Runge-Kutta of order
 8 with 5th- and 3rd-order error estimators, the same error norm, initial step, step-size control and 7th-order dense
-output): reduced.dop853_loop's loop, its weighted sums taken by COLUMNS, compiled in one driver (_dop853) around the
+output): reduced.dop853_loop's loop, its weighted sums taken by sum_columns, compiled in one driver (_dop853) around the
 compiled right-hand side kernels.eval_state, so a step costs no Python call. For the overdamped model (mass_ratio = 0)
 that is kernels.eval_rhs, the dense Cholesky path for short chains and the O(N) articulated-drag recursion from
 kernels.RECURSIVE_MIN_N particles on (the workspace, _workspace, decides), kernels.eval_rhs_general with a free head, a
@@ -16,7 +16,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from .dop853_loop import COLUMNS, dop853_sums
+from .dop853_loop import dop853_sums, sum_columns
 from .dop853_loop import integrate as integrate_driver
 from .kernels import eval_state, is_extended, uses_recursive
 from .system import ChainSystem
@@ -130,7 +130,7 @@ def _rate(y, out, args):
 
 @njit(cache=True)
 def _dop853(y, f, clock, counts, ts, rtol, atol, A, B, E3, E5, DD, out, max_steps, args):
-    """dop853_loop's driver around kernels.eval_state, its sums by COLUMNS: args = (system, beta, fac), fac the
+    """dop853_loop's driver around kernels.eval_state, its sums by sum_columns: args = (system, beta, fac), fac the
     constant per-particle force factors (the load factors, ones when every particle is loaded). The workspace is
     allocated at each call (its contents are not carried from one evaluation to the next)."""
     system, beta, fac = args
@@ -138,8 +138,8 @@ def _dop853(y, f, clock, counts, ts, rtol, atol, A, B, E3, E5, DD, out, max_step
     return dop853_sums(
         _rate,
         (fac, system, beta, L, D, X, lam),
-        COLUMNS,
-        COLUMNS,
+        sum_columns,
+        sum_columns,
         y,
         f,
         clock,

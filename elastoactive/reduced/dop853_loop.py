@@ -17,9 +17,10 @@ a `loop` (run_loop's contract; engines.runner.resume with a meter for progress).
 
 Every compiled DOP853 of the package is a driver of this loop: reduced.fluid's, reduced.network_kernels.dop853 (the
 network) and reduced.dop853 (the planar chain). `dop853_sums` is the loop with the order of its weighted sums chosen
-(SCALED_ROWS or COLUMNS, for the stages and for the dense output), so that each driver keeps the round-off of the
-loop it replaced, bit for bit; dop853_steps sums by SCALED_ROWS throughout. Taking the same steps as scipy's on the
-same right-hand side, each agrees with solve_ivp(DOP853) to round-off (the sums' order is not scipy's).
+(sum_scaled_rows or sum_columns, plugged in as the rate is, for the stages and for the dense output), so that each
+driver keeps the round-off of the loop it replaced, bit for bit; dop853_steps sums by sum_scaled_rows throughout.
+Taking the same steps as scipy's on the same right-hand side, each agrees with solve_ivp(DOP853) to round-off (the
+sums' order is not scipy's).
 """
 
 from __future__ import annotations
@@ -35,9 +36,7 @@ from . import dop853_coefficients as coef
 from .dop853_coefficients import INTERPOLATOR_POWER, N_STAGES, N_STAGES_EXTENDED
 
 __all__ = [
-    "COLUMNS",
     "PAUSED",
-    "SCALED_ROWS",
     "Integrated",
     "STEP_BUDGET",
     "TABLEAU",
@@ -45,6 +44,8 @@ __all__ = [
     "dop853_sums",
     "integrate",
     "run_loop",
+    "sum_columns",
+    "sum_scaled_rows",
 ]
 
 PAUSED = 1
@@ -54,12 +55,6 @@ STEP_BUDGET = 2_000_000
 ms per call at small states, so Ctrl-C is seen within ~0.1 s while the calls cost nothing measurable."""
 TABLEAU = tuple(np.ascontiguousarray(x, dtype=float) for x in (coef.A, coef.B, coef.E3, coef.E5, coef.D))
 """(A, B, E3, E5, D): the arguments dop853_steps takes after atol."""
-SCALED_ROWS = 0
-"""A weighted sum z = y + h sum_j w_j K_j taken row by row, h folded into each weight: z = y, then z += (h w_j) K_j
-for every j with w_j != 0 (K's rows are contiguous)."""
-COLUMNS = 1
-"""A weighted sum taken entry by entry, h applied last: z_i = y_i + h (sum_j w_j K_ji) (the dense output's, from
-y = 0: 0 + x is x exactly, the sum never being -0)."""
 
 
 @njit(cache=True)
@@ -71,29 +66,34 @@ def _rms(x):
 
 
 @njit(cache=True, inline="always")
-def _weighted_sum(order, y, h, w, K, count, z):
-    """z = y + h sum_{j < count} w[j] K[j], summed in `order` (SCALED_ROWS or COLUMNS)."""
-    if order == COLUMNS:
-        for i in range(y.size):
-            acc = 0.0
-            for j in range(count):
-                acc += w[j] * K[j, i]
-            z[i] = y[i] + h * acc
-    else:
-        for i in range(y.size):
-            z[i] = y[i]
-        for j in range(count):
-            a = h * w[j]
-            if a != 0.0:
-                for i in range(y.size):
-                    z[i] += a * K[j, i]
+def sum_scaled_rows(y, h, w, K, count, z):
+    """z = y + h sum_{j < count} w[j] K[j] taken row by row, h folded into each weight: z = y, then z += (h w[j]) K[j]
+    for every j with w[j] != 0 (K's rows are contiguous)."""
+    for i in range(y.size):
+        z[i] = y[i]
+    for j in range(count):
+        a = h * w[j]
+        if a != 0.0:
+            for i in range(y.size):
+                z[i] += a * K[j, i]
 
 
 @njit(cache=True, inline="always")
-def _stages(rate, args, order, first, last, y, h, A, K, ytmp):
+def sum_columns(y, h, w, K, count, z):
+    """z = y + h sum_{j < count} w[j] K[j] taken entry by entry, h applied last: z_i = y_i + h (sum_j w[j] K[j, i])
+    (the dense output's, from y = 0: 0 + x is x exactly, the sum never being -0)."""
+    for i in range(y.size):
+        acc = 0.0
+        for j in range(count):
+            acc += w[j] * K[j, i]
+        z[i] = y[i] + h * acc
+
+
+@njit(cache=True, inline="always")
+def _stages(rate, args, weighted_sum, first, last, y, h, A, K, ytmp):
     """K[s] = rate(y + h sum_{j<s} A[s, j] K[j]) for s = first .. last - 1."""
     for s in range(first, last):
-        _weighted_sum(order, y, h, A[s], K, s, ytmp)
+        weighted_sum(y, h, A[s], K, s, ytmp)
         rate(ytmp, K[s], args)
 
 
@@ -105,18 +105,17 @@ def dop853_steps(rate, args, y, f, clock, counts, ts, rtol, atol, A, B, E3, E5, 
     carry the integration from one call to the next (counts[0] == 0: start). Takes at most max_steps steps per call;
     returns 0 (done), PAUSED (call again) or -1 (the step size fell below the round-off limit; a rate that is not
     finite rejects the step, as scipy's does, so a model that left its domain ends so)."""
-    return dop853_sums(
-        rate, args, SCALED_ROWS, SCALED_ROWS, y, f, clock, counts, ts, rtol, atol, A, B, E3, E5, DD, out, max_steps
-    )
+    rows = sum_scaled_rows
+    return dop853_sums(rate, args, rows, rows, y, f, clock, counts, ts, rtol, atol, A, B, E3, E5, DD, out, max_steps)
 
 
 @njit(cache=True, inline="always")
 def dop853_sums(
-    rate, args, stage_sums, dense_sums, y, f, clock, counts, ts, rtol, atol, A, B, E3, E5, DD, out, max_steps
+    rate, args, stage_sum, dense_sum, y, f, clock, counts, ts, rtol, atol, A, B, E3, E5, DD, out, max_steps
 ):
-    """dop853_steps with the order of its weighted sums chosen (SCALED_ROWS or COLUMNS, each a compile-time constant
-    of the driver): stage_sums for the stages' states and the step's new state, dense_sums for the dense output's
-    coefficients."""
+    """dop853_steps with the order of its weighted sums chosen (sum_scaled_rows or sum_columns, passed as functions,
+    as the rate is, so that only the chosen one is compiled): stage_sum for the stages' states and the step's new
+    state, dense_sum for the dense output's coefficients."""
     ns = N_STAGES
     nse = N_STAGES_EXTENDED
     na = y.size
@@ -200,8 +199,8 @@ def dop853_sums(
             h = t_new - t
             h_abs = abs(h)
             K[0, :] = f
-            _stages(rate, args, stage_sums, 1, ns, y, h, A, K, ytmp)
-            _weighted_sum(stage_sums, y, h, B, K, ns, y_new)
+            _stages(rate, args, stage_sum, 1, ns, y, h, A, K, ytmp)
+            stage_sum(y, h, B, K, ns, y_new)
             rate(y_new, f_new, args)
             K[ns, :] = f_new
             nfev += ns
@@ -244,7 +243,7 @@ def dop853_sums(
             break
         naccept += 1
         if isamp < nsamp and ts[isamp] < t_new:  # the dense output's extra stages, only when a sample falls here
-            _stages(rate, args, stage_sums, ns + 1, nse, y, h, A, K, ytmp)
+            _stages(rate, args, stage_sum, ns + 1, nse, y, h, A, K, ytmp)
             nfev += nse - ns - 1
             for i in range(na):
                 dy = y_new[i] - y[i]
@@ -252,7 +251,7 @@ def dop853_sums(
                 F[1, i] = h * K[0, i] - dy
                 F[2, i] = 2.0 * dy - h * (f_new[i] + K[0, i])
             for r in range(INTERPOLATOR_POWER - 3):
-                _weighted_sum(dense_sums, zero, h, DD[r], K, nse, F[3 + r])
+                dense_sum(zero, h, DD[r], K, nse, F[3 + r])
         while isamp < nsamp and ts[isamp] <= t_new:
             if ts[isamp] == t_new:
                 out[isamp, :] = y_new

@@ -24,7 +24,7 @@ import math
 import numpy as np
 from numba import njit
 
-from .dop853_loop import COLUMNS, SCALED_ROWS, dop853_sums
+from .dop853_loop import dop853_sums, sum_columns, sum_scaled_rows
 
 STEP_BUDGET = 20_000_000
 """Steps per call of a compiled loop times the state's size: a few tens of ms per call, so Ctrl-C is seen within
@@ -112,10 +112,10 @@ def _rate(y, out, args):
 
 @njit(cache=True)
 def dop853(y, f, clock, counts, ts, rtol, atol, A, B, E3, E5, DD, out, max_steps, args):
-    """dop853_loop's driver around rhs_into (args: the Kernel tuple), the stages summed by SCALED_ROWS and the dense
-    output by COLUMNS."""
+    """dop853_loop's driver around rhs_into (args: the Kernel tuple), the stages summed by sum_scaled_rows and the
+    dense output by sum_columns."""
     return dop853_sums(
-        _rate, args, SCALED_ROWS, COLUMNS, y, f, clock, counts, ts, rtol, atol, A, B, E3, E5, DD, out, max_steps
+        _rate, args, sum_scaled_rows, sum_columns, y, f, clock, counts, ts, rtol, atol, A, B, E3, E5, DD, out, max_steps
     )
 
 

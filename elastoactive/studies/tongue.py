@@ -39,7 +39,7 @@ class TongueSummary(EngineParts):
 # --------------------------------------------------------------------------------------------------
 # Arnold tongue
 # --------------------------------------------------------------------------------------------------
-TONGUE = registry.declare("tongue", summary=TongueSummary, order=80, budget=9)
+TONGUE = registry.declare("tongue", summary=TongueSummary, order=80, budget=11)
 
 
 @TONGUE.run
@@ -57,11 +57,11 @@ def tongue_study(size: str = "quick", workers=None, progress: bool = True) -> St
     kappas = pick(
         size,
         (0.0, 0.1, 0.5),
-        (0.0, 0.03, 0.07, 0.15, 0.3, 0.6),
+        (0.0, 0.07, 0.15, 0.3, 0.6),
         (0.0, 0.01, 0.02, 0.035, 0.05, 0.075, 0.1, 0.15, 0.2, 0.3, 0.4, 0.6, 0.8, 1.1, 1.5),
     )
     engines = pick(size, ("reduced",), ("reduced",), ENGINES)
-    dur = pick(size, 600.0, 2400.0, 6000.0)
+    dur = pick(size, 600.0, 1800.0, 6000.0)
     cases, meta = [], []
     for r in rhos:
         for k in kappas:

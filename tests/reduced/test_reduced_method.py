@@ -148,20 +148,6 @@ def test_a_solver_that_gives_up_says_what_to_change_in_one_line(monkeypatch, cap
     assert len(err) == 1 and "numba-DOP853 gave up" in err[0] and "sigma = 5" in err[0] and "--method LSODA" in err[0]
 
 
-def test_compiled_dop853_resumes_bit_for_bit_across_calls(monkeypatch):
-    """The compiled loop returns every STEP_BUDGET steps (so Ctrl-C is seen) and resumes exactly where it was."""
-    from elastoactive.reduced import dop853
-
-    system = M.ChainSystem(n=7, sigma=0.8).typed()
-    ts = np.arange(0.0, 60.0, 0.05)
-    theta0 = 0.01 * np.sin(np.arange(7.0))
-    whole = dop853.integrate(system, ts, theta0, rtol=1e-9, atol=1e-11, beta=10.0)
-    monkeypatch.setattr(dop853, "STEP_BUDGET", 49 * 3)  # three steps a call
-    pieces = dop853.integrate(system, ts, theta0, rtol=1e-9, atol=1e-11, beta=10.0)
-    np.testing.assert_array_equal(pieces[0], whole[0])
-    assert pieces[1:] == whole[1:]
-
-
 def test_ctrl_c_stops_a_long_reduced_run_within_a_second(tmp_path):
     import os
     import resource

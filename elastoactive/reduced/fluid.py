@@ -31,6 +31,20 @@ chains whose anchors lie farther apart (the reference zeroes the same blocks): O
 approximation whose error on a row's period and phase lags is measured (docs), not bounded; the truncated M need
 not stay positive definite, and where D proves not to be the kernel's rate is NaN and the solver stops.
 
+The extrapolated interaction (Beds.interaction; by default beyond EXACT_UP_TO links, so a pair or a small row is
+exact). The velocities that the other chains' forces on the fluid give chain c's links, u_c = sum_{c' != c}
+N_cc' (w_c' - Q_c' lambda_c'), are all that chain c takes from the others: given u_c, chain c alone obeys the same
+equations with x_c = N_cc w_c + u_c (D_cc lambda_c = Q_c^T x_c, velocities P_c^T (x_c - N_cc Q_c lambda_c)). So
+solve_fluid's compiled DOP853 solves the whole system once per step, at the step's start (the loop's accepted
+state), and within the step each chain alone with its own block exact at every evaluation and u taken from a
+quadratic in time through the whole solves' u at the last three starts; the quadratic starts where the last step's
+ended (continuous in time, so the loop's error estimate sees no jump at the starts) and the gap to the whole solve
+decays over the step. The time of an evaluation's state from the step's start comes from the rates at the starts
+(`_elapsed`). The error is of third order in the step and is not in the loop's error estimate: it is measured
+(docs/hydrodynamics.md, "The cost against the number of cilia": period and phase lags of rows of 8 to 24 cilia).
+Per step: one whole solve, O(B^2), and about 12 evaluations chain by chain, O(C n^3). The right-hand side `rhs`,
+scipy's method and the budget's Jacobian stay exact.
+
 Mobilities (`MOBILITIES`): "local", the lab-frame drag of each particle (M_ii = W_i^-1, W_i = 1 + (gamma_l - 1)
 t_i t_i^T, no coupling: the chain3d model exactly, to round-off); "identity" (M = 1: the local drag at gamma_l = 1,
 through the same code as the fluid's, for the tests); "rpy", the Rotne-Prager-Yamakawa mobility in free space;
@@ -59,14 +73,17 @@ from ..hydro.rpy import rpy_cross_kernel, rpy_into, rpy_kernel
 from .chain3d import _bend, _bend_into, basis_of
 from .dop853_loop import dop853_steps, integrate
 from .network import run_loop
-from .tensions import CG_TOLERANCE, DIRECT_UP_TO, tensions
+from .tensions import CG_TOLERANCE, DIRECT_UP_TO, own_tensions, tensions
 
 __all__ = [
     "CG_TOLERANCE",
     "DIRECT_UP_TO",
+    "EXACT_UP_TO",
+    "INTERACTIONS",
     "METHODS",
     "MOBILITIES",
     "Beds",
+    "Memory",
     "Near",
     "Work",
     "eval_rhs_fluid",
@@ -82,6 +99,11 @@ __all__ = [
 MOBILITIES = ("local", "identity", "rpy", "rpb")
 """The kernel's mobilities, by their code (the index): module docstring."""
 LOCAL, IDENTITY, RPY, RPB = range(4)
+INTERACTIONS = ("auto", "exact", "extrapolated")
+"""Beds.interaction's values: how the compiled loop takes the flow each chain feels from the others."""
+EXACT_UP_TO = 100
+"""Links up to which interaction "auto" takes the chains' interaction exactly at every evaluation; beyond, it is
+extrapolated over each step (module docstring, "Scale": its measured error)."""
 
 
 class Beds(NamedTuple):
@@ -98,6 +120,9 @@ class Beds(NamedTuple):
     clamped       a bending spring holds each chain's first link along its clamp axis (False: a free ball pivot)
     cutoff        chains whose anchors are farther apart than cutoff (l) do not interact: their mobility blocks are
                   left out (inf: none left out, the exact mobility; module docstring, "Scale")
+    interaction   how solve_fluid's compiled loop takes the flow each chain feels from the others (INTERACTIONS):
+                  "exact" at every evaluation, "extrapolated" exact at each step's start and extrapolated over the
+                  step, "auto" exact up to EXACT_UP_TO links and extrapolated beyond (module docstring, "Scale")
     """
 
     n: int
@@ -110,6 +135,7 @@ class Beds(NamedTuple):
     tip_coupling: float = 0.0
     clamped: bool = True
     cutoff: float = math.inf
+    interaction: str = "auto"
 
     @property
     def chains(self) -> int:
@@ -118,6 +144,15 @@ class Beds(NamedTuple):
     @property
     def code(self) -> int:
         return MOBILITIES.index(self.mobility)
+
+    @property
+    def extrapolated(self) -> bool:
+        """Whether solve_fluid's compiled loop extrapolates the chains' interaction over each step (`interaction`):
+        only chains coupled through a fluid have one."""
+        coupled = self.mobility in ("rpy", "rpb") and self.chains > 1
+        if self.interaction == "auto":
+            return coupled and self.chains * int(self.n) > EXACT_UP_TO
+        return coupled and self.interaction == "extrapolated"
 
     def checked(self) -> Beds:
         """The record, or ParameterError naming the first parameter out of range."""
@@ -146,6 +181,8 @@ class Beds(NamedTuple):
             raise ParameterError(f"tip_coupling must be finite and >= 0, got {self.tip_coupling}")
         if not (self.cutoff > 0):
             raise ParameterError(f"cutoff (l) must be > 0 (inf: every chain interacts), got {self.cutoff}")
+        if self.interaction not in INTERACTIONS:
+            raise ParameterError(f"interaction must be one of {', '.join(INTERACTIONS)}, got {self.interaction!r}")
         return self
 
 
@@ -231,22 +268,36 @@ def eval_rhs_fluid(y, n, chains, sigma, gamma_l, clamped, code, radius, coupling
     module docstring's q' = (A - B D^-1 B^T) r with N built block by block between the chains `near` lists
     (`Near`: every chain, or those within the cutoff), into the workspace `work` (`Work`); the tensions D^-1 B^T r by
     Cholesky up to DIRECT_UP_TO links, by conjugate gradients beyond (`_tensions`)."""
+    x = np.zeros(3 * chains * n)
+    _motion(y, n, chains, sigma, gamma_l, clamped, code, radius, coupling, bases, rot, near, work, x, out)
+    return out
+
+
+@njit(cache=True)
+def _motion(y, n, chains, sigma, gamma_l, clamped, code, radius, coupling, bases, rot, near, work, x, out):
+    """eval_rhs_fluid's t' into out, the links also moved by the background velocities x (3B: the links' end-to-end
+    velocities a flow from outside the chains `near` pairs would give them; zeros: none). On return x holds the links'
+    end-to-end velocities; returns (w, lambda): P r per link (b, 3) and the tensions (b), or (w, None) with out NaN
+    where a bead is through the wall."""
     u, norm2, E, P, Q, pos, w = _links(y, n, chains, sigma, clamped, coupling, bases, rot)
+    b = chains * n
+    z = np.empty(b)
     if code == RPB:
         for k in range(pos.shape[0]):
             if not pos[k, 2] > 0.0:  # a bead through the wall: no mobility; the solver stops on the NaN
                 out[:] = np.nan
-                return out
+                z[:] = np.nan
+                return w, z
     nbr, count, rev, self_slot = near
     nb, nqb, db = work
     _link_mobility(code, pos, Q, radius, gamma_l, n, nbr, count, rev, nb)
-    b = chains * n
-    x = np.zeros(3 * b)
-    z = np.empty(b)
     _tension_system(nb, w, Q, n, nbr, count, x, nqb, db, z)
-    tensions(db, z, n, nbr, count, self_slot)
+    if nbr.shape[1] == 1:  # each chain alone (its own block only): the tensions chain by chain
+        own_tensions(db, z, n)
+    else:
+        tensions(db, z, n, nbr, count, self_slot)
     _velocities(x, nqb, z, P, E, u, norm2, n, nbr, count, out)
-    return out
+    return w, z
 
 
 @njit(cache=True)
@@ -520,6 +571,164 @@ def _dop853_fluid(y, f, clock, counts, ts, rtol, atol, A, B, E3, E5, DD, out, ma
     return dop853_steps(_rate, args, y, f, clock, counts, ts, rtol, atol, A, B, E3, E5, DD, out, max_steps)
 
 
+class Memory(NamedTuple):
+    """The extrapolated interaction's record, carried from one evaluation to the next within a run, at the current
+    step's start (`_new_step`; (3B,) arrays but spans and steps)."""
+
+    start: np.ndarray
+    """The loop's state (NaN before the first step)."""
+    rate: np.ndarray
+    """The loop's rate (from the second start on)."""
+    change: np.ndarray
+    """The rate's change per unit time since the start before (from the third start on; zeros before)."""
+    flow: np.ndarray
+    """(3, 3B): the other chains' flow the step's evaluations take is flow[0] + s flow[1] + s^2 flow[2] at the time s
+    since the start (`_elapsed`)."""
+    known: np.ndarray
+    """(2, 3B): the whole solve's other chains' flow at this start and the one before."""
+    spans: np.ndarray
+    """(1,): the time between the start before and this one."""
+    steps: np.ndarray
+    """int64 (1,): the starts recorded."""
+
+
+def _alone(beds: Beds) -> tuple:
+    """(Near, Work) of each chain with itself only: the extrapolated interaction's evaluations within a step."""
+    chains, n = beds.chains, int(beds.n)
+    zero = np.zeros((chains, 1), dtype=np.int64)
+    near = Near(np.arange(chains, dtype=np.int64)[:, None], np.ones(chains, dtype=np.int64), zero, zero[:, 0].copy())
+    return near, Work(np.empty((chains, 1, 3 * n, 3 * n)), np.empty((chains, 1, 3 * n, n)), np.empty((chains, 1, n, n)))
+
+
+def _memory(size: int) -> Memory:
+    empty = np.full(size, np.nan)
+    return Memory(
+        empty, empty.copy(), np.zeros(size), np.zeros((3, size)), np.zeros((2, size)), np.zeros(1),
+        np.zeros(1, dtype=np.int64),
+    )  # fmt: skip
+
+
+@njit(cache=True)
+def _other_flow(nb, nqb, w, lam, x, n, self_slot, flow):
+    """flow <- x less each chain's own part N_cc (w_c - Q_c lambda_c): the links' end-to-end velocities that the other
+    chains' forces on the fluid give chain c (x the links' velocities of the whole solve, w and lambda its P r and
+    tensions, nb and nqb its blocks)."""
+    for c in range(self_slot.size):
+        blk = nb[c, self_slot[c]]
+        nq = nqb[c, self_slot[c]]
+        o = c * n
+        for row in range(3 * n):
+            acc = x[3 * o + row]
+            for j in range(n):
+                k = o + j
+                acc -= blk[row, 3 * j] * w[k, 0] + blk[row, 3 * j + 1] * w[k, 1] + blk[row, 3 * j + 2] * w[k, 2]
+                acc += nq[row, j] * lam[k]
+            flow[3 * o + row] = acc
+
+
+@njit(cache=True)
+def _elapsed(y, start, rate, change):
+    """The time s from the step's start to the state y along the path y(s) = start + s rate + s^2 / 2 change:
+    s0 = <d, rate> / <rate, rate>, d = y - start, then s = <d, g> / <g, g> with g = rate + s0 / 2 change (an error
+    of third order in s on the path)."""
+    travel = 0.0
+    speed = 0.0
+    for i in range(y.size):
+        travel += (y[i] - start[i]) * rate[i]
+        speed += rate[i] * rate[i]
+    if not speed > 0.0:
+        return 0.0
+    s0 = travel / speed
+    travel = 0.0
+    speed = 0.0
+    for i in range(y.size):
+        g = rate[i] + 0.5 * s0 * change[i]
+        travel += (y[i] - start[i]) * g
+        speed += g * g
+    return travel / speed if speed > 0.0 else s0
+
+
+@njit(cache=True)
+def _new_step(exact, memory, y, f):
+    """Record a step's start y (the loop's state; f its rate there, unless no step was taken yet). The whole solve
+    there gives the other chains' flow on each chain's links; the flow the step's evaluations take goes on from where
+    the last step's ended (continuous in time: the loop's error estimate sees no jump) as the quadratic through the
+    whole solve's flows at the last three starts, less that gap decaying linearly over the last step's time."""
+    n, chains, sigma, gamma_l, clamped, code, radius, coupling, bases, rot, near, work = exact
+    start, rate, change, flow, known, spans, steps = memory
+    size = y.size
+    x = np.zeros(size)
+    scratch = np.empty(size)
+    w, lam = _motion(y, n, chains, sigma, gamma_l, clamped, code, radius, coupling, bases, rot, near, work, x, scratch)
+    fresh = np.empty(size)
+    _other_flow(work[0], work[1], w, lam, x, n, near[3], fresh)
+    if steps[0] == 0:  # the run's start: the whole solve's flow, held over the first step
+        for i in range(size):
+            flow[0, i] = fresh[i]
+            flow[1, i] = 0.0
+            flow[2, i] = 0.0
+    else:
+        if steps[0] == 1:  # no rate known at the first start: the step's time from the rate at its end
+            dt = _elapsed(y, start, f, change)
+        else:
+            dt = _elapsed(y, start, rate, change)
+        if not dt > 0.0:
+            dt = math.inf  # (a step that went nowhere: the flow held)
+        before = spans[0]
+        for i in range(size):
+            end = flow[0, i] + dt * (flow[1, i] + dt * flow[2, i]) if math.isfinite(dt) else flow[0, i]
+            d1 = (fresh[i] - known[0, i]) / dt
+            d2 = 0.0
+            if steps[0] >= 2 and before > 0.0:
+                d2 = (d1 - (known[0, i] - known[1, i]) / before) / (dt + before)
+            flow[0, i] = end
+            flow[1, i] = d1 + d2 * dt + (fresh[i] - end) / dt
+            flow[2, i] = d2
+            change[i] = (f[i] - rate[i]) / dt if steps[0] >= 2 else 0.0
+        spans[0] = dt if math.isfinite(dt) else 0.0
+    for i in range(size):
+        start[i] = y[i]
+        rate[i] = f[i]
+        known[1, i] = known[0, i]
+        known[0, i] = fresh[i]
+    steps[0] += 1
+
+
+@njit(cache=True, inline="always")
+def _rate_extrapolated(y, out, args):
+    """t' at y with the other chains' flow extrapolated over the current step (args: the whole solve's arguments,
+    each chain alone's (Near, Work), the Memory, the loop's state and rate, which hold the current step's start):
+    each chain's own block exact, the others' flow the Memory's quadratic at the time since the start (`_new_step`)."""
+    exact, alone, memory, y_step, f_step = args
+    fresh = False
+    for i in range(y_step.size):
+        if y_step[i] != memory.start[i]:  # (NaN before the first step too)
+            fresh = True
+            break
+    if fresh:
+        _new_step(exact, memory, y_step, f_step)
+    flow = memory.flow
+    x = flow[0].copy()
+    if memory.steps[0] >= 2:
+        s = _elapsed(y, memory.start, memory.rate, memory.change)
+        for i in range(y.size):
+            x[i] += s * (flow[1, i] + s * flow[2, i])
+    n, chains, sigma, gamma_l, clamped, code, radius, coupling, bases, rot, near, work = exact
+    _motion(y, n, chains, sigma, gamma_l, clamped, code, radius, coupling, bases, rot, alone[0], alone[1], x, out)
+
+
+@njit(cache=True)
+def _dop853_extrapolated(y, f, clock, counts, ts, rtol, atol, A, B, E3, E5, DD, out, max_steps, args):
+    """dop853_loop.dop853_steps around _rate_extrapolated (args: the whole solve's arguments, each chain alone's
+    (Near, Work), the Memory), which sees the loop's state and rate: a run's start clears the Memory."""
+    exact, alone, memory = args
+    if counts[0] == 0:
+        memory.start[:] = np.nan
+        memory.steps[0] = 0
+    seen = (exact, alone, memory, y, f)
+    return dop853_steps(_rate_extrapolated, seen, y, f, clock, counts, ts, rtol, atol, A, B, E3, E5, DD, out, max_steps)
+
+
 def solve_fluid(
     beds: Beds,
     ts: np.ndarray,
@@ -559,7 +768,10 @@ def solve_fluid(
     if budget is not None:
         budget(method, np.linalg.eigvals(_jacobian(rate, y0)))
     if method == "numba-DOP853":
-        run = integrate(_dop853_fluid, args, ts, y0, rtol, atol, loop)
+        if beds.extrapolated:
+            run = integrate(_dop853_extrapolated, (args, _alone(beds), _memory(size)), ts, y0, rtol, atol, loop)
+        else:
+            run = integrate(_dop853_fluid, args, ts, y0, rtol, atol, loop)
         if run.status != 0:
             raise RuntimeError(
                 f"chains in a fluid: the DOP853 step size fell below round-off at t = {run.t:g} (a bead through the "

@@ -27,7 +27,7 @@ from ..analysis import stability
 from ..analysis.motion3d import measure3d
 from ..analysis.stability3d import onset3d
 from ..analysis.whirl import beat_out_of_plane, find_whirl
-from ..batch import Case, default_workers
+from ..batch import Case, CaseResult, default_workers, run_case
 from ..core.errors import ParameterError
 from ..core.params import Numerics
 from ..io.executor import imap
@@ -35,7 +35,7 @@ from ..reduced.chain3d import Chain3D, solve3d
 from ..scenes import clamped3d
 from . import plotting as plots
 from . import registry
-from .base import Study, Summary, pick, run_measured
+from .base import Study, Summary, pick
 from .claim_rows import Claim, fmt, verdict
 
 STATES = ("rest", "beat", "whirl", "other")
@@ -150,7 +150,7 @@ class States3DSummary(Summary):
     engines: list[Engines3D] = field(default_factory=list)
 
 
-STATES3D = registry.declare("states3d", summary=States3DSummary, order=216, budget=11)
+STATES3D = registry.declare("states3d", summary=States3DSummary, order=216, budget=12)
 
 
 def start_tangents(n: int, start: str) -> np.ndarray:
@@ -214,22 +214,27 @@ def _number(x) -> float:
     return float("nan") if x is None else float(x)
 
 
-def engines3d(n: int, sigma_c: float, f_c: float, loads, workers, progress: bool) -> list[Engines3D]:
+def engine_cases(n: int, sigma_c: float, f_c: float, loads) -> list[Case]:
     """The scene clamped-3d at each load in both engines (default numerics, the scene's seeded start), ENGINE_PERIODS
-    expected periods each, the second half measured."""
+    expected periods each (the second half measured): reduced, then MuJoCo, load by load."""
     cases = []
     for load in loads:
         physics = clamped3d.SCENE.physics(n=n, sigma=load * sigma_c)
         duration = ENGINE_PERIODS / (f_c * load**FREQUENCY_EXPONENT)
         cases += [Case(physics, Numerics(), duration, engine) for engine in ("reduced", "mujoco")]
-    results = run_measured(cases, workers, progress, "states3d: engines")
+    return cases
+
+
+def engines3d(loads, cases: list[Case], results: list[CaseResult]) -> list[Engines3D]:
+    """The engines' agreement at `loads` from engine_cases' cases and their measured runs (the same order)."""
     out = []
-    for k, load in enumerate(loads):
-        reduced, mujoco = results[2 * k], results[2 * k + 1]
+    for load, k in zip(loads, range(0, len(cases), 2)):
+        reduced, mujoco = results[k], results[k + 1]
         pair = (reduced.results, mujoco.results)
+        sigma = cases[k].physics.sigma
         out.append(
             Engines3D(
-                load, cases[2 * k].physics.sigma, cases[2 * k].duration,
+                load, sigma, cases[k].duration,
                 tuple(str(r.extra["motion_state"]) for r in pair), tuple(_number(r.frequency) for r in pair),
                 tuple(float(r.amplitude) for r in pair),
                 float(mujoco.info.get("automatic_numerics", {}).get("dt", Numerics().dt)),
@@ -237,6 +242,11 @@ def engines3d(n: int, sigma_c: float, f_c: float, loads, workers, progress: bool
             )
         )  # fmt: skip
     return out
+
+
+def _task(task):
+    """A worker's task: a grid point (_point's tuple) or one run of the engines' agreement (a Case, measured)."""
+    return run_case(task) if isinstance(task, Case) else _point(task)
 
 
 @STATES3D.run
@@ -251,15 +261,15 @@ def states3d_study(size: str = "quick", workers=None, progress: bool = True) -> 
         sigma_c, omega_c = onset3d(n, g)
         onsets.append(Onset3D(g, sigma_c, planar_sigma_c, omega_c, planar_omega_c))
         tasks += [(n, g, load, sigma_c, omega_c / (2 * np.pi), load in floquet_loads) for load in loads]
+    isotropic = next(o for o in onsets if o.gamma_l == 1.0) if 1.0 in drags else None
+    engine_loads = _engine_loads(size) if isotropic is not None else ()
+    checks = engine_cases(n, isotropic.sigma_c, isotropic.omega_c / (2 * np.pi), engine_loads) if engine_loads else []
     w = default_workers() if workers is None else workers
-    results = [result for _, result in imap(_point, tasks, max(1, w))]
+    done = [result for _, result in imap(_task, checks + tasks, max(1, w))]  # the engines' runs first: the longest
+    results = done[len(checks) :]
     runs = [r for point, _ in results for r in point]
     floquet = [f for _, f in results if f is not None]
-    isotropic = next(o for o in onsets if o.gamma_l == 1.0) if 1.0 in drags else None
-    engines = []
-    if isotropic is not None and _engine_loads(size):
-        f_c = isotropic.omega_c / (2 * np.pi)
-        engines = engines3d(n, isotropic.sigma_c, f_c, _engine_loads(size), w, progress)
+    engines = engines3d(engine_loads, checks, done[: len(checks)])
     shape = (len(drags), len(loads), len(STARTS))
 
     def grid(field: str) -> np.ndarray:

@@ -84,7 +84,7 @@ class DisorderSummary(Summary):
     networks: list[NetworkActuation]
 
 
-DISORDER = registry.declare("disorder", summary=DisorderSummary, order=214, budget=8)
+DISORDER = registry.declare("disorder", summary=DisorderSummary, order=214, budget=7)
 
 
 def _networks(size: str) -> list[tuple[str, dict]]:

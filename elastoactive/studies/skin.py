@@ -107,7 +107,7 @@ class SkinSummary(Summary):
     """Largest |MuJoCo gain - reduced gain| over its kicks and every time."""
 
 
-SKIN = registry.declare("skin", summary=SkinSummary, order=160, budget=3)
+SKIN = registry.declare("skin", summary=SkinSummary, order=160, budget=6)
 
 
 def _chain_rows(ns, ratio: float) -> dict[str, np.ndarray]:
@@ -151,10 +151,9 @@ def skin_study(size: str = "quick", workers=None, progress: bool = True) -> Stud
     """Mode localisation against N (open chain, its Hermitian part, the open stencil, the ring), the ring's winding,
     the open chain's pseudospectrum, and simulated kicks below onset against the linear prediction."""
     start = time.perf_counter()
-    ns = pick(
-        size, (10, 20, 40), (10, 14, 20, 30, 40, 60, 80, 100, 140, 200), (10, 14, 20, 30, 40, 60, 80, 100, 140, 200)
-    )
-    seg_ns = pick(size, (20, 40, 80), (20, 30, 40, 60, 80, 100, 140, 200), (20, 30, 40, 60, 80, 100, 140, 200))
+    # quick: no N = 140 (its left and right eigenvectors cost a fifth of the study; the claims read N = 10, 20, 200)
+    ns = pick(size, (10, 20, 40), (10, 14, 20, 30, 40, 60, 80, 100, 200), (10, 14, 20, 30, 40, 60, 80, 100, 140, 200))
+    seg_ns = pick(size, (20, 40, 80), (20, 30, 40, 60, 80, 100, 200), (20, 30, 40, 60, 80, 100, 140, 200))
     n_decay = pick(size, 80, 200, 200)
     n_spec = pick(size, 20, 40, 60)
     grid = pick(size, 24, 60, 100)

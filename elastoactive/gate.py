@@ -67,7 +67,7 @@ class TimestepChecks:
 
     @staticmethod
     def key(physics: Physics, numerics: Numerics) -> tuple:
-        seed = numerics.seed if physics.noise > 0 or numerics.integrator == "discrete" else None
+        seed = numerics.seed if physics.stochastic or numerics.integrator == "discrete" else None
         perturbation = numerics.perturbation if numerics.integrator == "discrete" else None
         return (physics, numerics.dt, numerics.mass_ratio, numerics.integrator, seed, perturbation)
 
@@ -147,7 +147,7 @@ def preflight(
     duration = numerics.check_duration(duration)
     check_measurable(physics)
     if given:
-        check_engine_numerics(engine, numerics.given(), physics.noise > 0)
+        check_engine_numerics(engine, numerics.given(), physics.stochastic)
     if engine == "mujoco":
         check_steps(numerics.for_physics(physics), duration)  # before the timestep check's linearisation
         if timestep:

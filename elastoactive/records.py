@@ -39,7 +39,7 @@ ENGINE_NUMERICS = {
 def recorded_numerics(engine: str, physics: Physics) -> tuple[str, ...]:
     """The Numerics fields a run of `physics` with `engine` uses: what summary.json records and `run --from` needs."""
     names = ENGINE_NUMERICS[engine]
-    return names + ("dt",) if engine == "reduced" and physics.noise > 0 else names
+    return names + ("dt",) if engine == "reduced" and physics.stochastic else names
 
 
 def summary(

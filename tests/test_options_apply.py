@@ -6,6 +6,8 @@ dt without noise). Every parameter is declared once (elastoactive.core.parameter
 scene and every parameter, not for a list of commands.
 """
 
+import json
+
 import numpy as np
 import pytest
 from conftest import refused
@@ -71,6 +73,35 @@ def test_mujoco_only_numerics_are_refused_with_the_reduced_engine(numerics):
 def test_dt_is_the_noise_step_of_the_reduced_engine():
     traj = ea.simulate(ea.Physics(n=2, noise=0.1), Numerics(dt=0.01), duration=1.0, engine="reduced")
     assert traj.t.size == 21
+
+
+STOCHASTIC = [name for name in parameters.names() if parameters.get(name).stochastic]
+
+
+def _scene_with(name: str) -> str:
+    """A scene on which the parameter acts (the first registered)."""
+    return next(s for s in registry.names() if name in scene_parameters(registry.get(s)))
+
+
+def test_the_stochastic_parameters_are_declared():
+    assert {"noise", "rotational_diffusion", "translational_diffusion"} <= set(STOCHASTIC)
+
+
+@pytest.mark.parametrize("name", STOCHASTIC)
+def test_dt_acts_on_the_reduced_engine_exactly_when_a_stochastic_parameter_is_on(name, tmp_path):
+    """Whichever parameter makes a run stochastic, the one rule (core.parameters.stochastic) lets dt through to the
+    reduced engine, records it, and refuses it without: in a run, in a sweep's fixed numerics and on its grid."""
+    scene = _scene_with(name)
+    on = ea.Physics(scene=scene, **{name: 0.01})
+    assert on.stochastic and not on.replace(**{name: 0.0}).stochastic
+    assert parameters.stochastic({}, {name: [0.0, 0.01]}) and not parameters.stochastic({name: 0.01}, {name: [0.0]})
+    run = ["run", scene, "--engine", "reduced", "--dt", "0.01", "--duration", "2", "--quiet"]
+    assert main([*run, parameters.get(name).option, "0.01", "--out", str(tmp_path / "on")]) == 0
+    assert json.loads((tmp_path / "on" / "summary.json").read_text())["numerics"]["dt"] == 0.01
+    assert main([*run, "--out", str(tmp_path / "off")]) == 2
+    sweep = ["sweep", scene, "--engine", "reduced", "--dt", "0.01", "--duration", "2", "--quiet"]
+    assert main([*sweep, "--grid", f"{name}=0,0.01", "--out", str(tmp_path / "on.nc")]) == 0
+    assert main([*sweep, "--grid", f"{name}=0", "--out", str(tmp_path / "off.nc")]) == 2
 
 
 def test_numpy_numbers_are_numbers():

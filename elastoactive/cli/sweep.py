@@ -20,6 +20,7 @@ import sys
 
 from ..core import registry
 from ..core.errors import ParameterError
+from ..core.parameters import stochastic
 from ..core.params import PRESETS, Numerics, Physics, option, parameter_fields, scene_parameters
 from ..core.units import CHAIN, scene_units
 from ..engines import ENGINES
@@ -137,7 +138,7 @@ def main(args) -> int:
     both = [k for k in grid if k in overrides or k in fixed]
     if both:
         raise ParameterError(f"{', '.join(option(k) for k in both)} given both fixed and on the grid")
-    noisy = bool((grid["noise"] > 0).any()) if "noise" in grid else fixed.get("noise", Physics().noise) > 0
+    noisy = stochastic(fixed, grid)
     check_engine_numerics(args.engine, [k for k in overrides if k in MUJOCO_ONLY], noisy)
     # ea.sweep's work, without building the xarray Dataset (which would load xarray and pandas, ~0.4 s of CPU, for
     # three numbers and two texts): the options as the fields they set, the preset's numerics with those given

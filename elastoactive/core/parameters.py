@@ -64,6 +64,8 @@ class Parameter:
     instead_of  the parameter it is given in place of (the coupling Pi in place of sigma): Physics turns it into that
                 one by the scene (Scene.coupling) and records that one; it has no default of its own (`default` is
                 None) and is given only to the scenes that have it
+    stochastic  a value > 0 makes a run stochastic: the reduced engine then steps it at numerics.dt with the draws of
+                numerics.seed, so both act (the chain's noise, a network's diffusions; `stochastic`, Physics.stochastic)
     """
 
     name: str
@@ -87,6 +89,7 @@ class Parameter:
     quiet_default: bool = False
     worded: tuple[Worded, ...] = ()
     instead_of: str | None = None
+    stochastic: bool = False
 
     def __post_init__(self) -> None:
         if not self.name.isidentifier():
@@ -267,6 +270,26 @@ def known(name: str) -> bool:
 def names() -> tuple[str, ...]:
     """Every declared parameter, in declaration order."""
     return _TABLE.names()
+
+
+def stochastic(values, axes=None) -> bool:
+    """Whether a run, or some point of a sweep, is stochastic: a parameter declared `stochastic` is > 0 among `axes`
+    (a grid: name -> its values) or, where it is not on the axes, in `values` (name -> value, or a Physics; a name
+    not given takes its default). The one rule for every check of whether dt and the seed act on the reduced
+    engine."""
+    axes = axes or {}
+    for name in names():
+        if not get(name).stochastic:
+            continue
+        if name in axes:
+            value = axes[name]
+        else:
+            value = values.get(name) if hasattr(values, "get") else getattr(values, name, None)
+            value = get(name).default if value is None else value
+        points = value if hasattr(value, "__iter__") and not isinstance(value, str) else (value,)
+        if any(point is not None and float(point) > 0 for point in points):
+            return True
+    return False
 
 
 # The chain's own parameter and the coupling, declared with the table: whatever registers next (a term, a scene,

@@ -225,6 +225,12 @@ class Physics:
         return next(m for t in _terms.terms() if (m := t.load_mask(self)) is not None)
 
     @property
+    def stochastic(self) -> bool:
+        """Whether a parameter declared stochastic is > 0 (core.parameters.stochastic): the reduced engine then steps
+        the run at numerics.dt with the draws of numerics.seed."""
+        return _parameters.stochastic(self)
+
+    @property
     def all_loaded(self) -> bool:
         return self.loaded == "all"
 

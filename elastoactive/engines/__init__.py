@@ -4,6 +4,7 @@ numerics.sample_times(duration), from the same initial state (Scene.initial_angl
 
 from __future__ import annotations
 
+from ..core import parameters as _parameters
 from ..core.errors import ParameterError
 from ..core.params import Numerics, Physics, check_start
 from ..core.surface import option
@@ -26,15 +27,17 @@ def check_steps(numerics: Numerics, duration: float) -> int:
 
 
 MUJOCO_ONLY = ("dt", "integrator")
-"""Numerical settings only the MuJoCo engine reads (the reduced engine uses dt only when noise > 0; it does use
+"""Numerical settings only the MuJoCo engine reads (the reduced engine uses dt only in a stochastic run,
+core.parameters.stochastic; it does use
 mass_ratio, which decides whether a run is overdamped or inertial: docs/mujoco.md section 5)."""
 
 
 def check_engine_numerics(engine: str, names, noisy: bool, label=None) -> None:
     """Refuse MuJoCo-only numerical settings (`names`: those a user gave, or swept) with the reduced engine, where
-    they change nothing: integrator always, dt unless the run (some point of a sweep) has noise > 0 (dt is then the
-    noise step). `label(name)` is how the message names the setting (default: as the caller's surface spells a
-    Numerics field, core.surface.option). The one rule for run, sweep and the API."""
+    they change nothing: integrator always, dt unless the run (some point of a sweep) is stochastic (`noisy`:
+    core.parameters.stochastic; dt is then the noise step). `label(name)` is how the message names the setting
+    (default: as the caller's surface spells a Numerics field, core.surface.option). The one rule for run, sweep and
+    the API."""
     if engine != "reduced":
         return
     label = label or (lambda name: option(f"numerics.{name}"))
@@ -42,7 +45,9 @@ def check_engine_numerics(engine: str, names, noisy: bool, label=None) -> None:
         if name not in MUJOCO_ONLY or (name == "dt" and noisy):
             continue
         why = (
-            " (the reduced engine integrates noise-free runs adaptively; it uses dt only when noise > 0)"
+            " (the reduced engine integrates noise-free runs adaptively; it uses dt only when "
+            + " or ".join(f"{name} > 0" for name in _parameters.names() if _parameters.get(name).stochastic)
+            + ")"
             if name == "dt"
             else ""
         )

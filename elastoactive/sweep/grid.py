@@ -22,6 +22,7 @@ from ..core import observables, registry
 from ..core.errors import ParameterError
 from ..core.observables import HARMONICS
 from ..core.parameters import get as parameter_spec
+from ..core.parameters import stochastic
 from ..core.params import Numerics, Physics, parameter_fields, scene_parameters
 from ..engines import MUJOCO_ONLY, check_engine, check_engine_numerics  # noqa: F401  (re-exported)
 
@@ -394,7 +395,7 @@ def make_sweep(
                 f"grid: {key} changes the number of chains of scene {scene}; sweep one value of "
                 f"{key} at a time (--{key.replace('_', '-')} as a fixed value)"
             )
-    noisy = bool(np.any(grid["noise"] > 0)) if "noise" in grid else physics.noise > 0
+    noisy = stochastic(physics, grid)
     check_engine_numerics(engine, [k for k in grid if k in MUJOCO_ONLY], noisy, lambda k: f"grid {k}")
     return Sweep(scene, grid, physics, numerics, duration, engine, None if transient is None else float(transient))
 

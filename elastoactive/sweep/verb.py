@@ -17,7 +17,7 @@ from pathlib import Path
 
 from ..core.errors import ParameterError
 from ..core.parameters import get as parameter_spec
-from ..core.parameters import known
+from ..core.parameters import known, stochastic
 from ..core.params import PRESETS, Numerics, Physics, option
 from ..io.outputs import check_file
 
@@ -59,7 +59,7 @@ def _sweep_settings(physics, grid: Mapping, numerics, engine: str) -> tuple[str,
             both = [k for k in axes if k in numerics]
             if both:
                 raise ParameterError(f"{', '.join(option(k) for k in both)} given both fixed and on the grid")
-            noisy = bool((axes["noise"] > 0).any()) if "noise" in axes else physics.noise > 0
+            noisy = stochastic(physics, axes)
             check_engine_numerics(engine, [k for k in numerics if k in MUJOCO_ONLY], noisy)
         if not isinstance(numerics, Numerics):
             from ..api import as_numerics  # the front door's conversion (module docstring)

@@ -13,7 +13,9 @@ from ..core.parameters import Parameter
 from .base import Term
 
 NOISE_CALCULI = ("ito", "stratonovich")
-NOISE = Parameter("noise", 0.0, "amplitude a of multiplicative white noise on F_a", low=0.0, title="amplitude a")
+NOISE = Parameter(
+    "noise", 0.0, "amplitude a of multiplicative white noise on F_a", low=0.0, title="amplitude a", stochastic=True
+)
 NOISE_CORRELATION = Parameter(
     "noise_correlation",
     0.0,

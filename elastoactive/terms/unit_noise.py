@@ -34,6 +34,7 @@ ROTATIONAL = Parameter(
     title="D_r of the polarities",
     units="1/tau",
     quiet_default=True,
+    stochastic=True,
 )
 TRANSLATIONAL = Parameter(
     "translational_diffusion",
@@ -43,6 +44,7 @@ TRANSLATIONAL = Parameter(
     title="D_t of the nodes",
     units="l^2/tau",
     quiet_default=True,
+    stochastic=True,
 )
 PARAMETERS = (ROTATIONAL, TRANSLATIONAL)
 NAMES = tuple(p.name for p in PARAMETERS)

@@ -88,7 +88,7 @@ class RowWavesSummary(Summary):
     runs: list[RowRun]
 
 
-CILIA_ROW_WAVES = registry.declare("cilia_row_waves", summary=RowWavesSummary, order=226, budget=5)
+CILIA_ROW_WAVES = registry.declare("cilia_row_waves", summary=RowWavesSummary, order=226, budget=4)
 
 
 def _grid(size: str) -> tuple[int, int, float, tuple[float, ...]]:

@@ -66,7 +66,7 @@ class FluidOnsetSummary(Summary):
     """A pair on the wall at PAIR_SPACING, a / l = cilia_runs.RADIUS."""
 
 
-FLUID_ONSET = registry.declare("fluid_onset", summary=FluidOnsetSummary, order=220, budget=1)
+FLUID_ONSET = registry.declare("fluid_onset", summary=FluidOnsetSummary, order=220, budget=0.5)
 
 
 def _grid(size: str) -> tuple[int, tuple[float, ...]]:

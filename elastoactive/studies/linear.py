@@ -113,7 +113,7 @@ class GrowthSummary(EngineParts):
 # --------------------------------------------------------------------------------------------------
 # 1. linear stability
 # --------------------------------------------------------------------------------------------------
-STABILITY = registry.declare("stability", summary=StabilitySummary, order=10, reads=("growth",), budget=1)
+STABILITY = registry.declare("stability", summary=StabilitySummary, order=10, reads=("growth",), budget=0.5)
 
 
 @STABILITY.run
@@ -178,7 +178,7 @@ def stability_study(size: str = "quick", workers=None, progress: bool = True) ->
 # --------------------------------------------------------------------------------------------------
 # 2. the linear growth seen by the simulations
 # --------------------------------------------------------------------------------------------------
-GROWTH = registry.declare("growth", summary=GrowthSummary, order=20, budget=8)
+GROWTH = registry.declare("growth", summary=GrowthSummary, order=20, budget=9)
 
 
 @GROWTH.run

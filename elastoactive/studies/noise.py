@@ -78,7 +78,7 @@ class AnisotropySummary(EngineParts):
     reduced: AnisotropyEngine
 
 
-NOISE = registry.declare("noise", summary=NoiseSummary, order=100, reads=("anisotropy",), budget=2)
+NOISE = registry.declare("noise", summary=NoiseSummary, order=100, reads=("anisotropy",), budget=1.5)
 
 
 @NOISE.run
@@ -279,7 +279,7 @@ def _reading_engine(amps, rows) -> NoiseEngine:
     )
 
 
-NOISE_READINGS = registry.declare("noise_readings", summary=NoiseReadingsSummary, order=120, budget=4)
+NOISE_READINGS = registry.declare("noise_readings", summary=NoiseReadingsSummary, order=120, budget=4.5)
 
 
 @NOISE_READINGS.run

@@ -56,7 +56,8 @@ class StarSummary(Summary):
     """MuJoCo against the reduced model: per point k, K_h, both states, the largest relative differences."""
 
 
-STAR = registry.declare(star.SCENE.name, summary=StarSummary, order=190, budget=4)  # the study is named after its scene
+# the study is named after its scene
+STAR = registry.declare(star.SCENE.name, summary=StarSummary, order=190, budget=3.5)
 
 
 def _physics(k: int, hub_stiffness: float | None):

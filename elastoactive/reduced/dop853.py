@@ -5,10 +5,10 @@ The algorithm is scipy's solve_ivp(method="DOP853") (E. Hairer and G. Wanner's D
 output): reduced.dop853_loop's loop, its weighted sums taken by sum_columns, compiled in one driver (_dop853) around the
 compiled right-hand side kernels.eval_state, so a step costs no Python call. For the overdamped model (mass_ratio = 0)
 that is kernels.eval_rhs, the dense Cholesky path for short chains and the O(N) articulated-drag recursion from
-kernels.RECURSIVE_MIN_N particles on (the workspace, _workspace, decides), kernels.eval_rhs_general with a free head, a
-trap or self-contact (the state then ends with the head's position); for the inertial model (mass_ratio > 0)
-kernels.eval_rhs_inertial, whose state (angles, then rates) is twice as long. Taking the same steps as scipy, it agrees
-with solve_ivp(DOP853) on the same right-hand side to round-off.
+kernels.RECURSIVE_MIN_N particles on (the workspace, kernels.state_arrays, decides), kernels.eval_rhs_general with a
+free head, a trap or self-contact (the state then ends with the head's position); for the inertial model
+(mass_ratio > 0) kernels.eval_rhs_inertial, whose state (angles, then rates) is twice as long. Taking the same steps as
+scipy, it agrees with solve_ivp(DOP853) on the same right-hand side to round-off.
 """
 
 from __future__ import annotations
@@ -18,7 +18,7 @@ from numba import njit
 
 from .dop853_loop import dop853_sums, sum_columns
 from .dop853_loop import integrate as integrate_driver
-from .kernels import eval_state, is_extended, uses_recursive
+from .kernels import eval_state, state_arrays, uses_recursive
 from .system import ChainSystem
 
 __all__ = ["Interrupted", "integrate"]
@@ -94,33 +94,6 @@ class Interrupted(KeyboardInterrupt):
         self.samples = samples
 
 
-@njit(cache=True)
-def _workspace(system, na):
-    """The workspace (L, D, X, lam) of eval_state for a state of na numbers (as kernels.state_workspace's): the
-    overdamped model's make_workspace (dense below RECURSIVE_MIN_N particles, the O(N) recursion's from there on), the
-    inertial model's (mass_ratio > 0: its mass matrix solved densely), or, with an extended term (a free head, a trap,
-    self-contact), make_general_workspace's, dense over all position coordinates."""
-    nch = system.n_chains
-    n = system.n
-    inertial = system.mass_ratio > 0
-    if is_extended(system):
-        nq = na // 2 if inertial else na  # position coordinates (the inertial state: positions, then rates)
-        L = np.zeros((2, nq, nq))
-        D = np.zeros((nch * n, 8))
-        X = np.zeros((nq, 2))
-    else:
-        m = n if inertial or not uses_recursive(n) else 0
-        L = np.zeros((nch, m, m))
-        if inertial:
-            D = np.zeros((n, n + 2))
-        elif m == n:
-            D = np.zeros((n, n))
-        else:
-            D = np.zeros((nch * n, 4))
-        X = np.zeros((n, 2))
-    return L, D, X, np.zeros(2)
-
-
 @njit(cache=True, inline="always")
 def _rate(y, out, args):
     """kernels.eval_state in dop853_loop's form: args = (fac, system, beta, L, D, X, lam)."""
@@ -134,7 +107,7 @@ def _dop853(y, f, clock, counts, ts, rtol, atol, A, B, E3, E5, DD, out, max_step
     constant per-particle force factors (the load factors, ones when every particle is loaded). The workspace is
     allocated at each call (its contents are not carried from one evaluation to the next)."""
     system, beta, fac = args
-    L, D, X, lam = _workspace(system, y.size)
+    L, D, X, lam = state_arrays(system, y.size)
     return dop853_sums(
         _rate,
         (fac, system, beta, L, D, X, lam),

@@ -119,6 +119,7 @@ __all__ = [
     "mass_block",
     "restore_pins",
     "rk4_piecewise",
+    "state_arrays",
     "state_workspace",
     "uses_recursive",
     "workspace",
@@ -179,20 +180,29 @@ def restore_pins(th, delta):
 
 
 @njit(cache=True)
-def _sde_workspace(system, na):
-    """The workspace (L, D, X, lam) of eval_rhs in euler_maruyama and heun for a state of na numbers:
-    make_general_workspace's arrays with an extended term (the state: angles, then the free head), else
-    make_workspace's (dense below RECURSIVE_MIN_N), allocated as dop853._workspace allocates them."""
-    n = system.n
+def state_arrays(system, na):
+    """The workspace (L, D, X, lam) of eval_state for a state of na numbers, allocated inside a compiled loop (as
+    state_workspace's): the overdamped model's make_workspace (dense below RECURSIVE_MIN_N particles, the O(N)
+    recursion's from there on), the inertial model's (mass_ratio > 0: its mass matrix solved densely), or, with an
+    extended term (a free head, a trap, self-contact), make_general_workspace's, dense over all position coordinates.
+    The DOP853 driver (reduced.dop853) and the noisy runs' loops (euler_maruyama, heun: overdamped) allocate by it."""
     nch = system.n_chains
-    if is_extended(system):  # make_general_workspace
-        L = np.zeros((2, na, na))
+    n = system.n
+    inertial = system.mass_ratio > 0
+    if is_extended(system):
+        nq = na // 2 if inertial else na  # position coordinates (the inertial state: positions, then rates)
+        L = np.zeros((2, nq, nq))
         D = np.zeros((nch * n, 8))
-        X = np.zeros((na, 2))
+        X = np.zeros((nq, 2))
     else:
-        m = 0 if uses_recursive(n) else n  # make_workspace
+        m = n if inertial or not uses_recursive(n) else 0
         L = np.zeros((nch, m, m))
-        D = np.zeros((n, n)) if m == n else np.zeros((nch * n, 4))
+        if inertial:
+            D = np.zeros((n, n + 2))
+        elif m == n:
+            D = np.zeros((n, n))
+        else:
+            D = np.zeros((nch * n, 4))
         X = np.zeros((n, 2))
     return L, D, X, np.zeros(2)
 
@@ -201,7 +211,7 @@ def _sde_workspace(system, na):
 def euler_maruyama(y, k0, facs, dt, system, beta, sidx, out, jptr):
     """Advance y (in place) through steps k0 .. k0 + len(facs) - 1, recording out[j] = state after sidx[j] steps."""
     na = y.size
-    L, D, X, lam = _sde_workspace(system, na)
+    L, D, X, lam = state_arrays(system, na)
     f = np.empty(na)
     for r in range(facs.shape[0]):
         k = k0 + r
@@ -223,7 +233,7 @@ def heun(y, k0, facs, dt, system, beta, sidx, out, jptr):
     force factors (its noise increment fixed over the step), y* = y + dt f(y, fac_k),
     y_{k+1} = y + dt (f(y, fac_k) + f(y*, fac_k)) / 2; pinned systems are projected after each step."""
     na = y.size
-    L, D, X, lam = _sde_workspace(system, na)
+    L, D, X, lam = state_arrays(system, na)
     f = np.empty(na)
     g = np.empty(na)
     yp = np.empty(na)

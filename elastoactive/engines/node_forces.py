@@ -12,10 +12,11 @@ and the overdamped model becomes D(theta) theta' = f(theta) + Q(theta), with D a
 (the drag matrix and the chain's own forces). The right-hand side is the compiled one plus D^-1 Q, integrated by
 scipy's DOP853 at the engine's tolerances: Python runs once per evaluation (about 80 us at N = 7), so a term that
 the kernels know (its fields in the record) stays the fast path. Forces that do not depend on the positions
-(terms.base.PeriodicForce: the tip drive) skip the Python right-hand side: without a moving clamp, every law such a
-force, one compiled call evaluates it all (engines.node_kernels; 17 us per evaluation at N = 7 with scipy's own
-overhead, against 78 us, on the shared 2-core machine at load 3). The chains' pivots are where MuJoCo puts them
-(Scene.chain_offset), so both engines see the same positions.
+(terms.base.PeriodicForce: the tip drive) skip Python altogether: without a moving clamp, every law such a force,
+the whole run is DOP853 compiled around one compiled right-hand side (reduced.node_kernels.dop853, "numba-DOP853":
+scipy's algorithm, its steps to round-off; a 500 tau drive of N = 2 in 0.1 s where scipy around the same compiled
+right-hand side took 1.8 s). The chains' pivots are where MuJoCo puts them (Scene.chain_offset), so both engines see
+the same positions.
 
 A term may also move chain 1's clamp (Term.clamp_motion: its point by d(t) with velocity u(t), its spring's rest
 angle to phi(t)). The lab-frame drag then acts on the particles' lab velocities u + J_k theta', so every particle
@@ -134,15 +135,17 @@ def solve(
     budget=None,
 ) -> tuple[np.ndarray, dict]:
     """Sampled angles (len(t), n_angles) and solver info, the node forces `laws` (callables) added, and the drag
-    and clamp-spring terms of a moving clamp (`clamp`: elastoactive.terms.base.ClampMotion, or None). on_time(t), at
-    every evaluation, and budget(method, None), before the first step: the engine runner's (engines.runner)."""
+    and clamp-spring terms of a moving clamp (`clamp`: elastoactive.terms.base.ClampMotion, or None). on_time(t) and
+    budget(method, None), before the first step: the engine runner's (engines.runner); on_time is told the time at
+    every evaluation of the Python path, after every call of the compiled loop. Ctrl-C on the compiled path raises
+    reduced.dop853.Interrupted with the samples reached."""
+    if laws and clamp is None and not system.n_head and all(isinstance(law, PeriodicForce) for law in laws):
+        return _solve_compiled(system, t, theta0, laws, rtol=rtol, atol=atol, beta=beta, loads=loads,
+                               on_time=on_time, budget=budget)  # fmt: skip
     # start-up time: scipy.integrate costs ~0.4 s to import; only runs with such a term need it
     from scipy.integrate import solve_ivp
 
-    if laws and clamp is None and not system.n_head and all(isinstance(law, PeriodicForce) for law in laws):
-        f = _compiled(system, beta, loads, laws)  # forces that do not depend on the positions: one compiled call
-    else:
-        f = _python(physics, system, beta, loads, laws, clamp)
+    f = _python(physics, system, beta, loads, laws, clamp)
     if budget is not None:
         budget("DOP853", None)
     f = reporting(f, on_time)
@@ -152,40 +155,28 @@ def solve(
     return sol.y.T.copy(), {"method": "DOP853 (scipy, node forces)", "rtol": rtol, "atol": atol, "nfev": int(sol.nfev)}
 
 
-def _compiled(system, beta: float, loads, laws):
-    """The right-hand side with periodic point forces only (engines.node_kernels.periodic_rhs)."""
+def _solve_compiled(system, t, theta0, laws, *, rtol, atol, beta, loads, on_time, budget) -> tuple[np.ndarray, dict]:
+    """solve's run of periodic point forces only: reduced.node_kernels.dop853, the whole run compiled."""
     from ..reduced import node_kernels  # start-up time: numba
+    from ..reduced.dop853 import Interrupted, steps_per_call
+    from ..reduced.dop853_loop import integrate, reporting_loop
+
+    if budget is not None:
+        budget("numba-DOP853", None)
 
     system = system.typed()
-    beta = float(beta)
-    fac = system.force_factors(loads)
-    L, D, X, lam = node_kernels.workspace(system)
-    table = node_kernels.force_table(laws)
-    n = system.n
-    Lc, Dc, q = np.zeros((n, n)), np.zeros((n, n)), np.zeros(system.n_angles)
-    size = system.n_angles
-
-    def f(time, theta):
-        out = np.empty(size)
-        node_kernels.periodic_rhs(
-            float(time),
-            np.ascontiguousarray(theta, dtype=float),
-            fac,
-            system,
-            beta,
-            out,
-            L,
-            D,
-            X,
-            lam,
-            table,
-            Lc,
-            Dc,
-            q,
+    args = (system, float(beta), system.force_factors(loads), node_kernels.force_table(laws))
+    run = integrate(
+        node_kernels.dop853, args, t, theta0, rtol, atol, reporting_loop(on_time),
+        steps=steps_per_call(system, theta0.size), on_interrupt=Interrupted,
+    )  # fmt: skip
+    if run.status != 0:
+        raise ParameterError(
+            f"the reduced engine could not integrate the node forces: the step size fell below round-off at "
+            f"t = {run.t:.6g}"
         )
-        return out
-
-    return f
+    info = {"method": "numba-DOP853 (node forces)", "rtol": rtol, "atol": atol, "nfev": run.nfev}
+    return run.y, {**info, "nsteps": run.naccept, "nreject": run.nreject}
 
 
 def _python(physics: Physics, system, beta: float, loads, laws, clamp):

@@ -344,35 +344,18 @@ def simulate_chain_reduced(
                 info["noise_correlation"] = physics.noise_correlation
             else:
                 info["noise_calculus"] = physics.noise_calculus
-        elif laws or clamp is not None:  # plug-in terms' forces on the particles, a moving clamp (engines.node_forces)
-            theta, info = node_forces.solve(
-                physics,
-                system,
-                t,
-                theta0,
-                laws,
-                rtol=rtol,
-                atol=atol,
-                beta=beta,
-                loads=loads,
-                clamp=clamp,
-                on_time=meter.at,
-                budget=budget,
-            )
         else:
             try:
-                theta, info = _math.solve_ode(
-                    system,
-                    t,
-                    theta0,
-                    rtol=rtol,
-                    atol=atol,
-                    method=method,
-                    beta=beta,
-                    loads=loads,
-                    on_time=meter.at,
-                    budget=budget,
-                )
+                if laws or clamp is not None:  # plug-in terms' forces on the particles, a moving clamp (node_forces)
+                    theta, info = node_forces.solve(
+                        physics, system, t, theta0, laws, rtol=rtol, atol=atol, beta=beta, loads=loads, clamp=clamp,
+                        on_time=meter.at, budget=budget,
+                    )  # fmt: skip
+                else:
+                    theta, info = _math.solve_ode(
+                        system, t, theta0, rtol=rtol, atol=atol, method=method, beta=beta, loads=loads,
+                        on_time=meter.at, budget=budget,
+                    )  # fmt: skip
             except KeyboardInterrupt as err:  # Ctrl-C (numba-DOP853 sees it within ~0.1 s): keep the samples computed
                 raise _interrupted(err, system, t, physics, time.perf_counter() - start) from None
     wall = time.perf_counter() - start

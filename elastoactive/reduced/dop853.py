@@ -16,7 +16,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from .dop853_loop import dop853_sums, sum_columns
+from .dop853_loop import dop853_sums, reporting_loop, sum_columns
 from .dop853_loop import integrate as integrate_driver
 from .kernels import eval_state, state_arrays, uses_recursive
 from .system import ChainSystem
@@ -56,16 +56,6 @@ def integrate(
     fac = np.ones(y0.size)  # the inertial kernel reads the first n_angles entries
     if loads is not None:
         fac[: system.n_angles] = system.force_factors(loads)
-    recursive = not system.inertial and not system.extended and uses_recursive(system.n)  # O(N) per evaluation
-
-    def loop(call, paused, reached, steps):  # run_loop's, on_time told the time reached after every call
-        status = paused
-        while status == paused:
-            status = call(steps)
-            if on_time is not None:
-                on_time(reached())
-        return status
-
     run = integrate_driver(
         _dop853,
         (system, float(beta), fac),
@@ -73,8 +63,8 @@ def integrate(
         y0,
         rtol,
         atol,
-        loop,
-        steps=STEP_BUDGET // (y0.size if recursive else y0.size**2),
+        reporting_loop(on_time),
+        steps=steps_per_call(system, y0.size),
         on_interrupt=Interrupted,
     )
     return run.y, run.status, run.nfev, run.naccept, run.nreject
@@ -86,6 +76,13 @@ path, its square on the dense ones): a few ms to a few tens of ms per call, so C
 the calls cost nothing measurable (N = 7: ~2000 steps a call)."""
 
 
+def steps_per_call(system: ChainSystem, size: int) -> int:
+    """STEP_BUDGET over the cost of one evaluation of a state of `size` numbers: size on the O(N) recursive path,
+    size squared on the dense ones."""
+    recursive = not system.inertial and not system.extended and uses_recursive(system.n)
+    return STEP_BUDGET // (size if recursive else size**2)
+
+
 class Interrupted(KeyboardInterrupt):
     """Ctrl-C during integrate; `samples` holds the states of the sample times reached (ts[:len(samples)])."""
 
@@ -95,7 +92,7 @@ class Interrupted(KeyboardInterrupt):
 
 
 @njit(cache=True, inline="always")
-def _rate(y, out, args):
+def _rate(t, y, out, args):
     """kernels.eval_state in dop853_loop's form: args = (fac, system, beta, L, D, X, lam)."""
     fac, system, beta, L, D, X, lam = args
     eval_state(y, fac, system, beta, out, L, D, X, lam)

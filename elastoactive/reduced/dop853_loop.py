@@ -2,7 +2,8 @@
 
 `dop853_steps(rate, args, ...)` is scipy's solve_ivp(method="DOP853") (the tableau of dop853_coefficients, its error
 norm, initial step, step-size control and 7th-order dense output) with the right-hand side a compiled function
-rate(y, out, args) (out = dy/dt at y; args a tuple of its parameters), resumable in calls of a bounded number of steps
+rate(t, y, out, args) (out = dy/dt at time t and state y, each stage at its own time t + c h, as scipy's; args a tuple
+of its parameters; an autonomous model ignores t), resumable in calls of a bounded number of steps
 so that Ctrl-C and a progress bar are served between calls. It is inlined (numba inline="always") into a small driver
 that each model compiles with its own rate as a global, e.g.
 
@@ -43,6 +44,7 @@ __all__ = [
     "dop853_steps",
     "dop853_sums",
     "integrate",
+    "reporting_loop",
     "run_loop",
     "sum_columns",
     "sum_scaled_rows",
@@ -53,6 +55,8 @@ PAUSED = 1
 STEP_BUDGET = 2_000_000
 """Steps per call of the compiled loop times the state's size squared (a dense right-hand side's cost): a few tens of
 ms per call at small states, so Ctrl-C is seen within ~0.1 s while the calls cost nothing measurable."""
+NODES = np.ascontiguousarray(coef.C, dtype=float)
+"""The stages' times c_s as fractions of the step (a compile-time constant of the loop)."""
 TABLEAU = tuple(np.ascontiguousarray(x, dtype=float) for x in (coef.A, coef.B, coef.E3, coef.E5, coef.D))
 """(A, B, E3, E5, D): the arguments dop853_steps takes after atol."""
 
@@ -90,16 +94,16 @@ def sum_columns(y, h, w, K, count, z):
 
 
 @njit(cache=True, inline="always")
-def _stages(rate, args, weighted_sum, first, last, y, h, A, K, ytmp):
-    """K[s] = rate(y + h sum_{j<s} A[s, j] K[j]) for s = first .. last - 1."""
+def _stages(rate, args, weighted_sum, first, last, t, y, h, A, K, ytmp):
+    """K[s] = rate(t + c_s h, y + h sum_{j<s} A[s, j] K[j]) for s = first .. last - 1."""
     for s in range(first, last):
         weighted_sum(y, h, A[s], K, s, ytmp)
-        rate(ytmp, K[s], args)
+        rate(t + NODES[s] * h, ytmp, K[s], args)
 
 
 @njit(cache=True, inline="always")
 def dop853_steps(rate, args, y, f, clock, counts, ts, rtol, atol, A, B, E3, E5, DD, out, max_steps):
-    """scipy's DOP853 around rate(y, out, args), from y at ts[0], writing the solution at the sample times ts into out.
+    """scipy's DOP853 around rate(t, y, out, args), from y at ts[0], the solution at the sample times ts into out.
 
     Resumable: y and f (the state and its rate), clock = [t, h_abs] and counts = [next sample, nfev, naccept, nreject]
     carry the integration from one call to the next (counts[0] == 0: start). Takes at most max_steps steps per call;
@@ -133,7 +137,7 @@ def dop853_sums(
     nsamp = ts.size
     if counts[0] == 0:  # the start: the rate at y, scipy's initial step (error order 7), the first sample
         t = t0
-        rate(y, f, args)
+        rate(t, y, f, args)
         nfev = 1
         for i in range(na):
             if not math.isfinite(f[i]):  # a start outside the model's domain: no step can be taken
@@ -153,7 +157,7 @@ def dop853_sums(
         h0 = min(h0, T - t0)
         for i in range(na):
             ytmp[i] = y[i] + h0 * f[i]
-        rate(ytmp, f_new, args)
+        rate(t + h0, ytmp, f_new, args)
         nfev += 1
         for i in range(na):
             e3[i] = (f_new[i] - f[i]) / scale[i]
@@ -199,9 +203,9 @@ def dop853_sums(
             h = t_new - t
             h_abs = abs(h)
             K[0, :] = f
-            _stages(rate, args, stage_sum, 1, ns, y, h, A, K, ytmp)
+            _stages(rate, args, stage_sum, 1, ns, t, y, h, A, K, ytmp)
             stage_sum(y, h, B, K, ns, y_new)
-            rate(y_new, f_new, args)
+            rate(t + h, y_new, f_new, args)
             K[ns, :] = f_new
             nfev += ns
             for i in range(na):
@@ -243,7 +247,7 @@ def dop853_sums(
             break
         naccept += 1
         if isamp < nsamp and ts[isamp] < t_new:  # the dense output's extra stages, only when a sample falls here
-            _stages(rate, args, stage_sum, ns + 1, nse, y, h, A, K, ytmp)
+            _stages(rate, args, stage_sum, ns + 1, nse, t, y, h, A, K, ytmp)
             nfev += nse - ns - 1
             for i in range(na):
                 dy = y_new[i] - y[i]
@@ -302,6 +306,22 @@ def run_loop(call: Callable[[int], int], paused: int, reached: Callable[[], floa
     while status == paused:  # the compiled loop returns every `steps` steps: Ctrl-C is seen in between
         status = call(steps)
     return status
+
+
+def reporting_loop(on_time: Callable[[float], None] | None) -> Callable:
+    """run_loop with on_time(t) told the time reached after every call (a progress bar); run_loop itself when on_time
+    is None."""
+    if on_time is None:
+        return run_loop
+
+    def loop(call: Callable[[int], int], paused: int, reached: Callable[[], float], steps: int) -> int:
+        status = paused
+        while status == paused:
+            status = call(steps)
+            on_time(reached())
+        return status
+
+    return loop
 
 
 def integrate(

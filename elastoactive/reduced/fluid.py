@@ -560,7 +560,7 @@ round-off)."""
 
 
 @njit(cache=True, inline="always")
-def _rate(y, out, args):
+def _rate(t, y, out, args):
     """eval_rhs_fluid in dop853_loop's form: args = _arguments(beds)."""
     eval_rhs_fluid(y, *args, out)
 
@@ -695,7 +695,7 @@ def _new_step(exact, memory, y, f):
 
 
 @njit(cache=True, inline="always")
-def _rate_extrapolated(y, out, args):
+def _rate_extrapolated(t, y, out, args):
     """t' at y with the other chains' flow extrapolated over the current step (args: the whole solve's arguments,
     each chain alone's (Near, Work), the Memory, the loop's state and rate, which hold the current step's start):
     each chain's own block exact, the others' flow the Memory's quadratic at the time since the start (`_new_step`)."""

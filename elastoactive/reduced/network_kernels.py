@@ -105,7 +105,7 @@ def rhs_into(y, out, rest, bonds, rest_lengths, stiffness, anchors, trap, slot, 
 
 
 @njit(cache=True, inline="always")
-def _rate(y, out, args):
+def _rate(t, y, out, args):
     """rhs_into in dop853_loop's form: args = the Kernel tuple (reduced.network.kernel_args)."""
     rhs_into(y, out, *args)
 

@@ -5,8 +5,10 @@ are, so its generalised force needs no positions: Q_j = sin(omega t + phase) (-F
 for the joints j of its chain up to its particle (engines.node_forces). `periodic_rhs` evaluates the chain's own
 right-hand side (kernels.eval_rhs) and adds D^-1 Q (the chain's drag block by Cholesky) in one compiled call: about
 1 us at N = 7 where the Python right-hand side of engines.node_forces, with the positions and numpy's solve, took
-~80-160 us; scipy's DOP853 around it then costs a few us per evaluation more. The same arithmetic as the Python
-path up to round-off (within the solver's tolerance of its results).
+~80-160 us. The same arithmetic as the Python path up to round-off (within the solver's tolerance of its results).
+
+`dop853` is reduced.dop853_loop's driver around periodic_rhs, each stage at its own time: the whole run compiled, no
+Python per step (scipy's DOP853 around the compiled right-hand side spent ~45 us per evaluation in its own Python).
 """
 
 from __future__ import annotations
@@ -16,9 +18,10 @@ import math
 import numpy as np
 from numba import njit
 
-from .kernels import chol_solve, cholesky, drag_block, eval_rhs, workspace
+from .dop853_loop import dop853_sums, sum_columns
+from .kernels import chol_solve, cholesky, drag_block, eval_rhs, state_arrays, workspace
 
-__all__ = ["force_table", "periodic_rhs", "workspace"]
+__all__ = ["dop853", "force_table", "periodic_rhs", "workspace"]
 
 
 def force_table(laws) -> np.ndarray:
@@ -56,3 +59,41 @@ def periodic_rhs(t, th, fac, system, beta, out, L, D, X, lam, table, Lc, Dc, q):
         chol_solve(Lc, q, off)
         for j in range(off, off + n):
             out[j] += q[j]
+
+
+@njit(cache=True, inline="always")
+def _rate(t, y, out, args):
+    """periodic_rhs in dop853_loop's form: args = (fac, system, beta, L, D, X, lam, table, Lc, Dc, q)."""
+    fac, system, beta, L, D, X, lam, table, Lc, Dc, q = args
+    periodic_rhs(t, y, fac, system, beta, out, L, D, X, lam, table, Lc, Dc, q)
+
+
+@njit(cache=True)
+def dop853(y, f, clock, counts, ts, rtol, atol, A, B, E3, E5, DD, out, max_steps, args):
+    """dop853_loop's driver around periodic_rhs, its sums by sum_columns as the chain's own (reduced.dop853): args =
+    (system, beta, fac, table), fac the per-particle force factors, table force_table's rows. The workspace is
+    allocated at each call (its contents are not carried from one evaluation to the next)."""
+    system, beta, fac, table = args
+    L, D, X, lam = state_arrays(system, y.size)
+    n = system.n
+    scratch = (table, np.zeros((n, n)), np.zeros((n, n)), np.zeros(system.n_chains * n))
+    return dop853_sums(
+        _rate,
+        (fac, system, beta, L, D, X, lam) + scratch,
+        sum_columns,
+        sum_columns,
+        y,
+        f,
+        clock,
+        counts,
+        ts,
+        rtol,
+        atol,
+        A,
+        B,
+        E3,
+        E5,
+        DD,
+        out,
+        max_steps,
+    )

@@ -66,3 +66,37 @@ def test_an_interrupt_keeps_the_samples_reached_or_passes_through():
     with pytest.raises(KeyboardInterrupt) as plain:
         integrate(network_kernels.dop853, args, ts, y0, 1e-8, 1e-10, ctrl_c_after_four_calls, steps=5)
     assert type(plain.value) is KeyboardInterrupt
+
+
+def test_a_driven_rate_sees_each_stage_at_its_own_time_as_scipy_does():
+    """The tip drive's driver (reduced.node_kernels.dop853) against scipy's solve_ivp(DOP853) on the same compiled
+    right-hand side: the stages' times are scipy's, so the same steps and the same samples to round-off."""
+    from scipy.integrate import solve_ivp
+
+    import elastoactive as ea
+    from elastoactive.engines import reduced as red
+    from elastoactive.reduced import node_kernels
+    from elastoactive.reduced.dop853 import Interrupted
+
+    physics = ea.Physics(n=4, sigma=0.6, drive_amplitude=0.2, drive_frequency=0.3)
+    system = red.system_of(physics).typed()
+    laws = [t.node_forces(physics) for t in physics.active_terms() if t.node_forces(physics) is not None]
+    fac, table = system.force_factors(None), node_kernels.force_table(laws)
+    ts, y0 = np.arange(0.0, 40.0001, 0.5), np.full(physics.n_angles, 0.01)
+    run = integrate(node_kernels.dop853, (system, 0.0, fac, table), ts, y0, 1e-9, 1e-11, on_interrupt=Interrupted)
+    L, D, X, lam = node_kernels.workspace(system)
+    n = physics.n
+    scratch = (np.zeros((n, n)), np.zeros((n, n)), np.zeros(physics.n_angles))
+
+    def f(t, y):
+        out = np.empty(y.size)
+        node_kernels.periodic_rhs(t, np.ascontiguousarray(y), fac, system, 0.0, out, L, D, X, lam, table, *scratch)
+        return out
+
+    sol = solve_ivp(f, (0.0, ts[-1]), y0, method="DOP853", t_eval=ts, rtol=1e-9, atol=1e-11)
+    assert run.status == 0 and run.naccept > 50
+    extra = sol.nfev - run.nfev  # scipy also takes the dense output's 3 stages where a sample is a step's end
+    assert 0 <= extra <= 30 and extra % 3 == 0
+    np.testing.assert_allclose(run.y, sol.y.T, rtol=0, atol=1e-12)
+    undriven = integrate(node_kernels.dop853, (system, 0.0, fac, table[:0]), ts, y0, 1e-9, 1e-11)
+    assert np.abs(run.y - undriven.y).max() > 1e-3  # the drive acts, at the stages' times

@@ -44,11 +44,10 @@ centripetal forces as node forces), taken by eval_state and rk4_piecewise. With 
 run exactly as before, bit for bit.
 
 eval_rhs takes the path its workspace was sized for (`workspace`, `make_workspace`): dense below
-RECURSIVE_MIN_N particles per chain, recursive from there on. Below it the results are bit for bit
-those of the dense solver (as before the recursion existed); above it they agree with it to its
-round-off: the dense solve loses ~cond(D) ~ N^2 times the unit round-off, the recursion does not
-(at N = 400, 3e-13 - 8e-13 relative against 5e-15 - 1.5e-14, both measured against an extended-
-precision refinement).
+RECURSIVE_MIN_N particles per chain, recursive from there on (every chain of two particles or more). The two
+agree to the dense solver's round-off: the dense solve loses ~cond(D) ~ N^2 times the unit round-off, the
+recursion does not (at N = 400, 3e-13 - 8e-13 relative against 5e-15 - 1.5e-14, both measured against an
+extended-precision refinement).
 """
 
 from __future__ import annotations

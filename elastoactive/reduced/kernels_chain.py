@@ -15,15 +15,14 @@ from numba import njit
 
 _TWO_PI = 2.0 * math.pi
 
-RECURSIVE_MIN_N = 10
-"""Particles per chain from which eval_rhs solves by the O(N) recursion instead of dense Cholesky.
+RECURSIVE_MIN_N = 2
+"""Particles per chain from which eval_rhs solves by the O(N) recursion instead of dense Cholesky: every chain.
 
-Not a speed crossover: measured (numba, one core of the development machine; us per evaluation, one
-chain / two-pinned), the recursion is faster at every N >= 2: N = 2: 0.19 / 0.23 against 0.27 / 0.41 dense;
-N = 7: 0.32 / 0.37 against 0.54 / 0.91; N = 9: 0.38 / 0.43 against 0.68 / 1.25; N = 100: 2.7 / 3.0 against
-95 / 107. Below 10 the dense path costs at most ~1 us more per evaluation, and keeping it there keeps
-every run of the paper's chains (N = 2, 7, 9) bit for bit what it was before the recursion existed.
-Lower it to 2 to take the recursion everywhere (results then change at round-off only)."""
+The recursion is faster at every N >= 2 (numba, one core; us per evaluation, one chain / two-pinned): N = 2: 0.19 /
+0.23 against 0.27 / 0.41 dense; N = 7: 0.32 / 0.37 against 0.54 / 0.91; N = 9: 0.38 / 0.43 against 0.68 / 1.25;
+N = 100: 2.7 / 3.0 against 95 / 107. Inside the compiled DOP853 the paper's N = 7 pair runs 1000 tau in 0.15 s
+against 0.40 s dense, in the same steps (the two agree to round-off). The dense path stays for the Jacobian's
+factors (workspace(dense=True)) and a lone particle."""
 
 
 @njit(cache=True)

@@ -3,12 +3,12 @@
 Integration and the choice of method
 ------------------------------------
 The right-hand side and its analytic Jacobian are compiled with numba (kernels.py). The right-hand side
-solves D(theta) theta' = f by dense Cholesky (O(N^3)) for chains shorter than kernels.RECURSIVE_MIN_N = 10
-particles, bit for bit as before, and by the O(N) articulated-drag recursion (derived in equations.py) from
-there on: one evaluation at N = 100 costs ~3 us instead of ~100 us, and 100 tau of Physics(n=100,
-sigma=0.05) take ~0.015 s instead of ~0.4 s. The analytic Jacobian follows the same split: dense, O(N^3), below
-RECURSIVE_MIN_N; from there on D^-1 is applied column by column by the recursion, O(N^2) (kernels.
-eval_jacobian_recursive). The spectral radius of the linearised operator D^{-1} K is bounded independently of N
+solves D(theta) theta' = f by the O(N) articulated-drag recursion (derived in equations.py) from
+kernels.RECURSIVE_MIN_N = 2 particles per chain on, faster than dense Cholesky (O(N^3)) at every N: one
+evaluation at N = 100 costs ~3 us instead of ~100 us, and 100 tau of Physics(n=100, sigma=0.05) take ~0.015 s
+instead of ~0.4 s. The analytic Jacobian follows the same split: dense, O(N^3), below RECURSIVE_MIN_N; from
+there on D^-1 is applied column by column by the recursion, O(N^2) (kernels.eval_jacobian_recursive). The
+spectral radius of the linearised operator D^{-1} K is bounded independently of N
 (D0^{-1} = B^{-1} B^{-T} with B the lower triangular matrix of ones, so |lambda| <~ 16 for unit springs and drag),
 but the slow dynamics of a long chain are slower still: its slowest relaxation and, at the sigma ~ S / N^3 where
 it beats, its beat frequency fall like N^-4 (248.9 / N^4 per tau at S = 100). An explicit method's steps are
@@ -127,8 +127,8 @@ def jacobian(system: ChainSystem, *, beta: float):
     with the accelerations' part by central differences (kernels.eval_jacobian_inertial).
 
     Below kernels.RECURSIVE_MIN_N particles O(N^3) per call (dense Cholesky of D, then D^-1 applied to an N x N
-    matrix), bit for bit as before; from there on O(N^2) (D^-1 applied column by column by the articulated-drag
-    recursion, equal to round-off), so that the implicit methods that long chains need (solve_ode) stay cheap.
+    matrix); from there on O(N^2) (D^-1 applied column by column by the articulated-drag recursion, equal to the
+    dense one to round-off), so that the implicit methods that long chains need (solve_ode) stay cheap.
 
     With a free head, a trap or self-contact (system.extended), the analytic kernel does not apply: the Jacobian
     over the whole state is taken by central differences of the compiled right-hand side (relative step 1e-7)."""

@@ -45,7 +45,8 @@ def test_resumes_bit_for_bit_and_an_interrupt_keeps_the_samples_reached(monkeypa
     ts = np.arange(0.0, 30.0, 0.05)
     theta0 = 0.01 * np.sin(np.arange(7.0))
     whole = dop853.integrate(system, ts, theta0, rtol=1e-9, atol=1e-11, beta=BETA)
-    monkeypatch.setattr(dop853, "STEP_BUDGET", 49 * 3)  # three steps a call
+    monkeypatch.setattr(dop853, "STEP_BUDGET", 3 * dop853.STEP_BUDGET // dop853.steps_per_call(system, 7))  # 3 a call
+    assert dop853.steps_per_call(system, 7) == 3
     times = []
     pieces = dop853.integrate(system, ts, theta0, rtol=1e-9, atol=1e-11, beta=BETA, on_time=times.append)
     np.testing.assert_array_equal(pieces[0], whole[0])

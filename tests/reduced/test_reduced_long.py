@@ -133,10 +133,10 @@ def test_workspace_picks_the_path_by_n():
 
 @pytest.mark.parametrize("kind", ["one-pinned", "two-pinned", "coupled-pair"])
 def test_public_rhs_takes_the_recursive_path_for_long_chains(kind):
-    """rhs() is, bit for bit, the recursive evaluation above RECURSIVE_MIN_N and the dense one below (where
-    the paper's N = 2, 7, 9 runs stay exactly what they were before the recursion existed)."""
+    """rhs() is, bit for bit, the recursive evaluation from RECURSIVE_MIN_N particles on and the dense one below."""
     rng = np.random.default_rng(11)
-    for n, dense in ((2, True), (7, True), (K.RECURSIVE_MIN_N - 1, True), (K.RECURSIVE_MIN_N, False), (100, False)):
+    for n in sorted({max(K.RECURSIVE_MIN_N - 1, 2), K.RECURSIVE_MIN_N, 7, 100}):
+        dense = not K.uses_recursive(n)
         system = _system(kind, n)
         f = M.rhs(system, beta=BETA)
         for th, _ in _states(system, rng, count=2):

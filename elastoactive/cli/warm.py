@@ -5,9 +5,9 @@ whole set on a 2-core machine) and every later process loads it (about 1.5 s). `
 after an install, and again when a source has changed since, so a fresh machine's first `elastoactive reproduce`
 (or any first run) loads the kernels instead of compiling them. It runs, for a tau each in the reduced engine,
 every registered scene's and term's validation case (which reach the numba-DOP853 loop with every right-hand side,
-the network model, the periodic point forces), and the paths those do not: noise (Ito, Stratonovich, coloured),
-the inertial model with and without noise, a long chain (the O(N) recursion) and the implicit methods with the
-analytic Jacobian.
+the network model, the periodic point forces), and the paths those do not: noise (Ito, Stratonovich, coloured; a
+network's polarities), the inertial model with and without noise, a long chain, the implicit methods with the
+analytic Jacobian, and chains through the fluid (on a wall, in free space, a row beyond the exact interaction's size).
 
     .venv/bin/python -m elastoactive.cli.warm        # prints one line: what it ran and how long it took
 """
@@ -38,6 +38,17 @@ def runs() -> list[tuple[Physics, Numerics, dict]]:
         (Physics(n=24, sigma=0.8), sampled, {}),
         (Physics(n=24, sigma=0.8), sampled, {"method": "LSODA"}),
         (chain, sampled, {"method": "Radau"}),
+        # through the fluid (a scene's validation case has the local drag): on the wall (Rotne-Prager-Blake), in free
+        # space (Rotne-Prager-Yamakawa) and a row beyond fluid.EXACT_UP_TO links (the extrapolated interaction)
+        (Physics(scene="cilium", n=7, sigma=0.4, bead_radius=0.1), sampled, {}),
+        (Physics(scene="clamped-3d", n=5, sigma=0.4, bead_radius=0.1), sampled, {}),
+        (Physics(scene="cilia-row", n=10, sigma=0.6, cilia=11, bead_radius=0.1), sampled, {}),
+        # a network's noisy polarities (Euler-Maruyama)
+        (
+            Physics(scene="lattice", rings=2, boundary="pinned", alignment_length=0.1, rotational_diffusion=0.03),
+            sampled,
+            {},
+        ),
     ]
     out += [
         (case.physics, sampled, {"method": "BDF"})

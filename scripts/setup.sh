@@ -37,12 +37,12 @@ if [ "$(cat .venv/.elastoactive-stamp 2>/dev/null)" != "$stamp" ] || ! .venv/bin
   .venv/bin/python -m pip install -q -c "$constraints" --build-constraint "$constraints" -e '.[test]'
   echo "$stamp" > .venv/.elastoactive-stamp
 fi
-# the reduced model's numba kernels, compiled into numba's on-disk cache here (~40 s on 2 cores) rather than by the
+# the reduced model's numba kernels, compiled into numba's on-disk cache here (~2 min on 2 cores) rather than by the
 # first run; again after an install or when a source changed since (~2 s when the cache is still valid)
 kernels=.venv/.elastoactive-kernels
 if [ ! -f "$kernels" ] || [ .venv/.elastoactive-stamp -nt "$kernels" ] \
    || [ -n "$(find elastoactive analysis -name '*.py' -newer "$kernels" 2>/dev/null | head -1)" ]; then
-  say "compiling the reduced model's numba kernels ahead (about 40 s on 2 cores)"
+  say "compiling the reduced model's numba kernels ahead (about 2 min on 2 cores)"
   if .venv/bin/python -m elastoactive.cli.warm; then
     touch "$kernels"
   else

@@ -18,7 +18,7 @@ DESCRIPTION = (
     "noise, anisotropic drag, inertia, the long chain, the dish; beyond the paper the skin effect, the response to a "
     "tip force, entrainment and the ring, the active solid's hysteresis, noise and disorder, the chain in 3D, cilia "
     "through the fluid) with MuJoCo and the reduced model, and write PNG figures, NPZ/JSON data and report.md into one"
-    " folder. The default (quick) size takes about 4.5 min on an idle 2-core machine: each study declares the seconds "
+    " folder. The default (quick) size takes about 4 min on an idle 2-core machine: each study declares the seconds "
     "its run may take (a test holds their sum), its figures are drawn beside the next study, and the"
     " log and report.md set each study's wall and CPU time against its budget and name the slowest (a loaded machine "
     "stretches the wall time; --tiny about 2 min). "

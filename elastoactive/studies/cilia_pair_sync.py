@@ -137,7 +137,7 @@ class PairSyncSummary(Summary):
     scene: list[SceneRun]
 
 
-CILIA_PAIR_SYNC = registry.declare("cilia_pair_sync", summary=PairSyncSummary, order=224, budget=6.5)
+CILIA_PAIR_SYNC = registry.declare("cilia_pair_sync", summary=PairSyncSummary, order=224, budget=5.5)
 
 
 def start_lags(size: str, cycle: str) -> tuple[float, ...]:

@@ -103,7 +103,7 @@ class ClampTongueSummary(Summary):
     scan_wall_s: float
 
 
-CLAMP_TONGUE = registry.declare("clamp_tongue", summary=ClampTongueSummary, order=200, budget=4.5)
+CLAMP_TONGUE = registry.declare("clamp_tongue", summary=ClampTongueSummary, order=200, budget=4)
 
 
 def clamp_kick(physics, theta: np.ndarray, eps: float) -> np.ndarray:

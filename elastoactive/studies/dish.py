@@ -124,7 +124,7 @@ def _point(case: Case, r: Results) -> DishPoint:
     )
 
 
-DISH = registry.declare("dish", summary=DishSummary, order=150, budget=14.5)
+DISH = registry.declare("dish", summary=DishSummary, order=150, budget=14)
 
 
 @DISH.run

@@ -88,7 +88,7 @@ def _hopf_duration(
     return float(np.ceil(transient + window)), float(transient)
 
 
-HOPF = registry.declare("hopf", summary=HopfSummary, order=30, budget=21.5)
+HOPF = registry.declare("hopf", summary=HopfSummary, order=30, budget=19.5)
 
 
 @HOPF.run

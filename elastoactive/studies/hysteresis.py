@@ -65,7 +65,7 @@ class HysteresisSummary(Summary):
     loops: list[LoopSummary]
 
 
-HYSTERESIS = registry.declare("hysteresis", summary=HysteresisSummary, order=212, budget=7.5)
+HYSTERESIS = registry.declare("hysteresis", summary=HysteresisSummary, order=212, budget=6.5)
 
 
 def _cases(size: str) -> list[tuple[str, object, dict, tuple[float, ...]]]:

@@ -143,7 +143,7 @@ def _duration(base: float, m: float) -> float:
     return base if m <= 1.0 else 10.0 * math.ceil(base * math.sqrt(m) / 10.0 - 1e-9)
 
 
-INERTIA = registry.declare("inertia", summary=InertiaSummary, order=130, budget=7.5)
+INERTIA = registry.declare("inertia", summary=InertiaSummary, order=130, budget=6)
 
 
 @INERTIA.run

@@ -74,7 +74,7 @@ class ActiveSolidSummary(Summary):
     reduced_modes: list[list[int]]
 
 
-ACTIVE_SOLID = registry.declare("active_solid", summary=ActiveSolidSummary, order=210, budget=5)
+ACTIVE_SOLID = registry.declare("active_solid", summary=ActiveSolidSummary, order=210, budget=5.5)
 
 
 @ACTIVE_SOLID.run

@@ -178,7 +178,7 @@ def stability_study(size: str = "quick", workers=None, progress: bool = True) ->
 # --------------------------------------------------------------------------------------------------
 # 2. the linear growth seen by the simulations
 # --------------------------------------------------------------------------------------------------
-GROWTH = registry.declare("growth", summary=GrowthSummary, order=20, budget=9)
+GROWTH = registry.declare("growth", summary=GrowthSummary, order=20, budget=8)
 
 
 @GROWTH.run

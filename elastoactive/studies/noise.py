@@ -137,7 +137,7 @@ def noise_study(size: str = "quick", workers=None, progress: bool = True) -> Stu
     return Study("noise", size, data, summary, time.perf_counter() - start)
 
 
-ANISOTROPY = registry.declare("anisotropy", summary=AnisotropySummary, order=110, budget=2)
+ANISOTROPY = registry.declare("anisotropy", summary=AnisotropySummary, order=110, budget=1.5)
 
 
 @ANISOTROPY.run

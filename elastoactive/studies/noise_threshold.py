@@ -59,7 +59,7 @@ class NoiseThresholdSummary(Summary):
     duration: float
 
 
-NOISE_THRESHOLD = registry.declare("noise_threshold", summary=NoiseThresholdSummary, order=213, budget=10)
+NOISE_THRESHOLD = registry.declare("noise_threshold", summary=NoiseThresholdSummary, order=213, budget=9)
 
 
 def _first(couplings: np.ndarray, moving: np.ndarray) -> float:

@@ -94,7 +94,7 @@ def _landau_fit(mu_arr: np.ndarray, z2: np.ndarray, om: np.ndarray) -> LandauFit
     )
 
 
-NORMAL_FORM = registry.declare("normal_form", summary=NormalFormSummary, order=40, budget=5.5)
+NORMAL_FORM = registry.declare("normal_form", summary=NormalFormSummary, order=40, budget=6)
 
 
 @NORMAL_FORM.run

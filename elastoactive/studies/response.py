@@ -89,7 +89,7 @@ class ResponseSummary(EngineParts):
     reduced: ResponseEngine
 
 
-RESPONSE = registry.declare("response", summary=ResponseSummary, order=170, budget=13)
+RESPONSE = registry.declare("response", summary=ResponseSummary, order=170, budget=7.5)
 
 
 def _omegas(res: rs.Resonance) -> list[float]:
@@ -360,7 +360,7 @@ class EntrainmentSummary(Summary):
     edges: list[TongueEdge]
 
 
-ENTRAINMENT = registry.declare("entrainment", summary=EntrainmentSummary, order=175, budget=9.5)
+ENTRAINMENT = registry.declare("entrainment", summary=EntrainmentSummary, order=175, budget=5)
 
 
 def _beat_mismatch(traj, drive_frequency: float, transient: float) -> float:

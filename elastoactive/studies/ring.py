@@ -78,7 +78,7 @@ def _numerics(n: int, sigma: float) -> Numerics:
     return Numerics(dt=0.002 if n == SIZES_N[1] and sigma <= 4.0 else 0.001, sample_dt=0.1)
 
 
-RINGS = registry.declare("rings", summary=RingSummary, order=180, budget=10)
+RINGS = registry.declare("rings", summary=RingSummary, order=180, budget=8.5)
 
 
 @RINGS.run

@@ -51,7 +51,7 @@ class RotationSummary(EngineParts):
     reduced: RotationEngine
 
 
-ROTATION = registry.declare("rotation", summary=RotationSummary, order=60, budget=7)
+ROTATION = registry.declare("rotation", summary=RotationSummary, order=60, budget=6.5)
 
 
 @ROTATION.run

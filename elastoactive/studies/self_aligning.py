@@ -106,7 +106,7 @@ class SelfAligningSummary(Summary):
     """(l_a, sigma) of the point run in both engines."""
 
 
-SELF_ALIGNING_STUDY = registry.declare("self_aligning", summary=SelfAligningSummary, order=190, budget=5.5)
+SELF_ALIGNING_STUDY = registry.declare("self_aligning", summary=SelfAligningSummary, order=190, budget=5)
 
 
 @SELF_ALIGNING_STUDY.run

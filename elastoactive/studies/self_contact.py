@@ -179,7 +179,7 @@ def _run(tr, r: Results, transient: float) -> ContactRun:
     )
 
 
-LONG_CHAIN = registry.declare("long_chain", summary=LongChainSummary, order=140, budget=15)
+LONG_CHAIN = registry.declare("long_chain", summary=LongChainSummary, order=140, budget=14.5)
 
 
 @LONG_CHAIN.run

@@ -107,7 +107,7 @@ class SkinSummary(Summary):
     """Largest |MuJoCo gain - reduced gain| over its kicks and every time."""
 
 
-SKIN = registry.declare("skin", summary=SkinSummary, order=160, budget=7)
+SKIN = registry.declare("skin", summary=SkinSummary, order=160, budget=5.5)
 
 
 def _chain_rows(ns, ratio: float) -> dict[str, np.ndarray]:

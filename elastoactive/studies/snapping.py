@@ -93,7 +93,7 @@ def _snap_measures(tr, transient):
     return snap, freq
 
 
-SNAPPING = registry.declare("snapping", summary=SnappingSummary, order=50, budget=19)
+SNAPPING = registry.declare("snapping", summary=SnappingSummary, order=50, budget=17.5)
 
 
 def narrow(lo: float, hi: float, probes: list[tuple[float, bool]]) -> tuple[float, float]:

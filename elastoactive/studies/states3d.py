@@ -150,7 +150,7 @@ class States3DSummary(Summary):
     engines: list[Engines3D] = field(default_factory=list)
 
 
-STATES3D = registry.declare("states3d", summary=States3DSummary, order=216, budget=12)
+STATES3D = registry.declare("states3d", summary=States3DSummary, order=216, budget=12.5)
 
 
 def start_tangents(n: int, start: str) -> np.ndarray:

@@ -76,7 +76,7 @@ def _bisect_locking(combos, make_case, lo0, hi0, steps, workers, progress, desc,
     return lo, hi
 
 
-SYNC_N2 = registry.declare("sync_n2", summary=SyncN2Summary, order=90, budget=14)
+SYNC_N2 = registry.declare("sync_n2", summary=SyncN2Summary, order=90, budget=11.5)
 
 
 @SYNC_N2.run

@@ -39,7 +39,7 @@ class TongueSummary(EngineParts):
 # --------------------------------------------------------------------------------------------------
 # Arnold tongue
 # --------------------------------------------------------------------------------------------------
-TONGUE = registry.declare("tongue", summary=TongueSummary, order=80, budget=10.5)
+TONGUE = registry.declare("tongue", summary=TongueSummary, order=80, budget=5.5)
 
 
 @TONGUE.run

@@ -1,13 +1,14 @@
 """Compile the reduced model's kernels into numba's on-disk cache, so that the first run after an install does not.
 
-The kernels are compiled with cache=True: the first process that needs one compiles it (about 3 min of CPU for the
-whole set, 106 s of wall with the two groups side by side on 2 cores) and every later process loads it (about 3 s). `scripts/setup.sh` runs this module
-after an install, and again when a source has changed since, so a fresh machine's first `elastoactive reproduce`
-(or any first run) loads the kernels instead of compiling them. It runs, for a tau each in the reduced engine,
-every registered scene's and term's validation case (which reach the numba-DOP853 loop with every right-hand side,
-the network model, the periodic point forces), and the paths those do not: noise (Ito, Stratonovich, coloured; a
-network's polarities), the inertial model with and without noise, a long chain, the implicit methods with the
-analytic Jacobian, and chains through the fluid (on a wall, in free space, a row beyond the exact interaction's size).
+The kernels are compiled with cache=True: the first process that needs one compiles it (about 3 min of CPU for the whole
+set, 106 s of wall with the two groups side by side on 2 cores) and every later process loads it (about 3 s).
+`scripts/setup.sh` runs this module after an install, and again when a source has changed since, so a fresh machine's
+first `elastoactive reproduce` (or any first run) loads the kernels instead of compiling them. It runs, for a tau each
+in the reduced engine, every registered scene's and term's validation case (which reach the numba-DOP853 loop with every
+right-hand side, the network model, the periodic point forces), and the paths those do not: noise (Ito, Stratonovich,
+coloured; a network's polarities), the inertial model with and without noise, a long chain, the implicit methods with
+the analytic Jacobian, and chains through the fluid (on a wall, in free space, a row beyond the exact interaction's
+size).
 
     .venv/bin/python -m elastoactive.cli.warm        # prints one line: what it ran and how long it took
 """

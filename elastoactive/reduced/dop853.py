@@ -105,23 +105,8 @@ def _dop853(y, f, clock, counts, ts, rtol, atol, A, B, E3, E5, DD, out, max_step
     allocated at each call (its contents are not carried from one evaluation to the next)."""
     system, beta, fac = args
     L, D, X, lam = state_arrays(system, y.size)
+    rate_args = (fac, system, beta, L, D, X, lam)
+    sums = sum_columns  # stages and dense output alike
     return dop853_sums(
-        _rate,
-        (fac, system, beta, L, D, X, lam),
-        sum_columns,
-        sum_columns,
-        y,
-        f,
-        clock,
-        counts,
-        ts,
-        rtol,
-        atol,
-        A,
-        B,
-        E3,
-        E5,
-        DD,
-        out,
-        max_steps,
+        _rate, rate_args, sums, sums, y, f, clock, counts, ts, rtol, atol, A, B, E3, E5, DD, out, max_steps
     )

@@ -76,24 +76,9 @@ def dop853(y, f, clock, counts, ts, rtol, atol, A, B, E3, E5, DD, out, max_steps
     system, beta, fac, table = args
     L, D, X, lam = state_arrays(system, y.size)
     n = system.n
-    scratch = (table, np.zeros((n, n)), np.zeros((n, n)), np.zeros(system.n_chains * n))
+    scratch = (np.zeros((n, n)), np.zeros((n, n)), np.zeros(system.n_chains * n))  # Lc, Dc, q
+    rate_args = (fac, system, beta, L, D, X, lam, table) + scratch
+    sums = sum_columns  # stages and dense output alike
     return dop853_sums(
-        _rate,
-        (fac, system, beta, L, D, X, lam) + scratch,
-        sum_columns,
-        sum_columns,
-        y,
-        f,
-        clock,
-        counts,
-        ts,
-        rtol,
-        atol,
-        A,
-        B,
-        E3,
-        E5,
-        DD,
-        out,
-        max_steps,
+        _rate, rate_args, sums, sums, y, f, clock, counts, ts, rtol, atol, A, B, E3, E5, DD, out, max_steps
     )

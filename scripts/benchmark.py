@@ -515,8 +515,14 @@ def main(argv=None) -> int:
     ap.add_argument("--fluid", action="store_true", help="only the cilia through the fluid (scripts/bench_fluid.py)")
     ap.add_argument("--mujoco3d", action="store_true", help="only MuJoCo's 3D chain against the planar one (per step, "
                     "per dof-step, whole process: scripts/bench_mujoco3d.py)")  # fmt: skip
+    ap.add_argument("--reduced-paths", action="store_true", help="only the reduced engine's runs that the quick "
+                    "reproduction leans on (scripts/bench_reduced_paths.py; --before there: two trees)")  # fmt: skip
     args = ap.parse_args(argv)
     q = args.quick
+    if args.reduced_paths:
+        from bench_reduced_paths import main as reduced_paths  # this folder's script
+
+        return reduced_paths(["--repeats", "1" if q else "3"])
     if args.mujoco3d:
         from bench_mujoco3d import main as mujoco3d
 

@@ -8,15 +8,15 @@ is the virtual work of moving every particle beyond joint j:
 
     Q_j = sum_{i >= j} F_i . (-sin theta_j, cos theta_j)
 
-and the overdamped model becomes D(theta) theta' = f(theta) + Q(theta), with D and f those of the compiled kernels
-(the drag matrix and the chain's own forces). The right-hand side is the compiled one plus D^-1 Q, integrated by
-scipy's DOP853 at the engine's tolerances: Python runs once per evaluation (about 80 us at N = 7), so a term that
-the kernels know (its fields in the record) stays the fast path. Forces that do not depend on the positions
-(terms.base.PeriodicForce: the tip drive) skip Python altogether: without a moving clamp, every law such a force,
-the whole run is DOP853 compiled around one compiled right-hand side (reduced.node_kernels.dop853, "numba-DOP853":
-scipy's algorithm, its steps to round-off; a 500 tau drive of N = 2 in 0.1 s where scipy around the same compiled
-right-hand side took 1.8 s). The chains' pivots are where MuJoCo puts them (Scene.chain_offset), so both engines see
-the same positions.
+and the overdamped model becomes D(theta) theta' = f(theta) + Q(theta), with D and f those of the compiled kernels (the
+drag matrix and the chain's own forces). The right-hand side is the compiled one plus D^-1 Q, integrated by scipy's
+DOP853 at the engine's tolerances: Python runs once per evaluation (about 80 us at N = 7), so a term that the kernels
+know (its fields in the record) stays the fast path. Forces that do not depend on the positions
+(terms.base.PeriodicForce: the tip drive) skip Python altogether: without a moving clamp, every law such a force, the
+whole run is DOP853 compiled around one compiled right-hand side (reduced.node_kernels.dop853, "numba-DOP853": scipy's
+algorithm, its steps to round-off; a 500 tau drive of N = 2 in 0.04 s where scipy around the same compiled right-hand
+side took 0.7-1.8 s). The chains' pivots are where MuJoCo puts them (Scene.chain_offset), so both engines see the same
+positions.
 
 A term may also move chain 1's clamp (Term.clamp_motion: its point by d(t) with velocity u(t), its spring's rest
 angle to phi(t)). The lab-frame drag then acts on the particles' lab velocities u + J_k theta', so every particle

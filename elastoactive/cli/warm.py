@@ -21,6 +21,7 @@ from ..checks.validate import validation_cases
 from ..core.params import Numerics, Physics
 from ..engines.reduced import simulate_reduced
 from ..io.executor import default_workers, forks, imap
+from ..scenes import cilia_row, cilium, clamped3d, lattice
 
 DURATION = 1.0
 """tau of each run: a few steps of every loop."""
@@ -51,13 +52,13 @@ def groups() -> tuple[list[Run], list[Run]]:
         for case in validation_cases()  # the pinned constraints'
         if case.physics.scene_def.pinned and "BDF" in case.physics.scene_def.reduced_methods()
     ][:1]  # Jacobian
-    network = Physics(scene="lattice", rings=2, boundary="pinned", alignment_length=0.1, rotational_diffusion=0.03)
+    network = lattice.SCENE.physics(rings=2, boundary="pinned", alignment_length=0.1, rotational_diffusion=0.03)
     second = [
         # through the fluid (a scene's validation case has the local drag): on the wall (Rotne-Prager-Blake), in free
         # space (Rotne-Prager-Yamakawa) and a row beyond fluid.EXACT_UP_TO links (the extrapolated interaction)
-        (Physics(scene="cilium", n=7, sigma=0.4, bead_radius=0.1), sampled, {}),
-        (Physics(scene="clamped-3d", n=5, sigma=0.4, bead_radius=0.1), sampled, {}),
-        (Physics(scene="cilia-row", n=10, sigma=0.6, cilia=11, bead_radius=0.1), sampled, {}),
+        (cilium.SCENE.physics(n=7, sigma=0.4, bead_radius=0.1), sampled, {}),
+        (clamped3d.SCENE.physics(n=5, sigma=0.4, bead_radius=0.1), sampled, {}),
+        (cilia_row.SCENE.physics(n=10, sigma=0.6, cilia=11, bead_radius=0.1), sampled, {}),
         (network, sampled, {}),  # a network's noisy polarities (Euler-Maruyama)
     ]
     return first, second

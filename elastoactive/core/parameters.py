@@ -272,15 +272,18 @@ def names() -> tuple[str, ...]:
     return _TABLE.names()
 
 
+def stochastic_names() -> tuple[str, ...]:
+    """The parameters declared `stochastic`: a value > 0 of any makes a run stochastic."""
+    return tuple(name for name in names() if get(name).stochastic)
+
+
 def stochastic(values, axes=None) -> bool:
     """Whether a run, or some point of a sweep, is stochastic: a parameter declared `stochastic` is > 0 among `axes`
     (a grid: name -> its values) or, where it is not on the axes, in `values` (name -> value, or a Physics; a name
     not given takes its default). The one rule for every check of whether dt and the seed act on the reduced
     engine."""
     axes = axes or {}
-    for name in names():
-        if not get(name).stochastic:
-            continue
+    for name in stochastic_names():
         if name in axes:
             value = axes[name]
         else:

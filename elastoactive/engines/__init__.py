@@ -28,8 +28,8 @@ def check_steps(numerics: Numerics, duration: float) -> int:
 
 MUJOCO_ONLY = ("dt", "integrator")
 """Numerical settings only the MuJoCo engine reads (the reduced engine uses dt only in a stochastic run,
-core.parameters.stochastic; it does use
-mass_ratio, which decides whether a run is overdamped or inertial: docs/mujoco.md section 5)."""
+core.parameters.stochastic; it does use mass_ratio, which decides whether a run is overdamped or inertial:
+docs/mujoco.md section 5)."""
 
 
 def check_engine_numerics(engine: str, names, noisy: bool, label=None) -> None:
@@ -46,7 +46,7 @@ def check_engine_numerics(engine: str, names, noisy: bool, label=None) -> None:
             continue
         why = (
             " (the reduced engine integrates noise-free runs adaptively; it uses dt only when "
-            + " or ".join(f"{name} > 0" for name in _parameters.names() if _parameters.get(name).stochastic)
+            + " or ".join(f"{name} > 0" for name in _parameters.stochastic_names())
             + ")"
             if name == "dt"
             else ""

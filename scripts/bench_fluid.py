@@ -41,7 +41,6 @@ import numpy as np
 
 from elastoactive.analysis import cilia as cilia_analysis
 from elastoactive.reduced import fluid
-from elastoactive.reduced.dop853_loop import integrate
 from elastoactive.scenes.cilium import FLUID_TOLERANCES, ROTATION
 
 RADIUS = 0.1
@@ -100,22 +99,16 @@ def period(n: int) -> float:
 
 def evaluations_per_tau(beds: fluid.Beds, tolerances: tuple[float, float], span: float = 150.0) -> float:
     """DOP853's evaluations per tau on the beating row: over [span, 2 span] after a run from the start to span."""
-    args = fluid._arguments(beds)
-    rtol, atol = tolerances
-    first = integrate(fluid._dop853_fluid, args, np.array([0.0, span]), start(beds).ravel(), rtol, atol)
-    run = integrate(fluid._dop853_fluid, args, np.array([span, 2 * span]), first.y[-1], rtol, atol)
+    exact = beds._replace(interaction="exact")
+    first = fluid.integrate_compiled(exact, np.array([0.0, span]), start(beds).ravel(), *tolerances)
+    run = fluid.integrate_compiled(exact, np.array([span, 2 * span]), first.y[-1], *tolerances)
     return run.nfev / span
 
 
 def default_run(beds: fluid.Beds, ts: np.ndarray, tolerances: tuple[float, float]):
     """solve_fluid's compiled run of the row from the seeded start (its route: Beds.interaction), as dop853_loop's
     Integrated (with its evaluations counted)."""
-    args = fluid._arguments(beds)
-    y0 = start(beds).ravel()
-    if beds.extrapolated:
-        return integrate(fluid._dop853_extrapolated, (args, fluid._alone(beds), fluid._memory(y0.size)), ts, y0,
-                         *tolerances)  # fmt: skip
-    return integrate(fluid._dop853_fluid, args, ts, y0, *tolerances)
+    return fluid.integrate_compiled(beds, ts, start(beds).ravel(), *tolerances)
 
 
 def default_cost(beds: fluid.Beds, span: float = DEFAULT_SPAN) -> tuple[float, float]:

@@ -21,6 +21,8 @@ finite mass), solved without MuJoCo: arrays and records in, arrays out.
   network_kernels.py       the network's compiled kernels: right-hand side, DOP853, Euler-Maruyama, the noise draw
   chain3d.py               the chain in three dimensions: unit tangents, O(N) drag solve, Jacobian, solve3d
   fluid.py                 chains coupled through the fluid: J^T M^-1 J q' = J^T F - dU/dq by the links' tensions
+  fluid_kernels.py         its compiled right-hand side and DOP853 (numba)
+  fluid_extrapolated.py    the interaction taken at each step's start and extrapolated over the step (numba)
   tensions.py              those tensions' system: Cholesky, or block-preconditioned conjugate gradients
   dop853_loop.py           DOP853's step loop, written once: every compiled DOP853 is a cached driver of it
 

@@ -32,18 +32,9 @@ approximation whose error on a row's period and phase lags is measured (docs), n
 not stay positive definite, and where D proves not to be the kernel's rate is NaN and the solver stops.
 
 The extrapolated interaction (Beds.interaction; by default beyond EXACT_UP_TO links, so a pair or a small row is
-exact). The velocities that the other chains' forces on the fluid give chain c's links, u_c = sum_{c' != c}
-N_cc' (w_c' - Q_c' lambda_c'), are all that chain c takes from the others: given u_c, chain c alone obeys the same
-equations with x_c = N_cc w_c + u_c (D_cc lambda_c = Q_c^T x_c, velocities P_c^T (x_c - N_cc Q_c lambda_c)). So
-solve_fluid's compiled DOP853 solves the whole system once per step, at the step's start (the loop's accepted
-state), and within the step each chain alone with its own block exact at every evaluation and u taken from a
-quadratic in time through the whole solves' u at the last three starts; the quadratic starts where the last step's
-ended (continuous in time, so the loop's error estimate sees no jump at the starts) and the gap to the whole solve
-decays over the step. The time of an evaluation's state from the step's start comes from the rates at the starts
-(`_elapsed`). The error is of third order in the step and is not in the loop's error estimate: it is measured
-(docs/hydrodynamics.md, "The cost against the number of cilia": period and phase lags of rows of 8 to 24 cilia).
-Per step: one whole solve, O(B^2), and about 12 evaluations chain by chain, O(C n^3). The right-hand side `rhs`,
-scipy's method and the budget's Jacobian stay exact.
+exact): each chain takes the others' flow on its links from the whole solve at each DOP853 step's start, extrapolated
+over the step (reduced.fluid_extrapolated, with its error). The right-hand side `rhs`, scipy's method and the budget's
+Jacobian stay exact.
 
 Mobilities (`MOBILITIES`): "local", the lab-frame drag of each particle (M_ii = W_i^-1, W_i = 1 + (gamma_l - 1)
 t_i t_i^T, no coupling: the chain3d model exactly, to round-off); "identity" (M = 1: the local drag at gamma_l = 1,
@@ -55,8 +46,9 @@ Two chains' tips may be joined by a linear spring of stiffness K (tip_coupling):
 (b_c - b_c+1)|^2 for each neighbouring pair c, c + 1, relaxed when the chains stand straight and parallel.
 
 `rhs_reference` writes the equations as above in plain numpy (J and M formed, J^T M^-1 J solved), `eval_rhs_fluid`
-is the compiled kernel; the tests hold them equal, and the kernel at "identity" and "local" equal to chain3d's.
-`solve_fluid` integrates by DOP853 compiled around the kernel (reduced.dop853_loop), or by scipy's on it.
+(reduced.fluid_kernels) is the compiled kernel; the tests hold them equal, and the kernel at "identity" and "local"
+equal to chain3d's. `solve_fluid` integrates by DOP853 compiled around the kernel (reduced.dop853_loop), or by scipy's
+on it.
 """
 
 from __future__ import annotations
@@ -65,15 +57,16 @@ import math
 from typing import NamedTuple
 
 import numpy as np
-from numba import njit
 
 from ..core.errors import ParameterError
-from ..hydro.blake import rpb_cross_kernel, rpb_into, rpb_kernel
-from ..hydro.rpy import rpy_cross_kernel, rpy_into, rpy_kernel
-from .chain3d import _bend, _bend_into, basis_of
-from .dop853_loop import dop853_steps, integrate
+from ..hydro.blake import rpb_into
+from ..hydro.rpy import rpy_into
+from . import fluid_extrapolated, fluid_kernels
+from .chain3d import _bend, basis_of
+from .dop853_loop import Integrated, integrate
+from .fluid_kernels import MOBILITIES, Near, Work, eval_rhs_fluid
 from .network import run_loop
-from .tensions import CG_TOLERANCE, DIRECT_UP_TO, own_tensions, tensions
+from .tensions import CG_TOLERANCE, DIRECT_UP_TO
 
 __all__ = [
     "CG_TOLERANCE",
@@ -83,11 +76,11 @@ __all__ = [
     "METHODS",
     "MOBILITIES",
     "Beds",
-    "Memory",
     "Near",
     "Work",
     "eval_rhs_fluid",
     "fluid_forces",
+    "integrate_compiled",
     "lab_positions",
     "mobility_matrix",
     "near_chains",
@@ -96,9 +89,6 @@ __all__ = [
     "solve_fluid",
 ]
 
-MOBILITIES = ("local", "identity", "rpy", "rpb")
-"""The kernel's mobilities, by their code (the index): module docstring."""
-LOCAL, IDENTITY, RPY, RPB = range(4)
 INTERACTIONS = ("auto", "exact", "extrapolated")
 """Beds.interaction's values: how the compiled loop takes the flow each chain feels from the others."""
 EXACT_UP_TO = 100
@@ -262,227 +252,6 @@ def rhs_reference(tangents: np.ndarray, beds: Beds) -> np.ndarray:
     return tdot - 0.5 * (norm2 - 1.0)[..., None] * u
 
 
-@njit(cache=True)
-def eval_rhs_fluid(y, n, chains, sigma, gamma_l, clamped, code, radius, coupling, bases, rot, near, work, out):
-    """t' of the chains into out (3 C n), at the chain-frame tangents y (3 C n, chain by chain, link by link): the
-    module docstring's q' = (A - B D^-1 B^T) r with N built block by block between the chains `near` lists
-    (`Near`: every chain, or those within the cutoff), into the workspace `work` (`Work`); the tensions D^-1 B^T r by
-    Cholesky up to DIRECT_UP_TO links, by conjugate gradients beyond (`_tensions`)."""
-    x = np.zeros(3 * chains * n)
-    _motion(y, n, chains, sigma, gamma_l, clamped, code, radius, coupling, bases, rot, near, work, x, out)
-    return out
-
-
-@njit(cache=True)
-def _motion(y, n, chains, sigma, gamma_l, clamped, code, radius, coupling, bases, rot, near, work, x, out):
-    """eval_rhs_fluid's t' into out, the links also moved by the background velocities x (3B: the links' end-to-end
-    velocities a flow from outside the chains `near` pairs would give them; zeros: none). On return x holds the links'
-    end-to-end velocities; returns (w, lambda): P r per link (b, 3) and the tensions (b), or (w, None) with out NaN
-    where a bead is through the wall."""
-    u, norm2, E, P, Q, pos, w = _links(y, n, chains, sigma, clamped, coupling, bases, rot)
-    b = chains * n
-    z = np.empty(b)
-    if code == RPB:
-        for k in range(pos.shape[0]):
-            if not pos[k, 2] > 0.0:  # a bead through the wall: no mobility; the solver stops on the NaN
-                out[:] = np.nan
-                z[:] = np.nan
-                return w, z
-    nbr, count, rev, self_slot = near
-    nb, nqb, db = work
-    _link_mobility(code, pos, Q, radius, gamma_l, n, nbr, count, rev, nb)
-    _tension_system(nb, w, Q, n, nbr, count, x, nqb, db, z)
-    if nbr.shape[1] == 1:  # each chain alone (its own block only): the tensions chain by chain
-        own_tensions(db, z, n)
-    else:
-        tensions(db, z, n, nbr, count, self_slot)
-    _velocities(x, nqb, z, P, E, u, norm2, n, nbr, count, out)
-    return w, z
-
-
-@njit(cache=True)
-def _links(y, n, chains, sigma, clamped, coupling, bases, rot):
-    """(u, norm2, E, P, Q, pos, w) at the chain-frame tangents y: unit tangents u and their squared lengths, the
-    chain-frame bases E (b, 2, 3), the lab frames P (b, 2, 3) and tangents Q (b, 3), the beads' lab positions, and
-    w = P r (lab, one vector per link), r = J^T F - dU/dq."""
-    b = chains * n
-    u = np.empty((b, 3))
-    norm2 = np.empty(b)
-    for k in range(b):
-        x0, x1, x2 = y[3 * k], y[3 * k + 1], y[3 * k + 2]
-        norm2[k] = x0 * x0 + x1 * x1 + x2 * x2
-        r = 1.0 / math.sqrt(norm2[k])
-        u[k, 0], u[k, 1], u[k, 2] = x0 * r, x1 * r, x2 * r
-    E = np.empty((b, 2, 3))  # chain frame: E[k, 0] = a_k, E[k, 1] = b_k (chain3d.basis_of)
-    for k in range(b):
-        u0, u1, u2 = u[k, 0], u[k, 1], u[k, 2]
-        if u0 * u0 + u1 * u1 > 0.25:
-            a0, a1, a2 = -u1, u0, 0.0
-        else:
-            a0, a1, a2 = 0.0, -u2, u1
-        r = 1.0 / math.sqrt(a0 * a0 + a1 * a1 + a2 * a2)
-        a0, a1, a2 = a0 * r, a1 * r, a2 * r
-        E[k, 0, 0], E[k, 0, 1], E[k, 0, 2] = a0, a1, a2
-        E[k, 1, 0], E[k, 1, 1], E[k, 1, 2] = u1 * a2 - u2 * a1, u2 * a0 - u0 * a2, u0 * a1 - u1 * a0
-    grad = np.zeros((b, 3))
-    for c in range(chains):
-        o = c * n
-        if clamped:
-            _bend_into(1.0, 0.0, 0.0, u[o, 0], u[o, 1], u[o, 2], grad, o, 1.0)
-        for k in range(o + 1, o + n):
-            _bend_into(u[k - 1, 0], u[k - 1, 1], u[k - 1, 2], u[k, 0], u[k, 1], u[k, 2], grad, k, 1.0)
-            _bend_into(u[k, 0], u[k, 1], u[k, 2], u[k - 1, 0], u[k - 1, 1], u[k - 1, 2], grad, k - 1, 1.0)
-    P = np.empty((b, 2, 3))
-    Q = np.empty((b, 3))
-    pos = np.empty((b, 3))
-    force = np.empty((b, 3))
-    for k in range(b):
-        for a in range(3):
-            Q[k, a] = rot[a, 0] * u[k, 0] + rot[a, 1] * u[k, 1] + rot[a, 2] * u[k, 2]
-            for al in range(2):
-                P[k, al, a] = rot[a, 0] * E[k, al, 0] + rot[a, 1] * E[k, al, 1] + rot[a, 2] * E[k, al, 2]
-            force[k, a] = -sigma * Q[k, a]
-    for c in range(chains):
-        for a in range(3):
-            acc = bases[c, a]
-            for k in range(c * n, c * n + n):
-                acc += Q[k, a]
-                pos[k, a] = acc
-    if coupling != 0.0:
-        for c in range(chains - 1):
-            i, j = c * n + n - 1, c * n + 2 * n - 1
-            for a in range(3):
-                f = coupling * (pos[i, a] - pos[j, a] - bases[c, a] + bases[c + 1, a])
-                force[i, a] -= f
-                force[j, a] += f
-    w = np.zeros((b, 3))
-    for c in range(chains):
-        s0 = s1 = s2 = 0.0
-        for k in range(c * n + n - 1, c * n - 1, -1):
-            s0 += force[k, 0]
-            s1 += force[k, 1]
-            s2 += force[k, 2]
-            for al in range(2):
-                rk = P[k, al, 0] * s0 + P[k, al, 1] * s1 + P[k, al, 2] * s2
-                rk -= E[k, al, 0] * grad[k, 0] + E[k, al, 1] * grad[k, 1] + E[k, al, 2] * grad[k, 2]
-                for a in range(3):
-                    w[k, a] += P[k, al, a] * rk
-    return u, norm2, E, P, Q, pos, w
-
-
-@njit(cache=True)
-def _link_mobility(code, pos, Q, radius, gamma_l, n, nbr, count, rev, nb):
-    """nb[c, s] <- N_{c c'} (3n, 3n), c' = nbr[c, s]: the beads' mobility M between chains c and c', then its
-    differences of consecutive beads' rows and columns within each chain (N = S^-1 M S^-T, blockwise). Each pair of
-    chains is built once (c <= c'), its transpose copied."""
-    size = 3 * n
-    d = 1.0 / gamma_l - 1.0 if code == LOCAL else 0.0
-    for c in range(nbr.shape[0]):
-        for s in range(count[c]):
-            c2 = nbr[c, s]
-            if c2 < c:
-                continue
-            blk = nb[c, s]
-            mine, theirs = pos[c * n : c * n + n], pos[c2 * n : c2 * n + n]
-            if code == RPB:
-                if c2 == c:
-                    rpb_kernel(mine, radius, blk)
-                else:
-                    rpb_cross_kernel(mine, theirs, radius, blk)
-            elif code == RPY:
-                if c2 == c:
-                    rpy_kernel(mine, radius, blk)
-                else:
-                    rpy_cross_kernel(mine, theirs, radius, blk)
-            else:
-                blk[:, :] = 0.0
-                if c2 == c:
-                    for i in range(n):
-                        k = c * n + i
-                        for p in range(3):
-                            for q in range(3):
-                                blk[3 * i + p, 3 * i + q] = (1.0 if p == q else 0.0) + d * Q[k, p] * Q[k, q]
-            for i in range(n - 1, 0, -1):
-                for p in range(3):
-                    for col in range(size):
-                        blk[3 * i + p, col] -= blk[3 * i - 3 + p, col]
-            for row in range(size):
-                for j in range(n - 1, 0, -1):
-                    for q in range(3):
-                        blk[row, 3 * j + q] -= blk[row, 3 * j - 3 + q]
-            if c2 != c:
-                other = nb[c2, rev[c, s]]
-                for row in range(size):
-                    for col in range(size):
-                        other[col, row] = blk[row, col]
-
-
-@njit(cache=True)
-def _tension_system(nb, w, Q, n, nbr, count, x, nqb, db, z):
-    """x += N w, nqb[c, s] = N_{c c'} Q_c', the tensions' matrix D = Q^T N Q by blocks db[c, s] (n, n) and its
-    right-hand side z = Q^T x."""
-    for c in range(nbr.shape[0]):
-        for s in range(count[c]):
-            o2 = nbr[c, s] * n
-            blk = nb[c, s]
-            nq = nqb[c, s]
-            for row in range(3 * n):
-                sx = 0.0
-                for j in range(n):
-                    k = o2 + j
-                    m0, m1, m2 = blk[row, 3 * j], blk[row, 3 * j + 1], blk[row, 3 * j + 2]
-                    sx += m0 * w[k, 0] + m1 * w[k, 1] + m2 * w[k, 2]
-                    nq[row, j] = m0 * Q[k, 0] + m1 * Q[k, 1] + m2 * Q[k, 2]
-                x[3 * c * n + row] += sx
-            dd = db[c, s]
-            for i in range(n):
-                k = c * n + i
-                for j in range(n):
-                    dd[i, j] = Q[k, 0] * nq[3 * i, j] + Q[k, 1] * nq[3 * i + 1, j] + Q[k, 2] * nq[3 * i + 2, j]
-    for k in range(z.size):
-        z[k] = Q[k, 0] * x[3 * k] + Q[k, 1] * x[3 * k + 1] + Q[k, 2] * x[3 * k + 2]
-
-
-@njit(cache=True)
-def _velocities(x, nqb, lam, P, E, u, norm2, n, nbr, count, out):
-    """q'_k = P_k^T (x - N Q lambda)_k at the tensions lam; t'_k = E_k q'_k, less the drift off unit length."""
-    for c in range(nbr.shape[0]):
-        for s in range(count[c]):
-            o2 = nbr[c, s] * n
-            nq = nqb[c, s]
-            for row in range(3 * n):
-                acc = 0.0
-                for j in range(n):
-                    acc += nq[row, j] * lam[o2 + j]
-                x[3 * c * n + row] -= acc
-    for k in range(lam.size):
-        v0, v1, v2 = x[3 * k], x[3 * k + 1], x[3 * k + 2]
-        q0 = P[k, 0, 0] * v0 + P[k, 0, 1] * v1 + P[k, 0, 2] * v2
-        q1 = P[k, 1, 0] * v0 + P[k, 1, 1] * v1 + P[k, 1, 2] * v2
-        h = 0.5 * (norm2[k] - 1.0)
-        for a in range(3):
-            out[3 * k + a] = E[k, 0, a] * q0 + E[k, 1, a] * q1 - h * u[k, a]
-
-
-class Near(NamedTuple):
-    """Which chains' mobility blocks the kernel builds: chain c's with chains nbr[c, :count[c]] (itself included, at
-    slot self_slot[c]); c is at slot rev[c, s] of chain nbr[c, s]'s list."""
-
-    nbr: np.ndarray
-    count: np.ndarray
-    rev: np.ndarray
-    self_slot: np.ndarray
-
-
-class Work(NamedTuple):
-    """The kernel's workspace: N's blocks nb (C, S, 3n, 3n), N Q's nqb (C, S, 3n, n), D's db (C, S, n, n), S the
-    longest Near list."""
-
-    nb: np.ndarray
-    nqb: np.ndarray
-    db: np.ndarray
-
-
 def near_chains(beds: Beds) -> Near:
     """The chains each chain's beads interact with: every chain within beds.cutoff (anchor to anchor), itself
     included; only itself for the local drag's mobilities (no coupling)."""
@@ -559,176 +328,6 @@ and scipy's solve_ivp(DOP853) on it (one Python call per evaluation: the referen
 round-off)."""
 
 
-@njit(cache=True, inline="always")
-def _rate(t, y, out, args):
-    """eval_rhs_fluid in dop853_loop's form: args = _arguments(beds)."""
-    eval_rhs_fluid(y, *args, out)
-
-
-@njit(cache=True)
-def _dop853_fluid(y, f, clock, counts, ts, rtol, atol, A, B, E3, E5, DD, out, max_steps, args):
-    """dop853_loop.dop853_steps around eval_rhs_fluid (that module's driver)."""
-    return dop853_steps(_rate, args, y, f, clock, counts, ts, rtol, atol, A, B, E3, E5, DD, out, max_steps)
-
-
-class Memory(NamedTuple):
-    """The extrapolated interaction's record, carried from one evaluation to the next within a run, at the current
-    step's start (`_new_step`; (3B,) arrays but spans and steps)."""
-
-    start: np.ndarray
-    """The loop's state (NaN before the first step)."""
-    rate: np.ndarray
-    """The loop's rate (from the second start on)."""
-    change: np.ndarray
-    """The rate's change per unit time since the start before (from the third start on; zeros before)."""
-    flow: np.ndarray
-    """(3, 3B): the other chains' flow the step's evaluations take is flow[0] + s flow[1] + s^2 flow[2] at the time s
-    since the start (`_elapsed`)."""
-    known: np.ndarray
-    """(2, 3B): the whole solve's other chains' flow at this start and the one before."""
-    spans: np.ndarray
-    """(1,): the time between the start before and this one."""
-    steps: np.ndarray
-    """int64 (1,): the starts recorded."""
-
-
-def _alone(beds: Beds) -> tuple:
-    """(Near, Work) of each chain with itself only: the extrapolated interaction's evaluations within a step."""
-    chains, n = beds.chains, int(beds.n)
-    zero = np.zeros((chains, 1), dtype=np.int64)
-    near = Near(np.arange(chains, dtype=np.int64)[:, None], np.ones(chains, dtype=np.int64), zero, zero[:, 0].copy())
-    return near, Work(np.empty((chains, 1, 3 * n, 3 * n)), np.empty((chains, 1, 3 * n, n)), np.empty((chains, 1, n, n)))
-
-
-def _memory(size: int) -> Memory:
-    empty = np.full(size, np.nan)
-    return Memory(
-        empty, empty.copy(), np.zeros(size), np.zeros((3, size)), np.zeros((2, size)), np.zeros(1),
-        np.zeros(1, dtype=np.int64),
-    )  # fmt: skip
-
-
-@njit(cache=True)
-def _other_flow(nb, nqb, w, lam, x, n, self_slot, flow):
-    """flow <- x less each chain's own part N_cc (w_c - Q_c lambda_c): the links' end-to-end velocities that the other
-    chains' forces on the fluid give chain c (x the links' velocities of the whole solve, w and lambda its P r and
-    tensions, nb and nqb its blocks)."""
-    for c in range(self_slot.size):
-        blk = nb[c, self_slot[c]]
-        nq = nqb[c, self_slot[c]]
-        o = c * n
-        for row in range(3 * n):
-            acc = x[3 * o + row]
-            for j in range(n):
-                k = o + j
-                acc -= blk[row, 3 * j] * w[k, 0] + blk[row, 3 * j + 1] * w[k, 1] + blk[row, 3 * j + 2] * w[k, 2]
-                acc += nq[row, j] * lam[k]
-            flow[3 * o + row] = acc
-
-
-@njit(cache=True)
-def _elapsed(y, start, rate, change):
-    """The time s from the step's start to the state y along the path y(s) = start + s rate + s^2 / 2 change:
-    s0 = <d, rate> / <rate, rate>, d = y - start, then s = <d, g> / <g, g> with g = rate + s0 / 2 change (an error
-    of third order in s on the path)."""
-    travel = 0.0
-    speed = 0.0
-    for i in range(y.size):
-        travel += (y[i] - start[i]) * rate[i]
-        speed += rate[i] * rate[i]
-    if not speed > 0.0:
-        return 0.0
-    s0 = travel / speed
-    travel = 0.0
-    speed = 0.0
-    for i in range(y.size):
-        g = rate[i] + 0.5 * s0 * change[i]
-        travel += (y[i] - start[i]) * g
-        speed += g * g
-    return travel / speed if speed > 0.0 else s0
-
-
-@njit(cache=True)
-def _new_step(exact, memory, y, f):
-    """Record a step's start y (the loop's state; f its rate there, unless no step was taken yet). The whole solve
-    there gives the other chains' flow on each chain's links; the flow the step's evaluations take goes on from where
-    the last step's ended (continuous in time: the loop's error estimate sees no jump) as the quadratic through the
-    whole solve's flows at the last three starts, less that gap decaying linearly over the last step's time."""
-    n, chains, sigma, gamma_l, clamped, code, radius, coupling, bases, rot, near, work = exact
-    start, rate, change, flow, known, spans, steps = memory
-    size = y.size
-    x = np.zeros(size)
-    scratch = np.empty(size)
-    w, lam = _motion(y, n, chains, sigma, gamma_l, clamped, code, radius, coupling, bases, rot, near, work, x, scratch)
-    fresh = np.empty(size)
-    _other_flow(work[0], work[1], w, lam, x, n, near[3], fresh)
-    if steps[0] == 0:  # the run's start: the whole solve's flow, held over the first step
-        for i in range(size):
-            flow[0, i] = fresh[i]
-            flow[1, i] = 0.0
-            flow[2, i] = 0.0
-    else:
-        if steps[0] == 1:  # no rate known at the first start: the step's time from the rate at its end
-            dt = _elapsed(y, start, f, change)
-        else:
-            dt = _elapsed(y, start, rate, change)
-        if not dt > 0.0:
-            dt = math.inf  # (a step that went nowhere: the flow held)
-        before = spans[0]
-        for i in range(size):
-            end = flow[0, i] + dt * (flow[1, i] + dt * flow[2, i]) if math.isfinite(dt) else flow[0, i]
-            d1 = (fresh[i] - known[0, i]) / dt
-            d2 = 0.0
-            if steps[0] >= 2 and before > 0.0:
-                d2 = (d1 - (known[0, i] - known[1, i]) / before) / (dt + before)
-            flow[0, i] = end
-            flow[1, i] = d1 + d2 * dt + (fresh[i] - end) / dt
-            flow[2, i] = d2
-            change[i] = (f[i] - rate[i]) / dt if steps[0] >= 2 else 0.0
-        spans[0] = dt if math.isfinite(dt) else 0.0
-    for i in range(size):
-        start[i] = y[i]
-        rate[i] = f[i]
-        known[1, i] = known[0, i]
-        known[0, i] = fresh[i]
-    steps[0] += 1
-
-
-@njit(cache=True, inline="always")
-def _rate_extrapolated(t, y, out, args):
-    """t' at y with the other chains' flow extrapolated over the current step (args: the whole solve's arguments,
-    each chain alone's (Near, Work), the Memory, the loop's state and rate, which hold the current step's start):
-    each chain's own block exact, the others' flow the Memory's quadratic at the time since the start (`_new_step`)."""
-    exact, alone, memory, y_step, f_step = args
-    fresh = False
-    for i in range(y_step.size):
-        if y_step[i] != memory.start[i]:  # (NaN before the first step too)
-            fresh = True
-            break
-    if fresh:
-        _new_step(exact, memory, y_step, f_step)
-    flow = memory.flow
-    x = flow[0].copy()
-    if memory.steps[0] >= 2:
-        s = _elapsed(y, memory.start, memory.rate, memory.change)
-        for i in range(y.size):
-            x[i] += s * (flow[1, i] + s * flow[2, i])
-    n, chains, sigma, gamma_l, clamped, code, radius, coupling, bases, rot, near, work = exact
-    _motion(y, n, chains, sigma, gamma_l, clamped, code, radius, coupling, bases, rot, alone[0], alone[1], x, out)
-
-
-@njit(cache=True)
-def _dop853_extrapolated(y, f, clock, counts, ts, rtol, atol, A, B, E3, E5, DD, out, max_steps, args):
-    """dop853_loop.dop853_steps around _rate_extrapolated (args: the whole solve's arguments, each chain alone's
-    (Near, Work), the Memory), which sees the loop's state and rate: a run's start clears the Memory."""
-    exact, alone, memory = args
-    if counts[0] == 0:
-        memory.start[:] = np.nan
-        memory.steps[0] = 0
-    seen = (exact, alone, memory, y, f)
-    return dop853_steps(_rate_extrapolated, seen, y, f, clock, counts, ts, rtol, atol, A, B, E3, E5, DD, out, max_steps)
-
-
 def solve_fluid(
     beds: Beds,
     ts: np.ndarray,
@@ -768,10 +367,7 @@ def solve_fluid(
     if budget is not None:
         budget(method, np.linalg.eigvals(_jacobian(rate, y0)))
     if method == "numba-DOP853":
-        if beds.extrapolated:
-            run = integrate(_dop853_extrapolated, (args, _alone(beds), _memory(size)), ts, y0, rtol, atol, loop)
-        else:
-            run = integrate(_dop853_fluid, args, ts, y0, rtol, atol, loop)
+        run = integrate_compiled(beds, ts, y0, rtol, atol, loop, args)
         if run.status != 0:
             raise RuntimeError(
                 f"chains in a fluid: the DOP853 step size fell below round-off at t = {run.t:g} (a bead through the "
@@ -791,6 +387,18 @@ def solve_fluid(
     if not sol.success:
         raise RuntimeError(f"chains in a fluid: the DOP853 solver failed ({sol.message})")
     return sol.y.T.reshape(ts.size, beds.chains, beds.n, 3)
+
+
+def integrate_compiled(beds: Beds, ts, y0, rtol: float, atol: float, loop=run_loop, args=None) -> Integrated:
+    """The compiled DOP853 run of the beds from the flat tangents y0 (3 C N) at ts[0], sampled at ts, by the route
+    Beds.interaction takes (reduced.fluid_kernels.dop853, exact; reduced.fluid_extrapolated.dop853 beyond it): the
+    loop's Integrated, its status unread. args: _arguments(beds), when the caller has them."""
+    args = _arguments(beds) if args is None else args
+    y0 = np.ascontiguousarray(y0, dtype=float)
+    if beds.extrapolated:
+        route = (args, fluid_extrapolated.alone(beds.chains, int(beds.n)), fluid_extrapolated.memory(y0.size))
+        return integrate(fluid_extrapolated.dop853, route, ts, y0, rtol, atol, loop)
+    return integrate(fluid_kernels.dop853, args, ts, y0, rtol, atol, loop)
 
 
 def _jacobian(f, y: np.ndarray) -> np.ndarray:

@@ -63,9 +63,8 @@ from ..hydro.blake import rpb_into
 from ..hydro.rpy import rpy_into
 from . import fluid_extrapolated, fluid_kernels
 from .chain3d import _bend, basis_of
-from .dop853_loop import Integrated, integrate
+from .dop853_loop import Integrated, integrate, run_loop
 from .fluid_kernels import MOBILITIES, Near, Work, eval_rhs_fluid
-from .network import run_loop
 from .tensions import CG_TOLERANCE, DIRECT_UP_TO
 
 __all__ = [
@@ -345,7 +344,7 @@ def solve_fluid(
 
     budget(method, eig), told the method and the eigenvalues of the right-hand side's Jacobian at the start (central
     differences: 2 x 3CN evaluations) before the first step, may refuse the run (engines.runner.solver_budget).
-    Progress: the compiled loop runs through `loop` (reduced.network.run_loop's contract; engines.runner.resume with
+    Progress: the compiled loop runs through `loop` (reduced.dop853_loop.run_loop's contract; engines.runner.resume with
     a meter); scipy's tells on_time(t) at every evaluation."""
     beds.checked()
     if method not in METHODS:
